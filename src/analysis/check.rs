@@ -1,0 +1,112 @@
+//! Numeric verification of an instantiated automaton: constraint residuals,
+//! column sums, spectra and contractivity.
+
+use std::collections::HashMap;
+
+use nalgebra::Complex;
+
+use crate::automaton::{ArrowKind, Automaton, Relation};
+use crate::family::{Env, EvalError};
+
+/// Residuals up to this size count as zero: products of a few matrices with
+/// entries of order 1 carry rounding errors of order 1e-15, far below it.
+pub const DEFAULT_CHECK_TOLERANCE: f64 = 1e-9;
+
+/// The outcome of [`check`].
+#[derive(Clone, Debug)]
+pub struct CheckReport {
+    /// Whether every constraint and column sum holds within the tolerance.
+    pub ok: bool,
+    /// Every constraint (`group: text`) with its largest absolute residual.
+    pub constraints: Vec<(String, f64)>,
+    /// The largest `|Σ_i M_ij - 1|` over all arrows and columns.
+    pub max_column_sum_error: f64,
+    /// Eigenvalues of every square subdivision arrow, by arrow name.
+    pub spectra: Vec<(String, Vec<Complex<f64>>)>,
+    /// Whether every square subdivision arrow has, besides one eigenvalue 1,
+    /// only eigenvalues of modulus < 1.
+    pub contractive: bool,
+}
+
+struct Numbers<'a> {
+    automaton: &'a Automaton<f64>,
+    values: &'a HashMap<String, f64>,
+}
+
+impl Env<f64> for Numbers<'_> {
+    fn param(&self, name: &str) -> Option<f64> {
+        self.values.get(name).copied()
+    }
+    fn entry(&self, arrow: &str, row: usize, col: usize) -> Option<f64> {
+        let m = &self.automaton.arrow(self.automaton.arrow_id(arrow)?).matrix;
+        (row < m.nrows() && col < m.ncols()).then(|| m[(row, col)])
+    }
+}
+
+/// Whether a spectrum is that of a contractive stochastic map: one
+/// eigenvalue 1 (within `tol`) and all others of modulus below `1 - tol`.
+pub fn contractive_spectrum(eigenvalues: &[Complex<f64>], tol: f64) -> bool {
+    let Some(one) = eigenvalues
+        .iter()
+        .enumerate()
+        .filter(|(_, l)| (*l - Complex::new(1.0, 0.0)).norm() < tol)
+        .map(|(i, _)| i)
+        .next()
+    else {
+        return false;
+    };
+    eigenvalues
+        .iter()
+        .enumerate()
+        .all(|(i, l)| i == one || l.norm() < 1.0 - tol)
+}
+
+/// Checks an instantiated automaton; `values` gives the parameters that
+/// entry equations refer to.
+///
+/// # Errors
+/// An entry equation that refers to a missing name.
+pub fn check(
+    automaton: &Automaton<f64>,
+    values: &HashMap<String, f64>,
+    tol: f64,
+) -> Result<CheckReport, EvalError> {
+    let mut constraints = Vec::new();
+    for c in automaton.constraints() {
+        let residual = match &c.relation {
+            Relation::Paths { lhs, rhs } => {
+                let l = automaton.product(lhs)?;
+                let r = automaton.product(rhs)?;
+                (l - r).amax()
+            }
+            Relation::Entries { lhs, rhs } => {
+                let env = Numbers { automaton, values };
+                (lhs.eval(&env)? - rhs.eval(&env)?).abs()
+            }
+        };
+        constraints.push((c.to_string(), residual));
+    }
+    let mut max_column_sum_error: f64 = 0.0;
+    let mut spectra = Vec::new();
+    let mut contractive = true;
+    for (_, arrow) in automaton.arrows() {
+        for j in 0..arrow.matrix.ncols() {
+            max_column_sum_error =
+                max_column_sum_error.max((arrow.matrix.column(j).sum() - 1.0).abs());
+        }
+        if arrow.kind == ArrowKind::Subdivision && arrow.matrix.is_square() {
+            let eig: Vec<Complex<f64>> =
+                arrow.matrix.complex_eigenvalues().iter().copied().collect();
+            contractive &= contractive_spectrum(&eig, tol);
+            spectra.push((arrow.name.clone(), eig));
+        }
+    }
+    let ok = max_column_sum_error <= tol && constraints.iter().all(|(_, r)| *r <= tol);
+    Ok(CheckReport {
+        ok,
+        constraints,
+        max_column_sum_error,
+        spectra,
+        contractive,
+    })
+}

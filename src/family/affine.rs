@@ -1,0 +1,225 @@
+//! Affine forms `c + Σ k_i x_i` over exact numbers.
+
+use std::fmt;
+
+use super::num::Num;
+
+/// An affine expression `constant + Σ coeff · x_var` in numbered variables.
+///
+/// Terms are kept sorted by variable with non-zero coefficients, so equal
+/// forms compare equal.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Affine {
+    constant: Num,
+    terms: Vec<(usize, Num)>,
+}
+
+/// A product of two non-constant affine forms: the system would not be linear.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("product of two expressions that both depend on unknowns is not linear")]
+pub struct Nonlinear;
+
+impl Affine {
+    /// The constant form `c`.
+    pub fn constant(c: Num) -> Affine {
+        Affine {
+            constant: c,
+            terms: Vec::new(),
+        }
+    }
+
+    /// The form `x_var`.
+    pub fn var(var: usize) -> Affine {
+        Affine {
+            constant: Num::zero(),
+            terms: vec![(var, Num::one())],
+        }
+    }
+
+    /// The constant term.
+    pub fn constant_term(&self) -> &Num {
+        &self.constant
+    }
+
+    /// The terms `(variable, coefficient)`, sorted by variable, coefficients non-zero.
+    pub fn terms(&self) -> &[(usize, Num)] {
+        &self.terms
+    }
+
+    /// The constant value, if the form has no variable.
+    pub fn as_constant(&self) -> Option<&Num> {
+        self.terms.is_empty().then_some(&self.constant)
+    }
+
+    /// Whether the form is the constant zero.
+    pub fn is_zero(&self) -> bool {
+        self.terms.is_empty() && self.constant.is_zero()
+    }
+
+    /// `self + other`.
+    pub fn add(&self, other: &Affine) -> Affine {
+        self.add_scaled(other, &Num::one())
+    }
+
+    /// `self - other`.
+    pub fn sub(&self, other: &Affine) -> Affine {
+        self.add_scaled(other, &Num::int(-1))
+    }
+
+    /// `self + k · other`, merging the sorted term lists.
+    pub fn add_scaled(&self, other: &Affine, k: &Num) -> Affine {
+        let mut terms = Vec::with_capacity(self.terms.len() + other.terms.len());
+        let (mut i, mut j) = (0, 0);
+        while i < self.terms.len() || j < other.terms.len() {
+            let take_left = j >= other.terms.len()
+                || (i < self.terms.len() && self.terms[i].0 < other.terms[j].0);
+            let take_right = i >= self.terms.len()
+                || (j < other.terms.len() && other.terms[j].0 < self.terms[i].0);
+            if take_left {
+                terms.push(self.terms[i].clone());
+                i += 1;
+            } else if take_right {
+                terms.push((other.terms[j].0, other.terms[j].1.mul(k)));
+                j += 1;
+            } else {
+                let c = self.terms[i].1.add(&other.terms[j].1.mul(k));
+                if !c.is_zero() {
+                    terms.push((self.terms[i].0, c));
+                }
+                i += 1;
+                j += 1;
+            }
+        }
+        terms.retain(|(_, c)| !c.is_zero());
+        Affine {
+            constant: self.constant.add(&other.constant.mul(k)),
+            terms,
+        }
+    }
+
+    /// `k · self`.
+    pub fn scale(&self, k: &Num) -> Affine {
+        if k.is_zero() {
+            return Affine::constant(Num::zero());
+        }
+        Affine {
+            constant: self.constant.mul(k),
+            terms: self.terms.iter().map(|(v, c)| (*v, c.mul(k))).collect(),
+        }
+    }
+
+    /// `self · other`; an error unless one of them is constant.
+    pub fn mul(&self, other: &Affine) -> Result<Affine, Nonlinear> {
+        match (self.as_constant(), other.as_constant()) {
+            (Some(a), _) => Ok(other.scale(a)),
+            (_, Some(b)) => Ok(self.scale(b)),
+            _ => Err(Nonlinear),
+        }
+    }
+
+    /// Replaces every variable `x_v` by `subst(v)`.
+    pub fn substitute(&self, subst: &dyn Fn(usize) -> Affine) -> Affine {
+        let mut out = Affine::constant(self.constant.clone());
+        for (v, c) in &self.terms {
+            out = out.add_scaled(&subst(*v), c);
+        }
+        out
+    }
+
+    /// The value for variable values `values[var]`.
+    pub fn eval(&self, values: &[f64]) -> f64 {
+        self.terms
+            .iter()
+            .fold(self.constant.to_f64(), |acc, (v, c)| {
+                acc + c.to_f64() * values[*v]
+            })
+    }
+
+    /// A displayable view that prints variables with the given names.
+    pub fn display<'a>(&'a self, names: &'a [String]) -> AffineDisplay<'a> {
+        AffineDisplay { form: self, names }
+    }
+}
+
+/// Prints an [`Affine`] as `1 - a - b`, `3/16`, `a/2 + 2*b`.
+pub struct AffineDisplay<'a> {
+    form: &'a Affine,
+    names: &'a [String],
+}
+
+impl fmt::Display for AffineDisplay<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let mut first = true;
+        if !self.form.constant.is_zero() || self.form.terms.is_empty() {
+            write!(f, "{}", self.form.constant)?;
+            first = false;
+        }
+        for (v, c) in &self.form.terms {
+            let name = self.names.get(*v).map_or("?", String::as_str);
+            let negative = c.is_negative();
+            match (first, negative) {
+                (true, true) => write!(f, "-")?,
+                (true, false) => {}
+                (false, true) => write!(f, " - ")?,
+                (false, false) => write!(f, " + ")?,
+            }
+            first = false;
+            let magnitude = c.abs();
+            match &magnitude {
+                Num::Exact(r) => {
+                    let (n, d) = (r.numer(), r.denom());
+                    let one = num_bigint::BigInt::from(1);
+                    match (n == &one, d == &one) {
+                        (true, true) => write!(f, "{name}")?,
+                        (false, true) => write!(f, "{n}*{name}")?,
+                        (true, false) => write!(f, "{name}/{d}")?,
+                        (false, false) => write!(f, "{n}*{name}/{d}")?,
+                    }
+                }
+                Num::Approx(x) => write!(f, "{x}*{name}")?,
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn names() -> Vec<String> {
+        vec!["a".into(), "b".into()]
+    }
+
+    #[test]
+    fn prints_like_the_paper() {
+        let one = Affine::constant(Num::one());
+        let e = one.sub(&Affine::var(0)).sub(&Affine::var(1));
+        assert_eq!(e.display(&names()).to_string(), "1 - a - b");
+        let half_a = Affine::var(0).scale(&Num::frac(1, 2));
+        assert_eq!(half_a.display(&names()).to_string(), "a/2");
+        let e = Affine::var(1).scale(&Num::frac(-3, 4));
+        assert_eq!(e.display(&names()).to_string(), "-3*b/4");
+        assert_eq!(
+            Affine::constant(Num::zero()).display(&names()).to_string(),
+            "0"
+        );
+    }
+
+    #[test]
+    fn terms_cancel() {
+        let e = Affine::var(0).add(&Affine::var(1)).sub(&Affine::var(0));
+        assert_eq!(e, Affine::var(1));
+        assert!(Affine::var(0).sub(&Affine::var(0)).is_zero());
+    }
+
+    #[test]
+    fn products_must_be_linear() {
+        assert!(Affine::var(0).mul(&Affine::var(1)).is_err());
+        let two = Affine::constant(Num::int(2));
+        assert_eq!(
+            two.mul(&Affine::var(0)).unwrap(),
+            Affine::var(0).scale(&Num::int(2))
+        );
+    }
+}

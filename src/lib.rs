@@ -1,0 +1,76 @@
+//! # bcifs: iterative geometric modelling with Boundary Controlled IFS
+//!
+//! Every shape is an **automaton**: states are barycentric spaces
+//! `BI^n = { λ ∈ R^n : Σ λ_i = 1 }` (a vertex, an edge, a face or a free IFS
+//! space), arrows carry matrices `M` of shape `dim(from) × dim(to)` mapping
+//! target coordinates into source coordinates (`λ_A = M λ_B`, every column
+//! sums to 1). *Subdivision* arrows form a graph-directed IFS; *boundary*
+//! arrows embed a boundary cell into the cell it bounds. Topology is stated
+//! as equalities between paths (adjacency `T0·b1 = T1·b0`, incidence
+//! `T0·b0 = b0·Tv`), which are linear in the unknown entries: the exact
+//! solver turns them into the **admissible family** of subdivision
+//! matrices, an affine function of a few free parameters.
+//!
+//! ```
+//! // The local corner-cutting curve of Sokolov, Gentil and Bensoudane (§3).
+//! let design = bcifs::builtin_design("corner_cutting").unwrap();
+//! let family = bcifs::solve(&design).unwrap();
+//! assert_eq!(family.parameter_names(), ["a", "b"]);
+//! assert_eq!(family.entry_text("T1", 1, 0), "1 - b");
+//!
+//! // Pick parameters (a = b = 1/4 is Chaikin's scheme) and verify numerically.
+//! let instance = family.instantiate(&[("a".into(), 0.25), ("b".into(), 0.25)]).unwrap();
+//! let report = bcifs::analysis::check(&instance.automaton, &instance.values, 1e-9).unwrap();
+//! assert!(report.ok && report.contractive);
+//! ```
+//!
+//! Data flows one way: file or generator → [`Design`] → [`solve`] →
+//! [`Family`] → [`Family::instantiate`] → numeric [`Automaton`].
+
+#![forbid(unsafe_code)]
+
+pub mod analysis;
+mod automaton;
+mod design;
+mod family;
+mod format;
+pub mod schemes;
+mod space;
+
+pub use automaton::{
+    Arrow, ArrowKind, Automaton, AutomatonError, Constraint, Entry, Relation, mat_mul, selection,
+};
+pub use design::{Design, Layout, Model, Origin, Variable};
+pub use family::{
+    Affine, AffineDisplay, DesignInstantiateError, Env, Equation, EvalError, Expr, ExprSyntaxError,
+    ExprValue, Family, Instance, InstantiateError, Nonlinear, Num, Parameter, SolveError,
+    equations, instantiate, numeric, solve,
+};
+pub use format::{
+    FormatError, ReadError, TomlWriter, edit_distance, parse_design, read_design, suggest,
+};
+pub use space::{CellKind, State};
+
+/// The automata shipped in `automata/`, embedded in the library:
+/// `(name, file text)`.
+pub const BUILTIN_AUTOMATA: &[(&str, &str)] = &[
+    (
+        "corner_cutting",
+        include_str!("../automata/corner_cutting.toml"),
+    ),
+    ("curve_4_3", include_str!("../automata/curve_4_3.toml")),
+    (
+        "doo_sabin_quad",
+        include_str!("../automata/doo_sabin_quad.toml"),
+    ),
+    ("koch", include_str!("../automata/koch.toml")),
+];
+
+/// The shipped automaton called `name`, parsed.
+///
+/// # Errors
+/// `None` if there is no such automaton. The shipped files are tested to parse.
+pub fn builtin_design(name: &str) -> Option<Design> {
+    let (_, text) = BUILTIN_AUTOMATA.iter().find(|(n, _)| *n == name)?;
+    parse_design(text, &format!("automata/{name}.toml"), name).ok()
+}

@@ -1,0 +1,326 @@
+//! The `bcifs` command line: parses arguments, calls the library, prints.
+
+use std::fmt::Write as _;
+use std::io::Write as _;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use anyhow::{Context, Result, bail};
+use clap::{Parser, Subcommand};
+use serde_json::json;
+
+use bcifs::analysis::{DEFAULT_CHECK_TOLERANCE, check};
+use bcifs::schemes::{curve_file, quad_patch_file};
+use bcifs::{Design, SolveError, read_design, solve};
+
+#[derive(Parser)]
+#[command(
+    name = "bcifs",
+    version,
+    about = "Iterative geometric modelling with Boundary Controlled IFS"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Solve the constraints of an automaton file into its admissible family.
+    Solve {
+        /// The automaton file (TOML), or the name of a shipped automaton.
+        file: String,
+        /// Print JSON instead of text.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Instantiate an automaton and verify constraints, column sums and spectra.
+    Check {
+        /// The automaton file (TOML), or the name of a shipped automaton.
+        file: String,
+        /// A parameter value, NAME=VALUE (repeatable; defaults come from the file).
+        #[arg(long = "param", value_name = "NAME=VALUE")]
+        params: Vec<String>,
+        /// Print JSON instead of text.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Print a commented automaton file for a BC-IFS topology.
+    New {
+        #[command(subcommand)]
+        topology: Topology,
+    },
+}
+
+#[derive(Subcommand)]
+enum Topology {
+    /// An edge bounded by two vertices.
+    Curve {
+        /// Control points of the edge.
+        #[arg(long, default_value_t = 3)]
+        points: usize,
+        /// Control points of a vertex (the first/last points of the edge).
+        #[arg(long, default_value_t = 2)]
+        vertex: usize,
+        /// Number of sub-edges.
+        #[arg(long, default_value_t = 2)]
+        arity: usize,
+    },
+    /// The quad patch: 3×3 face, 2×2 sub-faces, edges along u and v, 2×2 vertex.
+    QuadPatch {
+        /// Use the rotationally symmetric vertex rule (3 parameters).
+        #[arg(long)]
+        symmetric: bool,
+    },
+}
+
+/// Reads a file, or a shipped automaton by name when no such file exists.
+fn load(file: &str) -> Result<Design> {
+    let path = PathBuf::from(file);
+    if !path.exists() {
+        if let Some(d) = bcifs::builtin_design(file.trim_end_matches(".toml")) {
+            return Ok(d);
+        }
+    }
+    Ok(read_design(&path)?)
+}
+
+fn parse_params(params: &[String]) -> Result<Vec<(String, f64)>> {
+    params
+        .iter()
+        .map(|p| {
+            let (name, value) = p
+                .split_once('=')
+                .with_context(|| format!("`{p}`: expected NAME=VALUE"))?;
+            let value: f64 = match value.trim().parse() {
+                Ok(v) => v,
+                Err(_) => {
+                    let e = bcifs::Expr::parse(value.trim())
+                        .map_err(|e| anyhow::anyhow!("`{p}`: {e}"))?;
+                    struct NoNames;
+                    impl bcifs::Env<f64> for NoNames {
+                        fn param(&self, _: &str) -> Option<f64> {
+                            None
+                        }
+                        fn entry(&self, _: &str, _: usize, _: usize) -> Option<f64> {
+                            None
+                        }
+                    }
+                    e.eval(&NoNames)
+                        .map_err(|e| anyhow::anyhow!("`{p}`: {e}"))?
+                }
+            };
+            Ok((name.trim().to_string(), value))
+        })
+        .collect()
+}
+
+fn run_solve(out: &mut String, file: &str, as_json: bool) -> Result<u8> {
+    let design = load(file)?;
+    let name = design.automaton.name.clone();
+    match solve(&design) {
+        Ok(family) => {
+            let matrices = family.matrices_text();
+            if as_json {
+                let m: serde_json::Map<String, serde_json::Value> = matrices
+                    .iter()
+                    .map(|(n, rows)| (n.clone(), json!(rows)))
+                    .collect();
+                writeln!(
+                    out,
+                    "{}",
+                    serde_json::to_string_pretty(&json!({
+                        "automaton": name, "consistent": true, "dof": family.dof(),
+                        "parameters": family.parameter_names(), "matrices": m,
+                    }))?
+                )?;
+            } else {
+                writeln!(
+                    out,
+                    "{name}: {} free parameter(s): {}",
+                    family.dof(),
+                    family.parameter_names().join(", ")
+                )?;
+                writeln!(
+                    out,
+                    "({} scalar equations, rank {})",
+                    family.equations, family.rank
+                )?;
+                for (n, rows) in &matrices {
+                    let width = rows.iter().flatten().map(String::len).max().unwrap_or(1);
+                    writeln!(out, "\n{n} =")?;
+                    for row in rows {
+                        let cells: Vec<String> =
+                            row.iter().map(|c| format!("{c:>width$}")).collect();
+                        writeln!(out, "  [ {} ]", cells.join("  "))?;
+                    }
+                }
+            }
+            Ok(0)
+        }
+        Err(SolveError::Inconsistent { conflicts }) => {
+            if as_json {
+                writeln!(
+                    out,
+                    "{}",
+                    serde_json::to_string_pretty(
+                        &json!({"automaton": name, "consistent": false, "conflicts": conflicts})
+                    )?
+                )?;
+            } else {
+                writeln!(
+                    out,
+                    "{name}: the constraints are inconsistent; these equations conflict:"
+                )?;
+                for c in &conflicts {
+                    writeln!(out, "  {c}")?;
+                }
+            }
+            Ok(1)
+        }
+        Err(e) => bail!("{name}: {e}"),
+    }
+}
+
+fn run_check(out: &mut String, file: &str, params: &[String], as_json: bool) -> Result<u8> {
+    let design = load(file)?;
+    let values = parse_params(params)?;
+    let instance = bcifs::instantiate(&design, &values)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", design.automaton.name))?;
+    let report = check(
+        &instance.automaton,
+        &instance.values,
+        DEFAULT_CHECK_TOLERANCE,
+    )?;
+    if as_json {
+        let params: serde_json::Map<String, serde_json::Value> = instance
+            .parameters
+            .iter()
+            .map(|(n, v)| (n.clone(), json!(v)))
+            .collect();
+        let spectra: serde_json::Map<String, serde_json::Value> = report
+            .spectra
+            .iter()
+            .map(|(n, eig)| {
+                (
+                    n.clone(),
+                    json!(eig.iter().map(|l| [l.re, l.im]).collect::<Vec<_>>()),
+                )
+            })
+            .collect();
+        let constraints: Vec<_> = report
+            .constraints
+            .iter()
+            .map(|(e, r)| json!({"equation": e, "max_abs_residual": r}))
+            .collect();
+        writeln!(
+            out,
+            "{}",
+            serde_json::to_string_pretty(&json!({
+                "automaton": design.automaton.name, "ok": report.ok, "parameters": params,
+                "constraints": constraints, "max_column_sum_error": report.max_column_sum_error,
+                "spectra": spectra, "contractive": report.contractive,
+            }))?
+        )?;
+    } else {
+        let p: Vec<String> = instance
+            .parameters
+            .iter()
+            .map(|(n, v)| format!("{n} = {v}"))
+            .collect();
+        writeln!(
+            out,
+            "{}: {}",
+            design.automaton.name,
+            if p.is_empty() {
+                "no free parameter".into()
+            } else {
+                p.join(", ")
+            }
+        )?;
+        for (e, r) in &report.constraints {
+            let mark = if *r <= DEFAULT_CHECK_TOLERANCE {
+                "ok  "
+            } else {
+                "FAIL"
+            };
+            writeln!(out, "  {mark} {e}   (residual {r:.3e})")?;
+        }
+        writeln!(
+            out,
+            "  column sums: max error {:.3e}",
+            report.max_column_sum_error
+        )?;
+        for (n, eig) in &report.spectra {
+            let list: Vec<String> = eig
+                .iter()
+                .map(|l| {
+                    if l.im.abs() < 1e-12 {
+                        format!("{:.6}", l.re)
+                    } else {
+                        format!("{:.6}{:+.6}i", l.re, l.im)
+                    }
+                })
+                .collect();
+            writeln!(out, "  spectrum of {n}: {}", list.join(", "))?;
+        }
+        writeln!(
+            out,
+            "  contractive: {}",
+            if report.contractive { "yes" } else { "no" }
+        )?;
+        writeln!(
+            out,
+            "{}",
+            if report.ok {
+                "ok"
+            } else {
+                "FAILED: some constraints do not hold"
+            }
+        )?;
+    }
+    Ok(if report.ok { 0 } else { 1 })
+}
+
+fn run(out: &mut String, cli: Cli) -> Result<u8> {
+    match cli.command {
+        Command::Solve { file, json } => run_solve(out, &file, json),
+        Command::Check { file, params, json } => run_check(out, &file, &params, json),
+        Command::New { topology } => {
+            let text = match topology {
+                Topology::Curve {
+                    points,
+                    vertex,
+                    arity,
+                } => curve_file(points, vertex, arity)?,
+                Topology::QuadPatch { symmetric } => quad_patch_file(symmetric),
+            };
+            out.push_str(&text);
+            Ok(0)
+        }
+    }
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let mut out = String::new();
+    let code = match run(&mut out, cli) {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            2
+        }
+    };
+    // A closed pipe (`bcifs solve x | head`) is the reader's choice, not an error.
+    let mut stdout = std::io::stdout().lock();
+    match stdout
+        .write_all(out.as_bytes())
+        .and_then(|()| stdout.flush())
+    {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+            eprintln!("error: cannot write the output: {e}");
+            ExitCode::from(2)
+        }
+        _ => ExitCode::from(code),
+    }
+}
