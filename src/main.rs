@@ -77,10 +77,10 @@ enum Topology {
 /// Reads a file, or a shipped automaton by name when no such file exists.
 fn load(file: &str) -> Result<Design> {
     let path = PathBuf::from(file);
-    if !path.exists() {
-        if let Some(d) = bcifs::builtin_design(file.trim_end_matches(".toml")) {
-            return Ok(d);
-        }
+    if !path.exists()
+        && let Some(d) = bcifs::builtin_design(file.trim_end_matches(".toml"))
+    {
+        return Ok(d);
     }
     Ok(read_design(&path)?)
 }

@@ -379,7 +379,7 @@ pub fn solve(design: &Design) -> Result<Family, SolveError> {
             conflicts: vec![bad.label.clone()],
         });
     }
-    eqs.retain(|e| !(e.form.terms().is_empty() && !e.form.constant_term().is_exact()));
+    eqs.retain(|e| !e.form.terms().is_empty() || e.form.constant_term().is_exact());
     let words = eqs.len().div_ceil(64).max(1);
     let key: Vec<(bool, usize)> = design
         .variables

@@ -418,8 +418,10 @@ impl Builder<'_> {
                     format!("an arrow named `{name}` is declared twice"),
                 ));
             }
-            if let Some(m) = &arrow.matrix {
-                if let MatrixSpec::Word(w) = m.get_ref() {
+            if let Some(m) = &arrow.matrix
+                && let MatrixSpec::Word(w) = m.get_ref()
+            {
+                {
                     if w != "unknown" {
                         return Err(src.at(
                             &m.span(),

@@ -1,0 +1,128 @@
+//! The command line contract: JSON shapes and exit codes.
+
+use std::process::Command;
+
+fn bcifs(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_bcifs"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("run bcifs");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into(),
+        String::from_utf8_lossy(&out.stderr).into(),
+    )
+}
+
+fn json(text: &str) -> serde_json::Value {
+    serde_json::from_str(text).expect("valid JSON")
+}
+
+#[test]
+fn solve_json_contract() {
+    let (code, out, _) = bcifs(&["solve", "automata/corner_cutting.toml", "--json"]);
+    assert_eq!(code, 0);
+    let v = json(&out);
+    assert_eq!(v["automaton"], "corner_cutting");
+    assert_eq!(v["consistent"], true);
+    assert_eq!(v["dof"], 2);
+    assert_eq!(v["parameters"], serde_json::json!(["a", "b"]));
+    assert_eq!(
+        v["matrices"]["T0"],
+        serde_json::json!([
+            ["1 - a", "b", "0"],
+            ["a", "1 - b", "1 - a"],
+            ["0", "0", "a"]
+        ])
+    );
+}
+
+#[test]
+fn check_json_contract_and_exit_codes() {
+    let (code, out, _) = bcifs(&[
+        "check",
+        "automata/corner_cutting.toml",
+        "--param",
+        "a=0.2",
+        "--param",
+        "b=1/4",
+        "--json",
+    ]);
+    assert_eq!(code, 0);
+    let v = json(&out);
+    assert_eq!(v["ok"], true);
+    assert_eq!(v["contractive"], true);
+    assert_eq!(v["parameters"]["b"], 0.25);
+    assert_eq!(v["constraints"].as_array().unwrap().len(), 3);
+    assert!(v["constraints"][0]["max_abs_residual"].as_f64().unwrap() < 1e-12);
+    assert_eq!(v["spectra"]["T0"].as_array().unwrap().len(), 3);
+    assert!(v["max_column_sum_error"].as_f64().unwrap() < 1e-12);
+
+    // Outside the convergence domain: constraints hold, not contractive.
+    let (code, out, _) = bcifs(&["check", "corner_cutting", "--param", "a=1.5", "--json"]);
+    assert_eq!(code, 0);
+    assert_eq!(json(&out)["contractive"], false);
+
+    // Unknown parameter, missing file: usage/file errors, exit 2.
+    let (code, _, err) = bcifs(&["check", "corner_cutting", "--param", "aa=0.2"]);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("`aa` is not a free parameter (did you mean `a`?)"),
+        "{err}"
+    );
+    let (code, _, err) = bcifs(&["check", "no/such/file.toml"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("no/such/file.toml"), "{err}");
+}
+
+#[test]
+fn failing_constraints_exit_1() {
+    let dir = std::env::temp_dir().join(format!("bcifs-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // Koch with a broken tip: T1's end no longer meets T2's start.
+    let text = include_str!("../../automata/koch.toml")
+        .replacen(
+            "[0, \"sqrt(3)/6\", \"1/6\"]",
+            "[0, \"sqrt(3)/5\", \"1/6\"]",
+            1,
+        )
+        .replacen(
+            "[\"1/3\", \"1/2\", \"1/3 - sqrt(3)/6\"]",
+            "[\"1/3\", \"1/2 + sqrt(3)/6 - sqrt(3)/5\", \"1/3 - sqrt(3)/6\"]",
+            1,
+        );
+    let path = dir.join("broken_koch.toml");
+    std::fs::write(&path, text).unwrap();
+    let p = path.to_str().unwrap();
+    let (code, out, _) = bcifs(&["check", p, "--json"]);
+    assert_eq!(code, 1, "{out}");
+    let v = json(&out);
+    assert_eq!(v["ok"], false);
+    let (code, out, _) = bcifs(&["solve", p, "--json"]);
+    assert_eq!(code, 1);
+    let v = json(&out);
+    assert_eq!(v["consistent"], false);
+    assert_eq!(
+        v["conflicts"][0],
+        "adjacency: T1 b1 = T2 b0 (row 1, column 0)"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn new_prints_files_that_solve() {
+    let (code, out, _) = bcifs(&[
+        "new", "curve", "--points", "5", "--vertex", "4", "--arity", "3",
+    ]);
+    assert_eq!(code, 0);
+    let d = bcifs::parse_design(&out, "new.toml", "new").unwrap();
+    let f = bcifs::solve(&d).unwrap();
+    // The quartic ternary B-spline is in the family and gives the defaults.
+    let inst = f.instantiate(&[]).unwrap();
+    let r = bcifs::analysis::check(&inst.automaton, &inst.values, 1e-9).unwrap();
+    assert!(r.ok && r.contractive);
+    let (code, _, err) = bcifs(&["new", "curve", "--points", "3", "--vertex", "3"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("1 ≤ vertex < points"), "{err}");
+}

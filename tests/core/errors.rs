@@ -1,0 +1,201 @@
+//! Bad input: positioned errors, conflicting equations, nonlinear
+//! constraints; never a panic.
+
+use bcifs::{SolveError, parse_design, solve};
+use proptest::prelude::*;
+
+const CORNER: &str = include_str!("../../automata/corner_cutting.toml");
+
+fn error_of(text: &str) -> String {
+    parse_design(text, "f.toml", "f")
+        .err()
+        .map(|e| e.to_string())
+        .unwrap_or_default()
+}
+
+/// Position of the first occurrence of `needle` as `line:column` (1-based).
+fn pos(text: &str, needle: &str) -> String {
+    let at = text.find(needle).expect("needle in text");
+    let line = text[..at].matches('\n').count() + 1;
+    let col = at - text[..at].rfind('\n').map_or(0, |i| i + 1) + 1;
+    format!("{line}:{col}")
+}
+
+#[test]
+fn misspelt_names_get_positions_and_suggestions() {
+    let text = CORNER.replace(
+        "adjacency = [\"T0 b1 = T1 b0\"]",
+        "adjacency = [\"T0 b1 = T2 b0\"]",
+    );
+    let e = error_of(&text);
+    let at = pos(&text, "T2 b0");
+    assert_eq!(
+        e,
+        format!("f.toml:{at}: no arrow named `T2` (did you mean `T0`?)")
+    );
+
+    let text = CORNER.replacen("to = \"v\"", "to = \"vv\"", 1);
+    let e = error_of(&text);
+    assert!(
+        e.starts_with(&format!(
+            "f.toml:{}:",
+            pos(&text, "\"vv\"").split(':').next().unwrap()
+        )),
+        "{e}"
+    );
+    assert!(
+        e.contains("no state named `vv`") && e.contains("did you mean `v`?"),
+        "{e}"
+    );
+
+    let text = CORNER.replacen("kind = \"edge\"", "kind = \"edgy\"", 1);
+    let e = error_of(&text);
+    assert_eq!(
+        e,
+        format!(
+            "f.toml:{}: unknown cell kind `edgy`: expected vertex, edge, face or free (did you mean `edge`?)",
+            pos(&text, "\"edgy\"")
+        )
+    );
+}
+
+#[test]
+fn syntax_and_shape_errors_say_what_was_expected() {
+    // TOML syntax.
+    let e = error_of("[[state]\nname = \"e\"\n");
+    assert!(e.starts_with("f.toml:1:"), "{e}");
+    // An expression error points into the string.
+    let text = "[[state]]\nname = \"x\"\ndim = 2\n[[arrow]]\nname = \"T\"\nfrom = \"x\"\nto = \"x\"\nmatrix = [[\"1 - * a\", 0], [0, 1]]\n";
+    let e = error_of(text);
+    assert_eq!(
+        e,
+        "f.toml:8:17: in entry [0][0] of `T`: found `*`, expected a number, a name or `(`"
+    );
+    // Wrong shape.
+    let text = "[[state]]\nname = \"x\"\ndim = 2\n[[arrow]]\nname = \"T\"\nfrom = \"x\"\nto = \"x\"\nmatrix = [[1, 0, 0], [0, 1]]\n";
+    let e = error_of(text);
+    assert!(
+        e.starts_with(
+            "f.toml:8:10: arrow `T` goes from `x` (dim 2) to `x` (dim 2), so its matrix must be 2×2"
+        ),
+        "{e}"
+    );
+    // Unknown field.
+    let e = error_of("[[state]]\nname = \"x\"\ndim = 2\nkidn = \"edge\"\n");
+    assert!(e.starts_with("f.toml:4:1: unknown field `kidn`"), "{e}");
+    // A selection that is not an embedding.
+    let text = CORNER.replace("select = [1, 2]", "select = [1, 1]");
+    assert!(error_of(&text).contains("index 1 is selected twice"));
+    // A parameter naming an entry of a known matrix.
+    let text = CORNER.replace("entry = \"T0[0][1]\"", "entry = \"b0[0][1]\"");
+    assert!(
+        error_of(&text).contains("b0[0][1] is not an entry of an unknown matrix"),
+        "{}",
+        error_of(&text)
+    );
+    // Unknown parameter in an expression.
+    let text = CORNER.replace(
+        "select = [1, 2]",
+        "matrix = [[0, 0], [1, 0], [0, \"1 - q\"]]",
+    );
+    assert!(
+        error_of(&text).contains("unknown parameter `q`"),
+        "{}",
+        error_of(&text)
+    );
+}
+
+#[test]
+fn inconsistent_systems_name_a_small_conflicting_subset() {
+    let text = CORNER.replace(
+        "incidence = [\"T0 b0 = b0 Tv\", \"T1 b1 = b1 Tv\"]",
+        "incidence = [\"T0 b0 = b0 Tv\", \"T1 b1 = b1 Tv\"]\npins = [\"T0[2][2] = 1/2\", \"T1[2][1] = 1/3\"]",
+    );
+    let d = parse_design(&text, "f.toml", "f").unwrap();
+    match solve(&d) {
+        Err(SolveError::Inconsistent { conflicts }) => {
+            // T0[2][2] = a = T1[2][1]: the two pins and the path from one to the other.
+            assert!(
+                conflicts.iter().any(|c| c.contains("pins: T0[2][2] = 1/2")),
+                "{conflicts:?}"
+            );
+            assert!(
+                conflicts.iter().any(|c| c.contains("pins: T1[2][1] = 1/3")),
+                "{conflicts:?}"
+            );
+            assert!(conflicts.len() <= 4, "small subset expected: {conflicts:?}");
+        }
+        other => panic!("expected a conflict, got {other:?}"),
+    }
+}
+
+#[test]
+fn a_determined_parameter_is_reported() {
+    let text = CORNER
+        .replace("[parameters]", "[constraints.extra]\n")
+        .replace(
+            "incidence = [\"T0 b0 = b0 Tv\", \"T1 b1 = b1 Tv\"]",
+            "incidence = [\"T0 b0 = b0 Tv\", \"T1 b1 = b1 Tv\"]\npins = [\"T0[2][2] = 1/2\"]",
+        );
+    // Without a [parameters] table the pin just fixes an entry: 1 dof left.
+    let text = text.replace("[constraints.extra]\n\na = { entry = \"T0[1][0]\", default = 0.25 }\nb = { entry = \"T0[0][1]\", default = 0.25 }\n", "");
+    let d = parse_design(&text, "f.toml", "f").unwrap();
+    assert_eq!(solve(&d).unwrap().dof(), 1);
+    let text = CORNER.replace(
+        "incidence = [\"T0 b0 = b0 Tv\", \"T1 b1 = b1 Tv\"]",
+        "incidence = [\"T0 b0 = b0 Tv\", \"T1 b1 = b1 Tv\"]\npins = [\"T0[2][2] = 1/2\"]",
+    );
+    let d = parse_design(&text, "f.toml", "f").unwrap();
+    assert_eq!(
+        solve(&d).unwrap_err().to_string(),
+        "parameter `a` is not free: the constraints give a = 1/2"
+    );
+}
+
+#[test]
+fn a_side_with_two_unknown_matrices_is_refused() {
+    let text = CORNER.replace(
+        "adjacency = [\"T0 b1 = T1 b0\"]",
+        "adjacency = [\"T0 b1 = T1 b0\"]\ncommute = [\"T0 T1 = T1 T0\"]",
+    );
+    let d = parse_design(&text, "f.toml", "f").unwrap();
+    assert_eq!(
+        solve(&d).unwrap_err().to_string(),
+        "`commute: T0 T1 = T1 T0` is not linear: its left side multiplies two matrices that depend on unknowns (at most one factor per side may be unknown)"
+    );
+}
+
+#[test]
+fn parameters_in_known_matrices_are_solved_for() {
+    // The corner-cutting T0 written with a parameter t; T1 and Tv unknown.
+    let text = "[[state]]\nname = \"e\"\ndim = 3\n[[state]]\nname = \"v\"\ndim = 2\n\
+        [[arrow]]\nname = \"T0\"\nfrom = \"e\"\nto = \"e\"\nmatrix = [[\"1 - t\", \"t\", 0], [\"t\", \"1 - t\", \"1 - t\"], [0, 0, \"t\"]]\n\
+        [[arrow]]\nname = \"T1\"\nfrom = \"e\"\nto = \"e\"\nmatrix = \"unknown\"\n\
+        [[arrow]]\nname = \"Tv\"\nfrom = \"v\"\nto = \"v\"\nmatrix = \"unknown\"\n\
+        [[arrow]]\nname = \"b0\"\nfrom = \"e\"\nto = \"v\"\nkind = \"boundary\"\nselect = [0, 1]\n\
+        [[arrow]]\nname = \"b1\"\nfrom = \"e\"\nto = \"v\"\nkind = \"boundary\"\nselect = [1, 2]\n\
+        [constraints]\nall = [\"T0 b1 = T1 b0\", \"T0 b0 = b0 Tv\", \"T1 b1 = b1 Tv\"]\n\
+        [parameters]\nt = { default = 0.25 }\n";
+    let d = parse_design(text, "f.toml", "f").unwrap();
+    let f = solve(&d).unwrap();
+    assert_eq!(f.parameter_names(), ["t"]);
+    assert_eq!(f.entry_text("T1", 1, 0), "1 - t");
+    assert_eq!(f.entry_text("Tv", 0, 1), "t");
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 300, .. ProptestConfig::default() })]
+
+    /// Any edit of a valid file parses or fails with a positioned error; solving never panics.
+    #[test]
+    fn mutated_files_never_panic(at in 0usize..CORNER.len(), len in 0usize..6, insert in "[\\[\\]=\"a-z0-9 \n.,-]{0,4}") {
+        let mut text = CORNER.to_string();
+        let at = (0..=at).rev().find(|i| text.is_char_boundary(*i)).unwrap_or(0);
+        let end = (at + len..=text.len()).find(|i| text.is_char_boundary(*i)).unwrap_or(text.len());
+        text.replace_range(at..end, &insert);
+        match parse_design(&text, "m.toml", "m") {
+            Ok(d) => { let _ = solve(&d); }
+            Err(e) => prop_assert!(e.line >= 1 && e.column >= 1 && !e.message.is_empty()),
+        }
+    }
+}
