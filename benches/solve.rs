@@ -11,10 +11,7 @@ fn solve_benches(c: &mut Criterion) {
     }
     let text = bcifs::schemes::quad_patch_file(false);
     c.bench_function("parse+solve/quad_patch_general", |b| {
-        b.iter(|| {
-            bcifs::solve(&bcifs::parse_design(&text, "q", "q").expect("parses"))
-                .expect("consistent")
-        })
+        b.iter(|| bcifs::solve(&bcifs::parse_design(&text, "q", "q").expect("parses")).expect("consistent"))
     });
 }
 

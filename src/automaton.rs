@@ -223,9 +223,7 @@ pub enum AutomatonError {
     #[error("a side of the equation has no arrow")]
     EmptyPath,
     /// A boundary arrow whose matrix is not an embedding.
-    #[error(
-        "boundary arrow `{0}` is not an embedding (its constant matrix must have full column rank)"
-    )]
+    #[error("boundary arrow `{0}` is not an embedding (its constant matrix must have full column rank)")]
     NotEmbedding(String),
 }
 
@@ -275,12 +273,7 @@ impl<E: Entry> Automaton<E> {
     ///
     /// # Errors
     /// A duplicate name, or a matrix that is not `dim(from) × dim(to)`.
-    pub fn add_arrow(
-        &mut self,
-        from: NodeIndex,
-        to: NodeIndex,
-        arrow: Arrow<E>,
-    ) -> Result<EdgeIndex, AutomatonError> {
+    pub fn add_arrow(&mut self, from: NodeIndex, to: NodeIndex, arrow: Arrow<E>) -> Result<EdgeIndex, AutomatonError> {
         if self.arrows_by_name.contains_key(&arrow.name) {
             return Err(AutomatonError::DuplicateName(arrow.name));
         }
@@ -324,11 +317,7 @@ impl<E: Entry> Automaton<E> {
         Ok(())
     }
 
-    fn path_ends(
-        &self,
-        path: &[EdgeIndex],
-        text: &str,
-    ) -> Result<(NodeIndex, NodeIndex), AutomatonError> {
+    fn path_ends(&self, path: &[EdgeIndex], text: &str) -> Result<(NodeIndex, NodeIndex), AutomatonError> {
         let first = *path.first().ok_or(AutomatonError::EmptyPath)?;
         let (start, mut end) = self.arrow_ends(first);
         for pair in path.windows(2) {
@@ -374,9 +363,7 @@ impl<E: Entry> Automaton<E> {
 
     /// `(from, to)` of arrow `id`.
     pub fn arrow_ends(&self, id: EdgeIndex) -> (NodeIndex, NodeIndex) {
-        self.graph
-            .edge_endpoints(id)
-            .expect("arrow index from this automaton")
+        self.graph.edge_endpoints(id).expect("arrow index from this automaton")
     }
 
     /// All states, in insertion order.
@@ -391,12 +378,8 @@ impl<E: Entry> Automaton<E> {
 
     /// The arrows leaving `state` of the given kind, in insertion order.
     pub fn outgoing(&self, state: NodeIndex, kind: ArrowKind) -> Vec<EdgeIndex> {
-        let mut out: Vec<EdgeIndex> = self
-            .graph
-            .edges(state)
-            .filter(|e| e.weight().kind == kind)
-            .map(|e| e.id())
-            .collect();
+        let mut out: Vec<EdgeIndex> =
+            self.graph.edges(state).filter(|e| e.weight().kind == kind).map(|e| e.id()).collect();
         out.sort();
         out
     }
@@ -439,11 +422,7 @@ impl<E: Entry> Automaton<E> {
                         DMatrix::from_element(0, 0, F::zero())
                     }
                 };
-                Arrow {
-                    name: a.name.clone(),
-                    kind: a.kind,
-                    matrix,
-                }
+                Arrow { name: a.name.clone(), kind: a.kind, matrix }
             },
         );
         if let Some(e) = first_error {
@@ -460,10 +439,7 @@ impl<E: Entry> Automaton<E> {
 
     /// The path as text, `T0·b1`.
     pub fn path_text(&self, path: &[EdgeIndex]) -> String {
-        path.iter()
-            .map(|id| self.graph[*id].name.as_str())
-            .collect::<Vec<_>>()
-            .join("·")
+        path.iter().map(|id| self.graph[*id].name.as_str()).collect::<Vec<_>>().join("·")
     }
 }
 
@@ -489,9 +465,7 @@ impl Automaton<f64> {
 /// `e_{select[j]}`: the embedding of a boundary cell whose control points are
 /// the points `select` of the bounded cell.
 pub fn selection<E: Entry>(rows: usize, select: &[usize]) -> DMatrix<E> {
-    DMatrix::from_fn(rows, select.len(), |i, j| {
-        if select[j] == i { E::one() } else { E::zero() }
-    })
+    DMatrix::from_fn(rows, select.len(), |i, j| if select[j] == i { E::one() } else { E::zero() })
 }
 
 #[cfg(test)]
@@ -504,43 +478,15 @@ mod tests {
         let mut a: Automaton<f64> = Automaton::new("t");
         let e = a.add_state(State::new("e", 3, CellKind::Edge)).unwrap();
         let v = a.add_state(State::new("v", 2, CellKind::Vertex)).unwrap();
-        let t0 =
-            DMatrix::from_row_slice(3, 3, &[0.75, 0.25, 0.0, 0.25, 0.75, 0.75, 0.0, 0.0, 0.25]);
-        let t0 = a.add_arrow(
-            e,
-            e,
-            Arrow {
-                name: "T0".into(),
-                kind: ArrowKind::Subdivision,
-                matrix: t0,
-            },
-        );
+        let t0 = DMatrix::from_row_slice(3, 3, &[0.75, 0.25, 0.0, 0.25, 0.75, 0.75, 0.0, 0.0, 0.25]);
+        let t0 = a.add_arrow(e, e, Arrow { name: "T0".into(), kind: ArrowKind::Subdivision, matrix: t0 });
         let b1 = a
-            .add_arrow(
-                e,
-                v,
-                Arrow {
-                    name: "b1".into(),
-                    kind: ArrowKind::Boundary,
-                    matrix: selection(3, &[1, 2]),
-                },
-            )
+            .add_arrow(e, v, Arrow { name: "b1".into(), kind: ArrowKind::Boundary, matrix: selection(3, &[1, 2]) })
             .unwrap();
         let p = a.product(&[t0.unwrap(), b1]).unwrap();
-        assert_eq!(
-            p,
-            DMatrix::from_row_slice(3, 2, &[0.25, 0.0, 0.75, 0.75, 0.0, 0.25])
-        );
+        assert_eq!(p, DMatrix::from_row_slice(3, 2, &[0.25, 0.0, 0.75, 0.75, 0.0, 0.25]));
         assert!(a.check_embeddings().is_ok());
-        let bad = a.add_arrow(
-            v,
-            e,
-            Arrow {
-                name: "x".into(),
-                kind: ArrowKind::Boundary,
-                matrix: selection(3, &[0]),
-            },
-        );
+        let bad = a.add_arrow(v, e, Arrow { name: "x".into(), kind: ArrowKind::Boundary, matrix: selection(3, &[0]) });
         assert!(matches!(bad, Err(AutomatonError::Shape { .. })));
     }
 }

@@ -47,16 +47,23 @@ pub enum Layout {
     Grid,
     /// A torus: like `Grid`, wrapping around in both directions.
     Torus,
+    /// An open polyline of 2D points; piece `i` is `(P_i, P_{i+1}, Q_i)` with
+    /// the rotated frame point `Q_i = P_i + R90(P_{i+1} - P_i)` (normal-vector schemes).
+    Frames,
+    /// Like `Frames`, closing the polygon.
+    ClosedFrames,
 }
 
 impl Layout {
     /// All layouts.
-    pub const ALL: [Layout; 5] = [
+    pub const ALL: [Layout; 7] = [
         Layout::Single,
         Layout::Open,
         Layout::Closed,
         Layout::Grid,
         Layout::Torus,
+        Layout::Frames,
+        Layout::ClosedFrames,
     ];
 
     /// The keyword used in automaton files.
@@ -67,6 +74,8 @@ impl Layout {
             Layout::Closed => "closed",
             Layout::Grid => "grid",
             Layout::Torus => "torus",
+            Layout::Frames => "frames",
+            Layout::ClosedFrames => "closed-frames",
         }
     }
 }
@@ -84,6 +93,9 @@ pub struct Model {
     pub step: Option<usize>,
     /// `(rows, cols)` of the control grid for grid layouts.
     pub grid: Option<(usize, usize)>,
+    /// Start sets: barycentric points per state, emitted at leaves instead
+    /// of the kind's default (any compact start set converges to the attractor).
+    pub start: Vec<(String, Vec<Vec<f64>>)>,
 }
 
 /// An automaton whose entries are affine in the variables of its constraint

@@ -32,38 +32,39 @@
 pub mod analysis;
 mod automaton;
 mod design;
+pub mod eval;
+pub mod export;
 mod family;
 mod format;
+pub mod geometry;
+mod render;
 pub mod schemes;
 mod space;
 
-pub use automaton::{
-    Arrow, ArrowKind, Automaton, AutomatonError, Constraint, Entry, Relation, mat_mul, selection,
-};
+pub use automaton::{Arrow, ArrowKind, Automaton, AutomatonError, Constraint, Entry, Relation, mat_mul, selection};
 pub use design::{Design, Layout, Model, Origin, Variable};
 pub use family::{
-    Affine, AffineDisplay, DesignInstantiateError, Env, Equation, EvalError, Expr, ExprSyntaxError,
-    ExprValue, Family, Instance, InstantiateError, Nonlinear, Num, Parameter, SolveError,
-    equations, instantiate, numeric, solve,
+    Affine, AffineDisplay, DesignInstantiateError, Env, Equation, EvalError, Expr, ExprSyntaxError, ExprValue, Family,
+    Instance, InstantiateError, Nonlinear, Num, Parameter, SolveError, equations, instantiate, numeric, solve,
 };
-pub use format::{
-    FormatError, ReadError, TomlWriter, edit_distance, parse_design, read_design, suggest,
+pub use format::{FormatError, ReadError, TomlWriter, edit_distance, parse_design, read_design, suggest};
+pub use render::{
+    GALLERY_BUDGET_BYTES, GALLERY_MAX_DEPTH, GalleryEntry, RenderError, RenderOptions, RenderSummary, evaluate_design,
+    gallery, gallery_depth, render,
 };
 pub use space::{CellKind, State};
 
 /// The automata shipped in `automata/`, embedded in the library:
 /// `(name, file text)`.
 pub const BUILTIN_AUTOMATA: &[(&str, &str)] = &[
-    (
-        "corner_cutting",
-        include_str!("../automata/corner_cutting.toml"),
-    ),
+    ("corner_cutting", include_str!("../automata/corner_cutting.toml")),
     ("curve_4_3", include_str!("../automata/curve_4_3.toml")),
-    (
-        "doo_sabin_quad",
-        include_str!("../automata/doo_sabin_quad.toml"),
-    ),
+    ("doo_sabin_quad", include_str!("../automata/doo_sabin_quad.toml")),
+    ("doo_sabin_torus", include_str!("../automata/doo_sabin_torus.toml")),
+    ("fern", include_str!("../automata/fern.toml")),
+    ("fern_sierpinski", include_str!("../automata/fern_sierpinski.toml")),
     ("koch", include_str!("../automata/koch.toml")),
+    ("levy", include_str!("../automata/levy.toml")),
 ];
 
 /// The shipped automaton called `name`, parsed.

@@ -14,11 +14,7 @@ use bcifs::schemes::{curve_file, quad_patch_file};
 use bcifs::{Design, SolveError, read_design, solve};
 
 #[derive(Parser)]
-#[command(
-    name = "bcifs",
-    version,
-    about = "Iterative geometric modelling with Boundary Controlled IFS"
-)]
+#[command(name = "bcifs", version, about = "Iterative geometric modelling with Boundary Controlled IFS")]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -44,6 +40,53 @@ enum Command {
         /// Print JSON instead of text.
         #[arg(long)]
         json: bool,
+    },
+    /// Evaluate an automaton with its model and write OBJ, SVG or PNG.
+    Render {
+        /// The automaton file (TOML), or the name of a shipped automaton.
+        file: String,
+        /// A parameter value, NAME=VALUE (repeatable).
+        #[arg(long = "param", value_name = "NAME=VALUE")]
+        params: Vec<String>,
+        /// Subdivision depth.
+        #[arg(long, conflicts_with = "tolerance")]
+        depth: Option<usize>,
+        /// Subdivide until every cell's control polygon is smaller than this (modelling units).
+        #[arg(long)]
+        tolerance: Option<f64>,
+        /// Chaos game with this many points instead of deterministic evaluation.
+        #[arg(long, value_name = "N")]
+        random: Option<usize>,
+        /// Seed of the chaos game.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Probability of an arrow in the chaos game, ARROW=P (repeatable; default ∝ |det|).
+        #[arg(long = "prob", value_name = "ARROW=P")]
+        probs: Vec<String>,
+        /// Leave out a subdivision arrow (repeatable): a subset of the attractor.
+        #[arg(long = "drop", value_name = "ARROW")]
+        drop: Vec<String>,
+        /// Worker threads (default: all cores).
+        #[arg(long)]
+        threads: Option<usize>,
+        /// In-memory limit in MiB for PNG/SVG output.
+        #[arg(long, default_value_t = 4096)]
+        memory_mib: usize,
+        /// Picture size in pixels, WIDTHxHEIGHT.
+        #[arg(long, default_value = "800x800")]
+        size: String,
+        /// View of 3D shapes: YAW,PITCH in degrees.
+        #[arg(long, default_value = "30,35", allow_hyphen_values = true)]
+        view: String,
+        /// Output file: .obj (streamed), .svg or .png.
+        #[arg(short, long)]
+        output: PathBuf,
+    },
+    /// Render every shipped automaton (PNG, OBJ) and an index.html into DIR.
+    Gallery {
+        /// Output directory.
+        #[arg(default_value = "gallery")]
+        dir: PathBuf,
     },
     /// Print a commented automaton file for a BC-IFS topology.
     New {
@@ -89,14 +132,11 @@ fn parse_params(params: &[String]) -> Result<Vec<(String, f64)>> {
     params
         .iter()
         .map(|p| {
-            let (name, value) = p
-                .split_once('=')
-                .with_context(|| format!("`{p}`: expected NAME=VALUE"))?;
+            let (name, value) = p.split_once('=').with_context(|| format!("`{p}`: expected NAME=VALUE"))?;
             let value: f64 = match value.trim().parse() {
                 Ok(v) => v,
                 Err(_) => {
-                    let e = bcifs::Expr::parse(value.trim())
-                        .map_err(|e| anyhow::anyhow!("`{p}`: {e}"))?;
+                    let e = bcifs::Expr::parse(value.trim()).map_err(|e| anyhow::anyhow!("`{p}`: {e}"))?;
                     struct NoNames;
                     impl bcifs::Env<f64> for NoNames {
                         fn param(&self, _: &str) -> Option<f64> {
@@ -106,8 +146,7 @@ fn parse_params(params: &[String]) -> Result<Vec<(String, f64)>> {
                             None
                         }
                     }
-                    e.eval(&NoNames)
-                        .map_err(|e| anyhow::anyhow!("`{p}`: {e}"))?
+                    e.eval(&NoNames).map_err(|e| anyhow::anyhow!("`{p}`: {e}"))?
                 }
             };
             Ok((name.trim().to_string(), value))
@@ -122,10 +161,8 @@ fn run_solve(out: &mut String, file: &str, as_json: bool) -> Result<u8> {
         Ok(family) => {
             let matrices = family.matrices_text();
             if as_json {
-                let m: serde_json::Map<String, serde_json::Value> = matrices
-                    .iter()
-                    .map(|(n, rows)| (n.clone(), json!(rows)))
-                    .collect();
+                let m: serde_json::Map<String, serde_json::Value> =
+                    matrices.iter().map(|(n, rows)| (n.clone(), json!(rows))).collect();
                 writeln!(
                     out,
                     "{}",
@@ -135,23 +172,13 @@ fn run_solve(out: &mut String, file: &str, as_json: bool) -> Result<u8> {
                     }))?
                 )?;
             } else {
-                writeln!(
-                    out,
-                    "{name}: {} free parameter(s): {}",
-                    family.dof(),
-                    family.parameter_names().join(", ")
-                )?;
-                writeln!(
-                    out,
-                    "({} scalar equations, rank {})",
-                    family.equations, family.rank
-                )?;
+                writeln!(out, "{name}: {} free parameter(s): {}", family.dof(), family.parameter_names().join(", "))?;
+                writeln!(out, "({} scalar equations, rank {})", family.equations, family.rank)?;
                 for (n, rows) in &matrices {
                     let width = rows.iter().flatten().map(String::len).max().unwrap_or(1);
                     writeln!(out, "\n{n} =")?;
                     for row in rows {
-                        let cells: Vec<String> =
-                            row.iter().map(|c| format!("{c:>width$}")).collect();
+                        let cells: Vec<String> = row.iter().map(|c| format!("{c:>width$}")).collect();
                         writeln!(out, "  [ {} ]", cells.join("  "))?;
                     }
                 }
@@ -168,10 +195,7 @@ fn run_solve(out: &mut String, file: &str, as_json: bool) -> Result<u8> {
                     )?
                 )?;
             } else {
-                writeln!(
-                    out,
-                    "{name}: the constraints are inconsistent; these equations conflict:"
-                )?;
+                writeln!(out, "{name}: the constraints are inconsistent; these equations conflict:")?;
                 for c in &conflicts {
                     writeln!(out, "  {c}")?;
                 }
@@ -185,34 +209,19 @@ fn run_solve(out: &mut String, file: &str, as_json: bool) -> Result<u8> {
 fn run_check(out: &mut String, file: &str, params: &[String], as_json: bool) -> Result<u8> {
     let design = load(file)?;
     let values = parse_params(params)?;
-    let instance = bcifs::instantiate(&design, &values)
-        .map_err(|e| anyhow::anyhow!("{}: {e}", design.automaton.name))?;
-    let report = check(
-        &instance.automaton,
-        &instance.values,
-        DEFAULT_CHECK_TOLERANCE,
-    )?;
+    let instance =
+        bcifs::instantiate(&design, &values).map_err(|e| anyhow::anyhow!("{}: {e}", design.automaton.name))?;
+    let report = check(&instance.automaton, &instance.values, DEFAULT_CHECK_TOLERANCE)?;
     if as_json {
-        let params: serde_json::Map<String, serde_json::Value> = instance
-            .parameters
-            .iter()
-            .map(|(n, v)| (n.clone(), json!(v)))
-            .collect();
+        let params: serde_json::Map<String, serde_json::Value> =
+            instance.parameters.iter().map(|(n, v)| (n.clone(), json!(v))).collect();
         let spectra: serde_json::Map<String, serde_json::Value> = report
             .spectra
             .iter()
-            .map(|(n, eig)| {
-                (
-                    n.clone(),
-                    json!(eig.iter().map(|l| [l.re, l.im]).collect::<Vec<_>>()),
-                )
-            })
+            .map(|(n, eig)| (n.clone(), json!(eig.iter().map(|l| [l.re, l.im]).collect::<Vec<_>>())))
             .collect();
-        let constraints: Vec<_> = report
-            .constraints
-            .iter()
-            .map(|(e, r)| json!({"equation": e, "max_abs_residual": r}))
-            .collect();
+        let constraints: Vec<_> =
+            report.constraints.iter().map(|(e, r)| json!({"equation": e, "max_abs_residual": r})).collect();
         writeln!(
             out,
             "{}",
@@ -223,61 +232,27 @@ fn run_check(out: &mut String, file: &str, params: &[String], as_json: bool) -> 
             }))?
         )?;
     } else {
-        let p: Vec<String> = instance
-            .parameters
-            .iter()
-            .map(|(n, v)| format!("{n} = {v}"))
-            .collect();
+        let p: Vec<String> = instance.parameters.iter().map(|(n, v)| format!("{n} = {v}")).collect();
         writeln!(
             out,
             "{}: {}",
             design.automaton.name,
-            if p.is_empty() {
-                "no free parameter".into()
-            } else {
-                p.join(", ")
-            }
+            if p.is_empty() { "no free parameter".into() } else { p.join(", ") }
         )?;
         for (e, r) in &report.constraints {
-            let mark = if *r <= DEFAULT_CHECK_TOLERANCE {
-                "ok  "
-            } else {
-                "FAIL"
-            };
+            let mark = if *r <= DEFAULT_CHECK_TOLERANCE { "ok  " } else { "FAIL" };
             writeln!(out, "  {mark} {e}   (residual {r:.3e})")?;
         }
-        writeln!(
-            out,
-            "  column sums: max error {:.3e}",
-            report.max_column_sum_error
-        )?;
+        writeln!(out, "  column sums: max error {:.3e}", report.max_column_sum_error)?;
         for (n, eig) in &report.spectra {
             let list: Vec<String> = eig
                 .iter()
-                .map(|l| {
-                    if l.im.abs() < 1e-12 {
-                        format!("{:.6}", l.re)
-                    } else {
-                        format!("{:.6}{:+.6}i", l.re, l.im)
-                    }
-                })
+                .map(|l| if l.im.abs() < 1e-12 { format!("{:.6}", l.re) } else { format!("{:.6}{:+.6}i", l.re, l.im) })
                 .collect();
             writeln!(out, "  spectrum of {n}: {}", list.join(", "))?;
         }
-        writeln!(
-            out,
-            "  contractive: {}",
-            if report.contractive { "yes" } else { "no" }
-        )?;
-        writeln!(
-            out,
-            "{}",
-            if report.ok {
-                "ok"
-            } else {
-                "FAILED: some constraints do not hold"
-            }
-        )?;
+        writeln!(out, "  contractive: {}", if report.contractive { "yes" } else { "no" })?;
+        writeln!(out, "{}", if report.ok { "ok" } else { "FAILED: some constraints do not hold" })?;
     }
     Ok(if report.ok { 0 } else { 1 })
 }
@@ -286,13 +261,83 @@ fn run(out: &mut String, cli: Cli) -> Result<u8> {
     match cli.command {
         Command::Solve { file, json } => run_solve(out, &file, json),
         Command::Check { file, params, json } => run_check(out, &file, &params, json),
+        Command::Render {
+            file,
+            params,
+            depth,
+            tolerance,
+            random,
+            seed,
+            probs,
+            drop,
+            threads,
+            memory_mib,
+            size,
+            view,
+            output,
+        } => {
+            let design = load(&file)?;
+            let mut options = bcifs::RenderOptions::default();
+            options.params = parse_params(&params)?;
+            options.eval.depth = match (depth, tolerance) {
+                (_, Some(eps)) if eps > 0.0 => bcifs::eval::Depth::Tolerance(eps),
+                (_, Some(eps)) => bail!("the tolerance must be positive, not {eps}"),
+                (Some(k), None) => bcifs::eval::Depth::Fixed(k),
+                (None, None) => bcifs::eval::Depth::Fixed(bcifs::eval::DEFAULT_DEPTH),
+            };
+            options.eval.threads = threads;
+            options.eval.memory_limit = memory_mib.saturating_mul(1 << 20);
+            options.eval.dropped = drop;
+            options.eval.progress = true;
+            if let Some(n) = random {
+                let mut r = bcifs::eval::RandomSettings::default().with_points(n).with_seed(seed);
+                r.threads = threads;
+                r.probabilities = parse_params(&probs)?;
+                options.random = Some(r);
+            }
+            let (w, h) = size.split_once('x').with_context(|| format!("--size `{size}`: expected WIDTHxHEIGHT"))?;
+            let (yaw, pitch) = view.split_once(',').with_context(|| format!("--view `{view}`: expected YAW,PITCH"))?;
+            options.raster = options
+                .raster
+                .with_size(w.trim().parse().context("--size width")?, h.trim().parse().context("--size height")?)
+                .with_view(yaw.trim().parse().context("--view yaw")?, pitch.trim().parse().context("--view pitch")?);
+            let started = std::time::Instant::now();
+            let summary = bcifs::render(&design, &options, &output)?;
+            eprintln!(
+                "{}: {} vertices{} → {} ({:.2} s)",
+                design.automaton.name,
+                summary.vertices,
+                if summary.quads > 0 { format!(", {} quads", summary.quads) } else { String::new() },
+                output.display(),
+                started.elapsed().as_secs_f64()
+            );
+            Ok(0)
+        }
+        Command::Gallery { dir } => {
+            let started = std::time::Instant::now();
+            let entries = bcifs::gallery(&dir, true)?;
+            for e in &entries {
+                writeln!(
+                    out,
+                    "{:<20} depth {:>2}  {:>9} vertices  {}",
+                    e.name,
+                    e.depth.unwrap_or(0),
+                    e.summary.vertices,
+                    e.files.join(", ")
+                )?;
+            }
+            writeln!(
+                out,
+                "{} automata → {} ({:.1} s)",
+                entries.len(),
+                dir.join("index.html").display(),
+                started.elapsed().as_secs_f64()
+            )?;
+            Ok(0)
+        }
         Command::New { topology } => {
             let text = match topology {
-                Topology::Curve {
-                    points,
-                    vertex,
-                    arity,
-                } => curve_file(points, vertex, arity)?,
+                Topology::Curve { points, vertex, arity } => curve_file(points, vertex, arity)?,
                 Topology::QuadPatch { symmetric } => quad_patch_file(symmetric),
             };
             out.push_str(&text);
@@ -313,10 +358,7 @@ fn main() -> ExitCode {
     };
     // A closed pipe (`bcifs solve x | head`) is the reader's choice, not an error.
     let mut stdout = std::io::stdout().lock();
-    match stdout
-        .write_all(out.as_bytes())
-        .and_then(|()| stdout.flush())
-    {
+    match stdout.write_all(out.as_bytes()).and_then(|()| stdout.flush()) {
         Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
             eprintln!("error: cannot write the output: {e}");
             ExitCode::from(2)

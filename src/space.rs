@@ -18,12 +18,7 @@ pub enum CellKind {
 
 impl CellKind {
     /// All kinds, in the order they are documented.
-    pub const ALL: [CellKind; 4] = [
-        CellKind::Vertex,
-        CellKind::Edge,
-        CellKind::Face,
-        CellKind::Free,
-    ];
+    pub const ALL: [CellKind; 4] = [CellKind::Vertex, CellKind::Edge, CellKind::Face, CellKind::Free];
 
     /// The keyword used in automaton files.
     pub fn keyword(self) -> &'static str {
@@ -45,10 +40,7 @@ impl fmt::Display for CellKind {
 impl FromStr for CellKind {
     type Err = ();
     fn from_str(s: &str) -> Result<CellKind, ()> {
-        CellKind::ALL
-            .into_iter()
-            .find(|k| k.keyword() == s)
-            .ok_or(())
+        CellKind::ALL.into_iter().find(|k| k.keyword() == s).ok_or(())
     }
 }
 
@@ -67,10 +59,6 @@ pub struct State {
 impl State {
     /// A state named `name` of dimension `dim` and kind `kind`.
     pub fn new(name: impl Into<String>, dim: usize, kind: CellKind) -> State {
-        State {
-            name: name.into(),
-            dim,
-            kind,
-        }
+        State { name: name.into(), dim, kind }
     }
 }

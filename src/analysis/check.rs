@@ -55,10 +55,7 @@ pub fn contractive_spectrum(eigenvalues: &[Complex<f64>], tol: f64) -> bool {
     else {
         return false;
     };
-    eigenvalues
-        .iter()
-        .enumerate()
-        .all(|(i, l)| i == one || l.norm() < 1.0 - tol)
+    eigenvalues.iter().enumerate().all(|(i, l)| i == one || l.norm() < 1.0 - tol)
 }
 
 /// Checks an instantiated automaton; `values` gives the parameters that
@@ -66,11 +63,7 @@ pub fn contractive_spectrum(eigenvalues: &[Complex<f64>], tol: f64) -> bool {
 ///
 /// # Errors
 /// An entry equation that refers to a missing name.
-pub fn check(
-    automaton: &Automaton<f64>,
-    values: &HashMap<String, f64>,
-    tol: f64,
-) -> Result<CheckReport, EvalError> {
+pub fn check(automaton: &Automaton<f64>, values: &HashMap<String, f64>, tol: f64) -> Result<CheckReport, EvalError> {
     let mut constraints = Vec::new();
     for c in automaton.constraints() {
         let residual = match &c.relation {
@@ -91,22 +84,14 @@ pub fn check(
     let mut contractive = true;
     for (_, arrow) in automaton.arrows() {
         for j in 0..arrow.matrix.ncols() {
-            max_column_sum_error =
-                max_column_sum_error.max((arrow.matrix.column(j).sum() - 1.0).abs());
+            max_column_sum_error = max_column_sum_error.max((arrow.matrix.column(j).sum() - 1.0).abs());
         }
         if arrow.kind == ArrowKind::Subdivision && arrow.matrix.is_square() {
-            let eig: Vec<Complex<f64>> =
-                arrow.matrix.complex_eigenvalues().iter().copied().collect();
+            let eig: Vec<Complex<f64>> = arrow.matrix.complex_eigenvalues().iter().copied().collect();
             contractive &= contractive_spectrum(&eig, tol);
             spectra.push((arrow.name.clone(), eig));
         }
     }
     let ok = max_column_sum_error <= tol && constraints.iter().all(|(_, r)| *r <= tol);
-    Ok(CheckReport {
-        ok,
-        constraints,
-        max_column_sum_error,
-        spectra,
-        contractive,
-    })
+    Ok(CheckReport { ok, constraints, max_column_sum_error, spectra, contractive })
 }

@@ -22,18 +22,12 @@ pub struct Nonlinear;
 impl Affine {
     /// The constant form `c`.
     pub fn constant(c: Num) -> Affine {
-        Affine {
-            constant: c,
-            terms: Vec::new(),
-        }
+        Affine { constant: c, terms: Vec::new() }
     }
 
     /// The form `x_var`.
     pub fn var(var: usize) -> Affine {
-        Affine {
-            constant: Num::zero(),
-            terms: vec![(var, Num::one())],
-        }
+        Affine { constant: Num::zero(), terms: vec![(var, Num::one())] }
     }
 
     /// The constant term.
@@ -71,10 +65,8 @@ impl Affine {
         let mut terms = Vec::with_capacity(self.terms.len() + other.terms.len());
         let (mut i, mut j) = (0, 0);
         while i < self.terms.len() || j < other.terms.len() {
-            let take_left = j >= other.terms.len()
-                || (i < self.terms.len() && self.terms[i].0 < other.terms[j].0);
-            let take_right = i >= self.terms.len()
-                || (j < other.terms.len() && other.terms[j].0 < self.terms[i].0);
+            let take_left = j >= other.terms.len() || (i < self.terms.len() && self.terms[i].0 < other.terms[j].0);
+            let take_right = i >= self.terms.len() || (j < other.terms.len() && other.terms[j].0 < self.terms[i].0);
             if take_left {
                 terms.push(self.terms[i].clone());
                 i += 1;
@@ -91,10 +83,7 @@ impl Affine {
             }
         }
         terms.retain(|(_, c)| !c.is_zero());
-        Affine {
-            constant: self.constant.add(&other.constant.mul(k)),
-            terms,
-        }
+        Affine { constant: self.constant.add(&other.constant.mul(k)), terms }
     }
 
     /// `k · self`.
@@ -102,10 +91,7 @@ impl Affine {
         if k.is_zero() {
             return Affine::constant(Num::zero());
         }
-        Affine {
-            constant: self.constant.mul(k),
-            terms: self.terms.iter().map(|(v, c)| (*v, c.mul(k))).collect(),
-        }
+        Affine { constant: self.constant.mul(k), terms: self.terms.iter().map(|(v, c)| (*v, c.mul(k))).collect() }
     }
 
     /// `self · other`; an error unless one of them is constant.
@@ -128,11 +114,7 @@ impl Affine {
 
     /// The value for variable values `values[var]`.
     pub fn eval(&self, values: &[f64]) -> f64 {
-        self.terms
-            .iter()
-            .fold(self.constant.to_f64(), |acc, (v, c)| {
-                acc + c.to_f64() * values[*v]
-            })
+        self.terms.iter().fold(self.constant.to_f64(), |acc, (v, c)| acc + c.to_f64() * values[*v])
     }
 
     /// A displayable view that prints variables with the given names.
@@ -200,10 +182,7 @@ mod tests {
         assert_eq!(half_a.display(&names()).to_string(), "a/2");
         let e = Affine::var(1).scale(&Num::frac(-3, 4));
         assert_eq!(e.display(&names()).to_string(), "-3*b/4");
-        assert_eq!(
-            Affine::constant(Num::zero()).display(&names()).to_string(),
-            "0"
-        );
+        assert_eq!(Affine::constant(Num::zero()).display(&names()).to_string(), "0");
     }
 
     #[test]
@@ -217,9 +196,6 @@ mod tests {
     fn products_must_be_linear() {
         assert!(Affine::var(0).mul(&Affine::var(1)).is_err());
         let two = Affine::constant(Num::int(2));
-        assert_eq!(
-            two.mul(&Affine::var(0)).unwrap(),
-            Affine::var(0).scale(&Num::int(2))
-        );
+        assert_eq!(two.mul(&Affine::var(0)).unwrap(), Affine::var(0).scale(&Num::int(2)));
     }
 }

@@ -118,18 +118,10 @@ impl ExprValue for f64 {
         Ok(self * other)
     }
     fn divide(&self, other: &f64) -> Result<f64, EvalError> {
-        if *other == 0.0 {
-            Err(EvalError::BadDivision)
-        } else {
-            Ok(self / other)
-        }
+        if *other == 0.0 { Err(EvalError::BadDivision) } else { Ok(self / other) }
     }
     fn root(&self) -> Result<f64, EvalError> {
-        if *self < 0.0 {
-            Err(EvalError::BadSqrt)
-        } else {
-            Ok(self.sqrt())
-        }
+        if *self < 0.0 { Err(EvalError::BadSqrt) } else { Ok(self.sqrt()) }
     }
 }
 
@@ -157,22 +149,12 @@ impl Expr {
     pub fn eval<V: ExprValue>(&self, env: &dyn Env<V>) -> Result<V, EvalError> {
         Ok(match self {
             Expr::Num(n) => V::from_num(n),
-            Expr::Param(name, offset) => env
-                .param(name)
-                .ok_or_else(|| EvalError::UnknownParam(name.clone(), *offset))?,
-            Expr::Entry {
-                arrow,
-                row,
-                col,
-                offset,
-            } => env
-                .entry(arrow, *row, *col)
-                .ok_or_else(|| EvalError::UnknownEntry {
-                    arrow: arrow.clone(),
-                    row: *row,
-                    col: *col,
-                    offset: *offset,
-                })?,
+            Expr::Param(name, offset) => {
+                env.param(name).ok_or_else(|| EvalError::UnknownParam(name.clone(), *offset))?
+            }
+            Expr::Entry { arrow, row, col, offset } => env.entry(arrow, *row, *col).ok_or_else(|| {
+                EvalError::UnknownEntry { arrow: arrow.clone(), row: *row, col: *col, offset: *offset }
+            })?,
             Expr::Neg(e) => V::from_num(&Num::zero()).minus(&e.eval(env)?),
             Expr::Add(a, b) => a.eval(env)?.plus(&b.eval(env)?),
             Expr::Sub(a, b) => a.eval(env)?.minus(&b.eval(env)?),
@@ -186,13 +168,7 @@ impl Expr {
     pub fn entries(&self) -> Vec<(&str, usize, usize, usize)> {
         let mut out = Vec::new();
         self.walk(&mut |e| {
-            if let Expr::Entry {
-                arrow,
-                row,
-                col,
-                offset,
-            } = e
-            {
+            if let Expr::Entry { arrow, row, col, offset } = e {
                 out.push((arrow.as_str(), *row, *col, *offset));
             }
         });
@@ -228,9 +204,7 @@ impl fmt::Display for Expr {
         match self {
             Expr::Num(n) => write!(f, "{n}"),
             Expr::Param(name, _) => write!(f, "{name}"),
-            Expr::Entry {
-                arrow, row, col, ..
-            } => write!(f, "{arrow}[{row}][{col}]"),
+            Expr::Entry { arrow, row, col, .. } => write!(f, "{arrow}[{row}][{col}]"),
             Expr::Neg(e) => write!(f, "-({e})"),
             Expr::Add(a, b) => write!(f, "({a} + {b})"),
             Expr::Sub(a, b) => write!(f, "({a} - {b})"),
@@ -252,18 +226,12 @@ impl Parser<'_> {
             Some(c) => format!("`{c}`"),
             None => "the end of the expression".to_string(),
         };
-        ExprSyntaxError {
-            offset: self.pos,
-            message: format!("found {found}, expected {expected}"),
-        }
+        ExprSyntaxError { offset: self.pos, message: format!("found {found}, expected {expected}") }
     }
 
     fn skip_ws(&mut self) {
         while self.text[self.pos..].starts_with(char::is_whitespace) {
-            self.pos += self.text[self.pos..]
-                .chars()
-                .next()
-                .map_or(1, char::len_utf8);
+            self.pos += self.text[self.pos..].chars().next().map_or(1, char::len_utf8);
         }
     }
 
@@ -324,9 +292,7 @@ impl Parser<'_> {
     fn index(&mut self) -> Result<usize, ExprSyntaxError> {
         self.skip_ws();
         let digits = self.take_while(|c| c.is_ascii_digit()).to_string();
-        let index = digits
-            .parse()
-            .map_err(|_| self.error("an index (0, 1, 2, ...)"))?;
+        let index = digits.parse().map_err(|_| self.error("an index (0, 1, 2, ...)"))?;
         if !self.eat(']') {
             return Err(self.error("`]`"));
         }
@@ -348,14 +314,9 @@ impl Parser<'_> {
             return Ok(e);
         }
         if c.is_ascii_digit() || c == '.' {
-            let mut literal = self
-                .take_while(|c| c.is_ascii_digit() || c == '.')
-                .to_string();
+            let mut literal = self.take_while(|c| c.is_ascii_digit() || c == '.').to_string();
             let rest = &self.text[self.pos..];
-            let sign_len = rest
-                .get(1..2)
-                .filter(|s| *s == "+" || *s == "-")
-                .map_or(0, |_| 1);
+            let sign_len = rest.get(1..2).filter(|s| *s == "+" || *s == "-").map_or(0, |_| 1);
             if (rest.starts_with('e') || rest.starts_with('E'))
                 && rest[1 + sign_len..].starts_with(|c: char| c.is_ascii_digit())
             {
@@ -365,15 +326,10 @@ impl Parser<'_> {
             }
             return Num::parse_decimal(&literal)
                 .map(Expr::Num)
-                .ok_or(ExprSyntaxError {
-                    offset: start,
-                    message: format!("`{literal}` is not a number"),
-                });
+                .ok_or(ExprSyntaxError { offset: start, message: format!("`{literal}` is not a number") });
         }
         if c.is_alphabetic() || c == '_' {
-            let name = self
-                .take_while(|c| c.is_alphanumeric() || c == '_')
-                .to_string();
+            let name = self.take_while(|c| c.is_alphanumeric() || c == '_').to_string();
             if name == "sqrt" && self.eat('(') {
                 let e = self.expr()?;
                 if !self.eat(')') {
@@ -388,12 +344,7 @@ impl Parser<'_> {
                     return Err(self.error("`[` and a column index"));
                 }
                 let col = self.index()?;
-                return Ok(Expr::Entry {
-                    arrow: name,
-                    row,
-                    col,
-                    offset: start,
-                });
+                return Ok(Expr::Entry { arrow: name, row, col, offset: start });
             }
             self.pos = save;
             return Ok(Expr::Param(name, start));

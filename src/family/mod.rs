@@ -9,6 +9,6 @@ pub use affine::{Affine, AffineDisplay, Nonlinear};
 pub use expr::{Env, EvalError, Expr, ExprSyntaxError, ExprValue};
 pub use num::Num;
 pub use solve::{
-    DesignInstantiateError, Equation, Family, Instance, InstantiateError, Parameter, SolveError,
-    equations, instantiate, numeric, solve,
+    DesignInstantiateError, Equation, Family, Instance, InstantiateError, Parameter, SolveError, equations,
+    instantiate, numeric, solve,
 };

@@ -53,11 +53,7 @@ impl Num {
         if int_part.is_empty() && frac_part.is_empty() {
             return None;
         }
-        if !int_part
-            .chars()
-            .chain(frac_part.chars())
-            .all(|c| c.is_ascii_digit())
-        {
+        if !int_part.chars().chain(frac_part.chars()).all(|c| c.is_ascii_digit()) {
             return None;
         }
         let digits: BigInt = format!("{int_part}{frac_part}0").parse().ok()?;

@@ -137,20 +137,14 @@ pub fn equations(design: &Design) -> Result<Vec<Equation>, SolveError> {
         match &c.relation {
             Relation::Paths { lhs, rhs } => {
                 let side = |path: &[_], side| {
-                    a.product(path).map_err(|_| SolveError::Nonlinear {
-                        constraint: c.to_string(),
-                        side,
-                    })
+                    a.product(path).map_err(|_| SolveError::Nonlinear { constraint: c.to_string(), side })
                 };
                 let (l, r) = (side(lhs, "left")?, side(rhs, "right")?);
                 for i in 0..l.nrows() {
                     for j in 0..l.ncols() {
                         let form = l[(i, j)].sub(&r[(i, j)]);
                         if !form.is_zero() {
-                            out.push(Equation {
-                                label: format!("{c} (row {i}, column {j})"),
-                                form,
-                            });
+                            out.push(Equation { label: format!("{c} (row {i}, column {j})"), form });
                         }
                     }
                 }
@@ -158,34 +152,21 @@ pub fn equations(design: &Design) -> Result<Vec<Equation>, SolveError> {
             Relation::Entries { lhs, rhs } => {
                 let env = Symbols { design };
                 let eval = |e: &crate::family::Expr| {
-                    e.eval(&env).map_err(|error| SolveError::Eval {
-                        constraint: c.to_string(),
-                        error,
-                    })
+                    e.eval(&env).map_err(|error| SolveError::Eval { constraint: c.to_string(), error })
                 };
                 let form = eval(lhs)?.sub(&eval(rhs)?);
                 if !form.is_zero() {
-                    out.push(Equation {
-                        label: c.to_string(),
-                        form,
-                    });
+                    out.push(Equation { label: c.to_string(), form });
                 }
             }
         }
     }
     for (_, arrow) in a.arrows() {
         for j in 0..arrow.matrix.ncols() {
-            let sum = arrow
-                .matrix
-                .column(j)
-                .iter()
-                .fold(Affine::zero(), |acc, e| acc.add(e));
+            let sum = arrow.matrix.column(j).iter().fold(Affine::zero(), |acc, e| acc.add(e));
             let form = sum.sub(&Affine::one());
             if !form.is_zero() {
-                out.push(Equation {
-                    label: format!("column sums: {} column {j} sums to 1", arrow.name),
-                    form,
-                });
+                out.push(Equation { label: format!("column sums: {} column {j} sums to 1", arrow.name), form });
             }
         }
     }
@@ -203,10 +184,7 @@ struct Row {
 
 impl Row {
     fn coeff(&self, var: usize) -> Option<&BigRational> {
-        self.terms
-            .binary_search_by_key(&var, |(v, _)| *v)
-            .ok()
-            .map(|i| &self.terms[i].1)
+        self.terms.binary_search_by_key(&var, |(v, _)| *v).ok().map(|i| &self.terms[i].1)
     }
 
     /// `self - k · other`.
@@ -240,17 +218,8 @@ impl Row {
                 (None, None) => unreachable!(),
             }
         }
-        let origins = self
-            .origins
-            .iter()
-            .zip(&other.origins)
-            .map(|(a, b)| a | b)
-            .collect();
-        Row {
-            terms,
-            constant: &self.constant - k * &other.constant,
-            origins,
-        }
+        let origins = self.origins.iter().zip(&other.origins).map(|(a, b)| a | b).collect();
+        Row { terms, constant: &self.constant - k * &other.constant, origins }
     }
 
     fn scale(&mut self, k: &BigRational) {
@@ -283,30 +252,18 @@ struct Eliminator {
 
 impl Eliminator {
     fn new(key: Vec<(bool, usize)>) -> Eliminator {
-        Eliminator {
-            rows: Vec::new(),
-            pivot_of: HashMap::new(),
-            key,
-        }
+        Eliminator { rows: Vec::new(), pivot_of: HashMap::new(), key }
     }
 
     /// Adds a row; returns the reduced row if it reads `0 = c ≠ 0`.
     fn insert(&mut self, mut row: Row) -> Result<(), Row> {
-        let hits: Vec<(usize, BigRational)> = row
-            .terms
-            .iter()
-            .filter(|(v, _)| self.pivot_of.contains_key(v))
-            .cloned()
-            .collect();
+        let hits: Vec<(usize, BigRational)> =
+            row.terms.iter().filter(|(v, _)| self.pivot_of.contains_key(v)).cloned().collect();
         for (v, c) in hits {
             row = row.sub_scaled(&self.rows[self.pivot_of[&v]], &c);
         }
         let Some(&(pivot, ref pc)) = row.terms.iter().min_by_key(|(v, _)| self.key[*v]) else {
-            return if row.constant.is_zero() {
-                Ok(())
-            } else {
-                Err(row)
-            };
+            return if row.constant.is_zero() { Ok(()) } else { Err(row) };
         };
         let inv = BigRational::one() / pc;
         row.scale(&inv);
@@ -324,23 +281,12 @@ impl Eliminator {
 fn to_row(eq: &Equation, index: usize, words: usize) -> Result<Row, SolveError> {
     let exact = |n: &Num| match n {
         Num::Exact(r) => Ok(r.clone()),
-        Num::Approx(_) => Err(SolveError::Irrational {
-            equation: eq.label.clone(),
-        }),
+        Num::Approx(_) => Err(SolveError::Irrational { equation: eq.label.clone() }),
     };
-    let terms = eq
-        .form
-        .terms()
-        .iter()
-        .map(|(v, c)| Ok((*v, exact(c)?)))
-        .collect::<Result<_, _>>()?;
+    let terms = eq.form.terms().iter().map(|(v, c)| Ok((*v, exact(c)?))).collect::<Result<_, _>>()?;
     let mut origins = vec![0u64; words];
     origins[index / 64] |= 1 << (index % 64);
-    Ok(Row {
-        terms,
-        constant: exact(eq.form.constant_term())?,
-        origins,
-    })
+    Ok(Row { terms, constant: exact(eq.form.constant_term())?, origins })
 }
 
 fn inconsistent(rows: &[&Row], key: &[(bool, usize)]) -> bool {
@@ -375,23 +321,12 @@ pub fn solve(design: &Design) -> Result<Family, SolveError> {
             && !e.form.constant_term().is_exact()
             && e.form.constant_term().to_f64().abs() > IRRATIONAL_TOLERANCE
     }) {
-        return Err(SolveError::Inconsistent {
-            conflicts: vec![bad.label.clone()],
-        });
+        return Err(SolveError::Inconsistent { conflicts: vec![bad.label.clone()] });
     }
     eqs.retain(|e| !e.form.terms().is_empty() || e.form.constant_term().is_exact());
     let words = eqs.len().div_ceil(64).max(1);
-    let key: Vec<(bool, usize)> = design
-        .variables
-        .iter()
-        .enumerate()
-        .map(|(i, v)| (v.named, i))
-        .collect();
-    let rows: Vec<Row> = eqs
-        .iter()
-        .enumerate()
-        .map(|(i, e)| to_row(e, i, words))
-        .collect::<Result<_, _>>()?;
+    let key: Vec<(bool, usize)> = design.variables.iter().enumerate().map(|(i, v)| (v.named, i)).collect();
+    let rows: Vec<Row> = eqs.iter().enumerate().map(|(i, e)| to_row(e, i, words)).collect::<Result<_, _>>()?;
     let mut elim = Eliminator::new(key.clone());
     for row in &rows {
         if let Err(bad) = elim.insert(row.clone()) {
@@ -399,35 +334,22 @@ pub fn solve(design: &Design) -> Result<Family, SolveError> {
             // Deletion filter: drop every equation whose removal keeps the conflict.
             let mut i = 0;
             while i < subset.len() {
-                let trial: Vec<&Row> = subset
-                    .iter()
-                    .enumerate()
-                    .filter(|(k, _)| *k != i)
-                    .map(|(_, &e)| &rows[e])
-                    .collect();
+                let trial: Vec<&Row> =
+                    subset.iter().enumerate().filter(|(k, _)| *k != i).map(|(_, &e)| &rows[e]).collect();
                 if inconsistent(&trial, &key) {
                     subset.remove(i);
                 } else {
                     i += 1;
                 }
             }
-            return Err(SolveError::Inconsistent {
-                conflicts: subset.iter().map(|&e| eqs[e].label.clone()).collect(),
-            });
+            return Err(SolveError::Inconsistent { conflicts: subset.iter().map(|&e| eqs[e].label.clone()).collect() });
         }
     }
 
     // Free variables: the user's names in declaration order, then the others.
     let nvars = design.variables.len();
-    let mut free: Vec<usize> = (0..nvars)
-        .filter(|v| !elim.pivot_of.contains_key(v))
-        .collect();
-    let declared_rank = |v: usize| {
-        design
-            .declared
-            .iter()
-            .position(|n| *n == design.variables[v].name)
-    };
+    let mut free: Vec<usize> = (0..nvars).filter(|v| !elim.pivot_of.contains_key(v)).collect();
+    let declared_rank = |v: usize| design.declared.iter().position(|n| *n == design.variables[v].name);
     free.sort_by_key(|&v| (declared_rank(v).is_none(), declared_rank(v), v));
     let free_index: HashMap<usize, usize> = free.iter().enumerate().map(|(i, &v)| (v, i)).collect();
 
@@ -446,21 +368,11 @@ pub fn solve(design: &Design) -> Result<Family, SolveError> {
             }
         }
     };
-    let variables: Vec<(String, Affine)> = design
-        .variables
-        .iter()
-        .enumerate()
-        .map(|(v, var)| (var.name.clone(), expression(v)))
-        .collect();
-    let free_names: Vec<String> = free
-        .iter()
-        .map(|&v| design.variables[v].name.clone())
-        .collect();
-    if let Some((v, var)) = design
-        .variables
-        .iter()
-        .enumerate()
-        .find(|(v, var)| var.named && elim.pivot_of.contains_key(v))
+    let variables: Vec<(String, Affine)> =
+        design.variables.iter().enumerate().map(|(v, var)| (var.name.clone(), expression(v))).collect();
+    let free_names: Vec<String> = free.iter().map(|&v| design.variables[v].name.clone()).collect();
+    if let Some((v, var)) =
+        design.variables.iter().enumerate().find(|(v, var)| var.named && elim.pivot_of.contains_key(v))
     {
         return Err(SolveError::DependentParameter {
             name: var.name.clone(),
@@ -469,13 +381,7 @@ pub fn solve(design: &Design) -> Result<Family, SolveError> {
     }
     let automaton = design
         .automaton
-        .map_matrices(|_, arrow| {
-            Ok::<_, ()>(
-                arrow
-                    .matrix
-                    .map(|e| e.substitute(&|v| variables[v].1.clone())),
-            )
-        })
+        .map_matrices(|_, arrow| Ok::<_, ()>(arrow.matrix.map(|e| e.substitute(&|v| variables[v].1.clone()))))
         .expect("substitution does not fail");
     let parameters = free
         .iter()
@@ -488,13 +394,7 @@ pub fn solve(design: &Design) -> Result<Family, SolveError> {
             }
         })
         .collect();
-    Ok(Family {
-        automaton,
-        parameters,
-        variables,
-        equations: eqs.len(),
-        rank: elim.rows.len(),
-    })
+    Ok(Family { automaton, parameters, variables, equations: eqs.len(), rank: elim.rows.len() })
 }
 
 /// Why parameter values could not be applied.
@@ -544,12 +444,8 @@ impl Family {
     /// If there is no such arrow or entry.
     pub fn entry_text(&self, arrow: &str, row: usize, col: usize) -> String {
         let a = &self.automaton;
-        let id = a
-            .arrow_id(arrow)
-            .unwrap_or_else(|| panic!("no arrow `{arrow}`"));
-        a.arrow(id).matrix[(row, col)]
-            .display(&self.parameter_names())
-            .to_string()
+        let id = a.arrow_id(arrow).unwrap_or_else(|| panic!("no arrow `{arrow}`"));
+        a.arrow(id).matrix[(row, col)].display(&self.parameter_names()).to_string()
     }
 
     /// Every matrix printed with the parameter names: `(arrow, rows of entries)`.
@@ -559,11 +455,7 @@ impl Family {
             .arrows()
             .map(|(_, a)| {
                 let rows = (0..a.matrix.nrows())
-                    .map(|i| {
-                        (0..a.matrix.ncols())
-                            .map(|j| a.matrix[(i, j)].display(&names).to_string())
-                            .collect()
-                    })
+                    .map(|i| (0..a.matrix.ncols()).map(|j| a.matrix[(i, j)].display(&names).to_string()).collect())
                     .collect();
                 (a.name.clone(), rows)
             })
@@ -579,22 +471,13 @@ impl Family {
         for (name, _) in values {
             if !names.contains(name) {
                 let help = crate::format::suggest(name, names.iter().map(String::as_str));
-                return Err(InstantiateError::UnknownParameter {
-                    name: name.clone(),
-                    help,
-                });
+                return Err(InstantiateError::UnknownParameter { name: name.clone(), help });
             }
         }
         let mut x = Vec::with_capacity(names.len());
         let mut missing = Vec::new();
         for p in &self.parameters {
-            match values
-                .iter()
-                .rev()
-                .find(|(n, _)| *n == p.name)
-                .map(|(_, v)| *v)
-                .or(p.default)
-            {
+            match values.iter().rev().find(|(n, _)| *n == p.name).map(|(_, v)| *v).or(p.default) {
                 Some(v) => x.push(v),
                 None => {
                     missing.push(p.name.clone());
@@ -606,16 +489,8 @@ impl Family {
             return Err(InstantiateError::Missing { names: missing });
         }
         let automaton = numeric(&self.automaton, &x);
-        let values = self
-            .variables
-            .iter()
-            .map(|(n, e)| (n.clone(), e.eval(&x)))
-            .collect();
-        Ok(Instance {
-            automaton,
-            parameters: names.into_iter().zip(x).collect(),
-            values,
-        })
+        let values = self.variables.iter().map(|(n, e)| (n.clone(), e.eval(&x))).collect();
+        Ok(Instance { automaton, parameters: names.into_iter().zip(x).collect(), values })
     }
 }
 
@@ -655,18 +530,10 @@ pub enum DesignInstantiateError {
 ///
 /// # Errors
 /// A solver error for a design with unknowns, or bad parameter values.
-pub fn instantiate(
-    design: &Design,
-    values: &[(String, f64)],
-) -> Result<Instance, DesignInstantiateError> {
+pub fn instantiate(design: &Design, values: &[(String, f64)]) -> Result<Instance, DesignInstantiateError> {
     match solve(design) {
         Ok(family) => Ok(family.instantiate(values)?),
-        Err(SolveError::Inconsistent { .. })
-            if design
-                .variables
-                .iter()
-                .all(|v| v.origin == Origin::Parameter) =>
-        {
+        Err(SolveError::Inconsistent { .. }) if design.variables.iter().all(|v| v.origin == Origin::Parameter) => {
             let family = Family {
                 automaton: design.automaton.clone(),
                 parameters: design
@@ -678,12 +545,7 @@ pub fn instantiate(
                         default: design.defaults.get(&v.name).copied(),
                     })
                     .collect(),
-                variables: design
-                    .variables
-                    .iter()
-                    .enumerate()
-                    .map(|(i, v)| (v.name.clone(), Affine::var(i)))
-                    .collect(),
+                variables: design.variables.iter().enumerate().map(|(i, v)| (v.name.clone(), Affine::var(i))).collect(),
                 equations: 0,
                 rank: 0,
             };

@@ -22,11 +22,7 @@ impl std::error::Error for FormatError {}
 
 impl fmt::Display for FormatError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
-            f,
-            "{}:{}:{}: {}",
-            self.file, self.line, self.column, self.message
-        )?;
+        write!(f, "{}:{}:{}: {}", self.file, self.line, self.column, self.message)?;
         if let Some(help) = &self.help {
             write!(f, " ({help})")?;
         }
@@ -53,13 +49,7 @@ impl Source<'_> {
     /// An error at byte `offset`.
     pub fn error(&self, offset: usize, message: impl Into<String>) -> FormatError {
         let (line, column) = self.position(offset);
-        FormatError {
-            file: self.file.to_string(),
-            line,
-            column,
-            message: message.into(),
-            help: None,
-        }
+        FormatError { file: self.file.to_string(), line, column, message: message.into(), help: None }
     }
 
     /// An error at the start of `span`.
@@ -102,10 +92,7 @@ mod tests {
 
     #[test]
     fn positions_count_lines_and_chars() {
-        let s = Source {
-            file: "f",
-            text: "ab\ncdé\nx",
-        };
+        let s = Source { file: "f", text: "ab\ncdé\nx" };
         assert_eq!(s.position(0), (1, 1));
         assert_eq!(s.position(3), (2, 1));
         assert_eq!(s.position(8), (3, 1));

@@ -53,52 +53,27 @@ impl TomlWriter {
     /// A `[[state]]` table.
     pub fn state(&mut self, name: &str, dim: usize, kind: CellKind, comment: &str) -> &mut Self {
         self.blank().comment(comment);
-        let _ = writeln!(
-            self.out,
-            "[[state]]\nname = {}\ndim = {dim}\nkind = {}",
-            quote(name),
-            quote(kind.keyword())
-        );
+        let _ = writeln!(self.out, "[[state]]\nname = {}\ndim = {dim}\nkind = {}", quote(name), quote(kind.keyword()));
         self
     }
 
     fn arrow_head(&mut self, name: &str, from: &str, to: &str, kind: ArrowKind, comment: &str) {
         self.blank().comment(comment);
-        let _ = writeln!(
-            self.out,
-            "[[arrow]]\nname = {}\nfrom = {}\nto = {}",
-            quote(name),
-            quote(from),
-            quote(to)
-        );
+        let _ = writeln!(self.out, "[[arrow]]\nname = {}\nfrom = {}\nto = {}", quote(name), quote(from), quote(to));
         if kind == ArrowKind::Boundary {
             let _ = writeln!(self.out, "kind = \"boundary\"");
         }
     }
 
     /// An arrow whose matrix is unknown.
-    pub fn arrow_unknown(
-        &mut self,
-        name: &str,
-        from: &str,
-        to: &str,
-        kind: ArrowKind,
-        comment: &str,
-    ) -> &mut Self {
+    pub fn arrow_unknown(&mut self, name: &str, from: &str, to: &str, kind: ArrowKind, comment: &str) -> &mut Self {
         self.arrow_head(name, from, to, kind, comment);
         self.out.push_str("matrix = \"unknown\"\n");
         self
     }
 
     /// A boundary arrow given by a selection.
-    pub fn arrow_select(
-        &mut self,
-        name: &str,
-        from: &str,
-        to: &str,
-        select: &[usize],
-        comment: &str,
-    ) -> &mut Self {
+    pub fn arrow_select(&mut self, name: &str, from: &str, to: &str, select: &[usize], comment: &str) -> &mut Self {
         self.arrow_head(name, from, to, ArrowKind::Boundary, comment);
         let list: Vec<String> = select.iter().map(usize::to_string).collect();
         let _ = writeln!(self.out, "select = [{}]", list.join(", "));
@@ -118,16 +93,8 @@ impl TomlWriter {
         self.arrow_head(name, from, to, kind, comment);
         self.out.push_str("matrix = [\n");
         for row in rows {
-            let cells: Vec<String> = row
-                .iter()
-                .map(|e| {
-                    if e.parse::<f64>().is_ok() {
-                        e.clone()
-                    } else {
-                        quote(e)
-                    }
-                })
-                .collect();
+            let cells: Vec<String> =
+                row.iter().map(|e| if e.parse::<f64>().is_ok() { e.clone() } else { quote(e) }).collect();
             let _ = writeln!(self.out, "  [{}],", cells.join(", "));
         }
         self.out.push_str("]\n");
@@ -149,11 +116,7 @@ impl TomlWriter {
     }
 
     /// The `[parameters]` table: `(name, entry it names, default)`.
-    pub fn parameters(
-        &mut self,
-        params: &[(String, Option<String>, Option<String>)],
-        comment: &str,
-    ) -> &mut Self {
+    pub fn parameters(&mut self, params: &[(String, Option<String>, Option<String>)], comment: &str) -> &mut Self {
         self.blank().comment(comment);
         self.out.push_str("[parameters]\n");
         for (name, entry, default) in params {
@@ -174,21 +137,9 @@ impl TomlWriter {
     }
 
     /// A `[model]` table.
-    pub fn model(
-        &mut self,
-        root: &str,
-        points: &[Vec<f64>],
-        layout: &str,
-        extra: &str,
-        comment: &str,
-    ) -> &mut Self {
+    pub fn model(&mut self, root: &str, points: &[Vec<f64>], layout: &str, extra: &str, comment: &str) -> &mut Self {
         self.blank().comment(comment);
-        let _ = writeln!(
-            self.out,
-            "[model]\nroot = {}\nlayout = {}",
-            quote(root),
-            quote(layout)
-        );
+        let _ = writeln!(self.out, "[model]\nroot = {}\nlayout = {}", quote(root), quote(layout));
         if !extra.is_empty() {
             let _ = writeln!(self.out, "{extra}");
         }

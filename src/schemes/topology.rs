@@ -54,9 +54,7 @@ pub fn bspline_segment_matrices(d: usize, p: usize) -> Vec<nalgebra::DMatrix<f64
     let inverse = local.try_inverse().expect("B-spline bases are independent");
     (0..p)
         .map(|l| {
-            let old = nalgebra::DMatrix::from_fn(n, n, |i, k| {
-                basis((l as f64 + samples[k]) / p as f64, i)
-            });
+            let old = nalgebra::DMatrix::from_fn(n, n, |i, k| basis((l as f64 + samples[k]) / p as f64, i));
             let mut m = old * &inverse;
             m.iter_mut().for_each(|x| *x = (*x * 1e12).round() / 1e12);
             m
@@ -66,9 +64,7 @@ pub fn bspline_segment_matrices(d: usize, p: usize) -> Vec<nalgebra::DMatrix<f64
 
 fn letters(count: usize) -> Vec<String> {
     if count <= 26 {
-        (0..count)
-            .map(|i| ((b'a' + i as u8) as char).to_string())
-            .collect()
+        (0..count).map(|i| ((b'a' + i as u8) as char).to_string()).collect()
     } else {
         (1..=count).map(|i| format!("p{i}")).collect()
     }
@@ -79,13 +75,7 @@ fn letters(count: usize) -> Vec<String> {
 fn name_free_entries(text: &str) -> Vec<(String, String, usize, usize)> {
     let design = parse_design(text, "<generated>", "generated").expect("generated files parse");
     let family = solve(&design).expect("generated systems are consistent");
-    let order = |arrow: &str| {
-        design
-            .automaton
-            .arrow_id(arrow)
-            .map(|i| i.index())
-            .unwrap_or(usize::MAX)
-    };
+    let order = |arrow: &str| design.automaton.arrow_id(arrow).map(|i| i.index()).unwrap_or(usize::MAX);
     let mut free: Vec<(String, usize, usize)> = family
         .parameters
         .iter()
@@ -95,11 +85,7 @@ fn name_free_entries(text: &str) -> Vec<(String, String, usize, usize)> {
         })
         .collect();
     free.sort_by_key(|(a, r, c)| (order(a), *c, *r));
-    letters(free.len())
-        .into_iter()
-        .zip(free)
-        .map(|(l, (a, r, c))| (l, a, r, c))
-        .collect()
+    letters(free.len()).into_iter().zip(free).map(|(l, (a, r, c))| (l, a, r, c)).collect()
 }
 
 /// The automaton file of a curve: an edge with `points` control points,
@@ -114,11 +100,7 @@ fn name_free_entries(text: &str) -> Vec<(String, String, usize, usize)> {
 /// [`TopologyError::Curve`] for sizes that do not make a curve.
 pub fn curve_file(points: usize, vertex: usize, arity: usize) -> Result<String, TopologyError> {
     if points < 2 || vertex == 0 || vertex >= points || arity < 2 {
-        return Err(TopologyError::Curve {
-            points,
-            vertex,
-            arity,
-        });
+        return Err(TopologyError::Curve { points, vertex, arity });
     }
     let name = format!("curve_{points}_{vertex}_{arity}");
     let mut w = TomlWriter::new();
@@ -128,18 +110,8 @@ pub fn curve_file(points: usize, vertex: usize, arity: usize) -> Result<String, 
          Paths read in arrow order: `T0 b1` is the right end of the first sub-edge."
     ))
     .header(&name, &format!("curve, {points} control points, vertex support {vertex}, {arity}-ary"));
-    w.state(
-        "e",
-        points,
-        CellKind::Edge,
-        &format!("The edge: barycentric space BI^{points}."),
-    );
-    w.state(
-        "v",
-        vertex,
-        CellKind::Vertex,
-        &format!("A vertex (both ends share it): BI^{vertex}."),
-    );
+    w.state("e", points, CellKind::Edge, &format!("The edge: barycentric space BI^{points}."));
+    w.state("v", vertex, CellKind::Vertex, &format!("A vertex (both ends share it): BI^{vertex}."));
     for i in 0..arity {
         w.arrow_unknown(
             &format!("T{i}"),
@@ -149,47 +121,16 @@ pub fn curve_file(points: usize, vertex: usize, arity: usize) -> Result<String, 
             &format!("Sub-edge {i} of {arity}, from the left."),
         );
     }
-    w.arrow_unknown(
-        "Tv",
-        "v",
-        "v",
-        ArrowKind::Subdivision,
-        "Subdivision of the vertex.",
-    );
+    w.arrow_unknown("Tv", "v", "v", ArrowKind::Subdivision, "Subdivision of the vertex.");
     let first: Vec<usize> = (0..vertex).collect();
     let last: Vec<usize> = (points - vertex..points).collect();
-    w.arrow_select(
-        "b0",
-        "e",
-        "v",
-        &first,
-        "Left end: the vertex depends on the first control points of the edge.",
-    );
-    w.arrow_select(
-        "b1",
-        "e",
-        "v",
-        &last,
-        "Right end: the vertex depends on the last control points of the edge.",
-    );
-    let adjacency = (0..arity - 1)
-        .map(|i| format!("T{i} b1 = T{} b0", i + 1))
-        .collect();
-    let incidence = vec![
-        "T0 b0 = b0 Tv".to_string(),
-        format!("T{} b1 = b1 Tv", arity - 1),
-    ];
+    w.arrow_select("b0", "e", "v", &first, "Left end: the vertex depends on the first control points of the edge.");
+    w.arrow_select("b1", "e", "v", &last, "Right end: the vertex depends on the last control points of the edge.");
+    let adjacency = (0..arity - 1).map(|i| format!("T{i} b1 = T{} b0", i + 1)).collect();
+    let incidence = vec!["T0 b0 = b0 Tv".to_string(), format!("T{} b1 = b1 Tv", arity - 1)];
     w.constraints(&[
-        (
-            "adjacency",
-            "Neighbouring sub-edges share their common end.",
-            adjacency,
-        ),
-        (
-            "incidence",
-            "The ends of the subdivided edge are the subdivided ends.",
-            incidence,
-        ),
+        ("adjacency", "Neighbouring sub-edges share their common end.", adjacency),
+        ("incidence", "The ends of the subdivided edge are the subdivided ends.", incidence),
     ]);
     let structure = w.finish();
     let named = name_free_entries(&structure);
@@ -198,10 +139,7 @@ pub fn curve_file(points: usize, vertex: usize, arity: usize) -> Result<String, 
         .iter()
         .map(|(l, arrow, r, c)| {
             let default = defaults.as_ref().map(|ms| {
-                let value = match arrow
-                    .strip_prefix('T')
-                    .and_then(|i| i.parse::<usize>().ok())
-                {
+                let value = match arrow.strip_prefix('T').and_then(|i| i.parse::<usize>().ok()) {
                     Some(i) => ms[i][(*r, *c)],
                     None => ms[0][(*r, *c)],
                 };
@@ -221,13 +159,23 @@ pub fn curve_file(points: usize, vertex: usize, arity: usize) -> Result<String, 
     );
     let mut w = TomlWriter::new();
     w.parameters(&params, &comment);
+    // A closed star-shaped control polygon: 8 windows of `points` control points.
+    let step = points - vertex;
+    let m = 8 * step;
+    let star: Vec<Vec<f64>> = (0..m)
+        .map(|i| {
+            let t = std::f64::consts::TAU * i as f64 / m as f64;
+            let r = if i % 2 == 0 { 1.0 } else { 0.55 };
+            vec![(r * t.cos() * 1e6).round() / 1e6, (r * t.sin() * 1e6).round() / 1e6]
+        })
+        .collect();
+    w.model("e", &star, "closed", "", "A closed star-shaped control polygon (render with `bcifs render`).");
     Ok(structure + &w.finish())
 }
 
 /// Grid indices `(row, col) → row * cols + col` of a rectangle of a grid.
 fn block(cols: usize, rows: std::ops::Range<usize>, columns: std::ops::Range<usize>) -> Vec<usize> {
-    rows.flat_map(|r| columns.clone().map(move |c| r * cols + c))
-        .collect()
+    rows.flat_map(|r| columns.clone().map(move |c| r * cols + c)).collect()
 }
 
 /// The automaton file of the Doo-Sabin-like quad patch (DESIGN §2): a face
@@ -248,74 +196,23 @@ pub fn quad_patch_file(symmetric: bool) -> String {
     )
     .header(
         if symmetric { "doo_sabin_quad" } else { "quad_patch" },
-        if symmetric { "Doo-Sabin-like quad patch, rotationally symmetric vertex rule" } else { "quad patch, general vertex rule" },
+        if symmetric {
+            "Doo-Sabin-like quad patch, rotationally symmetric vertex rule"
+        } else {
+            "quad patch, general vertex rule"
+        },
     );
-    w.state(
-        "face",
-        9,
-        CellKind::Face,
-        "The face: 3×3 control grid, BI^9.",
-    );
-    w.state(
-        "edge_u",
-        6,
-        CellKind::Edge,
-        "An edge along u: 2 rows of 3 control points, BI^6 (index 3*row + col).",
-    );
-    w.state(
-        "edge_v",
-        6,
-        CellKind::Edge,
-        "An edge along v: 3 rows of 2 control points, BI^6 (index 2*row + col).",
-    );
-    w.state(
-        "vertex",
-        4,
-        CellKind::Vertex,
-        "A corner: 2×2 block of control points, BI^4 (index 2*row + col).",
-    );
-    for (name, pos) in [
-        ("T00", "bottom-left"),
-        ("T10", "bottom-right"),
-        ("T01", "top-left"),
-        ("T11", "top-right"),
-    ] {
-        w.arrow_unknown(
-            name,
-            "face",
-            "face",
-            ArrowKind::Subdivision,
-            &format!("Sub-face {pos}."),
-        );
+    w.state("face", 9, CellKind::Face, "The face: 3×3 control grid, BI^9.");
+    w.state("edge_u", 6, CellKind::Edge, "An edge along u: 2 rows of 3 control points, BI^6 (index 3*row + col).");
+    w.state("edge_v", 6, CellKind::Edge, "An edge along v: 3 rows of 2 control points, BI^6 (index 2*row + col).");
+    w.state("vertex", 4, CellKind::Vertex, "A corner: 2×2 block of control points, BI^4 (index 2*row + col).");
+    for (name, pos) in [("T00", "bottom-left"), ("T10", "bottom-right"), ("T01", "top-left"), ("T11", "top-right")] {
+        w.arrow_unknown(name, "face", "face", ArrowKind::Subdivision, &format!("Sub-face {pos}."));
     }
-    w.arrow_unknown(
-        "U0",
-        "edge_u",
-        "edge_u",
-        ArrowKind::Subdivision,
-        "Left half of an edge along u.",
-    );
-    w.arrow_unknown(
-        "U1",
-        "edge_u",
-        "edge_u",
-        ArrowKind::Subdivision,
-        "Right half of an edge along u.",
-    );
-    w.arrow_unknown(
-        "V0",
-        "edge_v",
-        "edge_v",
-        ArrowKind::Subdivision,
-        "Lower half of an edge along v.",
-    );
-    w.arrow_unknown(
-        "V1",
-        "edge_v",
-        "edge_v",
-        ArrowKind::Subdivision,
-        "Upper half of an edge along v.",
-    );
+    w.arrow_unknown("U0", "edge_u", "edge_u", ArrowKind::Subdivision, "Left half of an edge along u.");
+    w.arrow_unknown("U1", "edge_u", "edge_u", ArrowKind::Subdivision, "Right half of an edge along u.");
+    w.arrow_unknown("V0", "edge_v", "edge_v", ArrowKind::Subdivision, "Lower half of an edge along v.");
+    w.arrow_unknown("V1", "edge_v", "edge_v", ArrowKind::Subdivision, "Upper half of an edge along v.");
     w.arrow_unknown(
         "W",
         "vertex",
@@ -323,62 +220,14 @@ pub fn quad_patch_file(symmetric: bool) -> String {
         ArrowKind::Subdivision,
         "The vertex rule: new 2×2 corner block from the old one.",
     );
-    w.arrow_select(
-        "bottom",
-        "face",
-        "edge_u",
-        &block(3, 0..2, 0..3),
-        "Bottom edge: rows 0-1 of the face.",
-    );
-    w.arrow_select(
-        "top",
-        "face",
-        "edge_u",
-        &block(3, 1..3, 0..3),
-        "Top edge: rows 1-2 of the face.",
-    );
-    w.arrow_select(
-        "left",
-        "face",
-        "edge_v",
-        &block(3, 0..3, 0..2),
-        "Left edge: columns 0-1 of the face.",
-    );
-    w.arrow_select(
-        "right",
-        "face",
-        "edge_v",
-        &block(3, 0..3, 1..3),
-        "Right edge: columns 1-2 of the face.",
-    );
-    w.arrow_select(
-        "u_start",
-        "edge_u",
-        "vertex",
-        &block(3, 0..2, 0..2),
-        "Start of an edge along u: its columns 0-1.",
-    );
-    w.arrow_select(
-        "u_end",
-        "edge_u",
-        "vertex",
-        &block(3, 0..2, 1..3),
-        "End of an edge along u: its columns 1-2.",
-    );
-    w.arrow_select(
-        "v_start",
-        "edge_v",
-        "vertex",
-        &block(2, 0..2, 0..2),
-        "Start of an edge along v: its rows 0-1.",
-    );
-    w.arrow_select(
-        "v_end",
-        "edge_v",
-        "vertex",
-        &block(2, 1..3, 0..2),
-        "End of an edge along v: its rows 1-2.",
-    );
+    w.arrow_select("bottom", "face", "edge_u", &block(3, 0..2, 0..3), "Bottom edge: rows 0-1 of the face.");
+    w.arrow_select("top", "face", "edge_u", &block(3, 1..3, 0..3), "Top edge: rows 1-2 of the face.");
+    w.arrow_select("left", "face", "edge_v", &block(3, 0..3, 0..2), "Left edge: columns 0-1 of the face.");
+    w.arrow_select("right", "face", "edge_v", &block(3, 0..3, 1..3), "Right edge: columns 1-2 of the face.");
+    w.arrow_select("u_start", "edge_u", "vertex", &block(3, 0..2, 0..2), "Start of an edge along u: its columns 0-1.");
+    w.arrow_select("u_end", "edge_u", "vertex", &block(3, 0..2, 1..3), "End of an edge along u: its columns 1-2.");
+    w.arrow_select("v_start", "edge_v", "vertex", &block(2, 0..2, 0..2), "Start of an edge along v: its rows 0-1.");
+    w.arrow_select("v_end", "edge_v", "vertex", &block(2, 1..3, 0..2), "End of an edge along v: its rows 1-2.");
     let s = |v: &[&str]| v.iter().map(|x| x.to_string()).collect::<Vec<_>>();
     let mut groups = vec![
         (
@@ -435,31 +284,37 @@ pub fn quad_patch_file(symmetric: bool) -> String {
     let structure = w.finish();
     let mut w = TomlWriter::new();
     if symmetric {
-        let p =
-            |n: &str, e: &str, d: &str| (n.to_string(), Some(e.to_string()), Some(d.to_string()));
+        let p = |n: &str, e: &str, d: &str| (n.to_string(), Some(e.to_string()), Some(d.to_string()));
         w.parameters(
-            &[
-                p("alpha", "W[0][0]", "0.5625"),
-                p("beta", "W[1][0]", "0.1875"),
-                p("gamma", "W[2][0]", "0.1875"),
-            ],
+            &[p("alpha", "W[0][0]", "0.5625"), p("beta", "W[1][0]", "0.1875"), p("gamma", "W[2][0]", "0.1875")],
             "3 free parameters; the defaults (9/16, 3/16, 3/16) give the regular Doo-Sabin rule,\n\
              i.e. the biquadratic B-spline patch.",
         );
     } else {
         let named = name_free_entries(&structure);
-        let params: Vec<_> = named
-            .iter()
-            .map(|(l, a, r, c)| (l.clone(), Some(format!("{a}[{r}][{c}]")), None))
-            .collect();
-        w.parameters(
-            &params,
-            &format!(
-                "{} free parameters: the entries of the vertex rule W.",
-                params.len()
-            ),
-        );
+        let params: Vec<_> =
+            named.iter().map(|(l, a, r, c)| (l.clone(), Some(format!("{a}[{r}][{c}]")), None)).collect();
+        w.parameters(&params, &format!("{} free parameters: the entries of the vertex rule W.", params.len()));
     }
+    // An open 5×5 control grid with a raised centre: 3×3 patches.
+    let grid: Vec<Vec<f64>> = (0..25)
+        .map(|k| {
+            let (r, c) = (k / 5, k % 5);
+            let z = match (r, c) {
+                (2, 2) => 2.0,
+                (1..=3, 1..=3) => 0.8,
+                _ => 0.0,
+            };
+            vec![c as f64, r as f64, z]
+        })
+        .collect();
+    w.model(
+        "face",
+        &grid,
+        "grid",
+        "grid = [5, 5]",
+        "A 5×5 control grid (rows along v): 3×3 patches welded into one sheet.",
+    );
     structure + &w.finish()
 }
 
@@ -480,11 +335,7 @@ mod tests {
     #[test]
     fn chaikin_is_the_quadratic_bspline() {
         let m = bspline_segment_matrices(2, 2);
-        let t0 = nalgebra::DMatrix::from_row_slice(
-            3,
-            3,
-            &[0.75, 0.25, 0.0, 0.25, 0.75, 0.75, 0.0, 0.0, 0.25],
-        );
+        let t0 = nalgebra::DMatrix::from_row_slice(3, 3, &[0.75, 0.25, 0.0, 0.25, 0.75, 0.75, 0.0, 0.0, 0.25]);
         assert!((&m[0] - t0).amax() < 1e-12, "{}", m[0]);
     }
 }

@@ -28,27 +28,13 @@ fn solve_json_contract() {
     assert_eq!(v["consistent"], true);
     assert_eq!(v["dof"], 2);
     assert_eq!(v["parameters"], serde_json::json!(["a", "b"]));
-    assert_eq!(
-        v["matrices"]["T0"],
-        serde_json::json!([
-            ["1 - a", "b", "0"],
-            ["a", "1 - b", "1 - a"],
-            ["0", "0", "a"]
-        ])
-    );
+    assert_eq!(v["matrices"]["T0"], serde_json::json!([["1 - a", "b", "0"], ["a", "1 - b", "1 - a"], ["0", "0", "a"]]));
 }
 
 #[test]
 fn check_json_contract_and_exit_codes() {
-    let (code, out, _) = bcifs(&[
-        "check",
-        "automata/corner_cutting.toml",
-        "--param",
-        "a=0.2",
-        "--param",
-        "b=1/4",
-        "--json",
-    ]);
+    let (code, out, _) =
+        bcifs(&["check", "automata/corner_cutting.toml", "--param", "a=0.2", "--param", "b=1/4", "--json"]);
     assert_eq!(code, 0);
     let v = json(&out);
     assert_eq!(v["ok"], true);
@@ -67,10 +53,7 @@ fn check_json_contract_and_exit_codes() {
     // Unknown parameter, missing file: usage/file errors, exit 2.
     let (code, _, err) = bcifs(&["check", "corner_cutting", "--param", "aa=0.2"]);
     assert_eq!(code, 2);
-    assert!(
-        err.contains("`aa` is not a free parameter (did you mean `a`?)"),
-        "{err}"
-    );
+    assert!(err.contains("`aa` is not a free parameter (did you mean `a`?)"), "{err}");
     let (code, _, err) = bcifs(&["check", "no/such/file.toml"]);
     assert_eq!(code, 2);
     assert!(err.contains("no/such/file.toml"), "{err}");
@@ -82,11 +65,7 @@ fn failing_constraints_exit_1() {
     std::fs::create_dir_all(&dir).unwrap();
     // Koch with a broken tip: T1's end no longer meets T2's start.
     let text = include_str!("../../automata/koch.toml")
-        .replacen(
-            "[0, \"sqrt(3)/6\", \"1/6\"]",
-            "[0, \"sqrt(3)/5\", \"1/6\"]",
-            1,
-        )
+        .replacen("[0, \"sqrt(3)/6\", \"1/6\"]", "[0, \"sqrt(3)/5\", \"1/6\"]", 1)
         .replacen(
             "[\"1/3\", \"1/2\", \"1/3 - sqrt(3)/6\"]",
             "[\"1/3\", \"1/2 + sqrt(3)/6 - sqrt(3)/5\", \"1/3 - sqrt(3)/6\"]",
@@ -103,18 +82,13 @@ fn failing_constraints_exit_1() {
     assert_eq!(code, 1);
     let v = json(&out);
     assert_eq!(v["consistent"], false);
-    assert_eq!(
-        v["conflicts"][0],
-        "adjacency: T1 b1 = T2 b0 (row 1, column 0)"
-    );
+    assert_eq!(v["conflicts"][0], "adjacency: T1 b1 = T2 b0 (row 1, column 0)");
     std::fs::remove_dir_all(&dir).ok();
 }
 
 #[test]
 fn new_prints_files_that_solve() {
-    let (code, out, _) = bcifs(&[
-        "new", "curve", "--points", "5", "--vertex", "4", "--arity", "3",
-    ]);
+    let (code, out, _) = bcifs(&["new", "curve", "--points", "5", "--vertex", "4", "--arity", "3"]);
     assert_eq!(code, 0);
     let d = bcifs::parse_design(&out, "new.toml", "new").unwrap();
     let f = bcifs::solve(&d).unwrap();

@@ -7,10 +7,7 @@ use proptest::prelude::*;
 const CORNER: &str = include_str!("../../automata/corner_cutting.toml");
 
 fn error_of(text: &str) -> String {
-    parse_design(text, "f.toml", "f")
-        .err()
-        .map(|e| e.to_string())
-        .unwrap_or_default()
+    parse_design(text, "f.toml", "f").err().map(|e| e.to_string()).unwrap_or_default()
 }
 
 /// Position of the first occurrence of `needle` as `line:column` (1-based).
@@ -23,30 +20,15 @@ fn pos(text: &str, needle: &str) -> String {
 
 #[test]
 fn misspelt_names_get_positions_and_suggestions() {
-    let text = CORNER.replace(
-        "adjacency = [\"T0 b1 = T1 b0\"]",
-        "adjacency = [\"T0 b1 = T2 b0\"]",
-    );
+    let text = CORNER.replace("adjacency = [\"T0 b1 = T1 b0\"]", "adjacency = [\"T0 b1 = T2 b0\"]");
     let e = error_of(&text);
     let at = pos(&text, "T2 b0");
-    assert_eq!(
-        e,
-        format!("f.toml:{at}: no arrow named `T2` (did you mean `T0`?)")
-    );
+    assert_eq!(e, format!("f.toml:{at}: no arrow named `T2` (did you mean `T0`?)"));
 
     let text = CORNER.replacen("to = \"v\"", "to = \"vv\"", 1);
     let e = error_of(&text);
-    assert!(
-        e.starts_with(&format!(
-            "f.toml:{}:",
-            pos(&text, "\"vv\"").split(':').next().unwrap()
-        )),
-        "{e}"
-    );
-    assert!(
-        e.contains("no state named `vv`") && e.contains("did you mean `v`?"),
-        "{e}"
-    );
+    assert!(e.starts_with(&format!("f.toml:{}:", pos(&text, "\"vv\"").split(':').next().unwrap())), "{e}");
+    assert!(e.contains("no state named `vv`") && e.contains("did you mean `v`?"), "{e}");
 
     let text = CORNER.replacen("kind = \"edge\"", "kind = \"edgy\"", 1);
     let e = error_of(&text);
@@ -67,17 +49,12 @@ fn syntax_and_shape_errors_say_what_was_expected() {
     // An expression error points into the string.
     let text = "[[state]]\nname = \"x\"\ndim = 2\n[[arrow]]\nname = \"T\"\nfrom = \"x\"\nto = \"x\"\nmatrix = [[\"1 - * a\", 0], [0, 1]]\n";
     let e = error_of(text);
-    assert_eq!(
-        e,
-        "f.toml:8:17: in entry [0][0] of `T`: found `*`, expected a number, a name or `(`"
-    );
+    assert_eq!(e, "f.toml:8:17: in entry [0][0] of `T`: found `*`, expected a number, a name or `(`");
     // Wrong shape.
     let text = "[[state]]\nname = \"x\"\ndim = 2\n[[arrow]]\nname = \"T\"\nfrom = \"x\"\nto = \"x\"\nmatrix = [[1, 0, 0], [0, 1]]\n";
     let e = error_of(text);
     assert!(
-        e.starts_with(
-            "f.toml:8:10: arrow `T` goes from `x` (dim 2) to `x` (dim 2), so its matrix must be 2×2"
-        ),
+        e.starts_with("f.toml:8:10: arrow `T` goes from `x` (dim 2) to `x` (dim 2), so its matrix must be 2×2"),
         "{e}"
     );
     // Unknown field.
@@ -88,21 +65,10 @@ fn syntax_and_shape_errors_say_what_was_expected() {
     assert!(error_of(&text).contains("index 1 is selected twice"));
     // A parameter naming an entry of a known matrix.
     let text = CORNER.replace("entry = \"T0[0][1]\"", "entry = \"b0[0][1]\"");
-    assert!(
-        error_of(&text).contains("b0[0][1] is not an entry of an unknown matrix"),
-        "{}",
-        error_of(&text)
-    );
+    assert!(error_of(&text).contains("b0[0][1] is not an entry of an unknown matrix"), "{}", error_of(&text));
     // Unknown parameter in an expression.
-    let text = CORNER.replace(
-        "select = [1, 2]",
-        "matrix = [[0, 0], [1, 0], [0, \"1 - q\"]]",
-    );
-    assert!(
-        error_of(&text).contains("unknown parameter `q`"),
-        "{}",
-        error_of(&text)
-    );
+    let text = CORNER.replace("select = [1, 2]", "matrix = [[0, 0], [1, 0], [0, \"1 - q\"]]");
+    assert!(error_of(&text).contains("unknown parameter `q`"), "{}", error_of(&text));
 }
 
 #[test]
@@ -115,14 +81,8 @@ fn inconsistent_systems_name_a_small_conflicting_subset() {
     match solve(&d) {
         Err(SolveError::Inconsistent { conflicts }) => {
             // T0[2][2] = a = T1[2][1]: the two pins and the path from one to the other.
-            assert!(
-                conflicts.iter().any(|c| c.contains("pins: T0[2][2] = 1/2")),
-                "{conflicts:?}"
-            );
-            assert!(
-                conflicts.iter().any(|c| c.contains("pins: T1[2][1] = 1/3")),
-                "{conflicts:?}"
-            );
+            assert!(conflicts.iter().any(|c| c.contains("pins: T0[2][2] = 1/2")), "{conflicts:?}");
+            assert!(conflicts.iter().any(|c| c.contains("pins: T1[2][1] = 1/3")), "{conflicts:?}");
             assert!(conflicts.len() <= 4, "small subset expected: {conflicts:?}");
         }
         other => panic!("expected a conflict, got {other:?}"),
@@ -131,12 +91,10 @@ fn inconsistent_systems_name_a_small_conflicting_subset() {
 
 #[test]
 fn a_determined_parameter_is_reported() {
-    let text = CORNER
-        .replace("[parameters]", "[constraints.extra]\n")
-        .replace(
-            "incidence = [\"T0 b0 = b0 Tv\", \"T1 b1 = b1 Tv\"]",
-            "incidence = [\"T0 b0 = b0 Tv\", \"T1 b1 = b1 Tv\"]\npins = [\"T0[2][2] = 1/2\"]",
-        );
+    let text = CORNER.replace("[parameters]", "[constraints.extra]\n").replace(
+        "incidence = [\"T0 b0 = b0 Tv\", \"T1 b1 = b1 Tv\"]",
+        "incidence = [\"T0 b0 = b0 Tv\", \"T1 b1 = b1 Tv\"]\npins = [\"T0[2][2] = 1/2\"]",
+    );
     // Without a [parameters] table the pin just fixes an entry: 1 dof left.
     let text = text.replace("[constraints.extra]\n\na = { entry = \"T0[1][0]\", default = 0.25 }\nb = { entry = \"T0[0][1]\", default = 0.25 }\n", "");
     let d = parse_design(&text, "f.toml", "f").unwrap();
@@ -146,18 +104,13 @@ fn a_determined_parameter_is_reported() {
         "incidence = [\"T0 b0 = b0 Tv\", \"T1 b1 = b1 Tv\"]\npins = [\"T0[2][2] = 1/2\"]",
     );
     let d = parse_design(&text, "f.toml", "f").unwrap();
-    assert_eq!(
-        solve(&d).unwrap_err().to_string(),
-        "parameter `a` is not free: the constraints give a = 1/2"
-    );
+    assert_eq!(solve(&d).unwrap_err().to_string(), "parameter `a` is not free: the constraints give a = 1/2");
 }
 
 #[test]
 fn a_side_with_two_unknown_matrices_is_refused() {
-    let text = CORNER.replace(
-        "adjacency = [\"T0 b1 = T1 b0\"]",
-        "adjacency = [\"T0 b1 = T1 b0\"]\ncommute = [\"T0 T1 = T1 T0\"]",
-    );
+    let text = CORNER
+        .replace("adjacency = [\"T0 b1 = T1 b0\"]", "adjacency = [\"T0 b1 = T1 b0\"]\ncommute = [\"T0 T1 = T1 T0\"]");
     let d = parse_design(&text, "f.toml", "f").unwrap();
     assert_eq!(
         solve(&d).unwrap_err().to_string(),

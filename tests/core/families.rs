@@ -9,17 +9,11 @@ fn family(name: &str) -> Family {
 }
 
 fn texts(f: &Family, arrow: &str) -> Vec<Vec<String>> {
-    f.matrices_text()
-        .into_iter()
-        .find(|(n, _)| n == arrow)
-        .expect("arrow")
-        .1
+    f.matrices_text().into_iter().find(|(n, _)| n == arrow).expect("arrow").1
 }
 
 fn rows(r: &[&[&str]]) -> Vec<Vec<String>> {
-    r.iter()
-        .map(|row| row.iter().map(|s| s.to_string()).collect())
-        .collect()
+    r.iter().map(|row| row.iter().map(|s| s.to_string()).collect()).collect()
 }
 
 /// Seed 004 §3.1: the corner-cutting family, exactly as printed.
@@ -27,31 +21,14 @@ fn rows(r: &[&[&str]]) -> Vec<Vec<String>> {
 fn corner_cutting_family_is_the_papers() {
     let f = family("corner_cutting");
     assert_eq!(f.parameter_names(), ["a", "b"]);
-    assert_eq!(
-        texts(&f, "T0"),
-        rows(&[
-            &["1 - a", "b", "0"],
-            &["a", "1 - b", "1 - a"],
-            &["0", "0", "a"]
-        ])
-    );
-    assert_eq!(
-        texts(&f, "T1"),
-        rows(&[
-            &["b", "0", "0"],
-            &["1 - b", "1 - a", "b"],
-            &["0", "a", "1 - b"]
-        ])
-    );
+    assert_eq!(texts(&f, "T0"), rows(&[&["1 - a", "b", "0"], &["a", "1 - b", "1 - a"], &["0", "0", "a"]]));
+    assert_eq!(texts(&f, "T1"), rows(&[&["b", "0", "0"], &["1 - b", "1 - a", "b"], &["0", "a", "1 - b"]]));
     assert_eq!(texts(&f, "Tv"), rows(&[&["1 - a", "b"], &["a", "1 - b"]]));
 }
 
 fn sorted_real_spectrum(m: &DMatrix<f64>) -> Vec<f64> {
     let eig = m.complex_eigenvalues();
-    assert!(
-        eig.iter().all(|l| l.im.abs() < 1e-12),
-        "real spectrum expected: {eig}"
-    );
+    assert!(eig.iter().all(|l| l.im.abs() < 1e-12), "real spectrum expected: {eig}");
     let mut v: Vec<f64> = eig.iter().map(|l| l.re).collect();
     v.sort_by(f64::total_cmp);
     v
@@ -61,20 +38,9 @@ fn sorted_real_spectrum(m: &DMatrix<f64>) -> Vec<f64> {
 #[test]
 fn corner_cutting_eigenvalues() {
     let f = family("corner_cutting");
-    for (a, b) in [
-        (0.25, 0.25),
-        (0.1, 0.3),
-        (0.6, 0.2),
-        (-0.3, 0.45),
-        (0.9, 0.8),
-    ] {
+    for (a, b) in [(0.25, 0.25), (0.1, 0.3), (0.6, 0.2), (-0.3, 0.45), (0.9, 0.8)] {
         let inst = f.instantiate(&[("a".into(), a), ("b".into(), b)]).unwrap();
-        let m = |n: &str| {
-            inst.automaton
-                .arrow(inst.automaton.arrow_id(n).unwrap())
-                .matrix
-                .clone()
-        };
+        let m = |n: &str| inst.automaton.arrow(inst.automaton.arrow_id(n).unwrap()).matrix.clone();
         for (arrow, expected) in [("T0", [1.0, a, 1.0 - a - b]), ("T1", [1.0, b, 1.0 - a - b])] {
             let mut e = expected.to_vec();
             e.sort_by(f64::total_cmp);
@@ -82,19 +48,13 @@ fn corner_cutting_eigenvalues() {
             for (g, x) in got.iter().zip(&e) {
                 // Eigenvalues of a 3×3 matrix with entries O(1): backward-stable to ~1e-15;
                 // a double eigenvalue (a = 1-a-b) loses half the digits, hence 1e-7.
-                assert!(
-                    (g - x).abs() < 1e-7,
-                    "{arrow} at a={a}, b={b}: {got:?} vs {e:?}"
-                );
+                assert!((g - x).abs() < 1e-7, "{arrow} at a={a}, b={b}: {got:?} vs {e:?}");
             }
         }
         let report = check(&inst.automaton, &inst.values, 1e-9).unwrap();
         assert!(report.ok);
         let inside = a.abs() < 1.0 && b.abs() < 1.0 && (1.0 - a - b).abs() < 1.0;
-        assert_eq!(
-            report.contractive, inside,
-            "convergence domain of §3 at a={a}, b={b}"
-        );
+        assert_eq!(report.contractive, inside, "convergence domain of §3 at a={a}, b={b}");
     }
 }
 
@@ -115,18 +75,11 @@ fn doo_sabin_patch_has_three_parameters_and_the_classic_weights() {
     assert_eq!(f.parameter_names(), ["alpha", "beta", "gamma"]);
     assert_eq!(f.entry_text("W", 3, 0), "1 - alpha - beta - gamma");
     let inst = f
-        .instantiate(&[
-            ("alpha".into(), 9.0 / 16.0),
-            ("beta".into(), 3.0 / 16.0),
-            ("gamma".into(), 3.0 / 16.0),
-        ])
+        .instantiate(&[("alpha".into(), 9.0 / 16.0), ("beta".into(), 3.0 / 16.0), ("gamma".into(), 3.0 / 16.0)])
         .unwrap();
     let c = chaikin();
     for (name, u, v) in [("T00", 0, 0), ("T10", 1, 0), ("T01", 0, 1), ("T11", 1, 1)] {
-        let t = &inst
-            .automaton
-            .arrow(inst.automaton.arrow_id(name).unwrap())
-            .matrix;
+        let t = &inst.automaton.arrow(inst.automaton.arrow_id(name).unwrap()).matrix;
         // Index 3*row + col with row = v, col = u: T_uv = C_v ⊗ C_u. Dyadic values: exact.
         assert_eq!(t, &c[v].kronecker(&c[u]), "{name}");
     }
@@ -148,21 +101,12 @@ fn cubic_curve_family_contains_the_cubic_bspline() {
     assert_eq!(f.dof(), 3);
     let inst = f.instantiate(&[]).unwrap();
     let b = bcifs::schemes::bspline_segment_matrices(3, 2);
-    let t0 = &inst
-        .automaton
-        .arrow(inst.automaton.arrow_id("T0").unwrap())
-        .matrix;
-    let t1 = &inst
-        .automaton
-        .arrow(inst.automaton.arrow_id("T1").unwrap())
-        .matrix;
+    let t0 = &inst.automaton.arrow(inst.automaton.arrow_id("T0").unwrap()).matrix;
+    let t1 = &inst.automaton.arrow(inst.automaton.arrow_id("T1").unwrap()).matrix;
     let expected_t0 = DMatrix::from_row_slice(
         4,
         4,
-        &[
-            0.5, 0.125, 0.0, 0.0, 0.5, 0.75, 0.5, 0.125, 0.0, 0.125, 0.5, 0.75, 0.0, 0.0, 0.0,
-            0.125,
-        ],
+        &[0.5, 0.125, 0.0, 0.0, 0.5, 0.75, 0.5, 0.125, 0.0, 0.125, 0.5, 0.75, 0.0, 0.0, 0.0, 0.125],
     );
     assert!((t0 - &expected_t0).amax() < 1e-12, "{t0}");
     assert!((t0 - &b[0]).amax() < 1e-12 && (t1 - &b[1]).amax() < 1e-12);
@@ -182,10 +126,7 @@ fn koch_scheme_passes_check() {
         if name.starts_with('T') && name != "Tv" {
             let mut m: Vec<f64> = eig.iter().map(|l| l.norm()).collect();
             m.sort_by(f64::total_cmp);
-            assert!(
-                (m[0] - 1.0 / 3.0).abs() < 1e-12 && (m[1] - 1.0 / 3.0).abs() < 1e-12,
-                "{name}: {m:?}"
-            );
+            assert!((m[0] - 1.0 / 3.0).abs() < 1e-12 && (m[1] - 1.0 / 3.0).abs() < 1e-12, "{name}: {m:?}");
         }
     }
 }
@@ -196,36 +137,21 @@ fn koch_scheme_passes_check() {
 #[test]
 fn generators_equal_the_hand_written_files() {
     let pairs = [
-        (
-            bcifs::schemes::curve_file(3, 2, 2).unwrap(),
-            "corner_cutting",
-            vec![("a", 0.2), ("b", 0.35)],
-        ),
-        (
-            bcifs::schemes::quad_patch_file(true),
-            "doo_sabin_quad",
-            vec![("alpha", 0.5), ("beta", 0.2), ("gamma", 0.1)],
-        ),
+        (bcifs::schemes::curve_file(3, 2, 2).unwrap(), "corner_cutting", vec![("a", 0.2), ("b", 0.35)]),
+        (bcifs::schemes::quad_patch_file(true), "doo_sabin_quad", vec![("alpha", 0.5), ("beta", 0.2), ("gamma", 0.1)]),
     ];
     for (text, name, values) in pairs {
         let generated = bcifs::parse_design(&text, "generated.toml", name).unwrap();
         let shipped = builtin_design(name).unwrap();
         let (g, s) = (&generated.automaton, &shipped.automaton);
-        let states = |a: &bcifs::Automaton<bcifs::Affine>| {
-            a.states().map(|(_, s)| s.clone()).collect::<Vec<_>>()
-        };
+        let states = |a: &bcifs::Automaton<bcifs::Affine>| a.states().map(|(_, s)| s.clone()).collect::<Vec<_>>();
         assert_eq!(states(g), states(s), "{name}: states");
         let arrows = |a: &bcifs::Automaton<bcifs::Affine>| {
             let mut v: Vec<_> = a
                 .arrows()
                 .map(|(id, x)| {
                     let (from, to) = a.arrow_ends(id);
-                    (
-                        x.name.clone(),
-                        x.kind,
-                        a.state(from).name.clone(),
-                        a.state(to).name.clone(),
-                    )
+                    (x.name.clone(), x.kind, a.state(from).name.clone(), a.state(to).name.clone())
                 })
                 .collect();
             v.sort_by(|x, y| x.0.cmp(&y.0));
@@ -251,25 +177,15 @@ fn generators_equal_the_hand_written_files() {
             .map(|p| match &p.origin {
                 bcifs::Origin::Entry { arrow, row, col } => {
                     let a = &is.automaton;
-                    (
-                        p.name.clone(),
-                        a.arrow(a.arrow_id(arrow).unwrap()).matrix[(*row, *col)],
-                    )
+                    (p.name.clone(), a.arrow(a.arrow_id(arrow).unwrap()).matrix[(*row, *col)])
                 }
                 bcifs::Origin::Parameter => panic!("generated parameters name entries"),
             })
             .collect();
         let ig = fg.instantiate(&mapped).unwrap();
         for (id, arrow) in is.automaton.arrows() {
-            let other = &ig
-                .automaton
-                .arrow(ig.automaton.arrow_id(&arrow.name).unwrap())
-                .matrix;
-            assert!(
-                (other - &arrow.matrix).amax() < 1e-15,
-                "{name}: {} differs ({id:?})",
-                arrow.name
-            );
+            let other = &ig.automaton.arrow(ig.automaton.arrow_id(&arrow.name).unwrap()).matrix;
+            assert!((other - &arrow.matrix).amax() < 1e-15, "{name}: {} differs ({id:?})", arrow.name);
         }
     }
 }

@@ -9,10 +9,7 @@ fn max_residual(name: &str, values: &[(&str, f64)]) -> (f64, f64) {
     let values: Vec<(String, f64)> = values.iter().map(|(n, v)| (n.to_string(), *v)).collect();
     let inst = f.instantiate(&values).unwrap();
     let r = check(&inst.automaton, &inst.values, 1e-9).unwrap();
-    (
-        r.constraints.iter().map(|(_, x)| *x).fold(0.0, f64::max),
-        r.max_column_sum_error,
-    )
+    (r.constraints.iter().map(|(_, x)| *x).fold(0.0, f64::max), r.max_column_sum_error)
 }
 
 // Entries are sums of at most a few products of O(10) numbers: rounding stays

@@ -1,0 +1,270 @@
+//! What evaluation needs to know about an automaton, computed once: vertex
+//! fixed points, edge end points, face corners and sub-face layout, and
+//! tables of the last levels of the subdivision tree.
+
+use petgraph::stable_graph::{EdgeIndex, NodeIndex};
+
+use crate::automaton::{ArrowKind, Automaton};
+use crate::space::CellKind;
+
+/// Why an automaton cannot be evaluated.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum PlanError {
+    /// A column of a matrix does not sum to 1.
+    #[error("arrow `{arrow}` is not stochastic: column {column} sums to {sum} (every column must sum to 1)")]
+    NotStochastic {
+        /// Arrow name.
+        arrow: String,
+        /// Column.
+        column: usize,
+        /// Its sum.
+        sum: f64,
+    },
+    /// A subdivision arrow has an eigenvalue of modulus ≥ 1 besides the eigenvalue 1.
+    #[error(
+        "arrow `{arrow}` is not contractive: eigenvalue of modulus {modulus:.6} besides the eigenvalue 1 (the attractor would not exist)"
+    )]
+    NotContractive {
+        /// Arrow name.
+        arrow: String,
+        /// The largest modulus besides 1.
+        modulus: f64,
+    },
+    /// A vertex state without a subdivision arrow to itself.
+    #[error("vertex state `{0}` needs a subdivision arrow to itself (its fixed point is the vertex)")]
+    NoVertexRule(String),
+    /// An edge state without two boundary arrows to vertices.
+    #[error("edge state `{0}` needs two boundary arrows to vertex states (its start and its end)")]
+    NoEnds(String),
+    /// A face whose boundary does not close into a polygon of corners.
+    #[error("face state `{0}`: {1}")]
+    BadFace(String, String),
+    /// A state with no subdivision arrow: its attractor is empty.
+    #[error("state `{0}` has no subdivision arrow: nothing to evaluate")]
+    Empty(String),
+}
+
+/// The evaluation plan of one state.
+#[derive(Clone, Debug)]
+pub struct StatePlan {
+    /// Name.
+    pub name: String,
+    /// Dimension (control points).
+    pub dim: usize,
+    /// Kind.
+    pub kind: CellKind,
+    /// Subdivision arrows: `(arrow, target state index, matrix row-major dim × dim(target))`.
+    pub children: Vec<(EdgeIndex, usize, Vec<f64>)>,
+    /// Barycentric points emitted by a leaf cell (edge: its start; free: its
+    /// sample points; face: its corners in cyclic order).
+    pub samples: Vec<Vec<f64>>,
+    /// Edges: barycentric end point (emitted once, after the last leaf).
+    pub end: Option<Vec<f64>>,
+    /// Faces: lattice offset `(du, dv)` of each child in a 2×2 split.
+    pub quadrants: Vec<(usize, usize)>,
+}
+
+/// The evaluation plan of an automaton.
+#[derive(Clone, Debug)]
+pub struct Plan {
+    /// Per state, indexed by `NodeIndex::index()`.
+    pub states: Vec<Option<StatePlan>>,
+}
+
+fn fixed_point(m: &nalgebra::DMatrix<f64>) -> Option<Vec<f64>> {
+    // Solve (M - I) λ = 0 with Σ λ = 1: replace the last equation by the sum.
+    let n = m.nrows();
+    let mut a = m - nalgebra::DMatrix::identity(n, n);
+    let mut rhs = nalgebra::DVector::zeros(n);
+    for j in 0..n {
+        a[(n - 1, j)] = 1.0;
+    }
+    rhs[n - 1] = 1.0;
+    a.lu().solve(&rhs).map(|v| v.iter().copied().collect())
+}
+
+fn mat_vec(m: &[f64], rows: usize, cols: usize, v: &[f64]) -> Vec<f64> {
+    (0..rows).map(|i| (0..cols).map(|j| m[i * cols + j] * v[j]).sum()).collect()
+}
+
+fn close(a: &[f64], b: &[f64]) -> bool {
+    a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-9)
+}
+
+impl Plan {
+    /// Verifies that `automaton` is stochastic and contractive (every square
+    /// subdivision loop), then computes what evaluation needs.
+    ///
+    /// # Errors
+    /// A non-stochastic or non-contractive arrow, or a topology that cannot
+    /// be evaluated (a vertex without rule, an edge without ends, a face
+    /// that is not a 2×2 split in grid orientation).
+    pub fn new(automaton: &Automaton<f64>, start_sets: &[(String, Vec<Vec<f64>>)]) -> Result<Plan, PlanError> {
+        for (_, arrow) in automaton.arrows() {
+            for (j, col) in arrow.matrix.column_iter().enumerate() {
+                let sum = col.sum();
+                if (sum - 1.0).abs() > 1e-9 {
+                    return Err(PlanError::NotStochastic { arrow: arrow.name.clone(), column: j, sum });
+                }
+            }
+            if arrow.kind == ArrowKind::Subdivision && arrow.matrix.is_square() {
+                let eig = arrow.matrix.complex_eigenvalues();
+                if !crate::analysis::contractive_spectrum(eig.as_slice(), 1e-9) {
+                    let mut moduli: Vec<f64> = eig.iter().map(|l| l.norm()).collect();
+                    moduli.sort_by(f64::total_cmp);
+                    let modulus = if moduli.len() > 1 { moduli[moduli.len() - 2] } else { moduli[0] };
+                    return Err(PlanError::NotContractive { arrow: arrow.name.clone(), modulus });
+                }
+            }
+        }
+        let size = automaton.states().map(|(i, _)| i.index() + 1).max().unwrap_or(0);
+        let mut vertex_point: Vec<Option<Vec<f64>>> = vec![None; size];
+        for (id, s) in automaton.states() {
+            if s.kind == CellKind::Vertex {
+                let rule = automaton
+                    .outgoing(id, ArrowKind::Subdivision)
+                    .into_iter()
+                    .find(|e| automaton.arrow_ends(*e).1 == id)
+                    .ok_or_else(|| PlanError::NoVertexRule(s.name.clone()))?;
+                vertex_point[id.index()] = fixed_point(&automaton.arrow(rule).matrix);
+            }
+        }
+        // Barycentric ends of an edge state: b · v* for its first two boundary arrows.
+        let ends = |edge: NodeIndex| -> Option<(Vec<f64>, Vec<f64>)> {
+            let b: Vec<Vec<f64>> = automaton
+                .outgoing(edge, ArrowKind::Boundary)
+                .into_iter()
+                .filter_map(|e| {
+                    let to = automaton.arrow_ends(e).1;
+                    let v = vertex_point[to.index()].as_ref()?;
+                    let m = &automaton.arrow(e).matrix;
+                    Some((0..m.nrows()).map(|i| (0..m.ncols()).map(|j| m[(i, j)] * v[j]).sum()).collect())
+                })
+                .collect();
+            (b.len() >= 2).then(|| (b[0].clone(), b[1].clone()))
+        };
+        let mut states = vec![None; size];
+        for (id, s) in automaton.states() {
+            let children: Vec<(EdgeIndex, usize, Vec<f64>)> = automaton
+                .outgoing(id, ArrowKind::Subdivision)
+                .into_iter()
+                .map(|e| {
+                    let to = automaton.arrow_ends(e).1;
+                    let m = &automaton.arrow(e).matrix;
+                    let row_major = (0..m.nrows()).flat_map(|i| (0..m.ncols()).map(move |j| m[(i, j)])).collect();
+                    (e, to.index(), row_major)
+                })
+                .collect();
+            let mut plan = StatePlan {
+                name: s.name.clone(),
+                dim: s.dim,
+                kind: s.kind,
+                children,
+                samples: Vec::new(),
+                end: None,
+                quadrants: Vec::new(),
+            };
+            match s.kind {
+                CellKind::Vertex => plan.samples = vertex_point[id.index()].iter().cloned().collect(),
+                CellKind::Free => plan.samples = vec![vec![1.0 / s.dim as f64; s.dim]],
+                CellKind::Edge => {
+                    let (a, b) = ends(id).ok_or_else(|| PlanError::NoEnds(s.name.clone()))?;
+                    plan.samples = vec![a];
+                    plan.end = Some(b);
+                }
+                CellKind::Face => face_plan(automaton, id, &ends, &mut plan)?,
+            }
+            if let Some((_, set)) = start_sets.iter().find(|(n, _)| *n == s.name) {
+                plan.samples = set.clone();
+                plan.end = None;
+            }
+            states[id.index()] = Some(plan);
+        }
+        Ok(Plan { states })
+    }
+
+    /// The plan of state `i`.
+    pub fn state(&self, i: usize) -> &StatePlan {
+        self.states[i].as_ref().expect("state index from this automaton")
+    }
+}
+
+fn face_plan(
+    automaton: &Automaton<f64>,
+    id: NodeIndex,
+    ends: &dyn Fn(NodeIndex) -> Option<(Vec<f64>, Vec<f64>)>,
+    plan: &mut StatePlan,
+) -> Result<(), PlanError> {
+    let bad = |why: &str| PlanError::BadFace(plan.name.clone(), why.to_string());
+    // Corner pairs of each boundary edge, in face coordinates.
+    let mut sides: Vec<(Vec<f64>, Vec<f64>)> = Vec::new();
+    for e in automaton.outgoing(id, ArrowKind::Boundary) {
+        let to = automaton.arrow_ends(e).1;
+        let (a, b) = ends(to).ok_or_else(|| bad("every boundary arrow must lead to an edge with two ends"))?;
+        let m = &automaton.arrow(e).matrix;
+        let lift = |v: &[f64]| -> Vec<f64> {
+            (0..m.nrows()).map(|i| (0..m.ncols()).map(|j| m[(i, j)] * v[j]).sum()).collect()
+        };
+        sides.push((lift(&a), lift(&b)));
+    }
+    let mut corners: Vec<Vec<f64>> = Vec::new();
+    for (a, b) in &sides {
+        for c in [a, b] {
+            if !corners.iter().any(|x| close(x, c)) {
+                corners.push(c.clone());
+            }
+        }
+    }
+    let index = |c: &[f64]| corners.iter().position(|x| close(x, c)).expect("collected");
+    // Walk the cycle of corners along the sides.
+    let mut cycle = vec![0usize];
+    let mut used = vec![false; sides.len()];
+    loop {
+        let here = *cycle.last().expect("non-empty");
+        let next = sides.iter().enumerate().find_map(|(k, (a, b))| {
+            if used[k] {
+                return None;
+            }
+            let (ia, ib) = (index(a), index(b));
+            if ia == here {
+                Some((k, ib))
+            } else if ib == here {
+                Some((k, ia))
+            } else {
+                None
+            }
+        });
+        match next {
+            Some((k, c)) => {
+                used[k] = true;
+                if c == cycle[0] {
+                    break;
+                }
+                cycle.push(c);
+            }
+            None => return Err(bad("its boundary edges do not close into a cycle of corners")),
+        }
+    }
+    if cycle.len() != 4 || cycle.len() != corners.len() {
+        return Err(bad(&format!("expected 4 corners joined by 4 edges, found {} corners", corners.len())));
+    }
+    plan.samples = cycle.iter().map(|&i| corners[i].clone()).collect();
+    // Lattice offsets of the children: the child sharing parent corner k sits at quadrant k.
+    const OFFSETS: [(usize, usize); 4] = [(0, 0), (1, 0), (1, 1), (0, 1)];
+    for (_, target, m) in &plan.children {
+        if *target != id.index() {
+            return Err(bad("a face must subdivide into faces of the same state"));
+        }
+        let k = (0..4)
+            .find(|&k| close(&mat_vec(m, plan.dim, plan.dim, &plan.samples[k]), &plan.samples[k]))
+            .ok_or_else(|| bad("a sub-face shares no corner with the face: not a 2×2 split"))?;
+        plan.quadrants.push(OFFSETS[k]);
+    }
+    let mut q = plan.quadrants.clone();
+    q.sort_unstable();
+    q.dedup();
+    if plan.children.len() != 4 || q.len() != 4 {
+        return Err(bad("faces are meshed as 2×2 splits: four sub-faces at four distinct corners"));
+    }
+    Ok(())
+}

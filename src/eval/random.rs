@@ -1,0 +1,401 @@
+//! Random evaluation: the chaos game on a (graph-directed) IFS.
+//!
+//! The walk goes *backwards* along arrows: a point `λ` of the attractor of
+//! state `Y` gives the point `M λ` of the attractor of `X` for every arrow
+//! `X → Y` (DESIGN §1), so from `Y` the walk picks an incoming arrow with its
+//! probability, moves `λ` and the state, and emits `P λ` whenever it is at
+//! the root. Default probabilities are proportional to `|det M|` (the
+//! projected map's area ratio: seed 002 §2.2), with a floor so that
+//! singular maps (the fern's stem) are still visited. When the automaton is
+//! not strongly connected the walk restarts now and then in a random state
+//! from the last point it had there, so every state keeps feeding the root.
+
+use rayon::prelude::*;
+
+use super::deterministic::EvalError;
+use super::pieces::pieces;
+use super::plan::Plan;
+use crate::automaton::{ArrowKind, Automaton};
+use crate::design::Model;
+use crate::geometry::Shape;
+
+/// Default number of discarded first iterations of each chain.
+pub const DEFAULT_BURN_IN: usize = 64;
+/// Floor of the default probabilities, relative to the mean `|det|`.
+pub const SINGULAR_FLOOR: f64 = 0.01;
+
+/// Settings of a chaos game.
+#[derive(Clone, Debug)]
+#[non_exhaustive]
+pub struct RandomSettings {
+    /// Points to emit.
+    pub points: usize,
+    /// Seed: the same seed gives the same points, whatever the thread count.
+    pub seed: u64,
+    /// Iterations discarded at the start of each chain.
+    pub burn_in: usize,
+    /// Explicit probabilities by arrow name (normalised per target state); others by `|det|`.
+    pub probabilities: Vec<(String, f64)>,
+    /// Worker threads (`None`: all cores).
+    pub threads: Option<usize>,
+    /// Independent chains (fixed, so output does not depend on threads).
+    pub chains: usize,
+}
+
+impl Default for RandomSettings {
+    fn default() -> RandomSettings {
+        RandomSettings {
+            points: 1_000_000,
+            seed: 1,
+            burn_in: DEFAULT_BURN_IN,
+            probabilities: Vec::new(),
+            threads: None,
+            chains: 8,
+        }
+    }
+}
+
+impl RandomSettings {
+    /// With a number of points.
+    pub fn with_points(mut self, n: usize) -> Self {
+        self.points = n;
+        self
+    }
+    /// With a seed.
+    pub fn with_seed(mut self, seed: u64) -> Self {
+        self.seed = seed;
+        self
+    }
+    /// With a number of chains.
+    pub fn with_chains(mut self, chains: usize) -> Self {
+        self.chains = chains.max(1);
+        self
+    }
+    /// With threads.
+    pub fn with_threads(mut self, threads: usize) -> Self {
+        self.threads = Some(threads);
+        self
+    }
+}
+
+/// A small, fast generator (wyrand): good statistical quality for sampling.
+#[derive(Clone, Debug)]
+pub struct Rng(u64);
+
+impl Rng {
+    /// Seeded generator.
+    pub fn new(seed: u64) -> Rng {
+        Rng(seed ^ 0x9E37_79B9_7F4A_7C15)
+    }
+    /// Next 64 random bits.
+    #[inline(always)]
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0xa076_1d64_78bd_642f);
+        let t = u128::from(self.0) * u128::from(self.0 ^ 0xe703_7ed1_a0b4_28db);
+        ((t >> 64) ^ t) as u64
+    }
+}
+
+/// Vose's alias table: one random word picks an index with given weights.
+#[derive(Clone, Debug)]
+pub struct Alias {
+    /// `(threshold in 2^32 units, alias)` per slot.
+    slots: Vec<(u32, u32)>,
+}
+
+impl Alias {
+    /// The table of (non-negative, not all zero) weights.
+    pub fn new(weights: &[f64]) -> Alias {
+        let n = weights.len();
+        let total: f64 = weights.iter().sum();
+        let mut scaled: Vec<f64> = weights.iter().map(|w| w * n as f64 / total).collect();
+        let mut slots = vec![(u32::MAX, 0u32); n];
+        let (mut small, mut large): (Vec<usize>, Vec<usize>) = (0..n).partition(|&i| scaled[i] < 1.0);
+        while let (Some(s), Some(&l)) = (small.pop(), large.last()) {
+            slots[s] = ((scaled[s] * 4_294_967_296.0).min(4_294_967_295.0) as u32, l as u32);
+            scaled[l] -= 1.0 - scaled[s];
+            if scaled[l] < 1.0 {
+                large.pop();
+                small.push(l);
+            }
+        }
+        for (i, slot) in slots.iter_mut().enumerate() {
+            if slot.0 == u32::MAX {
+                *slot = (u32::MAX, i as u32);
+            }
+        }
+        Alias { slots }
+    }
+
+    /// An index drawn from one random word.
+    #[inline(always)]
+    pub fn pick(&self, r: u64) -> usize {
+        let i = (((r >> 32) * self.slots.len() as u64) >> 32) as usize;
+        let (threshold, alias) = self.slots[i];
+        if (r as u32) < threshold { i } else { alias as usize }
+    }
+}
+
+/// Default probability weights of arrows: `|det M|` with a floor.
+pub fn det_weights(matrices: &[&nalgebra::DMatrix<f64>]) -> Vec<f64> {
+    let dets: Vec<f64> = matrices.iter().map(|m| if m.is_square() { m.determinant().abs() } else { 0.0 }).collect();
+    let mean = dets.iter().sum::<f64>() / dets.len().max(1) as f64;
+    if mean <= 0.0 {
+        return vec![1.0; dets.len()];
+    }
+    dets.iter().map(|d| d.max(SINGULAR_FLOOR * mean)).collect()
+}
+
+struct Incoming {
+    /// Per state: source states, matrices (row-major n_src × n_state), alias table.
+    arrows: Vec<Vec<(usize, Vec<f64>)>>,
+    alias: Vec<Option<Alias>>,
+}
+
+/// Runs the chaos game and returns the points (a point cloud shape).
+///
+/// # Errors
+/// A non-stochastic or non-contractive automaton, a model that does not fit,
+/// an unknown arrow in the probabilities, or a root no arrow leads into.
+pub fn chaos_game(automaton: &Automaton<f64>, model: &Model, settings: &RandomSettings) -> Result<Shape, EvalError> {
+    let plan = Plan::new(automaton, &[])?;
+    let pieces = pieces(automaton, model)?;
+    let d = pieces.dim;
+    let size = plan.states.len();
+    let mut inc = Incoming { arrows: vec![Vec::new(); size], alias: vec![None; size] };
+    let mut weights: Vec<Vec<f64>> = vec![Vec::new(); size];
+    let mut mats: Vec<Vec<&nalgebra::DMatrix<f64>>> = vec![Vec::new(); size];
+    let mut names: Vec<Vec<&str>> = vec![Vec::new(); size];
+    for (id, arrow) in automaton.arrows() {
+        if arrow.kind != ArrowKind::Subdivision {
+            continue;
+        }
+        let (from, to) = automaton.arrow_ends(id);
+        let m = &arrow.matrix;
+        let row_major = (0..m.nrows()).flat_map(|i| (0..m.ncols()).map(move |j| m[(i, j)])).collect();
+        inc.arrows[to.index()].push((from.index(), row_major));
+        mats[to.index()].push(m);
+        names[to.index()].push(&arrow.name);
+    }
+    for (name, _) in &settings.probabilities {
+        if !names.iter().flatten().any(|n| n == name) {
+            return Err(EvalError::UnknownArrow(name.clone()));
+        }
+    }
+    for s in 0..size {
+        if mats[s].is_empty() {
+            continue;
+        }
+        let mut w = det_weights(&mats[s]);
+        for (k, n) in names[s].iter().enumerate() {
+            if let Some((_, p)) = settings.probabilities.iter().find(|(a, _)| a == n) {
+                w[k] = p.max(0.0);
+            }
+        }
+        if w.iter().sum::<f64>() <= 0.0 {
+            w = vec![1.0; w.len()];
+        }
+        inc.alias[s] = Some(Alias::new(&w));
+        weights[s] = w;
+    }
+    let root = pieces.pieces[0].state;
+    if inc.arrows[root].is_empty() {
+        return Err(EvalError::Unsupported(format!(
+            "no subdivision arrow leads into the root `{}`",
+            plan.state(root).name
+        )));
+    }
+    let states_used = inc.arrows.iter().filter(|a| !a.is_empty()).count();
+    let single = states_used == 1 && inc.arrows[root].iter().all(|(src, _)| *src == root);
+    let chains = settings.chains.max(1).min(settings.points.max(1));
+    let threads = settings.threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| std::io::Error::other(e.to_string()))?;
+    let mut out = vec![0.0; settings.points * d];
+    let per = settings.points.div_ceil(chains);
+    pool.install(|| {
+        out.par_chunks_mut(per * d).enumerate().for_each(|(chain, slot)| {
+            let mut rng = Rng::new(settings.seed.wrapping_mul(0x2545_F491_4F6C_DD1D).wrapping_add(chain as u64));
+            let n_pieces = pieces.pieces.len();
+            if single
+                && n_pieces == 1
+                && affine_chain(
+                    &inc,
+                    root,
+                    &pieces.pieces[0].control,
+                    d,
+                    plan.state(root).dim,
+                    settings.burn_in,
+                    &mut rng,
+                    slot,
+                )
+            {
+                return;
+            }
+            general_chain(&inc, &plan, root, &pieces, d, settings.burn_in, single, &mut rng, slot);
+        });
+    });
+    let mut shape = Shape::default();
+    crate::geometry::Sink::object(&mut shape, "chaos game")?;
+    crate::geometry::Sink::vertices(&mut shape, d, &out, None)?;
+    Ok(shape)
+}
+
+/// Single-state IFS with `n = d + 1` and affinely independent control points:
+/// iterate the projected affine maps `x ← A x + t` in modelling space.
+#[allow(clippy::too_many_arguments)]
+fn affine_chain(
+    inc: &Incoming,
+    root: usize,
+    control: &[f64],
+    d: usize,
+    n: usize,
+    burn_in: usize,
+    rng: &mut Rng,
+    out: &mut [f64],
+) -> bool {
+    if n != d + 1 {
+        return false;
+    }
+    // P̂ = [P; 1 … 1] (n × n); the map of arrow M is P̂ M P̂⁻¹ = [A t; 0 1].
+    let mut ph = nalgebra::DMatrix::<f64>::zeros(n, n);
+    for a in 0..d {
+        for i in 0..n {
+            ph[(a, i)] = control[a * n + i];
+        }
+    }
+    for i in 0..n {
+        ph[(d, i)] = 1.0;
+    }
+    let Some(inv) = ph.clone().try_inverse() else { return false };
+    if ph.norm() * inv.norm() > 1e8 {
+        return false;
+    }
+    let maps: Vec<Vec<f64>> = inc.arrows[root]
+        .iter()
+        .map(|(_, m)| {
+            let m = nalgebra::DMatrix::from_row_slice(n, n, m);
+            let h = &ph * m * &inv;
+            (0..d).flat_map(|a| (0..n).map(move |j| (a, j))).map(|(a, j)| h[(a, j)]).collect()
+        })
+        .collect();
+    let alias = inc.alias[root].as_ref().expect("root has incoming arrows");
+    match d {
+        2 => {
+            let maps: Vec<[f64; 6]> = maps.iter().map(|m| [m[0], m[1], m[2], m[3], m[4], m[5]]).collect();
+            let (mut x, mut y) = (0.0, 0.0);
+            for _ in 0..burn_in {
+                let m = &maps[alias.pick(rng.next_u64())];
+                (x, y) = (m[0] * x + m[1] * y + m[2], m[3] * x + m[4] * y + m[5]);
+            }
+            for p in out.chunks_exact_mut(2) {
+                let m = &maps[alias.pick(rng.next_u64())];
+                (x, y) = (m[0] * x + m[1] * y + m[2], m[3] * x + m[4] * y + m[5]);
+                p[0] = x;
+                p[1] = y;
+            }
+        }
+        _ => {
+            let mut x = vec![0.0; d];
+            let mut next = vec![0.0; d];
+            let mut step = |x: &mut Vec<f64>, rng: &mut Rng| {
+                let m = &maps[alias.pick(rng.next_u64())];
+                for a in 0..d {
+                    next[a] = m[a * n + d] + (0..d).map(|j| m[a * n + j] * x[j]).sum::<f64>();
+                }
+                x.copy_from_slice(&next);
+            };
+            for _ in 0..burn_in {
+                step(&mut x, rng);
+            }
+            for p in out.chunks_exact_mut(d) {
+                step(&mut x, rng);
+                p.copy_from_slice(&x);
+            }
+        }
+    }
+    true
+}
+
+#[allow(clippy::too_many_arguments)]
+fn general_chain(
+    inc: &Incoming,
+    plan: &Plan,
+    root: usize,
+    pieces: &super::pieces::Pieces,
+    d: usize,
+    burn_in: usize,
+    strongly_connected: bool,
+    rng: &mut Rng,
+    out: &mut [f64],
+) {
+    let size = plan.states.len();
+    // Last point seen in each state; at first, the centroid of its simplex.
+    let mut last: Vec<Vec<f64>> =
+        (0..size).map(|s| plan.states[s].as_ref().map_or_else(Vec::new, |p| vec![1.0 / p.dim as f64; p.dim])).collect();
+    let mut state = root;
+    let mut lambda = last[root].clone();
+    let restart = if strongly_connected { 0 } else { u64::MAX / 32 };
+    let live: Vec<usize> = (0..size).filter(|&s| !inc.arrows[s].is_empty()).collect();
+    let mut emitted = 0;
+    // Steps left before emitting: the burn-in, again after a restart from a
+    // state whose last point is not yet on its attractor.
+    let mut settle = burn_in;
+    let mut converged = vec![false; size];
+    let total = out.len() / d;
+    while emitted < total {
+        if settle == 0 && rng.next_u64() < restart {
+            state = live[(rng.next_u64() % live.len() as u64) as usize];
+            lambda = last[state].clone();
+            if !converged[state] {
+                settle = burn_in;
+            }
+        }
+        let Some(alias) = &inc.alias[state] else {
+            state = root;
+            lambda = last[root].clone();
+            continue;
+        };
+        let (src, m) = &inc.arrows[state][alias.pick(rng.next_u64())];
+        let (rows, cols) = (plan.state(*src).dim, lambda.len());
+        lambda = (0..rows).map(|i| (0..cols).map(|j| m[i * cols + j] * lambda[j]).sum()).collect();
+        state = *src;
+        last[state].clone_from(&lambda);
+        if settle > 0 {
+            settle -= 1;
+            continue;
+        }
+        converged[state] = true;
+        if state == root {
+            let piece = &pieces.pieces[(rng.next_u64() % pieces.pieces.len() as u64) as usize];
+            let n = lambda.len();
+            for a in 0..d {
+                out[emitted * d + a] = (0..n).map(|i| piece.control[a * n + i] * lambda[i]).sum();
+            }
+            emitted += 1;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn alias_follows_weights() {
+        let a = Alias::new(&[1.0, 3.0, 0.0, 4.0]);
+        let mut rng = Rng::new(7);
+        let mut counts = [0usize; 4];
+        let n = 400_000;
+        for _ in 0..n {
+            counts[a.pick(rng.next_u64())] += 1;
+        }
+        // Binomial standard deviation is at most sqrt(n)/2 ≈ 316; allow 5σ.
+        for (c, w) in counts.iter().zip([1.0, 3.0, 0.0, 4.0]) {
+            assert!((*c as f64 - n as f64 * w / 8.0).abs() < 1600.0, "{counts:?}");
+        }
+        assert_eq!(counts[2], 0);
+    }
+}

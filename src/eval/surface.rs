@@ -1,0 +1,267 @@
+//! Welded quad meshes of face automata (2×2 splits) over grids of patches.
+//!
+//! At depth `k` every patch is a `2^k × 2^k` lattice of quads. The lattice
+//! of all patches is cut into square blocks of `B = 2^L` quads; each lattice
+//! vertex is *owned* by exactly one block (the one it is the lower-left
+//! corner of; the far row and column of an open sheet come last), which
+//! gives it one index: neighbouring patches share their boundary vertices by
+//! construction, and on a torus the lattice wraps. A block's points are
+//! `C · Λ_L`, with `Λ_L` the tabulated barycentric lattice of a depth-`L`
+//! subtree, and `C` the control points of the block's cell, reached from
+//! its patch by the quadrant path given by the bits of its block coordinates.
+
+use rayon::prelude::*;
+
+use super::deterministic::{EvalError, Evaluator, mul_into as mat_mul_into, project_into as project};
+use crate::geometry::Sink;
+
+/// Blocks are `2^BLOCK_LEVEL` quads on a side (33² lattice points, 9 coordinates each: ~80 KB).
+const BLOCK_LEVEL: usize = 5;
+/// Blocks computed in parallel before their output is pushed to the sink.
+const BATCH_BLOCKS: usize = 256;
+
+struct Lattice {
+    /// Patches along v (rows) and u (columns); torus or open sheet.
+    pr: usize,
+    pc: usize,
+    torus: bool,
+    /// Quads per patch side, per block side; blocks per patch side.
+    n: usize,
+    b: usize,
+    s: usize,
+}
+
+impl Lattice {
+    fn nu(&self) -> usize {
+        self.pc * self.n
+    }
+    fn nv(&self) -> usize {
+        self.pr * self.n
+    }
+    fn owned(&self) -> usize {
+        self.pr * self.pc * self.n * self.n
+    }
+    fn vertex_count(&self) -> usize {
+        self.owned() + if self.torus { 0 } else { self.nu() + self.nv() + 1 }
+    }
+    /// The index of lattice vertex `(u, v)` (global lattice coordinates).
+    fn index(&self, u: usize, v: usize) -> usize {
+        let (nu, nv) = (self.nu(), self.nv());
+        let (u, v) = if self.torus { (u % nu, v % nv) } else { (u, v) };
+        if !self.torus && u == nu {
+            return if v < nv { self.owned() + v } else { self.owned() + nv + u };
+        }
+        if !self.torus && v == nv {
+            return self.owned() + nv + u;
+        }
+        let (pu, ru) = (u / self.n, u % self.n);
+        let (pv, rv) = (v / self.n, v % self.n);
+        let block = ((pv * self.pc + pu) * self.s + rv / self.b) * self.s + ru / self.b;
+        block * self.b * self.b + (rv % self.b) * self.b + ru % self.b
+    }
+}
+
+/// Output of one block: owned positions and normals, extras `(index, position, normal)`, quads.
+struct BlockOut {
+    positions: Vec<f64>,
+    normals: Vec<f64>,
+    extras: Vec<(usize, Vec<f64>, [f64; 3])>,
+    quads: Vec<[usize; 4]>,
+    quad_uvs: Vec<[usize; 4]>,
+}
+
+fn normal(d: usize, p: &[f64], q_u: &[f64], q_v: &[f64]) -> [f64; 3] {
+    if d < 3 {
+        return [0.0, 0.0, 1.0];
+    }
+    let du = [q_u[0] - p[0], q_u[1] - p[1], q_u[2] - p[2]];
+    let dv = [q_v[0] - p[0], q_v[1] - p[1], q_v[2] - p[2]];
+    let n = [du[1] * dv[2] - du[2] * dv[1], du[2] * dv[0] - du[0] * dv[2], du[0] * dv[1] - du[1] * dv[0]];
+    let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+    if len > 0.0 { [n[0] / len, n[1] / len, n[2] / len] } else { [0.0, 0.0, 1.0] }
+}
+
+pub(super) fn mesh(ev: &Evaluator, k: usize, sink: &mut dyn Sink, in_memory: bool) -> Result<(), EvalError> {
+    let pieces = ev.pieces();
+    let plan = ev.plan();
+    let d = pieces.dim;
+    let (pr, pc, torus) = match pieces.grid {
+        Some(g) => g,
+        None if pieces.pieces.len() == 1 => (1, 1, false),
+        None => return Err(EvalError::Unsupported("several face pieces need a grid or torus layout".into())),
+    };
+    let state = pieces.pieces[0].state;
+    if pieces.pieces.iter().any(|p| p.state != state) {
+        return Err(EvalError::Unsupported("all patches of a mesh must have the same root state".into()));
+    }
+    let sp = plan.state(state);
+    let n9 = sp.dim;
+    let level = k.min(BLOCK_LEVEL);
+    let lat = Lattice { pr, pc, torus, n: 1 << k, b: 1 << level, s: 1 << (k - level) };
+
+    // Λ_r: barycentric lattice of a depth-r subtree, (2^r + 1)² points, row v then column u.
+    let mut table: Vec<f64> = [0usize, 1, 3, 2].iter().flat_map(|&c| sp.samples[c].clone()).collect();
+    for r in 1..=level {
+        let (side, half) = ((1 << r) + 1, 1 << (r - 1));
+        let prev = (1 << (r - 1)) + 1;
+        let mut next = vec![0.0; side * side * n9];
+        for ((_, _, m), &(du, dv)) in sp.children.iter().zip(&sp.quadrants) {
+            for v in 0..prev {
+                for u in 0..prev {
+                    let l = &table[(v * prev + u) * n9..(v * prev + u + 1) * n9];
+                    let at = ((dv * half + v) * side + du * half + u) * n9;
+                    for row in 0..n9 {
+                        next[at + row] = (0..n9).map(|j| m[row * n9 + j] * l[j]).sum();
+                    }
+                }
+            }
+        }
+        table = next;
+    }
+    let side = lat.b + 1;
+    let mut child_of = [0usize; 4];
+    for (i, &(du, dv)) in sp.quadrants.iter().enumerate() {
+        child_of[dv * 2 + du] = i;
+    }
+
+    sink.object("surface")?;
+    // Texture coordinates: the natural parameterisation of each patch.
+    let np = lat.n + 1;
+    for _ in 0..pr * pc {
+        let mut uv = Vec::with_capacity(np * np * 2);
+        for v in 0..np {
+            for u in 0..np {
+                uv.push(u as f64 / lat.n as f64);
+                uv.push(v as f64 / lat.n as f64);
+            }
+        }
+        sink.uvs(&uv)?;
+    }
+
+    let blocks = pr * pc * lat.s * lat.s;
+    let batch = if in_memory { blocks } else { BATCH_BLOCKS };
+    let bar = ev.progress((blocks / batch.max(1)).max(1) as u64);
+    let mut extras: Vec<(usize, Vec<f64>, [f64; 3])> = Vec::new();
+    let compute = |g: usize| -> BlockOut {
+        let patch = g / (lat.s * lat.s);
+        let (bv, bu) = ((g % (lat.s * lat.s)) / lat.s, g % lat.s);
+        let (pv, pu) = (patch / pc, patch % pc);
+        // Control points of the block's cell: follow the quadrant bits.
+        let mut c = pieces.pieces[patch].control.clone();
+        let mut tmp = vec![0.0; d * n9];
+        let steps = k - level;
+        for t in 0..steps {
+            let bit = steps - 1 - t;
+            let q = ((bv >> bit) & 1) * 2 + ((bu >> bit) & 1);
+            mat_mul_into(&c, d, n9, &sp.children[child_of[q]].2, n9, &mut tmp);
+            std::mem::swap(&mut c, &mut tmp);
+        }
+        let mut pts = vec![0.0; side * side * d];
+        project(&c, d, n9, &table, &mut pts);
+        let p = |u: usize, v: usize| &pts[(v * side + u) * d..(v * side + u + 1) * d];
+        let (u0, v0) = (pu * lat.n + bu * lat.b, pv * lat.n + bv * lat.b);
+        let mut out = BlockOut {
+            positions: Vec::with_capacity(lat.b * lat.b * d),
+            normals: Vec::with_capacity(lat.b * lat.b * 3),
+            extras: Vec::new(),
+            quads: Vec::with_capacity(lat.b * lat.b),
+            quad_uvs: Vec::with_capacity(lat.b * lat.b),
+        };
+        for v in 0..side {
+            for u in 0..side {
+                let (gu, gv) = (u0 + u, v0 + v);
+                let owned = u < lat.b && v < lat.b;
+                let extra = !torus && (gu == lat.nu() || gv == lat.nv());
+                if !owned && !extra {
+                    continue;
+                }
+                let (qu, pu_) = if u < lat.b { (p(u + 1, v), p(u, v)) } else { (p(u, v), p(u - 1, v)) };
+                let (qv, pv_) = if v < lat.b { (p(u, v + 1), p(u, v)) } else { (p(u, v), p(u, v - 1)) };
+                let du: Vec<f64> = qu.iter().zip(pu_).map(|(a, b)| a - b).collect();
+                let dv: Vec<f64> = qv.iter().zip(pv_).map(|(a, b)| a - b).collect();
+                let zero = vec![0.0; d];
+                let nrm = normal(d, &zero, &du, &dv);
+                if owned {
+                    out.positions.extend_from_slice(p(u, v));
+                    out.normals.extend_from_slice(&nrm);
+                } else {
+                    out.extras.push((lat.index(gu, gv), p(u, v).to_vec(), nrm));
+                }
+            }
+        }
+        let uv_base = patch * np * np;
+        for v in 0..lat.b {
+            for u in 0..lat.b {
+                let (gu, gv) = (u0 + u, v0 + v);
+                out.quads.push([
+                    lat.index(gu, gv),
+                    lat.index(gu + 1, gv),
+                    lat.index(gu + 1, gv + 1),
+                    lat.index(gu, gv + 1),
+                ]);
+                let (lu, lv) = (bu * lat.b + u, bv * lat.b + v);
+                let t = |a: usize, b: usize| uv_base + b * np + a;
+                out.quad_uvs.push([t(lu, lv), t(lu + 1, lv), t(lu + 1, lv + 1), t(lu, lv + 1)]);
+            }
+        }
+        out
+    };
+    for start in (0..blocks).step_by(batch.max(1)) {
+        let end = (start + batch).min(blocks);
+        let outs: Vec<BlockOut> = ev.pool().install(|| (start..end).into_par_iter().map(compute).collect());
+        let mut positions = Vec::with_capacity(outs.iter().map(|o| o.positions.len()).sum());
+        let mut normals = Vec::with_capacity(outs.iter().map(|o| o.normals.len()).sum());
+        let mut quads = Vec::with_capacity(outs.iter().map(|o| o.quads.len()).sum());
+        let mut quad_uvs = Vec::with_capacity(quads.capacity());
+        for mut o in outs {
+            positions.append(&mut o.positions);
+            normals.append(&mut o.normals);
+            quads.append(&mut o.quads);
+            quad_uvs.append(&mut o.quad_uvs);
+            extras.append(&mut o.extras);
+        }
+        sink.vertices(d, &positions, Some(&normals))?;
+        sink.faces(&quads, Some(&quad_uvs))?;
+        if let Some(b) = &bar {
+            b.inc(1);
+        }
+    }
+    if !torus {
+        extras.sort_by_key(|e| e.0);
+        extras.dedup_by_key(|e| e.0);
+        debug_assert_eq!(extras.len(), lat.vertex_count() - lat.owned());
+        let positions: Vec<f64> = extras.iter().flat_map(|e| e.1.iter().copied()).collect();
+        let normals: Vec<f64> = extras.iter().flat_map(|e| e.2).collect();
+        sink.vertices(d, &positions, Some(&normals))?;
+    }
+    if let Some(b) = bar {
+        b.finish_and_clear();
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lattice_indices_are_a_bijection() {
+        for torus in [false, true] {
+            let lat = Lattice { pr: 2, pc: 3, torus, n: 4, b: 2, s: 2 };
+            let (nu, nv) = (lat.nu(), lat.nv());
+            let (mu, mv) = if torus { (nu, nv) } else { (nu + 1, nv + 1) };
+            let mut seen = vec![false; lat.vertex_count()];
+            for v in 0..mv {
+                for u in 0..mu {
+                    let i = lat.index(u, v);
+                    assert!(!seen[i], "index {i} twice");
+                    seen[i] = true;
+                }
+            }
+            assert!(seen.iter().all(|s| *s));
+            if torus {
+                assert_eq!(lat.index(nu, 1), lat.index(0, 1));
+            }
+        }
+    }
+}

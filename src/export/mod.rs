@@ -1,0 +1,11 @@
+//! Writers: streaming OBJ, SVG, PNG; files are replaced atomically.
+
+mod atomic;
+mod obj;
+mod png;
+mod svg;
+
+pub use atomic::{AtomicFile, write_atomic};
+pub use obj::ObjWriter;
+pub use png::{RasterSettings, View, ascii, raster, write_png};
+pub use svg::svg;

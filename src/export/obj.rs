@@ -1,0 +1,200 @@
+//! Streaming Wavefront OBJ writer.
+
+use std::fs::File;
+use std::io::{self, BufWriter, Read, Write};
+use std::path::{Path, PathBuf};
+
+use super::atomic::{AtomicFile, temp_path};
+use crate::geometry::Sink;
+
+/// Indices per `l` line: long polylines are split into consecutive lines
+/// that share their end vertices.
+const LINE_CHUNK: usize = 4096;
+
+/// A [`Sink`] that streams OBJ text: `v` (and `vn`) and `vt` lines go to the
+/// file as they come, elements (`o`, `l`, `f`) to a spool file appended at
+/// the end, so memory stays bounded whatever the size. The target appears
+/// only when [`Sink::finish`] succeeds.
+pub struct ObjWriter {
+    main: Option<AtomicFile>,
+    spool_path: PathBuf,
+    spool: Option<BufWriter<File>>,
+    vertices: usize,
+    normals: bool,
+    bytes: u64,
+    ryu: ryu::Buffer,
+    ints: itoa::Buffer,
+}
+
+impl ObjWriter {
+    /// Starts writing `path`.
+    ///
+    /// # Errors
+    /// The temporary files cannot be created.
+    pub fn create(path: &Path) -> io::Result<ObjWriter> {
+        let mut main = AtomicFile::create(path)?;
+        writeln!(main.writer(), "# bcifs {}", env!("CARGO_PKG_VERSION"))?;
+        let spool_path = temp_path(path, "elements");
+        let spool = BufWriter::with_capacity(1 << 20, File::create(&spool_path)?);
+        Ok(ObjWriter {
+            main: Some(main),
+            spool_path,
+            spool: Some(spool),
+            vertices: 0,
+            normals: false,
+            bytes: 0,
+            ryu: ryu::Buffer::new(),
+            ints: itoa::Buffer::new(),
+        })
+    }
+
+    /// Bytes of vertex text written so far.
+    pub fn bytes_written(&self) -> u64 {
+        self.bytes
+    }
+
+    fn main(&mut self) -> &mut BufWriter<File> {
+        self.main.as_mut().expect("not finished").writer()
+    }
+
+    fn spool(&mut self) -> &mut BufWriter<File> {
+        self.spool.as_mut().expect("not finished")
+    }
+}
+
+/// Appends `x` as the shortest text that reads back to the same `f64`.
+#[inline]
+fn push_f64(line: &mut Vec<u8>, buf: &mut ryu::Buffer, x: f64) {
+    if x == x.trunc() && x.abs() < 1e15 {
+        let mut ib = itoa::Buffer::new();
+        line.extend_from_slice(ib.format(x as i64).as_bytes());
+    } else {
+        line.extend_from_slice(buf.format(x).as_bytes());
+    }
+}
+
+impl Sink for ObjWriter {
+    fn object(&mut self, name: &str) -> io::Result<()> {
+        let clean: String = name.chars().map(|c| if c.is_whitespace() { '_' } else { c }).collect();
+        writeln!(self.spool(), "o {clean}")
+    }
+
+    fn vertices(&mut self, dim: usize, positions: &[f64], normals: Option<&[f64]>) -> io::Result<()> {
+        let count = positions.len() / dim.max(1);
+        let mut line = Vec::with_capacity(count * 48);
+        let mut ryu = std::mem::replace(&mut self.ryu, ryu::Buffer::new());
+        for (i, p) in positions.chunks_exact(dim).enumerate() {
+            line.extend_from_slice(b"v");
+            for x in p.iter().copied().chain(std::iter::repeat(0.0)).take(3) {
+                line.push(b' ');
+                push_f64(&mut line, &mut ryu, x);
+            }
+            line.push(b'\n');
+            if let Some(n) = normals {
+                line.extend_from_slice(b"vn");
+                for x in &n[i * 3..i * 3 + 3] {
+                    line.push(b' ');
+                    push_f64(&mut line, &mut ryu, *x);
+                }
+                line.push(b'\n');
+            }
+        }
+        self.ryu = ryu;
+        self.normals |= normals.is_some();
+        self.vertices += count;
+        self.bytes += line.len() as u64;
+        self.main().write_all(&line)
+    }
+
+    fn uvs(&mut self, uvs: &[f64]) -> io::Result<()> {
+        let mut line = Vec::with_capacity(uvs.len() * 12);
+        let mut ryu = std::mem::replace(&mut self.ryu, ryu::Buffer::new());
+        for t in uvs.chunks_exact(2) {
+            line.extend_from_slice(b"vt ");
+            push_f64(&mut line, &mut ryu, t[0]);
+            line.push(b' ');
+            push_f64(&mut line, &mut ryu, t[1]);
+            line.push(b'\n');
+        }
+        self.ryu = ryu;
+        self.bytes += line.len() as u64;
+        self.main().write_all(&line)
+    }
+
+    fn polyline(&mut self, first: usize, count: usize, closed: bool) -> io::Result<()> {
+        let mut ints = std::mem::replace(&mut self.ints, itoa::Buffer::new());
+        let mut line = Vec::new();
+        let mut i = 0;
+        while i + 1 < count || (i == 0 && count == 1) {
+            let end = (i + LINE_CHUNK).min(count - 1);
+            line.push(b'l');
+            for v in i..=end {
+                line.push(b' ');
+                line.extend_from_slice(ints.format(first + v + 1).as_bytes());
+            }
+            if closed && end == count - 1 {
+                line.push(b' ');
+                line.extend_from_slice(ints.format(first + 1).as_bytes());
+            }
+            line.push(b'\n');
+            if end == i {
+                break;
+            }
+            i = end;
+        }
+        self.ints = ints;
+        self.spool().write_all(&line)
+    }
+
+    fn faces(&mut self, quads: &[[usize; 4]], uvs: Option<&[[usize; 4]]>) -> io::Result<()> {
+        let mut ints = std::mem::replace(&mut self.ints, itoa::Buffer::new());
+        let normals = self.normals;
+        let mut line = Vec::with_capacity(quads.len() * 64);
+        for (k, q) in quads.iter().enumerate() {
+            line.push(b'f');
+            for c in 0..4 {
+                line.push(b' ');
+                line.extend_from_slice(ints.format(q[c] + 1).as_bytes());
+                if let Some(t) = uvs {
+                    line.push(b'/');
+                    line.extend_from_slice(ints.format(t[k][c] + 1).as_bytes());
+                    if normals {
+                        line.push(b'/');
+                        line.extend_from_slice(ints.format(q[c] + 1).as_bytes());
+                    }
+                } else if normals {
+                    line.extend_from_slice(b"//");
+                    line.extend_from_slice(ints.format(q[c] + 1).as_bytes());
+                }
+            }
+            line.push(b'\n');
+        }
+        self.ints = ints;
+        self.spool().write_all(&line)
+    }
+
+    fn finish(&mut self) -> io::Result<()> {
+        let mut spool = self.spool.take().expect("finish once");
+        spool.flush()?;
+        drop(spool);
+        let mut reader = File::open(&self.spool_path)?;
+        let mut buf = vec![0u8; 1 << 20];
+        loop {
+            let n = reader.read(&mut buf)?;
+            if n == 0 {
+                break;
+            }
+            self.main().write_all(&buf[..n])?;
+        }
+        let _ = std::fs::remove_file(&self.spool_path);
+        self.main.take().expect("finish once").commit()
+    }
+}
+
+impl Drop for ObjWriter {
+    fn drop(&mut self) {
+        if self.spool.take().is_some() {
+            let _ = std::fs::remove_file(&self.spool_path);
+        }
+    }
+}

@@ -1,0 +1,273 @@
+//! PNG pictures: anti-aliased curves, point clouds by density, shaded
+//! previews of surfaces.
+
+use std::io;
+use std::path::Path;
+
+use image::{ImageFormat, Rgb, RgbImage};
+
+use super::atomic::write_atomic;
+use crate::geometry::Shape;
+
+/// Where a 3D shape is looked at from: rotation about the vertical (z) axis,
+/// then elevation, in degrees. 2D shapes ignore it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct View {
+    /// Rotation about z, degrees.
+    pub yaw: f64,
+    /// Elevation, degrees.
+    pub pitch: f64,
+}
+
+impl Default for View {
+    fn default() -> View {
+        View { yaw: 30.0, pitch: 35.0 }
+    }
+}
+
+/// Picture settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct RasterSettings {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// View of 3D shapes.
+    pub view: View,
+}
+
+impl Default for RasterSettings {
+    fn default() -> RasterSettings {
+        RasterSettings { width: 800, height: 800, view: View::default() }
+    }
+}
+
+impl RasterSettings {
+    /// With a size.
+    pub fn with_size(mut self, width: u32, height: u32) -> Self {
+        self.width = width;
+        self.height = height;
+        self
+    }
+    /// With a view.
+    pub fn with_view(mut self, yaw: f64, pitch: f64) -> Self {
+        self.view = View { yaw, pitch };
+        self
+    }
+}
+
+const INK: [f64; 3] = [27.0, 58.0, 107.0];
+const PAPER: [f64; 3] = [255.0, 255.0, 255.0];
+
+/// Projects shape vertices to `(screen x, screen y up, depth)`.
+fn project(shape: &Shape, view: View) -> Vec<[f64; 3]> {
+    let (sy, cy) = view.yaw.to_radians().sin_cos();
+    let (sp, cp) = view.pitch.to_radians().sin_cos();
+    (0..shape.vertex_count())
+        .map(|i| {
+            let p = shape.point(i);
+            if shape.dim < 3 {
+                return [p[0], p[1], 0.0];
+            }
+            // Rotate about z, then tilt about x: x stays right, z up, y into the screen.
+            let (x, y) = (cy * p[0] - sy * p[1], sy * p[0] + cy * p[1]);
+            let (y2, z2) = (cp * y - sp * p[2], sp * y + cp * p[2]);
+            [x, z2, y2]
+        })
+        .collect()
+}
+
+struct Canvas {
+    w: usize,
+    h: usize,
+    scale: f64,
+    off: [f64; 2],
+}
+
+impl Canvas {
+    fn fit(points: &[[f64; 3]], w: u32, h: u32) -> Canvas {
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for p in points {
+            for a in 0..2 {
+                lo[a] = lo[a].min(p[a]);
+                hi[a] = hi[a].max(p[a]);
+            }
+        }
+        let (w, h) = (w as usize, h as usize);
+        let span = [(hi[0] - lo[0]).max(1e-12), (hi[1] - lo[1]).max(1e-12)];
+        let scale = 0.94 * (w as f64 / span[0]).min(h as f64 / span[1]);
+        let off =
+            [(w as f64 - span[0] * scale) / 2.0 - lo[0] * scale, (h as f64 - span[1] * scale) / 2.0 - lo[1] * scale];
+        Canvas { w, h, scale, off }
+    }
+    /// Pixel coordinates (x right, y down).
+    fn px(&self, p: [f64; 3]) -> (f64, f64) {
+        (p[0] * self.scale + self.off[0], self.h as f64 - (p[1] * self.scale + self.off[1]))
+    }
+}
+
+/// Xiaolin Wu's anti-aliased line into a coverage buffer.
+fn wu_line(cov: &mut [f32], w: usize, h: usize, (mut x0, mut y0): (f64, f64), (mut x1, mut y1): (f64, f64)) {
+    let mut plot = |x: i64, y: i64, c: f64| {
+        if x >= 0 && y >= 0 && (x as usize) < w && (y as usize) < h {
+            let cell = &mut cov[y as usize * w + x as usize];
+            *cell = (*cell + c as f32).min(1.0);
+        }
+    };
+    let steep = (y1 - y0).abs() > (x1 - x0).abs();
+    if steep {
+        std::mem::swap(&mut x0, &mut y0);
+        std::mem::swap(&mut x1, &mut y1);
+    }
+    if x0 > x1 {
+        std::mem::swap(&mut x0, &mut x1);
+        std::mem::swap(&mut y0, &mut y1);
+    }
+    let dx = x1 - x0;
+    let gradient = if dx.abs() < 1e-12 { 1.0 } else { (y1 - y0) / dx };
+    let (xs, xe) = (x0.round() as i64, x1.round() as i64);
+    let mut y = y0 + gradient * (xs as f64 - x0);
+    for x in xs..=xe {
+        let (fl, fr) = (y.floor(), y - y.floor());
+        if steep {
+            plot(fl as i64, x, 1.0 - fr);
+            plot(fl as i64 + 1, x, fr);
+        } else {
+            plot(x, fl as i64, 1.0 - fr);
+            plot(x, fl as i64 + 1, fr);
+        }
+        y += gradient;
+    }
+}
+
+fn mix(a: [f64; 3], b: [f64; 3], t: f64) -> Rgb<u8> {
+    let t = t.clamp(0.0, 1.0);
+    Rgb([0, 1, 2].map(|k| (a[k] + (b[k] - a[k]) * t).round() as u8))
+}
+
+/// Draws the shape.
+pub fn raster(shape: &Shape, settings: &RasterSettings) -> RgbImage {
+    let (w, h) = (settings.width.max(1), settings.height.max(1));
+    let mut img = RgbImage::from_pixel(w, h, Rgb([255, 255, 255]));
+    let pts = project(shape, settings.view);
+    if pts.is_empty() {
+        return img;
+    }
+    let canvas = Canvas::fit(&pts, w, h);
+    let (wu, hu) = (w as usize, h as usize);
+    if !shape.quads.is_empty() {
+        shade(shape, &pts, &canvas, &mut img);
+        return img;
+    }
+    let mut on_line = vec![false; pts.len()];
+    let mut cov = vec![0f32; wu * hu];
+    for (first, count, closed) in shape.polylines() {
+        on_line[first..first + count].iter_mut().for_each(|x| *x = true);
+        for i in first + 1..first + count {
+            wu_line(&mut cov, wu, hu, canvas.px(pts[i - 1]), canvas.px(pts[i]));
+        }
+        if closed && count > 1 {
+            wu_line(&mut cov, wu, hu, canvas.px(pts[first + count - 1]), canvas.px(pts[first]));
+        }
+    }
+    // Remaining vertices: a point cloud, coloured by log density.
+    let mut density = vec![0u32; wu * hu];
+    for (p, used) in pts.iter().zip(&on_line) {
+        if !used {
+            let (x, y) = canvas.px(*p);
+            if x >= 0.0 && y >= 0.0 && (x as usize) < wu && (y as usize) < hu {
+                density[y as usize * wu + x as usize] += 1;
+            }
+        }
+    }
+    let max = density.iter().copied().max().unwrap_or(0);
+    let norm = (1.0 + f64::from(max)).ln().max(1e-12);
+    for (i, px) in img.pixels_mut().enumerate() {
+        let dens = if density[i] > 0 { 0.35 + 0.65 * (1.0 + f64::from(density[i])).ln() / norm } else { 0.0 };
+        *px = mix(PAPER, INK, f64::from(cov[i]).max(dens));
+    }
+    img
+}
+
+fn shade(shape: &Shape, pts: &[[f64; 3]], canvas: &Canvas, img: &mut RgbImage) {
+    let (w, h) = (canvas.w, canvas.h);
+    let mut depth = vec![f64::INFINITY; w * h];
+    let light = {
+        let l: [f64; 3] = [-0.4, -0.7, 0.6];
+        let n = l[0] * l[0] + l[1] * l[1] + l[2] * l[2];
+        let n = n.sqrt();
+        [l[0] / n, l[1] / n, l[2] / n]
+    };
+    for q in &shape.quads {
+        for tri in [[q[0], q[1], q[2]], [q[0], q[2], q[3]]] {
+            let [a, b, c] = tri.map(|i| pts[i]);
+            let (u, v) = ([b[0] - a[0], b[1] - a[1], b[2] - a[2]], [c[0] - a[0], c[1] - a[1], c[2] - a[2]]);
+            let n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
+            let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+            if len == 0.0 {
+                continue;
+            }
+            // Screen: x right, y up, depth into the screen: light from the viewer's upper left.
+            let lambert = ((n[0] * light[0] + n[1] * light[2] + n[2] * light[1]) / len).abs();
+            let colour = mix([40.0, 52.0, 80.0], [214.0, 226.0, 245.0], 0.15 + 0.85 * lambert);
+            let s = [a, b, c].map(|p| canvas.px(p));
+            let (x0, x1) = (
+                s.iter().map(|p| p.0).fold(f64::INFINITY, f64::min),
+                s.iter().map(|p| p.0).fold(f64::NEG_INFINITY, f64::max),
+            );
+            let (y0, y1) = (
+                s.iter().map(|p| p.1).fold(f64::INFINITY, f64::min),
+                s.iter().map(|p| p.1).fold(f64::NEG_INFINITY, f64::max),
+            );
+            let area = (s[1].0 - s[0].0) * (s[2].1 - s[0].1) - (s[2].0 - s[0].0) * (s[1].1 - s[0].1);
+            if area.abs() < 1e-12 {
+                continue;
+            }
+            let (xs, xe) = (x0.floor().max(0.0) as usize, (x1.ceil() as usize).min(w.saturating_sub(1)));
+            let (ys, ye) = (y0.floor().max(0.0) as usize, (y1.ceil() as usize).min(h.saturating_sub(1)));
+            if x1 < 0.0 || y1 < 0.0 {
+                continue;
+            }
+            for y in ys..=ye {
+                for x in xs..=xe {
+                    let (fx, fy) = (x as f64 + 0.5, y as f64 + 0.5);
+                    let w0 = ((s[1].0 - fx) * (s[2].1 - fy) - (s[2].0 - fx) * (s[1].1 - fy)) / area;
+                    let w1 = ((s[2].0 - fx) * (s[0].1 - fy) - (s[0].0 - fx) * (s[2].1 - fy)) / area;
+                    let w2 = 1.0 - w0 - w1;
+                    if w0 < -1e-9 || w1 < -1e-9 || w2 < -1e-9 {
+                        continue;
+                    }
+                    let z = w0 * a[2] + w1 * b[2] + w2 * c[2];
+                    let cell = &mut depth[y * w + x];
+                    if z < *cell {
+                        *cell = z;
+                        img.put_pixel(x as u32, y as u32, colour);
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Encodes `img` as PNG into `path`, atomically.
+///
+/// # Errors
+/// An encoding or I/O error.
+pub fn write_png(path: &Path, img: &RgbImage) -> io::Result<()> {
+    let mut bytes = io::Cursor::new(Vec::new());
+    img.write_to(&mut bytes, ImageFormat::Png).map_err(io::Error::other)?;
+    write_atomic(path, bytes.get_ref())
+}
+
+/// The picture as `#`/`.` text (a pixel is `#` when darker than half), for golden tests.
+pub fn ascii(img: &RgbImage) -> String {
+    let mut out = String::new();
+    for y in 0..img.height() {
+        for x in 0..img.width() {
+            out.push(if img.get_pixel(x, y)[0] < 160 { '#' } else { '.' });
+        }
+        out.push('\n');
+    }
+    out
+}

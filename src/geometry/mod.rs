@@ -1,0 +1,166 @@
+//! Output geometry: the sink trait evaluators push into, and the in-memory
+//! shape (polylines, quad meshes, point clouds) that is one such sink.
+
+use std::io;
+use std::ops::Range;
+
+/// Where evaluation output goes. Vertices are numbered from 0 in the order
+/// they are pushed, across all objects; elements refer to those numbers.
+///
+/// Implemented by [`Shape`] (in memory) and by the streaming
+/// [`crate::export::ObjWriter`].
+pub trait Sink {
+    /// Starts a named object (a piece of the model).
+    fn object(&mut self, name: &str) -> io::Result<()>;
+    /// Appends vertices: `positions` holds `dim` coordinates per vertex;
+    /// `normals`, if any, 3 per vertex.
+    fn vertices(&mut self, dim: usize, positions: &[f64], normals: Option<&[f64]>) -> io::Result<()>;
+    /// Appends texture coordinates, 2 per entry.
+    fn uvs(&mut self, uvs: &[f64]) -> io::Result<()>;
+    /// A polyline through the vertices `first .. first + count`, closed or not.
+    fn polyline(&mut self, first: usize, count: usize, closed: bool) -> io::Result<()>;
+    /// Quads (vertex indices counter-clockwise), with texture indices if any.
+    fn faces(&mut self, quads: &[[usize; 4]], uvs: Option<&[[usize; 4]]>) -> io::Result<()>;
+    /// Ends the output (a file is complete only after this).
+    fn finish(&mut self) -> io::Result<()>;
+}
+
+/// A named part of a [`Shape`].
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Object {
+    /// Name.
+    pub name: String,
+    /// Vertices pushed while this object was current.
+    pub vertices: Range<usize>,
+    /// Polylines: `(first vertex, count, closed)`.
+    pub polylines: Vec<(usize, usize, bool)>,
+    /// Faces pushed while this object was current.
+    pub faces: Range<usize>,
+}
+
+/// Evaluation output held in memory.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Shape {
+    /// Coordinates per vertex (2 or 3).
+    pub dim: usize,
+    /// `dim` coordinates per vertex.
+    pub positions: Vec<f64>,
+    /// 3 coordinates per vertex, or empty.
+    pub normals: Vec<f64>,
+    /// 2 coordinates per texture vertex.
+    pub uvs: Vec<f64>,
+    /// Quads, counter-clockwise.
+    pub quads: Vec<[usize; 4]>,
+    /// Texture indices of the quads, or empty.
+    pub quad_uvs: Vec<[usize; 4]>,
+    /// The objects, in order.
+    pub objects: Vec<Object>,
+}
+
+impl Shape {
+    /// Number of vertices.
+    pub fn vertex_count(&self) -> usize {
+        self.positions.len().checked_div(self.dim).unwrap_or(0)
+    }
+
+    /// Vertex `i` as `[x, y, z]` (z = 0 in 2D).
+    pub fn point(&self, i: usize) -> [f64; 3] {
+        let p = &self.positions[i * self.dim..(i + 1) * self.dim];
+        [p[0], p[1], if self.dim > 2 { p[2] } else { 0.0 }]
+    }
+
+    /// All vertices as `[x, y, z]`.
+    pub fn points(&self) -> Vec<[f64; 3]> {
+        (0..self.vertex_count()).map(|i| self.point(i)).collect()
+    }
+
+    /// Axis-aligned bounds `(min, max)`, or `None` when empty.
+    pub fn bounds(&self) -> Option<([f64; 3], [f64; 3])> {
+        let mut it = (0..self.vertex_count()).map(|i| self.point(i));
+        let first = it.next()?;
+        Some(it.fold((first, first), |(lo, hi), p| {
+            ([lo[0].min(p[0]), lo[1].min(p[1]), lo[2].min(p[2])], [hi[0].max(p[0]), hi[1].max(p[1]), hi[2].max(p[2])])
+        }))
+    }
+
+    /// All polylines of all objects.
+    pub fn polylines(&self) -> impl Iterator<Item = (usize, usize, bool)> + '_ {
+        self.objects.iter().flat_map(|o| o.polylines.iter().copied())
+    }
+
+    /// Every edge of the quads as an unordered vertex pair, with multiplicity.
+    pub fn edge_multiplicities(&self) -> std::collections::HashMap<(usize, usize), usize> {
+        let mut m = std::collections::HashMap::new();
+        for q in &self.quads {
+            for k in 0..4 {
+                let (a, b) = (q[k], q[(k + 1) % 4]);
+                *m.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+            }
+        }
+        m
+    }
+
+    /// `V - E + F` of the quad mesh (vertices counted only if used by a quad).
+    pub fn euler_characteristic(&self) -> i64 {
+        let mut used = std::collections::HashSet::new();
+        for q in &self.quads {
+            used.extend(q.iter().copied());
+        }
+        used.len() as i64 - self.edge_multiplicities().len() as i64 + self.quads.len() as i64
+    }
+
+    fn current(&mut self) -> &mut Object {
+        if self.objects.is_empty() {
+            self.objects.push(Object::default());
+        }
+        self.objects.last_mut().expect("just pushed")
+    }
+}
+
+impl Sink for Shape {
+    fn object(&mut self, name: &str) -> io::Result<()> {
+        let (v, f) = (self.vertex_count(), self.quads.len());
+        self.objects.push(Object { name: name.to_string(), vertices: v..v, polylines: Vec::new(), faces: f..f });
+        Ok(())
+    }
+
+    fn vertices(&mut self, dim: usize, positions: &[f64], normals: Option<&[f64]>) -> io::Result<()> {
+        if self.dim == 0 {
+            self.dim = dim;
+        }
+        if dim != self.dim {
+            return Err(io::Error::new(io::ErrorKind::InvalidInput, "vertices of different dimensions in one shape"));
+        }
+        self.positions.extend_from_slice(positions);
+        if let Some(n) = normals {
+            self.normals.extend_from_slice(n);
+        }
+        let end = self.vertex_count();
+        self.current().vertices.end = end;
+        Ok(())
+    }
+
+    fn uvs(&mut self, uvs: &[f64]) -> io::Result<()> {
+        self.uvs.extend_from_slice(uvs);
+        Ok(())
+    }
+
+    fn polyline(&mut self, first: usize, count: usize, closed: bool) -> io::Result<()> {
+        self.current().polylines.push((first, count, closed));
+        Ok(())
+    }
+
+    fn faces(&mut self, quads: &[[usize; 4]], uvs: Option<&[[usize; 4]]>) -> io::Result<()> {
+        self.quads.extend_from_slice(quads);
+        if let Some(t) = uvs {
+            self.quad_uvs.extend_from_slice(t);
+        }
+        let end = self.quads.len();
+        self.current().faces.end = end;
+        Ok(())
+    }
+
+    fn finish(&mut self) -> io::Result<()> {
+        Ok(())
+    }
+}

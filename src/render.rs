@@ -1,0 +1,275 @@
+//! Rendering a design to a file, and the gallery of shipped automata. The
+//! command line is a thin shell over these functions.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use crate::design::{Design, Model};
+use crate::eval::{Depth, EvalError, EvalSettings, Evaluator, RandomSettings, chaos_game};
+use crate::export::{ObjWriter, RasterSettings, raster, svg, write_atomic, write_png};
+use crate::family::{DesignInstantiateError, instantiate};
+use crate::geometry::{Shape, Sink};
+
+/// What to render and how.
+#[derive(Clone, Debug, Default)]
+#[non_exhaustive]
+pub struct RenderOptions {
+    /// Parameter values (others: the file's defaults).
+    pub params: Vec<(String, f64)>,
+    /// Deterministic evaluation settings (depth or tolerance, threads, memory, start sets, dropped arrows).
+    pub eval: EvalSettings,
+    /// Chaos game instead of deterministic evaluation.
+    pub random: Option<RandomSettings>,
+    /// Picture settings for PNG.
+    pub raster: RasterSettings,
+}
+
+/// Why rendering failed.
+#[derive(Debug, thiserror::Error)]
+pub enum RenderError {
+    /// The design has no model to project with.
+    #[error("`{0}` has no [model]: add control points to render it")]
+    NoModel(String),
+    /// Parameters or constraints.
+    #[error(transparent)]
+    Instantiate(#[from] DesignInstantiateError),
+    /// Evaluation.
+    #[error(transparent)]
+    Eval(#[from] EvalError),
+    /// Output format not known.
+    #[error("unknown output format `{0}`: expected .obj, .svg or .png")]
+    Format(String),
+    /// Writing.
+    #[error("cannot write {0}: {1}")]
+    Io(PathBuf, std::io::Error),
+    /// SVG of a 3D shape.
+    #[error("SVG output is for 2D shapes; this model is 3D (use .png or .obj)")]
+    NotPlanar,
+}
+
+/// What a render produced.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RenderSummary {
+    /// Vertices written.
+    pub vertices: usize,
+    /// Quads written.
+    pub quads: usize,
+}
+
+fn model_of(design: &Design) -> Result<Model, RenderError> {
+    design.model.clone().ok_or_else(|| RenderError::NoModel(design.automaton.name.clone()))
+}
+
+/// Evaluates a design in memory (deterministic or random, as the options say).
+///
+/// # Errors
+/// See [`RenderError`].
+pub fn evaluate_design(design: &Design, options: &RenderOptions) -> Result<Shape, RenderError> {
+    let model = model_of(design)?;
+    let instance = instantiate(design, &options.params)?;
+    let mut eval = options.eval.clone();
+    if eval.start.is_empty() {
+        eval.start = model.start.clone();
+    }
+    Ok(match &options.random {
+        Some(r) => chaos_game(&instance.automaton, &model, r)?,
+        None => Evaluator::new(&instance.automaton, &model, eval)?.evaluate()?,
+    })
+}
+
+/// Renders a design into `out`, choosing the format by extension: `.obj`
+/// is streamed (any depth), `.svg` and `.png` are drawn from memory.
+///
+/// # Errors
+/// See [`RenderError`]; nothing is left half-written.
+pub fn render(design: &Design, options: &RenderOptions, out: &Path) -> Result<RenderSummary, RenderError> {
+    let ext = out.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
+    let io = |e: std::io::Error| RenderError::Io(out.to_path_buf(), e);
+    match ext.as_str() {
+        "obj" => {
+            let model = model_of(design)?;
+            let instance = instantiate(design, &options.params)?;
+            let mut writer = ObjWriter::create(out).map_err(io)?;
+            match &options.random {
+                Some(r) => {
+                    let shape = chaos_game(&instance.automaton, &model, r)?;
+                    writer.object(&design.automaton.name).map_err(io)?;
+                    writer.vertices(shape.dim, &shape.positions, None).map_err(io)?;
+                    writer.finish().map_err(io)?;
+                    Ok(RenderSummary { vertices: shape.vertex_count(), quads: 0 })
+                }
+                None => {
+                    let mut eval = options.eval.clone();
+                    if eval.start.is_empty() {
+                        eval.start = model.start.clone();
+                    }
+                    let ev = Evaluator::new(&instance.automaton, &model, eval)?;
+                    let mut counter = Counter { inner: &mut writer, vertices: 0, quads: 0 };
+                    ev.stream(&mut counter).map_err(|e| match e {
+                        EvalError::Io(e) => io(e),
+                        other => other.into(),
+                    })?;
+                    Ok(RenderSummary { vertices: counter.vertices, quads: counter.quads })
+                }
+            }
+        }
+        "svg" | "png" => {
+            let shape = evaluate_design(design, options)?;
+            let summary = RenderSummary { vertices: shape.vertex_count(), quads: shape.quads.len() };
+            if ext == "svg" {
+                if shape.dim > 2 {
+                    return Err(RenderError::NotPlanar);
+                }
+                write_atomic(out, svg(&shape, options.raster.width).as_bytes()).map_err(io)?;
+            } else {
+                write_png(out, &raster(&shape, &options.raster)).map_err(io)?;
+            }
+            Ok(summary)
+        }
+        other => Err(RenderError::Format(other.to_string())),
+    }
+}
+
+/// Counts what passes through to another sink.
+struct Counter<'a> {
+    inner: &'a mut dyn Sink,
+    vertices: usize,
+    quads: usize,
+}
+
+impl Sink for Counter<'_> {
+    fn object(&mut self, name: &str) -> std::io::Result<()> {
+        self.inner.object(name)
+    }
+    fn vertices(&mut self, dim: usize, positions: &[f64], normals: Option<&[f64]>) -> std::io::Result<()> {
+        self.vertices += positions.len() / dim.max(1);
+        self.inner.vertices(dim, positions, normals)
+    }
+    fn uvs(&mut self, uvs: &[f64]) -> std::io::Result<()> {
+        self.inner.uvs(uvs)
+    }
+    fn polyline(&mut self, first: usize, count: usize, closed: bool) -> std::io::Result<()> {
+        self.inner.polyline(first, count, closed)
+    }
+    fn faces(&mut self, quads: &[[usize; 4]], uvs: Option<&[[usize; 4]]>) -> std::io::Result<()> {
+        self.quads += quads.len();
+        self.inner.faces(quads, uvs)
+    }
+    fn finish(&mut self) -> std::io::Result<()> {
+        self.inner.finish()
+    }
+}
+
+/// In-memory output budget of a gallery picture.
+pub const GALLERY_BUDGET_BYTES: u128 = 12 << 20;
+/// Deepest gallery depth.
+pub const GALLERY_MAX_DEPTH: usize = 16;
+
+/// One rendered gallery entry.
+#[derive(Clone, Debug)]
+pub struct GalleryEntry {
+    /// Automaton name.
+    pub name: String,
+    /// Description.
+    pub description: String,
+    /// Depth used (`None`: chaos game).
+    pub depth: Option<usize>,
+    /// Files written, relative to the gallery directory.
+    pub files: Vec<String>,
+    /// Vertices and quads of the picture.
+    pub summary: RenderSummary,
+}
+
+/// The deepest depth whose in-memory output fits the gallery budget.
+///
+/// # Errors
+/// The design cannot be evaluated.
+pub fn gallery_depth(design: &Design) -> Result<usize, RenderError> {
+    let model = model_of(design)?;
+    let instance = instantiate(design, &[])?;
+    let ev = Evaluator::new(&instance.automaton, &model, EvalSettings::default().with_start_sets(&model))?;
+    Ok((1..=GALLERY_MAX_DEPTH).take_while(|&k| ev.estimate_bytes(k) <= GALLERY_BUDGET_BYTES).last().unwrap_or(1))
+}
+
+/// Renders every shipped automaton that has a model into `dir`: a PNG and an
+/// OBJ each (plus a chaos-game picture for plain IFS), and an `index.html`.
+///
+/// # Errors
+/// The first automaton that fails, or an I/O error.
+pub fn gallery(dir: &Path, progress: bool) -> Result<Vec<GalleryEntry>, RenderError> {
+    std::fs::create_dir_all(dir).map_err(|e| RenderError::Io(dir.to_path_buf(), e))?;
+    let mut entries = Vec::new();
+    let designs: Vec<Design> = crate::BUILTIN_AUTOMATA
+        .iter()
+        .filter_map(|(n, _)| crate::builtin_design(n))
+        .filter(|d| d.model.is_some())
+        .collect();
+    let bar = (progress && std::io::IsTerminal::is_terminal(&std::io::stderr()))
+        .then(|| indicatif::ProgressBar::new(designs.len() as u64));
+    for design in designs {
+        let name = design.automaton.name.clone();
+        if let Some(b) = &bar {
+            b.set_message(name.clone());
+        }
+        let depth = gallery_depth(&design)?;
+        let mut options = RenderOptions::default();
+        options.eval.depth = Depth::Fixed(depth);
+        let mut files = Vec::new();
+        let png = format!("{name}.png");
+        let summary = render(&design, &options, &dir.join(&png))?;
+        files.push(png);
+        let obj = format!("{name}.obj");
+        render(&design, &options, &dir.join(&obj))?;
+        files.push(obj);
+        let model = model_of(&design)?;
+        let plain_ifs = model.layout == crate::design::Layout::Single
+            && design
+                .automaton
+                .state_id(&model.root)
+                .is_some_and(|r| design.automaton.state(r).kind == crate::space::CellKind::Free);
+        if plain_ifs {
+            let mut random = options.clone();
+            random.random = Some(RandomSettings::default().with_points(2_000_000));
+            let png = format!("{name}-chaos.png");
+            render(&design, &random, &dir.join(&png))?;
+            files.push(png);
+        }
+        entries.push(GalleryEntry {
+            name,
+            description: design.description.clone(),
+            depth: Some(depth),
+            files,
+            summary,
+        });
+        if let Some(b) = &bar {
+            b.inc(1);
+        }
+    }
+    if let Some(b) = bar {
+        b.finish_and_clear();
+    }
+    let mut html = String::from(
+        "<!doctype html>\n<html><head><meta charset=\"utf-8\"><title>bcifs gallery</title>\n<style>body{font-family:sans-serif;margin:2em;background:#f6f7f9}figure{display:inline-block;margin:1em;background:white;padding:1em;box-shadow:0 1px 3px #0002;vertical-align:top}img{width:360px;height:360px;object-fit:contain}figcaption{max-width:360px}</style></head><body>\n<h1>bcifs gallery</h1>\n",
+    );
+    for e in &entries {
+        let _ = write!(html, "<figure>");
+        for f in e.files.iter().filter(|f| f.ends_with(".png")) {
+            let _ = write!(html, "<img src=\"{f}\" alt=\"{}\">", e.name);
+        }
+        let obj: Vec<String> =
+            e.files.iter().filter(|f| f.ends_with(".obj")).map(|f| format!("<a href=\"{f}\">{f}</a>")).collect();
+        let _ = writeln!(
+            html,
+            "<figcaption><b>{}</b> — {}<br>depth {}, {} vertices{}; {}</figcaption></figure>",
+            e.name,
+            e.description,
+            e.depth.map_or("-".into(), |d| d.to_string()),
+            e.summary.vertices,
+            if e.summary.quads > 0 { format!(", {} quads", e.summary.quads) } else { String::new() },
+            obj.join(" ")
+        );
+    }
+    html.push_str("</body></html>\n");
+    write_atomic(&dir.join("index.html"), html.as_bytes()).map_err(|e| RenderError::Io(dir.join("index.html"), e))?;
+    Ok(entries)
+}
