@@ -1,0 +1,204 @@
+//! Curves and point sets: closed forms, junctions, any start set, chaos game.
+
+use bcifs::analysis::hausdorff;
+use bcifs::eval::{EvalError, EvalSettings, Evaluator, PlanError, RandomSettings, chaos_game};
+use nalgebra::DMatrix;
+
+use super::{eval, load};
+
+/// Corner cutting at a = b = 1/4 is Chaikin's scheme: every output point lies on
+/// the uniform quadratic B-spline of the closed control polygon. Leaf j of
+/// piece i (points P_i, P_{i+1}, P_{i+2}) starts at t = j / 2^k.
+#[test]
+fn chaikin_output_is_the_quadratic_bspline() {
+    let (_, model, _) = load("corner_cutting", &[]);
+    let k = 9;
+    let shape = eval("corner_cutting", &[("a", 0.25), ("b", 0.25)], EvalSettings::default().with_depth(k));
+    let n = model.points.len();
+    let per = 1 << k;
+    assert_eq!(shape.vertex_count(), n * per, "closed: no repeated end point");
+    for (idx, p) in shape.points().iter().enumerate() {
+        let (i, j) = (idx / per, idx % per);
+        let t = j as f64 / per as f64;
+        let w = [(1.0 - t).powi(2) / 2.0, 0.5 + t - t * t, t * t / 2.0];
+        for a in 0..2 {
+            let expected: f64 = (0..3).map(|m| w[m] * model.points[(i + m) % n][a]).sum();
+            // Products of 9 matrices with dyadic entries: rounding ~1e-15.
+            assert!((p[a] - expected).abs() < 1e-12, "point {idx}: {} vs {expected}", p[a]);
+        }
+    }
+    let polylines: Vec<_> = shape.polylines().collect();
+    assert_eq!(polylines, vec![(0, n * per, true)]);
+}
+
+fn matrix(a: &bcifs::Automaton<f64>, name: &str) -> DMatrix<f64> {
+    a.arrow(a.arrow_id(name).unwrap()).matrix.clone()
+}
+
+/// At any admissible parameters, consecutive sub-curves meet: the end of
+/// sub-curve i is the start of sub-curve i+1 (adjacency constraint), within
+/// 1e-12 in modelling space, at every depth.
+#[test]
+fn sub_curves_meet_at_any_admissible_parameters() {
+    let mut rng = bcifs::eval::Rng::new(11);
+    let mut uniform = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+    for _ in 0..20 {
+        // Sample the convergence domain |a|, |b|, |1-a-b| < 1.
+        let (a, b) = loop {
+            let (a, b) = (uniform() * 2.0 - 1.0, uniform() * 2.0 - 1.0);
+            if (1.0 - a - b).abs() < 0.95 && a.abs() < 0.95 && b.abs() < 0.95 {
+                break (a, b);
+            }
+        };
+        let (auto, model, _) = load("corner_cutting", &[("a", a), ("b", b)]);
+        let (t0, t1, tv) = (matrix(&auto, "T0"), matrix(&auto, "T1"), matrix(&auto, "Tv"));
+        // Vertex fixed point: Tv v = v, Σ v = 1.
+        let v = nalgebra::DVector::from_vec(vec![b / (a + b), a / (a + b)]);
+        assert!((&tv * &v - &v).amax() < 1e-12);
+        let (b0, b1) = (matrix(&auto, "b0"), matrix(&auto, "b1"));
+        let (start, end) = (&b0 * &v, &b1 * &v);
+        let p = DMatrix::from_fn(2, 3, |r, c| model.points[c][r]);
+        let mut cells = vec![p];
+        for _depth in 0..7 {
+            cells = cells.iter().flat_map(|c| [c * &t0, c * &t1]).collect();
+            for pair in cells.windows(2) {
+                let gap = (&pair[0] * &end - &pair[1] * &start).amax();
+                assert!(gap < 1e-12, "a={a}, b={b}: gap {gap}");
+            }
+        }
+    }
+}
+
+/// An open control polygon: consecutive pieces share their end points, so
+/// the polyline is one connected run ending at the last piece's end.
+#[test]
+fn open_polygons_are_one_polyline() {
+    let (a, mut model, _) = load("corner_cutting", &[]);
+    model.layout = bcifs::Layout::Open;
+    let shape = Evaluator::new(&a, &model, EvalSettings::default().with_depth(4)).unwrap().evaluate().unwrap();
+    let pieces = model.points.len() - 2;
+    assert_eq!(shape.polylines().collect::<Vec<_>>(), vec![(0, pieces * 16 + 1, false)]);
+    // The first point is the start of the first piece: (P0 + P1) / 2 for Chaikin.
+    let p = shape.point(0);
+    assert!((p[0] - 1.0).abs() < 1e-15 && p[1].abs() < 1e-15);
+}
+
+fn points(shape: &bcifs::geometry::Shape) -> Vec<[f64; 3]> {
+    shape.points()
+}
+
+/// Seed 001 §2 / seed 004 §2.1: any compact start set converges to the same
+/// attractor. Koch from a single point (the centroid of the frame) against
+/// the curve's vertices: each depth-k cell is a similarity of ratio 3^-k of
+/// the root frame, so the distance is at most diam(frame) · 3^-k.
+#[test]
+fn any_start_set_converges_to_the_attractor() {
+    let reference = points(&eval("koch", &[], EvalSettings::default().with_depth(9)));
+    let mut last = f64::INFINITY;
+    for k in 2..=7 {
+        let from_point =
+            eval("koch", &[], EvalSettings::default().with_depth(k).with_start("e", vec![vec![1.0 / 3.0; 3]]));
+        let h = hausdorff(&points(&from_point), &reference);
+        let bound = 2f64.sqrt() * 3f64.powi(-(k as i32)) + 2f64.sqrt() * 3f64.powi(-9);
+        assert!(h <= bound, "depth {k}: {h} > {bound}");
+        assert!(h < last, "depth {k}: {h} did not shrink from {last}");
+        last = h;
+    }
+    // A segment start set (two points) and a triangle converge too.
+    let seg = eval(
+        "koch",
+        &[],
+        EvalSettings::default().with_depth(7).with_start("e", vec![vec![1.0, 0.0, 0.0], vec![0.0, 0.0, 1.0]]),
+    );
+    assert!(hausdorff(&points(&seg), &reference) < 2f64.sqrt() * 3f64.powi(-7) * 1.01 + 1e-3);
+}
+
+/// The fern from a square and from its centroid: Hausdorff distance shrinks
+/// with depth (contraction ratio of the fern is at most 0.85 per level).
+#[test]
+fn fern_from_different_start_sets_converges() {
+    let mut previous = f64::INFINITY;
+    for k in [2, 4, 6, 8] {
+        let square = points(&eval("fern", &[], EvalSettings::default().with_depth(k)));
+        let centroid = points(&eval(
+            "fern",
+            &[],
+            EvalSettings::default().with_depth(k).with_start("fern", vec![vec![1.0 / 3.0; 3]]),
+        ));
+        let h = hausdorff(&square, &centroid);
+        assert!(h < previous, "depth {k}: {h} ≥ {previous}");
+        previous = h;
+    }
+    assert!(previous < 2.0, "{previous}");
+}
+
+/// The chaos game is reproducible with a seed, whatever the thread count,
+/// and its points lie on the attractor (close to a deep deterministic set).
+#[test]
+fn chaos_game_is_reproducible_and_on_the_attractor() {
+    let (a, model, _) = load("levy", &[]);
+    let one =
+        chaos_game(&a, &model, &RandomSettings::default().with_points(20_000).with_seed(5).with_threads(1)).unwrap();
+    let two =
+        chaos_game(&a, &model, &RandomSettings::default().with_points(20_000).with_seed(5).with_threads(2)).unwrap();
+    assert_eq!(one.positions, two.positions);
+    let other = chaos_game(&a, &model, &RandomSettings::default().with_points(20_000).with_seed(6)).unwrap();
+    assert_ne!(one.positions, other.positions);
+    let deterministic = points(&eval("levy", &[], EvalSettings::default().with_depth(16)));
+    // Depth-16 cells of the Lévy curve have diameter 2^-8 · diam(frame) ≈ 0.0055.
+    let h = bcifs::analysis::directed_hausdorff(&points(&one), &deterministic);
+    assert!(h < 0.006, "{h}");
+    // Two-state fern: the Sierpinski branch is reached.
+    let (a, model, _) = load("fern_sierpinski", &[]);
+    let cloud = chaos_game(&a, &model, &RandomSettings::default().with_points(200_000)).unwrap();
+    let branch: Vec<[f64; 3]> = {
+        // The branch T2(A_S): the triangle image under T2 = [[0.2,-0.26],[0.23,0.22]] + (0, 1.6).
+        let t2 = |x: f64, y: f64| [0.2 * x - 0.26 * y, 0.23 * x + 0.22 * y + 1.6, 0.0];
+        vec![t2(0.0, 0.0), t2(1.0, 0.0), t2(0.0, 1.0)]
+    };
+    let near_branch = bcifs::analysis::directed_hausdorff(&branch, &points(&cloud));
+    assert!(near_branch < 0.05, "the chaos game misses the Sierpinski branch: {near_branch}");
+    // Every point lies in the fern's hull: x in [-2.2, 2.7], y in [0, 10].
+    assert!(points(&cloud).iter().all(|p| (-2.2..2.7).contains(&p[0]) && (0.0..10.0).contains(&p[1])));
+}
+
+/// Non-contractive and non-stochastic systems are refused before evaluation.
+#[test]
+fn bad_systems_are_refused_before_evaluation() {
+    let (a, model, _) = load("corner_cutting", &[("a", 1.5), ("b", 0.25)]);
+    match Evaluator::new(&a, &model, EvalSettings::default()) {
+        Err(EvalError::Plan(PlanError::NotContractive { arrow, .. })) => assert_eq!(arrow, "T0"),
+        Err(e) => panic!("unexpected {e}"),
+        Ok(_) => panic!("accepted a non-contractive system"),
+    }
+    let (mut a, model, _) = load("corner_cutting", &[]);
+    let id = a.arrow_id("T1").unwrap();
+    a.arrow_mut(id).matrix[(0, 0)] += 0.1;
+    let err = Evaluator::new(&a, &model, EvalSettings::default()).err().expect("refused");
+    assert!(err.to_string().contains("`T1` is not stochastic: column 0 sums to 1.1"), "{err}");
+}
+
+/// An in-memory evaluation over the limit is refused with the estimate.
+#[test]
+fn oversized_output_is_refused_with_an_estimate() {
+    let (a, model, _) = load("levy", &[]);
+    let ev = Evaluator::new(&a, &model, EvalSettings::default().with_depth(24).with_memory_limit(1 << 20)).unwrap();
+    let err = ev.evaluate().err().expect("refused");
+    // 2^24 + 1 points of 2 coordinates.
+    assert!(matches!(err, EvalError::TooLarge { estimate, .. } if estimate == ((1u128 << 24) + 1) * 16), "{err}");
+    assert!(err.to_string().contains("stream it"), "{err}");
+}
+
+/// Adaptive evaluation: every emitted cell is below the tolerance, so
+/// consecutive points are closer than it.
+#[test]
+fn adaptive_evaluation_meets_the_tolerance() {
+    let eps = 0.01;
+    let shape = eval("corner_cutting", &[("a", 0.1), ("b", 0.4)], EvalSettings::default().with_tolerance(eps));
+    let pts = shape.points();
+    for w in pts.windows(2) {
+        let d = ((w[0][0] - w[1][0]).powi(2) + (w[0][1] - w[1][1]).powi(2)).sqrt();
+        assert!(d < eps, "{d}");
+    }
+    assert!(pts.len() > 100);
+}

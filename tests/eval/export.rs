@@ -1,0 +1,177 @@
+//! Writers: OBJ round trip through tobj, streaming, PNG, SVG, golden rasters.
+
+use bcifs::eval::{EvalSettings, Evaluator};
+use bcifs::export::{ObjWriter, RasterSettings, ascii, raster, svg};
+
+use super::{eval, load};
+
+fn temp(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("bcifs-export-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+/// Write the torus, read it back with tobj: same counts, same positions
+/// (shortest round-trip text, so exact), normals and texture coordinates.
+#[test]
+fn obj_round_trip_through_tobj() {
+    let (a, model, _) = load("doo_sabin_torus", &[]);
+    let ev = Evaluator::new(&a, &model, EvalSettings::default().with_depth(3)).unwrap();
+    let shape = ev.evaluate().unwrap();
+    let path = temp("torus.obj");
+    let mut w = ObjWriter::create(&path).unwrap();
+    ev.stream(&mut w).unwrap();
+    let (models, _) =
+        tobj::load_obj(&path, &tobj::LoadOptions { single_index: false, triangulate: false, ..Default::default() })
+            .unwrap();
+    assert_eq!(models.len(), 1);
+    let mesh = &models[0].mesh;
+    // tobj renumbers the vertices a model uses: compare through the faces.
+    assert_eq!(mesh.positions.len(), shape.positions.len(), "vertex count");
+    assert_eq!(mesh.face_arities.len(), shape.quads.len());
+    assert!(mesh.face_arities.iter().all(|&n| n == 4));
+    for (k, &i) in shape.quads.iter().flatten().enumerate() {
+        let j = mesh.indices[k] as usize;
+        // Shortest round-trip text: positions come back bit for bit.
+        assert_eq!(&mesh.positions[3 * j..3 * j + 3], &shape.positions[3 * i..3 * i + 3], "corner {k}");
+    }
+    // Shared corners stay shared: as many distinct indices as vertices.
+    let mut used: Vec<u32> = mesh.indices.clone();
+    used.sort_unstable();
+    used.dedup();
+    assert_eq!(used.len(), shape.vertex_count());
+    assert_eq!(mesh.normals.len(), shape.normals.len());
+    assert_eq!(mesh.texcoords.len(), shape.uvs.len());
+    // No temporary file is left behind.
+    let leftovers = std::fs::read_dir(path.parent().unwrap())
+        .unwrap()
+        .filter(|e| e.as_ref().is_ok_and(|e| e.file_name().to_string_lossy().ends_with(".tmp")));
+    assert_eq!(leftovers.count(), 0);
+}
+
+/// Curves stream too: the OBJ holds every vertex and `l` lines joining them.
+#[test]
+fn curves_stream_to_obj() {
+    let (a, model, _) = load("koch", &[]);
+    let ev = Evaluator::new(&a, &model, EvalSettings::default().with_depth(7).with_memory_limit(1)).unwrap();
+    assert!(ev.evaluate().is_err(), "in memory is over the 1-byte limit");
+    let path = temp("koch.obj");
+    let mut w = ObjWriter::create(&path).unwrap();
+    ev.stream(&mut w).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    let vertices = text.lines().filter(|l| l.starts_with("v ")).count();
+    assert_eq!(vertices, 4usize.pow(7) + 1);
+    // Lines chain: each `l` starts where the previous ended.
+    let lines: Vec<Vec<usize>> = text
+        .lines()
+        .filter(|l| l.starts_with("l "))
+        .map(|l| l[2..].split(' ').map(|x| x.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(lines[0][0], 1);
+    assert_eq!(*lines.last().unwrap().last().unwrap(), vertices);
+    for w in lines.windows(2) {
+        assert_eq!(w[0].last(), w[1].first());
+    }
+}
+
+/// A failed write leaves no file behind.
+#[test]
+fn nothing_is_half_written() {
+    let missing = std::env::temp_dir().join("bcifs-no-such-dir").join("x.obj");
+    assert!(ObjWriter::create(&missing).is_err());
+    let path = temp("dropped.obj");
+    {
+        let mut w = ObjWriter::create(&path).unwrap();
+        bcifs::geometry::Sink::vertices(&mut w, 2, &[1.0, 2.0], None).unwrap();
+        // Dropped without finish.
+    }
+    assert!(!path.exists());
+}
+
+#[test]
+fn png_has_the_requested_size_and_ink() {
+    let shape = eval("levy", &[], EvalSettings::default().with_depth(10));
+    let img = raster(&shape, &RasterSettings::default().with_size(300, 200));
+    assert_eq!(img.dimensions(), (300, 200));
+    let dark = img.pixels().filter(|p| p[0] < 128).count();
+    assert!(dark > 1000, "{dark} dark pixels");
+    let torus = eval("doo_sabin_torus", &[], EvalSettings::default().with_depth(2));
+    let img = raster(&torus, &RasterSettings::default().with_size(120, 120));
+    let shaded = img.pixels().filter(|p| p[0] < 250).count();
+    assert!(shaded > 120 * 120 / 4, "{shaded}");
+    let doc = svg(&shape, 400);
+    assert!(doc.starts_with("<svg") && doc.trim_end().ends_with("</svg>") && doc.contains("<path"));
+}
+
+fn golden(actual: &str, expected: &str) {
+    if std::env::var_os("BCIFS_PRINT_GOLDEN").is_some() {
+        println!("{actual}");
+    }
+    if actual.trim() != expected.trim() {
+        panic!("raster differs:\n--- expected\n{}\n--- actual\n{}", expected.trim(), actual.trim());
+    }
+}
+
+/// Golden ASCII rasters: the Koch curve (depth 3) and the Sierpinski branch
+/// state of the two-state fern, each drawn on a small grid.
+#[test]
+fn golden_rasters() {
+    let koch = eval("koch", &[], EvalSettings::default().with_depth(3));
+    let img = raster(&koch, &RasterSettings::default().with_size(40, 14));
+    golden(&ascii(&img), KOCH);
+    let (a, mut model, _) = load("fern_sierpinski", &[]);
+    model.root = "sierpinski".into();
+    let s = Evaluator::new(
+        &a,
+        &model,
+        EvalSettings::default().with_depth(6).with_start("sierpinski", vec![vec![1.0 / 3.0; 3]]),
+    )
+    .unwrap()
+    .evaluate()
+    .unwrap();
+    let img = raster(&s, &RasterSettings::default().with_size(24, 24));
+    golden(&ascii(&img), SIERPINSKI);
+}
+
+const KOCH: &str = "
+........................................
+........................................
+...................###..................
+..................##.##.................
+................#.##.##.#...............
+..............#####...#####.............
+..............##.........##.............
+..............##.........##.............
+.............###.........###............
+.......##.......#.......#.......##......
+.....######...##.........##...######....
+...##.#..#.##.##.........##.##.#..#.##..
+.######..######...........######..######
+.#####....#####...........#####....#####
+";
+const SIERPINSKI: &str = "
+#.......................
+##......................
+###.....................
+####....................
+##.##...................
+######..................
+#######.................
+###...##................
+####..###...............
+##.#..#..#..............
+########.##.............
+############............
+##..........#...........
+###.........##..........
+####........###.........
+##.##.......#..#........
+######......##.##.......
+#######.....######......
+##....##....##...##.....
+###...###...##...###....
+####..####..####.####...
+##.##.##.##.##.####.##..
+#######################.
+########################
+";

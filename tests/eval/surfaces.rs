@@ -1,0 +1,125 @@
+//! Quad patches: the biquadratic B-spline, welding, the torus.
+
+use bcifs::eval::{EvalSettings, Evaluator};
+use bcifs::geometry::Shape;
+
+use super::{eval, load};
+
+fn quad_bspline(t: f64) -> [f64; 3] {
+    [(1.0 - t).powi(2) / 2.0, 0.5 + t - t * t, t * t / 2.0]
+}
+
+/// DESIGN §2: at (9/16, 3/16, 3/16) the patch is the biquadratic B-spline
+/// surface. Each quad corner carries its natural parameters (u, v) as
+/// texture coordinates and its patch by texture index; the position must be
+/// the tensor-product B-spline of the patch's 3×3 window, within 1e-12.
+#[test]
+fn classic_doo_sabin_is_the_biquadratic_bspline() {
+    let (_, model, _) = load("doo_sabin_quad", &[]);
+    let k = 5;
+    let shape = eval(
+        "doo_sabin_quad",
+        &[("alpha", 0.5625), ("beta", 0.1875), ("gamma", 0.1875)],
+        EvalSettings::default().with_depth(k),
+    );
+    let (rows, cols) = model.grid.unwrap();
+    let (pr, pc) = (rows - 2, cols - 2);
+    let np = (1 << k) + 1;
+    assert_eq!(shape.quads.len(), pr * pc * (1 << (2 * k)));
+    assert_eq!(shape.uvs.len(), pr * pc * np * np * 2);
+    for (q, t) in shape.quads.iter().zip(&shape.quad_uvs) {
+        for c in 0..4 {
+            let patch = t[c] / (np * np);
+            let (i, j) = (patch / pc, patch % pc);
+            let (u, v) = (shape.uvs[2 * t[c]], shape.uvs[2 * t[c] + 1]);
+            let (wu, wv) = (quad_bspline(u), quad_bspline(v));
+            let p = shape.point(q[c]);
+            for a in 0..3 {
+                let mut expected = 0.0;
+                for r in 0..3 {
+                    for s in 0..3 {
+                        expected += wv[r] * wu[s] * model.points[(i + r) * cols + (j + s)][a];
+                    }
+                }
+                assert!(
+                    (p[a] - expected).abs() < 1e-12,
+                    "patch {patch} (u={u}, v={v}) coord {a}: {} vs {expected}",
+                    p[a]
+                );
+            }
+        }
+    }
+}
+
+fn check_manifold(shape: &Shape, boundary_edges: usize) {
+    let edges = shape.edge_multiplicities();
+    assert!(edges.values().all(|&m| m == 1 || m == 2), "an edge in more than two faces");
+    assert_eq!(edges.values().filter(|&&m| m == 1).count(), boundary_edges);
+    // Every quad has 4 distinct vertices.
+    assert!(shape.quads.iter().all(|q| (0..4).all(|i| (i + 1..4).all(|j| q[i] != q[j]))));
+}
+
+/// The torus of doo_sabin_torus.toml is a closed 2-manifold: every edge in
+/// exactly two faces, Euler characteristic 0, and no vertex unused.
+#[test]
+fn torus_is_a_closed_manifold() {
+    for k in [1, 3, 6] {
+        let shape = eval("doo_sabin_torus", &[], EvalSettings::default().with_depth(k));
+        let quads = 64 << (2 * k);
+        assert_eq!(shape.quads.len(), quads);
+        assert_eq!(shape.vertex_count(), quads, "V = F on a torus of quads");
+        check_manifold(&shape, 0);
+        assert_eq!(shape.euler_characteristic(), 0);
+        assert_eq!(shape.normals.len(), 3 * shape.vertex_count());
+    }
+}
+
+/// The open sheet is a disc: one boundary loop, Euler characteristic 1, and
+/// neighbouring patches share boundary vertices (welded by index).
+#[test]
+fn open_sheet_is_a_welded_disc() {
+    let k = 4;
+    let shape =
+        eval("doo_sabin_quad", &[("alpha", 0.6), ("beta", 0.1), ("gamma", 0.2)], EvalSettings::default().with_depth(k));
+    let side = 3 << k;
+    check_manifold(&shape, 4 * side);
+    assert_eq!(shape.euler_characteristic(), 1);
+    assert_eq!(shape.vertex_count(), (side + 1) * (side + 1));
+}
+
+/// At any admissible parameters the two patches along a shared boundary
+/// compute the same points (adjacency constraints): evaluating every patch
+/// on its own gives boundary points that agree within 1e-12.
+#[test]
+fn neighbouring_patches_agree_on_their_boundary() {
+    let (a, model, _) = load("doo_sabin_quad", &[("alpha", 0.7), ("beta", 0.05), ("gamma", 0.2)]);
+    let cols = model.grid.unwrap().1;
+    let k = 3;
+    let patch = |i: usize, j: usize| {
+        let mut m = model.clone();
+        m.layout = bcifs::Layout::Single;
+        m.grid = None;
+        m.points = (0..9).map(|q| model.points[(i + q / 3) * cols + j + q % 3].clone()).collect();
+        let s = Evaluator::new(&a, &m, EvalSettings::default().with_depth(k)).unwrap().evaluate().unwrap();
+        let n = 1 << k;
+        // Corner positions by natural parameters.
+        let mut grid = vec![[0.0; 3]; (n + 1) * (n + 1)];
+        for (q, t) in s.quads.iter().zip(&s.quad_uvs) {
+            for c in 0..4 {
+                grid[t[c]] = s.point(q[c]);
+            }
+        }
+        grid
+    };
+    let n = 1 << k;
+    let (left, right) = (patch(0, 0), patch(0, 1));
+    for v in 0..=n {
+        let (p, q) = (left[v * (n + 1) + n], right[v * (n + 1)]);
+        assert!((0..3).all(|a| (p[a] - q[a]).abs() < 1e-12), "v = {v}: {p:?} vs {q:?}");
+    }
+    let (below, above) = (patch(0, 0), patch(1, 0));
+    for u in 0..=n {
+        let (p, q) = (below[n * (n + 1) + u], above[u]);
+        assert!((0..3).all(|a| (p[a] - q[a]).abs() < 1e-12), "u = {u}: {p:?} vs {q:?}");
+    }
+}
