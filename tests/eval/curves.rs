@@ -183,7 +183,7 @@ fn bad_systems_are_refused_before_evaluation() {
 fn oversized_output_is_refused_with_an_estimate() {
     let (a, model, _) = load("levy", &[]);
     let ev = Evaluator::new(&a, &model, EvalSettings::default().with_depth(24).with_memory_limit(1 << 20)).unwrap();
-    let err = ev.evaluate().err().expect("refused");
+    let err = ev.evaluate().expect_err("refused");
     // 2^24 + 1 points of 2 coordinates.
     assert!(matches!(err, EvalError::TooLarge { estimate, .. } if estimate == ((1u128 << 24) + 1) * 16), "{err}");
     assert!(err.to_string().contains("stream it"), "{err}");

@@ -1,4 +1,5 @@
 //! Integration tests of evaluation and export.
+#![allow(clippy::needless_range_loop)] // index loops mirror the formulas they check
 
 mod curves;
 mod export;
