@@ -155,6 +155,9 @@ impl Sink for Counter<'_> {
         self.quads += quads.len();
         self.inner.faces(quads, uvs)
     }
+    fn triangles(&mut self, triangles: &[[usize; 3]]) -> std::io::Result<()> {
+        self.inner.triangles(triangles)
+    }
     fn finish(&mut self) -> std::io::Result<()> {
         self.inner.finish()
     }

@@ -359,6 +359,35 @@ impl Evaluator {
         }
     }
 
+    /// Number of leaf samples of piece `piece` at depth `k` (points it fills).
+    pub fn sample_count(&self, piece: usize, k: usize) -> usize {
+        self.count(self.pieces.pieces[piece].state, k).min(usize::MAX as u128) as usize
+    }
+
+    /// Fills `out` (resized to `sample_count(piece, k) · d`, reusing its
+    /// allocation) with the leaf samples of one piece at depth `k`, in
+    /// order, on the evaluator's threads: the hot path without the sink.
+    pub fn fill_piece(&self, piece: usize, k: usize, out: &mut Vec<f64>) {
+        let d = self.pieces.dim;
+        let p = &self.pieces.pieces[piece];
+        let threads = self.pool.current_num_threads();
+        let tasks = self.tasks(p.state, p.control.clone(), d, k, 16 * threads);
+        out.resize(self.sample_count(piece, k) * d, 0.0);
+        let mut slices = Vec::with_capacity(tasks.len());
+        let mut rest = out.as_mut_slice();
+        for (s, _, r) in &tasks {
+            let (head, tail) = rest.split_at_mut(self.count(*s, *r) as usize * d);
+            slices.push(head);
+            rest = tail;
+        }
+        if threads == 1 {
+            tasks.iter().zip(slices).for_each(|((s, c, r), slot)| self.fill(*s, c, d, *r, slot));
+        } else {
+            self.pool
+                .install(|| tasks.par_iter().zip(slices).for_each(|((s, c, r), slot)| self.fill(*s, c, d, *r, slot)));
+        }
+    }
+
     /// Evaluates into memory.
     ///
     /// # Errors

@@ -12,4 +12,4 @@ pub use deterministic::{
 };
 pub use pieces::{ModelError, Piece, Pieces, pieces};
 pub use plan::{Plan, PlanError, StatePlan};
-pub use random::{Alias, DEFAULT_BURN_IN, RandomSettings, Rng, SINGULAR_FLOOR, chaos_game, det_weights};
+pub use random::{Alias, ChaosGame, DEFAULT_BURN_IN, RandomSettings, Rng, SINGULAR_FLOOR, chaos_game, det_weights};

@@ -132,7 +132,9 @@ impl Alias {
     pub fn pick(&self, r: u64) -> usize {
         let i = (((r >> 32) * self.slots.len() as u64) >> 32) as usize;
         let (threshold, alias) = self.slots[i];
-        if (r as u32) < threshold { i } else { alias as usize }
+        // Branch-free select: the comparison is a coin flip the predictor cannot learn.
+        let keep = usize::from((r as u32) < threshold);
+        alias as usize ^ ((alias as usize ^ i) & keep.wrapping_neg())
     }
 }
 
@@ -152,94 +154,141 @@ struct Incoming {
     alias: Vec<Option<Alias>>,
 }
 
-/// Runs the chaos game and returns the points (a point cloud shape).
-///
-/// # Errors
-/// A non-stochastic or non-contractive automaton, a model that does not fit,
-/// an unknown arrow in the probabilities, or a root no arrow leads into.
-pub fn chaos_game(automaton: &Automaton<f64>, model: &Model, settings: &RandomSettings) -> Result<Shape, EvalError> {
-    let plan = Plan::new(automaton, &[])?;
-    let pieces = pieces(automaton, model)?;
-    let d = pieces.dim;
-    let size = plan.states.len();
-    let mut inc = Incoming { arrows: vec![Vec::new(); size], alias: vec![None; size] };
-    let mut weights: Vec<Vec<f64>> = vec![Vec::new(); size];
-    let mut mats: Vec<Vec<&nalgebra::DMatrix<f64>>> = vec![Vec::new(); size];
-    let mut names: Vec<Vec<&str>> = vec![Vec::new(); size];
-    for (id, arrow) in automaton.arrows() {
-        if arrow.kind != ArrowKind::Subdivision {
-            continue;
+/// A chaos game prepared for an automaton and model: probabilities, alias
+/// tables and the incoming arrows of every state.
+pub struct ChaosGame {
+    plan: Plan,
+    pieces: super::pieces::Pieces,
+    inc: Incoming,
+    root: usize,
+    single: bool,
+    pool: rayon::ThreadPool,
+    settings: RandomSettings,
+}
+
+impl ChaosGame {
+    /// Prepares the walk.
+    ///
+    /// # Errors
+    /// A non-stochastic or non-contractive automaton, a model that does not
+    /// fit, an unknown arrow in the probabilities, or a root no arrow leads into.
+    pub fn new(automaton: &Automaton<f64>, model: &Model, settings: &RandomSettings) -> Result<ChaosGame, EvalError> {
+        let plan = Plan::new(automaton, &[])?;
+        let pieces = pieces(automaton, model)?;
+        let size = plan.states.len();
+        let mut inc = Incoming { arrows: vec![Vec::new(); size], alias: vec![None; size] };
+        let mut mats: Vec<Vec<&nalgebra::DMatrix<f64>>> = vec![Vec::new(); size];
+        let mut names: Vec<Vec<&str>> = vec![Vec::new(); size];
+        for (id, arrow) in automaton.arrows() {
+            if arrow.kind != ArrowKind::Subdivision {
+                continue;
+            }
+            let (from, to) = automaton.arrow_ends(id);
+            let m = &arrow.matrix;
+            let row_major = (0..m.nrows()).flat_map(|i| (0..m.ncols()).map(move |j| m[(i, j)])).collect();
+            inc.arrows[to.index()].push((from.index(), row_major));
+            mats[to.index()].push(m);
+            names[to.index()].push(&arrow.name);
         }
-        let (from, to) = automaton.arrow_ends(id);
-        let m = &arrow.matrix;
-        let row_major = (0..m.nrows()).flat_map(|i| (0..m.ncols()).map(move |j| m[(i, j)])).collect();
-        inc.arrows[to.index()].push((from.index(), row_major));
-        mats[to.index()].push(m);
-        names[to.index()].push(&arrow.name);
-    }
-    for (name, _) in &settings.probabilities {
-        if !names.iter().flatten().any(|n| n == name) {
-            return Err(EvalError::UnknownArrow(name.clone()));
-        }
-    }
-    for s in 0..size {
-        if mats[s].is_empty() {
-            continue;
-        }
-        let mut w = det_weights(&mats[s]);
-        for (k, n) in names[s].iter().enumerate() {
-            if let Some((_, p)) = settings.probabilities.iter().find(|(a, _)| a == n) {
-                w[k] = p.max(0.0);
+        for (name, _) in &settings.probabilities {
+            if !names.iter().flatten().any(|n| n == name) {
+                return Err(EvalError::UnknownArrow(name.clone()));
             }
         }
-        if w.iter().sum::<f64>() <= 0.0 {
-            w = vec![1.0; w.len()];
+        for s in 0..size {
+            if mats[s].is_empty() {
+                continue;
+            }
+            let mut w = det_weights(&mats[s]);
+            for (k, n) in names[s].iter().enumerate() {
+                if let Some((_, p)) = settings.probabilities.iter().find(|(a, _)| a == n) {
+                    w[k] = p.max(0.0);
+                }
+            }
+            if w.iter().sum::<f64>() <= 0.0 {
+                w = vec![1.0; w.len()];
+            }
+            inc.alias[s] = Some(Alias::new(&w));
         }
-        inc.alias[s] = Some(Alias::new(&w));
-        weights[s] = w;
+        let root = pieces.pieces[0].state;
+        if inc.arrows[root].is_empty() {
+            return Err(EvalError::Unsupported(format!(
+                "no subdivision arrow leads into the root `{}`",
+                plan.state(root).name
+            )));
+        }
+        // The states the root's attractor is made of: reachable from it along
+        // subdivision arrows (`A_X = ∪ M · A_Y` over X → Y). The others are left out.
+        let mut feeding = vec![false; size];
+        let mut stack = vec![root];
+        feeding[root] = true;
+        while let Some(s) = stack.pop() {
+            for t in 0..size {
+                if !feeding[t] && inc.arrows[t].iter().any(|(src, _)| *src == s) {
+                    feeding[t] = true;
+                    stack.push(t);
+                }
+            }
+        }
+        for (s, keep) in feeding.iter().enumerate() {
+            if !keep {
+                inc.arrows[s].clear();
+                inc.alias[s] = None;
+            }
+            inc.arrows[s].retain(|(src, _)| feeding[*src]);
+        }
+        let single =
+            inc.arrows[root].iter().all(|(src, _)| *src == root) && feeding.iter().filter(|f| **f).count() == 1;
+        let threads = settings.threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .map_err(|e| std::io::Error::other(e.to_string()))?;
+        Ok(ChaosGame { plan, pieces, inc, root, single, pool, settings: settings.clone() })
     }
-    let root = pieces.pieces[0].state;
-    if inc.arrows[root].is_empty() {
-        return Err(EvalError::Unsupported(format!(
-            "no subdivision arrow leads into the root `{}`",
-            plan.state(root).name
-        )));
+
+    /// Coordinates per point.
+    pub fn dim(&self) -> usize {
+        self.pieces.dim
     }
-    let states_used = inc.arrows.iter().filter(|a| !a.is_empty()).count();
-    let single = states_used == 1 && inc.arrows[root].iter().all(|(src, _)| *src == root);
-    let chains = settings.chains.max(1).min(settings.points.max(1));
-    let threads = settings.threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| std::io::Error::other(e.to_string()))?;
-    let mut out = vec![0.0; settings.points * d];
-    let per = settings.points.div_ceil(chains);
-    pool.install(|| {
-        out.par_chunks_mut(per * d).enumerate().for_each(|(chain, slot)| {
-            let mut rng = Rng::new(settings.seed.wrapping_mul(0x2545_F491_4F6C_DD1D).wrapping_add(chain as u64));
-            let n_pieces = pieces.pieces.len();
-            if single
-                && n_pieces == 1
-                && affine_chain(
-                    &inc,
-                    root,
-                    &pieces.pieces[0].control,
-                    d,
-                    plan.state(root).dim,
-                    settings.burn_in,
-                    &mut rng,
-                    slot,
-                )
+
+    /// Runs the walk, filling `out` (resized to `points · d`, reusing its allocation).
+    pub fn run_into(&self, out: &mut Vec<f64>) {
+        let d = self.pieces.dim;
+        let s = &self.settings;
+        out.resize(s.points * d, 0.0);
+        let chains = s.chains.max(1).min(s.points.max(1));
+        let per = s.points.div_ceil(chains).max(1);
+        let chain = |(k, slot): (usize, &mut [f64])| {
+            let mut rng = Rng::new(s.seed.wrapping_mul(0x2545_F491_4F6C_DD1D).wrapping_add(k as u64));
+            let (root, n) = (self.root, self.plan.state(self.root).dim);
+            if self.single
+                && self.pieces.pieces.len() == 1
+                && affine_chain(&self.inc, root, &self.pieces.pieces[0].control, d, n, s.burn_in, &mut rng, slot)
             {
                 return;
             }
-            general_chain(&inc, &plan, root, &pieces, d, settings.burn_in, single, &mut rng, slot);
-        });
-    });
+            general_chain(&self.inc, &self.plan, root, &self.pieces, d, s.burn_in, self.single, &mut rng, slot);
+        };
+        if self.pool.current_num_threads() == 1 {
+            out.chunks_mut(per * d).enumerate().for_each(chain);
+        } else {
+            self.pool.install(|| out.par_chunks_mut(per * d).enumerate().for_each(chain));
+        }
+    }
+}
+
+/// Runs the chaos game and returns the points (a point cloud shape).
+///
+/// # Errors
+/// See [`ChaosGame::new`].
+pub fn chaos_game(automaton: &Automaton<f64>, model: &Model, settings: &RandomSettings) -> Result<Shape, EvalError> {
+    let game = ChaosGame::new(automaton, model, settings)?;
+    let mut out = Vec::new();
+    game.run_into(&mut out);
     let mut shape = Shape::default();
     crate::geometry::Sink::object(&mut shape, "chaos game")?;
-    crate::geometry::Sink::vertices(&mut shape, d, &out, None)?;
+    crate::geometry::Sink::vertices(&mut shape, game.dim(), &out, None)?;
     Ok(shape)
 }
 
@@ -286,12 +335,13 @@ fn affine_chain(
         2 => {
             let maps: Vec<[f64; 6]> = maps.iter().map(|m| [m[0], m[1], m[2], m[3], m[4], m[5]]).collect();
             let (mut x, mut y) = (0.0, 0.0);
+            let k = maps.len();
             for _ in 0..burn_in {
-                let m = &maps[alias.pick(rng.next_u64())];
+                let m = &maps[alias.pick(rng.next_u64()) % k];
                 (x, y) = (m[0] * x + m[1] * y + m[2], m[3] * x + m[4] * y + m[5]);
             }
             for p in out.chunks_exact_mut(2) {
-                let m = &maps[alias.pick(rng.next_u64())];
+                let m = &maps[alias.pick(rng.next_u64()) % k];
                 (x, y) = (m[0] * x + m[1] * y + m[2], m[3] * x + m[4] * y + m[5]);
                 p[0] = x;
                 p[1] = y;

@@ -61,21 +61,13 @@ impl Lattice {
     }
 }
 
-/// Output of one block: owned positions and normals, extras `(index, position, normal)`, quads.
-struct BlockOut {
-    positions: Vec<f64>,
-    normals: Vec<f64>,
-    extras: Vec<(usize, Vec<f64>, [f64; 3])>,
-    quads: Vec<[usize; 4]>,
-    quad_uvs: Vec<[usize; 4]>,
-}
+/// A vertex of the far row or column of an open sheet: `(index, position, normal)`.
+type Extra = (usize, Vec<f64>, [f64; 3]);
 
-fn normal(d: usize, p: &[f64], q_u: &[f64], q_v: &[f64]) -> [f64; 3] {
+fn normal(d: usize, du: &[f64], dv: &[f64]) -> [f64; 3] {
     if d < 3 {
         return [0.0, 0.0, 1.0];
     }
-    let du = [q_u[0] - p[0], q_u[1] - p[1], q_u[2] - p[2]];
-    let dv = [q_v[0] - p[0], q_v[1] - p[1], q_v[2] - p[2]];
     let n = [du[1] * dv[2] - du[2] * dv[1], du[2] * dv[0] - du[0] * dv[2], du[0] * dv[1] - du[1] * dv[0]];
     let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
     if len > 0.0 { [n[0] / len, n[1] / len, n[2] / len] } else { [0.0, 0.0, 1.0] }
@@ -127,101 +119,125 @@ pub(super) fn mesh(ev: &Evaluator, k: usize, sink: &mut dyn Sink, in_memory: boo
     sink.object("surface")?;
     // Texture coordinates: the natural parameterisation of each patch.
     let np = lat.n + 1;
-    for _ in 0..pr * pc {
-        let mut uv = Vec::with_capacity(np * np * 2);
-        for v in 0..np {
-            for u in 0..np {
-                uv.push(u as f64 / lat.n as f64);
-                uv.push(v as f64 / lat.n as f64);
-            }
+    let mut patch_uv = Vec::with_capacity(np * np * 2);
+    for v in 0..np {
+        for u in 0..np {
+            patch_uv.push(u as f64 / lat.n as f64);
+            patch_uv.push(v as f64 / lat.n as f64);
         }
-        sink.uvs(&uv)?;
+    }
+    if in_memory {
+        sink.uvs_owned(patch_uv.repeat(pr * pc))?;
+    } else {
+        for _ in 0..pr * pc {
+            sink.uvs(&patch_uv)?;
+        }
     }
 
     let blocks = pr * pc * lat.s * lat.s;
     let batch = if in_memory { blocks } else { BATCH_BLOCKS };
     let bar = ev.progress((blocks / batch.max(1)).max(1) as u64);
-    let mut extras: Vec<(usize, Vec<f64>, [f64; 3])> = Vec::new();
-    let compute = |g: usize| -> BlockOut {
-        let patch = g / (lat.s * lat.s);
-        let (bv, bu) = ((g % (lat.s * lat.s)) / lat.s, g % lat.s);
-        let (pv, pu) = (patch / pc, patch % pc);
-        // Control points of the block's cell: follow the quadrant bits.
-        let mut c = pieces.pieces[patch].control.clone();
-        let mut tmp = vec![0.0; d * n9];
-        let steps = k - level;
-        for t in 0..steps {
-            let bit = steps - 1 - t;
-            let q = ((bv >> bit) & 1) * 2 + ((bu >> bit) & 1);
-            mat_mul_into(&c, d, n9, &sp.children[child_of[q]].2, n9, &mut tmp);
-            std::mem::swap(&mut c, &mut tmp);
-        }
-        let mut pts = vec![0.0; side * side * d];
-        project(&c, d, n9, &table, &mut pts);
-        let p = |u: usize, v: usize| &pts[(v * side + u) * d..(v * side + u + 1) * d];
-        let (u0, v0) = (pu * lat.n + bu * lat.b, pv * lat.n + bv * lat.b);
-        let mut out = BlockOut {
-            positions: Vec::with_capacity(lat.b * lat.b * d),
-            normals: Vec::with_capacity(lat.b * lat.b * 3),
-            extras: Vec::new(),
-            quads: Vec::with_capacity(lat.b * lat.b),
-            quad_uvs: Vec::with_capacity(lat.b * lat.b),
+    let mut extras: Vec<Extra> = Vec::new();
+    let bb = lat.b * lat.b;
+    // Writes block `g`: its owned positions, normals, quads and texture quads
+    // into the given slices; returns the far-boundary vertices it touches.
+    let compute =
+        |g: usize, pos: &mut [f64], nrm: &mut [f64], quads: &mut [[usize; 4]], quv: &mut [[usize; 4]]| -> Vec<Extra> {
+            let patch = g / (lat.s * lat.s);
+            let (bv, bu) = ((g % (lat.s * lat.s)) / lat.s, g % lat.s);
+            let (pv, pu) = (patch / pc, patch % pc);
+            // Control points of the block's cell: follow the quadrant bits.
+            let mut c = pieces.pieces[patch].control.clone();
+            let mut tmp = vec![0.0; d * n9];
+            let steps = k - level;
+            for t in 0..steps {
+                let bit = steps - 1 - t;
+                let q = ((bv >> bit) & 1) * 2 + ((bu >> bit) & 1);
+                mat_mul_into(&c, d, n9, &sp.children[child_of[q]].2, n9, &mut tmp);
+                std::mem::swap(&mut c, &mut tmp);
+            }
+            let mut pts = vec![0.0; side * side * d];
+            project(&c, d, n9, &table, &mut pts);
+            let at = |u: usize, v: usize| (v * side + u) * d;
+            let (u0, v0) = (pu * lat.n + bu * lat.b, pv * lat.n + bv * lat.b);
+            let mut extras = Vec::new();
+            let (mut du, mut dv) = ([0.0; 3], [0.0; 3]);
+            for v in 0..side {
+                for u in 0..side {
+                    let (gu, gv) = (u0 + u, v0 + v);
+                    let owned = u < lat.b && v < lat.b;
+                    if !owned && (torus || (gu != lat.nu() && gv != lat.nv())) {
+                        continue;
+                    }
+                    // Forward differences inside the block, backward on its far side.
+                    let (a, b) = if u < lat.b { (at(u + 1, v), at(u, v)) } else { (at(u, v), at(u - 1, v)) };
+                    let (e, f) = if v < lat.b { (at(u, v + 1), at(u, v)) } else { (at(u, v), at(u, v - 1)) };
+                    for x in 0..d {
+                        du[x] = pts[a + x] - pts[b + x];
+                        dv[x] = pts[e + x] - pts[f + x];
+                    }
+                    let n = normal(d, &du[..d], &dv[..d]);
+                    let p = &pts[at(u, v)..at(u, v) + d];
+                    if owned {
+                        let o = v * lat.b + u;
+                        pos[o * d..(o + 1) * d].copy_from_slice(p);
+                        nrm[o * 3..o * 3 + 3].copy_from_slice(&n);
+                    } else {
+                        extras.push((lat.index(gu, gv), p.to_vec(), n));
+                    }
+                }
+            }
+            let base = g * bb;
+            let uv_base = patch * np * np;
+            for v in 0..lat.b {
+                for u in 0..lat.b {
+                    let corner = if u + 1 < lat.b && v + 1 < lat.b {
+                        let i = base + v * lat.b + u;
+                        [i, i + 1, i + 1 + lat.b, i + lat.b]
+                    } else {
+                        let (gu, gv) = (u0 + u, v0 + v);
+                        [lat.index(gu, gv), lat.index(gu + 1, gv), lat.index(gu + 1, gv + 1), lat.index(gu, gv + 1)]
+                    };
+                    quads[v * lat.b + u] = corner;
+                    let (lu, lv) = (bu * lat.b + u, bv * lat.b + v);
+                    let t = uv_base + lv * np + lu;
+                    quv[v * lat.b + u] = [t, t + 1, t + 1 + np, t + np];
+                }
+            }
+            extras
         };
-        for v in 0..side {
-            for u in 0..side {
-                let (gu, gv) = (u0 + u, v0 + v);
-                let owned = u < lat.b && v < lat.b;
-                let extra = !torus && (gu == lat.nu() || gv == lat.nv());
-                if !owned && !extra {
-                    continue;
-                }
-                let (qu, pu_) = if u < lat.b { (p(u + 1, v), p(u, v)) } else { (p(u, v), p(u - 1, v)) };
-                let (qv, pv_) = if v < lat.b { (p(u, v + 1), p(u, v)) } else { (p(u, v), p(u, v - 1)) };
-                let du: Vec<f64> = qu.iter().zip(pu_).map(|(a, b)| a - b).collect();
-                let dv: Vec<f64> = qv.iter().zip(pv_).map(|(a, b)| a - b).collect();
-                let zero = vec![0.0; d];
-                let nrm = normal(d, &zero, &du, &dv);
-                if owned {
-                    out.positions.extend_from_slice(p(u, v));
-                    out.normals.extend_from_slice(&nrm);
-                } else {
-                    out.extras.push((lat.index(gu, gv), p(u, v).to_vec(), nrm));
-                }
-            }
-        }
-        let uv_base = patch * np * np;
-        for v in 0..lat.b {
-            for u in 0..lat.b {
-                let (gu, gv) = (u0 + u, v0 + v);
-                out.quads.push([
-                    lat.index(gu, gv),
-                    lat.index(gu + 1, gv),
-                    lat.index(gu + 1, gv + 1),
-                    lat.index(gu, gv + 1),
-                ]);
-                let (lu, lv) = (bu * lat.b + u, bv * lat.b + v);
-                let t = |a: usize, b: usize| uv_base + b * np + a;
-                out.quad_uvs.push([t(lu, lv), t(lu + 1, lv), t(lu + 1, lv + 1), t(lu, lv + 1)]);
-            }
-        }
-        out
-    };
+    let (mut pos, mut nrm) = (Vec::new(), Vec::new());
+    let (mut quads, mut quv) = (Vec::new(), Vec::new());
     for start in (0..blocks).step_by(batch.max(1)) {
         let end = (start + batch).min(blocks);
-        let outs: Vec<BlockOut> = ev.pool().install(|| (start..end).into_par_iter().map(compute).collect());
-        let mut positions = Vec::with_capacity(outs.iter().map(|o| o.positions.len()).sum());
-        let mut normals = Vec::with_capacity(outs.iter().map(|o| o.normals.len()).sum());
-        let mut quads = Vec::with_capacity(outs.iter().map(|o| o.quads.len()).sum());
-        let mut quad_uvs = Vec::with_capacity(quads.capacity());
-        for mut o in outs {
-            positions.append(&mut o.positions);
-            normals.append(&mut o.normals);
-            quads.append(&mut o.quads);
-            quad_uvs.append(&mut o.quad_uvs);
-            extras.append(&mut o.extras);
+        let count = (end - start) * bb;
+        if in_memory {
+            // Fresh zeroed allocations: the pages are mapped as they are first written.
+            (pos, nrm, quads, quv) =
+                (vec![0.0; count * d], vec![0.0; count * 3], vec![[0; 4]; count], vec![[0; 4]; count]);
+        } else {
+            pos.resize(count * d, 0.0);
+            nrm.resize(count * 3, 0.0);
+            quads.resize(count, [0; 4]);
+            quv.resize(count, [0; 4]);
         }
-        sink.vertices(d, &positions, Some(&normals))?;
-        sink.faces(&quads, Some(&quad_uvs))?;
+        let found: Vec<Extra> = ev.pool().install(|| {
+            pos.par_chunks_mut(bb * d)
+                .zip(nrm.par_chunks_mut(bb * 3))
+                .zip(quads.par_chunks_mut(bb))
+                .zip(quv.par_chunks_mut(bb))
+                .enumerate()
+                .flat_map_iter(|(i, (((p, n), q), t))| compute(start + i, p, n, q, t))
+                .collect()
+        });
+        extras.extend(found);
+        if in_memory {
+            sink.vertices_owned(d, std::mem::take(&mut pos), Some(std::mem::take(&mut nrm)))?;
+            sink.faces_owned(std::mem::take(&mut quads), Some(std::mem::take(&mut quv)))?;
+        } else {
+            sink.vertices(d, &pos, Some(&nrm))?;
+            sink.faces(&quads, Some(&quv))?;
+        }
         if let Some(b) = &bar {
             b.inc(1);
         }

@@ -173,6 +173,26 @@ impl Sink for ObjWriter {
         self.spool().write_all(&line)
     }
 
+    fn triangles(&mut self, triangles: &[[usize; 3]]) -> io::Result<()> {
+        let mut ints = std::mem::replace(&mut self.ints, itoa::Buffer::new());
+        let normals = self.normals;
+        let mut line = Vec::with_capacity(triangles.len() * 40);
+        for t in triangles {
+            line.push(b'f');
+            for &v in t {
+                line.push(b' ');
+                line.extend_from_slice(ints.format(v + 1).as_bytes());
+                if normals {
+                    line.extend_from_slice(b"//");
+                    line.extend_from_slice(ints.format(v + 1).as_bytes());
+                }
+            }
+            line.push(b'\n');
+        }
+        self.ints = ints;
+        self.spool().write_all(&line)
+    }
+
     fn finish(&mut self) -> io::Result<()> {
         let mut spool = self.spool.take().expect("finish once");
         spool.flush()?;

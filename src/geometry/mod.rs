@@ -21,8 +21,23 @@ pub trait Sink {
     fn polyline(&mut self, first: usize, count: usize, closed: bool) -> io::Result<()>;
     /// Quads (vertex indices counter-clockwise), with texture indices if any.
     fn faces(&mut self, quads: &[[usize; 4]], uvs: Option<&[[usize; 4]]>) -> io::Result<()>;
+    /// Triangles (vertex indices counter-clockwise).
+    fn triangles(&mut self, triangles: &[[usize; 3]]) -> io::Result<()>;
     /// Ends the output (a file is complete only after this).
     fn finish(&mut self) -> io::Result<()>;
+
+    /// Like [`Sink::vertices`], handing over the buffers (a sink may keep them without copying).
+    fn vertices_owned(&mut self, dim: usize, positions: Vec<f64>, normals: Option<Vec<f64>>) -> io::Result<()> {
+        self.vertices(dim, &positions, normals.as_deref())
+    }
+    /// Like [`Sink::uvs`], handing over the buffer.
+    fn uvs_owned(&mut self, uvs: Vec<f64>) -> io::Result<()> {
+        self.uvs(&uvs)
+    }
+    /// Like [`Sink::faces`], handing over the buffers.
+    fn faces_owned(&mut self, quads: Vec<[usize; 4]>, uvs: Option<Vec<[usize; 4]>>) -> io::Result<()> {
+        self.faces(&quads, uvs.as_deref())
+    }
 }
 
 /// A named part of a [`Shape`].
@@ -53,6 +68,8 @@ pub struct Shape {
     pub quads: Vec<[usize; 4]>,
     /// Texture indices of the quads, or empty.
     pub quad_uvs: Vec<[usize; 4]>,
+    /// Triangles, counter-clockwise.
+    pub triangles: Vec<[usize; 3]>,
     /// The objects, in order.
     pub objects: Vec<Object>,
 }
@@ -155,6 +172,43 @@ impl Sink for Shape {
         if let Some(t) = uvs {
             self.quad_uvs.extend_from_slice(t);
         }
+        let end = self.quads.len();
+        self.current().faces.end = end;
+        Ok(())
+    }
+
+    fn triangles(&mut self, triangles: &[[usize; 3]]) -> io::Result<()> {
+        self.triangles.extend_from_slice(triangles);
+        Ok(())
+    }
+
+    fn vertices_owned(&mut self, dim: usize, positions: Vec<f64>, normals: Option<Vec<f64>>) -> io::Result<()> {
+        if !self.positions.is_empty() || !self.normals.is_empty() || (self.dim != 0 && self.dim != dim) {
+            return self.vertices(dim, &positions, normals.as_deref());
+        }
+        self.dim = dim;
+        self.positions = positions;
+        self.normals = normals.unwrap_or_default();
+        let end = self.vertex_count();
+        self.current().vertices.end = end;
+        Ok(())
+    }
+
+    fn uvs_owned(&mut self, uvs: Vec<f64>) -> io::Result<()> {
+        if self.uvs.is_empty() {
+            self.uvs = uvs;
+            Ok(())
+        } else {
+            self.uvs(&uvs)
+        }
+    }
+
+    fn faces_owned(&mut self, quads: Vec<[usize; 4]>, uvs: Option<Vec<[usize; 4]>>) -> io::Result<()> {
+        if !self.quads.is_empty() || !self.quad_uvs.is_empty() {
+            return self.faces(&quads, uvs.as_deref());
+        }
+        self.quads = quads;
+        self.quad_uvs = uvs.unwrap_or_default();
         let end = self.quads.len();
         self.current().faces.end = end;
         Ok(())

@@ -1,0 +1,147 @@
+//! Evaluation and writing throughput against the targets (ratios to
+//! a C baseline measured on this machine): Lévy depth 24 deterministic (1
+//! and 2 threads), chaos game (one chain), Doo-Sabin 8×8 torus depth 8 in
+//! memory, OBJ text rate, evaluation + OBJ together, and obj-exporter vs
+//! the streaming writer on the same triangle mesh.
+
+use std::hint::black_box;
+
+use bcifs::eval::{ChaosGame, EvalSettings, Evaluator, RandomSettings};
+use bcifs::export::ObjWriter;
+use bcifs::geometry::Sink;
+use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+
+fn setup(name: &str) -> (bcifs::Automaton<f64>, bcifs::Model) {
+    let design = bcifs::builtin_design(name).expect("shipped");
+    let instance = bcifs::instantiate(&design, &[]).expect("instantiates");
+    (instance.automaton, design.model.expect("model"))
+}
+
+fn levy(c: &mut Criterion) {
+    let (a, model) = setup("levy");
+    let mut g = c.benchmark_group("levy_depth24");
+    g.sample_size(10);
+    g.throughput(Throughput::Elements(1 << 24));
+    for threads in [1, 2] {
+        let ev = Evaluator::new(&a, &model, EvalSettings::default().with_depth(24).with_threads(threads))
+            .expect("evaluable");
+        let mut buf = Vec::new();
+        ev.fill_piece(0, 24, &mut buf);
+        g.bench_with_input(BenchmarkId::new("threads", threads), &threads, |b, _| {
+            b.iter(|| ev.fill_piece(0, 24, black_box(&mut buf)))
+        });
+    }
+    g.finish();
+}
+
+fn chaos(c: &mut Criterion) {
+    let mut g = c.benchmark_group("chaos_game");
+    g.sample_size(10);
+    let n = 1 << 24;
+    g.throughput(Throughput::Elements(n as u64));
+    for name in ["levy", "fern"] {
+        let (a, model) = setup(name);
+        let game = ChaosGame::new(&a, &model, &RandomSettings::default().with_points(n).with_chains(1).with_threads(1))
+            .expect("ok");
+        let mut buf = Vec::new();
+        game.run_into(&mut buf);
+        g.bench_function(BenchmarkId::new("one_chain", name), |b| b.iter(|| game.run_into(black_box(&mut buf))));
+    }
+    g.finish();
+}
+
+fn doo_sabin(c: &mut Criterion) {
+    let (a, model) = setup("doo_sabin_torus");
+    let mut g = c.benchmark_group("doo_sabin_torus8x8_depth8");
+    g.sample_size(10);
+    g.throughput(Throughput::Elements(64 << 16));
+    for threads in [1, 2] {
+        let ev =
+            Evaluator::new(&a, &model, EvalSettings::default().with_depth(8).with_threads(threads)).expect("evaluable");
+        g.bench_with_input(BenchmarkId::new("in_memory_threads", threads), &threads, |b, _| {
+            b.iter_with_large_drop(|| ev.evaluate().expect("fits"))
+        });
+    }
+    g.finish();
+}
+
+fn obj(c: &mut Criterion) {
+    let dir = std::env::temp_dir().join("bcifs-bench");
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let path = dir.join("bench.obj");
+    let (a, model) = setup("doo_sabin_torus");
+    let ev = Evaluator::new(&a, &model, EvalSettings::default().with_depth(6)).expect("evaluable");
+    let shape = ev.evaluate().expect("fits");
+    let write_shape = |shape: &bcifs::geometry::Shape| {
+        let mut w = ObjWriter::create(&path).expect("create");
+        w.object("torus").expect("write");
+        w.uvs(&shape.uvs).expect("write");
+        w.vertices(shape.dim, &shape.positions, Some(&shape.normals)).expect("write");
+        w.faces(&shape.quads, Some(&shape.quad_uvs)).expect("write");
+        w.finish().expect("finish");
+    };
+    write_shape(&shape);
+    let bytes = std::fs::metadata(&path).expect("written").len();
+    let mut g = c.benchmark_group("obj");
+    g.sample_size(10);
+    g.throughput(Throughput::Bytes(bytes));
+    g.bench_function("write_only/torus_depth6", |b| b.iter(|| write_shape(&shape)));
+    g.bench_function("evaluate_and_stream/torus_depth6", |b| {
+        b.iter(|| {
+            let mut w = ObjWriter::create(&path).expect("create");
+            ev.stream(&mut w).expect("stream");
+        })
+    });
+    // The same triangle mesh through obj-exporter and through ObjWriter.
+    let tris: Vec<[usize; 3]> = shape.quads.iter().flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]]).collect();
+    let set = obj_exporter::ObjSet {
+        material_library: None,
+        objects: vec![obj_exporter::Object {
+            name: "torus".into(),
+            vertices: shape
+                .positions
+                .chunks_exact(3)
+                .map(|p| obj_exporter::Vertex { x: p[0], y: p[1], z: p[2] })
+                .collect(),
+            tex_vertices: vec![],
+            normals: shape
+                .normals
+                .chunks_exact(3)
+                .map(|p| obj_exporter::Vertex { x: p[0], y: p[1], z: p[2] })
+                .collect(),
+            geometry: vec![obj_exporter::Geometry {
+                material_name: None,
+                shapes: tris
+                    .iter()
+                    .map(|t| obj_exporter::Shape {
+                        primitive: obj_exporter::Primitive::Triangle(
+                            (t[0], None, Some(t[0])),
+                            (t[1], None, Some(t[1])),
+                            (t[2], None, Some(t[2])),
+                        ),
+                        groups: vec![],
+                        smoothing_groups: vec![],
+                    })
+                    .collect(),
+            }],
+        }],
+    };
+    let tri_path = dir.join("triangles.obj");
+    g.bench_function("triangles/obj_exporter", |b| {
+        b.iter(|| obj_exporter::export_to_file(&set, &tri_path).expect("write"))
+    });
+    g.bench_function("triangles/bcifs_streaming", |b| {
+        b.iter(|| {
+            let mut w = ObjWriter::create(&tri_path).expect("create");
+            w.object("torus").expect("write");
+            w.vertices(3, &shape.positions, Some(&shape.normals)).expect("write");
+            w.triangles(&tris).expect("write");
+            w.finish().expect("finish");
+        })
+    });
+    g.finish();
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+criterion_group!(benches, levy, chaos, doo_sabin, obj);
+criterion_main!(benches);
