@@ -223,11 +223,11 @@ impl ChaosGame {
         let mut stack = vec![root];
         feeding[root] = true;
         while let Some(s) = stack.pop() {
-            for t in 0..size {
-                if !feeding[t] && inc.arrows[t].iter().any(|(src, _)| *src == s) {
-                    feeding[t] = true;
-                    stack.push(t);
-                }
+            let targets: Vec<usize> =
+                (0..size).filter(|&t| !feeding[t] && inc.arrows[t].iter().any(|(src, _)| *src == s)).collect();
+            for t in targets {
+                feeding[t] = true;
+                stack.push(t);
             }
         }
         for (s, keep) in feeding.iter().enumerate() {
