@@ -26,6 +26,8 @@ pub const DEFAULT_DEPTH: usize = 8;
 pub const MAX_ADAPTIVE_DEPTH: usize = 40;
 /// Largest number of leaf samples tabulated per state (fits in L2 cache).
 const TAIL_POINTS: usize = 2048;
+/// Largest number of samples a streamed subtree holds in memory at once.
+const STREAM_CHUNK: usize = 1 << 16;
 /// Deepest tabulated level (a state with one child never exceeds `TAIL_POINTS`).
 const MAX_TAIL_LEVEL: usize = 16;
 
@@ -544,7 +546,7 @@ impl Evaluator {
         first_vertex: &mut usize,
     ) -> io::Result<()> {
         let n = self.count(state, r);
-        if n <= 1 << 20 {
+        if n <= STREAM_CHUNK as u128 {
             buf.resize(n as usize * d, 0.0);
             self.fill(state, c, d, r, buf);
             sink.vertices(d, buf, None)?;

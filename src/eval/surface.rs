@@ -119,18 +119,18 @@ pub(super) fn mesh(ev: &Evaluator, k: usize, sink: &mut dyn Sink, in_memory: boo
     sink.object("surface")?;
     // Texture coordinates: the natural parameterisation of each patch.
     let np = lat.n + 1;
-    let mut patch_uv = Vec::with_capacity(np * np * 2);
-    for v in 0..np {
-        for u in 0..np {
-            patch_uv.push(u as f64 / lat.n as f64);
-            patch_uv.push(v as f64 / lat.n as f64);
-        }
-    }
+    let uv_range = |from: usize, to: usize| -> Vec<f64> {
+        (from..to).flat_map(|i| [(i % np) as f64 / lat.n as f64, (i / np) as f64 / lat.n as f64]).collect()
+    };
     if in_memory {
-        sink.uvs_owned(patch_uv.repeat(pr * pc))?;
+        sink.uvs_owned(uv_range(0, np * np).repeat(pr * pc))?;
     } else {
+        // Fixed-size chunks: memory does not grow with the depth.
+        const UV_CHUNK: usize = 1 << 15;
         for _ in 0..pr * pc {
-            sink.uvs(&patch_uv)?;
+            for from in (0..np * np).step_by(UV_CHUNK) {
+                sink.uvs(&uv_range(from, (from + UV_CHUNK).min(np * np)))?;
+            }
         }
     }
 

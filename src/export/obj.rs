@@ -123,9 +123,14 @@ impl Sink for ObjWriter {
 
     fn polyline(&mut self, first: usize, count: usize, closed: bool) -> io::Result<()> {
         let mut ints = std::mem::replace(&mut self.ints, itoa::Buffer::new());
-        let mut line = Vec::new();
+        let mut line = Vec::with_capacity(LINE_CHUNK * 12);
         let mut i = 0;
         while i + 1 < count || (i == 0 && count == 1) {
+            if line.len() > (1 << 20) {
+                // Bounded memory whatever the length of the polyline.
+                self.spool().write_all(&line)?;
+                line.clear();
+            }
             let end = (i + LINE_CHUNK).min(count - 1);
             line.push(b'l');
             for v in i..=end {
