@@ -52,11 +52,14 @@ pub enum Layout {
     Frames,
     /// Like `Frames`, closing the polygon.
     ClosedFrames,
+    /// Separate pieces: piece `i` takes the next `dim(root_i)` control points
+    /// (a union of attractors, seed 001 §2.2); nothing is shared or joined.
+    Union,
 }
 
 impl Layout {
     /// All layouts.
-    pub const ALL: [Layout; 7] = [
+    pub const ALL: [Layout; 8] = [
         Layout::Single,
         Layout::Open,
         Layout::Closed,
@@ -64,6 +67,7 @@ impl Layout {
         Layout::Torus,
         Layout::Frames,
         Layout::ClosedFrames,
+        Layout::Union,
     ];
 
     /// The keyword used in automaton files.
@@ -76,6 +80,7 @@ impl Layout {
             Layout::Torus => "torus",
             Layout::Frames => "frames",
             Layout::ClosedFrames => "closed-frames",
+            Layout::Union => "union",
         }
     }
 }
@@ -83,8 +88,10 @@ impl Layout {
 /// A projection of the root attractor into modelling space.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Model {
-    /// The state whose attractor is drawn.
-    pub root: String,
+    /// The states whose attractors are drawn: piece `i` is a cell of
+    /// `roots[i % roots.len()]` (one root for most models; a cycle of roots
+    /// for sign-alternating schemes and unions of different automata).
+    pub roots: Vec<String>,
     /// Control points, all of the same dimension (2 or 3).
     pub points: Vec<Vec<f64>>,
     /// How pieces are cut from the points.
@@ -96,6 +103,13 @@ pub struct Model {
     /// Start sets: barycentric points per state, emitted at leaves instead
     /// of the kind's default (any compact start set converges to the attractor).
     pub start: Vec<(String, Vec<Vec<f64>>)>,
+}
+
+impl Model {
+    /// The root state of piece `i`.
+    pub fn root(&self, i: usize) -> &str {
+        &self.roots[i % self.roots.len().max(1)]
+    }
 }
 
 /// An automaton whose entries are affine in the variables of its constraint

@@ -49,8 +49,8 @@ pub use family::{
 };
 pub use format::{FormatError, ReadError, TomlWriter, edit_distance, parse_design, read_design, suggest};
 pub use render::{
-    GALLERY_BUDGET_BYTES, GALLERY_MAX_DEPTH, GalleryEntry, RenderError, RenderOptions, RenderSummary, evaluate_design,
-    gallery, gallery_depth, render,
+    GALLERY_BUDGET_BYTES, GALLERY_MAX_DEPTH, GalleryEntry, RenderError, RenderOptions, RenderSummary, SchemeForm,
+    evaluate_design, gallery, gallery_depth, normal_shape, render, write_shape,
 };
 pub use space::{CellKind, State};
 

@@ -88,11 +88,170 @@ enum Command {
         #[arg(default_value = "gallery")]
         dir: PathBuf,
     },
+    /// Generate the seeds' subdivision schemes: render them or print their automaton.
+    Scheme {
+        #[command(subcommand)]
+        scheme: SchemeCommand,
+    },
     /// Print a commented automaton file for a BC-IFS topology.
     New {
         #[command(subcommand)]
         topology: Topology,
     },
+}
+
+#[derive(Subcommand)]
+enum SchemeCommand {
+    /// The p-ary normal-vector scheme of Li, Zheng, Peng and Zhou (seed 000, eq. 1).
+    Normal(NormalArgs),
+}
+
+#[derive(clap::Args)]
+struct NormalArgs {
+    /// A figure of the paper: levy, dragon, dragon-triangle, dragon-quad, sierpinski,
+    /// sierpinski-triangle, sierpinski-quad, koch, koch-triangle, koch-quad, snowflake,
+    /// tigerhead, human, approximating, crown, minkowski.
+    #[arg(long)]
+    preset: Option<String>,
+    /// Arity p (checked against the number of α and β).
+    #[arg(long = "p")]
+    arity: Option<usize>,
+    /// α_0, …, α_{p-1}, comma-separated constants (`0,1/3,1/2,2/3`).
+    #[arg(long, allow_hyphen_values = true)]
+    alpha: Option<String>,
+    /// β_0, …, β_{p-1}, comma-separated constants (`0,0,sqrt(3)/6,0`).
+    #[arg(long, allow_hyphen_values = true)]
+    beta: Option<String>,
+    /// Direction of the normals: positive (counter-clockwise) or negative.
+    #[arg(long)]
+    normal: Option<String>,
+    /// Sign pattern of β: constant, alternate ((−1)^i), level ((−1)^(k+1)), level-index ((−1)^(k+i)).
+    #[arg(long)]
+    sign: Option<String>,
+    /// Initial polygon: segment, triangle or quad (the paper's unit shapes).
+    #[arg(long)]
+    polygon: Option<String>,
+    /// Initial polygon as points `x,y x,y ...` (overrides --polygon).
+    #[arg(long, allow_hyphen_values = true)]
+    points: Option<String>,
+    /// Close the polygon given by --points.
+    #[arg(long)]
+    closed: bool,
+    /// Subdivision steps (default: the paper's figure).
+    #[arg(long)]
+    depth: Option<usize>,
+    /// auto (automaton when interpolatory), direct (eq. 1 on the polygon) or automaton.
+    #[arg(long, default_value = "auto")]
+    form: String,
+    /// Print the automaton file (TOML) instead of rendering.
+    #[arg(long)]
+    print: bool,
+    /// Picture size in pixels, WIDTHxHEIGHT.
+    #[arg(long, default_value = "800x800")]
+    size: String,
+    /// Output file: .obj, .svg or .png.
+    #[arg(short, long, required_unless_present = "print")]
+    output: Option<PathBuf>,
+}
+
+fn keyword<T: Copy>(what: &str, value: &str, options: &[(&str, T)]) -> Result<T> {
+    options.iter().find(|(k, _)| *k == value).map(|(_, v)| *v).with_context(|| {
+        let names: Vec<&str> = options.iter().map(|(k, _)| *k).collect();
+        match bcifs::suggest(value, names.iter().copied()) {
+            Some(s) => format!("unknown {what} `{value}` (did you mean `{s}`?); expected {}", names.join(", ")),
+            None => format!("unknown {what} `{value}`; expected {}", names.join(", ")),
+        }
+    })
+}
+
+fn parse_size(size: &str) -> Result<(u32, u32)> {
+    let (w, h) = size.split_once('x').with_context(|| format!("--size `{size}`: expected WIDTHxHEIGHT"))?;
+    Ok((w.trim().parse().context("--size width")?, h.trim().parse().context("--size height")?))
+}
+
+fn run_normal(out: &mut String, args: NormalArgs) -> Result<u8> {
+    use bcifs::schemes::{NormalDirection, NormalPreset, NormalScheme, SignPattern, normal_preset};
+    let mut preset = match &args.preset {
+        Some(name) => normal_preset(name)?,
+        None => NormalPreset {
+            name: "normal",
+            description: "normal-vector scheme",
+            scheme: NormalScheme::parse(&["0", "1/2"], &["0", "1/2"])?,
+            polygon: bcifs::schemes::unit_segment(),
+            closed: false,
+            depth: 8,
+        },
+    };
+    match (&args.alpha, &args.beta) {
+        (Some(a), Some(b)) => {
+            let a: Vec<&str> = a.split(',').map(str::trim).collect();
+            let b: Vec<&str> = b.split(',').map(str::trim).collect();
+            let scheme = NormalScheme::parse(&a, &b)?;
+            preset.scheme = scheme.with_normal(preset.scheme.normal).with_sign(preset.scheme.sign);
+        }
+        (None, None) => {}
+        _ => bail!("give both --alpha and --beta"),
+    }
+    if let Some(p) = args.arity
+        && p != preset.scheme.arity()
+    {
+        bail!("--p {p} but {} values of α and β", preset.scheme.arity());
+    }
+    if let Some(n) = &args.normal {
+        let n = keyword("normal direction", n, &[("positive", NormalDirection::Positive), ("negative", NormalDirection::Negative)])?;
+        preset.scheme = preset.scheme.with_normal(n);
+    }
+    if let Some(sgn) = &args.sign {
+        let options: Vec<(&str, SignPattern)> = SignPattern::ALL.iter().map(|p| (p.keyword(), *p)).collect();
+        preset.scheme = preset.scheme.with_sign(keyword("sign pattern", sgn, &options)?);
+    }
+    if let Some(text) = &args.points {
+        let mut pts = Vec::new();
+        for p in text.split_whitespace() {
+            let (x, y) = p.split_once(',').with_context(|| format!("--points `{p}`: expected x,y"))?;
+            pts.push([x.trim().parse().context("--points x")?, y.trim().parse().context("--points y")?]);
+        }
+        preset.polygon = pts;
+        preset.closed = args.closed;
+    } else if let Some(poly) = &args.polygon {
+        type Shape = fn() -> Vec<bcifs::schemes::Point2>;
+        let options: [(&str, (Shape, bool)); 3] = [
+            ("segment", (bcifs::schemes::unit_segment, false)),
+            ("triangle", (bcifs::schemes::unit_triangle, true)),
+            ("quad", (bcifs::schemes::unit_square, true)),
+        ];
+        let (make, closed) = keyword("polygon", poly, &options)?;
+        preset.polygon = make();
+        preset.closed = closed;
+    }
+    if preset.polygon.len() < if preset.closed { 3 } else { 2 } {
+        bail!("the initial polygon needs at least {} points", if preset.closed { 3 } else { 2 });
+    }
+    if args.print {
+        out.push_str(&preset.scheme.automaton_file(preset.name, preset.description, &preset.polygon, preset.closed)?);
+        return Ok(0);
+    }
+    let form = keyword(
+        "form",
+        &args.form,
+        &[("auto", bcifs::SchemeForm::Auto), ("direct", bcifs::SchemeForm::Direct), ("automaton", bcifs::SchemeForm::Automaton)],
+    )?;
+    let depth = args.depth.unwrap_or(preset.depth);
+    let output = args.output.context("give -o OUT.{png,svg,obj}")?;
+    let (w, h) = parse_size(&args.size)?;
+    let started = std::time::Instant::now();
+    let shape = bcifs::normal_shape(&preset, depth, form, bcifs::eval::DEFAULT_MEMORY_LIMIT)?;
+    let raster = bcifs::export::RasterSettings::default().with_size(w, h);
+    let summary = bcifs::write_shape(&shape, preset.name, &raster, &output)?;
+    eprintln!(
+        "{} ({}), depth {depth}: {} vertices → {} ({:.2} s)",
+        preset.name,
+        preset.scheme,
+        summary.vertices,
+        output.display(),
+        started.elapsed().as_secs_f64()
+    );
+    Ok(0)
 }
 
 #[derive(Subcommand)]
@@ -335,6 +494,9 @@ fn run(out: &mut String, cli: Cli) -> Result<u8> {
             )?;
             Ok(0)
         }
+        Command::Scheme { scheme } => match scheme {
+            SchemeCommand::Normal(args) => run_normal(out, args),
+        },
         Command::New { topology } => {
             let text = match topology {
                 Topology::Curve { points, vertex, arity } => curve_file(points, vertex, arity)?,

@@ -10,6 +10,7 @@ use crate::export::{ObjWriter, RasterSettings, raster, svg, write_atomic, write_
 use crate::family::{DesignInstantiateError, instantiate};
 use crate::geometry::{Shape, Sink};
 
+
 /// What to render and how.
 #[derive(Clone, Debug, Default)]
 #[non_exhaustive]
@@ -45,6 +46,9 @@ pub enum RenderError {
     /// SVG of a 3D shape.
     #[error("SVG output is for 2D shapes; this model is 3D (use .png or .obj)")]
     NotPlanar,
+    /// A normal-vector scheme that cannot take the requested form.
+    #[error(transparent)]
+    Scheme(crate::schemes::NormalSchemeError),
 }
 
 /// What a render produced.
@@ -115,19 +119,41 @@ pub fn render(design: &Design, options: &RenderOptions, out: &Path) -> Result<Re
         }
         "svg" | "png" => {
             let shape = evaluate_design(design, options)?;
-            let summary = RenderSummary { vertices: shape.vertex_count(), quads: shape.quads.len() };
-            if ext == "svg" {
-                if shape.dim > 2 {
-                    return Err(RenderError::NotPlanar);
-                }
-                write_atomic(out, svg(&shape, options.raster.width).as_bytes()).map_err(io)?;
-            } else {
-                write_png(out, &raster(&shape, &options.raster)).map_err(io)?;
-            }
-            Ok(summary)
+            write_shape(&shape, &design.automaton.name, &options.raster, out)
         }
         other => Err(RenderError::Format(other.to_string())),
     }
+}
+
+/// Writes a shape held in memory to `out`, choosing the format by
+/// extension: `.obj`, `.svg` (2D only) or `.png` (with `raster`).
+///
+/// # Errors
+/// An unknown extension, a 3D shape to SVG, or an I/O error; nothing is
+/// left half-written.
+pub fn write_shape(shape: &Shape, name: &str, raster_settings: &RasterSettings, out: &Path) -> Result<RenderSummary, RenderError> {
+    let ext = out.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
+    let io = |e: std::io::Error| RenderError::Io(out.to_path_buf(), e);
+    let summary = RenderSummary { vertices: shape.vertex_count(), quads: shape.quads.len() };
+    match ext.as_str() {
+        "obj" => {
+            let mut writer = ObjWriter::create(out).map_err(io)?;
+            if shape.objects.is_empty() {
+                writer.object(name).map_err(io)?;
+            }
+            shape.replay(&mut writer).map_err(io)?;
+            writer.finish().map_err(io)?;
+        }
+        "svg" => {
+            if shape.dim > 2 {
+                return Err(RenderError::NotPlanar);
+            }
+            write_atomic(out, svg(shape, raster_settings.width).as_bytes()).map_err(io)?;
+        }
+        "png" => write_png(out, &raster(shape, raster_settings)).map_err(io)?,
+        other => return Err(RenderError::Format(other.to_string())),
+    }
+    Ok(summary)
 }
 
 /// Counts what passes through to another sink.
@@ -228,7 +254,7 @@ pub fn gallery(dir: &Path, progress: bool) -> Result<Vec<GalleryEntry>, RenderEr
         let plain_ifs = model.layout == crate::design::Layout::Single
             && design
                 .automaton
-                .state_id(&model.root)
+                .state_id(model.root(0))
                 .is_some_and(|r| design.automaton.state(r).kind == crate::space::CellKind::Free);
         if plain_ifs {
             let mut random = options.clone();
@@ -275,4 +301,48 @@ pub fn gallery(dir: &Path, progress: bool) -> Result<Vec<GalleryEntry>, RenderEr
     html.push_str("</body></html>\n");
     write_atomic(&dir.join("index.html"), html.as_bytes()).map_err(|e| RenderError::Io(dir.join("index.html"), e))?;
     Ok(entries)
+}
+
+/// Which form of a scheme to evaluate.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SchemeForm {
+    /// The automaton when the scheme has one, the direct polyline form otherwise.
+    Auto,
+    /// The direct polyline form (the paper's refinement rules).
+    Direct,
+    /// The automaton (BC-IFS) form.
+    Automaton,
+}
+
+/// The curve of a normal-vector scheme on its initial polygon after `depth`
+/// steps, in the requested form (both forms give the same points).
+///
+/// # Errors
+/// A non-interpolatory scheme asked for in automaton form, or an evaluation error.
+pub fn normal_shape(
+    preset: &crate::schemes::NormalPreset,
+    depth: usize,
+    form: SchemeForm,
+    memory_limit: usize,
+) -> Result<Shape, RenderError> {
+    let scheme = &preset.scheme;
+    let automaton = match form {
+        SchemeForm::Auto => scheme.is_interpolatory(),
+        SchemeForm::Direct => false,
+        SchemeForm::Automaton => true,
+    };
+    if automaton {
+        let design = scheme.design(preset.name, &preset.polygon, preset.closed).map_err(RenderError::Scheme)?;
+        let mut options = RenderOptions::default();
+        options.eval = EvalSettings::default().with_depth(depth).with_memory_limit(memory_limit);
+        return evaluate_design(&design, &options);
+    }
+    let segments = if preset.closed { preset.polygon.len() } else { preset.polygon.len().saturating_sub(1) };
+    let points = (segments as u128 * (scheme.arity() as u128).pow(depth.min(64) as u32) + 1) * 2 * 8;
+    if points > memory_limit as u128 {
+        return Err(RenderError::Eval(EvalError::TooLarge { estimate: points, limit: memory_limit }));
+    }
+    let pts = scheme.polygon(&preset.polygon, preset.closed, depth);
+    let flat: Vec<f64> = pts.iter().flatten().copied().collect();
+    Ok(Shape::polyline(preset.name, 2, &flat, preset.closed))
 }

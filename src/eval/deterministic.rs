@@ -482,7 +482,8 @@ impl Evaluator {
         for (pi, piece) in self.pieces.pieces.iter().enumerate() {
             let sp = self.plan.state(piece.state);
             let is_edge = sp.kind == CellKind::Edge && sp.end.is_some();
-            if pi == 0 || !is_edge {
+            let joined = is_edge && self.pieces.connected;
+            if pi == 0 || !joined {
                 sink.object(&piece.name)?;
             }
             let tasks = self.tasks(piece.state, piece.control.clone(), d, k, 16 * threads);
@@ -508,22 +509,7 @@ impl Evaluator {
                     self.stream_subtree(s, &c, d, r, &mut buf, sink, &mut first_vertex)?;
                 }
             }
-            if is_edge {
-                let last = pi + 1 == count;
-                if last && !self.pieces.closed {
-                    let end = sp.end.as_ref().expect("edge end");
-                    let mut p = vec![0.0; d];
-                    project_into(&piece.control, d, sp.dim, end, &mut p);
-                    sink.vertices(d, &p, None)?;
-                    first_vertex += 1;
-                }
-                if last {
-                    sink.polyline(run_start, first_vertex - run_start, self.pieces.closed)?;
-                    run_start = first_vertex;
-                }
-            } else {
-                run_start = first_vertex;
-            }
+            self.end_curve(piece, pi + 1 == count, sink, &mut first_vertex, &mut run_start)?;
             if let Some(b) = &bar {
                 b.inc(1);
             }
@@ -570,27 +556,49 @@ impl Evaluator {
         let count = self.pieces.pieces.len();
         for (pi, piece) in self.pieces.pieces.iter().enumerate() {
             let sp = self.plan.state(piece.state);
-            let is_edge = sp.kind == CellKind::Edge && sp.end.is_some();
-            if pi == 0 || !is_edge {
+            let joined = sp.kind == CellKind::Edge && sp.end.is_some() && self.pieces.connected;
+            if pi == 0 || !joined {
                 sink.object(&piece.name)?;
             }
             let mut out = Vec::new();
             self.adaptive(piece.state, &piece.control, d, eps, 0, &mut out);
             first_vertex += out.len() / d;
             sink.vertices(d, &out, None)?;
-            if is_edge && pi + 1 == count {
-                if !self.pieces.closed {
-                    let mut p = vec![0.0; d];
-                    project_into(&piece.control, d, sp.dim, sp.end.as_ref().expect("edge end"), &mut p);
-                    sink.vertices(d, &p, None)?;
-                    first_vertex += 1;
-                }
-                sink.polyline(run_start, first_vertex - run_start, self.pieces.closed)?;
-            }
-            if !is_edge {
-                run_start = first_vertex;
-            }
+            self.end_curve(piece, pi + 1 == count, sink, &mut first_vertex, &mut run_start)?;
         }
+        Ok(())
+    }
+
+    /// After the samples of `piece`: closes its polyline when it is an edge
+    /// that ends a curve (the last piece of a connected curve, or any piece
+    /// of a union), adding the end point unless the curve is closed.
+    fn end_curve(
+        &self,
+        piece: &super::pieces::Piece,
+        last: bool,
+        sink: &mut dyn Sink,
+        first_vertex: &mut usize,
+        run_start: &mut usize,
+    ) -> io::Result<()> {
+        let sp = self.plan.state(piece.state);
+        let Some(end) = sp.end.as_ref().filter(|_| sp.kind == CellKind::Edge) else {
+            *run_start = *first_vertex;
+            return Ok(());
+        };
+        let connected = self.pieces.connected;
+        if connected && !last {
+            return Ok(());
+        }
+        let closed = connected && self.pieces.closed;
+        if !closed {
+            let d = self.pieces.dim;
+            let mut p = vec![0.0; d];
+            project_into(&piece.control, d, sp.dim, end, &mut p);
+            sink.vertices(d, &p, None)?;
+            *first_vertex += 1;
+        }
+        sink.polyline(*run_start, *first_vertex - *run_start, closed)?;
+        *run_start = *first_vertex;
         Ok(())
     }
 

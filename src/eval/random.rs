@@ -211,17 +211,22 @@ impl ChaosGame {
             inc.alias[s] = Some(Alias::new(&w));
         }
         let root = pieces.pieces[0].state;
-        if inc.arrows[root].is_empty() {
+        let mut roots: Vec<usize> = pieces.pieces.iter().map(|p| p.state).collect();
+        roots.sort_unstable();
+        roots.dedup();
+        if let Some(&r) = roots.iter().find(|&&r| inc.arrows[r].is_empty()) {
             return Err(EvalError::Unsupported(format!(
                 "no subdivision arrow leads into the root `{}`",
-                plan.state(root).name
+                plan.state(r).name
             )));
         }
-        // The states the root's attractor is made of: reachable from it along
+        // The states the roots' attractors are made of: reachable from them along
         // subdivision arrows (`A_X = ∪ M · A_Y` over X → Y). The others are left out.
         let mut feeding = vec![false; size];
-        let mut stack = vec![root];
-        feeding[root] = true;
+        let mut stack = roots.clone();
+        for &r in &roots {
+            feeding[r] = true;
+        }
         while let Some(s) = stack.pop() {
             let targets: Vec<usize> =
                 (0..size).filter(|&t| !feeding[t] && inc.arrows[t].iter().any(|(src, _)| *src == s)).collect();
@@ -388,6 +393,11 @@ fn general_chain(
     let mut state = root;
     let mut lambda = last[root].clone();
     let restart = if strongly_connected { 0 } else { u64::MAX / 32 };
+    // The pieces drawn from the attractor of each state.
+    let mut pieces_of: Vec<Vec<usize>> = vec![Vec::new(); size];
+    for (i, p) in pieces.pieces.iter().enumerate() {
+        pieces_of[p.state].push(i);
+    }
     let live: Vec<usize> = (0..size).filter(|&s| !inc.arrows[s].is_empty()).collect();
     let mut emitted = 0;
     // Steps left before emitting: the burn-in, again after a restart from a
@@ -418,8 +428,9 @@ fn general_chain(
             continue;
         }
         converged[state] = true;
-        if state == root {
-            let piece = &pieces.pieces[(rng.next_u64() % pieces.pieces.len() as u64) as usize];
+        let here = &pieces_of[state];
+        if !here.is_empty() {
+            let piece = &pieces.pieces[here[(rng.next_u64() % here.len() as u64) as usize]];
             let n = lambda.len();
             for a in 0..d {
                 out[emitted * d + a] = (0..n).map(|i| piece.control[a * n + i] * lambda[i]).sum();

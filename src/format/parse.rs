@@ -64,13 +64,39 @@ struct ParamSpec {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct ModelSpec {
-    root: Spanned<String>,
+    root: Spanned<RootSpec>,
     points: Spanned<Vec<Vec<Spanned<EntrySpec>>>>,
     layout: Option<Spanned<String>>,
     step: Option<Spanned<i64>>,
     grid: Option<Spanned<Vec<i64>>>,
     #[serde(default)]
     start: IndexMap<String, Spanned<Vec<Vec<Spanned<EntrySpec>>>>>,
+}
+
+/// `root = "e"` or `root = ["even", "odd"]` (piece `i` takes the `i mod len`-th).
+struct RootSpec(Vec<String>);
+
+impl<'de> Deserialize<'de> for RootSpec {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<RootSpec, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = RootSpec;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a state name or a list of state names such as [\"even\", \"odd\"]")
+            }
+            fn visit_str<E: de::Error>(self, s: &str) -> Result<RootSpec, E> {
+                Ok(RootSpec(vec![s.to_string()]))
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<RootSpec, A::Error> {
+                let mut names = Vec::new();
+                while let Some(name) = seq.next_element::<String>()? {
+                    names.push(name);
+                }
+                Ok(RootSpec(names))
+            }
+        }
+        d.deserialize_any(V)
+    }
 }
 
 /// `matrix = "unknown"` or `matrix = [[row], [row], ...]`.
@@ -640,7 +666,15 @@ impl Builder<'_> {
     fn model(&self, a: &Automaton<Affine>, m: &Spanned<ModelSpec>) -> Result<Model, FormatError> {
         let src = self.src;
         let spec = m.get_ref();
-        let root = self.state_ref(a, &spec.root)?;
+        let root_names = &spec.root.get_ref().0;
+        if root_names.is_empty() {
+            return Err(src.at(&spec.root.span(), "expected at least one root state"));
+        }
+        let roots = root_names
+            .iter()
+            .map(|n| self.state_ref(a, &Spanned::new(spec.root.span(), n.clone())))
+            .collect::<Result<Vec<_>, _>>()?;
+        let root = roots[0];
         let mut points = Vec::new();
         for row in spec.points.get_ref() {
             let mut p = Vec::new();
@@ -662,7 +696,7 @@ impl Builder<'_> {
                 let e = src.at(
                     &l.span(),
                     format!(
-                        "unknown layout `{}`: expected single, open, closed, grid, torus, frames or closed-frames",
+                        "unknown layout `{}`: expected single, open, closed, grid, torus, frames, closed-frames or union",
                         l.get_ref()
                     ),
                 );
@@ -684,6 +718,19 @@ impl Builder<'_> {
             None => None,
         };
         let dim = a.state(root).dim;
+        if layout != Layout::Union
+            && let Some(other) = roots.iter().find(|r| a.state(**r).dim != dim)
+        {
+            return Err(src.at(
+                &m.span(),
+                format!(
+                    "the roots of this layout must have the same dimension: `{}` has {dim}, `{}` has {}",
+                    a.state(root).name,
+                    a.state(*other).name,
+                    a.state(*other).dim
+                ),
+            ));
+        }
         let mut start = Vec::new();
         for (state, pts) in &spec.start {
             let Some(id) = a.state_id(state) else {
@@ -727,6 +774,19 @@ impl Builder<'_> {
                 2
             }
             Layout::Single | Layout::Open | Layout::Closed => dim,
+            Layout::Union => {
+                let total: usize = roots.iter().map(|r| a.state(*r).dim).sum();
+                if points.len() % total != 0 {
+                    return Err(src.at(
+                        &spec.points.span(),
+                        format!(
+                            "a union of the roots takes {total} control points per round, not {}",
+                            points.len()
+                        ),
+                    ));
+                }
+                total
+            }
             Layout::Grid | Layout::Torus => {
                 let (r, c) = grid.ok_or_else(|| src.at(&m.span(), "grid layouts need grid = [ROWS, COLS]"))?;
                 if r * c != points.len() {
@@ -744,6 +804,7 @@ impl Builder<'_> {
                 format!("this layout needs at least {needed} control points, not {}", points.len()),
             ));
         }
-        Ok(Model { root: spec.root.get_ref().clone(), points, layout, step, grid, start })
+        let roots = root_names.clone();
+        Ok(Model { roots, points, layout, step, grid, start })
     }
 }

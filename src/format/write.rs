@@ -136,10 +136,14 @@ impl TomlWriter {
         self
     }
 
-    /// A `[model]` table.
-    pub fn model(&mut self, root: &str, points: &[Vec<f64>], layout: &str, extra: &str, comment: &str) -> &mut Self {
+    /// A `[model]` table; several roots are taken in turn by the pieces.
+    pub fn model(&mut self, roots: &[&str], points: &[Vec<f64>], layout: &str, extra: &str, comment: &str) -> &mut Self {
         self.blank().comment(comment);
-        let _ = writeln!(self.out, "[model]\nroot = {}\nlayout = {}", quote(root), quote(layout));
+        let root = match roots {
+            [one] => quote(one),
+            many => format!("[{}]", many.iter().map(|r| quote(r)).collect::<Vec<_>>().join(", ")),
+        };
+        let _ = writeln!(self.out, "[model]\nroot = {root}\nlayout = {}", quote(layout));
         if !extra.is_empty() {
             let _ = writeln!(self.out, "{extra}");
         }

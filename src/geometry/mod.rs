@@ -126,6 +126,55 @@ impl Shape {
         used.len() as i64 - self.edge_multiplicities().len() as i64 + self.quads.len() as i64
     }
 
+    /// A shape holding one polyline through `points` (each of `dim` coordinates).
+    pub fn polyline(name: &str, dim: usize, points: &[f64], closed: bool) -> Shape {
+        let mut shape = Shape::default();
+        shape.add_polyline(name, dim, points, closed);
+        shape
+    }
+
+    /// Adds an object holding one polyline through `points`.
+    pub fn add_polyline(&mut self, name: &str, dim: usize, points: &[f64], closed: bool) {
+        let first = self.vertex_count();
+        let count = points.len() / dim.max(1);
+        // Writing into memory cannot fail.
+        let _ = self.object(name);
+        let _ = self.vertices(dim, points, None);
+        let _ = Sink::polyline(self, first, count, closed);
+    }
+
+    /// Pushes the whole shape into `sink` (objects, vertices, normals,
+    /// texture coordinates, polylines, quads and triangles), without `finish`.
+    ///
+    /// # Errors
+    /// The first write error of the sink.
+    pub fn replay(&self, sink: &mut dyn Sink) -> io::Result<()> {
+        let d = self.dim.max(1);
+        if !self.uvs.is_empty() {
+            sink.uvs(&self.uvs)?;
+        }
+        for (k, o) in self.objects.iter().enumerate() {
+            sink.object(if o.name.is_empty() { "shape" } else { &o.name })?;
+            let v = o.vertices.clone();
+            if !v.is_empty() {
+                let normals = (!self.normals.is_empty()).then(|| &self.normals[v.start * 3..v.end * 3]);
+                sink.vertices(d, &self.positions[v.start * d..v.end * d], normals)?;
+            }
+            for &(first, count, closed) in &o.polylines {
+                sink.polyline(first, count, closed)?;
+            }
+            let f = o.faces.clone();
+            if !f.is_empty() {
+                let uvs = (!self.quad_uvs.is_empty()).then(|| &self.quad_uvs[f.clone()]);
+                sink.faces(&self.quads[f], uvs)?;
+            }
+            if k + 1 == self.objects.len() && !self.triangles.is_empty() {
+                sink.triangles(&self.triangles)?;
+            }
+        }
+        Ok(())
+    }
+
     fn current(&mut self) -> &mut Object {
         if self.objects.is_empty() {
             self.objects.push(Object::default());

@@ -169,7 +169,7 @@ pub fn curve_file(points: usize, vertex: usize, arity: usize) -> Result<String, 
             vec![(r * t.cos() * 1e6).round() / 1e6, (r * t.sin() * 1e6).round() / 1e6]
         })
         .collect();
-    w.model("e", &star, "closed", "", "A closed star-shaped control polygon (render with `bcifs render`).");
+    w.model(&["e"], &star, "closed", "", "A closed star-shaped control polygon (render with `bcifs render`).");
     Ok(structure + &w.finish())
 }
 
@@ -309,7 +309,7 @@ pub fn quad_patch_file(symmetric: bool) -> String {
         })
         .collect();
     w.model(
-        "face",
+        &["face"],
         &grid,
         "grid",
         "grid = [5, 5]",

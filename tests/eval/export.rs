@@ -120,7 +120,7 @@ fn golden_rasters() {
     let img = raster(&koch, &RasterSettings::default().with_size(40, 14));
     golden(&ascii(&img), KOCH);
     let (a, mut model, _) = load("fern_sierpinski", &[]);
-    model.root = "sierpinski".into();
+    model.roots = vec!["sierpinski".into()];
     let s = Evaluator::new(
         &a,
         &model,

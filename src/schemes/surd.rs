@@ -1,0 +1,311 @@
+//! Exact numbers of the form `q₀ + q₁·√r₁ + q₂·√r₂ + …` (rational `qᵢ`,
+//! square-free integer `rᵢ`), so that scheme generators write automaton
+//! files whose entries are exact (`1/2 - sqrt(3)/6`, not `0.2113248654…`)
+//! and whose column sums are exactly 1.
+//!
+//! The seeds' parameters are all of this kind: `√3/4` (Sierpinski, seed 000
+//! eq. 3), `√3/6` (Koch, eq. 5), `-√3/18` (crown), rationals elsewhere.
+
+use std::collections::BTreeMap;
+use std::fmt;
+
+use num_bigint::BigInt;
+use num_rational::BigRational;
+use num_traits::{One, Signed, ToPrimitive, Zero};
+
+use crate::family::{Expr, Num};
+
+/// Largest radicand handled exactly (square-free factorisation by trial division).
+const MAX_RADICAND: u64 = 1 << 40;
+
+/// A sum of rational multiples of square roots of square-free integers.
+///
+/// ```
+/// use bcifs::schemes::Surd;
+/// let a = Surd::parse("1/2 - sqrt(3)/6").unwrap();
+/// let b = Surd::parse("sqrt(12)/12").unwrap(); // = sqrt(3)/6
+/// assert_eq!(a.add(&b), Surd::parse("1/2").unwrap());
+/// assert_eq!(b.mul(&b), Surd::parse("1/12").unwrap());
+/// assert_eq!(a.to_string(), "1/2 - sqrt(3)/6");
+/// ```
+#[derive(Clone, Debug, PartialEq, Eq, Default)]
+pub struct Surd {
+    /// Square-free radicand (1 for the rational part) → non-zero coefficient.
+    terms: BTreeMap<u64, BigRational>,
+}
+
+/// Why a text or expression is not an exact surd.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum SurdError {
+    /// The text is not an expression.
+    #[error("`{text}` is not a number: {message}")]
+    Syntax {
+        /// The text.
+        text: String,
+        /// What the parser expected.
+        message: String,
+    },
+    /// The expression uses a parameter or an entry.
+    #[error("`{0}` must be a constant (numbers, + - * /, sqrt), not a parameter or matrix entry")]
+    NotConstant(String),
+    /// A square root of a negative number, of an irrational number, or a division by one.
+    #[error("`{0}` is not exact: only square roots of non-negative rationals and divisions by a single term are kept exact")]
+    Inexact(String),
+    /// Division by zero.
+    #[error("`{0}` divides by zero")]
+    DivisionByZero(String),
+}
+
+fn rational(n: i64, d: i64) -> BigRational {
+    BigRational::new(BigInt::from(n), BigInt::from(d))
+}
+
+/// `(s, f)` with `n = s · f²` and `s` square-free.
+fn square_free(mut n: u64) -> (u64, u64) {
+    let (mut s, mut f) = (1u64, 1u64);
+    let mut p = 2u64;
+    while p * p <= n {
+        while n.is_multiple_of(p * p) {
+            n /= p * p;
+            f *= p;
+        }
+        if n.is_multiple_of(p) {
+            n /= p;
+            s *= p;
+        }
+        p += 1;
+    }
+    (s * n, f)
+}
+
+impl Surd {
+    /// Zero.
+    pub fn zero() -> Surd {
+        Surd::default()
+    }
+
+    /// The rational `q`.
+    pub fn rational(q: BigRational) -> Surd {
+        Surd::term(1, q)
+    }
+
+    /// The integer `n`.
+    pub fn int(n: i64) -> Surd {
+        Surd::rational(rational(n, 1))
+    }
+
+    /// The fraction `p / q` (`q ≠ 0`).
+    pub fn frac(p: i64, q: i64) -> Surd {
+        Surd::rational(rational(p, q))
+    }
+
+    fn term(radicand: u64, q: BigRational) -> Surd {
+        let mut terms = BTreeMap::new();
+        if !q.is_zero() && radicand != 0 {
+            terms.insert(radicand, q);
+        }
+        Surd { terms }
+    }
+
+    /// `√q` for a non-negative rational `q`, or `None` if `q < 0` or too large.
+    pub fn sqrt_of(q: &BigRational) -> Option<Surd> {
+        if q.is_negative() {
+            return None;
+        }
+        if q.is_zero() {
+            return Some(Surd::zero());
+        }
+        // √(a/b) = √(a·b) / b.
+        let (a, b) = (q.numer().to_u64()?, q.denom().to_u64()?);
+        let ab = a.checked_mul(b).filter(|x| *x <= MAX_RADICAND)?;
+        let (s, f) = square_free(ab);
+        Some(Surd::term(s, rational(f as i64, b as i64)))
+    }
+
+    /// Parses a constant expression (`1/2`, `-sqrt(3)/18`, `(1 + sqrt(5))/2`).
+    ///
+    /// # Errors
+    /// A syntax error, a parameter, or an operation that leaves the surds.
+    pub fn parse(text: &str) -> Result<Surd, SurdError> {
+        let e = Expr::parse(text)
+            .map_err(|e| SurdError::Syntax { text: text.to_string(), message: e.message.clone() })?;
+        Surd::from_expr(&e, text)
+    }
+
+    /// The exact value of a constant expression.
+    ///
+    /// # Errors
+    /// See [`Surd::parse`]; `text` is quoted in the error.
+    pub fn from_expr(e: &Expr, text: &str) -> Result<Surd, SurdError> {
+        let inexact = || SurdError::Inexact(text.to_string());
+        Ok(match e {
+            Expr::Num(Num::Exact(q)) => Surd::rational(q.clone()),
+            Expr::Num(Num::Approx(_)) => return Err(inexact()),
+            Expr::Param(..) | Expr::Entry { .. } => return Err(SurdError::NotConstant(text.to_string())),
+            Expr::Neg(a) => Surd::from_expr(a, text)?.neg(),
+            Expr::Add(a, b) => Surd::from_expr(a, text)?.add(&Surd::from_expr(b, text)?),
+            Expr::Sub(a, b) => Surd::from_expr(a, text)?.sub(&Surd::from_expr(b, text)?),
+            Expr::Mul(a, b) => Surd::from_expr(a, text)?.mul(&Surd::from_expr(b, text)?),
+            Expr::Div(a, b) => {
+                let d = Surd::from_expr(b, text)?;
+                if d.is_zero() {
+                    return Err(SurdError::DivisionByZero(text.to_string()));
+                }
+                Surd::from_expr(a, text)?.div(&d).ok_or_else(inexact)?
+            }
+            Expr::Sqrt(a) => {
+                let v = Surd::from_expr(a, text)?;
+                let q = v.as_rational().ok_or_else(inexact)?;
+                Surd::sqrt_of(&q).ok_or_else(inexact)?
+            }
+        })
+    }
+
+    /// Whether it is zero.
+    pub fn is_zero(&self) -> bool {
+        self.terms.is_empty()
+    }
+
+    /// The rational value, if there is no square-root term.
+    pub fn as_rational(&self) -> Option<BigRational> {
+        match self.terms.len() {
+            0 => Some(BigRational::zero()),
+            1 => self.terms.get(&1).cloned(),
+            _ => None,
+        }
+    }
+
+    /// `self + other`.
+    pub fn add(&self, other: &Surd) -> Surd {
+        let mut terms = self.terms.clone();
+        for (r, q) in &other.terms {
+            let sum = terms.get(r).cloned().unwrap_or_else(BigRational::zero) + q;
+            if sum.is_zero() {
+                terms.remove(r);
+            } else {
+                terms.insert(*r, sum);
+            }
+        }
+        Surd { terms }
+    }
+
+    /// `-self`.
+    pub fn neg(&self) -> Surd {
+        Surd { terms: self.terms.iter().map(|(r, q)| (*r, -q)).collect() }
+    }
+
+    /// `self - other`.
+    pub fn sub(&self, other: &Surd) -> Surd {
+        self.add(&other.neg())
+    }
+
+    /// `self · q` for a rational `q`.
+    pub fn scale(&self, q: &BigRational) -> Surd {
+        if q.is_zero() {
+            return Surd::zero();
+        }
+        Surd { terms: self.terms.iter().map(|(r, c)| (*r, c * q)).collect() }
+    }
+
+    /// `self · other`: `√a·√b = √(ab)`, reduced to square-free form.
+    pub fn mul(&self, other: &Surd) -> Surd {
+        let mut out = Surd::zero();
+        for (ra, qa) in &self.terms {
+            for (rb, qb) in &other.terms {
+                let (s, f) = square_free(ra * rb);
+                out = out.add(&Surd::term(s, qa * qb * BigRational::from_integer(BigInt::from(f))));
+            }
+        }
+        out
+    }
+
+    /// `self / other` when `other` is a single term `q√r` (`None` otherwise or for zero).
+    pub fn div(&self, other: &Surd) -> Option<Surd> {
+        if other.terms.len() != 1 {
+            return None;
+        }
+        let (r, q) = other.terms.iter().next()?;
+        // 1 / (q√r) = √r / (q r).
+        let inv = Surd::term(*r, BigRational::one() / (q * BigRational::from_integer(BigInt::from(*r))));
+        Some(self.mul(&inv))
+    }
+
+    /// The nearest `f64`.
+    pub fn to_f64(&self) -> f64 {
+        self.terms.iter().map(|(r, q)| q.to_f64().unwrap_or(f64::NAN) * (*r as f64).sqrt()).sum()
+    }
+}
+
+impl From<i64> for Surd {
+    fn from(n: i64) -> Surd {
+        Surd::int(n)
+    }
+}
+
+impl fmt::Display for Surd {
+    /// Re-parseable text: `0`, `-1/16`, `1/2 - sqrt(3)/6`, `3*sqrt(3)/4`.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.terms.is_empty() {
+            return f.write_str("0");
+        }
+        for (k, (r, q)) in self.terms.iter().enumerate() {
+            let negative = q.is_negative();
+            match (k, negative) {
+                (0, true) => f.write_str("-")?,
+                (0, false) => {}
+                (_, true) => f.write_str(" - ")?,
+                (_, false) => f.write_str(" + ")?,
+            }
+            let a = q.abs();
+            let (n, d) = (a.numer(), a.denom());
+            if *r == 1 {
+                write!(f, "{n}")?;
+            } else if n.is_one() {
+                write!(f, "sqrt({r})")?;
+            } else {
+                write!(f, "{n}*sqrt({r})")?;
+            }
+            if !d.is_one() {
+                write!(f, "/{d}")?;
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn square_free_parts() {
+        assert_eq!(square_free(12), (3, 2));
+        assert_eq!(square_free(72), (2, 6));
+        assert_eq!(square_free(1), (1, 1));
+        assert_eq!(square_free(49), (1, 7));
+    }
+
+    #[test]
+    fn arithmetic_is_exact_and_prints_back() {
+        let s3 = Surd::parse("sqrt(3)").unwrap();
+        assert_eq!(s3.mul(&s3), Surd::int(3));
+        let x = Surd::parse("1/2 + sqrt(3)/4 - sqrt(27)/12").unwrap();
+        assert_eq!(x, Surd::frac(1, 2));
+        for text in ["0", "-1/16", "1/2 - sqrt(3)/6", "3*sqrt(3)/4", "-sqrt(3)/18 + sqrt(2)"] {
+            let v = Surd::parse(text).unwrap();
+            assert_eq!(Surd::parse(&v.to_string()).unwrap(), v, "{text}");
+        }
+        assert_eq!(Surd::parse("1/(2*sqrt(3))").unwrap(), Surd::parse("sqrt(3)/6").unwrap());
+        assert!((Surd::parse("sqrt(3)/6").unwrap().to_f64() - 3f64.sqrt() / 6.0).abs() < 1e-16);
+    }
+
+    #[test]
+    fn non_constants_and_inexact_values_are_refused() {
+        assert!(matches!(Surd::parse("a + 1"), Err(SurdError::NotConstant(_))));
+        assert!(matches!(Surd::parse("sqrt(-1)"), Err(SurdError::Inexact(_))));
+        assert!(matches!(Surd::parse("sqrt(1 + sqrt(2))"), Err(SurdError::Inexact(_))));
+        assert!(matches!(Surd::parse("1/(1 + sqrt(2))"), Err(SurdError::Inexact(_))));
+        assert!(matches!(Surd::parse("1/0"), Err(SurdError::DivisionByZero(_))));
+        assert!(matches!(Surd::parse("1 +"), Err(SurdError::Syntax { .. })));
+    }
+}
