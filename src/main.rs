@@ -198,7 +198,11 @@ fn run_normal(out: &mut String, args: NormalArgs) -> Result<u8> {
         bail!("--p {p} but {} values of α and β", preset.scheme.arity());
     }
     if let Some(n) = &args.normal {
-        let n = keyword("normal direction", n, &[("positive", NormalDirection::Positive), ("negative", NormalDirection::Negative)])?;
+        let n = keyword(
+            "normal direction",
+            n,
+            &[("positive", NormalDirection::Positive), ("negative", NormalDirection::Negative)],
+        )?;
         preset.scheme = preset.scheme.with_normal(n);
     }
     if let Some(sgn) = &args.sign {
@@ -234,7 +238,11 @@ fn run_normal(out: &mut String, args: NormalArgs) -> Result<u8> {
     let form = keyword(
         "form",
         &args.form,
-        &[("auto", bcifs::SchemeForm::Auto), ("direct", bcifs::SchemeForm::Direct), ("automaton", bcifs::SchemeForm::Automaton)],
+        &[
+            ("auto", bcifs::SchemeForm::Auto),
+            ("direct", bcifs::SchemeForm::Direct),
+            ("automaton", bcifs::SchemeForm::Automaton),
+        ],
     )?;
     let depth = args.depth.unwrap_or(preset.depth);
     let output = args.output.context("give -o OUT.{png,svg,obj}")?;

@@ -10,7 +10,6 @@ use crate::export::{ObjWriter, RasterSettings, raster, svg, write_atomic, write_
 use crate::family::{DesignInstantiateError, instantiate};
 use crate::geometry::{Shape, Sink};
 
-
 /// What to render and how.
 #[derive(Clone, Debug, Default)]
 #[non_exhaustive]
@@ -131,7 +130,12 @@ pub fn render(design: &Design, options: &RenderOptions, out: &Path) -> Result<Re
 /// # Errors
 /// An unknown extension, a 3D shape to SVG, or an I/O error; nothing is
 /// left half-written.
-pub fn write_shape(shape: &Shape, name: &str, raster_settings: &RasterSettings, out: &Path) -> Result<RenderSummary, RenderError> {
+pub fn write_shape(
+    shape: &Shape,
+    name: &str,
+    raster_settings: &RasterSettings,
+    out: &Path,
+) -> Result<RenderSummary, RenderError> {
     let ext = out.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
     let io = |e: std::io::Error| RenderError::Io(out.to_path_buf(), e);
     let summary = RenderSummary { vertices: shape.vertex_count(), quads: shape.quads.len() };

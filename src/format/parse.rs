@@ -779,10 +779,7 @@ impl Builder<'_> {
                 if points.len() % total != 0 {
                     return Err(src.at(
                         &spec.points.span(),
-                        format!(
-                            "a union of the roots takes {total} control points per round, not {}",
-                            points.len()
-                        ),
+                        format!("a union of the roots takes {total} control points per round, not {}", points.len()),
                     ));
                 }
                 total

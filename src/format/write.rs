@@ -137,7 +137,14 @@ impl TomlWriter {
     }
 
     /// A `[model]` table; several roots are taken in turn by the pieces.
-    pub fn model(&mut self, roots: &[&str], points: &[Vec<f64>], layout: &str, extra: &str, comment: &str) -> &mut Self {
+    pub fn model(
+        &mut self,
+        roots: &[&str],
+        points: &[Vec<f64>],
+        layout: &str,
+        extra: &str,
+        comment: &str,
+    ) -> &mut Self {
         self.blank().comment(comment);
         let root = match roots {
             [one] => quote(one),

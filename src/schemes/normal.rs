@@ -403,7 +403,10 @@ impl NormalScheme {
                     &state(target),
                     ArrowKind::Subdivision,
                     &rows,
-                    &format!("Sub-segment {j} of {p}{}.", if many { format!(", a segment of state {}", state(target)) } else { String::new() }),
+                    &format!(
+                        "Sub-segment {j} of {p}{}.",
+                        if many { format!(", a segment of state {}", state(target)) } else { String::new() }
+                    ),
                 );
             }
             w.arrow_select(&arrow("b0", c), &state(c), "v", &[0], "Start point of the segment: P_i.");
@@ -425,7 +428,14 @@ impl NormalScheme {
                 arrow("b1", c)
             ));
         }
-        w.arrow_rows("Tv", "v", "v", ArrowKind::Subdivision, &[vec!["1".into()]], "An end point stays (interpolatory).");
+        w.arrow_rows(
+            "Tv",
+            "v",
+            "v",
+            ArrowKind::Subdivision,
+            &[vec!["1".into()]],
+            "An end point stays (interpolatory).",
+        );
         w.constraints(&[
             ("adjacency", "Consecutive sub-segments meet.", adjacency),
             ("incidence", "The scheme is interpolatory: the ends of a segment stay.", incidence),

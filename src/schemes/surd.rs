@@ -49,7 +49,9 @@ pub enum SurdError {
     #[error("`{0}` must be a constant (numbers, + - * /, sqrt), not a parameter or matrix entry")]
     NotConstant(String),
     /// A square root of a negative number, of an irrational number, or a division by one.
-    #[error("`{0}` is not exact: only square roots of non-negative rationals and divisions by a single term are kept exact")]
+    #[error(
+        "`{0}` is not exact: only square roots of non-negative rationals and divisions by a single term are kept exact"
+    )]
     Inexact(String),
     /// Division by zero.
     #[error("`{0}` divides by zero")]
@@ -127,8 +129,8 @@ impl Surd {
     /// # Errors
     /// A syntax error, a parameter, or an operation that leaves the surds.
     pub fn parse(text: &str) -> Result<Surd, SurdError> {
-        let e = Expr::parse(text)
-            .map_err(|e| SurdError::Syntax { text: text.to_string(), message: e.message.clone() })?;
+        let e =
+            Expr::parse(text).map_err(|e| SurdError::Syntax { text: text.to_string(), message: e.message.clone() })?;
         Surd::from_expr(&e, text)
     }
 
