@@ -337,8 +337,10 @@ pub fn normal_shape(
     };
     if automaton {
         let design = scheme.design(preset.name, &preset.polygon, preset.closed).map_err(RenderError::Scheme)?;
-        let mut options = RenderOptions::default();
-        options.eval = EvalSettings::default().with_depth(depth).with_memory_limit(memory_limit);
+        let options = RenderOptions {
+            eval: EvalSettings::default().with_depth(depth).with_memory_limit(memory_limit),
+            ..Default::default()
+        };
         return evaluate_design(&design, &options);
     }
     let segments = if preset.closed { preset.polygon.len() } else { preset.polygon.len().saturating_sub(1) };

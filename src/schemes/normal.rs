@@ -393,10 +393,9 @@ impl NormalScheme {
         let mut adjacency = Vec::new();
         let mut incidence = Vec::new();
         for (c, sigma) in signs.iter().enumerate() {
-            for j in 0..p {
+            for (j, &target) in children[c].iter().enumerate() {
                 let m = self.frame_matrix(j, *sigma);
                 let rows: Vec<Vec<String>> = m.iter().map(|r| r.iter().map(Surd::to_string).collect()).collect();
-                let target = children[c][j];
                 w.arrow_rows(
                     &arrow(&format!("T{j}"), c),
                     &state(c),
