@@ -5,15 +5,22 @@
 //!   matrices, for the solver (seed 004);
 //! - [`NormalScheme`]: the normal-vector p-ary scheme of seed 000, direct and
 //!   as an automaton, with the paper's figures as [`normal_preset`]s;
+//! - [`Rules`], [`BSpline`], [`ifs_file`]: stationary subdivision schemes as
+//!   IFS (seed 001), lifted to ordinary IFS by [`LiftedIfs`];
 //! - [`Surd`]: exact numbers `q + q'√r`, so generated files stay exact.
 
 mod normal;
+mod stationary;
 mod surd;
 mod topology;
 
 pub use normal::{
     NormalDirection, NormalPreset, NormalScheme, NormalSchemeError, PRESET_NAMES, Point2, SignPattern, normal_preset,
     unit_segment, unit_square, unit_triangle,
+};
+pub use stationary::{
+    BSpline, CurveStructure, ExactMatrix, LiftError, LiftedIfs, ModelSpec, Rules, StationaryError, curve_structure,
+    ifs_file, koch_blocks, sierpinski_blocks, to_f64,
 };
 pub use surd::{Surd, SurdError};
 pub use topology::{TopologyError, bspline_segment_matrices, curve_file, quad_patch_file};
