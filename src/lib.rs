@@ -50,7 +50,7 @@ pub use family::{
 pub use format::{FormatError, ReadError, TomlWriter, edit_distance, parse_design, read_design, suggest};
 pub use render::{
     GALLERY_BUDGET_BYTES, GALLERY_MAX_DEPTH, GalleryEntry, RenderError, RenderOptions, RenderSummary, SchemeForm,
-    evaluate_design, gallery, gallery_depth, normal_shape, render, write_shape,
+    evaluate_design, gallery, gallery_depth, normal_shape, render, ternary5_plot, write_shape,
 };
 pub use space::{CellKind, State};
 

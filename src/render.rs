@@ -352,3 +352,44 @@ pub fn normal_shape(
     let flat: Vec<f64> = pts.iter().flatten().copied().collect();
     Ok(Shape::polyline(preset.name, 2, &flat, preset.closed))
 }
+
+/// The plot of the ternary 5-point analysis: measured length growth per step
+/// and the C0 contraction bound against ω, the line 1, the fractal intervals
+/// shaded, and the paper's C0 bounds as vertical lines.
+pub fn ternary5_plot(rows: &[crate::analysis::ternary::TernaryRow]) -> crate::export::Plot {
+    use crate::analysis::ternary::{PAPER_RANGES, intervals};
+    use crate::export::{Plot, Series};
+    let series = |label: &str, f: &dyn Fn(&crate::analysis::ternary::TernaryRow) -> f64, color| Series {
+        label: label.into(),
+        points: rows.iter().map(|r| (r.omega, f(r))).collect(),
+        color,
+    };
+    let mut bands: Vec<(f64, f64, [u8; 3], String)> = intervals(rows, |r| r.fractal())
+        .into_iter()
+        .map(|(a, b)| (a, b, [255, 222, 222], "fractal".to_string()))
+        .collect();
+    bands
+        .extend(intervals(rows, |r| r.fails()).into_iter().map(|(a, b)| (a, b, [225, 225, 225], "not C0".to_string())));
+    // One legend entry per kind.
+    let mut seen = std::collections::HashSet::new();
+    for b in &mut bands {
+        if !seen.insert(b.3.clone()) {
+            b.3.clear();
+        }
+    }
+    let top = rows.iter().map(|r| r.growth.max(r.c0)).fold(1.5f64, f64::max).min(4.0);
+    Plot {
+        title: "TERNARY 5-POINT SCHEME".into(),
+        x_label: "TENSION W".into(),
+        y_label: "RATE PER STEP".into(),
+        series: vec![
+            series("LENGTH GROWTH", &|r| r.growth, [30, 70, 170]),
+            series("C0 BOUND (<1: C0)", &|r| r.c0, [230, 120, 20]),
+            series("C1 BOUND", &|r| r.c1, [40, 150, 60]),
+        ],
+        bands: bands.into_iter().map(|(a, b, c, l)| (a, b, c, l.to_uppercase())).collect(),
+        hlines: vec![(1.0, [200, 0, 0])],
+        vlines: vec![(PAPER_RANGES[0].1, [150, 0, 150]), (PAPER_RANGES[0].2, [150, 0, 150])],
+        y_range: Some((0.0, top)),
+    }
+}

@@ -346,7 +346,8 @@ impl Evaluator {
         let d = self.pieces.dim as u128;
         match self.root_kind() {
             Ok(CellKind::Face) if !self.pieces.pieces.iter().any(|p| self.uses_start_set(p.state)) => {
-                let n = 1u128 << depth.min(60);
+                let split = self.plan.state(self.pieces.pieces[0].state).split.max(2) as u128;
+                let n = split.saturating_pow(depth.min(120) as u32);
                 let cells = (self.pieces.pieces.len() as u128).saturating_mul(n.saturating_mul(n));
                 // positions + normals + uvs (8 bytes each) and two index quads.
                 cells.saturating_mul((d + 3 + 2) * 8 + 64)

@@ -60,8 +60,10 @@ pub struct StatePlan {
     pub samples: Vec<Vec<f64>>,
     /// Edges: barycentric end point (emitted once, after the last leaf).
     pub end: Option<Vec<f64>>,
-    /// Faces: lattice offset `(du, dv)` of each child in a 2×2 split.
+    /// Faces: lattice offset `(du, dv)` of each child in a `split × split` grid.
     pub quadrants: Vec<(usize, usize)>,
+    /// Faces: sub-faces per side (2 for a 2×2 split, 3 for a ternary scheme's 3×3).
+    pub split: usize,
 }
 
 /// The evaluation plan of an automaton.
@@ -163,6 +165,7 @@ impl Plan {
                 samples: Vec::new(),
                 end: None,
                 quadrants: Vec::new(),
+                split: 0,
             };
             match s.kind {
                 CellKind::Vertex => plan.samples = vertex_point[id.index()].iter().cloned().collect(),
@@ -249,22 +252,66 @@ fn face_plan(
         return Err(bad(&format!("expected 4 corners joined by 4 edges, found {} corners", corners.len())));
     }
     plan.samples = cycle.iter().map(|&i| corners[i].clone()).collect();
-    // Lattice offsets of the children: the child sharing parent corner k sits at quadrant k.
+    // Sub-faces tile the face as a p × p grid and keep its orientation: sub-face
+    // corner c is the lattice corner (du, dv) + OFFSETS[c]. The one whose corner 0
+    // is the face's corner 0 sits at (0, 0); the right neighbour's corner 0 is
+    // this one's corner 1, the upper neighbour's corner 0 this one's corner 3.
     const OFFSETS: [(usize, usize); 4] = [(0, 0), (1, 0), (1, 1), (0, 1)];
-    for (_, target, m) in &plan.children {
+    let count = plan.children.len();
+    let p = (count as f64).sqrt().round() as usize;
+    if p < 2 || p * p != count {
+        return Err(bad(&format!("faces are meshed as p × p splits; {count} sub-faces is not a square ≥ 4")));
+    }
+    for (_, target, _) in &plan.children {
         if *target != id.index() {
             return Err(bad("a face must subdivide into faces of the same state"));
         }
-        let k = (0..4)
-            .find(|&k| close(&mat_vec(m, plan.dim, plan.dim, &plan.samples[k]), &plan.samples[k]))
-            .ok_or_else(|| bad("a sub-face shares no corner with the face: not a 2×2 split"))?;
-        plan.quadrants.push(OFFSETS[k]);
+    }
+    let image =
+        |child: usize, corner: usize| mat_vec(&plan.children[child].2, plan.dim, plan.dim, &plan.samples[corner]);
+    let starting_at = |point: &[f64]| (0..count).find(|&c| close(&image(c, 0), point));
+    let mut place: Vec<Option<(usize, usize)>> = vec![None; count];
+    let first = starting_at(&plan.samples[0]).ok_or_else(|| bad("no sub-face starts at the face's first corner"))?;
+    place[first] = Some((0, 0));
+    let mut queue = vec![first];
+    while let Some(c) = queue.pop() {
+        let (du, dv) = place[c].expect("placed");
+        for (corner, (nu, nv)) in [(1, (du + 1, dv)), (3, (du, dv + 1))] {
+            if nu >= p || nv >= p {
+                continue;
+            }
+            let Some(next) = starting_at(&image(c, corner)) else { continue };
+            match place[next] {
+                None => {
+                    place[next] = Some((nu, nv));
+                    queue.push(next);
+                }
+                Some(at) if at == (nu, nv) => {}
+                Some(_) => return Err(bad("the sub-faces do not tile the face as a grid")),
+            }
+        }
+    }
+    plan.quadrants = place
+        .into_iter()
+        .collect::<Option<Vec<_>>>()
+        .ok_or_else(|| bad("the sub-faces do not tile the face as a p × p grid keeping its orientation"))?;
+    for (c, &(du, dv)) in plan.quadrants.iter().enumerate() {
+        // Every corner of every sub-face is where the grid puts it (checked against the face's corners).
+        for (k, &(ou, ov)) in OFFSETS.iter().enumerate() {
+            let (u, v) = (du + ou, dv + ov);
+            if let Some(fc) = OFFSETS.iter().position(|&o| (o.0 * p, o.1 * p) == (u, v))
+                && !close(&image(c, k), &plan.samples[fc])
+            {
+                return Err(bad("a sub-face at a corner of the face does not share that corner"));
+            }
+        }
     }
     let mut q = plan.quadrants.clone();
     q.sort_unstable();
     q.dedup();
-    if plan.children.len() != 4 || q.len() != 4 {
-        return Err(bad("faces are meshed as 2×2 splits: four sub-faces at four distinct corners"));
+    if q.len() != count {
+        return Err(bad("two sub-faces at the same place: not a p × p split"));
     }
+    plan.split = p;
     Ok(())
 }

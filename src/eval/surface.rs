@@ -1,22 +1,24 @@
-//! Welded quad meshes of face automata (2×2 splits) over grids of patches.
+//! Welded quad meshes of face automata (`p × p` splits: 2×2 for the quad
+//! patch, 3×3 for ternary schemes) over grids of patches.
 //!
-//! At depth `k` every patch is a `2^k × 2^k` lattice of quads. The lattice
-//! of all patches is cut into square blocks of `B = 2^L` quads; each lattice
+//! At depth `k` every patch is a `p^k × p^k` lattice of quads. The lattice
+//! of all patches is cut into square blocks of `B = p^L` quads; each lattice
 //! vertex is *owned* by exactly one block (the one it is the lower-left
 //! corner of; the far row and column of an open sheet come last), which
 //! gives it one index: neighbouring patches share their boundary vertices by
 //! construction, and on a torus the lattice wraps. A block's points are
 //! `C · Λ_L`, with `Λ_L` the tabulated barycentric lattice of a depth-`L`
 //! subtree, and `C` the control points of the block's cell, reached from
-//! its patch by the quadrant path given by the bits of its block coordinates.
+//! its patch by the sub-face path given by the base-`p` digits of its block
+//! coordinates.
 
 use rayon::prelude::*;
 
 use super::deterministic::{EvalError, Evaluator, mul_into as mat_mul_into, project_into as project};
 use crate::geometry::Sink;
 
-/// Blocks are `2^BLOCK_LEVEL` quads on a side (33² lattice points, 9 coordinates each: ~80 KB).
-const BLOCK_LEVEL: usize = 5;
+/// Blocks have at most `BLOCK_SIDE` quads on a side (33² lattice points, 9 coordinates each: ~80 KB).
+const BLOCK_SIDE: usize = 32;
 /// Blocks computed in parallel before their output is pushed to the sink.
 const BATCH_BLOCKS: usize = 256;
 
@@ -88,14 +90,19 @@ pub(super) fn mesh(ev: &Evaluator, k: usize, sink: &mut dyn Sink, in_memory: boo
     }
     let sp = plan.state(state);
     let n9 = sp.dim;
-    let level = k.min(BLOCK_LEVEL);
-    let lat = Lattice { pr, pc, torus, n: 1 << k, b: 1 << level, s: 1 << (k - level) };
+    let p = sp.split;
+    let mut level = 0;
+    while level < k && p.pow(level as u32 + 1) <= BLOCK_SIDE {
+        level += 1;
+    }
+    let pow = |e: usize| p.pow(e as u32);
+    let lat = Lattice { pr, pc, torus, n: pow(k), b: pow(level), s: pow(k - level) };
 
-    // Λ_r: barycentric lattice of a depth-r subtree, (2^r + 1)² points, row v then column u.
+    // Λ_r: barycentric lattice of a depth-r subtree, (p^r + 1)² points, row v then column u.
     let mut table: Vec<f64> = [0usize, 1, 3, 2].iter().flat_map(|&c| sp.samples[c].clone()).collect();
     for r in 1..=level {
-        let (side, half) = ((1 << r) + 1, 1 << (r - 1));
-        let prev = (1 << (r - 1)) + 1;
+        let (side, half) = (pow(r) + 1, pow(r - 1));
+        let prev = pow(r - 1) + 1;
         let mut next = vec![0.0; side * side * n9];
         for ((_, _, m), &(du, dv)) in sp.children.iter().zip(&sp.quadrants) {
             for v in 0..prev {
@@ -111,9 +118,9 @@ pub(super) fn mesh(ev: &Evaluator, k: usize, sink: &mut dyn Sink, in_memory: boo
         table = next;
     }
     let side = lat.b + 1;
-    let mut child_of = [0usize; 4];
+    let mut child_of = vec![0usize; p * p];
     for (i, &(du, dv)) in sp.quadrants.iter().enumerate() {
-        child_of[dv * 2 + du] = i;
+        child_of[dv * p + du] = i;
     }
 
     sink.object("surface")?;
@@ -146,13 +153,13 @@ pub(super) fn mesh(ev: &Evaluator, k: usize, sink: &mut dyn Sink, in_memory: boo
             let patch = g / (lat.s * lat.s);
             let (bv, bu) = ((g % (lat.s * lat.s)) / lat.s, g % lat.s);
             let (pv, pu) = (patch / pc, patch % pc);
-            // Control points of the block's cell: follow the quadrant bits.
+            // Control points of the block's cell: follow the base-p digits of its coordinates.
             let mut c = pieces.pieces[patch].control.clone();
             let mut tmp = vec![0.0; d * n9];
             let steps = k - level;
             for t in 0..steps {
-                let bit = steps - 1 - t;
-                let q = ((bv >> bit) & 1) * 2 + ((bu >> bit) & 1);
+                let place = pow(steps - 1 - t);
+                let q = (bv / place % p) * p + bu / place % p;
                 mat_mul_into(&c, d, n9, &sp.children[child_of[q]].2, n9, &mut tmp);
                 std::mem::swap(&mut c, &mut tmp);
             }

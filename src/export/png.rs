@@ -108,7 +108,7 @@ impl Canvas {
 }
 
 /// Xiaolin Wu's anti-aliased line into a coverage buffer.
-fn wu_line(cov: &mut [f32], w: usize, h: usize, (mut x0, mut y0): (f64, f64), (mut x1, mut y1): (f64, f64)) {
+pub(super) fn wu_line(cov: &mut [f32], w: usize, h: usize, (mut x0, mut y0): (f64, f64), (mut x1, mut y1): (f64, f64)) {
     let mut plot = |x: i64, y: i64, c: f64| {
         if x >= 0 && y >= 0 && (x as usize) < w && (y as usize) < h {
             let cell = &mut cov[y as usize * w + x as usize];

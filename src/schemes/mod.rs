@@ -12,6 +12,7 @@
 mod normal;
 mod stationary;
 mod surd;
+mod ternary;
 mod topology;
 
 pub use normal::{
@@ -20,7 +21,8 @@ pub use normal::{
 };
 pub use stationary::{
     BSpline, CurveStructure, ExactMatrix, LiftError, LiftedIfs, ModelSpec, Rules, StationaryError, curve_structure,
-    ifs_file, koch_blocks, sierpinski_blocks, to_f64,
+    ifs_file, koch_blocks, sierpinski_blocks, tensor_file, to_f64,
 };
 pub use surd::{Surd, SurdError};
+pub use ternary::{TERNARY_WINDOW, ternary_five_point};
 pub use topology::{TopologyError, bspline_segment_matrices, curve_file, quad_patch_file};

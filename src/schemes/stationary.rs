@@ -529,6 +529,134 @@ pub fn ifs_file(name: &str, description: &str, comment: &str, blocks: &[ExactMat
     w.finish()
 }
 
+/// `A ⊗ B` (row-major pair indices: `(i, j) ↦ i · rows(B) + j`).
+fn kron(a: &ExactMatrix, b: &ExactMatrix) -> ExactMatrix {
+    let (ra, ca) = (a.len(), a.first().map_or(0, Vec::len));
+    let (rb, cb) = (b.len(), b.first().map_or(0, Vec::len));
+    (0..ra * rb).map(|r| (0..ca * cb).map(|c| a[r / rb][c / cb].mul(&b[r % rb][c % cb])).collect()).collect()
+}
+
+/// The automaton file of the tensor product of a curve IFS with itself: a
+/// face with an `n × n` control grid (index `n · row + col`, rows along v)
+/// split into `p × p` sub-faces `T{u}{v}` (matrix `(S_v ⊗ S_u)ᵀ`), edges
+/// along u (`k` rows of `n`) and along v (`n` rows of `k`), and a `k × k`
+/// vertex, with every adjacency and incidence constraint (seed 001 §3.1 for
+/// the bicubic patch; the ternary 5-point surfaces of seed 003).
+///
+/// # Errors
+/// [`StationaryError::Rules`] when the blocks are not a curve with the same
+/// vertex rule at both ends.
+pub fn tensor_file(
+    name: &str,
+    description: &str,
+    comment: &str,
+    blocks: &[ExactMatrix],
+    model: &ModelSpec,
+) -> Result<String, StationaryError> {
+    let s = curve_structure(blocks).filter(|s| s.start_rule == s.end_rule).ok_or(StationaryError::Rules)?;
+    let n = blocks[0].len();
+    let p = blocks.len();
+    let (a, b, k) = (s.start, s.end, s.support);
+    let rule = &s.start_rule;
+    let mut w = TomlWriter::new();
+    w.comment(comment).header(name, description);
+    w.state(
+        "face",
+        n * n,
+        CellKind::Face,
+        &format!("The patch: {n}×{n} control grid (index {n}*row + col, rows along v)."),
+    );
+    w.state("edge_u", k * n, CellKind::Edge, &format!("An edge along u: {k} rows of {n} (index {n}*row + col)."));
+    w.state("edge_v", n * k, CellKind::Edge, &format!("An edge along v: {n} rows of {k} (index {k}*row + col)."));
+    w.state("vertex", k * k, CellKind::Vertex, &format!("A corner: {k}×{k} control points (index {k}*row + col)."));
+    let t = |u: usize, v: usize| format!("T{u}{v}");
+    for v in 0..p {
+        for u in 0..p {
+            w.arrow_rows(
+                &t(u, v),
+                "face",
+                "face",
+                ArrowKind::Subdivision,
+                &transposed_rows(&kron(&blocks[v], &blocks[u])),
+                &format!("Sub-face ({u}, {v}): (S_{v} ⊗ S_{u})ᵀ."),
+            );
+        }
+    }
+    for (i, block) in blocks.iter().enumerate() {
+        w.arrow_rows(
+            &format!("U{i}"),
+            "edge_u",
+            "edge_u",
+            ArrowKind::Subdivision,
+            &transposed_rows(&kron(rule, block)),
+            &format!("Part {i} of an edge along u."),
+        );
+    }
+    for (j, block) in blocks.iter().enumerate() {
+        w.arrow_rows(
+            &format!("V{j}"),
+            "edge_v",
+            "edge_v",
+            ArrowKind::Subdivision,
+            &transposed_rows(&kron(block, rule)),
+            &format!("Part {j} of an edge along v."),
+        );
+    }
+    w.arrow_rows(
+        "W",
+        "vertex",
+        "vertex",
+        ArrowKind::Subdivision,
+        &transposed_rows(&kron(rule, rule)),
+        "The vertex rule.",
+    );
+    let grid = |cols: usize, rows: std::ops::Range<usize>, columns: std::ops::Range<usize>| -> Vec<usize> {
+        rows.flat_map(|r| columns.clone().map(move |c| r * cols + c)).collect()
+    };
+    w.arrow_select("bottom", "face", "edge_u", &grid(n, a..a + k, 0..n), "Bottom edge.");
+    w.arrow_select("top", "face", "edge_u", &grid(n, b..b + k, 0..n), "Top edge.");
+    w.arrow_select("left", "face", "edge_v", &grid(n, 0..n, a..a + k), "Left edge.");
+    w.arrow_select("right", "face", "edge_v", &grid(n, 0..n, b..b + k), "Right edge.");
+    w.arrow_select("u_start", "edge_u", "vertex", &grid(n, 0..k, a..a + k), "Start of an edge along u.");
+    w.arrow_select("u_end", "edge_u", "vertex", &grid(n, 0..k, b..b + k), "End of an edge along u.");
+    w.arrow_select("v_start", "edge_v", "vertex", &grid(k, a..a + k, 0..k), "Start of an edge along v.");
+    w.arrow_select("v_end", "edge_v", "vertex", &grid(k, b..b + k, 0..k), "End of an edge along v.");
+    let mut adjacency = Vec::new();
+    let mut incidence = Vec::new();
+    for v in 0..p {
+        for u in 0..p {
+            if u + 1 < p {
+                adjacency.push(format!("{} right = {} left", t(u, v), t(u + 1, v)));
+            }
+            if v + 1 < p {
+                adjacency.push(format!("{} top = {} bottom", t(u, v), t(u, v + 1)));
+            }
+        }
+    }
+    for i in 0..p {
+        if i + 1 < p {
+            adjacency.push(format!("U{i} u_end = U{} u_start", i + 1));
+            adjacency.push(format!("V{i} v_end = V{} v_start", i + 1));
+        }
+        incidence.push(format!("{} bottom = bottom U{i}", t(i, 0)));
+        incidence.push(format!("{} top = top U{i}", t(i, p - 1)));
+        incidence.push(format!("{} left = left V{i}", t(0, i)));
+        incidence.push(format!("{} right = right V{i}", t(p - 1, i)));
+    }
+    incidence.extend([
+        "U0 u_start = u_start W".to_string(),
+        format!("U{} u_end = u_end W", p - 1),
+        "V0 v_start = v_start W".to_string(),
+        format!("V{} v_end = v_end W", p - 1),
+    ]);
+    w.constraints(&[
+        ("adjacency", "Neighbouring sub-cells share their common boundary.", adjacency),
+        ("incidence", "The boundary of a sub-cell is the subdivided boundary.", incidence),
+    ]);
+    w.model(&["face"], &model.points, &model.layout, &model.extra, &model.comment);
+    Ok(w.finish())
+}
+
 /// Why the lifted IFS of eq. (2) does not exist.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum LiftError {
