@@ -171,7 +171,9 @@ pub fn spectral_lower_bound(mask: &Mask, p: usize) -> Option<f64> {
     let rules = mask.rules(p);
     let blocks = (2..=40).find_map(|n| rules.blocks(n).ok())?;
     let mats: Vec<nalgebra::DMatrix<f64>> = blocks.iter().map(crate::schemes::to_f64).collect();
-    let rho = |m: &nalgebra::DMatrix<f64>| m.complex_eigenvalues().iter().map(|l| l.norm()).fold(0.0, f64::max);
+    let rho = |m: &nalgebra::DMatrix<f64>| {
+        super::eigenvalues(m).unwrap_or_default().iter().map(|l| l.norm()).fold(0.0, f64::max)
+    };
     let mut best: f64 = 0.0;
     let mut words: Vec<nalgebra::DMatrix<f64>> = mats.clone();
     for len in 1..=4 {

@@ -30,6 +30,11 @@ pub enum PlanError {
         /// The largest modulus besides 1.
         modulus: f64,
     },
+    /// The eigenvalue computation did not converge.
+    #[error(
+        "the eigenvalues of arrow `{0}` could not be computed (the Schur iteration stalled): contractivity is unknown"
+    )]
+    Spectrum(String),
     /// A vertex state without a subdivision arrow to itself.
     #[error("vertex state `{0}` needs a subdivision arrow to itself (its fixed point is the vertex)")]
     NoVertexRule(String),
@@ -110,8 +115,9 @@ impl Plan {
                 }
             }
             if arrow.kind == ArrowKind::Subdivision && arrow.matrix.is_square() {
-                let eig = arrow.matrix.complex_eigenvalues();
-                if !crate::analysis::contractive_spectrum(eig.as_slice(), 1e-9) {
+                let eig = crate::analysis::eigenvalues(&arrow.matrix)
+                    .ok_or_else(|| PlanError::Spectrum(arrow.name.clone()))?;
+                if !crate::analysis::contractive_spectrum(&eig, 1e-9) {
                     let mut moduli: Vec<f64> = eig.iter().map(|l| l.norm()).collect();
                     moduli.sort_by(f64::total_cmp);
                     let modulus = if moduli.len() > 1 { moduli[moduli.len() - 2] } else { moduli[0] };

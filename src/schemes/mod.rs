@@ -9,12 +9,14 @@
 //!   IFS (seed 001), lifted to ordinary IFS by [`LiftedIfs`];
 //! - [`Surd`]: exact numbers `q + q'√r`, so generated files stay exact.
 
+mod catalog;
 mod normal;
 mod stationary;
 mod surd;
 mod ternary;
 mod topology;
 
+pub use catalog::{CatalogError, DEFAULT_OMEGA, Generated, IFS_NAMES, ifs_preset};
 pub use normal::{
     NormalDirection, NormalPreset, NormalScheme, NormalSchemeError, PRESET_NAMES, Point2, SignPattern, normal_preset,
     unit_segment, unit_square, unit_triangle,

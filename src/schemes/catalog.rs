@@ -1,0 +1,289 @@
+//! The seeds' subdivision schemes as ready-made automata with natural
+//! control points: the curves and fractals of seed 001 (B-splines, Bézier
+//! curves and their union, the four-point scheme, Koch and Sierpinski with
+//! control points, the bicubic patch) and the ternary 5-point curves and
+//! surfaces of seed 003.
+
+use super::stationary::{
+    BSpline, ExactMatrix, ModelSpec, Rules, ifs_file, koch_blocks, sierpinski_blocks, tensor_file,
+};
+use super::surd::Surd;
+use super::ternary::ternary_five_point;
+use crate::design::Design;
+use crate::format::parse_design;
+
+/// A generated automaton file.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Generated {
+    /// Name (also the automaton's name).
+    pub name: String,
+    /// One line: what it is and where the seed shows it.
+    pub description: String,
+    /// The commented automaton file.
+    pub text: String,
+}
+
+impl Generated {
+    /// The automaton file parsed.
+    ///
+    /// # Panics
+    /// Never for generated files (they are tested to parse); a failure is a bug.
+    pub fn design(&self) -> Design {
+        parse_design(&self.text, &format!("<{}>", self.name), &self.name)
+            .unwrap_or_else(|e| panic!("bug: generated automaton `{}` does not parse: {e}", self.name))
+    }
+}
+
+/// Why a preset cannot be generated.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum CatalogError {
+    /// No such preset.
+    #[error("no scheme named `{name}`{}; schemes: {}", .suggestion.as_ref().map(|s| format!(" (did you mean `{s}`?)")).unwrap_or_default(), IFS_NAMES.join(", "))]
+    Unknown {
+        /// The name asked for.
+        name: String,
+        /// The closest name.
+        suggestion: Option<String>,
+    },
+    /// Control points that do not fit the scheme.
+    #[error("{0}")]
+    Points(String),
+}
+
+/// The names of the presets.
+pub const IFS_NAMES: [&str; 12] = [
+    "bspline",
+    "bspline-end",
+    "bezier",
+    "bezier-union",
+    "four-point",
+    "koch-control",
+    "sierpinski-control",
+    "bicubic",
+    "ternary5",
+    "ternary5-closed",
+    "ternary5-surface",
+    "ternary5-torus",
+];
+
+/// Default tension of the ternary presets: in the positive fractal range.
+pub const DEFAULT_OMEGA: (i64, i64) = (3, 50);
+
+fn pts(v: &[[f64; 2]]) -> Vec<Vec<f64>> {
+    v.iter().map(|p| p.to_vec()).collect()
+}
+
+fn spec(points: Vec<Vec<f64>>, layout: &str, extra: &str, comment: &str) -> ModelSpec {
+    ModelSpec { points, layout: layout.into(), extra: extra.into(), comment: comment.into() }
+}
+
+fn grid_points(rows: usize, cols: usize, height: impl Fn(f64, f64) -> f64) -> Vec<Vec<f64>> {
+    (0..rows * cols)
+        .map(|k| {
+            let (r, c) = ((k / cols) as f64, (k % cols) as f64);
+            vec![c, r, (height(c, r) * 1e6).round() / 1e6]
+        })
+        .collect()
+}
+
+fn torus_points(rows: usize, cols: usize) -> Vec<Vec<f64>> {
+    (0..rows * cols)
+        .map(|k| {
+            let (u, v) = (
+                std::f64::consts::TAU * (k % cols) as f64 / cols as f64,
+                std::f64::consts::TAU * (k / cols) as f64 / rows as f64,
+            );
+            let r = 3.0 + 1.2 * v.cos();
+            [r * u.cos(), r * u.sin(), 1.2 * v.sin()].iter().map(|x| (x * 1e6).round() / 1e6).collect()
+        })
+        .collect()
+}
+
+/// The preset called `name`, with the given control points (or the natural
+/// ones) and, for the ternary presets, tension `omega` (default 3/50).
+///
+/// # Errors
+/// An unknown name (with the closest one), or control points that do not fit.
+pub fn ifs_preset(name: &str, points: Option<Vec<Vec<f64>>>, omega: Option<&Surd>) -> Result<Generated, CatalogError> {
+    let seed1 = "Schaefer, Levin, Goldman, Subdivision schemes and attractors (seed 001)";
+    let wave = pts(&[[0.0, 0.0], [1.0, 2.0], [2.5, 2.2], [3.5, 0.4], [5.0, 1.2]]);
+    let omega = omega.cloned().unwrap_or_else(|| Surd::frac(DEFAULT_OMEGA.0, DEFAULT_OMEGA.1));
+    let curve = |blocks: Vec<ExactMatrix>, description: &str, comment: &str, model: ModelSpec| {
+        let text = ifs_file(name, description, comment, &blocks, &model);
+        (description.to_string(), text)
+    };
+    let n_of = |blocks: &[ExactMatrix]| blocks[0].len();
+    let with = |default: Vec<Vec<f64>>| points.clone().unwrap_or(default);
+    let check = |model: &ModelSpec, min: usize| -> Result<(), CatalogError> {
+        if model.points.len() < min {
+            return Err(CatalogError::Points(format!("`{name}` needs at least {min} control points")));
+        }
+        Ok(())
+    };
+    let (description, text) = match name {
+        "bspline" => {
+            let b = BSpline::uniform(3, 5).expect("valid").blocks(2).expect("self-similar");
+            let model = spec(with(wave), "open", "", "An open control polygon: windows of 5 points sliding by 2.");
+            check(&model, n_of(&b))?;
+            curve(
+                b,
+                "uniform cubic B-spline, 5 control points, seed 001 §2.1 (Fig. 2)",
+                &format!("The uniform cubic B-spline as an IFS: S_1, S_2 are the 5×5 blocks of rules (4).\n{seed1}."),
+                model,
+            )
+        }
+        "bspline-end" => {
+            let b = BSpline::new(3, &[0, 0, 0, 1, 2, 2, 2]).expect("valid").blocks(2).expect("self-similar");
+            let model =
+                spec(with(wave), "single", "", "Five control points; the curve interpolates the first and last.");
+            check(&model, 5)?;
+            curve(
+                b,
+                "end-interpolating cubic B-spline, knots {0,0,0,1,2,2,2}, seed 001 §2.1 (Fig. 3)",
+                &format!("Knot insertion by blossoming gives the printed S_1, S_2.\n{seed1}."),
+                model,
+            )
+        }
+        "bezier" => {
+            let model = spec(with(pts(&[[0.0, 0.0], [1.0, 2.0], [2.0, 0.0]])), "single", "", "Three control points.");
+            check(&model, 3)?;
+            curve(
+                BSpline::bezier(2).blocks(2).expect("self-similar"),
+                "quadratic Bézier curve: de Casteljau at u = 1/2, seed 001 §2.2",
+                &format!("Goldman's IFS of a Bézier curve.\n{seed1}."),
+                model,
+            )
+        }
+        "bezier-union" => {
+            let default = pts(&[[0.0, 0.0], [1.0, 2.0], [2.0, 0.0], [2.5, 0.5], [3.0, 2.5], [4.5, 1.5]]);
+            let model = spec(with(default), "union", "", "Two Bézier curves: points 0-2 and 3-5, drawn apart.");
+            check(&model, 6)?;
+            curve(
+                BSpline::bezier(2).blocks(2).expect("self-similar"),
+                "union of two quadratic Bézier curves, seed 001 §2.2 (Fig. 4)",
+                &format!(
+                    "The union of attractors: one piece per control triangle (the paper's block-diagonal IFS).\n{seed1}."
+                ),
+                model,
+            )
+        }
+        "four-point" => {
+            let default = pts(&[[0.0, 0.0], [1.0, 1.0], [2.0, 0.0], [3.0, 1.5], [4.0, 0.0], [5.0, 1.0], [6.0, 0.0]]);
+            let model = spec(with(default), "single", "", "Seven control points: the attractor runs from P2 to P4.");
+            check(&model, 7)?;
+            curve(
+                Rules::four_point().blocks(7).expect("7 points give blocks"),
+                "interpolatory four-point scheme, 7×7 blocks, seed 001 §2.3 (Fig. 5)",
+                &format!("The printed 7×7 blocks S_1, S_2 of the four-point rules.\n{seed1}."),
+                model,
+            )
+        }
+        "koch-control" => {
+            let s = 3f64.sqrt() / 6.0;
+            let default = pts(&[[0.0, 0.0], [1.0 / 3.0, 0.0], [0.5, s], [2.0 / 3.0, 0.0], [1.0, 0.0]]);
+            let model = spec(
+                with(default),
+                "single",
+                "",
+                "The natural control points of the Koch curve (move them to deform it).",
+            );
+            check(&model, 5)?;
+            curve(
+                koch_blocks(),
+                "Koch curve with 5 control points, seed 001 §4.1 (Fig. 10)",
+                &format!("The printed S_1 … S_4: barycentric coordinates w.r.t. the closest control points.\n{seed1}."),
+                model,
+            )
+        }
+        "sierpinski-control" => {
+            let h = 3f64.sqrt() / 2.0;
+            let default = pts(&[[0.0, 0.0], [0.5, 0.0], [1.0, 0.0], [0.75, h / 2.0], [0.5, h], [0.25, h / 2.0]]);
+            let model =
+                spec(with(default), "single", "", "Corners 0, 2, 4 and edge points 1, 3, 5 (quadratic outer edges).");
+            check(&model, 6)?;
+            curve(
+                sierpinski_blocks(),
+                "Sierpinski gasket with 6 control points, seed 001 §4.2 (Fig. 11)",
+                &format!("The printed S_1 … S_3: outer edges by Lagrange interpolation, inner edges linear.\n{seed1}."),
+                model,
+            )
+        }
+        "bicubic" => {
+            let b = BSpline::uniform(3, 4).expect("valid").blocks(2).expect("self-similar");
+            let default =
+                grid_points(6, 6, |c, r| if (1.0..=4.0).contains(&c) && (1.0..=4.0).contains(&r) { 1.2 } else { 0.0 });
+            let model =
+                spec(with(default), "grid", "grid = [6, 6]", "A 6×6 control grid: 3×3 bicubic patches, welded.");
+            check(&model, 16)?;
+            let description = "bicubic B-spline patches: tensor product of the cubic IFS, seed 001 §3.1 (Fig. 6)";
+            let text = tensor_file(
+                name,
+                description,
+                &format!("Four maps (S_v ⊗ S_u)ᵀ on a 4×4 control grid.\n{seed1}."),
+                &b,
+                &model,
+            )
+            .expect("the cubic B-spline is a curve with one vertex rule");
+            (description.to_string(), text)
+        }
+        "ternary5" | "ternary5-closed" | "ternary5-surface" | "ternary5-torus" => {
+            let rules = ternary_five_point(&omega);
+            let b = rules.blocks(super::ternary::TERNARY_WINDOW).expect("7 points give blocks");
+            let seed3 = format!(
+                "The ternary 5-point scheme of Siddiqi, Siddiqui and Ahmad (seed 003, eq. 1) with tension ω = {omega}:\n\
+                 three 7×7 blocks; the attractor of one window is the curve around its middle point."
+            );
+            match name {
+                "ternary5" | "ternary5-closed" => {
+                    let closed = name == "ternary5-closed";
+                    let default: Vec<Vec<f64>> = if closed {
+                        (0..9)
+                            .map(|i| {
+                                let t = std::f64::consts::TAU * i as f64 / 9.0;
+                                let r = if i % 3 == 0 { 1.3 } else { 1.0 };
+                                vec![(r * t.cos() * 1e6).round() / 1e6, (r * t.sin() * 1e6).round() / 1e6]
+                            })
+                            .collect()
+                    } else {
+                        (0..12).map(|i| vec![i as f64, if i % 2 == 0 { 0.0 } else { 1.0 }]).collect()
+                    };
+                    let model = spec(
+                        with(default),
+                        if closed { "closed" } else { "open" },
+                        "",
+                        "Windows of 7 control points sliding by 1.",
+                    );
+                    check(&model, 7)?;
+                    curve(b, &format!("ternary 5-point curve, ω = {omega}, seed 003"), &seed3, model)
+                }
+                _ => {
+                    let torus = name == "ternary5-torus";
+                    let model = if torus {
+                        spec(
+                            with(torus_points(8, 12)),
+                            "torus",
+                            "grid = [8, 12]",
+                            "A closed 8×12 control grid on a torus.",
+                        )
+                    } else {
+                        let default =
+                            grid_points(9, 9, |c, r| ((c - 4.0).powi(2) + (r - 4.0).powi(2) < 5.0) as u8 as f64 * 1.5);
+                        spec(with(default), "grid", "grid = [9, 9]", "A 9×9 control grid: 3×3 patches of 7×7 windows.")
+                    };
+                    check(&model, 49)?;
+                    let description = format!("ternary 5-point tensor-product surface, ω = {omega}, seed 003");
+                    let text = tensor_file(name, &description, &seed3, &b, &model)
+                        .map_err(|e| CatalogError::Points(e.to_string()))?;
+                    (description, text)
+                }
+            }
+        }
+        other => {
+            return Err(CatalogError::Unknown {
+                name: other.to_string(),
+                suggestion: crate::format::suggest(other, IFS_NAMES),
+            });
+        }
+    };
+    Ok(Generated { name: name.to_string(), description, text })
+}
