@@ -109,6 +109,83 @@ enum Command {
 enum SchemeCommand {
     /// The p-ary normal-vector scheme of Li, Zheng, Peng and Zhou (seed 000, eq. 1).
     Normal(NormalArgs),
+    /// Stationary schemes as IFS (seed 001) and the ternary 5-point scheme (seed 003):
+    /// bspline, bspline-end, bezier, bezier-union, four-point, koch-control,
+    /// sierpinski-control, bicubic, ternary5, ternary5-closed, ternary5-surface, ternary5-torus.
+    Ifs(IfsArgs),
+}
+
+#[derive(clap::Args)]
+struct IfsArgs {
+    /// The scheme.
+    name: String,
+    /// Control points `x,y x,y ...` or `x,y,z ...` (default: the scheme's natural ones).
+    #[arg(long, allow_hyphen_values = true)]
+    points: Option<String>,
+    /// Tension ω of the ternary schemes, a constant such as 3/50 or -1/20.
+    #[arg(long, allow_hyphen_values = true)]
+    omega: Option<String>,
+    /// Subdivision depth.
+    #[arg(long, default_value_t = 6)]
+    depth: usize,
+    /// Leave out a subdivision arrow (repeatable): a fractal subset of the attractor.
+    #[arg(long = "drop", value_name = "ARROW")]
+    drop: Vec<String>,
+    /// Print the automaton file (TOML) instead of rendering.
+    #[arg(long)]
+    print: bool,
+    /// Picture size in pixels, WIDTHxHEIGHT.
+    #[arg(long, default_value = "800x800")]
+    size: String,
+    /// Output file: .obj, .svg or .png.
+    #[arg(short, long, required_unless_present = "print")]
+    output: Option<PathBuf>,
+}
+
+fn run_ifs(out: &mut String, args: IfsArgs) -> Result<u8> {
+    let points = match &args.points {
+        None => None,
+        Some(text) => {
+            let mut pts = Vec::new();
+            for p in text.split_whitespace() {
+                let coords: Vec<f64> = p
+                    .split(',')
+                    .map(|x| x.trim().parse::<f64>().with_context(|| format!("--points `{p}`: expected numbers")))
+                    .collect::<Result<_>>()?;
+                pts.push(coords);
+            }
+            let d = pts.first().map_or(0, Vec::len);
+            if !(2..=3).contains(&d) || pts.iter().any(|p| p.len() != d) {
+                bail!("--points: all points need 2 or all 3 coordinates");
+            }
+            Some(pts)
+        }
+    };
+    let omega = args.omega.as_deref().map(bcifs::schemes::Surd::parse).transpose()?;
+    let generated = bcifs::schemes::ifs_preset(&args.name, points, omega.as_ref())?;
+    if args.print {
+        out.push_str(&generated.text);
+        return Ok(0);
+    }
+    let design = generated.design();
+    let output = args.output.context("give -o OUT.{png,svg,obj}")?;
+    let (w, h) = parse_size(&args.size)?;
+    let mut options = bcifs::RenderOptions::default();
+    options.eval.depth = bcifs::eval::Depth::Fixed(args.depth);
+    options.eval.dropped = args.drop;
+    options.eval.progress = true;
+    options.raster = options.raster.with_size(w, h);
+    let started = std::time::Instant::now();
+    let summary = bcifs::render(&design, &options, &output)?;
+    eprintln!(
+        "{}: {} vertices{} → {} ({:.2} s)",
+        generated.description,
+        summary.vertices,
+        if summary.quads > 0 { format!(", {} quads", summary.quads) } else { String::new() },
+        output.display(),
+        started.elapsed().as_secs_f64()
+    );
+    Ok(0)
 }
 
 #[derive(Subcommand)]
@@ -605,6 +682,7 @@ fn run(out: &mut String, cli: Cli) -> Result<u8> {
         },
         Command::Scheme { scheme } => match scheme {
             SchemeCommand::Normal(args) => run_normal(out, args),
+            SchemeCommand::Ifs(args) => run_ifs(out, args),
         },
         Command::New { topology } => {
             let text = match topology {

@@ -1,7 +1,9 @@
 //! Integration tests of the scheme generators against the seeds' numbers.
 #![allow(clippy::needless_range_loop)] // index loops mirror the formulas they check
 
+mod ifs;
 mod normal;
+mod ternary;
 
 use bcifs::Design;
 use bcifs::eval::{EvalSettings, Evaluator};
