@@ -94,7 +94,7 @@ fn bezier_limit_points_are_bernstein_and_the_union_is_two_curves() {
     let mut union = Vec::new();
     let start = vec![0.3, -0.7, 1.0];
     for l in [&lp, &lq] {
-        union.extend(l.iterate(&[start.clone()], 12).into_iter().map(|p| [p[0], p[1], 0.0]));
+        union.extend(l.iterate(std::slice::from_ref(&start), 12).into_iter().map(|p| [p[0], p[1], 0.0]));
     }
     let dense = lift(&points2(&evaluate(&design, 12)));
     let h = hausdorff(&union, &dense);
