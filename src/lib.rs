@@ -49,8 +49,9 @@ pub use family::{
 };
 pub use format::{FormatError, ReadError, TomlWriter, edit_distance, parse_design, read_design, suggest};
 pub use render::{
-    GALLERY_BUDGET_BYTES, GALLERY_MAX_DEPTH, GalleryEntry, RenderError, RenderOptions, RenderSummary, SchemeForm,
-    evaluate_design, gallery, gallery_depth, normal_shape, render, ternary5_plot, write_shape,
+    GALLERY_BUDGET_BYTES, GALLERY_MAX_DEPTH, GalleryEntry, GallerySource, RenderError, RenderOptions, RenderSummary,
+    SchemeForm, evaluate_design, gallery, gallery_depth, gallery_items, normal_shape, render, ternary5_plot,
+    write_shape,
 };
 pub use space::{CellKind, State};
 

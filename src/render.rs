@@ -224,56 +224,98 @@ pub fn gallery_depth(design: &Design) -> Result<usize, RenderError> {
     Ok((1..=GALLERY_MAX_DEPTH).take_while(|&k| ev.estimate_bytes(k) <= GALLERY_BUDGET_BYTES).last().unwrap_or(1))
 }
 
-/// Renders every shipped automaton that has a model into `dir`: a PNG and an
-/// OBJ each (plus a chaos-game picture for plain IFS), and an `index.html`.
-///
-/// # Errors
-/// The first automaton that fails, or an I/O error.
-pub fn gallery(dir: &Path, progress: bool) -> Result<Vec<GalleryEntry>, RenderError> {
-    std::fs::create_dir_all(dir).map_err(|e| RenderError::Io(dir.to_path_buf(), e))?;
-    let mut entries = Vec::new();
-    let designs: Vec<Design> = crate::BUILTIN_AUTOMATA
+/// What a gallery entry is made from.
+#[derive(Clone, Debug)]
+pub enum GallerySource {
+    /// An automaton with a model, evaluated to the deepest depth within the budget
+    /// (or to the given depth).
+    Design(Box<Design>, Option<usize>),
+    /// A shape computed directly (a scheme's polyline form), with its depth.
+    Shape(Box<Shape>, usize),
+}
+
+/// The gallery: every shipped automaton with a model, every normal-vector
+/// preset of seed 000 at the paper's depth, every scheme of the catalogue
+/// (seeds 001 and 003): `(name, description, source)`.
+pub fn gallery_items() -> Vec<(String, String, GallerySource)> {
+    let mut items: Vec<(String, String, GallerySource)> = crate::BUILTIN_AUTOMATA
         .iter()
         .filter_map(|(n, _)| crate::builtin_design(n))
         .filter(|d| d.model.is_some())
+        .map(|d| (d.automaton.name.clone(), d.description.clone(), GallerySource::Design(Box::new(d), None)))
         .collect();
+    for name in crate::schemes::PRESET_NAMES {
+        let Ok(preset) = crate::schemes::normal_preset(name) else { continue };
+        let entry = format!("normal-{name}");
+        let description = format!("{} (normal-vector scheme, seed 000)", preset.description);
+        let source = match preset.scheme.design(&entry, &preset.polygon, preset.closed) {
+            Ok(design) => GallerySource::Design(Box::new(design), Some(preset.depth)),
+            Err(_) => match normal_shape(&preset, preset.depth, SchemeForm::Direct, GALLERY_BUDGET_BYTES as usize) {
+                Ok(shape) => GallerySource::Shape(Box::new(shape), preset.depth),
+                Err(_) => continue,
+            },
+        };
+        items.push((entry, description, source));
+    }
+    for name in crate::schemes::IFS_NAMES {
+        if let Ok(g) = crate::schemes::ifs_preset(name, None, None) {
+            items.push((g.name.clone(), g.description.clone(), GallerySource::Design(Box::new(g.design()), None)));
+        }
+    }
+    items
+}
+
+/// Renders the gallery ([`gallery_items`]) into `dir`: a PNG and an OBJ each
+/// (plus a chaos-game picture for plain IFS), and an `index.html`.
+///
+/// # Errors
+/// The first entry that fails, or an I/O error.
+pub fn gallery(dir: &Path, progress: bool) -> Result<Vec<GalleryEntry>, RenderError> {
+    std::fs::create_dir_all(dir).map_err(|e| RenderError::Io(dir.to_path_buf(), e))?;
+    let mut entries = Vec::new();
+    let items = gallery_items();
     let bar = (progress && std::io::IsTerminal::is_terminal(&std::io::stderr()))
-        .then(|| indicatif::ProgressBar::new(designs.len() as u64));
-    for design in designs {
-        let name = design.automaton.name.clone();
+        .then(|| indicatif::ProgressBar::new(items.len() as u64));
+    for (name, description, source) in items {
         if let Some(b) = &bar {
             b.set_message(name.clone());
         }
-        let depth = gallery_depth(&design)?;
-        let mut options = RenderOptions::default();
-        options.eval.depth = Depth::Fixed(depth);
         let mut files = Vec::new();
-        let png = format!("{name}.png");
-        let summary = render(&design, &options, &dir.join(&png))?;
-        files.push(png);
-        let obj = format!("{name}.obj");
-        render(&design, &options, &dir.join(&obj))?;
-        files.push(obj);
-        let model = model_of(&design)?;
-        let plain_ifs = model.layout == crate::design::Layout::Single
-            && design
-                .automaton
-                .state_id(model.root(0))
-                .is_some_and(|r| design.automaton.state(r).kind == crate::space::CellKind::Free);
-        if plain_ifs {
-            let mut random = options.clone();
-            random.random = Some(RandomSettings::default().with_points(2_000_000));
-            let png = format!("{name}-chaos.png");
-            render(&design, &random, &dir.join(&png))?;
-            files.push(png);
-        }
-        entries.push(GalleryEntry {
-            name,
-            description: design.description.clone(),
-            depth: Some(depth),
-            files,
-            summary,
-        });
+        let (png, obj) = (format!("{name}.png"), format!("{name}.obj"));
+        let (depth, summary) = match source {
+            GallerySource::Shape(shape, depth) => {
+                let summary = write_shape(&shape, &name, &RasterSettings::default(), &dir.join(&png))?;
+                write_shape(&shape, &name, &RasterSettings::default(), &dir.join(&obj))?;
+                files.extend([png, obj]);
+                (depth, summary)
+            }
+            GallerySource::Design(design, fixed) => {
+                let depth = match fixed {
+                    Some(d) => d,
+                    None => gallery_depth(&design)?,
+                };
+                let mut options = RenderOptions::default();
+                options.eval.depth = Depth::Fixed(depth);
+                let summary = render(&design, &options, &dir.join(&png))?;
+                render(&design, &options, &dir.join(&obj))?;
+                files.extend([png, obj]);
+                let model = model_of(&design)?;
+                let plain_ifs = model.layout == crate::design::Layout::Single
+                    && design
+                        .automaton
+                        .state_id(model.root(0))
+                        .is_some_and(|r| design.automaton.state(r).kind == crate::space::CellKind::Free);
+                if plain_ifs {
+                    let mut random = options.clone();
+                    random.random = Some(RandomSettings::default().with_points(2_000_000));
+                    let png = format!("{name}-chaos.png");
+                    render(&design, &random, &dir.join(&png))?;
+                    files.push(png);
+                }
+                (depth, summary)
+            }
+        };
+        entries.push(GalleryEntry { name, description, depth: Some(depth), files, summary });
         if let Some(b) = &bar {
             b.inc(1);
         }

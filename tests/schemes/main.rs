@@ -1,6 +1,7 @@
 //! Integration tests of the scheme generators against the seeds' numbers.
 #![allow(clippy::needless_range_loop)] // index loops mirror the formulas they check
 
+mod cli;
 mod ifs;
 mod normal;
 mod ternary;

@@ -1,0 +1,93 @@
+//! The scheme commands: thin shells over the generators.
+
+use std::process::Command;
+
+fn bcifs(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_bcifs")).args(args).output().expect("run bcifs");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into(),
+        String::from_utf8_lossy(&out.stderr).into(),
+    )
+}
+
+fn temp(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("bcifs-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    dir.join(name)
+}
+
+/// `bcifs scheme normal --print` writes an automaton that `bcifs check` passes
+/// (vertex dimension 1), for a preset and for free parameters with a sign pattern.
+#[test]
+fn printed_normal_automata_pass_check() {
+    for args in [
+        vec!["scheme", "normal", "--preset", "snowflake", "--print"],
+        vec![
+            "scheme",
+            "normal",
+            "--p",
+            "3",
+            "--alpha",
+            "0,1/4,3/4",
+            "--beta",
+            "0,sqrt(3)/4,sqrt(3)/4",
+            "--sign",
+            "level-index",
+            "--polygon",
+            "triangle",
+            "--print",
+        ],
+    ] {
+        let (code, text, err) = bcifs(&args);
+        assert_eq!(code, 0, "{err}");
+        let file = temp(&format!("{}.toml", args.len()));
+        std::fs::write(&file, text).unwrap();
+        let (code, out, err) = bcifs(&["check", file.to_str().unwrap(), "--json"]);
+        assert_eq!(code, 0, "{out}{err}");
+        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        assert_eq!(v["ok"], true);
+        assert_eq!(v["contractive"], true);
+    }
+}
+
+#[test]
+fn scheme_renders_and_reports_bad_input() {
+    let png = temp("koch.png");
+    let (code, _, err) = bcifs(&["scheme", "normal", "--preset", "koch", "--depth", "3", "-o", png.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert!(std::fs::metadata(&png).unwrap().len() > 1000);
+    let (code, _, err) =
+        bcifs(&["scheme", "normal", "--preset", "approximating", "--form", "automaton", "-o", png.to_str().unwrap()]);
+    assert_eq!(code, 2);
+    assert!(err.contains("interpolatory"), "{err}");
+    let (code, _, err) = bcifs(&["scheme", "normal", "--preset", "koch", "--p", "3", "-o", png.to_str().unwrap()]);
+    assert_eq!(code, 2);
+    assert!(err.contains("--p 3"), "{err}");
+    let (code, _, err) = bcifs(&["scheme", "normal", "--sign", "alternat", "--print"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("did you mean `alternate`"), "{err}");
+    let obj = temp("torus.obj");
+    let (code, _, err) = bcifs(&["scheme", "ifs", "ternary5-torus", "--depth", "1", "-o", obj.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    let (models, _) = tobj::load_obj(&obj, &tobj::LoadOptions::default()).unwrap();
+    assert_eq!(models.iter().map(|m| m.mesh.positions.len() / 3).sum::<usize>(), 8 * 12 * 9);
+    let (code, _, err) = bcifs(&["scheme", "ifs", "bezier", "--points", "0,0 1", "-o", obj.to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+}
+
+/// `bcifs analyze ternary5` prints the table and the ranges and writes the plot.
+#[test]
+fn analyze_ternary5_prints_ranges_and_plots() {
+    let png = temp("t5.png");
+    let (code, out, err) =
+        bcifs(&["analyze", "ternary5", "--omega-range", "-0.1", "0.1", "--steps", "20", "-o", png.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(out.lines().filter(|l| l.trim_start().starts_with(['-', '0'])).count(), 21, "{out}");
+    assert!(out.contains("fractal (C0 and length growth > 1.001) on ("), "{out}");
+    assert!(out.contains("paper: (-0.01235, 0.16358)"), "{out}");
+    let img = image::open(&png).unwrap();
+    assert_eq!((img.width(), img.height()), (900, 600));
+    let (code, _, _) = bcifs(&["analyze", "ternary5", "--omega-range", "0.1", "-0.1", "-o", png.to_str().unwrap()]);
+    assert_eq!(code, 2);
+}
