@@ -61,6 +61,12 @@ fn doo_sabin(c: &mut Criterion) {
         g.bench_with_input(BenchmarkId::new("in_memory_threads", threads), &threads, |b, _| {
             b.iter_with_large_drop(|| ev.evaluate().expect("fits"))
         });
+        // Re-evaluation into the same buffers (a designer changing a parameter):
+        // no allocation, no page faults.
+        let mut shape = ev.evaluate().expect("fits");
+        g.bench_with_input(BenchmarkId::new("in_memory_reused_threads", threads), &threads, |b, _| {
+            b.iter(|| ev.evaluate_into(black_box(&mut shape)).expect("fits"))
+        });
     }
     g.finish();
 }

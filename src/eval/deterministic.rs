@@ -407,6 +407,25 @@ impl Evaluator {
         Ok(shape)
     }
 
+    /// Evaluates into `shape`, reusing its buffers: re-evaluating a mesh of
+    /// the same size (a parameter changed) allocates nothing.
+    ///
+    /// # Errors
+    /// As [`Evaluator::evaluate`].
+    pub fn evaluate_into(&self, shape: &mut Shape) -> Result<(), EvalError> {
+        if let Depth::Fixed(k) = self.settings.depth {
+            let estimate = self.estimate_bytes(k);
+            if estimate > self.settings.memory_limit as u128 {
+                return Err(EvalError::TooLarge { estimate, limit: self.settings.memory_limit });
+            }
+        }
+        let faces = self.pieces.pieces.iter().any(|p| self.plan.state(p.state).kind == CellKind::Face);
+        if !faces {
+            *shape = Shape::default();
+        }
+        self.run(shape, true)
+    }
+
     /// Evaluates into any sink, streaming: memory stays bounded whatever the depth.
     ///
     /// # Errors

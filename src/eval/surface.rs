@@ -15,7 +15,7 @@
 use rayon::prelude::*;
 
 use super::deterministic::{EvalError, Evaluator, mul_into as mat_mul_into, project_into as project};
-use crate::geometry::Sink;
+use crate::geometry::{Buffers, Sink};
 
 /// Blocks have at most `BLOCK_SIDE` quads on a side (33² lattice points, 9 coordinates each: ~80 KB).
 const BLOCK_SIDE: usize = 32;
@@ -123,6 +123,7 @@ pub(super) fn mesh(ev: &Evaluator, k: usize, sink: &mut dyn Sink, in_memory: boo
         child_of[dv * p + du] = i;
     }
 
+    let mut recycled = if in_memory { sink.recycle().unwrap_or_default() } else { Buffers::default() };
     sink.object("surface")?;
     // Texture coordinates: the natural parameterisation of each patch.
     let np = lat.n + 1;
@@ -130,7 +131,13 @@ pub(super) fn mesh(ev: &Evaluator, k: usize, sink: &mut dyn Sink, in_memory: boo
         (from..to).flat_map(|i| [(i % np) as f64 / lat.n as f64, (i / np) as f64 / lat.n as f64]).collect()
     };
     if in_memory {
-        sink.uvs_owned(uv_range(0, np * np).repeat(pr * pc))?;
+        let mut uvs = std::mem::take(&mut recycled.uvs);
+        uvs.clear();
+        let one = uv_range(0, np * np);
+        for _ in 0..pr * pc {
+            uvs.extend_from_slice(&one);
+        }
+        sink.uvs_owned(uvs)?;
     } else {
         // Fixed-size chunks: memory does not grow with the depth.
         const UV_CHUNK: usize = 1 << 15;
@@ -219,9 +226,24 @@ pub(super) fn mesh(ev: &Evaluator, k: usize, sink: &mut dyn Sink, in_memory: boo
         let end = (start + batch).min(blocks);
         let count = (end - start) * bb;
         if in_memory {
-            // Fresh zeroed allocations: the pages are mapped as they are first written.
-            (pos, nrm, quads, quv) =
-                (vec![0.0; count * d], vec![0.0; count * 3], vec![[0; 4]; count], vec![[0; 4]; count]);
+            // The sink's earlier buffers when it has some (overwritten in place), else
+            // fresh zeroed allocations: their pages are mapped as they are first written.
+            fn reuse<T: Copy + Default>(mut v: Vec<T>, len: usize) -> Vec<T> {
+                if v.len() == len {
+                    v
+                } else if v.capacity() >= len {
+                    v.clear();
+                    v.resize(len, T::default());
+                    v
+                } else {
+                    vec![T::default(); len]
+                }
+            }
+            let reuse4 = reuse::<[usize; 4]>;
+            pos = reuse(std::mem::take(&mut recycled.positions), count * d);
+            nrm = reuse(std::mem::take(&mut recycled.normals), count * 3);
+            quads = reuse4(std::mem::take(&mut recycled.quads), count);
+            quv = reuse4(std::mem::take(&mut recycled.quad_uvs), count);
         } else {
             pos.resize(count * d, 0.0);
             nrm.resize(count * 3, 0.0);

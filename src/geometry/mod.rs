@@ -38,6 +38,27 @@ pub trait Sink {
     fn faces_owned(&mut self, quads: Vec<[usize; 4]>, uvs: Option<Vec<[usize; 4]>>) -> io::Result<()> {
         self.faces(&quads, uvs.as_deref())
     }
+    /// Buffers of an earlier output that the evaluator may overwrite and hand
+    /// back through the `*_owned` methods (no new allocation, no page faults
+    /// when the sizes repeat). Sinks that keep nothing return `None`.
+    fn recycle(&mut self) -> Option<Buffers> {
+        None
+    }
+}
+
+/// Output buffers handed back for reuse by [`Sink::recycle`].
+#[derive(Clone, Debug, Default)]
+pub struct Buffers {
+    /// Positions.
+    pub positions: Vec<f64>,
+    /// Normals.
+    pub normals: Vec<f64>,
+    /// Texture coordinates.
+    pub uvs: Vec<f64>,
+    /// Quads.
+    pub quads: Vec<[usize; 4]>,
+    /// Texture indices of quads.
+    pub quad_uvs: Vec<[usize; 4]>,
 }
 
 /// A named part of a [`Shape`].
@@ -265,5 +286,17 @@ impl Sink for Shape {
 
     fn finish(&mut self) -> io::Result<()> {
         Ok(())
+    }
+
+    fn recycle(&mut self) -> Option<Buffers> {
+        let b = Buffers {
+            positions: std::mem::take(&mut self.positions),
+            normals: std::mem::take(&mut self.normals),
+            uvs: std::mem::take(&mut self.uvs),
+            quads: std::mem::take(&mut self.quads),
+            quad_uvs: std::mem::take(&mut self.quad_uvs),
+        };
+        *self = Shape::default();
+        Some(b)
     }
 }

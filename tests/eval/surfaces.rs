@@ -123,3 +123,16 @@ fn neighbouring_patches_agree_on_their_boundary() {
         assert!((0..3).all(|a| (p[a] - q[a]).abs() < 1e-12), "u = {u}: {p:?} vs {q:?}");
     }
 }
+
+/// Re-evaluating into the same shape gives the same mesh (buffers reused).
+#[test]
+fn evaluate_into_reuses_and_matches() {
+    let (a, model, _) = super::load("doo_sabin_torus", &[]);
+    let ev = bcifs::eval::Evaluator::new(&a, &model, bcifs::eval::EvalSettings::default().with_depth(3)).unwrap();
+    let fresh = ev.evaluate().unwrap();
+    let mut shape = ev.evaluate().unwrap();
+    let before = shape.positions.as_ptr();
+    ev.evaluate_into(&mut shape).unwrap();
+    assert_eq!(shape, fresh);
+    assert_eq!(shape.positions.as_ptr(), before, "the position buffer is reused");
+}
