@@ -115,6 +115,20 @@ enum SchemeCommand {
     Ifs(IfsArgs),
 }
 
+/// Where a generated scheme goes: its automaton file, or a picture or mesh.
+#[derive(clap::Args)]
+struct SchemeOutput {
+    /// Print the automaton file (TOML) instead of rendering.
+    #[arg(long)]
+    print: bool,
+    /// Picture size in pixels, WIDTHxHEIGHT.
+    #[arg(long, default_value = "800x800")]
+    size: String,
+    /// Output file: .obj, .svg or .png.
+    #[arg(short, long, required_unless_present = "print")]
+    output: Option<PathBuf>,
+}
+
 #[derive(clap::Args)]
 struct IfsArgs {
     /// The scheme.
@@ -131,15 +145,8 @@ struct IfsArgs {
     /// Leave out a subdivision arrow (repeatable): a fractal subset of the attractor.
     #[arg(long = "drop", value_name = "ARROW")]
     drop: Vec<String>,
-    /// Print the automaton file (TOML) instead of rendering.
-    #[arg(long)]
-    print: bool,
-    /// Picture size in pixels, WIDTHxHEIGHT.
-    #[arg(long, default_value = "800x800")]
-    size: String,
-    /// Output file: .obj, .svg or .png.
-    #[arg(short, long, required_unless_present = "print")]
-    output: Option<PathBuf>,
+    #[command(flatten)]
+    out: SchemeOutput,
 }
 
 fn run_ifs(out: &mut String, args: IfsArgs) -> Result<u8> {
@@ -163,13 +170,13 @@ fn run_ifs(out: &mut String, args: IfsArgs) -> Result<u8> {
     };
     let omega = args.omega.as_deref().map(bcifs::schemes::Surd::parse).transpose()?;
     let generated = bcifs::schemes::ifs_preset(&args.name, points, omega.as_ref())?;
-    if args.print {
+    if args.out.print {
         out.push_str(&generated.text);
         return Ok(0);
     }
     let design = generated.design();
-    let output = args.output.context("give -o OUT.{png,svg,obj}")?;
-    let (w, h) = parse_size(&args.size)?;
+    let output = args.out.output.context("give -o OUT.{png,svg,obj}")?;
+    let (w, h) = parse_size(&args.out.size)?;
     let mut options = bcifs::RenderOptions::default();
     options.eval.depth = bcifs::eval::Depth::Fixed(args.depth);
     options.eval.dropped = args.drop;
@@ -316,15 +323,8 @@ struct NormalArgs {
     /// auto (automaton when interpolatory), direct (eq. 1 on the polygon) or automaton.
     #[arg(long, default_value = "auto")]
     form: String,
-    /// Print the automaton file (TOML) instead of rendering.
-    #[arg(long)]
-    print: bool,
-    /// Picture size in pixels, WIDTHxHEIGHT.
-    #[arg(long, default_value = "800x800")]
-    size: String,
-    /// Output file: .obj, .svg or .png.
-    #[arg(short, long, required_unless_present = "print")]
-    output: Option<PathBuf>,
+    #[command(flatten)]
+    out: SchemeOutput,
 }
 
 fn keyword<T: Copy>(what: &str, value: &str, options: &[(&str, T)]) -> Result<T> {
@@ -404,7 +404,7 @@ fn run_normal(out: &mut String, args: NormalArgs) -> Result<u8> {
     if preset.polygon.len() < if preset.closed { 3 } else { 2 } {
         bail!("the initial polygon needs at least {} points", if preset.closed { 3 } else { 2 });
     }
-    if args.print {
+    if args.out.print {
         out.push_str(&preset.scheme.automaton_file(preset.name, preset.description, &preset.polygon, preset.closed)?);
         return Ok(0);
     }
@@ -418,8 +418,8 @@ fn run_normal(out: &mut String, args: NormalArgs) -> Result<u8> {
         ],
     )?;
     let depth = args.depth.unwrap_or(preset.depth);
-    let output = args.output.context("give -o OUT.{png,svg,obj}")?;
-    let (w, h) = parse_size(&args.size)?;
+    let output = args.out.output.context("give -o OUT.{png,svg,obj}")?;
+    let (w, h) = parse_size(&args.out.size)?;
     let started = std::time::Instant::now();
     let shape = bcifs::normal_shape(&preset, depth, form, bcifs::eval::DEFAULT_MEMORY_LIMIT)?;
     let raster = bcifs::export::RasterSettings::default().with_size(w, h);
