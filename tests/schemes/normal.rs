@@ -252,3 +252,59 @@ fn bad_parameters_are_reported() {
     let exact = Surd::parse("sqrt(3)/6").unwrap();
     assert_eq!(normal_preset("koch").unwrap().scheme.beta[2], exact);
 }
+
+/// The first step of each preset on the unit segment gives the points the
+/// paper's parameters define: P_j = (α_j, ±β_j) for the unit segment (0,0)–(1,0).
+#[test]
+fn first_steps_are_the_papers_points() {
+    let s3 = 3f64.sqrt();
+    let cases: [(&str, Vec<[f64; 2]>); 6] = [
+        ("levy", vec![[0.0, 0.0], [0.5, 0.5], [1.0, 0.0]]),
+        // (−1)^(k+i) at k = i = 0 is +1.
+        ("sierpinski", vec![[0.0, 0.0], [0.25, s3 / 4.0], [0.75, s3 / 4.0], [1.0, 0.0]]),
+        ("tigerhead", vec![[0.0, 0.0], [-0.25, 1.0 / 3.0], [0.5, 0.5], [1.25, 1.0 / 3.0], [1.0, 0.0]]),
+        // (−1)^(k+1) at k = 0 is −1: the first bumps point down.
+        ("human", vec![[0.0, 0.0], [5.0 / 9.0, -1.0 / 3.0], [0.5, -0.5], [4.0 / 9.0, -1.0 / 3.0], [1.0, 0.0]]),
+        (
+            "crown",
+            vec![
+                [0.0, 0.0],
+                [1.0 / 3.0, -s3 / 9.0],
+                [1.0 / 3.0, s3 / 9.0],
+                [0.5, -s3 / 18.0],
+                [2.0 / 3.0, s3 / 9.0],
+                [2.0 / 3.0, -s3 / 9.0],
+                [1.0, 0.0],
+            ],
+        ),
+        (
+            "minkowski",
+            vec![
+                [0.0, 0.0],
+                [0.25, 0.0],
+                [0.25, 0.25],
+                [0.5, 0.25],
+                [0.5, -0.25],
+                [0.75, -0.25],
+                [0.75, 0.0],
+                [1.0, 0.0],
+            ],
+        ),
+    ];
+    for (name, expected) in cases {
+        let p = normal_preset(name).unwrap();
+        let got = p.scheme.polygon(&unit_segment(), false, 1);
+        assert_eq!(got.len(), expected.len(), "{name}");
+        for (g, e) in got.iter().zip(&expected) {
+            assert!((g[0] - e[0]).abs() < 1e-15 && (g[1] - e[1]).abs() < 1e-15, "{name}: {g:?} vs {e:?}");
+        }
+    }
+    // The second step of the human-like curve flips the sign: (−1)^(k+1) = +1 at k = 1.
+    let human = normal_preset("human").unwrap();
+    let two = human.scheme.polygon(&unit_segment(), false, 2);
+    let one = human.scheme.polygon(&unit_segment(), false, 1);
+    let (a, b) = (one[0], one[1]);
+    let d = [-(b[1] - a[1]), b[0] - a[0]];
+    let expected = [a[0] + 5.0 / 9.0 * (b[0] - a[0]) + d[0] / 3.0, a[1] + 5.0 / 9.0 * (b[1] - a[1]) + d[1] / 3.0];
+    assert!((two[1][0] - expected[0]).abs() < 1e-15 && (two[1][1] - expected[1]).abs() < 1e-15);
+}
