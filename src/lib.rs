@@ -25,7 +25,22 @@
 //! ```
 //!
 //! Data flows one way: file or generator → [`Design`] → [`solve`] →
-//! [`Family`] → [`Family::instantiate`] → numeric [`Automaton`].
+//! [`Family`] → [`Family::instantiate`] → numeric [`Automaton`] →
+//! [`eval`] → [`geometry`] → [`export`].
+//!
+//! The seeds' schemes are generators in [`schemes`]: each returns an
+//! automaton file with a model, so everything above works on it.
+//!
+//! ```
+//! // The Koch curve of the normal-vector scheme (seed 000, eq. 5) as an automaton.
+//! let koch = bcifs::schemes::normal_preset("koch").unwrap();
+//! let design = koch.scheme.design("koch", &koch.polygon, koch.closed).unwrap();
+//! let instance = bcifs::instantiate(&design, &[]).unwrap();
+//! let model = design.model.clone().unwrap();
+//! let settings = bcifs::eval::EvalSettings::default().with_depth(3);
+//! let shape = bcifs::eval::Evaluator::new(&instance.automaton, &model, settings).unwrap().evaluate().unwrap();
+//! assert_eq!(shape.vertex_count(), 4usize.pow(3) + 1);
+//! ```
 
 #![forbid(unsafe_code)]
 
