@@ -217,10 +217,29 @@ fn run_ternary5(out: &mut String, from: f64, to: f64, steps: usize, output: &std
     if from >= to || !from.is_finite() || !to.is_finite() {
         bail!("--omega-range A B needs finite A < B");
     }
-    if steps == 0 || steps > 100_000 {
-        bail!("--steps must be between 1 and 100000");
+    if steps == 0 || steps > 10_000 {
+        bail!("--steps must be between 1 and 10000");
     }
-    let rows = ternary5_table(from, to, steps);
+    // In chunks, with a progress bar on a terminal.
+    let bar =
+        std::io::IsTerminal::is_terminal(&std::io::stderr()).then(|| indicatif::ProgressBar::new(steps as u64 + 1));
+    let mut rows = Vec::with_capacity(steps + 1);
+    let chunk = 32;
+    for first in (0..=steps).step_by(chunk) {
+        let last = (first + chunk - 1).min(steps);
+        let at = |i: usize| from + (to - from) * i as f64 / steps as f64;
+        rows.extend(if first == last {
+            ternary5_table(at(first), at(first), 1).into_iter().take(1).collect()
+        } else {
+            ternary5_table(at(first), at(last), last - first)
+        });
+        if let Some(b) = &bar {
+            b.set_position(last as u64 + 1);
+        }
+    }
+    if let Some(b) = bar {
+        b.finish_and_clear();
+    }
     writeln!(out, "ternary 5-point scheme (seed 003, eq. 1), ω from {from} to {to}")?;
     writeln!(
         out,

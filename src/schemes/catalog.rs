@@ -118,6 +118,13 @@ pub fn ifs_preset(name: &str, points: Option<Vec<Vec<f64>>>, omega: Option<&Surd
         if model.points.len() < min {
             return Err(CatalogError::Points(format!("`{name}` needs at least {min} control points")));
         }
+        if model.points.iter().flatten().any(|x| !x.is_finite()) {
+            return Err(CatalogError::Points("control point coordinates must be finite numbers".into()));
+        }
+        let d = model.points.first().map_or(0, Vec::len);
+        if !(2..=3).contains(&d) || model.points.iter().any(|p| p.len() != d) {
+            return Err(CatalogError::Points("control points need 2 or 3 coordinates, all the same".into()));
+        }
         Ok(())
     };
     let (description, text) = match name {

@@ -129,6 +129,9 @@ pub enum NormalSchemeError {
         /// β_0.
         beta0: String,
     },
+    /// A coordinate of the initial polygon is infinite or not a number.
+    #[error("the initial polygon has a coordinate that is not a finite number")]
+    NotFinite,
     /// An initial polygon that has no segment.
     #[error("the initial polygon needs at least 2 points (3 when closed), not {0}")]
     Polygon(usize),
@@ -345,6 +348,9 @@ impl NormalScheme {
         }
         if polygon.len() < if closed { 3 } else { 2 } {
             return Err(NormalSchemeError::Polygon(polygon.len()));
+        }
+        if polygon.iter().flatten().any(|x| !x.is_finite()) {
+            return Err(NormalSchemeError::NotFinite);
         }
         let p = self.arity();
         let (of_raw, signs, children) = self.sign_automaton();
