@@ -372,6 +372,9 @@ pub fn normal_shape(
     memory_limit: usize,
 ) -> Result<Shape, RenderError> {
     let scheme = &preset.scheme;
+    if preset.polygon.iter().flatten().any(|x| !x.is_finite()) {
+        return Err(RenderError::Scheme(crate::schemes::NormalSchemeError::NotFinite));
+    }
     let automaton = match form {
         SchemeForm::Auto => scheme.is_interpolatory(),
         SchemeForm::Direct => false,
