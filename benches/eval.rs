@@ -78,12 +78,15 @@ fn obj(c: &mut Criterion) {
     let (a, model) = setup("doo_sabin_torus");
     let ev = Evaluator::new(&a, &model, EvalSettings::default().with_depth(6)).expect("evaluable");
     let shape = ev.evaluate().expect("fits");
+    // The streaming writer takes usize indices; widen once, outside the timings.
+    let wide = |v: &[bcifs::geometry::Quad]| v.iter().map(|q| q.map(|i| i as usize)).collect::<Vec<_>>();
+    let (quads, quad_uvs) = (wide(&shape.quads), wide(&shape.quad_uvs));
     let write_shape = |shape: &bcifs::geometry::Shape| {
         let mut w = ObjWriter::create(&path).expect("create");
         w.object("torus").expect("write");
         w.uvs(&shape.uvs).expect("write");
         w.vertices(shape.dim, &shape.positions, Some(&shape.normals)).expect("write");
-        w.faces(&shape.quads, Some(&shape.quad_uvs)).expect("write");
+        w.faces(&quads, Some(&quad_uvs)).expect("write");
         w.finish().expect("finish");
     };
     write_shape(&shape);
@@ -99,7 +102,7 @@ fn obj(c: &mut Criterion) {
         })
     });
     // The same triangle mesh through obj-exporter and through ObjWriter.
-    let tris: Vec<[usize; 3]> = shape.quads.iter().flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]]).collect();
+    let tris: Vec<[usize; 3]> = quads.iter().flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]]).collect();
     let set = obj_exporter::ObjSet {
         material_library: None,
         objects: vec![obj_exporter::Object {

@@ -15,7 +15,7 @@
 use rayon::prelude::*;
 
 use super::deterministic::{EvalError, Evaluator, mul_into as mat_mul_into, project_into as project};
-use crate::geometry::{Buffers, Sink};
+use crate::geometry::{Buffers, Quad, Sink};
 
 /// Blocks have at most `BLOCK_SIDE` quads on a side (33² lattice points, 9 coordinates each: ~80 KB).
 const BLOCK_SIDE: usize = 32;
@@ -155,73 +155,61 @@ pub(super) fn mesh(ev: &Evaluator, k: usize, sink: &mut dyn Sink, in_memory: boo
     let bb = lat.b * lat.b;
     // Writes block `g`: its owned positions, normals, quads and texture quads
     // into the given slices; returns the far-boundary vertices it touches.
-    let compute =
-        |g: usize, pos: &mut [f64], nrm: &mut [f64], quads: &mut [[usize; 4]], quv: &mut [[usize; 4]]| -> Vec<Extra> {
-            let patch = g / (lat.s * lat.s);
-            let (bv, bu) = ((g % (lat.s * lat.s)) / lat.s, g % lat.s);
-            let (pv, pu) = (patch / pc, patch % pc);
-            // Control points of the block's cell: follow the base-p digits of its coordinates.
-            let mut c = pieces.pieces[patch].control.clone();
-            let mut tmp = vec![0.0; d * n9];
-            let steps = k - level;
-            for t in 0..steps {
-                let place = pow(steps - 1 - t);
-                let q = (bv / place % p) * p + bu / place % p;
-                mat_mul_into(&c, d, n9, &sp.children[child_of[q]].2, n9, &mut tmp);
-                std::mem::swap(&mut c, &mut tmp);
-            }
-            let mut pts = vec![0.0; side * side * d];
-            project(&c, d, n9, &table, &mut pts);
-            let at = |u: usize, v: usize| (v * side + u) * d;
-            let (u0, v0) = (pu * lat.n + bu * lat.b, pv * lat.n + bv * lat.b);
-            let mut extras = Vec::new();
-            let (mut du, mut dv) = ([0.0; 3], [0.0; 3]);
-            for v in 0..side {
-                for u in 0..side {
-                    let (gu, gv) = (u0 + u, v0 + v);
-                    let owned = u < lat.b && v < lat.b;
-                    if !owned && (torus || (gu != lat.nu() && gv != lat.nv())) {
-                        continue;
-                    }
-                    // Forward differences inside the block, backward on its far side.
-                    let (a, b) = if u < lat.b { (at(u + 1, v), at(u, v)) } else { (at(u, v), at(u - 1, v)) };
-                    let (e, f) = if v < lat.b { (at(u, v + 1), at(u, v)) } else { (at(u, v), at(u, v - 1)) };
-                    for x in 0..d {
-                        du[x] = pts[a + x] - pts[b + x];
-                        dv[x] = pts[e + x] - pts[f + x];
-                    }
-                    let n = normal(d, &du[..d], &dv[..d]);
-                    let p = &pts[at(u, v)..at(u, v) + d];
-                    if owned {
-                        let o = v * lat.b + u;
-                        pos[o * d..(o + 1) * d].copy_from_slice(p);
-                        nrm[o * 3..o * 3 + 3].copy_from_slice(&n);
-                    } else {
-                        extras.push((lat.index(gu, gv), p.to_vec(), n));
-                    }
+    let compute = |g: usize, pos: &mut [f64], nrm: &mut [f64]| -> Vec<Extra> {
+        let patch = g / (lat.s * lat.s);
+        let (bv, bu) = ((g % (lat.s * lat.s)) / lat.s, g % lat.s);
+        let (pv, pu) = (patch / pc, patch % pc);
+        // Control points of the block's cell: follow the base-p digits of its coordinates.
+        let mut c = pieces.pieces[patch].control.clone();
+        let mut tmp = vec![0.0; d * n9];
+        let steps = k - level;
+        for t in 0..steps {
+            let place = pow(steps - 1 - t);
+            let q = (bv / place % p) * p + bu / place % p;
+            mat_mul_into(&c, d, n9, &sp.children[child_of[q]].2, n9, &mut tmp);
+            std::mem::swap(&mut c, &mut tmp);
+        }
+        let mut pts = vec![0.0; side * side * d];
+        project(&c, d, n9, &table, &mut pts);
+        let at = |u: usize, v: usize| (v * side + u) * d;
+        let (u0, v0) = (pu * lat.n + bu * lat.b, pv * lat.n + bv * lat.b);
+        let mut extras = Vec::new();
+        let (mut du, mut dv) = ([0.0; 3], [0.0; 3]);
+        for v in 0..side {
+            for u in 0..side {
+                let (gu, gv) = (u0 + u, v0 + v);
+                let owned = u < lat.b && v < lat.b;
+                if !owned && (torus || (gu != lat.nu() && gv != lat.nv())) {
+                    continue;
+                }
+                // Forward differences inside the block, backward on its far side.
+                let (a, b) = if u < lat.b { (at(u + 1, v), at(u, v)) } else { (at(u, v), at(u - 1, v)) };
+                let (e, f) = if v < lat.b { (at(u, v + 1), at(u, v)) } else { (at(u, v), at(u, v - 1)) };
+                for x in 0..d {
+                    du[x] = pts[a + x] - pts[b + x];
+                    dv[x] = pts[e + x] - pts[f + x];
+                }
+                let n = normal(d, &du[..d], &dv[..d]);
+                let p = &pts[at(u, v)..at(u, v) + d];
+                if owned {
+                    let o = v * lat.b + u;
+                    pos[o * d..(o + 1) * d].copy_from_slice(p);
+                    nrm[o * 3..o * 3 + 3].copy_from_slice(&n);
+                } else {
+                    extras.push((lat.index(gu, gv), p.to_vec(), n));
                 }
             }
-            let base = g * bb;
-            let uv_base = patch * np * np;
-            for v in 0..lat.b {
-                for u in 0..lat.b {
-                    let corner = if u + 1 < lat.b && v + 1 < lat.b {
-                        let i = base + v * lat.b + u;
-                        [i, i + 1, i + 1 + lat.b, i + lat.b]
-                    } else {
-                        let (gu, gv) = (u0 + u, v0 + v);
-                        [lat.index(gu, gv), lat.index(gu + 1, gv), lat.index(gu + 1, gv + 1), lat.index(gu, gv + 1)]
-                    };
-                    quads[v * lat.b + u] = corner;
-                    let (lu, lv) = (bu * lat.b + u, bv * lat.b + v);
-                    let t = uv_base + lv * np + lu;
-                    quv[v * lat.b + u] = [t, t + 1, t + 1 + np, t + np];
-                }
-            }
-            extras
-        };
+        }
+        extras
+    };
     let (mut pos, mut nrm) = (Vec::new(), Vec::new());
-    let (mut quads, mut quv) = (Vec::new(), Vec::new());
+    // Quads in memory hold u32 indices (the in-memory limit keeps them below 2^32: half the
+    // memory of usize); streamed quads are usize (a streamed mesh may be larger).
+    let (mut quads, mut quv): (Vec<[usize; 4]>, Vec<[usize; 4]>) = (Vec::new(), Vec::new());
+    let (mut quads32, mut quv32): (Vec<Quad>, Vec<Quad>) = (Vec::new(), Vec::new());
+    if in_memory && lat.vertex_count().max(pr * pc * np * np) > u32::MAX as usize {
+        return Err(EvalError::Unsupported("an in-memory mesh needs fewer than 2^32 vertices: stream it".into()));
+    }
     for start in (0..blocks).step_by(batch.max(1)) {
         let end = (start + batch).min(blocks);
         let count = (end - start) * bb;
@@ -239,11 +227,10 @@ pub(super) fn mesh(ev: &Evaluator, k: usize, sink: &mut dyn Sink, in_memory: boo
                     vec![T::default(); len]
                 }
             }
-            let reuse4 = reuse::<[usize; 4]>;
             pos = reuse(std::mem::take(&mut recycled.positions), count * d);
             nrm = reuse(std::mem::take(&mut recycled.normals), count * 3);
-            quads = reuse4(std::mem::take(&mut recycled.quads), count);
-            quv = reuse4(std::mem::take(&mut recycled.quad_uvs), count);
+            quads32 = reuse::<Quad>(std::mem::take(&mut recycled.quads), count);
+            quv32 = reuse::<Quad>(std::mem::take(&mut recycled.quad_uvs), count);
         } else {
             pos.resize(count * d, 0.0);
             nrm.resize(count * 3, 0.0);
@@ -251,18 +238,16 @@ pub(super) fn mesh(ev: &Evaluator, k: usize, sink: &mut dyn Sink, in_memory: boo
             quv.resize(count, [0; 4]);
         }
         let found: Vec<Extra> = ev.pool().install(|| {
-            pos.par_chunks_mut(bb * d)
-                .zip(nrm.par_chunks_mut(bb * 3))
-                .zip(quads.par_chunks_mut(bb))
-                .zip(quv.par_chunks_mut(bb))
-                .enumerate()
-                .flat_map_iter(|(i, (((p, n), q), t))| compute(start + i, p, n, q, t))
-                .collect()
+            if in_memory {
+                fill_batch(&lat, np, start, bb, d, &mut pos, &mut nrm, &mut quads32, &mut quv32, &compute)
+            } else {
+                fill_batch(&lat, np, start, bb, d, &mut pos, &mut nrm, &mut quads, &mut quv, &compute)
+            }
         });
         extras.extend(found);
         if in_memory {
             sink.vertices_owned(d, std::mem::take(&mut pos), Some(std::mem::take(&mut nrm)))?;
-            sink.faces_owned(std::mem::take(&mut quads), Some(std::mem::take(&mut quv)))?;
+            sink.faces_compact(std::mem::take(&mut quads32), Some(std::mem::take(&mut quv32)))?;
         } else {
             sink.vertices(d, &pos, Some(&nrm))?;
             sink.faces(&quads, Some(&quv))?;
@@ -283,6 +268,83 @@ pub(super) fn mesh(ev: &Evaluator, k: usize, sink: &mut dyn Sink, in_memory: boo
         b.finish_and_clear();
     }
     Ok(())
+}
+
+/// An index type of quads: `u32` in memory, `usize` when streamed.
+trait QuadIndex: Copy + Send {
+    fn of(i: usize) -> Self;
+}
+
+impl QuadIndex for usize {
+    fn of(i: usize) -> usize {
+        i
+    }
+}
+
+impl QuadIndex for u32 {
+    fn of(i: usize) -> u32 {
+        // Checked by the caller: in-memory meshes have fewer than 2^32 vertices.
+        i as u32
+    }
+}
+
+/// The quads and texture quads of block `g` (lattice offsets `u0`, `v0`).
+fn block_quads<I: QuadIndex>(lat: &Lattice, np: usize, g: usize, quads: &mut [[I; 4]], quv: &mut [[I; 4]]) {
+    let bb = lat.b * lat.b;
+    let patch = g / (lat.s * lat.s);
+    let (bv, bu) = ((g % (lat.s * lat.s)) / lat.s, g % lat.s);
+    let (pv, pu) = (patch / lat.pc, patch % lat.pc);
+    let (u0, v0) = (pu * lat.n + bu * lat.b, pv * lat.n + bv * lat.b);
+    let base = g * bb;
+    let uv_base = patch * np * np;
+    let of = I::of;
+    for v in 0..lat.b {
+        for u in 0..lat.b {
+            let corner = if u + 1 < lat.b && v + 1 < lat.b {
+                let i = base + v * lat.b + u;
+                [of(i), of(i + 1), of(i + 1 + lat.b), of(i + lat.b)]
+            } else {
+                let (gu, gv) = (u0 + u, v0 + v);
+                [
+                    of(lat.index(gu, gv)),
+                    of(lat.index(gu + 1, gv)),
+                    of(lat.index(gu + 1, gv + 1)),
+                    of(lat.index(gu, gv + 1)),
+                ]
+            };
+            quads[v * lat.b + u] = corner;
+            let (lu, lv) = (bu * lat.b + u, bv * lat.b + v);
+            let t = uv_base + lv * np + lu;
+            quv[v * lat.b + u] = [of(t), of(t + 1), of(t + 1 + np), of(t + np)];
+        }
+    }
+}
+
+/// Fills a batch of blocks from `start` in parallel: points and normals by
+/// `compute`, quads by [`block_quads`]; returns the far-boundary vertices.
+#[allow(clippy::too_many_arguments)]
+fn fill_batch<I: QuadIndex>(
+    lat: &Lattice,
+    np: usize,
+    start: usize,
+    bb: usize,
+    d: usize,
+    pos: &mut [f64],
+    nrm: &mut [f64],
+    quads: &mut [[I; 4]],
+    quv: &mut [[I; 4]],
+    compute: &(dyn Fn(usize, &mut [f64], &mut [f64]) -> Vec<Extra> + Sync),
+) -> Vec<Extra> {
+    pos.par_chunks_mut(bb * d)
+        .zip(nrm.par_chunks_mut(bb * 3))
+        .zip(quads.par_chunks_mut(bb))
+        .zip(quv.par_chunks_mut(bb))
+        .enumerate()
+        .flat_map_iter(|(i, (((p, n), q), t))| {
+            block_quads(lat, np, start + i, q, t);
+            compute(start + i, p, n)
+        })
+        .collect()
 }
 
 #[cfg(test)]

@@ -201,7 +201,7 @@ fn shade(shape: &Shape, pts: &[[f64; 3]], canvas: &Canvas, img: &mut RgbImage) {
     };
     for q in &shape.quads {
         for tri in [[q[0], q[1], q[2]], [q[0], q[2], q[3]]] {
-            let [a, b, c] = tri.map(|i| pts[i]);
+            let [a, b, c] = tri.map(|i| pts[i as usize]);
             let (u, v) = ([b[0] - a[0], b[1] - a[1], b[2] - a[2]], [c[0] - a[0], c[1] - a[1], c[2] - a[2]]);
             let n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
             let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();

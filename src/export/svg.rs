@@ -34,7 +34,7 @@ pub fn svg(shape: &Shape, size: u32) -> String {
         let pts: Vec<String> = q
             .iter()
             .map(|&i| {
-                let (x, y) = px(shape.point(i));
+                let (x, y) = px(shape.point(i as usize));
                 format!("{x:.3},{y:.3}")
             })
             .collect();
@@ -44,7 +44,7 @@ pub fn svg(shape: &Shape, size: u32) -> String {
             pts.join(" ")
         );
         for &i in q {
-            on_line[i] = true;
+            on_line[i as usize] = true;
         }
     }
     for (i, used) in on_line.iter().enumerate() {

@@ -34,9 +34,11 @@ pub trait Sink {
     fn uvs_owned(&mut self, uvs: Vec<f64>) -> io::Result<()> {
         self.uvs(&uvs)
     }
-    /// Like [`Sink::faces`], handing over the buffers.
-    fn faces_owned(&mut self, quads: Vec<[usize; 4]>, uvs: Option<Vec<[usize; 4]>>) -> io::Result<()> {
-        self.faces(&quads, uvs.as_deref())
+    /// Like [`Sink::faces`] with compact indices, handing over the buffers
+    /// (in-memory meshes have fewer than 2^32 vertices).
+    fn faces_compact(&mut self, quads: Vec<Quad>, uvs: Option<Vec<Quad>>) -> io::Result<()> {
+        let wide = |v: &[Quad]| -> Vec<[usize; 4]> { v.iter().map(|q| q.map(|i| i as usize)).collect() };
+        self.faces(&wide(&quads), uvs.as_deref().map(wide).as_deref())
     }
     /// Buffers of an earlier output that the evaluator may overwrite and hand
     /// back through the `*_owned` methods (no new allocation, no page faults
@@ -45,6 +47,9 @@ pub trait Sink {
         None
     }
 }
+
+/// A quad of an in-memory mesh: four vertex (or texture) indices, counter-clockwise.
+pub type Quad = [u32; 4];
 
 /// Output buffers handed back for reuse by [`Sink::recycle`].
 #[derive(Clone, Debug, Default)]
@@ -56,9 +61,9 @@ pub struct Buffers {
     /// Texture coordinates.
     pub uvs: Vec<f64>,
     /// Quads.
-    pub quads: Vec<[usize; 4]>,
+    pub quads: Vec<Quad>,
     /// Texture indices of quads.
-    pub quad_uvs: Vec<[usize; 4]>,
+    pub quad_uvs: Vec<Quad>,
 }
 
 /// A named part of a [`Shape`].
@@ -85,10 +90,10 @@ pub struct Shape {
     pub normals: Vec<f64>,
     /// 2 coordinates per texture vertex.
     pub uvs: Vec<f64>,
-    /// Quads, counter-clockwise.
-    pub quads: Vec<[usize; 4]>,
+    /// Quads, counter-clockwise (compact indices: a mesh in memory has fewer than 2^32 vertices).
+    pub quads: Vec<Quad>,
     /// Texture indices of the quads, or empty.
-    pub quad_uvs: Vec<[usize; 4]>,
+    pub quad_uvs: Vec<Quad>,
     /// Triangles, counter-clockwise.
     pub triangles: Vec<[usize; 3]>,
     /// The objects, in order.
@@ -131,7 +136,7 @@ impl Shape {
         let mut m = std::collections::HashMap::new();
         for q in &self.quads {
             for k in 0..4 {
-                let (a, b) = (q[k], q[(k + 1) % 4]);
+                let (a, b) = (q[k] as usize, q[(k + 1) % 4] as usize);
                 *m.entry((a.min(b), a.max(b))).or_insert(0) += 1;
             }
         }
@@ -142,7 +147,7 @@ impl Shape {
     pub fn euler_characteristic(&self) -> i64 {
         let mut used = std::collections::HashSet::new();
         for q in &self.quads {
-            used.extend(q.iter().copied());
+            used.extend(q.iter().map(|&i| i as usize));
         }
         used.len() as i64 - self.edge_multiplicities().len() as i64 + self.quads.len() as i64
     }
@@ -186,8 +191,9 @@ impl Shape {
             }
             let f = o.faces.clone();
             if !f.is_empty() {
-                let uvs = (!self.quad_uvs.is_empty()).then(|| &self.quad_uvs[f.clone()]);
-                sink.faces(&self.quads[f], uvs)?;
+                let wide = |v: &[Quad]| -> Vec<[usize; 4]> { v.iter().map(|q| q.map(|i| i as usize)).collect() };
+                let uvs = (!self.quad_uvs.is_empty()).then(|| wide(&self.quad_uvs[f.clone()]));
+                sink.faces(&wide(&self.quads[f]), uvs.as_deref())?;
             }
             if k + 1 == self.objects.len() && !self.triangles.is_empty() {
                 sink.triangles(&self.triangles)?;
@@ -238,9 +244,22 @@ impl Sink for Shape {
     }
 
     fn faces(&mut self, quads: &[[usize; 4]], uvs: Option<&[[usize; 4]]>) -> io::Result<()> {
-        self.quads.extend_from_slice(quads);
+        let narrow = |q: &[usize; 4]| -> io::Result<Quad> {
+            let mut out = [0u32; 4];
+            for (o, &i) in out.iter_mut().zip(q) {
+                *o = u32::try_from(i).map_err(|_| {
+                    io::Error::new(io::ErrorKind::InvalidInput, "an in-memory mesh holds fewer than 2^32 vertices")
+                })?;
+            }
+            Ok(out)
+        };
+        for q in quads {
+            self.quads.push(narrow(q)?);
+        }
         if let Some(t) = uvs {
-            self.quad_uvs.extend_from_slice(t);
+            for q in t {
+                self.quad_uvs.push(narrow(q)?);
+            }
         }
         let end = self.quads.len();
         self.current().faces.end = end;
@@ -273,9 +292,13 @@ impl Sink for Shape {
         }
     }
 
-    fn faces_owned(&mut self, quads: Vec<[usize; 4]>, uvs: Option<Vec<[usize; 4]>>) -> io::Result<()> {
+    fn faces_compact(&mut self, quads: Vec<Quad>, uvs: Option<Vec<Quad>>) -> io::Result<()> {
         if !self.quads.is_empty() || !self.quad_uvs.is_empty() {
-            return self.faces(&quads, uvs.as_deref());
+            self.quads.extend_from_slice(&quads);
+            self.quad_uvs.extend(uvs.unwrap_or_default());
+            let end = self.quads.len();
+            self.current().faces.end = end;
+            return Ok(());
         }
         self.quads = quads;
         self.quad_uvs = uvs.unwrap_or_default();

@@ -31,7 +31,7 @@ fn obj_round_trip_through_tobj() {
     assert_eq!(mesh.face_arities.len(), shape.quads.len());
     assert!(mesh.face_arities.iter().all(|&n| n == 4));
     for (k, &i) in shape.quads.iter().flatten().enumerate() {
-        let j = mesh.indices[k] as usize;
+        let (i, j) = (i as usize, mesh.indices[k] as usize);
         // Shortest round-trip text: positions come back bit for bit.
         assert_eq!(&mesh.positions[3 * j..3 * j + 3], &shape.positions[3 * i..3 * i + 3], "corner {k}");
     }

@@ -29,6 +29,7 @@ fn classic_doo_sabin_is_the_biquadratic_bspline() {
     assert_eq!(shape.uvs.len(), pr * pc * np * np * 2);
     for (q, t) in shape.quads.iter().zip(&shape.quad_uvs) {
         for c in 0..4 {
+            let (q, t) = (q.map(|x| x as usize), t.map(|x| x as usize));
             let patch = t[c] / (np * np);
             let (i, j) = (patch / pc, patch % pc);
             let (u, v) = (shape.uvs[2 * t[c]], shape.uvs[2 * t[c] + 1]);
@@ -106,7 +107,7 @@ fn neighbouring_patches_agree_on_their_boundary() {
         let mut grid = vec![[0.0; 3]; (n + 1) * (n + 1)];
         for (q, t) in s.quads.iter().zip(&s.quad_uvs) {
             for c in 0..4 {
-                grid[t[c]] = s.point(q[c]);
+                grid[t[c] as usize] = s.point(q[c] as usize);
             }
         }
         grid
