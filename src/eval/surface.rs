@@ -130,21 +130,17 @@ pub(super) fn mesh(ev: &Evaluator, k: usize, sink: &mut dyn Sink, in_memory: boo
     let uv_range = |from: usize, to: usize| -> Vec<f64> {
         (from..to).flat_map(|i| [(i % np) as f64 / lat.n as f64, (i / np) as f64 / lat.n as f64]).collect()
     };
+    // Every patch has the same parameterisation: one shared table of (p^k + 1)² texture points.
     if in_memory {
         let mut uvs = std::mem::take(&mut recycled.uvs);
         uvs.clear();
-        let one = uv_range(0, np * np);
-        for _ in 0..pr * pc {
-            uvs.extend_from_slice(&one);
-        }
+        uvs.extend(uv_range(0, np * np));
         sink.uvs_owned(uvs)?;
     } else {
         // Fixed-size chunks: memory does not grow with the depth.
         const UV_CHUNK: usize = 1 << 15;
-        for _ in 0..pr * pc {
-            for from in (0..np * np).step_by(UV_CHUNK) {
-                sink.uvs(&uv_range(from, (from + UV_CHUNK).min(np * np)))?;
-            }
+        for from in (0..np * np).step_by(UV_CHUNK) {
+            sink.uvs(&uv_range(from, (from + UV_CHUNK).min(np * np)))?;
         }
     }
 
@@ -207,7 +203,7 @@ pub(super) fn mesh(ev: &Evaluator, k: usize, sink: &mut dyn Sink, in_memory: boo
     // memory of usize); streamed quads are usize (a streamed mesh may be larger).
     let (mut quads, mut quv): (Vec<[usize; 4]>, Vec<[usize; 4]>) = (Vec::new(), Vec::new());
     let (mut quads32, mut quv32): (Vec<Quad>, Vec<Quad>) = (Vec::new(), Vec::new());
-    if in_memory && lat.vertex_count().max(pr * pc * np * np) > u32::MAX as usize {
+    if in_memory && lat.vertex_count().max(np * np) > u32::MAX as usize {
         return Err(EvalError::Unsupported("an in-memory mesh needs fewer than 2^32 vertices: stream it".into()));
     }
     for start in (0..blocks).step_by(batch.max(1)) {
@@ -296,7 +292,6 @@ fn block_quads<I: QuadIndex>(lat: &Lattice, np: usize, g: usize, quads: &mut [[I
     let (pv, pu) = (patch / lat.pc, patch % lat.pc);
     let (u0, v0) = (pu * lat.n + bu * lat.b, pv * lat.n + bv * lat.b);
     let base = g * bb;
-    let uv_base = patch * np * np;
     let of = I::of;
     for v in 0..lat.b {
         for u in 0..lat.b {
@@ -314,11 +309,14 @@ fn block_quads<I: QuadIndex>(lat: &Lattice, np: usize, g: usize, quads: &mut [[I
             };
             quads[v * lat.b + u] = corner;
             let (lu, lv) = (bu * lat.b + u, bv * lat.b + v);
-            let t = uv_base + lv * np + lu;
+            let t = lv * np + lu;
             quv[v * lat.b + u] = [of(t), of(t + 1), of(t + 1 + np), of(t + np)];
         }
     }
 }
+
+/// Computes the points and normals a block owns; returns the far-boundary vertices it touches.
+type BlockPoints<'a> = dyn Fn(usize, &mut [f64], &mut [f64]) -> Vec<Extra> + Sync + 'a;
 
 /// Fills a batch of blocks from `start` in parallel: points and normals by
 /// `compute`, quads by [`block_quads`]; returns the far-boundary vertices.
@@ -333,7 +331,7 @@ fn fill_batch<I: QuadIndex>(
     nrm: &mut [f64],
     quads: &mut [[I; 4]],
     quv: &mut [[I; 4]],
-    compute: &(dyn Fn(usize, &mut [f64], &mut [f64]) -> Vec<Extra> + Sync),
+    compute: &BlockPoints,
 ) -> Vec<Extra> {
     pos.par_chunks_mut(bb * d)
         .zip(nrm.par_chunks_mut(bb * 3))

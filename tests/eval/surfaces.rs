@@ -11,8 +11,9 @@ fn quad_bspline(t: f64) -> [f64; 3] {
 
 /// DESIGN §2: at (9/16, 3/16, 3/16) the patch is the biquadratic B-spline
 /// surface. Each quad corner carries its natural parameters (u, v) as
-/// texture coordinates and its patch by texture index; the position must be
-/// the tensor-product B-spline of the patch's 3×3 window, within 1e-12.
+/// texture coordinates; every quad lies on the tensor-product B-spline of
+/// exactly one patch's 3×3 window at those parameters (within 1e-12), and
+/// every patch has its 2^k × 2^k quads.
 #[test]
 fn classic_doo_sabin_is_the_biquadratic_bspline() {
     let (_, model, _) = load("doo_sabin_quad", &[]);
@@ -26,30 +27,34 @@ fn classic_doo_sabin_is_the_biquadratic_bspline() {
     let (pr, pc) = (rows - 2, cols - 2);
     let np = (1 << k) + 1;
     assert_eq!(shape.quads.len(), pr * pc * (1 << (2 * k)));
-    assert_eq!(shape.uvs.len(), pr * pc * np * np * 2);
+    assert_eq!(shape.uvs.len(), np * np * 2, "one texture table shared by the patches");
+    // The patch of a quad: its texture quad gives (u, v) in the patch; the patch is
+    // the one whose B-spline puts that parameter at the quad's corners (exactly one does).
+    let bspline = |i: usize, j: usize, u: f64, v: f64| -> [f64; 3] {
+        let (wu, wv) = (quad_bspline(u), quad_bspline(v));
+        std::array::from_fn(|a| {
+            (0..3)
+                .flat_map(|r| (0..3).map(move |s| (r, s)))
+                .map(|(r, s)| wv[r] * wu[s] * model.points[(i + r) * cols + (j + s)][a])
+                .sum()
+        })
+    };
+    let mut per_patch = vec![0usize; pr * pc];
     for (q, t) in shape.quads.iter().zip(&shape.quad_uvs) {
-        for c in 0..4 {
-            let (q, t) = (q.map(|x| x as usize), t.map(|x| x as usize));
-            let patch = t[c] / (np * np);
-            let (i, j) = (patch / pc, patch % pc);
-            let (u, v) = (shape.uvs[2 * t[c]], shape.uvs[2 * t[c] + 1]);
-            let (wu, wv) = (quad_bspline(u), quad_bspline(v));
-            let p = shape.point(q[c]);
-            for a in 0..3 {
-                let mut expected = 0.0;
-                for r in 0..3 {
-                    for s in 0..3 {
-                        expected += wv[r] * wu[s] * model.points[(i + r) * cols + (j + s)][a];
-                    }
-                }
-                assert!(
-                    (p[a] - expected).abs() < 1e-12,
-                    "patch {patch} (u={u}, v={v}) coord {a}: {} vs {expected}",
-                    p[a]
-                );
-            }
-        }
+        let (q, t) = (q.map(|x| x as usize), t.map(|x| x as usize));
+        let matches: Vec<usize> = (0..pr * pc)
+            .filter(|&patch| {
+                (0..4).all(|c| {
+                    let (u, v) = (shape.uvs[2 * t[c]], shape.uvs[2 * t[c] + 1]);
+                    let (p, e) = (shape.point(q[c]), bspline(patch / pc, patch % pc, u, v));
+                    (0..3).all(|a| (p[a] - e[a]).abs() < 1e-12)
+                })
+            })
+            .collect();
+        assert_eq!(matches.len(), 1, "quad {q:?}: on the B-spline of patches {matches:?}");
+        per_patch[matches[0]] += 1;
     }
+    assert!(per_patch.iter().all(|&n| n == 1 << (2 * k)), "{per_patch:?}");
 }
 
 fn check_manifold(shape: &Shape, boundary_edges: usize) {
