@@ -213,7 +213,7 @@ enum AnalyzeCommand {
 }
 
 fn run_ternary5(out: &mut String, from: f64, to: f64, steps: usize, output: &std::path::Path) -> Result<u8> {
-    use bcifs::analysis::ternary::{PAPER_RANGES, boundary, intervals, ternary5_table};
+    use bcifs::analysis::ternary::{PAPER_RANGES, boundary, intervals, omegas, ternary5_rows};
     if from >= to || !from.is_finite() || !to.is_finite() {
         bail!("--omega-range A B needs finite A < B");
     }
@@ -221,20 +221,14 @@ fn run_ternary5(out: &mut String, from: f64, to: f64, steps: usize, output: &std
         bail!("--steps must be between 1 and 10000");
     }
     // In chunks, with a progress bar on a terminal.
+    let all = omegas(from, to, steps);
     let bar =
-        std::io::IsTerminal::is_terminal(&std::io::stderr()).then(|| indicatif::ProgressBar::new(steps as u64 + 1));
-    let mut rows = Vec::with_capacity(steps + 1);
-    let chunk = 32;
-    for first in (0..=steps).step_by(chunk) {
-        let last = (first + chunk - 1).min(steps);
-        let at = |i: usize| from + (to - from) * i as f64 / steps as f64;
-        rows.extend(if first == last {
-            ternary5_table(at(first), at(first), 1).into_iter().take(1).collect()
-        } else {
-            ternary5_table(at(first), at(last), last - first)
-        });
+        std::io::IsTerminal::is_terminal(&std::io::stderr()).then(|| indicatif::ProgressBar::new(all.len() as u64));
+    let mut rows = Vec::with_capacity(all.len());
+    for chunk in all.chunks(32) {
+        rows.extend(ternary5_rows(chunk));
         if let Some(b) = &bar {
-            b.set_position(last as u64 + 1);
+            b.inc(chunk.len() as u64);
         }
     }
     if let Some(b) = bar {

@@ -193,40 +193,25 @@ pub fn spectral_lower_bound(mask: &Mask, p: usize) -> Option<f64> {
 /// `(L_steps / L_{steps - 2})^{1/2}`.
 pub fn length_growth(rules: &Rules, steps: usize) -> f64 {
     let n = 9;
-    let p = rules.arity;
-    let mut pts: Vec<[f64; 2]> = (0..n)
-        .map(|i| {
+    let mut pts: Vec<f64> = (0..n)
+        .flat_map(|i| {
             let t = std::f64::consts::TAU * i as f64 / n as f64;
             let r = 1.0 + 0.3 * (3.0 * t).sin() + 0.1 * (i as f64 * 1.7).cos();
             [r * t.cos(), r * t.sin()]
         })
         .collect();
-    let weights: Vec<Vec<(i64, f64)>> =
-        rules.rules.iter().map(|r| r.iter().map(|(o, w)| (*o, w.to_f64())).collect()).collect();
-    let len = |p: &[[f64; 2]]| -> f64 {
-        (0..p.len())
+    let len = |p: &[f64]| -> f64 {
+        let m = p.len() / 2;
+        (0..m)
             .map(|i| {
-                let (a, b) = (p[i], p[(i + 1) % p.len()]);
-                ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt()
+                let j = (i + 1) % m;
+                ((p[2 * i] - p[2 * j]).powi(2) + (p[2 * i + 1] - p[2 * j + 1]).powi(2)).sqrt()
             })
             .sum()
     };
     let mut lengths = vec![len(&pts)];
     for _ in 0..steps.max(2) {
-        let m = pts.len() as i64;
-        let mut next = Vec::with_capacity(pts.len() * p);
-        for i in 0..m {
-            for rule in &weights {
-                let mut q = [0.0; 2];
-                for (o, w) in rule {
-                    let x = pts[(i + o).rem_euclid(m) as usize];
-                    q[0] += w * x[0];
-                    q[1] += w * x[1];
-                }
-                next.push(q);
-            }
-        }
-        pts = next;
+        pts = rules.refine_closed_flat(&pts, 2);
         lengths.push(len(&pts));
     }
     let k = lengths.len() - 1;

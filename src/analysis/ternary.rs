@@ -122,9 +122,19 @@ pub fn ternary5_analysis(omega: f64) -> TernaryRow {
 
 /// The analysis of `steps + 1` equally spaced tensions from `from` to `to`.
 pub fn ternary5_table(from: f64, to: f64, steps: usize) -> Vec<TernaryRow> {
-    use rayon::prelude::*;
+    ternary5_rows(&omegas(from, to, steps))
+}
+
+/// `steps + 1` equally spaced tensions from `from` to `to`.
+pub fn omegas(from: f64, to: f64, steps: usize) -> Vec<f64> {
     let steps = steps.max(1);
-    (0..=steps).into_par_iter().map(|i| ternary5_analysis(from + (to - from) * i as f64 / steps as f64)).collect()
+    (0..=steps).map(|i| from + (to - from) * i as f64 / steps as f64).collect()
+}
+
+/// The analysis of each tension, in parallel.
+pub fn ternary5_rows(omegas: &[f64]) -> Vec<TernaryRow> {
+    use rayon::prelude::*;
+    omegas.par_iter().map(|&w| ternary5_analysis(w)).collect()
 }
 
 /// The maximal intervals of consecutive rows where `pred` holds, as `(first ω, last ω)`.

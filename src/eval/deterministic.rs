@@ -396,14 +396,8 @@ impl Evaluator {
     /// # Errors
     /// An output over the memory limit (with the estimate), or an unsupported combination.
     pub fn evaluate(&self) -> Result<Shape, EvalError> {
-        if let Depth::Fixed(k) = self.settings.depth {
-            let estimate = self.estimate_bytes(k);
-            if estimate > self.settings.memory_limit as u128 {
-                return Err(EvalError::TooLarge { estimate, limit: self.settings.memory_limit });
-            }
-        }
         let mut shape = Shape::default();
-        self.run(&mut shape, true)?;
+        self.evaluate_into(&mut shape)?;
         Ok(shape)
     }
 
@@ -419,11 +413,19 @@ impl Evaluator {
                 return Err(EvalError::TooLarge { estimate, limit: self.settings.memory_limit });
             }
         }
-        let faces = self.pieces.pieces.iter().any(|p| self.plan.state(p.state).kind == CellKind::Face);
-        if !faces {
+        // The mesher recycles the shape's buffers; the other outputs start afresh.
+        if !self.meshes() {
             *shape = Shape::default();
         }
         self.run(shape, true)
+    }
+
+    /// Whether the output is a quad mesh (face roots without start sets).
+    fn meshes(&self) -> bool {
+        self.pieces
+            .pieces
+            .iter()
+            .any(|p| self.plan.state(p.state).kind == CellKind::Face && !self.uses_start_set(p.state))
     }
 
     /// Evaluates into any sink, streaming: memory stays bounded whatever the depth.
@@ -437,12 +439,7 @@ impl Evaluator {
     }
 
     fn run(&self, sink: &mut dyn Sink, in_memory: bool) -> Result<(), EvalError> {
-        let faces = self
-            .pieces
-            .pieces
-            .iter()
-            .any(|p| self.plan.state(p.state).kind == CellKind::Face && !self.uses_start_set(p.state));
-        if faces {
+        if self.meshes() {
             let depth = match self.settings.depth {
                 Depth::Fixed(k) => k,
                 Depth::Tolerance(eps) => self.depth_for_tolerance(eps)?,

@@ -180,21 +180,12 @@ impl Rules {
     pub fn refine(&self, points: &[Vec<f64>], closed: bool) -> Vec<Vec<f64>> {
         let n = points.len();
         let d = points.first().map_or(0, Vec::len);
-        let p = self.arity as i64;
         let combine = |row: &[(usize, f64)]| -> Vec<f64> {
             (0..d).map(|a| row.iter().map(|(j, w)| w * points[*j][a]).sum()).collect()
         };
         if closed {
-            let weights: Vec<Vec<(i64, f64)>> =
-                self.rules.iter().map(|r| r.iter().map(|(o, w)| (*o, w.to_f64())).collect()).collect();
-            return (0..p * n as i64)
-                .map(|f| {
-                    let (i, r) = (f.div_euclid(p), f.rem_euclid(p));
-                    let row: Vec<(usize, f64)> =
-                        weights[r as usize].iter().map(|(o, w)| ((i + o).rem_euclid(n as i64) as usize, *w)).collect();
-                    combine(&row)
-                })
-                .collect();
+            let flat: Vec<f64> = points.iter().flatten().copied().collect();
+            return self.refine_closed_flat(&flat, d).chunks_exact(d.max(1)).map(<[f64]>::to_vec).collect();
         }
         self.run(n)
             .iter()
@@ -203,6 +194,28 @@ impl Rules {
                 combine(&row)
             })
             .collect()
+    }
+
+    /// One refinement step of a closed polygon held flat (`d` coordinates per
+    /// point, `p · n` points out): the hot path of length measurements.
+    pub fn refine_closed_flat(&self, points: &[f64], d: usize) -> Vec<f64> {
+        let n = (points.len() / d.max(1)) as i64;
+        let weights: Vec<Vec<(i64, f64)>> =
+            self.rules.iter().map(|r| r.iter().map(|(o, w)| (*o, w.to_f64())).collect()).collect();
+        let mut out = Vec::with_capacity(points.len() * self.arity);
+        for i in 0..n {
+            for rule in &weights {
+                let at = out.len();
+                out.resize(at + d, 0.0);
+                for (o, w) in rule {
+                    let j = (i + o).rem_euclid(n) as usize;
+                    for (x, y) in out[at..].iter_mut().zip(&points[j * d..(j + 1) * d]) {
+                        *x += w * y;
+                    }
+                }
+            }
+        }
+        out
     }
 
     /// The control polygon after `depth` refinements.

@@ -3,11 +3,24 @@
 
 use bcifs::analysis::{DEFAULT_CHECK_TOLERANCE, check, hausdorff};
 use bcifs::schemes::{
-    NormalDirection, NormalScheme, NormalSchemeError, PRESET_NAMES, SignPattern, Surd, normal_preset, unit_segment,
-    unit_triangle,
+    NormalDirection, NormalPreset, NormalScheme, NormalSchemeError, PRESET_NAMES, SignPattern, Surd, normal_preset,
+    unit_segment, unit_triangle,
 };
 
 use super::{evaluate, length, lift, points2};
+
+/// Every preset that has an automaton form, with its automaton.
+fn interpolatory_presets() -> Vec<(&'static str, NormalPreset, bcifs::Design)> {
+    PRESET_NAMES
+        .iter()
+        .map(|name| normal_preset(name).unwrap())
+        .filter(|p| p.scheme.is_interpolatory())
+        .map(|p| {
+            let design = p.scheme.design(p.name, &p.polygon, p.closed).unwrap();
+            (p.name, p, design)
+        })
+        .collect()
+}
 
 /// For every interpolatory preset (and every sign pattern on other polygons),
 /// the automaton's output at depth k is the polygon of eq. (1) after k steps,
@@ -15,12 +28,7 @@ use super::{evaluate, length, lift, points2};
 /// matrices with entries ≤ 2 in modulus on unit-sized polygons: ~1e-15).
 #[test]
 fn automaton_form_equals_direct_form() {
-    for name in PRESET_NAMES {
-        let preset = normal_preset(name).unwrap();
-        if !preset.scheme.is_interpolatory() {
-            continue;
-        }
-        let design = preset.scheme.design(name, &preset.polygon, preset.closed).unwrap();
+    for (name, preset, design) in interpolatory_presets() {
         let max_depth = preset.depth.min(if preset.scheme.arity() > 4 { 3 } else { 5 });
         for k in 0..=max_depth {
             let direct = preset.scheme.polygon(&preset.polygon, preset.closed, k);
@@ -74,12 +82,7 @@ fn every_sign_pattern_and_direction_agrees_on_open_and_closed_polygons() {
 /// consistent with no free parameter (all matrices are known).
 #[test]
 fn generated_automata_pass_check_and_solve() {
-    for name in PRESET_NAMES {
-        let preset = normal_preset(name).unwrap();
-        if !preset.scheme.is_interpolatory() {
-            continue;
-        }
-        let design = preset.scheme.design(name, &preset.polygon, preset.closed).unwrap();
+    for (name, _, design) in interpolatory_presets() {
         let v = design.automaton.state_id("v").expect("vertex state");
         assert_eq!(design.automaton.state(v).dim, 1, "{name}: vertices of dimension 1");
         let inst = bcifs::instantiate(&design, &[]).unwrap();
