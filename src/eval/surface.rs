@@ -46,6 +46,15 @@ impl Lattice {
     fn vertex_count(&self) -> usize {
         self.owned() + if self.torus { 0 } else { self.nu() + self.nv() + 1 }
     }
+    /// Where block `g` is: its patch, its block coordinates in the patch and
+    /// its first lattice vertex.
+    fn block(&self, g: usize) -> Block {
+        let patch = g / (self.s * self.s);
+        let (bv, bu) = ((g % (self.s * self.s)) / self.s, g % self.s);
+        let (pv, pu) = (patch / self.pc, patch % self.pc);
+        Block { patch, bu, bv, u0: pu * self.n + bu * self.b, v0: pv * self.n + bv * self.b }
+    }
+
     /// The index of lattice vertex `(u, v)` (global lattice coordinates).
     fn index(&self, u: usize, v: usize) -> usize {
         let (nu, nv) = (self.nu(), self.nv());
@@ -61,6 +70,15 @@ impl Lattice {
         let block = ((pv * self.pc + pu) * self.s + rv / self.b) * self.s + ru / self.b;
         block * self.b * self.b + (rv % self.b) * self.b + ru % self.b
     }
+}
+
+/// The position of a block of the lattice (see [`Lattice::block`]).
+struct Block {
+    patch: usize,
+    bu: usize,
+    bv: usize,
+    u0: usize,
+    v0: usize,
 }
 
 /// A vertex of the far row or column of an open sheet: `(index, position, normal)`.
@@ -152,9 +170,7 @@ pub(super) fn mesh(ev: &Evaluator, k: usize, sink: &mut dyn Sink, in_memory: boo
     // Writes block `g`: its owned positions, normals, quads and texture quads
     // into the given slices; returns the far-boundary vertices it touches.
     let compute = |g: usize, pos: &mut [f64], nrm: &mut [f64]| -> Vec<Extra> {
-        let patch = g / (lat.s * lat.s);
-        let (bv, bu) = ((g % (lat.s * lat.s)) / lat.s, g % lat.s);
-        let (pv, pu) = (patch / pc, patch % pc);
+        let Block { patch, bu, bv, u0, v0 } = lat.block(g);
         // Control points of the block's cell: follow the base-p digits of its coordinates.
         let mut c = pieces.pieces[patch].control.clone();
         let mut tmp = vec![0.0; d * n9];
@@ -168,7 +184,6 @@ pub(super) fn mesh(ev: &Evaluator, k: usize, sink: &mut dyn Sink, in_memory: boo
         let mut pts = vec![0.0; side * side * d];
         project(&c, d, n9, &table, &mut pts);
         let at = |u: usize, v: usize| (v * side + u) * d;
-        let (u0, v0) = (pu * lat.n + bu * lat.b, pv * lat.n + bv * lat.b);
         let mut extras = Vec::new();
         let (mut du, mut dv) = ([0.0; 3], [0.0; 3]);
         for v in 0..side {
@@ -287,10 +302,7 @@ impl QuadIndex for u32 {
 /// The quads and texture quads of block `g` (lattice offsets `u0`, `v0`).
 fn block_quads<I: QuadIndex>(lat: &Lattice, np: usize, g: usize, quads: &mut [[I; 4]], quv: &mut [[I; 4]]) {
     let bb = lat.b * lat.b;
-    let patch = g / (lat.s * lat.s);
-    let (bv, bu) = ((g % (lat.s * lat.s)) / lat.s, g % lat.s);
-    let (pv, pu) = (patch / lat.pc, patch % lat.pc);
-    let (u0, v0) = (pu * lat.n + bu * lat.b, pv * lat.n + bv * lat.b);
+    let Block { bu, bv, u0, v0, .. } = lat.block(g);
     let base = g * bb;
     let of = I::of;
     for v in 0..lat.b {
