@@ -8,7 +8,7 @@ use nalgebra::DMatrix;
 use petgraph::stable_graph::{EdgeIndex, NodeIndex, StableDiGraph};
 use petgraph::visit::EdgeRef;
 
-use crate::family::{Affine, EvalError, Expr, ExprValue, Num};
+use crate::algebra::{Affine, EvalError, Expr, ExprValue, Num};
 use crate::space::State;
 
 /// What a matrix entry must support to be multiplied along paths.
@@ -33,30 +33,6 @@ impl Entry for f64 {
     }
     fn is_zero_entry(&self) -> bool {
         *self == 0.0
-    }
-}
-
-impl ExprValue for Affine {
-    fn from_num(n: &Num) -> Affine {
-        Affine::constant(n.clone())
-    }
-    fn plus(&self, other: &Affine) -> Affine {
-        self.add(other)
-    }
-    fn minus(&self, other: &Affine) -> Affine {
-        self.sub(other)
-    }
-    fn times(&self, other: &Affine) -> Result<Affine, EvalError> {
-        self.mul(other).map_err(|_| EvalError::Nonlinear)
-    }
-    fn divide(&self, other: &Affine) -> Result<Affine, EvalError> {
-        let d = other.as_constant().ok_or(EvalError::BadDivision)?;
-        let inv = Num::one().div(d).ok_or(EvalError::BadDivision)?;
-        Ok(self.scale(&inv))
-    }
-    fn root(&self) -> Result<Affine, EvalError> {
-        let c = self.as_constant().ok_or(EvalError::BadSqrt)?;
-        c.sqrt().map(Affine::constant).ok_or(EvalError::BadSqrt)
     }
 }
 

@@ -3,8 +3,8 @@
 
 use std::collections::HashMap;
 
+use crate::algebra::Affine;
 use crate::automaton::Automaton;
-use crate::family::Affine;
 
 /// Where a variable of the constraint system comes from.
 #[derive(Clone, Debug, PartialEq, Eq)]

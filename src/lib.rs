@@ -44,6 +44,7 @@
 
 #![forbid(unsafe_code)]
 
+mod algebra;
 pub mod analysis;
 mod automaton;
 mod design;
@@ -52,17 +53,22 @@ pub mod export;
 mod family;
 mod format;
 pub mod geometry;
+mod names;
 mod render;
 pub mod schemes;
 mod space;
 
+pub use algebra::{
+    Affine, AffineDisplay, Env, EvalError, Expr, ExprSyntaxError, ExprValue, Nonlinear, Num, Surd, SurdError,
+};
 pub use automaton::{Arrow, ArrowKind, Automaton, AutomatonError, Constraint, Entry, Relation, mat_mul, selection};
 pub use design::{Design, Layout, Model, Origin, Variable};
 pub use family::{
-    Affine, AffineDisplay, DesignInstantiateError, Env, Equation, EvalError, Expr, ExprSyntaxError, ExprValue, Family,
-    Instance, InstantiateError, Nonlinear, Num, Parameter, SolveError, equations, instantiate, numeric, solve,
+    DesignInstantiateError, Equation, Family, Instance, InstantiateError, Parameter, SolveError, equations,
+    instantiate, numeric, solve,
 };
-pub use format::{FormatError, ReadError, TomlWriter, edit_distance, parse_design, read_design, suggest};
+pub use format::{FormatError, ReadError, TomlWriter, parse_design, read_design};
+pub use names::suggest;
 pub use render::{
     GALLERY_BUDGET_BYTES, GALLERY_MAX_DEPTH, GalleryEntry, GallerySource, RenderError, RenderOptions, RenderSummary,
     SchemeForm, evaluate_design, gallery, gallery_depth, gallery_items, normal_shape, render, ternary5_plot,

@@ -168,7 +168,7 @@ fn run_ifs(out: &mut String, args: IfsArgs) -> Result<u8> {
             Some(pts)
         }
     };
-    let omega = args.omega.as_deref().map(bcifs::schemes::Surd::parse).transpose()?;
+    let omega = args.omega.as_deref().map(bcifs::Surd::parse).transpose()?;
     let generated = bcifs::schemes::ifs_preset(&args.name, points, omega.as_ref())?;
     if args.out.print {
         out.push_str(&generated.text);

@@ -5,5 +5,5 @@ mod hausdorff;
 pub mod subdivision;
 pub mod ternary;
 
-pub use check::{CheckReport, DEFAULT_CHECK_TOLERANCE, check, contractive_spectrum, eigenvalues};
+pub use check::{CheckReport, DEFAULT_CHECK_TOLERANCE, check};
 pub use hausdorff::{KdTree, directed_hausdorff, hausdorff};

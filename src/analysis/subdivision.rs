@@ -134,7 +134,7 @@ impl Mask {
             let o = (r - m) / pi;
             rules[r as usize].push((
                 o,
-                crate::schemes::Surd::rational(num_rational::BigRational::from_float(*c).unwrap_or_default()),
+                crate::algebra::Surd::rational(num_rational::BigRational::from_float(*c).unwrap_or_default()),
             ));
         }
         Rules { arity: p, rules }
@@ -172,7 +172,7 @@ pub fn spectral_lower_bound(mask: &Mask, p: usize) -> Option<f64> {
     let blocks = (2..=40).find_map(|n| rules.blocks(n).ok())?;
     let mats: Vec<nalgebra::DMatrix<f64>> = blocks.iter().map(crate::schemes::to_f64).collect();
     let rho = |m: &nalgebra::DMatrix<f64>| {
-        super::eigenvalues(m).unwrap_or_default().iter().map(|l| l.norm()).fold(0.0, f64::max)
+        crate::algebra::eigenvalues(m).unwrap_or_default().iter().map(|l| l.norm()).fold(0.0, f64::max)
     };
     let mut best: f64 = 0.0;
     let mut words: Vec<nalgebra::DMatrix<f64>> = mats.clone();

@@ -31,7 +31,8 @@
 //!    it finds are in the README and the tests.
 
 use super::subdivision::{Mask, contraction, l1_growth, length_growth, spectral_lower_bound};
-use crate::schemes::{Surd, ternary_five_point};
+use crate::algebra::Surd;
+use crate::schemes::ternary_five_point;
 
 /// One row of the ω table.
 #[derive(Clone, Debug, PartialEq)]

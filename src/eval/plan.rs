@@ -115,9 +115,9 @@ impl Plan {
                 }
             }
             if arrow.kind == ArrowKind::Subdivision && arrow.matrix.is_square() {
-                let eig = crate::analysis::eigenvalues(&arrow.matrix)
+                let eig = crate::algebra::eigenvalues(&arrow.matrix)
                     .ok_or_else(|| PlanError::Spectrum(arrow.name.clone()))?;
-                if !crate::analysis::contractive_spectrum(&eig, 1e-9) {
+                if !crate::algebra::contractive_spectrum(&eig, 1e-9) {
                     let mut moduli: Vec<f64> = eig.iter().map(|l| l.norm()).collect();
                     moduli.sort_by(f64::total_cmp);
                     let modulus = if moduli.len() > 1 { moduli[moduli.len() - 2] } else { moduli[0] };

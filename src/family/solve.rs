@@ -17,16 +17,15 @@ use nalgebra::DMatrix;
 use num_rational::BigRational;
 use num_traits::{One, Zero};
 
-use super::affine::Affine;
-use super::num::Num;
-use crate::automaton::{Automaton, Entry, Relation};
+use crate::algebra::{Affine, Env, EvalError, Expr, Num, Surd};
+use crate::automaton::{Automaton, Relation};
 use crate::design::{Design, Origin};
-use crate::family::{Env, EvalError};
 
-/// How far from zero an equation between irrational constants (such as
-/// `sqrt(3)/6` entries of a fully known matrix) may be and still hold: their
-/// f64 rounding errors are of order 1e-16.
-pub const IRRATIONAL_TOLERANCE: f64 = 1e-12;
+/// How far from zero an equation between *approximate* constants may be and
+/// still hold. Only values outside the exact surds (`sqrt(1 + sqrt(2))`)
+/// are approximate; their f64 rounding errors are of order 1e-16. Surds such
+/// as `sqrt(3)/6` are compared exactly.
+pub const APPROX_TOLERANCE: f64 = 1e-12;
 
 /// Why a design has no admissible family.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -49,10 +48,11 @@ pub enum SolveError {
         /// What went wrong.
         error: EvalError,
     },
-    /// An irrational constant multiplies an unknown: the exact solver needs
-    /// rational coefficients.
+    /// An irrational constant multiplies an unknown (the exact solver needs
+    /// rational coefficients), or an approximate constant (not a surd) sits in
+    /// an equation with unknowns.
     #[error(
-        "`{equation}` has an irrational coefficient next to an unknown; the exact solver needs rational coefficients (irrational constants are fine in fully known matrices)"
+        "`{equation}` has an irrational coefficient next to an unknown; the exact solver needs rational coefficients (irrational constants are fine in known matrices and as constant terms)"
     )]
     Irrational {
         /// The scalar equation.
@@ -151,9 +151,8 @@ pub fn equations(design: &Design) -> Result<Vec<Equation>, SolveError> {
             }
             Relation::Entries { lhs, rhs } => {
                 let env = Symbols { design };
-                let eval = |e: &crate::family::Expr| {
-                    e.eval(&env).map_err(|error| SolveError::Eval { constraint: c.to_string(), error })
-                };
+                let eval =
+                    |e: &Expr| e.eval(&env).map_err(|error| SolveError::Eval { constraint: c.to_string(), error });
                 let form = eval(lhs)?.sub(&eval(rhs)?);
                 if !form.is_zero() {
                     out.push(Equation { label: c.to_string(), form });
@@ -178,7 +177,7 @@ pub fn equations(design: &Design) -> Result<Vec<Equation>, SolveError> {
 #[derive(Clone, Debug)]
 struct Row {
     terms: Vec<(usize, BigRational)>,
-    constant: BigRational,
+    constant: Surd,
     origins: Vec<u64>,
 }
 
@@ -219,14 +218,14 @@ impl Row {
             }
         }
         let origins = self.origins.iter().zip(&other.origins).map(|(a, b)| a | b).collect();
-        Row { terms, constant: &self.constant - k * &other.constant, origins }
+        Row { terms, constant: self.constant.add_scaled(&other.constant, &-k), origins }
     }
 
     fn scale(&mut self, k: &BigRational) {
         for (_, c) in &mut self.terms {
             *c = &*c * k;
         }
-        self.constant = &self.constant * k;
+        self.constant = self.constant.scale(k);
     }
 
     fn origin_list(&self) -> Vec<usize> {
@@ -279,14 +278,20 @@ impl Eliminator {
 }
 
 fn to_row(eq: &Equation, index: usize, words: usize) -> Result<Row, SolveError> {
-    let exact = |n: &Num| match n {
-        Num::Exact(r) => Ok(r.clone()),
-        Num::Approx(_) => Err(SolveError::Irrational { equation: eq.label.clone() }),
+    let irrational = || SolveError::Irrational { equation: eq.label.clone() };
+    let terms = eq
+        .form
+        .terms()
+        .iter()
+        .map(|(v, c)| Ok((*v, c.as_rational().ok_or_else(irrational)?.clone())))
+        .collect::<Result<_, _>>()?;
+    let constant = match eq.form.constant_term() {
+        Num::Exact(s) => s.clone(),
+        Num::Approx(_) => return Err(irrational()),
     };
-    let terms = eq.form.terms().iter().map(|(v, c)| Ok((*v, exact(c)?))).collect::<Result<_, _>>()?;
     let mut origins = vec![0u64; words];
     origins[index / 64] |= 1 << (index % 64);
-    Ok(Row { terms, constant: exact(eq.form.constant_term())?, origins })
+    Ok(Row { terms, constant, origins })
 }
 
 fn inconsistent(rows: &[&Row], key: &[(bool, usize)]) -> bool {
@@ -314,12 +319,13 @@ fn inconsistent(rows: &[&Row], key: &[(bool, usize)]) -> bool {
 /// ```
 pub fn solve(design: &Design) -> Result<Family, SolveError> {
     let mut eqs = equations(design)?;
-    // Equations between known irrational constants cannot be reduced exactly:
-    // they hold or fail numerically, and then take no part in the system.
+    // Equations between approximate constants (values outside the surds)
+    // cannot be decided exactly: they hold or fail numerically, and then take
+    // no part in the system. Surds are exact and go through the elimination.
     if let Some(bad) = eqs.iter().find(|e| {
         e.form.terms().is_empty()
             && !e.form.constant_term().is_exact()
-            && e.form.constant_term().to_f64().abs() > IRRATIONAL_TOLERANCE
+            && e.form.constant_term().to_f64().abs() > APPROX_TOLERANCE
     }) {
         return Err(SolveError::Inconsistent { conflicts: vec![bad.label.clone()] });
     }
@@ -358,10 +364,10 @@ pub fn solve(design: &Design) -> Result<Family, SolveError> {
             None => Affine::var(free_index[&v]),
             Some(&r) => {
                 let row = &elim.rows[r];
-                let mut out = Affine::constant(Num::Exact(-row.constant.clone()));
+                let mut out = Affine::constant(Num::Exact(row.constant.neg()));
                 for (w, c) in &row.terms {
                     if *w != v {
-                        out = out.add_scaled(&Affine::var(free_index[w]), &Num::Exact(-c.clone()));
+                        out = out.add_scaled(&Affine::var(free_index[w]), &Num::rational(-c.clone()));
                     }
                 }
                 out
@@ -470,7 +476,7 @@ impl Family {
         let names = self.parameter_names();
         for (name, _) in values {
             if !names.contains(name) {
-                let help = crate::format::suggest(name, names.iter().map(String::as_str));
+                let help = crate::names::suggest(name, names.iter().map(String::as_str));
                 return Err(InstantiateError::UnknownParameter { name: name.clone(), help });
             }
         }
@@ -499,17 +505,6 @@ pub fn numeric(automaton: &Automaton<Affine>, x: &[f64]) -> Automaton<f64> {
     automaton
         .map_matrices(|_, arrow| Ok::<DMatrix<f64>, ()>(arrow.matrix.map(|e| e.eval(x))))
         .expect("evaluation does not fail")
-}
-
-impl Affine {
-    /// The constant zero.
-    pub fn zero() -> Affine {
-        <Affine as Entry>::zero()
-    }
-    /// The constant one.
-    pub fn one() -> Affine {
-        <Affine as Entry>::one()
-    }
 }
 
 /// Why a design could not be turned into numbers.

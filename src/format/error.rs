@@ -58,34 +58,6 @@ impl Source<'_> {
     }
 }
 
-/// The candidate closest to `name` by edit distance, if it is close enough
-/// to be a plausible misspelling.
-pub fn suggest<'a>(name: &str, candidates: impl IntoIterator<Item = &'a str>) -> Option<String> {
-    let limit = (name.chars().count() / 3).max(1) + 1;
-    candidates
-        .into_iter()
-        .map(|c| (edit_distance(name, c), c))
-        .filter(|(d, _)| *d <= limit)
-        .min_by_key(|(d, _)| *d)
-        .map(|(_, c)| c.to_string())
-}
-
-/// Levenshtein distance between two strings, in characters.
-pub fn edit_distance(a: &str, b: &str) -> usize {
-    let b: Vec<char> = b.chars().collect();
-    let mut row: Vec<usize> = (0..=b.len()).collect();
-    for (i, ca) in a.chars().enumerate() {
-        let mut prev = row[0];
-        row[0] = i + 1;
-        for (j, cb) in b.iter().enumerate() {
-            let cur = row[j + 1];
-            row[j + 1] = (prev + usize::from(ca != *cb)).min(row[j] + 1).min(cur + 1);
-            prev = cur;
-        }
-    }
-    row[b.len()]
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -97,13 +69,5 @@ mod tests {
         assert_eq!(s.position(3), (2, 1));
         assert_eq!(s.position(8), (3, 1));
         assert_eq!(s.error(5, "m").to_string(), "f:2:3: m");
-    }
-
-    #[test]
-    fn suggests_close_names() {
-        assert_eq!(suggest("T1", ["T0", "b1", "x"]), Some("T0".into()));
-        assert_eq!(suggest("edg", ["edge", "vertex"]), Some("edge".into()));
-        assert_eq!(suggest("zzzzzz", ["edge", "vertex"]), None);
-        assert_eq!(edit_distance("kitten", "sitting"), 3);
     }
 }

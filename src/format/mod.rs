@@ -4,6 +4,6 @@ mod error;
 mod parse;
 mod write;
 
-pub use error::{FormatError, edit_distance, suggest};
+pub use error::FormatError;
 pub use parse::{ReadError, parse_design, read_design};
 pub use write::TomlWriter;

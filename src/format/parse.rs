@@ -11,10 +11,11 @@ use serde::Deserialize;
 use serde::de::{self, Deserializer, SeqAccess, Visitor};
 use toml::Spanned;
 
-use super::error::{FormatError, Source, suggest};
+use super::error::{FormatError, Source};
+use crate::algebra::{Affine, Env, EvalError, Expr, Num};
 use crate::automaton::{Arrow, ArrowKind, Automaton, Constraint, Relation, selection};
 use crate::design::{Design, Layout, Model, Origin, Variable};
-use crate::family::{Affine, Env, EvalError, Expr, Num};
+use crate::names::suggest;
 use crate::space::{CellKind, State};
 
 #[derive(Deserialize)]

@@ -7,8 +7,8 @@
 use super::stationary::{
     BSpline, ExactMatrix, ModelSpec, Rules, ifs_file, koch_blocks, sierpinski_blocks, tensor_file,
 };
-use super::surd::Surd;
 use super::ternary::ternary_five_point;
+use crate::algebra::Surd;
 use crate::design::Design;
 use crate::format::parse_design;
 
@@ -288,7 +288,7 @@ pub fn ifs_preset(name: &str, points: Option<Vec<Vec<f64>>>, omega: Option<&Surd
         other => {
             return Err(CatalogError::Unknown {
                 name: other.to_string(),
-                suggestion: crate::format::suggest(other, IFS_NAMES),
+                suggestion: crate::names::suggest(other, IFS_NAMES),
             });
         }
     };

@@ -7,12 +7,11 @@
 //!   as an automaton, with the paper's figures as [`normal_preset`]s;
 //! - [`Rules`], [`BSpline`], [`ifs_file`]: stationary subdivision schemes as
 //!   IFS (seed 001), lifted to ordinary IFS by [`LiftedIfs`];
-//! - [`Surd`]: exact numbers `q + q'√r`, so generated files stay exact.
+//! - [`crate::Surd`]: exact numbers `q + q'√r`, so generated files stay exact.
 
 mod catalog;
 mod normal;
 mod stationary;
-mod surd;
 mod ternary;
 mod topology;
 
@@ -25,6 +24,5 @@ pub use stationary::{
     BSpline, CurveStructure, ExactMatrix, LiftError, LiftedIfs, ModelSpec, Rules, StationaryError, curve_structure,
     ifs_file, koch_blocks, sierpinski_blocks, tensor_file, to_f64,
 };
-pub use surd::{Surd, SurdError};
 pub use ternary::{TERNARY_WINDOW, ternary_five_point};
 pub use topology::{TopologyError, bspline_segment_matrices, curve_file, quad_patch_file};

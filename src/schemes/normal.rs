@@ -28,7 +28,7 @@
 use std::collections::HashMap;
 use std::fmt;
 
-use super::surd::{Surd, SurdError};
+use crate::algebra::{Surd, SurdError};
 use crate::automaton::ArrowKind;
 use crate::design::Design;
 use crate::format::{TomlWriter, parse_design};
@@ -647,7 +647,7 @@ pub fn normal_preset(name: &str) -> Result<NormalPreset, NormalSchemeError> {
         other => {
             return Err(NormalSchemeError::UnknownPreset {
                 name: other.to_string(),
-                suggestion: crate::format::suggest(other, PRESET_NAMES),
+                suggestion: crate::names::suggest(other, PRESET_NAMES),
             });
         }
     })

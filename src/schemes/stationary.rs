@@ -28,7 +28,7 @@ use num_bigint::BigInt;
 use num_rational::BigRational;
 use num_traits::{One, Zero};
 
-use super::surd::Surd;
+use crate::algebra::Surd;
 use crate::automaton::ArrowKind;
 use crate::format::TomlWriter;
 use crate::space::CellKind;

@@ -19,7 +19,7 @@
 //! [`crate::analysis::ternary`] (the derivation the paper's text breaks off).
 
 use super::stationary::Rules;
-use super::surd::Surd;
+use crate::algebra::Surd;
 
 /// The rules of eq. (1) for tension `omega`.
 pub fn ternary_five_point(omega: &Surd) -> Rules {

@@ -2,6 +2,7 @@
 
 use std::fmt;
 
+use super::expr::{EvalError, ExprValue};
 use super::num::Num;
 
 /// An affine expression `constant + Σ coeff · x_var` in numbered variables.
@@ -23,6 +24,16 @@ impl Affine {
     /// The constant form `c`.
     pub fn constant(c: Num) -> Affine {
         Affine { constant: c, terms: Vec::new() }
+    }
+
+    /// The constant zero.
+    pub fn zero() -> Affine {
+        Affine::constant(Num::zero())
+    }
+
+    /// The constant one.
+    pub fn one() -> Affine {
+        Affine::constant(Num::one())
     }
 
     /// The form `x_var`.
@@ -123,6 +134,30 @@ impl Affine {
     }
 }
 
+impl ExprValue for Affine {
+    fn from_num(n: &Num) -> Affine {
+        Affine::constant(n.clone())
+    }
+    fn plus(&self, other: &Affine) -> Affine {
+        self.add(other)
+    }
+    fn minus(&self, other: &Affine) -> Affine {
+        self.sub(other)
+    }
+    fn times(&self, other: &Affine) -> Result<Affine, EvalError> {
+        self.mul(other).map_err(|_| EvalError::Nonlinear)
+    }
+    fn divide(&self, other: &Affine) -> Result<Affine, EvalError> {
+        let d = other.as_constant().ok_or(EvalError::BadDivision)?;
+        let inv = Num::one().div(d).ok_or(EvalError::BadDivision)?;
+        Ok(self.scale(&inv))
+    }
+    fn root(&self) -> Result<Affine, EvalError> {
+        let c = self.as_constant().ok_or(EvalError::BadSqrt)?;
+        c.sqrt().map(Affine::constant).ok_or(EvalError::BadSqrt)
+    }
+}
+
 /// Prints an [`Affine`] as `1 - a - b`, `3/16`, `a/2 + 2*b`.
 pub struct AffineDisplay<'a> {
     form: &'a Affine,
@@ -147,8 +182,8 @@ impl fmt::Display for AffineDisplay<'_> {
             }
             first = false;
             let magnitude = c.abs();
-            match &magnitude {
-                Num::Exact(r) => {
+            match magnitude.as_rational() {
+                Some(r) => {
                     let (n, d) = (r.numer(), r.denom());
                     let one = num_bigint::BigInt::from(1);
                     match (n == &one, d == &one) {
@@ -158,7 +193,7 @@ impl fmt::Display for AffineDisplay<'_> {
                         (false, false) => write!(f, "{n}*{name}/{d}")?,
                     }
                 }
-                Num::Approx(x) => write!(f, "{x}*{name}")?,
+                None => write!(f, "({magnitude})*{name}")?,
             }
         }
         Ok(())

@@ -125,6 +125,27 @@ impl ExprValue for f64 {
     }
 }
 
+impl ExprValue for Num {
+    fn from_num(n: &Num) -> Num {
+        n.clone()
+    }
+    fn plus(&self, other: &Num) -> Num {
+        self.add(other)
+    }
+    fn minus(&self, other: &Num) -> Num {
+        self.sub(other)
+    }
+    fn times(&self, other: &Num) -> Result<Num, EvalError> {
+        Ok(self.mul(other))
+    }
+    fn divide(&self, other: &Num) -> Result<Num, EvalError> {
+        self.div(other).ok_or(EvalError::BadDivision)
+    }
+    fn root(&self) -> Result<Num, EvalError> {
+        self.sqrt().ok_or(EvalError::BadSqrt)
+    }
+}
+
 /// Where an expression finds the values of its names.
 pub trait Env<V> {
     /// The value of parameter `name`, if there is one.

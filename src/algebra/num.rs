@@ -1,43 +1,53 @@
-//! Exact numbers with an explicit floating-point escape hatch.
+//! The scalar of automaton files and of the solver: an exact [`Surd`]
+//! whenever it can be, with an explicit floating-point escape hatch.
 
 use std::fmt;
 
 use num_bigint::BigInt;
 use num_rational::BigRational;
-use num_traits::{One, Signed, ToPrimitive, Zero};
 
-/// A number of an automaton file: an exact rational whenever it can be, a
-/// float only when an irrational constant (such as `sqrt(3)`) made it one.
+use super::surd::Surd;
+
+/// A number of an automaton file: exact (a rational, or a sum of rational
+/// multiples of square roots such as `1/2 - sqrt(3)/6`) whenever it can be;
+/// a float only for values outside that field (`sqrt(1 + sqrt(2))`,
+/// a division by a sum of roots).
 ///
-/// Arithmetic between two exact numbers stays exact; any operation that
-/// involves an approximate number gives an approximate number.
+/// Arithmetic between two exact numbers stays exact when the result is a
+/// surd; any operation that involves an approximate number gives an
+/// approximate number.
 #[derive(Clone, Debug)]
 pub enum Num {
-    /// An exact rational.
-    Exact(BigRational),
-    /// A floating-point approximation of an irrational value.
+    /// An exact value.
+    Exact(Surd),
+    /// A floating-point approximation of a value that is not a surd.
     Approx(f64),
 }
 
 impl Num {
     /// The exact integer `n`.
     pub fn int(n: i64) -> Num {
-        Num::Exact(BigRational::from_integer(BigInt::from(n)))
+        Num::Exact(Surd::int(n))
     }
 
     /// The exact fraction `p / q`. `q` must not be zero.
     pub fn frac(p: i64, q: i64) -> Num {
-        Num::Exact(BigRational::new(BigInt::from(p), BigInt::from(q)))
+        Num::Exact(Surd::frac(p, q))
+    }
+
+    /// The exact rational `q`.
+    pub fn rational(q: BigRational) -> Num {
+        Num::Exact(Surd::rational(q))
     }
 
     /// Zero.
     pub fn zero() -> Num {
-        Num::Exact(BigRational::zero())
+        Num::Exact(Surd::zero())
     }
 
     /// One.
     pub fn one() -> Num {
-        Num::Exact(BigRational::one())
+        Num::Exact(Surd::one())
     }
 
     /// Parses a decimal literal (`3`, `0.5625`, `1e-3`, `2.5E+2`) exactly.
@@ -65,25 +75,35 @@ impl Num {
         } else {
             BigRational::new(digits, num_traits::pow(ten, (-scale) as usize))
         };
-        Some(Num::Exact(value))
+        Some(Num::rational(value))
     }
 
-    /// Converts an `f64` exactly (every finite float is a dyadic rational).
+    /// The number a person means by the float `x`: its shortest decimal
+    /// form, read exactly (`0.1` is `1/10`, not the dyadic nearest to it).
+    /// Non-finite values stay approximate.
     pub fn from_f64(x: f64) -> Num {
-        BigRational::from_float(x).map_or(Num::Approx(x), Num::Exact)
+        if !x.is_finite() {
+            return Num::Approx(x);
+        }
+        let text = format!("{:e}", x.abs());
+        match Num::parse_decimal(&text) {
+            Some(n) if x < 0.0 => n.neg(),
+            Some(n) => n,
+            None => Num::Approx(x),
+        }
     }
 
     /// Whether the number is exactly (or, if approximate, numerically) zero.
     pub fn is_zero(&self) -> bool {
         match self {
-            Num::Exact(r) => r.is_zero(),
+            Num::Exact(s) => s.is_zero(),
             Num::Approx(x) => *x == 0.0,
         }
     }
 
     /// Whether the number is exactly one.
     pub fn is_one(&self) -> bool {
-        matches!(self, Num::Exact(r) if r.is_one())
+        matches!(self, Num::Exact(s) if s.is_one())
     }
 
     /// Whether the number is exact.
@@ -91,10 +111,18 @@ impl Num {
         matches!(self, Num::Exact(_))
     }
 
+    /// The rational value, if the number is an exact rational.
+    pub fn as_rational(&self) -> Option<&BigRational> {
+        match self {
+            Num::Exact(s) => s.rational_ref(),
+            Num::Approx(_) => None,
+        }
+    }
+
     /// Whether the number is negative.
     pub fn is_negative(&self) -> bool {
         match self {
-            Num::Exact(r) => r.is_negative(),
+            Num::Exact(s) => s.is_negative(),
             Num::Approx(x) => *x < 0.0,
         }
     }
@@ -102,36 +130,36 @@ impl Num {
     /// The nearest `f64`.
     pub fn to_f64(&self) -> f64 {
         match self {
-            Num::Exact(r) => r.to_f64().unwrap_or(f64::NAN),
+            Num::Exact(s) => s.to_f64(),
             Num::Approx(x) => *x,
         }
     }
 
     /// The absolute value.
     pub fn abs(&self) -> Num {
-        match self {
-            Num::Exact(r) => Num::Exact(r.abs()),
-            Num::Approx(x) => Num::Approx(x.abs()),
-        }
+        if self.is_negative() { self.neg() } else { self.clone() }
     }
 
     /// `self + other`.
     pub fn add(&self, other: &Num) -> Num {
         match (self, other) {
-            (Num::Exact(a), Num::Exact(b)) => Num::Exact(a + b),
+            (Num::Exact(a), Num::Exact(b)) => Num::Exact(a.add(b)),
             _ => Num::Approx(self.to_f64() + other.to_f64()),
         }
     }
 
     /// `self - other`.
     pub fn sub(&self, other: &Num) -> Num {
-        self.add(&other.neg())
+        match (self, other) {
+            (Num::Exact(a), Num::Exact(b)) => Num::Exact(a.sub(b)),
+            _ => Num::Approx(self.to_f64() - other.to_f64()),
+        }
     }
 
     /// `-self`.
     pub fn neg(&self) -> Num {
         match self {
-            Num::Exact(a) => Num::Exact(-a),
+            Num::Exact(a) => Num::Exact(a.neg()),
             Num::Approx(x) => Num::Approx(-x),
         }
     }
@@ -139,35 +167,50 @@ impl Num {
     /// `self * other`.
     pub fn mul(&self, other: &Num) -> Num {
         match (self, other) {
-            (Num::Exact(a), Num::Exact(b)) => Num::Exact(a * b),
+            (Num::Exact(a), Num::Exact(b)) => Num::Exact(a.mul(b)),
             _ => Num::Approx(self.to_f64() * other.to_f64()),
         }
     }
 
-    /// `self / other`, or `None` when `other` is zero.
+    /// `self / other`, or `None` when `other` is zero. Exact when `other`
+    /// is a single term `q√r`.
     pub fn div(&self, other: &Num) -> Option<Num> {
         if other.is_zero() {
             return None;
         }
         Some(match (self, other) {
-            (Num::Exact(a), Num::Exact(b)) => Num::Exact(a / b),
+            (Num::Exact(a), Num::Exact(b)) => match a.div(b) {
+                Some(q) => Num::Exact(q),
+                None => Num::Approx(self.to_f64() / other.to_f64()),
+            },
             _ => Num::Approx(self.to_f64() / other.to_f64()),
         })
     }
 
-    /// The square root: exact when both numerator and denominator are perfect
-    /// squares, approximate otherwise; `None` for a negative number.
+    /// The square root: exact for a non-negative rational (`sqrt(12)` is
+    /// `2*sqrt(3)`), approximate otherwise; `None` for a negative number.
     pub fn sqrt(&self) -> Option<Num> {
         if self.is_negative() {
             return None;
         }
-        if let Num::Exact(r) = self {
-            let (n, d) = (r.numer().sqrt(), r.denom().sqrt());
-            if &(&n * &n) == r.numer() && &(&d * &d) == r.denom() {
-                return Some(Num::Exact(BigRational::new(n, d)));
-            }
+        if let Some(q) = self.as_rational()
+            && let Some(s) = Surd::sqrt_of(q)
+        {
+            return Some(Num::Exact(s));
         }
         Some(Num::Approx(self.to_f64().sqrt()))
+    }
+}
+
+impl From<Surd> for Num {
+    fn from(s: Surd) -> Num {
+        Num::Exact(s)
+    }
+}
+
+impl From<i64> for Num {
+    fn from(n: i64) -> Num {
+        Num::int(n)
     }
 }
 
@@ -181,11 +224,11 @@ impl PartialEq for Num {
 }
 
 impl fmt::Display for Num {
+    /// Re-parseable text: `2`, `-1/16`, `1/2 - sqrt(3)/6`, or a float.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            Num::Exact(r) if r.is_integer() => write!(f, "{}", r.numer()),
-            Num::Exact(r) => write!(f, "{}/{}", r.numer(), r.denom()),
-            Num::Approx(x) => write!(f, "{x}"),
+            Num::Exact(s) => write!(f, "{s}"),
+            Num::Approx(x) => write!(f, "{x:?}"),
         }
     }
 }
@@ -206,15 +249,29 @@ mod tests {
     }
 
     #[test]
-    fn sqrt_is_exact_for_squares() {
-        assert_eq!(Num::frac(9, 16).sqrt(), Some(Num::frac(3, 4)));
-        assert!(!Num::int(3).sqrt().is_some_and(|s| s.is_exact()));
-        assert_eq!(Num::int(-1).sqrt(), None);
+    fn floats_are_read_as_written() {
+        assert_eq!(Num::from_f64(0.1), Num::frac(1, 10));
+        assert_eq!(Num::from_f64(-0.5625), Num::frac(-9, 16));
+        assert_eq!(Num::from_f64(3.0), Num::int(3));
+        assert_eq!(Num::from_f64(1e-20), Num::Exact(Surd::parse("1/100000000000000000000").unwrap()));
+        assert!(!Num::from_f64(f64::NAN).is_exact());
     }
 
     #[test]
-    fn display_is_plain() {
+    fn square_roots_stay_exact() {
+        assert_eq!(Num::frac(9, 16).sqrt(), Some(Num::frac(3, 4)));
+        let s3 = Num::int(3).sqrt().unwrap();
+        assert!(s3.is_exact());
+        assert_eq!(s3.mul(&s3), Num::int(3));
+        assert_eq!(Num::int(-1).sqrt(), None);
+        assert!(!Num::int(1).add(&Num::int(2).sqrt().unwrap()).sqrt().unwrap().is_exact());
+    }
+
+    #[test]
+    fn display_is_plain_and_reparseable() {
         assert_eq!(Num::frac(-1, 16).to_string(), "-1/16");
         assert_eq!(Num::int(2).to_string(), "2");
+        let x = Num::frac(1, 2).sub(&Num::int(3).sqrt().unwrap().div(&Num::int(6)).unwrap());
+        assert_eq!(x.to_string(), "1/2 - sqrt(3)/6");
     }
 }

@@ -6,32 +6,36 @@
 //! The seeds' parameters are all of this kind: `√3/4` (Sierpinski, seed 000
 //! eq. 3), `√3/6` (Koch, eq. 5), `-√3/18` (crown), rationals elsewhere.
 
-use std::collections::BTreeMap;
 use std::fmt;
 
 use num_bigint::BigInt;
 use num_rational::BigRational;
 use num_traits::{One, Signed, ToPrimitive, Zero};
 
-use crate::family::{Expr, Num};
+use super::expr::{Env, EvalError, Expr};
+use super::num::Num;
 
 /// Largest radicand handled exactly (square-free factorisation by trial division).
 const MAX_RADICAND: u64 = 1 << 40;
 
-/// A sum of rational multiples of square roots of square-free integers.
+/// A sum of rational multiples of square roots of square-free integers: the
+/// exact case of every number bcifs reads, writes and solves with.
 ///
 /// ```
-/// use bcifs::schemes::Surd;
+/// use bcifs::Surd;
 /// let a = Surd::parse("1/2 - sqrt(3)/6").unwrap();
 /// let b = Surd::parse("sqrt(12)/12").unwrap(); // = sqrt(3)/6
 /// assert_eq!(a.add(&b), Surd::parse("1/2").unwrap());
 /// assert_eq!(b.mul(&b), Surd::parse("1/12").unwrap());
 /// assert_eq!(a.to_string(), "1/2 - sqrt(3)/6");
 /// ```
-#[derive(Clone, Debug, PartialEq, Eq, Default)]
+#[derive(Clone, Debug, PartialEq, Eq, Hash, Default)]
 pub struct Surd {
-    /// Square-free radicand (1 for the rational part) → non-zero coefficient.
-    terms: BTreeMap<u64, BigRational>,
+    /// The rational part.
+    rational: BigRational,
+    /// `(radicand, coefficient)`: square-free radicands > 1, increasing, coefficients non-zero.
+    /// Empty for a rational (no allocation: the solver's common case stays cheap).
+    roots: Vec<(u64, BigRational)>,
 }
 
 /// Why a text or expression is not an exact surd.
@@ -48,7 +52,7 @@ pub enum SurdError {
     /// The expression uses a parameter or an entry.
     #[error("`{0}` must be a constant (numbers, + - * /, sqrt), not a parameter or matrix entry")]
     NotConstant(String),
-    /// A square root of a negative number, of an irrational number, or a division by one.
+    /// A square root of a negative number, of an irrational number, or a division by a sum of roots.
     #[error(
         "`{0}` is not exact: only square roots of non-negative rationals and divisions by a single term are kept exact"
     )]
@@ -80,15 +84,32 @@ fn square_free(mut n: u64) -> (u64, u64) {
     (s * n, f)
 }
 
+/// Constants only: any name is an error.
+struct NoNames;
+
+impl Env<Num> for NoNames {
+    fn param(&self, _: &str) -> Option<Num> {
+        None
+    }
+    fn entry(&self, _: &str, _: usize, _: usize) -> Option<Num> {
+        None
+    }
+}
+
 impl Surd {
     /// Zero.
     pub fn zero() -> Surd {
         Surd::default()
     }
 
+    /// One.
+    pub fn one() -> Surd {
+        Surd::int(1)
+    }
+
     /// The rational `q`.
     pub fn rational(q: BigRational) -> Surd {
-        Surd::term(1, q)
+        Surd { rational: q, roots: Vec::new() }
     }
 
     /// The integer `n`.
@@ -101,12 +122,15 @@ impl Surd {
         Surd::rational(rational(p, q))
     }
 
+    /// `q·√radicand` for a square-free `radicand`.
     fn term(radicand: u64, q: BigRational) -> Surd {
-        let mut terms = BTreeMap::new();
-        if !q.is_zero() && radicand != 0 {
-            terms.insert(radicand, q);
+        if radicand == 1 {
+            Surd::rational(q)
+        } else if q.is_zero() || radicand == 0 {
+            Surd::zero()
+        } else {
+            Surd { rational: BigRational::zero(), roots: vec![(radicand, q)] }
         }
-        Surd { terms }
     }
 
     /// `√q` for a non-negative rational `q`, or `None` if `q < 0` or too large.
@@ -121,7 +145,7 @@ impl Surd {
         let (a, b) = (q.numer().to_u64()?, q.denom().to_u64()?);
         let ab = a.checked_mul(b).filter(|x| *x <= MAX_RADICAND)?;
         let (s, f) = square_free(ab);
-        Some(Surd::term(s, rational(f as i64, b as i64)))
+        Some(Surd::term(s, BigRational::new(BigInt::from(f), BigInt::from(b))))
     }
 
     /// Parses a constant expression (`1/2`, `-sqrt(3)/18`, `(1 + sqrt(5))/2`).
@@ -139,66 +163,91 @@ impl Surd {
     /// # Errors
     /// See [`Surd::parse`]; `text` is quoted in the error.
     pub fn from_expr(e: &Expr, text: &str) -> Result<Surd, SurdError> {
-        let inexact = || SurdError::Inexact(text.to_string());
-        Ok(match e {
-            Expr::Num(Num::Exact(q)) => Surd::rational(q.clone()),
-            Expr::Num(Num::Approx(_)) => return Err(inexact()),
-            Expr::Param(..) | Expr::Entry { .. } => return Err(SurdError::NotConstant(text.to_string())),
-            Expr::Neg(a) => Surd::from_expr(a, text)?.neg(),
-            Expr::Add(a, b) => Surd::from_expr(a, text)?.add(&Surd::from_expr(b, text)?),
-            Expr::Sub(a, b) => Surd::from_expr(a, text)?.sub(&Surd::from_expr(b, text)?),
-            Expr::Mul(a, b) => Surd::from_expr(a, text)?.mul(&Surd::from_expr(b, text)?),
-            Expr::Div(a, b) => {
-                let d = Surd::from_expr(b, text)?;
-                if d.is_zero() {
-                    return Err(SurdError::DivisionByZero(text.to_string()));
-                }
-                Surd::from_expr(a, text)?.div(&d).ok_or_else(inexact)?
-            }
-            Expr::Sqrt(a) => {
-                let v = Surd::from_expr(a, text)?;
-                let q = v.as_rational().ok_or_else(inexact)?;
-                Surd::sqrt_of(&q).ok_or_else(inexact)?
-            }
-        })
+        match e.eval(&NoNames) {
+            Ok(Num::Exact(s)) => Ok(s),
+            Ok(Num::Approx(_)) | Err(EvalError::BadSqrt) => Err(SurdError::Inexact(text.to_string())),
+            Err(EvalError::BadDivision) => Err(SurdError::DivisionByZero(text.to_string())),
+            Err(_) => Err(SurdError::NotConstant(text.to_string())),
+        }
     }
 
     /// Whether it is zero.
     pub fn is_zero(&self) -> bool {
-        self.terms.is_empty()
+        self.rational.is_zero() && self.roots.is_empty()
+    }
+
+    /// Whether it is one.
+    pub fn is_one(&self) -> bool {
+        self.rational.is_one() && self.roots.is_empty()
+    }
+
+    /// Whether it is a rational (no square-root term).
+    pub fn is_rational(&self) -> bool {
+        self.roots.is_empty()
     }
 
     /// The rational value, if there is no square-root term.
     pub fn as_rational(&self) -> Option<BigRational> {
-        match self.terms.len() {
-            0 => Some(BigRational::zero()),
-            1 => self.terms.get(&1).cloned(),
-            _ => None,
+        self.roots.is_empty().then(|| self.rational.clone())
+    }
+
+    /// The rational value by reference, if there is no square-root term.
+    pub fn rational_ref(&self) -> Option<&BigRational> {
+        self.roots.is_empty().then_some(&self.rational)
+    }
+
+    fn merge(&self, other: &Surd, k: &BigRational) -> Vec<(u64, BigRational)> {
+        if other.roots.is_empty() {
+            return self.roots.clone();
         }
+        let mut out = Vec::with_capacity(self.roots.len() + other.roots.len());
+        let (mut i, mut j) = (0, 0);
+        while i < self.roots.len() || j < other.roots.len() {
+            match (self.roots.get(i), other.roots.get(j)) {
+                (Some(a), Some(b)) if a.0 == b.0 => {
+                    let c = &a.1 + k * &b.1;
+                    if !c.is_zero() {
+                        out.push((a.0, c));
+                    }
+                    i += 1;
+                    j += 1;
+                }
+                (Some(a), Some(b)) if a.0 < b.0 => {
+                    out.push(a.clone());
+                    i += 1;
+                }
+                (Some(a), None) => {
+                    out.push(a.clone());
+                    i += 1;
+                }
+                (_, Some(b)) => {
+                    out.push((b.0, k * &b.1));
+                    j += 1;
+                }
+                (None, None) => break,
+            }
+        }
+        out
+    }
+
+    /// `self + k · other` for a rational `k`.
+    pub fn add_scaled(&self, other: &Surd, k: &BigRational) -> Surd {
+        Surd { rational: &self.rational + k * &other.rational, roots: self.merge(other, k) }
     }
 
     /// `self + other`.
     pub fn add(&self, other: &Surd) -> Surd {
-        let mut terms = self.terms.clone();
-        for (r, q) in &other.terms {
-            let sum = terms.get(r).cloned().unwrap_or_else(BigRational::zero) + q;
-            if sum.is_zero() {
-                terms.remove(r);
-            } else {
-                terms.insert(*r, sum);
-            }
-        }
-        Surd { terms }
+        self.add_scaled(other, &BigRational::one())
     }
 
     /// `-self`.
     pub fn neg(&self) -> Surd {
-        Surd { terms: self.terms.iter().map(|(r, q)| (*r, -q)).collect() }
+        Surd { rational: -&self.rational, roots: self.roots.iter().map(|(r, q)| (*r, -q)).collect() }
     }
 
     /// `self - other`.
     pub fn sub(&self, other: &Surd) -> Surd {
-        self.add(&other.neg())
+        self.add_scaled(other, &-BigRational::one())
     }
 
     /// `self · q` for a rational `q`.
@@ -206,14 +255,26 @@ impl Surd {
         if q.is_zero() {
             return Surd::zero();
         }
-        Surd { terms: self.terms.iter().map(|(r, c)| (*r, c * q)).collect() }
+        Surd { rational: &self.rational * q, roots: self.roots.iter().map(|(r, c)| (*r, c * q)).collect() }
+    }
+
+    fn terms(&self) -> impl Iterator<Item = (u64, &BigRational)> {
+        std::iter::once((1, &self.rational))
+            .filter(|(_, q)| !q.is_zero())
+            .chain(self.roots.iter().map(|(r, q)| (*r, q)))
     }
 
     /// `self · other`: `√a·√b = √(ab)`, reduced to square-free form.
     pub fn mul(&self, other: &Surd) -> Surd {
+        if let Some(q) = other.rational_ref() {
+            return self.scale(q);
+        }
+        if let Some(q) = self.rational_ref() {
+            return other.scale(q);
+        }
         let mut out = Surd::zero();
-        for (ra, qa) in &self.terms {
-            for (rb, qb) in &other.terms {
+        for (ra, qa) in self.terms() {
+            for (rb, qb) in other.terms() {
                 let (s, f) = square_free(ra * rb);
                 out = out.add(&Surd::term(s, qa * qb * BigRational::from_integer(BigInt::from(f))));
             }
@@ -223,18 +284,27 @@ impl Surd {
 
     /// `self / other` when `other` is a single term `q√r` (`None` otherwise or for zero).
     pub fn div(&self, other: &Surd) -> Option<Surd> {
-        if other.terms.len() != 1 {
+        let mut terms = other.terms();
+        let (r, q) = terms.next()?;
+        if terms.next().is_some() {
             return None;
         }
-        let (r, q) = other.terms.iter().next()?;
         // 1 / (q√r) = √r / (q r).
-        let inv = Surd::term(*r, BigRational::one() / (q * BigRational::from_integer(BigInt::from(*r))));
+        let inv = Surd::term(r, BigRational::one() / (q * BigRational::from_integer(BigInt::from(r))));
         Some(self.mul(&inv))
     }
 
     /// The nearest `f64`.
     pub fn to_f64(&self) -> f64 {
-        self.terms.iter().map(|(r, q)| q.to_f64().unwrap_or(f64::NAN) * (*r as f64).sqrt()).sum()
+        self.terms().map(|(r, q)| q.to_f64().unwrap_or(f64::NAN) * (r as f64).sqrt()).sum()
+    }
+
+    /// Whether it is negative (exact for rationals; by its `f64` value otherwise).
+    pub fn is_negative(&self) -> bool {
+        match self.rational_ref() {
+            Some(q) => q.is_negative(),
+            None => self.to_f64() < 0.0,
+        }
     }
 }
 
@@ -247,10 +317,10 @@ impl From<i64> for Surd {
 impl fmt::Display for Surd {
     /// Re-parseable text: `0`, `-1/16`, `1/2 - sqrt(3)/6`, `3*sqrt(3)/4`.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        if self.terms.is_empty() {
+        if self.is_zero() {
             return f.write_str("0");
         }
-        for (k, (r, q)) in self.terms.iter().enumerate() {
+        for (k, (r, q)) in self.terms().enumerate() {
             let negative = q.is_negative();
             match (k, negative) {
                 (0, true) => f.write_str("-")?,
@@ -260,7 +330,7 @@ impl fmt::Display for Surd {
             }
             let a = q.abs();
             let (n, d) = (a.numer(), a.denom());
-            if *r == 1 {
+            if r == 1 {
                 write!(f, "{n}")?;
             } else if n.is_one() {
                 write!(f, "sqrt({r})")?;

@@ -1,0 +1,15 @@
+//! The bottom layer: exact numbers ([`Surd`] inside [`Num`]), affine forms
+//! in the unknowns ([`Affine`]), the expression language of automaton
+//! files ([`Expr`]), and numeric spectra. Nothing here knows automata.
+
+mod affine;
+mod expr;
+mod num;
+mod spectrum;
+mod surd;
+
+pub use affine::{Affine, AffineDisplay, Nonlinear};
+pub use expr::{Env, EvalError, Expr, ExprSyntaxError, ExprValue};
+pub use num::Num;
+pub use spectrum::{contractive_spectrum, eigenvalues};
+pub use surd::{Surd, SurdError};
