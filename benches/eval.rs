@@ -14,7 +14,7 @@ use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_m
 fn setup(name: &str) -> (bcifs::Automaton<f64>, bcifs::Model) {
     let design = bcifs::builtin_design(name).expect("shipped");
     let instance = bcifs::instantiate(&design, &[]).expect("instantiates");
-    (instance.automaton, design.model.expect("model"))
+    (instance.automaton, design.model().cloned().expect("model"))
 }
 
 fn levy(c: &mut Criterion) {

@@ -9,7 +9,7 @@ fn solve_benches(c: &mut Criterion) {
             b.iter(|| bcifs::solve(std::hint::black_box(&design)).expect("consistent"))
         });
     }
-    let text = bcifs::schemes::quad_patch_file(false);
+    let text = bcifs::write_design(&bcifs::schemes::quad_patch(false).expect("generates"));
     c.bench_function("parse+solve/quad_patch_general", |b| {
         b.iter(|| bcifs::solve(&bcifs::parse_design(&text, "q", "q").expect("parses")).expect("consistent"))
     });

@@ -5,7 +5,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let depth: usize = std::env::args().nth(1).map_or(Ok(8), |s| s.parse())?;
     let design = bcifs::builtin_design("doo_sabin_torus").ok_or("shipped automaton")?;
     let instance = bcifs::instantiate(&design, &[])?;
-    let model = design.model.clone().ok_or("model")?;
+    let model = design.model().cloned().ok_or("model")?;
     let ev = bcifs::eval::Evaluator::new(
         &instance.automaton,
         &model,

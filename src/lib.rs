@@ -9,37 +9,74 @@
 //! as equalities between paths (adjacency `T0·b1 = T1·b0`, incidence
 //! `T0·b0 = b0·Tv`), which are linear in the unknown entries: the exact
 //! solver turns them into the **admissible family** of subdivision
-//! matrices, an affine function of a few free parameters.
+//! matrices, an affine function of a few free parameters. A **model**
+//! (control points) projects the attractor into the plane or space.
+//!
+//! The local corner-cutting curve of Sokolov, Gentil and Bensoudane (seed
+//! 004 §3), built in code, solved, evaluated and written as OBJ (the same
+//! design as `automata/corner_cutting.toml`, and `examples/corner_cutting.rs`):
 //!
 //! ```
-//! // The local corner-cutting curve of Sokolov, Gentil and Bensoudane (§3).
-//! let design = bcifs::builtin_design("corner_cutting").unwrap();
-//! let family = bcifs::solve(&design).unwrap();
+//! use bcifs::{CellKind, Design, Layout, Model};
+//! use bcifs::eval::{EvalSettings, Evaluator};
+//!
+//! let hexagon = vec![vec![0.0, 0.0], vec![2.0, 0.0], vec![3.0, 1.5], vec![2.0, 3.0], vec![0.0, 3.0], vec![-1.0, 1.5]];
+//! let design = Design::builder("corner_cutting")
+//!     .state("e", 3, CellKind::Edge)            // an edge with 3 control points
+//!     .state("v", 2, CellKind::Vertex)          // its ends depend on 2 of them
+//!     .unknown("T0", "e", "e")                  // the two halves: solved for
+//!     .unknown("T1", "e", "e")
+//!     .unknown("Tv", "v", "v")
+//!     .select("b0", "e", "v", [0, 1])           // left end: points 0, 1
+//!     .select("b1", "e", "v", [1, 2])           // right end: points 1, 2
+//!     .adjacency("T0 b1 = T1 b0")               // the halves meet
+//!     .incidence("T0 b0 = b0 Tv")               // the ends subdivide as vertices
+//!     .incidence("T1 b1 = b1 Tv")
+//!     .name_entry("a", "T0[1][0]")
+//!     .name_entry("b", "T0[0][1]")
+//!     .model(Model::new("e", hexagon).with_layout(Layout::Closed))
+//!     .build()?;
+//!
+//! // The admissible family, exactly as the paper prints it.
+//! let family = bcifs::solve(&design)?;
 //! assert_eq!(family.parameter_names(), ["a", "b"]);
+//! assert_eq!(family.entry_text("T0", 1, 2), "1 - a");
 //! assert_eq!(family.entry_text("T1", 1, 0), "1 - b");
 //!
-//! // Pick parameters (a = b = 1/4 is Chaikin's scheme) and verify numerically.
-//! let instance = family.instantiate(&[("a".into(), 0.25), ("b".into(), 0.25)]).unwrap();
-//! let report = bcifs::analysis::check(&instance.automaton, &instance.values, 1e-9).unwrap();
+//! // Pick a = b = 1/4 (Chaikin's scheme), check it, evaluate, export.
+//! let instance = family.instantiate(&[("a".into(), 0.25), ("b".into(), 0.25)])?;
+//! let report = bcifs::analysis::check(&instance.automaton, &instance.values, 1e-9)?;
 //! assert!(report.ok && report.contractive);
+//! let model = design.model().expect("the design has a model");
+//! let shape = Evaluator::new(&instance.automaton, model, EvalSettings::default().with_depth(6))?.evaluate()?;
+//! assert_eq!(shape.vertex_count(), 6 << 6); // 6 closed windows, 2^6 edges each
+//! let path = std::env::temp_dir().join("bcifs-doc-corner-cutting.obj");
+//! bcifs::export::write_obj(&shape, "corner_cutting", &path)?;
+//! # std::fs::remove_file(&path)?;
+//! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
-//! Data flows one way: file or generator → [`Design`] → [`solve`] →
-//! [`Family`] → [`Family::instantiate`] → numeric [`Automaton`] →
-//! [`eval`] → [`geometry`] → [`export`].
+//! Data flows one way: file, generator or code → [`DesignBuilder`] →
+//! [`Design`] → [`solve`] → [`Family`] → [`Family::instantiate`] → numeric
+//! [`Automaton`] → [`eval`] → [`geometry`] → [`export`].
 //!
-//! The seeds' schemes are generators in [`schemes`]: each returns an
-//! automaton file with a model, so everything above works on it.
+//! Automaton files ([`parse_design`], [`write_design`]) go through the same
+//! builder, and so do the seeds' schemes in [`schemes`]: each generator
+//! returns a [`Design`] with a model.
 //!
 //! ```
 //! // The Koch curve of the normal-vector scheme (seed 000, eq. 5) as an automaton.
 //! let koch = bcifs::schemes::normal_preset("koch").unwrap();
-//! let design = koch.scheme.design("koch", &koch.polygon, koch.closed).unwrap();
+//! let design = koch.design().unwrap();
 //! let instance = bcifs::instantiate(&design, &[]).unwrap();
-//! let model = design.model.clone().unwrap();
 //! let settings = bcifs::eval::EvalSettings::default().with_depth(3);
-//! let shape = bcifs::eval::Evaluator::new(&instance.automaton, &model, settings).unwrap().evaluate().unwrap();
+//! let shape = bcifs::eval::Evaluator::new(&instance.automaton, design.model().unwrap(), settings)
+//!     .unwrap()
+//!     .evaluate()
+//!     .unwrap();
 //! assert_eq!(shape.vertex_count(), 4usize.pow(3) + 1);
+//! // Entries stay exact through a printed file: sqrt(3)/6, not 0.2886…
+//! assert!(bcifs::write_design(&design).contains("sqrt(3)/6"));
 //! ```
 
 #![forbid(unsafe_code)]
@@ -62,12 +99,14 @@ pub use algebra::{
     Affine, AffineDisplay, Env, EvalError, Expr, ExprSyntaxError, ExprValue, Nonlinear, Num, Surd, SurdError,
 };
 pub use automaton::{Arrow, ArrowKind, Automaton, AutomatonError, Constraint, Entry, Relation, mat_mul, selection};
-pub use design::{Design, Layout, Model, Origin, Variable};
+pub use design::{
+    BuildError, Design, DesignBuilder, Docs, Field, Layout, Locus, Matrix, Model, Origin, Value, Variable,
+};
 pub use family::{
     DesignInstantiateError, Equation, Family, Instance, InstantiateError, Parameter, SolveError, equations,
     instantiate, numeric, solve,
 };
-pub use format::{FormatError, ReadError, TomlWriter, parse_design, read_design};
+pub use format::{BUILTIN_AUTOMATA, FormatError, ReadError, builtin_design, parse_design, read_design, write_design};
 pub use names::suggest;
 pub use render::{
     GALLERY_BUDGET_BYTES, GALLERY_MAX_DEPTH, GalleryEntry, GallerySource, RenderError, RenderOptions, RenderSummary,
@@ -75,25 +114,3 @@ pub use render::{
     write_shape,
 };
 pub use space::{CellKind, State};
-
-/// The automata shipped in `automata/`, embedded in the library:
-/// `(name, file text)`.
-pub const BUILTIN_AUTOMATA: &[(&str, &str)] = &[
-    ("corner_cutting", include_str!("../automata/corner_cutting.toml")),
-    ("curve_4_3", include_str!("../automata/curve_4_3.toml")),
-    ("doo_sabin_quad", include_str!("../automata/doo_sabin_quad.toml")),
-    ("doo_sabin_torus", include_str!("../automata/doo_sabin_torus.toml")),
-    ("fern", include_str!("../automata/fern.toml")),
-    ("fern_sierpinski", include_str!("../automata/fern_sierpinski.toml")),
-    ("koch", include_str!("../automata/koch.toml")),
-    ("levy", include_str!("../automata/levy.toml")),
-];
-
-/// The shipped automaton called `name`, parsed.
-///
-/// # Errors
-/// `None` if there is no such automaton. The shipped files are tested to parse.
-pub fn builtin_design(name: &str) -> Option<Design> {
-    let (_, text) = BUILTIN_AUTOMATA.iter().find(|(n, _)| *n == name)?;
-    parse_design(text, &format!("automata/{name}.toml"), name).ok()
-}

@@ -10,7 +10,7 @@ use clap::{Parser, Subcommand};
 use serde_json::json;
 
 use bcifs::analysis::{DEFAULT_CHECK_TOLERANCE, check};
-use bcifs::schemes::{curve_file, quad_patch_file};
+use bcifs::schemes::{curve, quad_patch};
 use bcifs::{Design, SolveError, read_design, solve};
 
 #[derive(Parser)]
@@ -169,12 +169,11 @@ fn run_ifs(out: &mut String, args: IfsArgs) -> Result<u8> {
         }
     };
     let omega = args.omega.as_deref().map(bcifs::Surd::parse).transpose()?;
-    let generated = bcifs::schemes::ifs_preset(&args.name, points, omega.as_ref())?;
+    let design = bcifs::schemes::ifs_preset(&args.name, points, omega.as_ref())?;
     if args.out.print {
-        out.push_str(&generated.text);
+        out.push_str(&bcifs::write_design(&design));
         return Ok(0);
     }
-    let design = generated.design();
     let output = args.out.output.context("give -o OUT.{png,svg,obj}")?;
     let (w, h) = parse_size(&args.out.size)?;
     let mut options = bcifs::RenderOptions::default();
@@ -186,7 +185,7 @@ fn run_ifs(out: &mut String, args: IfsArgs) -> Result<u8> {
     let summary = bcifs::render(&design, &options, &output)?;
     eprintln!(
         "{}: {} vertices{} → {} ({:.2} s)",
-        generated.description,
+        design.description(),
         summary.vertices,
         if summary.quads > 0 { format!(", {} quads", summary.quads) } else { String::new() },
         output.display(),
@@ -418,7 +417,7 @@ fn run_normal(out: &mut String, args: NormalArgs) -> Result<u8> {
         bail!("the initial polygon needs at least {} points", if preset.closed { 3 } else { 2 });
     }
     if args.out.print {
-        out.push_str(&preset.scheme.automaton_file(preset.name, preset.description, &preset.polygon, preset.closed)?);
+        out.push_str(&bcifs::write_design(&preset.design()?));
         return Ok(0);
     }
     let form = keyword(
@@ -509,7 +508,7 @@ fn parse_params(params: &[String]) -> Result<Vec<(String, f64)>> {
 
 fn run_solve(out: &mut String, file: &str, as_json: bool) -> Result<u8> {
     let design = load(file)?;
-    let name = design.automaton.name.clone();
+    let name = design.name().to_string();
     match solve(&design) {
         Ok(family) => {
             let matrices = family.matrices_text();
@@ -562,8 +561,7 @@ fn run_solve(out: &mut String, file: &str, as_json: bool) -> Result<u8> {
 fn run_check(out: &mut String, file: &str, params: &[String], as_json: bool) -> Result<u8> {
     let design = load(file)?;
     let values = parse_params(params)?;
-    let instance =
-        bcifs::instantiate(&design, &values).map_err(|e| anyhow::anyhow!("{}: {e}", design.automaton.name))?;
+    let instance = bcifs::instantiate(&design, &values).map_err(|e| anyhow::anyhow!("{}: {e}", design.name()))?;
     let report = check(&instance.automaton, &instance.values, DEFAULT_CHECK_TOLERANCE)?;
     if as_json {
         let params: serde_json::Map<String, serde_json::Value> =
@@ -579,19 +577,14 @@ fn run_check(out: &mut String, file: &str, params: &[String], as_json: bool) -> 
             out,
             "{}",
             serde_json::to_string_pretty(&json!({
-                "automaton": design.automaton.name, "ok": report.ok, "parameters": params,
+                "automaton": design.name(), "ok": report.ok, "parameters": params,
                 "constraints": constraints, "max_column_sum_error": report.max_column_sum_error,
                 "spectra": spectra, "contractive": report.contractive,
             }))?
         )?;
     } else {
         let p: Vec<String> = instance.parameters.iter().map(|(n, v)| format!("{n} = {v}")).collect();
-        writeln!(
-            out,
-            "{}: {}",
-            design.automaton.name,
-            if p.is_empty() { "no free parameter".into() } else { p.join(", ") }
-        )?;
+        writeln!(out, "{}: {}", design.name(), if p.is_empty() { "no free parameter".into() } else { p.join(", ") })?;
         for (e, r) in &report.constraints {
             let mark = if *r <= DEFAULT_CHECK_TOLERANCE { "ok  " } else { "FAIL" };
             writeln!(out, "  {mark} {e}   (residual {r:.3e})")?;
@@ -658,7 +651,7 @@ fn run(out: &mut String, cli: Cli) -> Result<u8> {
             let summary = bcifs::render(&design, &options, &output)?;
             eprintln!(
                 "{}: {} vertices{} → {} ({:.2} s)",
-                design.automaton.name,
+                design.name(),
                 summary.vertices,
                 if summary.quads > 0 { format!(", {} quads", summary.quads) } else { String::new() },
                 output.display(),
@@ -699,10 +692,10 @@ fn run(out: &mut String, cli: Cli) -> Result<u8> {
         },
         Command::New { topology } => {
             let text = match topology {
-                Topology::Curve { points, vertex, arity } => curve_file(points, vertex, arity)?,
-                Topology::QuadPatch { symmetric } => quad_patch_file(symmetric),
+                Topology::Curve { points, vertex, arity } => curve(points, vertex, arity)?,
+                Topology::QuadPatch { symmetric } => quad_patch(symmetric)?,
             };
-            out.push_str(&text);
+            out.push_str(&bcifs::write_design(&text));
             Ok(0)
         }
     }

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use crate::design::{Design, Model};
 use crate::eval::{Depth, EvalError, EvalSettings, Evaluator, RandomSettings, chaos_game};
-use crate::export::{ObjWriter, RasterSettings, raster, svg, write_atomic, write_png};
+use crate::export::{ObjWriter, RasterSettings, raster, svg, write_atomic, write_obj, write_png};
 use crate::family::{DesignInstantiateError, instantiate};
 use crate::geometry::{Shape, Sink};
 
@@ -60,7 +60,7 @@ pub struct RenderSummary {
 }
 
 fn model_of(design: &Design) -> Result<Model, RenderError> {
-    design.model.clone().ok_or_else(|| RenderError::NoModel(design.automaton.name.clone()))
+    design.model().cloned().ok_or_else(|| RenderError::NoModel(design.name().to_string()))
 }
 
 /// Evaluates a design in memory (deterministic or random, as the options say).
@@ -70,10 +70,7 @@ fn model_of(design: &Design) -> Result<Model, RenderError> {
 pub fn evaluate_design(design: &Design, options: &RenderOptions) -> Result<Shape, RenderError> {
     let model = model_of(design)?;
     let instance = instantiate(design, &options.params)?;
-    let mut eval = options.eval.clone();
-    if eval.start.is_empty() {
-        eval.start = model.start.clone();
-    }
+    let eval = options.eval.clone();
     Ok(match &options.random {
         Some(r) => chaos_game(&instance.automaton, &model, r)?,
         None => Evaluator::new(&instance.automaton, &model, eval)?.evaluate()?,
@@ -96,16 +93,13 @@ pub fn render(design: &Design, options: &RenderOptions, out: &Path) -> Result<Re
             match &options.random {
                 Some(r) => {
                     let shape = chaos_game(&instance.automaton, &model, r)?;
-                    writer.object(&design.automaton.name).map_err(io)?;
+                    writer.object(design.name()).map_err(io)?;
                     writer.vertices(shape.dim, &shape.positions, None).map_err(io)?;
                     writer.finish().map_err(io)?;
                     Ok(RenderSummary { vertices: shape.vertex_count(), quads: 0 })
                 }
                 None => {
-                    let mut eval = options.eval.clone();
-                    if eval.start.is_empty() {
-                        eval.start = model.start.clone();
-                    }
+                    let eval = options.eval.clone();
                     let ev = Evaluator::new(&instance.automaton, &model, eval)?;
                     let mut counter = Counter { inner: &mut writer, vertices: 0, quads: 0 };
                     ev.stream(&mut counter).map_err(|e| match e {
@@ -118,7 +112,7 @@ pub fn render(design: &Design, options: &RenderOptions, out: &Path) -> Result<Re
         }
         "svg" | "png" => {
             let shape = evaluate_design(design, options)?;
-            write_shape(&shape, &design.automaton.name, &options.raster, out)
+            write_shape(&shape, design.name(), &options.raster, out)
         }
         other => Err(RenderError::Format(other.to_string())),
     }
@@ -140,14 +134,7 @@ pub fn write_shape(
     let io = |e: std::io::Error| RenderError::Io(out.to_path_buf(), e);
     let summary = RenderSummary { vertices: shape.vertex_count(), quads: shape.quads.len() };
     match ext.as_str() {
-        "obj" => {
-            let mut writer = ObjWriter::create(out).map_err(io)?;
-            if shape.objects.is_empty() {
-                writer.object(name).map_err(io)?;
-            }
-            shape.replay(&mut writer).map_err(io)?;
-            writer.finish().map_err(io)?;
-        }
+        "obj" => write_obj(shape, name, out).map_err(io)?,
         "svg" => {
             if shape.dim > 2 {
                 return Err(RenderError::NotPlanar);
@@ -220,7 +207,7 @@ pub struct GalleryEntry {
 pub fn gallery_depth(design: &Design) -> Result<usize, RenderError> {
     let model = model_of(design)?;
     let instance = instantiate(design, &[])?;
-    let ev = Evaluator::new(&instance.automaton, &model, EvalSettings::default().with_start_sets(&model))?;
+    let ev = Evaluator::new(&instance.automaton, &model, EvalSettings::default())?;
     Ok((1..=GALLERY_MAX_DEPTH).take_while(|&k| ev.estimate_bytes(k) <= GALLERY_BUDGET_BYTES).last().unwrap_or(1))
 }
 
@@ -241,8 +228,8 @@ pub fn gallery_items() -> Vec<(String, String, GallerySource)> {
     let mut items: Vec<(String, String, GallerySource)> = crate::BUILTIN_AUTOMATA
         .iter()
         .filter_map(|(n, _)| crate::builtin_design(n))
-        .filter(|d| d.model.is_some())
-        .map(|d| (d.automaton.name.clone(), d.description.clone(), GallerySource::Design(Box::new(d), None)))
+        .filter(|d| d.model().is_some())
+        .map(|d| (d.name().to_string(), d.description().to_string(), GallerySource::Design(Box::new(d), None)))
         .collect();
     for name in crate::schemes::PRESET_NAMES {
         let Ok(preset) = crate::schemes::normal_preset(name) else { continue };
@@ -259,7 +246,7 @@ pub fn gallery_items() -> Vec<(String, String, GallerySource)> {
     }
     for name in crate::schemes::IFS_NAMES {
         if let Ok(g) = crate::schemes::ifs_preset(name, None, None) {
-            items.push((g.name.clone(), g.description.clone(), GallerySource::Design(Box::new(g.design()), None)));
+            items.push((g.name().to_string(), g.description().to_string(), GallerySource::Design(Box::new(g), None)));
         }
     }
     items
@@ -302,9 +289,9 @@ pub fn gallery(dir: &Path, progress: bool) -> Result<Vec<GalleryEntry>, RenderEr
                 let model = model_of(&design)?;
                 let plain_ifs = model.layout == crate::design::Layout::Single
                     && design
-                        .automaton
+                        .automaton()
                         .state_id(model.root(0))
-                        .is_some_and(|r| design.automaton.state(r).kind == crate::space::CellKind::Free);
+                        .is_some_and(|r| design.automaton().state(r).kind == crate::space::CellKind::Free);
                 if plain_ifs {
                     let mut random = options.clone();
                     random.random = Some(RandomSettings::default().with_points(2_000_000));

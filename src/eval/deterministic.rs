@@ -97,11 +97,6 @@ impl EvalSettings {
         self.start.push((state.to_string(), points));
         self
     }
-    /// With the start sets of a model.
-    pub fn with_start_sets(mut self, model: &crate::design::Model) -> Self {
-        self.start = model.start.clone();
-        self
-    }
     /// Without the given subdivision arrows.
     pub fn without(mut self, arrows: &[&str]) -> Self {
         self.dropped.extend(arrows.iter().map(|s| s.to_string()));
@@ -200,12 +195,17 @@ fn diameter(c: &[f64], d: usize, n: usize) -> f64 {
 
 impl Evaluator {
     /// Prepares `automaton` with `model`: checks stochasticity and
-    /// contractivity, cuts the pieces, tabulates the last levels.
+    /// contractivity, cuts the pieces, tabulates the last levels. The
+    /// model's start sets are used, except for the states that
+    /// `settings.start` gives its own.
     ///
     /// # Errors
     /// See [`EvalError`].
     pub fn new(automaton: &Automaton<f64>, model: &Model, settings: EvalSettings) -> Result<Evaluator, EvalError> {
-        let mut plan = Plan::new(automaton, &settings.start)?;
+        let mut start: Vec<(String, Vec<Vec<f64>>)> =
+            model.start.iter().filter(|(s, _)| !settings.start.iter().any(|(t, _)| t == s)).cloned().collect();
+        start.extend(settings.start.iter().cloned());
+        let mut plan = Plan::new(automaton, &start)?;
         for name in &settings.dropped {
             let found = plan.states.iter_mut().flatten().any(|s| {
                 let before = s.children.len();

@@ -7,7 +7,7 @@ mod png;
 mod svg;
 
 pub use atomic::{AtomicFile, write_atomic};
-pub use obj::ObjWriter;
+pub use obj::{ObjWriter, write_obj};
 pub use plot::{Plot, Series};
 pub use png::{RasterSettings, View, ascii, raster, write_png};
 pub use svg::svg;

@@ -5,7 +5,21 @@ use std::io::{self, BufWriter, Read, Write};
 use std::path::{Path, PathBuf};
 
 use super::atomic::{AtomicFile, temp_path};
-use crate::geometry::Sink;
+use crate::geometry::{Shape, Sink};
+
+/// Writes a shape held in memory as an OBJ file (through a temporary file
+/// renamed at the end); `name` names its object when it has none.
+///
+/// # Errors
+/// An I/O error; nothing is left half-written.
+pub fn write_obj(shape: &Shape, name: &str, path: &Path) -> io::Result<()> {
+    let mut writer = ObjWriter::create(path)?;
+    if shape.objects.is_empty() {
+        writer.object(name)?;
+    }
+    shape.replay(&mut writer)?;
+    writer.finish()
+}
 
 /// Indices per `l` line: long polylines are split into consecutive lines
 /// that share their end vertices.

@@ -119,7 +119,7 @@ impl Env<Affine> for Symbols<'_> {
         self.design.variable(name).map(Affine::var)
     }
     fn entry(&self, arrow: &str, row: usize, col: usize) -> Option<Affine> {
-        let a = &self.design.automaton;
+        let a = &self.design.automaton();
         let m = &a.arrow(a.arrow_id(arrow)?).matrix;
         (row < m.nrows() && col < m.ncols()).then(|| m[(row, col)].clone())
     }
@@ -131,7 +131,7 @@ impl Env<Affine> for Symbols<'_> {
 /// # Errors
 /// [`SolveError::Nonlinear`] or [`SolveError::Eval`] naming the constraint.
 pub fn equations(design: &Design) -> Result<Vec<Equation>, SolveError> {
-    let a = &design.automaton;
+    let a = &design.automaton();
     let mut out = Vec::new();
     for c in a.constraints() {
         match &c.relation {
@@ -255,14 +255,14 @@ impl Eliminator {
     }
 
     /// Adds a row; returns the reduced row if it reads `0 = c ≠ 0`.
-    fn insert(&mut self, mut row: Row) -> Result<(), Row> {
+    fn insert(&mut self, mut row: Row) -> Result<(), Box<Row>> {
         let hits: Vec<(usize, BigRational)> =
             row.terms.iter().filter(|(v, _)| self.pivot_of.contains_key(v)).cloned().collect();
         for (v, c) in hits {
             row = row.sub_scaled(&self.rows[self.pivot_of[&v]], &c);
         }
         let Some(&(pivot, ref pc)) = row.terms.iter().min_by_key(|(v, _)| self.key[*v]) else {
-            return if row.constant.is_zero() { Ok(()) } else { Err(row) };
+            return if row.constant.is_zero() { Ok(()) } else { Err(Box::new(row)) };
         };
         let inv = BigRational::one() / pc;
         row.scale(&inv);
@@ -331,7 +331,7 @@ pub fn solve(design: &Design) -> Result<Family, SolveError> {
     }
     eqs.retain(|e| !e.form.terms().is_empty() || e.form.constant_term().is_exact());
     let words = eqs.len().div_ceil(64).max(1);
-    let key: Vec<(bool, usize)> = design.variables.iter().enumerate().map(|(i, v)| (v.named, i)).collect();
+    let key: Vec<(bool, usize)> = design.variables().iter().enumerate().map(|(i, v)| (v.named, i)).collect();
     let rows: Vec<Row> = eqs.iter().enumerate().map(|(i, e)| to_row(e, i, words)).collect::<Result<_, _>>()?;
     let mut elim = Eliminator::new(key.clone());
     for row in &rows {
@@ -353,9 +353,9 @@ pub fn solve(design: &Design) -> Result<Family, SolveError> {
     }
 
     // Free variables: the user's names in declaration order, then the others.
-    let nvars = design.variables.len();
+    let nvars = design.variables().len();
     let mut free: Vec<usize> = (0..nvars).filter(|v| !elim.pivot_of.contains_key(v)).collect();
-    let declared_rank = |v: usize| design.declared.iter().position(|n| *n == design.variables[v].name);
+    let declared_rank = |v: usize| design.declared().iter().position(|n| *n == design.variables()[v].name);
     free.sort_by_key(|&v| (declared_rank(v).is_none(), declared_rank(v), v));
     let free_index: HashMap<usize, usize> = free.iter().enumerate().map(|(i, &v)| (v, i)).collect();
 
@@ -375,10 +375,10 @@ pub fn solve(design: &Design) -> Result<Family, SolveError> {
         }
     };
     let variables: Vec<(String, Affine)> =
-        design.variables.iter().enumerate().map(|(v, var)| (var.name.clone(), expression(v))).collect();
-    let free_names: Vec<String> = free.iter().map(|&v| design.variables[v].name.clone()).collect();
+        design.variables().iter().enumerate().map(|(v, var)| (var.name.clone(), expression(v))).collect();
+    let free_names: Vec<String> = free.iter().map(|&v| design.variables()[v].name.clone()).collect();
     if let Some((v, var)) =
-        design.variables.iter().enumerate().find(|(v, var)| var.named && elim.pivot_of.contains_key(v))
+        design.variables().iter().enumerate().find(|(v, var)| var.named && elim.pivot_of.contains_key(v))
     {
         return Err(SolveError::DependentParameter {
             name: var.name.clone(),
@@ -386,17 +386,17 @@ pub fn solve(design: &Design) -> Result<Family, SolveError> {
         });
     }
     let automaton = design
-        .automaton
+        .automaton()
         .map_matrices(|_, arrow| Ok::<_, ()>(arrow.matrix.map(|e| e.substitute(&|v| variables[v].1.clone()))))
         .expect("substitution does not fail");
     let parameters = free
         .iter()
         .map(|&v| {
-            let var = &design.variables[v];
+            let var = &design.variables()[v];
             Parameter {
                 name: var.name.clone(),
                 origin: var.origin.clone(),
-                default: design.defaults.get(&var.name).copied(),
+                default: design.defaults().get(&var.name).copied(),
             }
         })
         .collect();
@@ -528,19 +528,24 @@ pub enum DesignInstantiateError {
 pub fn instantiate(design: &Design, values: &[(String, f64)]) -> Result<Instance, DesignInstantiateError> {
     match solve(design) {
         Ok(family) => Ok(family.instantiate(values)?),
-        Err(SolveError::Inconsistent { .. }) if design.variables.iter().all(|v| v.origin == Origin::Parameter) => {
+        Err(SolveError::Inconsistent { .. }) if design.variables().iter().all(|v| v.origin == Origin::Parameter) => {
             let family = Family {
-                automaton: design.automaton.clone(),
+                automaton: design.automaton().clone(),
                 parameters: design
-                    .variables
+                    .variables()
                     .iter()
                     .map(|v| Parameter {
                         name: v.name.clone(),
                         origin: v.origin.clone(),
-                        default: design.defaults.get(&v.name).copied(),
+                        default: design.defaults().get(&v.name).copied(),
                     })
                     .collect(),
-                variables: design.variables.iter().enumerate().map(|(i, v)| (v.name.clone(), Affine::var(i))).collect(),
+                variables: design
+                    .variables()
+                    .iter()
+                    .enumerate()
+                    .map(|(i, v)| (v.name.clone(), Affine::var(i)))
+                    .collect(),
                 equations: 0,
                 rank: 0,
             };

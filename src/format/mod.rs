@@ -1,9 +1,12 @@
-//! Automaton files: parsing with positioned errors, and writing.
+//! Automaton files: parsing (through the design builder) with positioned
+//! errors, writing any design back as a commented file, and the shipped ones.
 
+mod builtin;
 mod error;
 mod parse;
 mod write;
 
+pub use builtin::{BUILTIN_AUTOMATA, builtin_design};
 pub use error::FormatError;
 pub use parse::{ReadError, parse_design, read_design};
-pub use write::TomlWriter;
+pub use write::write_design;

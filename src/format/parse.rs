@@ -1,22 +1,21 @@
 //! Reading automaton files (TOML) into a [`Design`].
 
-use std::collections::{HashMap, HashSet};
 use std::fmt;
 use std::ops::Range;
 use std::path::Path;
 
 use indexmap::IndexMap;
-use nalgebra::DMatrix;
 use serde::Deserialize;
 use serde::de::{self, Deserializer, SeqAccess, Visitor};
 use toml::Spanned;
 
+use super::builtin::BUILTIN_AUTOMATA;
 use super::error::{FormatError, Source};
-use crate::algebra::{Affine, Env, EvalError, Expr, Num};
-use crate::automaton::{Arrow, ArrowKind, Automaton, Constraint, Relation, selection};
-use crate::design::{Design, Layout, Model, Origin, Variable};
+use crate::algebra::{Env, Expr, Num};
+use crate::automaton::ArrowKind;
+use crate::design::{BuildError, Design, DesignBuilder, Field, Layout, Locus, Matrix, Model, Value};
 use crate::names::suggest;
-use crate::space::{CellKind, State};
+use crate::space::CellKind;
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -191,6 +190,8 @@ pub fn read_design(path: &Path) -> Result<Design, ReadError> {
 
 /// Parses and validates an automaton file held in `text`; `file` labels
 /// errors and `default_name` names the automaton when the file does not.
+/// The file goes through the [`DesignBuilder`], whose errors come back at
+/// the `file:line:column` of the item at fault.
 ///
 /// # Errors
 /// The first problem found, at its `file:line:column`.
@@ -208,7 +209,7 @@ pub fn read_design(path: &Path) -> Result<Design, ReadError> {
 /// matrix = [[1]]
 /// "#;
 /// let design = bcifs::parse_design(text, "inline.toml", "inline").unwrap();
-/// assert_eq!(design.automaton.name, "inline");
+/// assert_eq!(design.name(), "inline");
 /// let err = bcifs::parse_design("[[state]]\nname = \"x\"\ndim = 0\n", "bad.toml", "bad").unwrap_err();
 /// assert_eq!(err.to_string(), "bad.toml:3:7: a state needs at least one control point (dim ≥ 1)");
 /// ```
@@ -218,79 +219,177 @@ pub fn parse_design(text: &str, file: &str, default_name: &str) -> Result<Design
         let offset = e.span().map_or(0, |s| s.start);
         src.error(offset, e.message().trim().to_string())
     })?;
-    if let Some(base) = &spec.extends {
-        return extend(&src, &spec, base, default_name);
+    let (builder, spans) = match &spec.extends {
+        Some(base) => extend(&src, &spec, base, default_name)?,
+        None => Reader { src: &src, spans: Spans::default() }.read(&spec, default_name)?,
+    };
+    builder.build().map_err(|e| spans.locate(&src, e))
+}
+
+/// Where the items given to the builder are in the file.
+#[derive(Default)]
+struct Spans {
+    states: Vec<StateSpans>,
+    arrows: Vec<ArrowSpans>,
+    equations: Vec<Range<usize>>,
+    params: Vec<ParamSpans>,
+    model: ModelSpans,
+}
+
+struct StateSpans {
+    name: Range<usize>,
+    dim: Range<usize>,
+}
+
+struct ArrowSpans {
+    name: Range<usize>,
+    from: Range<usize>,
+    to: Range<usize>,
+    matrix: Range<usize>,
+    select: Vec<Range<usize>>,
+    entries: Vec<Vec<Range<usize>>>,
+}
+
+#[derive(Clone, Default)]
+struct ParamSpans {
+    whole: Range<usize>,
+    entry: Option<Range<usize>>,
+    default: Option<Range<usize>>,
+}
+
+#[derive(Default)]
+struct ModelSpans {
+    whole: Range<usize>,
+    root: Range<usize>,
+    points: Range<usize>,
+    step: Option<Range<usize>>,
+    grid: Option<Range<usize>>,
+    starts: Vec<Range<usize>>,
+}
+
+impl Spans {
+    /// The span of the item at fault, and whether it is a quoted string
+    /// (so that an offset inside the text is counted from after the quote).
+    fn span(&self, at: Locus) -> (Range<usize>, bool) {
+        let none = 0..0;
+        match at {
+            Locus::Design => (none, false),
+            Locus::State { index, field } => self.states.get(index).map_or((none, false), |s| match field {
+                Field::Dim => (s.dim.clone(), false),
+                _ => (s.name.clone(), false),
+            }),
+            Locus::Arrow { index, field } => self.arrows.get(index).map_or((none, false), |a| match field {
+                Field::From => (a.from.clone(), false),
+                Field::To => (a.to.clone(), false),
+                Field::Matrix => (a.matrix.clone(), false),
+                Field::Select(k) => (a.select.get(k).cloned().unwrap_or(a.matrix.clone()), false),
+                Field::Entry(r, c) => {
+                    (a.entries.get(r).and_then(|row| row.get(c)).cloned().unwrap_or(a.matrix.clone()), true)
+                }
+                _ => (a.name.clone(), false),
+            }),
+            Locus::Equation { index } => (self.equations.get(index).cloned().unwrap_or(none), true),
+            Locus::Parameter { index, field } => self.params.get(index).map_or((none, false), |p| match field {
+                Field::NamedEntry => (p.entry.clone().unwrap_or(p.whole.clone()), true),
+                Field::Default => (p.default.clone().unwrap_or(p.whole.clone()), true),
+                _ => (p.whole.clone(), false),
+            }),
+            Locus::Model { field } => {
+                let m = &self.model;
+                let span = match field {
+                    Field::Root => m.root.clone(),
+                    Field::Points => m.points.clone(),
+                    Field::Step => m.step.clone().unwrap_or(m.whole.clone()),
+                    Field::Grid => m.grid.clone().unwrap_or(m.whole.clone()),
+                    Field::Start(k) => m.starts.get(k).cloned().unwrap_or(m.whole.clone()),
+                    _ => m.whole.clone(),
+                };
+                (span, false)
+            }
+        }
     }
-    Builder { src: &src, vars: Vec::new(), var_by_name: HashMap::new() }.build(spec, default_name)
+
+    /// The builder's error at its `file:line:column`.
+    fn locate(&self, src: &Source, e: BuildError) -> FormatError {
+        let (span, quoted) = self.span(e.at());
+        let offset = match e.offset() {
+            Some(inner) if quoted => string_offset(&span, inner),
+            _ => span.start,
+        };
+        let mut out = src.error(offset, e.message());
+        out.help = e.help().map(str::to_string);
+        out
+    }
 }
 
 /// A file with `extends = "NAME"`: the shipped automaton NAME (or the file
 /// NAME relative to this one) with this file's model and parameter defaults.
-fn extend(src: &Source, spec: &FileSpec, base: &Spanned<String>, default_name: &str) -> Result<Design, FormatError> {
+fn extend(
+    src: &Source,
+    spec: &FileSpec,
+    base: &Spanned<String>,
+    default_name: &str,
+) -> Result<(DesignBuilder, Spans), FormatError> {
     if !spec.states.is_empty() || !spec.arrows.is_empty() || !spec.constraints.is_empty() {
         return Err(src.at(&base.span(), "a file that extends another may only add a model and parameter defaults"));
     }
     let name = base.get_ref();
-    let mut design = match crate::BUILTIN_AUTOMATA.iter().find(|(n, _)| n == name) {
+    let design = match BUILTIN_AUTOMATA.iter().find(|(n, _)| n == name) {
         Some((n, text)) => parse_design(text, &format!("automata/{n}.toml"), n)?,
         None => {
-            let path = std::path::Path::new(src.file).parent().unwrap_or(std::path::Path::new(".")).join(name);
+            let path = Path::new(src.file).parent().unwrap_or(Path::new(".")).join(name);
             let text = std::fs::read_to_string(&path).map_err(|e| {
                 let mut err = src.at(&base.span(), format!("cannot read `{}`: {e}", path.display()));
-                err.help = suggest(name, crate::BUILTIN_AUTOMATA.iter().map(|(n, _)| *n))
-                    .map(|s| format!("did you mean `{s}`?"));
+                err.help =
+                    suggest(name, BUILTIN_AUTOMATA.iter().map(|(n, _)| *n)).map(|s| format!("did you mean `{s}`?"));
                 err
             })?;
             parse_design(&text, &path.display().to_string(), name)?
         }
     };
-    design.automaton.name = spec.name.clone().unwrap_or_else(|| default_name.to_string());
+    let mut b = design.to_builder();
+    b.rename(spec.name.clone().unwrap_or_else(|| default_name.to_string()));
     if !spec.description.is_empty() {
-        design.description = spec.description.clone();
+        b.description(spec.description.clone());
     }
-    let var_by_name = design.variables.iter().enumerate().map(|(i, v)| (v.name.clone(), i)).collect();
-    let b = Builder { src, vars: design.variables.clone(), var_by_name };
+    let mut reader = Reader { src, spans: Spans::default() };
+    reader.spans.params = vec![ParamSpans::default(); design.declared().len()];
     for (pname, p) in &spec.parameters {
         if p.get_ref().entry.is_some() {
             return Err(src.at(&p.span(), "a file that extends another may only give parameter defaults"));
         }
-        if !design.declared.contains(pname) {
+        let Some(index) = design.declared().iter().position(|n| n == pname) else {
             let mut e = src.at(&p.span(), format!("`{name}` has no parameter `{pname}`"));
-            e.help = suggest(pname, design.declared.iter().map(String::as_str)).map(|s| format!("did you mean `{s}`?"));
+            e.help =
+                suggest(pname, design.declared().iter().map(String::as_str)).map(|s| format!("did you mean `{s}`?"));
             return Err(e);
-        }
+        };
         if let Some(d) = &p.get_ref().default {
-            let v = b.number(d, &format!("the default of `{pname}`"))?;
-            let v = v.as_constant().ok_or_else(|| src.at(&d.span(), "a default must be a constant"))?;
-            design.defaults.insert(pname.clone(), v.to_f64());
+            b.default_value(pname, reader.value(d)?);
+            reader.spans.params[index] = ParamSpans { whole: p.span(), entry: None, default: Some(d.span()) };
         }
     }
     if let Some(m) = &spec.model {
-        design.model = Some(b.model(&design.automaton, m)?);
+        b.model(reader.model(m)?);
     }
-    Ok(design)
+    Ok((b, reader.spans))
 }
 
-struct Builder<'a> {
+/// Turns the deserialized file into builder calls, remembering where each item is.
+struct Reader<'a> {
     src: &'a Source<'a>,
-    vars: Vec<Variable>,
-    var_by_name: HashMap<String, usize>,
+    spans: Spans,
 }
 
-/// Resolves names while known matrices and equations are evaluated.
-struct SymbolEnv<'a> {
-    vars: &'a HashMap<String, usize>,
-    automaton: Option<&'a Automaton<Affine>>,
-}
+/// Constants only: a name in a coordinate is an error.
+struct NoNames;
 
-impl Env<Affine> for SymbolEnv<'_> {
-    fn param(&self, name: &str) -> Option<Affine> {
-        self.vars.get(name).map(|v| Affine::var(*v))
+impl Env<Num> for NoNames {
+    fn param(&self, _: &str) -> Option<Num> {
+        None
     }
-    fn entry(&self, arrow: &str, row: usize, col: usize) -> Option<Affine> {
-        let a = self.automaton?;
-        let m = &a.arrow(a.arrow_id(arrow)?).matrix;
-        (row < m.nrows() && col < m.ncols()).then(|| m[(row, col)].clone())
+    fn entry(&self, _: &str, _: usize, _: usize) -> Option<Num> {
+        None
     }
 }
 
@@ -298,50 +397,28 @@ fn string_offset(span: &Range<usize>, inner: usize) -> usize {
     span.start + 1 + inner
 }
 
-impl Builder<'_> {
-    fn with_help(&self, mut e: FormatError, name: &str, candidates: Vec<&str>) -> FormatError {
-        e.help = suggest(name, candidates).map(|s| format!("did you mean `{s}`?"));
+fn keyword<T: Copy>(
+    src: &Source,
+    word: &Spanned<String>,
+    what: &str,
+    options: &[(&'static str, T)],
+) -> Result<T, FormatError> {
+    let w = word.get_ref();
+    options.iter().find(|(k, _)| k == w).map(|(_, v)| *v).ok_or_else(|| {
+        let names: Vec<&str> = options.iter().map(|(k, _)| *k).collect();
+        let expected = match names.split_last() {
+            Some((last, rest)) if !rest.is_empty() => format!("{} or {last}", rest.join(", ")),
+            _ => names.join(""),
+        };
+        let mut e = src.at(&word.span(), format!("unknown {what} `{w}`: expected {expected}"));
+        e.help = suggest(w, names).map(|s| format!("did you mean `{s}`?"));
         e
-    }
+    })
+}
 
-    fn state_ref(
-        &self,
-        a: &Automaton<Affine>,
-        name: &Spanned<String>,
-    ) -> Result<petgraph::stable_graph::NodeIndex, FormatError> {
-        a.state_id(name.get_ref()).ok_or_else(|| {
-            let e = self.src.at(&name.span(), format!("no state named `{}`", name.get_ref()));
-            self.with_help(e, name.get_ref(), a.states().map(|(_, s)| s.name.as_str()).collect())
-        })
-    }
-
-    fn new_var(&mut self, name: String, named: bool, origin: Origin) -> usize {
-        let id = self.vars.len();
-        self.var_by_name.insert(name.clone(), id);
-        self.vars.push(Variable { name, named, origin });
-        id
-    }
-
-    fn eval_error(&self, span: &Range<usize>, e: EvalError, what: &str) -> FormatError {
-        match e {
-            EvalError::UnknownParam(name, off) => {
-                let err = self.src.error(string_offset(span, off), format!("unknown parameter `{name}` in {what}"));
-                let names: Vec<&str> = self.var_by_name.keys().map(String::as_str).collect();
-                let mut err = self.with_help(err, &name, names);
-                if err.help.is_none() {
-                    err.help = Some("declare it in [parameters]".into());
-                }
-                err
-            }
-            EvalError::UnknownEntry { arrow, row, col, offset } => self.src.error(
-                string_offset(span, offset),
-                format!("{what} refers to {arrow}[{row}][{col}], which does not exist"),
-            ),
-            other => self.src.at(span, format!("{what}: {other}")),
-        }
-    }
-
-    fn number(&self, spec: &Spanned<EntrySpec>, what: &str) -> Result<Affine, FormatError> {
+impl Reader<'_> {
+    /// A number of the file (re-read exactly from the source text) or an expression.
+    fn value(&self, spec: &Spanned<EntrySpec>) -> Result<Value, FormatError> {
         let span = spec.span();
         match spec.get_ref() {
             EntrySpec::Number => {
@@ -354,26 +431,32 @@ impl Builder<'_> {
                 let n = Num::parse_decimal(digits).ok_or_else(|| {
                     self.src.at(&span, format!("`{raw}` is not a decimal number; write it as a quoted expression"))
                 })?;
-                Ok(Affine::constant(if neg { n.neg() } else { n }))
+                Ok(Value::Num(if neg { n.neg() } else { n }))
             }
-            EntrySpec::Text(text) => {
-                let expr = Expr::parse(text)
+            EntrySpec::Text(text) => Ok(Value::Text(text.clone())),
+        }
+    }
+
+    /// A constant coordinate.
+    fn constant(&self, spec: &Spanned<EntrySpec>, what: &str) -> Result<f64, FormatError> {
+        let span = spec.span();
+        match self.value(spec)? {
+            Value::Num(n) => Ok(n.to_f64()),
+            Value::Text(text) => {
+                let expr = Expr::parse(&text)
                     .map_err(|e| self.src.error(string_offset(&span, e.offset), format!("in {what}: {}", e.message)))?;
-                if let Some((arrow, row, col, off)) = expr.entries().first() {
-                    return Err(self.src.error(
-                        string_offset(&span, *off),
-                        format!("{what} cannot refer to the matrix entry {arrow}[{row}][{col}]; use a parameter"),
-                    ));
-                }
-                let env = SymbolEnv { vars: &self.var_by_name, automaton: None };
-                expr.eval(&env).map_err(|e| self.eval_error(&span, e, what))
+                let v = expr
+                    .eval(&NoNames)
+                    .map_err(|_| self.src.at(&span, format!("{what}s must be constants (numbers, + - * /, sqrt)")))?;
+                Ok(v.to_f64())
             }
         }
     }
 
-    fn build(mut self, spec: FileSpec, default_name: &str) -> Result<Design, FormatError> {
+    fn read(mut self, spec: &FileSpec, default_name: &str) -> Result<(DesignBuilder, Spans), FormatError> {
         let src = self.src;
-        let mut a: Automaton<Affine> = Automaton::new(spec.name.clone().unwrap_or_else(|| default_name.to_string()));
+        let mut b = DesignBuilder::new(spec.name.clone().unwrap_or_else(|| default_name.to_string()));
+        b.description(spec.description.clone());
         if spec.states.is_empty() {
             return Err(src.error(0, "the file declares no state: expected at least one [[state]] table"));
         }
@@ -384,425 +467,147 @@ impl Builder<'_> {
             }
             let kind = match &s.kind {
                 None => CellKind::Free,
-                Some(k) => k.get_ref().parse().map_err(|()| {
-                    let e = src.at(
-                        &k.span(),
-                        format!("unknown cell kind `{}`: expected vertex, edge, face or free", k.get_ref()),
-                    );
-                    self.with_help(e, k.get_ref(), CellKind::ALL.iter().map(|k| k.keyword()).collect())
-                })?,
+                Some(k) => keyword(src, k, "cell kind", &CellKind::ALL.map(|k| (k.keyword(), k)))?,
             };
-            a.add_state(State::new(s.name.get_ref().clone(), dim as usize, kind)).map_err(|_| {
-                src.at(&s.name.span(), format!("a state named `{}` is declared twice", s.name.get_ref()))
-            })?;
+            b.state(s.name.get_ref().clone(), dim as usize, kind);
+            self.spans.states.push(StateSpans { name: s.name.span(), dim: s.dim.span() });
         }
-
-        // Parameters that name entries of unknown matrices, and plain parameters.
-        let mut named_entries: HashMap<(String, usize, usize), (String, Range<usize>)> = HashMap::new();
-        for (name, p) in &spec.parameters {
-            if let Some(entry) = &p.get_ref().entry {
-                let span = entry.span();
-                match Expr::parse(entry.get_ref()) {
-                    Ok(Expr::Entry { arrow, row, col, .. }) => {
-                        if let Some((other, _)) =
-                            named_entries.insert((arrow.clone(), row, col), (name.clone(), span.clone()))
-                        {
-                            return Err(src.at(&span, format!("{arrow}[{row}][{col}] is already named `{other}`")));
-                        }
-                    }
-                    _ => {
-                        return Err(src.at(
-                            &span,
-                            format!(
-                                "`{}` is not a matrix entry: expected ARROW[ROW][COL], such as \"T0[1][0]\"",
-                                entry.get_ref()
-                            ),
-                        ));
-                    }
-                }
-            } else {
-                self.new_var(name.clone(), true, Origin::Parameter);
-            }
-        }
-
-        // Variables of unknown matrices first, so that known matrices may use their names.
-        let mut seen_arrows = HashSet::new();
-        let mut unknown_base: HashMap<String, usize> = HashMap::new();
         for arrow in &spec.arrows {
-            let name = arrow.name.get_ref();
-            if !seen_arrows.insert(name.clone()) {
-                return Err(src.at(&arrow.name.span(), format!("an arrow named `{name}` is declared twice")));
+            self.arrow(&mut b, arrow)?;
+        }
+        for (group, equations) in &spec.constraints {
+            for eq in equations {
+                b.constraint(group.clone(), eq.get_ref().clone());
+                self.spans.equations.push(eq.span());
             }
-            if let Some(m) = &arrow.matrix
-                && let MatrixSpec::Word(w) = m.get_ref()
-            {
-                {
-                    if w != "unknown" {
+        }
+        for (name, p) in &spec.parameters {
+            let ParamSpec { entry, default } = p.get_ref();
+            match entry {
+                Some(e) => b.name_entry(name.clone(), e.get_ref().clone()),
+                None => b.parameter(name.clone()),
+            };
+            if let Some(d) = default {
+                b.default_value(name, self.value(d)?);
+            }
+            self.spans.params.push(ParamSpans {
+                whole: p.span(),
+                entry: entry.as_ref().map(Spanned::span),
+                default: default.as_ref().map(Spanned::span),
+            });
+        }
+        if let Some(m) = &spec.model {
+            let model = self.model(m)?;
+            b.model(model);
+        }
+        Ok((b, self.spans))
+    }
+
+    fn arrow(&mut self, b: &mut DesignBuilder, arrow: &ArrowSpec) -> Result<(), FormatError> {
+        let src = self.src;
+        let name = arrow.name.get_ref();
+        let kind = match &arrow.kind {
+            None => ArrowKind::Subdivision,
+            Some(k) => keyword(
+                src,
+                k,
+                "arrow kind",
+                &[("subdivision", ArrowKind::Subdivision), ("boundary", ArrowKind::Boundary)],
+            )?,
+        };
+        let mut spans = ArrowSpans {
+            name: arrow.name.span(),
+            from: arrow.from.span(),
+            to: arrow.to.span(),
+            matrix: arrow.name.span(),
+            select: Vec::new(),
+            entries: Vec::new(),
+        };
+        let matrix = match (&arrow.matrix, &arrow.select) {
+            (Some(_), Some(s)) => {
+                return Err(src.at(&s.span(), format!("arrow `{name}` has both `matrix` and `select`: give one")));
+            }
+            (None, None) => {
+                return Err(src.at(
+                    &arrow.name.span(),
+                    format!("arrow `{name}` needs `matrix = [[...]]`, `matrix = \"unknown\"` or `select = [...]`"),
+                ));
+            }
+            (None, Some(sel)) => {
+                spans.matrix = sel.span();
+                let mut picks = Vec::new();
+                for i in sel.get_ref() {
+                    let v = usize::try_from(*i.get_ref()).map_err(|_| {
+                        src.at(&i.span(), format!("index {} is out of range: indices start at 0", i.get_ref()))
+                    })?;
+                    picks.push(v);
+                    spans.select.push(i.span());
+                }
+                Matrix::Select(picks)
+            }
+            (Some(m), None) => {
+                spans.matrix = m.span();
+                match m.get_ref() {
+                    MatrixSpec::Word(w) if w == "unknown" => Matrix::Unknown,
+                    MatrixSpec::Word(w) => {
                         return Err(
                             src.at(&m.span(), format!("`{w}` is not a matrix: expected \"unknown\" or a list of rows"))
                         );
                     }
-                    let rows = a.state(self.state_ref(&a, &arrow.from)?).dim;
-                    let cols = a.state(self.state_ref(&a, &arrow.to)?).dim;
-                    unknown_base.insert(name.clone(), self.vars.len());
-                    for r in 0..rows {
-                        for c in 0..cols {
-                            match named_entries.remove(&(name.clone(), r, c)) {
-                                Some((pname, _)) => {
-                                    self.new_var(pname, true, Origin::Entry { arrow: name.clone(), row: r, col: c })
-                                }
-                                None => self.new_var(
-                                    format!("{name}_{r}_{c}"),
-                                    false,
-                                    Origin::Entry { arrow: name.clone(), row: r, col: c },
-                                ),
-                            };
-                        }
-                    }
-                }
-            }
-        }
-        if let Some(((arrow, row, col), (_, span))) = named_entries.iter().min_by_key(|(_, (_, s))| s.start) {
-            let mut e = src.at(span, format!("{arrow}[{row}][{col}] is not an entry of an unknown matrix"));
-            let unknown: Vec<&str> = spec
-                .arrows
-                .iter()
-                .filter(|x| matches!(x.matrix.as_ref().map(|m| m.get_ref()), Some(MatrixSpec::Word(_))))
-                .map(|x| x.name.get_ref().as_str())
-                .collect();
-            e.help = suggest(arrow, unknown).map(|s| format!("did you mean `{s}`?"));
-            return Err(e);
-        }
-
-        for arrow in &spec.arrows {
-            let name = arrow.name.get_ref();
-            let from = self.state_ref(&a, &arrow.from)?;
-            let to = self.state_ref(&a, &arrow.to)?;
-            let (rows, cols) = (a.state(from).dim, a.state(to).dim);
-            let kind = match &arrow.kind {
-                None => ArrowKind::Subdivision,
-                Some(k) => match k.get_ref().as_str() {
-                    "subdivision" => ArrowKind::Subdivision,
-                    "boundary" => ArrowKind::Boundary,
-                    other => {
-                        let e = src
-                            .at(&k.span(), format!("unknown arrow kind `{other}`: expected subdivision or boundary"));
-                        return Err(self.with_help(e, other, vec!["subdivision", "boundary"]));
-                    }
-                },
-            };
-            let matrix = match (&arrow.matrix, &arrow.select) {
-                (Some(_), Some(s)) => {
-                    return Err(src.at(&s.span(), format!("arrow `{name}` has both `matrix` and `select`: give one")));
-                }
-                (None, None) => {
-                    return Err(src.at(
-                        &arrow.name.span(),
-                        format!("arrow `{name}` needs `matrix = [[...]]`, `matrix = \"unknown\"` or `select = [...]`"),
-                    ));
-                }
-                (None, Some(sel)) => {
-                    let mut picks = Vec::new();
-                    for i in sel.get_ref() {
-                        let v = *i.get_ref();
-                        if v < 0 || v as usize >= rows {
-                            return Err(src.at(
-                                &i.span(),
-                                format!(
-                                    "index {v} is out of range: `{}` has dim {rows}, so indices go from 0 to {}",
-                                    a.state(from).name,
-                                    rows - 1
-                                ),
-                            ));
-                        }
-                        if picks.contains(&(v as usize)) {
-                            return Err(src.at(
-                                &i.span(),
-                                format!("index {v} is selected twice: a selection must be an embedding"),
-                            ));
-                        }
-                        picks.push(v as usize);
-                    }
-                    if picks.len() != cols {
-                        return Err(src.at(
-                            &sel.span(),
-                            format!(
-                                "`{}` has dim {cols}, so `select` needs {cols} indices, not {}",
-                                a.state(to).name,
-                                picks.len()
-                            ),
-                        ));
-                    }
-                    selection(rows, &picks)
-                }
-                (Some(m), None) => match m.get_ref() {
-                    MatrixSpec::Word(_) => {
-                        let base = unknown_base[name];
-                        DMatrix::from_fn(rows, cols, |r, c| Affine::var(base + r * cols + c))
-                    }
                     MatrixSpec::Rows(data) => {
-                        if data.len() != rows || data.iter().any(|r| r.len() != cols) {
-                            let got_cols = data.iter().map(Vec::len).max().unwrap_or(0);
-                            return Err(src.at(&m.span(), format!(
-                                "arrow `{name}` goes from `{}` (dim {rows}) to `{}` (dim {cols}), so its matrix must be {rows}×{cols} ({rows} rows of {cols}), not {} rows of up to {got_cols}",
-                                a.state(from).name, a.state(to).name, data.len()
-                            )));
+                        let mut rows = Vec::with_capacity(data.len());
+                        for row in data {
+                            rows.push(row.iter().map(|e| self.value(e)).collect::<Result<Vec<_>, _>>()?);
+                            spans.entries.push(row.iter().map(Spanned::span).collect());
                         }
-                        let mut entries = Vec::with_capacity(rows * cols);
-                        for (r, row) in data.iter().enumerate() {
-                            for (c, e) in row.iter().enumerate() {
-                                entries.push(self.number(e, &format!("entry [{r}][{c}] of `{name}`"))?);
-                            }
-                        }
-                        DMatrix::from_row_iterator(rows, cols, entries)
+                        Matrix::Rows(rows)
                     }
-                },
-            };
-            a.add_arrow(from, to, Arrow { name: name.clone(), kind, matrix })
-                .map_err(|e| src.at(&arrow.name.span(), e.to_string()))?;
-        }
-
-        for (group, equations) in &spec.constraints {
-            for eq in equations {
-                let c = self.constraint(&a, group, eq)?;
-                a.add_constraint(c).map_err(|e| src.at(&eq.span(), e.to_string()))?;
+                }
             }
-        }
-
-        let mut defaults = HashMap::new();
-        for (name, p) in &spec.parameters {
-            if let Some(d) = &p.get_ref().default {
-                let value = self.number(d, &format!("the default of `{name}`"))?;
-                let value = value.as_constant().ok_or_else(|| src.at(&d.span(), "a default must be a constant"))?;
-                defaults.insert(name.clone(), value.to_f64());
-            }
-        }
-
-        let model = match &spec.model {
-            Some(m) => Some(self.model(&a, m)?),
-            None => None,
         };
-        let declared = spec.parameters.keys().cloned().collect();
-        Ok(Design { automaton: a, variables: self.vars, defaults, declared, model, description: spec.description })
+        b.arrow(name.clone(), arrow.from.get_ref().clone(), arrow.to.get_ref().clone(), kind, matrix);
+        self.spans.arrows.push(spans);
+        Ok(())
     }
 
-    fn constraint(&self, a: &Automaton<Affine>, group: &str, eq: &Spanned<String>) -> Result<Constraint, FormatError> {
-        let src = self.src;
-        let span = eq.span();
-        let text = eq.get_ref();
-        let Some(eq_at) = text.find('=') else {
-            return Err(src.at(&span, format!("`{text}` is not an equation: expected LEFT = RIGHT")));
-        };
-        if text[eq_at + 1..].contains('=') {
-            return Err(src.error(
-                string_offset(&span, eq_at + 1 + text[eq_at + 1..].find('=').unwrap_or(0)),
-                "an equation has exactly one `=`",
-            ));
-        }
-        let sides = [(&text[..eq_at], 0), (&text[eq_at + 1..], eq_at + 1)];
-        let relation = if text.contains('[') {
-            let mut exprs = Vec::new();
-            for (side, off) in sides {
-                let e = Expr::parse(side).map_err(|e| src.error(string_offset(&span, off + e.offset), e.message))?;
-                for (arrow, row, col, o) in e.entries() {
-                    let Some(id) = a.arrow_id(arrow) else {
-                        let err = src.error(string_offset(&span, off + o), format!("no arrow named `{arrow}`"));
-                        return Err(self.with_help(err, arrow, a.arrows().map(|(_, x)| x.name.as_str()).collect()));
-                    };
-                    let m = &a.arrow(id).matrix;
-                    if row >= m.nrows() || col >= m.ncols() {
-                        return Err(src.error(
-                            string_offset(&span, off + o),
-                            format!(
-                                "`{arrow}` is {}×{}, so {arrow}[{row}][{col}] is out of range",
-                                m.nrows(),
-                                m.ncols()
-                            ),
-                        ));
-                    }
-                }
-                for (name, o) in e.params() {
-                    if !self.var_by_name.contains_key(name) {
-                        let err = src.error(string_offset(&span, off + o), format!("unknown parameter `{name}`"));
-                        return Err(self.with_help(err, name, self.var_by_name.keys().map(String::as_str).collect()));
-                    }
-                }
-                exprs.push(e);
-            }
-            let rhs = exprs.pop().expect("two sides");
-            let lhs = exprs.pop().expect("two sides");
-            Relation::Entries { lhs, rhs }
-        } else {
-            let mut paths = Vec::new();
-            for (side, off) in sides {
-                let mut path = Vec::new();
-                let mut pos = 0;
-                for token in side.split(|c: char| c.is_whitespace() || c == '*' || c == '·') {
-                    let start = pos;
-                    pos += token.len() + 1;
-                    if token.is_empty() {
-                        continue;
-                    }
-                    let token_off = string_offset(&span, off + side[..start].len());
-                    match a.arrow_id(token) {
-                        Some(id) => path.push(id),
-                        None => {
-                            let err = src.error(token_off, format!("no arrow named `{token}`"));
-                            return Err(self.with_help(err, token, a.arrows().map(|(_, x)| x.name.as_str()).collect()));
-                        }
-                    }
-                }
-                if path.is_empty() {
-                    return Err(src.error(string_offset(&span, off), "expected a path of arrow names, such as `T0 b1`"));
-                }
-                paths.push(path);
-            }
-            let rhs = paths.pop().expect("two sides");
-            let lhs = paths.pop().expect("two sides");
-            Relation::Paths { lhs, rhs }
-        };
-        Ok(Constraint { group: group.to_string(), text: text.trim().to_string(), relation })
-    }
-
-    fn model(&self, a: &Automaton<Affine>, m: &Spanned<ModelSpec>) -> Result<Model, FormatError> {
+    fn model(&mut self, m: &Spanned<ModelSpec>) -> Result<Model, FormatError> {
         let src = self.src;
         let spec = m.get_ref();
-        let root_names = &spec.root.get_ref().0;
-        if root_names.is_empty() {
-            return Err(src.at(&spec.root.span(), "expected at least one root state"));
-        }
-        let roots = root_names
-            .iter()
-            .map(|n| self.state_ref(a, &Spanned::new(spec.root.span(), n.clone())))
-            .collect::<Result<Vec<_>, _>>()?;
-        let root = roots[0];
         let mut points = Vec::new();
         for row in spec.points.get_ref() {
-            let mut p = Vec::new();
-            for x in row {
-                let v = self.number(x, "a control point coordinate")?;
-                let v =
-                    v.as_constant().ok_or_else(|| src.at(&x.span(), "control point coordinates must be constants"))?;
-                p.push(v.to_f64());
-            }
-            points.push(p);
-        }
-        let d = points.first().map_or(0, Vec::len);
-        if !(2..=3).contains(&d) || points.iter().any(|p| p.len() != d) {
-            return Err(src.at(&spec.points.span(), "control points must all have 2 or all have 3 coordinates"));
+            points.push(row.iter().map(|x| self.constant(x, "control point coordinate")).collect::<Result<_, _>>()?);
         }
         let layout = match &spec.layout {
             None => Layout::Single,
-            Some(l) => *Layout::ALL.iter().find(|x| x.keyword() == l.get_ref()).ok_or_else(|| {
-                let e = src.at(
-                    &l.span(),
-                    format!(
-                        "unknown layout `{}`: expected single, open, closed, grid, torus, frames, closed-frames or union",
-                        l.get_ref()
-                    ),
-                );
-                self.with_help(e, l.get_ref(), Layout::ALL.iter().map(|x| x.keyword()).collect())
-            })?,
+            Some(l) => keyword(src, l, "layout", &Layout::ALL.map(|x| (x.keyword(), x)))?,
         };
-        let step = match &spec.step {
-            Some(s) if *s.get_ref() < 1 => {
-                return Err(src.at(&s.span(), "the step must be at least 1"));
-            }
-            Some(s) => Some(*s.get_ref() as usize),
-            None => None,
-        };
-        let grid = match &spec.grid {
-            Some(g) if g.get_ref().len() != 2 || g.get_ref().iter().any(|x| *x < 1) => {
-                return Err(src.at(&g.span(), "expected grid = [ROWS, COLS] with positive sizes"));
-            }
-            Some(g) => Some((g.get_ref()[0] as usize, g.get_ref()[1] as usize)),
-            None => None,
-        };
-        let dim = a.state(root).dim;
-        if layout != Layout::Union
-            && let Some(other) = roots.iter().find(|r| a.state(**r).dim != dim)
-        {
-            return Err(src.at(
-                &m.span(),
-                format!(
-                    "the roots of this layout must have the same dimension: `{}` has {dim}, `{}` has {}",
-                    a.state(root).name,
-                    a.state(*other).name,
-                    a.state(*other).dim
-                ),
-            ));
+        let mut model = Model::new("", points).with_roots(spec.root.get_ref().0.clone()).with_layout(layout);
+        if let Some(s) = &spec.step {
+            model.step =
+                Some(usize::try_from(*s.get_ref()).map_err(|_| src.at(&s.span(), "the step must be at least 1"))?);
         }
-        let mut start = Vec::new();
+        if let Some(g) = &spec.grid {
+            let bad = || src.at(&g.span(), "expected grid = [ROWS, COLS] with positive sizes");
+            let [r, c] = g.get_ref()[..] else { return Err(bad()) };
+            model.grid = Some((usize::try_from(r).map_err(|_| bad())?, usize::try_from(c).map_err(|_| bad())?));
+        }
+        let mut starts = Vec::new();
         for (state, pts) in &spec.start {
-            let Some(id) = a.state_id(state) else {
-                let e = src.at(&pts.span(), format!("no state named `{state}` for a start set"));
-                return Err(self.with_help(e, state, a.states().map(|(_, s)| s.name.as_str()).collect()));
-            };
-            let n = a.state(id).dim;
             let mut set = Vec::new();
             for row in pts.get_ref() {
-                if row.len() != n {
-                    return Err(src.at(
-                        &pts.span(),
-                        format!("start points of `{state}` are barycentric: {n} coordinates each, not {}", row.len()),
-                    ));
-                }
-                let mut p = Vec::new();
-                for x in row {
-                    let v = self.number(x, "a start point coordinate")?;
-                    p.push(
-                        v.as_constant().ok_or_else(|| src.at(&x.span(), "start points must be constants"))?.to_f64(),
-                    );
-                }
-                let sum: f64 = p.iter().sum();
-                if (sum - 1.0).abs() > 1e-9 {
-                    return Err(src.at(
-                        &pts.span(),
-                        format!("start points are barycentric: coordinates must sum to 1 (one sums to {sum})"),
-                    ));
-                }
-                set.push(p);
+                set.push(row.iter().map(|x| self.constant(x, "start point coordinate")).collect::<Result<_, _>>()?);
             }
-            start.push((state.clone(), set));
+            model.start.push((state.clone(), set));
+            starts.push(pts.span());
         }
-        let needed = match layout {
-            Layout::Frames | Layout::ClosedFrames => {
-                if d != 2 || dim != 3 {
-                    return Err(
-                        src.at(&m.span(), "frame layouts need 2D points and a root of dim 3 (segment and frame point)")
-                    );
-                }
-                2
-            }
-            Layout::Single | Layout::Open | Layout::Closed => dim,
-            Layout::Union => {
-                let total: usize = roots.iter().map(|r| a.state(*r).dim).sum();
-                if points.len() % total != 0 {
-                    return Err(src.at(
-                        &spec.points.span(),
-                        format!("a union of the roots takes {total} control points per round, not {}", points.len()),
-                    ));
-                }
-                total
-            }
-            Layout::Grid | Layout::Torus => {
-                let (r, c) = grid.ok_or_else(|| src.at(&m.span(), "grid layouts need grid = [ROWS, COLS]"))?;
-                if r * c != points.len() {
-                    return Err(src.at(
-                        &spec.points.span(),
-                        format!("grid = [{r}, {c}] needs {} control points, not {}", r * c, points.len()),
-                    ));
-                }
-                dim
-            }
+        self.spans.model = ModelSpans {
+            whole: m.span(),
+            root: spec.root.span(),
+            points: spec.points.span(),
+            step: spec.step.as_ref().map(Spanned::span),
+            grid: spec.grid.as_ref().map(Spanned::span),
+            starts,
         };
-        if points.len() < needed {
-            return Err(src.at(
-                &spec.points.span(),
-                format!("this layout needs at least {needed} control points, not {}", points.len()),
-            ));
-        }
-        let roots = root_names.clone();
-        Ok(Model { roots, points, layout, step, grid, start })
+        Ok(model)
     }
 }

@@ -1,9 +1,82 @@
-//! Writing automaton files, with comments, for generators.
+//! Writing any design back as a commented automaton file.
 
 use std::fmt::Write as _;
 
 use crate::automaton::ArrowKind;
+use crate::design::{Design, Matrix, Value};
 use crate::space::CellKind;
+
+/// The design as an automaton file, with its comments ([`Design::docs`]):
+/// reading the text back gives the same design (same family, same letters,
+/// exact entries such as `1/2 - sqrt(3)/6`).
+///
+/// ```
+/// let design = bcifs::builtin_design("corner_cutting").unwrap();
+/// let text = bcifs::write_design(&design);
+/// let again = bcifs::parse_design(&text, "again.toml", "again").unwrap();
+/// assert_eq!(bcifs::solve(&again).unwrap().matrices_text(), bcifs::solve(&design).unwrap().matrices_text());
+/// ```
+pub fn write_design(design: &Design) -> String {
+    let spec = design.to_builder();
+    let docs = design.docs();
+    let doc = |map: &std::collections::HashMap<String, String>, name: &str| map.get(name).cloned().unwrap_or_default();
+    let mut w = TomlWriter::new();
+    w.comment(&docs.header).header(design.name(), design.description());
+    for (name, dim, kind) in spec.state_items() {
+        w.state(name, dim, kind, &doc(&docs.states, name));
+    }
+    for (name, from, to, kind, matrix) in spec.arrow_items() {
+        let comment = doc(&docs.arrows, name);
+        match matrix {
+            Matrix::Unknown => w.arrow_unknown(name, from, to, kind, &comment),
+            Matrix::Select(picks) => w.arrow_select(name, from, to, kind, picks, &comment),
+            Matrix::Rows(rows) => {
+                let rows: Vec<Vec<String>> = rows.iter().map(|r| r.iter().map(Value::to_string).collect()).collect();
+                w.arrow_rows(name, from, to, kind, &rows, &comment)
+            }
+        };
+    }
+    let mut groups: Vec<(&str, String, Vec<String>)> = Vec::new();
+    for (group, text) in spec.equation_items() {
+        match groups.iter_mut().find(|(g, _, _)| *g == group) {
+            Some((_, _, list)) => list.push(text.to_string()),
+            None => groups.push((group, doc(&docs.groups, group), vec![text.to_string()])),
+        }
+    }
+    if !groups.is_empty() {
+        w.constraints(&groups);
+    }
+    let params: Vec<(String, Option<String>, Option<String>)> = spec
+        .parameter_items()
+        .map(|(name, entry, default)| (name.to_string(), entry.map(str::to_string), default.map(Value::to_string)))
+        .collect();
+    if !params.is_empty() {
+        w.parameters(&params, &docs.parameters);
+    }
+    if let Some(m) = design.model() {
+        let mut extra = String::new();
+        if let Some((r, c)) = m.grid {
+            let _ = writeln!(extra, "grid = [{r}, {c}]");
+        }
+        if let Some(s) = m.step {
+            let _ = writeln!(extra, "step = {s}");
+        }
+        let roots: Vec<&str> = m.roots.iter().map(String::as_str).collect();
+        w.model(&roots, &m.points, m.layout.keyword(), extra.trim_end(), &docs.model);
+        if !m.start.is_empty() {
+            w.out.push_str("\n[model.start]\n");
+            for (state, set) in &m.start {
+                let rows: Vec<String> = set.iter().map(|p| format!("[{}]", floats(p))).collect();
+                let _ = writeln!(w.out, "{} = [{}]", quote(state), rows.join(", "));
+            }
+        }
+    }
+    w.finish()
+}
+
+fn floats(p: &[f64]) -> String {
+    p.iter().map(|x| format!("{x:?}")).collect::<Vec<_>>().join(", ")
+}
 
 /// Builds the text of an automaton file in the order a reader expects:
 /// header, states, arrows, constraint groups, parameters, model.
@@ -11,7 +84,7 @@ use crate::space::CellKind;
 /// The caller emits sections in that order (TOML requires top-level keys
 /// before tables); every item can carry a comment.
 #[derive(Default)]
-pub struct TomlWriter {
+pub(crate) struct TomlWriter {
     out: String,
 }
 
@@ -60,8 +133,8 @@ impl TomlWriter {
     fn arrow_head(&mut self, name: &str, from: &str, to: &str, kind: ArrowKind, comment: &str) {
         self.blank().comment(comment);
         let _ = writeln!(self.out, "[[arrow]]\nname = {}\nfrom = {}\nto = {}", quote(name), quote(from), quote(to));
-        if kind == ArrowKind::Boundary {
-            let _ = writeln!(self.out, "kind = \"boundary\"");
+        if kind != ArrowKind::Subdivision {
+            let _ = writeln!(self.out, "kind = {}", quote(kind.keyword()));
         }
     }
 
@@ -72,9 +145,17 @@ impl TomlWriter {
         self
     }
 
-    /// A boundary arrow given by a selection.
-    pub fn arrow_select(&mut self, name: &str, from: &str, to: &str, select: &[usize], comment: &str) -> &mut Self {
-        self.arrow_head(name, from, to, ArrowKind::Boundary, comment);
+    /// An arrow given by a selection.
+    pub fn arrow_select(
+        &mut self,
+        name: &str,
+        from: &str,
+        to: &str,
+        kind: ArrowKind,
+        select: &[usize],
+        comment: &str,
+    ) -> &mut Self {
+        self.arrow_head(name, from, to, kind, comment);
         let list: Vec<String> = select.iter().map(usize::to_string).collect();
         let _ = writeln!(self.out, "select = [{}]", list.join(", "));
         self
@@ -102,7 +183,7 @@ impl TomlWriter {
     }
 
     /// The `[constraints]` table: groups of equations, each with a comment.
-    pub fn constraints(&mut self, groups: &[(&str, &str, Vec<String>)]) -> &mut Self {
+    pub fn constraints(&mut self, groups: &[(&str, String, Vec<String>)]) -> &mut Self {
         self.blank().out.push_str("[constraints]\n");
         for (name, comment, equations) in groups {
             self.comment(comment);
@@ -156,8 +237,7 @@ impl TomlWriter {
         }
         self.out.push_str("points = [\n");
         for p in points {
-            let cells: Vec<String> = p.iter().map(|x| format!("{x:?}")).collect();
-            let _ = writeln!(self.out, "  [{}],", cells.join(", "));
+            let _ = writeln!(self.out, "  [{}],", floats(p));
         }
         self.out.push_str("]\n");
         self

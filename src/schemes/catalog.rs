@@ -5,34 +5,11 @@
 //! surfaces of seed 003.
 
 use super::stationary::{
-    BSpline, ExactMatrix, ModelSpec, Rules, ifs_file, koch_blocks, sierpinski_blocks, tensor_file,
+    BSpline, ExactMatrix, ModelSpec, Rules, ifs_design, koch_blocks, sierpinski_blocks, tensor_design,
 };
 use super::ternary::ternary_five_point;
 use crate::algebra::Surd;
-use crate::design::Design;
-use crate::format::parse_design;
-
-/// A generated automaton file.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Generated {
-    /// Name (also the automaton's name).
-    pub name: String,
-    /// One line: what it is and where the seed shows it.
-    pub description: String,
-    /// The commented automaton file.
-    pub text: String,
-}
-
-impl Generated {
-    /// The automaton file parsed.
-    ///
-    /// # Panics
-    /// Never for generated files (they are tested to parse); a failure is a bug.
-    pub fn design(&self) -> Design {
-        parse_design(&self.text, &format!("<{}>", self.name), &self.name)
-            .unwrap_or_else(|e| panic!("bug: generated automaton `{}` does not parse: {e}", self.name))
-    }
-}
+use crate::design::{Design, Layout, Model};
 
 /// Why a preset cannot be generated.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
@@ -73,8 +50,10 @@ fn pts(v: &[[f64; 2]]) -> Vec<Vec<f64>> {
     v.iter().map(|p| p.to_vec()).collect()
 }
 
-fn spec(points: Vec<Vec<f64>>, layout: &str, extra: &str, comment: &str) -> ModelSpec {
-    ModelSpec { points, layout: layout.into(), extra: extra.into(), comment: comment.into() }
+fn spec(points: Vec<Vec<f64>>, layout: Layout, grid: Option<(usize, usize)>, comment: &str) -> ModelSpec {
+    let mut model = Model::new("e", points).with_layout(layout);
+    model.grid = grid;
+    ModelSpec { model, comment: comment.into() }
 }
 
 fn grid_points(rows: usize, cols: usize, height: impl Fn(f64, f64) -> f64) -> Vec<Vec<f64>> {
@@ -99,22 +78,24 @@ fn torus_points(rows: usize, cols: usize) -> Vec<Vec<f64>> {
         .collect()
 }
 
-/// The preset called `name`, with the given control points (or the natural
-/// ones) and, for the ternary presets, tension `omega` (default 3/50).
+/// The preset called `name` as a design, with the given control points (or
+/// the natural ones) and, for the ternary presets, tension `omega` (default
+/// 3/50). Its description says what it is and where the seed shows it;
+/// [`crate::write_design`] prints it as a commented automaton file.
 ///
 /// # Errors
 /// An unknown name (with the closest one), or control points that do not fit.
-pub fn ifs_preset(name: &str, points: Option<Vec<Vec<f64>>>, omega: Option<&Surd>) -> Result<Generated, CatalogError> {
+pub fn ifs_preset(name: &str, points: Option<Vec<Vec<f64>>>, omega: Option<&Surd>) -> Result<Design, CatalogError> {
     let seed1 = "Schaefer, Levin, Goldman, Subdivision schemes and attractors (seed 001)";
     let wave = pts(&[[0.0, 0.0], [1.0, 2.0], [2.5, 2.2], [3.5, 0.4], [5.0, 1.2]]);
     let omega = omega.cloned().unwrap_or_else(|| Surd::frac(DEFAULT_OMEGA.0, DEFAULT_OMEGA.1));
     let curve = |blocks: Vec<ExactMatrix>, description: &str, comment: &str, model: ModelSpec| {
-        let text = ifs_file(name, description, comment, &blocks, &model);
-        (description.to_string(), text)
+        ifs_design(name, description, comment, &blocks, &model).map_err(|e| CatalogError::Points(e.to_string()))
     };
     let n_of = |blocks: &[ExactMatrix]| blocks[0].len();
     let with = |default: Vec<Vec<f64>>| points.clone().unwrap_or(default);
     let check = |model: &ModelSpec, min: usize| -> Result<(), CatalogError> {
+        let model = &model.model;
         if model.points.len() < min {
             return Err(CatalogError::Points(format!("`{name}` needs at least {min} control points")));
         }
@@ -127,10 +108,11 @@ pub fn ifs_preset(name: &str, points: Option<Vec<Vec<f64>>>, omega: Option<&Surd
         }
         Ok(())
     };
-    let (description, text) = match name {
+    match name {
         "bspline" => {
             let b = BSpline::uniform(3, 5).expect("valid").blocks(2).expect("self-similar");
-            let model = spec(with(wave), "open", "", "An open control polygon: windows of 5 points sliding by 2.");
+            let model =
+                spec(with(wave), Layout::Open, None, "An open control polygon: windows of 5 points sliding by 2.");
             check(&model, n_of(&b))?;
             curve(
                 b,
@@ -141,8 +123,12 @@ pub fn ifs_preset(name: &str, points: Option<Vec<Vec<f64>>>, omega: Option<&Surd
         }
         "bspline-end" => {
             let b = BSpline::new(3, &[0, 0, 0, 1, 2, 2, 2]).expect("valid").blocks(2).expect("self-similar");
-            let model =
-                spec(with(wave), "single", "", "Five control points; the curve interpolates the first and last.");
+            let model = spec(
+                with(wave),
+                Layout::Single,
+                None,
+                "Five control points; the curve interpolates the first and last.",
+            );
             check(&model, 5)?;
             curve(
                 b,
@@ -152,7 +138,8 @@ pub fn ifs_preset(name: &str, points: Option<Vec<Vec<f64>>>, omega: Option<&Surd
             )
         }
         "bezier" => {
-            let model = spec(with(pts(&[[0.0, 0.0], [1.0, 2.0], [2.0, 0.0]])), "single", "", "Three control points.");
+            let model =
+                spec(with(pts(&[[0.0, 0.0], [1.0, 2.0], [2.0, 0.0]])), Layout::Single, None, "Three control points.");
             check(&model, 3)?;
             curve(
                 BSpline::bezier(2).blocks(2).expect("self-similar"),
@@ -163,7 +150,7 @@ pub fn ifs_preset(name: &str, points: Option<Vec<Vec<f64>>>, omega: Option<&Surd
         }
         "bezier-union" => {
             let default = pts(&[[0.0, 0.0], [1.0, 2.0], [2.0, 0.0], [2.5, 0.5], [3.0, 2.5], [4.5, 1.5]]);
-            let model = spec(with(default), "union", "", "Two Bézier curves: points 0-2 and 3-5, drawn apart.");
+            let model = spec(with(default), Layout::Union, None, "Two Bézier curves: points 0-2 and 3-5, drawn apart.");
             check(&model, 6)?;
             curve(
                 BSpline::bezier(2).blocks(2).expect("self-similar"),
@@ -176,7 +163,8 @@ pub fn ifs_preset(name: &str, points: Option<Vec<Vec<f64>>>, omega: Option<&Surd
         }
         "four-point" => {
             let default = pts(&[[0.0, 0.0], [1.0, 1.0], [2.0, 0.0], [3.0, 1.5], [4.0, 0.0], [5.0, 1.0], [6.0, 0.0]]);
-            let model = spec(with(default), "single", "", "Seven control points: the attractor runs from P2 to P4.");
+            let model =
+                spec(with(default), Layout::Single, None, "Seven control points: the attractor runs from P2 to P4.");
             check(&model, 7)?;
             curve(
                 Rules::four_point().blocks(7).expect("7 points give blocks"),
@@ -190,8 +178,8 @@ pub fn ifs_preset(name: &str, points: Option<Vec<Vec<f64>>>, omega: Option<&Surd
             let default = pts(&[[0.0, 0.0], [1.0 / 3.0, 0.0], [0.5, s], [2.0 / 3.0, 0.0], [1.0, 0.0]]);
             let model = spec(
                 with(default),
-                "single",
-                "",
+                Layout::Single,
+                None,
                 "The natural control points of the Koch curve (move them to deform it).",
             );
             check(&model, 5)?;
@@ -205,8 +193,12 @@ pub fn ifs_preset(name: &str, points: Option<Vec<Vec<f64>>>, omega: Option<&Surd
         "sierpinski-control" => {
             let h = 3f64.sqrt() / 2.0;
             let default = pts(&[[0.0, 0.0], [0.5, 0.0], [1.0, 0.0], [0.75, h / 2.0], [0.5, h], [0.25, h / 2.0]]);
-            let model =
-                spec(with(default), "single", "", "Corners 0, 2, 4 and edge points 1, 3, 5 (quadratic outer edges).");
+            let model = spec(
+                with(default),
+                Layout::Single,
+                None,
+                "Corners 0, 2, 4 and edge points 1, 3, 5 (quadratic outer edges).",
+            );
             check(&model, 6)?;
             curve(
                 sierpinski_blocks(),
@@ -220,18 +212,17 @@ pub fn ifs_preset(name: &str, points: Option<Vec<Vec<f64>>>, omega: Option<&Surd
             let default =
                 grid_points(6, 6, |c, r| if (1.0..=4.0).contains(&c) && (1.0..=4.0).contains(&r) { 1.2 } else { 0.0 });
             let model =
-                spec(with(default), "grid", "grid = [6, 6]", "A 6×6 control grid: 3×3 bicubic patches, welded.");
+                spec(with(default), Layout::Grid, Some((6, 6)), "A 6×6 control grid: 3×3 bicubic patches, welded.");
             check(&model, 16)?;
             let description = "bicubic B-spline patches: tensor product of the cubic IFS, seed 001 §3.1 (Fig. 6)";
-            let text = tensor_file(
+            tensor_design(
                 name,
                 description,
                 &format!("Four maps (S_v ⊗ S_u)ᵀ on a 4×4 control grid.\n{seed1}."),
                 &b,
                 &model,
             )
-            .expect("the cubic B-spline is a curve with one vertex rule");
-            (description.to_string(), text)
+            .map_err(|e| CatalogError::Points(e.to_string()))
         }
         "ternary5" | "ternary5-closed" | "ternary5-surface" | "ternary5-torus" => {
             let rules = ternary_five_point(&omega);
@@ -256,8 +247,8 @@ pub fn ifs_preset(name: &str, points: Option<Vec<Vec<f64>>>, omega: Option<&Surd
                     };
                     let model = spec(
                         with(default),
-                        if closed { "closed" } else { "open" },
-                        "",
+                        if closed { Layout::Closed } else { Layout::Open },
+                        None,
                         "Windows of 7 control points sliding by 1.",
                     );
                     check(&model, 7)?;
@@ -268,29 +259,29 @@ pub fn ifs_preset(name: &str, points: Option<Vec<Vec<f64>>>, omega: Option<&Surd
                     let model = if torus {
                         spec(
                             with(torus_points(8, 12)),
-                            "torus",
-                            "grid = [8, 12]",
+                            Layout::Torus,
+                            Some((8, 12)),
                             "A closed 8×12 control grid on a torus.",
                         )
                     } else {
                         let default =
                             grid_points(9, 9, |c, r| ((c - 4.0).powi(2) + (r - 4.0).powi(2) < 5.0) as u8 as f64 * 1.5);
-                        spec(with(default), "grid", "grid = [9, 9]", "A 9×9 control grid: 3×3 patches of 7×7 windows.")
+                        spec(
+                            with(default),
+                            Layout::Grid,
+                            Some((9, 9)),
+                            "A 9×9 control grid: 3×3 patches of 7×7 windows.",
+                        )
                     };
                     check(&model, 49)?;
                     let description = format!("ternary 5-point tensor-product surface, ω = {omega}, seed 003");
-                    let text = tensor_file(name, &description, &seed3, &b, &model)
-                        .map_err(|e| CatalogError::Points(e.to_string()))?;
-                    (description, text)
+                    tensor_design(name, &description, &seed3, &b, &model)
+                        .map_err(|e| CatalogError::Points(e.to_string()))
                 }
             }
         }
         other => {
-            return Err(CatalogError::Unknown {
-                name: other.to_string(),
-                suggestion: crate::names::suggest(other, IFS_NAMES),
-            });
+            Err(CatalogError::Unknown { name: other.to_string(), suggestion: crate::names::suggest(other, IFS_NAMES) })
         }
-    };
-    Ok(Generated { name: name.to_string(), description, text })
+    }
 }

@@ -15,14 +15,14 @@ mod stationary;
 mod ternary;
 mod topology;
 
-pub use catalog::{CatalogError, DEFAULT_OMEGA, Generated, IFS_NAMES, ifs_preset};
+pub use catalog::{CatalogError, DEFAULT_OMEGA, IFS_NAMES, ifs_preset};
 pub use normal::{
     NormalDirection, NormalPreset, NormalScheme, NormalSchemeError, PRESET_NAMES, Point2, SignPattern, normal_preset,
     unit_segment, unit_square, unit_triangle,
 };
 pub use stationary::{
     BSpline, CurveStructure, ExactMatrix, LiftError, LiftedIfs, ModelSpec, Rules, StationaryError, curve_structure,
-    ifs_file, koch_blocks, sierpinski_blocks, tensor_file, to_f64,
+    ifs_design, koch_blocks, sierpinski_blocks, tensor_design, to_f64,
 };
 pub use ternary::{TERNARY_WINDOW, ternary_five_point};
-pub use topology::{TopologyError, bspline_segment_matrices, curve_file, quad_patch_file};
+pub use topology::{TopologyError, bspline_segment_matrices, curve, quad_patch};

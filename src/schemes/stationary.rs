@@ -29,8 +29,7 @@ use num_rational::BigRational;
 use num_traits::{One, Zero};
 
 use crate::algebra::Surd;
-use crate::automaton::ArrowKind;
-use crate::format::TomlWriter;
+use crate::design::{BuildError, Design, Model};
 use crate::space::CellKind;
 
 /// An exact matrix, row by row.
@@ -58,6 +57,10 @@ pub enum StationaryError {
     /// Rules with no point, or of an arity below 2.
     #[error("a scheme needs arity ≥ 2 and one non-empty rule per residue")]
     Rules,
+    /// The generated design does not build: its model does not fit the
+    /// automaton (a user's control points), or a bug (anything else).
+    #[error("{0}")]
+    Design(String),
 }
 
 /// A uniform stationary scheme: new point `p·i + r` is `Σ w · p_{i+o}` over
@@ -454,36 +457,50 @@ pub fn curve_structure(blocks: &[ExactMatrix]) -> Option<CurveStructure> {
     None
 }
 
-/// `Mᵀ` as rows of text.
-fn transposed_rows(m: &ExactMatrix) -> Vec<Vec<String>> {
+/// `Mᵀ`, row by row.
+fn transposed(m: &ExactMatrix) -> Vec<Vec<Surd>> {
     let n = m.first().map_or(0, Vec::len);
-    (0..n).map(|c| m.iter().map(|row| row[c].to_string()).collect()).collect()
+    (0..n).map(|c| m.iter().map(|row| row[c].clone()).collect()).collect()
 }
 
-/// The model of an automaton file: control points, layout and extra lines.
+/// The model of a generated design and the comment above it. The roots are
+/// set by the generator (`e` for curves, `face` for surfaces).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ModelSpec {
-    /// Control points.
-    pub points: Vec<Vec<f64>>,
-    /// Layout keyword (`single`, `open`, `closed`, `union`, `grid`, `torus`).
-    pub layout: String,
-    /// Extra lines of the `[model]` table (`grid = [5, 5]`, `step = 1`).
-    pub extra: String,
-    /// Comment above the table.
+    /// Control points, layout, grid and step.
+    pub model: Model,
+    /// Comment above the model when the design is printed.
     pub comment: String,
 }
 
-/// The automaton file of the IFS with blocks `S_i` (`T_i = S_iᵀ`): an edge
-/// with one or two vertex states when [`curve_structure`] finds one (two
-/// when the rules at the two ends differ), a free state otherwise.
-pub fn ifs_file(name: &str, description: &str, comment: &str, blocks: &[ExactMatrix], model: &ModelSpec) -> String {
+fn internal(e: BuildError) -> StationaryError {
+    match e.at() {
+        crate::design::Locus::Model { .. } => StationaryError::Design(e.to_string()),
+        _ => StationaryError::Design(format!("internal error in a scheme generator (please report): {e}")),
+    }
+}
+
+/// The design of the IFS with blocks `S_i` (`T_i = S_iᵀ`): an edge with one
+/// or two vertex states when [`curve_structure`] finds one (two when the
+/// rules at the two ends differ), a free state otherwise.
+///
+/// # Errors
+/// [`StationaryError::Design`]: a model that does not fit (too few control
+/// points for its layout), or a bug.
+pub fn ifs_design(
+    name: &str,
+    description: &str,
+    comment: &str,
+    blocks: &[ExactMatrix],
+    model: &ModelSpec,
+) -> Result<Design, StationaryError> {
     let n = blocks.first().map_or(0, Vec::len);
     let p = blocks.len();
-    let mut w = TomlWriter::new();
-    w.comment(comment).header(name, description);
+    let mut b = Design::builder(name);
+    b.description(description).doc(comment);
     let structure = curve_structure(blocks);
     let kind = if structure.is_some() { CellKind::Edge } else { CellKind::Free };
-    w.state("e", n, kind, &format!("The attractor's space: {n} control points, BI^{n}."));
+    b.state("e", n, kind).doc(format!("The attractor's space: {n} control points, BI^{n}."));
     let (v0, v1) = match &structure {
         Some(s) if s.start_rule == s.end_rule => ("v", "v"),
         Some(_) => ("v0", "v1"),
@@ -491,55 +508,37 @@ pub fn ifs_file(name: &str, description: &str, comment: &str, blocks: &[ExactMat
     };
     if let Some(s) = &structure {
         if v0 == v1 {
-            w.state("v", s.support, CellKind::Vertex, &format!("An end of the curve: {} control points.", s.support));
+            b.state("v", s.support, CellKind::Vertex)
+                .doc(format!("An end of the curve: {} control points.", s.support));
         } else {
-            w.state("v0", s.support, CellKind::Vertex, "The start of the curve.");
-            w.state("v1", s.support, CellKind::Vertex, "The end of the curve.");
+            b.state("v0", s.support, CellKind::Vertex).doc("The start of the curve.");
+            b.state("v1", s.support, CellKind::Vertex).doc("The end of the curve.");
         }
     }
     for (i, s) in blocks.iter().enumerate() {
-        w.arrow_rows(
-            &format!("T{i}"),
-            "e",
-            "e",
-            ArrowKind::Subdivision,
-            &transposed_rows(s),
-            &format!("Part {} of {p}: the transpose of the block S_{}.", i + 1, i + 1),
-        );
+        b.matrix(format!("T{i}"), "e", "e", transposed(s)).doc(format!(
+            "Part {} of {p}: the transpose of the block S_{}.",
+            i + 1,
+            i + 1
+        ));
     }
     if let Some(s) = &structure {
         let k = s.support;
         let (r0, r1) = if v0 == v1 { ("Tv", "Tv") } else { ("Tv0", "Tv1") };
-        w.arrow_rows(
-            r0,
-            v0,
-            v0,
-            ArrowKind::Subdivision,
-            &transposed_rows(&s.start_rule),
-            "Subdivision of the start vertex.",
-        )
-        .arrow_select("b0", "e", v0, &(s.start..s.start + k).collect::<Vec<_>>(), "Start of the curve.");
+        b.matrix(r0, v0, v0, transposed(&s.start_rule)).doc("Subdivision of the start vertex.");
+        b.select("b0", "e", v0, s.start..s.start + k).doc("Start of the curve.");
         if v1 != v0 {
-            w.arrow_rows(
-                r1,
-                v1,
-                v1,
-                ArrowKind::Subdivision,
-                &transposed_rows(&s.end_rule),
-                "Subdivision of the end vertex.",
-            );
+            b.matrix(r1, v1, v1, transposed(&s.end_rule)).doc("Subdivision of the end vertex.");
         }
-        w.arrow_select("b1", "e", v1, &(s.end..s.end + k).collect::<Vec<_>>(), "End of the curve.");
-        let adjacency = (0..p - 1).map(|i| format!("T{i} b1 = T{} b0", i + 1)).collect();
-        let incidence = vec![format!("T0 b0 = b0 {r0}"), format!("T{} b1 = b1 {r1}", p - 1)];
-        w.constraints(&[
-            ("adjacency", "Consecutive parts meet.", adjacency),
-            ("incidence", "The ends of the curve are fixed points of the vertex rules.", incidence),
-        ]);
+        b.select("b1", "e", v1, s.end..s.end + k).doc("End of the curve.");
+        for i in 0..p - 1 {
+            b.adjacency(format!("T{i} b1 = T{} b0", i + 1)).doc("Consecutive parts meet.");
+        }
+        b.incidence(format!("T0 b0 = b0 {r0}")).incidence(format!("T{} b1 = b1 {r1}", p - 1));
+        b.doc("The ends of the curve are fixed points of the vertex rules.");
     }
-    let roots = ["e"];
-    w.model(&roots, &model.points, &model.layout, &model.extra, &model.comment);
-    w.finish()
+    b.model(model.model.clone().with_roots(vec!["e".into()])).doc(model.comment.clone());
+    b.build().map_err(internal)
 }
 
 /// `A ⊗ B` (row-major pair indices: `(i, j) ↦ i · rows(B) + j`).
@@ -549,125 +548,88 @@ fn kron(a: &ExactMatrix, b: &ExactMatrix) -> ExactMatrix {
     (0..ra * rb).map(|r| (0..ca * cb).map(|c| a[r / rb][c / cb].mul(&b[r % rb][c % cb])).collect()).collect()
 }
 
-/// The automaton file of the tensor product of a curve IFS with itself: a
-/// face with an `n × n` control grid (index `n · row + col`, rows along v)
-/// split into `p × p` sub-faces `T{u}{v}` (matrix `(S_v ⊗ S_u)ᵀ`), edges
-/// along u (`k` rows of `n`) and along v (`n` rows of `k`), and a `k × k`
-/// vertex, with every adjacency and incidence constraint (seed 001 §3.1 for
-/// the bicubic patch; the ternary 5-point surfaces of seed 003).
+/// The design of the tensor product of a curve IFS with itself: a face
+/// with an `n × n` control grid (index `n · row + col`, rows along v) split
+/// into `p × p` sub-faces `T{u}{v}` (matrix `(S_v ⊗ S_u)ᵀ`), edges along u
+/// (`k` rows of `n`) and along v (`n` rows of `k`), and a `k × k` vertex,
+/// with every adjacency and incidence constraint (seed 001 §3.1 for the
+/// bicubic patch; the ternary 5-point surfaces of seed 003).
 ///
 /// # Errors
 /// [`StationaryError::Rules`] when the blocks are not a curve with the same
 /// vertex rule at both ends.
-pub fn tensor_file(
+pub fn tensor_design(
     name: &str,
     description: &str,
     comment: &str,
     blocks: &[ExactMatrix],
     model: &ModelSpec,
-) -> Result<String, StationaryError> {
+) -> Result<Design, StationaryError> {
     let s = curve_structure(blocks).filter(|s| s.start_rule == s.end_rule).ok_or(StationaryError::Rules)?;
     let n = blocks[0].len();
     let p = blocks.len();
-    let (a, b, k) = (s.start, s.end, s.support);
+    let (a, e, k) = (s.start, s.end, s.support);
     let rule = &s.start_rule;
-    let mut w = TomlWriter::new();
-    w.comment(comment).header(name, description);
-    w.state(
-        "face",
-        n * n,
-        CellKind::Face,
-        &format!("The patch: {n}×{n} control grid (index {n}*row + col, rows along v)."),
-    );
-    w.state("edge_u", k * n, CellKind::Edge, &format!("An edge along u: {k} rows of {n} (index {n}*row + col)."));
-    w.state("edge_v", n * k, CellKind::Edge, &format!("An edge along v: {n} rows of {k} (index {k}*row + col)."));
-    w.state("vertex", k * k, CellKind::Vertex, &format!("A corner: {k}×{k} control points (index {k}*row + col)."));
+    let mut b = Design::builder(name);
+    b.description(description).doc(comment);
+    b.state("face", n * n, CellKind::Face)
+        .doc(format!("The patch: {n}×{n} control grid (index {n}*row + col, rows along v)."));
+    b.state("edge_u", k * n, CellKind::Edge).doc(format!("An edge along u: {k} rows of {n} (index {n}*row + col)."));
+    b.state("edge_v", n * k, CellKind::Edge).doc(format!("An edge along v: {n} rows of {k} (index {k}*row + col)."));
+    b.state("vertex", k * k, CellKind::Vertex).doc(format!("A corner: {k}×{k} control points (index {k}*row + col)."));
     let t = |u: usize, v: usize| format!("T{u}{v}");
     for v in 0..p {
         for u in 0..p {
-            w.arrow_rows(
-                &t(u, v),
-                "face",
-                "face",
-                ArrowKind::Subdivision,
-                &transposed_rows(&kron(&blocks[v], &blocks[u])),
-                &format!("Sub-face ({u}, {v}): (S_{v} ⊗ S_{u})ᵀ."),
-            );
+            b.matrix(t(u, v), "face", "face", transposed(&kron(&blocks[v], &blocks[u])))
+                .doc(format!("Sub-face ({u}, {v}): (S_{v} ⊗ S_{u})ᵀ."));
         }
     }
     for (i, block) in blocks.iter().enumerate() {
-        w.arrow_rows(
-            &format!("U{i}"),
-            "edge_u",
-            "edge_u",
-            ArrowKind::Subdivision,
-            &transposed_rows(&kron(rule, block)),
-            &format!("Part {i} of an edge along u."),
-        );
+        b.matrix(format!("U{i}"), "edge_u", "edge_u", transposed(&kron(rule, block)))
+            .doc(format!("Part {i} of an edge along u."));
     }
     for (j, block) in blocks.iter().enumerate() {
-        w.arrow_rows(
-            &format!("V{j}"),
-            "edge_v",
-            "edge_v",
-            ArrowKind::Subdivision,
-            &transposed_rows(&kron(block, rule)),
-            &format!("Part {j} of an edge along v."),
-        );
+        b.matrix(format!("V{j}"), "edge_v", "edge_v", transposed(&kron(block, rule)))
+            .doc(format!("Part {j} of an edge along v."));
     }
-    w.arrow_rows(
-        "W",
-        "vertex",
-        "vertex",
-        ArrowKind::Subdivision,
-        &transposed_rows(&kron(rule, rule)),
-        "The vertex rule.",
-    );
+    b.matrix("W", "vertex", "vertex", transposed(&kron(rule, rule))).doc("The vertex rule.");
     let grid = |cols: usize, rows: std::ops::Range<usize>, columns: std::ops::Range<usize>| -> Vec<usize> {
         rows.flat_map(|r| columns.clone().map(move |c| r * cols + c)).collect()
     };
-    w.arrow_select("bottom", "face", "edge_u", &grid(n, a..a + k, 0..n), "Bottom edge.");
-    w.arrow_select("top", "face", "edge_u", &grid(n, b..b + k, 0..n), "Top edge.");
-    w.arrow_select("left", "face", "edge_v", &grid(n, 0..n, a..a + k), "Left edge.");
-    w.arrow_select("right", "face", "edge_v", &grid(n, 0..n, b..b + k), "Right edge.");
-    w.arrow_select("u_start", "edge_u", "vertex", &grid(n, 0..k, a..a + k), "Start of an edge along u.");
-    w.arrow_select("u_end", "edge_u", "vertex", &grid(n, 0..k, b..b + k), "End of an edge along u.");
-    w.arrow_select("v_start", "edge_v", "vertex", &grid(k, a..a + k, 0..k), "Start of an edge along v.");
-    w.arrow_select("v_end", "edge_v", "vertex", &grid(k, b..b + k, 0..k), "End of an edge along v.");
-    let mut adjacency = Vec::new();
-    let mut incidence = Vec::new();
+    b.select("bottom", "face", "edge_u", grid(n, a..a + k, 0..n)).doc("Bottom edge.");
+    b.select("top", "face", "edge_u", grid(n, e..e + k, 0..n)).doc("Top edge.");
+    b.select("left", "face", "edge_v", grid(n, 0..n, a..a + k)).doc("Left edge.");
+    b.select("right", "face", "edge_v", grid(n, 0..n, e..e + k)).doc("Right edge.");
+    b.select("u_start", "edge_u", "vertex", grid(n, 0..k, a..a + k)).doc("Start of an edge along u.");
+    b.select("u_end", "edge_u", "vertex", grid(n, 0..k, e..e + k)).doc("End of an edge along u.");
+    b.select("v_start", "edge_v", "vertex", grid(k, a..a + k, 0..k)).doc("Start of an edge along v.");
+    b.select("v_end", "edge_v", "vertex", grid(k, e..e + k, 0..k)).doc("End of an edge along v.");
     for v in 0..p {
         for u in 0..p {
             if u + 1 < p {
-                adjacency.push(format!("{} right = {} left", t(u, v), t(u + 1, v)));
+                b.adjacency(format!("{} right = {} left", t(u, v), t(u + 1, v)));
             }
             if v + 1 < p {
-                adjacency.push(format!("{} top = {} bottom", t(u, v), t(u, v + 1)));
+                b.adjacency(format!("{} top = {} bottom", t(u, v), t(u, v + 1)));
             }
         }
     }
-    for i in 0..p {
-        if i + 1 < p {
-            adjacency.push(format!("U{i} u_end = U{} u_start", i + 1));
-            adjacency.push(format!("V{i} v_end = V{} v_start", i + 1));
-        }
-        incidence.push(format!("{} bottom = bottom U{i}", t(i, 0)));
-        incidence.push(format!("{} top = top U{i}", t(i, p - 1)));
-        incidence.push(format!("{} left = left V{i}", t(0, i)));
-        incidence.push(format!("{} right = right V{i}", t(p - 1, i)));
+    for i in 0..p - 1 {
+        b.adjacency(format!("U{i} u_end = U{} u_start", i + 1));
+        b.adjacency(format!("V{i} v_end = V{} v_start", i + 1));
     }
-    incidence.extend([
-        "U0 u_start = u_start W".to_string(),
-        format!("U{} u_end = u_end W", p - 1),
-        "V0 v_start = v_start W".to_string(),
-        format!("V{} v_end = v_end W", p - 1),
-    ]);
-    w.constraints(&[
-        ("adjacency", "Neighbouring sub-cells share their common boundary.", adjacency),
-        ("incidence", "The boundary of a sub-cell is the subdivided boundary.", incidence),
-    ]);
-    w.model(&["face"], &model.points, &model.layout, &model.extra, &model.comment);
-    Ok(w.finish())
+    b.doc("Neighbouring sub-cells share their common boundary.");
+    for i in 0..p {
+        b.incidence(format!("{} bottom = bottom U{i}", t(i, 0)));
+        b.incidence(format!("{} top = top U{i}", t(i, p - 1)));
+        b.incidence(format!("{} left = left V{i}", t(0, i)));
+        b.incidence(format!("{} right = right V{i}", t(p - 1, i)));
+    }
+    b.incidence("U0 u_start = u_start W").incidence(format!("U{} u_end = u_end W", p - 1));
+    b.incidence("V0 v_start = v_start W").incidence(format!("V{} v_end = v_end W", p - 1));
+    b.doc("The boundary of a sub-cell is the subdivided boundary.");
+    b.model(model.model.clone().with_roots(vec!["face".into()])).doc(model.comment.clone());
+    b.build().map_err(internal)
 }
 
 /// Why the lifted IFS of eq. (2) does not exist.

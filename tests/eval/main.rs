@@ -14,13 +14,12 @@ pub fn load(name: &str, params: &[(&str, f64)]) -> (bcifs::Automaton<f64>, Model
     let design = builtin_design(name).expect("shipped");
     let values: Vec<(String, f64)> = params.iter().map(|(n, v)| (n.to_string(), *v)).collect();
     let inst = instantiate(&design, &values).expect("instantiates");
-    let model = design.model.clone().expect("has a model");
+    let model = design.model().cloned().expect("has a model");
     (inst.automaton, model, design)
 }
 
 /// Deterministic evaluation in memory.
 pub fn eval(name: &str, params: &[(&str, f64)], settings: EvalSettings) -> Shape {
     let (a, model, _) = load(name, params);
-    let settings = if settings.start.is_empty() { settings.with_start_sets(&model) } else { settings };
     Evaluator::new(&a, &model, settings).expect("evaluable").evaluate().expect("fits")
 }

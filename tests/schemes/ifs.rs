@@ -51,8 +51,8 @@ fn bspline_limit_points_are_the_closed_form() {
         ("bspline-end", vec![0.0, 0.0, 0.0, 0.0, 1.0, 2.0, 2.0, 2.0, 2.0]),
     ] {
         let g = ifs_preset(name, None, None).unwrap();
-        let design = g.design();
-        let control = design.model.clone().unwrap().points;
+        let design = g;
+        let control = design.model().cloned().unwrap().points;
         let (lo, hi) = (knots[3], knots[5]);
         for k in [1, 4, 8] {
             let pts = points2(&evaluate(&design, k));
@@ -69,8 +69,8 @@ fn bspline_limit_points_are_the_closed_form() {
 #[test]
 fn bezier_limit_points_are_bernstein_and_the_union_is_two_curves() {
     let g = ifs_preset("bezier-union", None, None).unwrap();
-    let design = g.design();
-    let control = design.model.clone().unwrap().points;
+    let design = g;
+    let control = design.model().cloned().unwrap().points;
     let k = 7;
     let shape = evaluate(&design, k);
     let lines: Vec<_> = shape.polylines().collect();
@@ -106,8 +106,8 @@ fn bezier_limit_points_are_bernstein_and_the_union_is_two_curves() {
 /// attractor runs from P2 to P4 through P3, at parameters 0, 1/2 and 1.
 #[test]
 fn four_point_limit_interpolates() {
-    let design = ifs_preset("four-point", None, None).unwrap().design();
-    let control = design.model.clone().unwrap().points;
+    let design = ifs_preset("four-point", None, None).unwrap();
+    let control = design.model().cloned().unwrap().points;
     let k = 6;
     let pts = points2(&evaluate(&design, k));
     for (j, i) in [(0, 2), (1 << (k - 1), 3), (1 << k, 4)] {
@@ -127,8 +127,8 @@ fn four_point_limit_interpolates() {
 /// from any start set (a point, a segment, a triangle).
 #[test]
 fn lifted_ifs_has_the_same_attractor() {
-    let design = ifs_preset("bspline", None, None).unwrap().design();
-    let control = design.model.clone().unwrap().points;
+    let design = ifs_preset("bspline", None, None).unwrap();
+    let control = design.model().cloned().unwrap().points;
     let curve = lift(&points2(&evaluate(&design, 12)));
     let blocks: Vec<_> = BSpline::uniform(3, 5).unwrap().blocks(2).unwrap().iter().map(to_f64).collect();
     let ifs = LiftedIfs::new(&blocks, &control).unwrap();
@@ -148,7 +148,7 @@ fn lifted_ifs_has_the_same_attractor() {
     let line: Vec<Vec<f64>> = (0..5).map(|i| vec![i as f64, 2.0 * i as f64]).collect();
     assert_eq!(LiftedIfs::new(&blocks, &line).unwrap_err(), LiftError::Singular);
     assert!(LiftError::Singular.to_string().contains("barycentric form"));
-    let straight = ifs_preset("bspline", Some(line), None).unwrap().design();
+    let straight = ifs_preset("bspline", Some(line), None).unwrap();
     let pts = points2(&evaluate(&straight, 5));
     assert!(pts.iter().all(|p| (p[1] - 2.0 * p[0]).abs() < 1e-12));
 }
@@ -157,7 +157,7 @@ fn lifted_ifs_has_the_same_attractor() {
 /// curve: the same points as the normal-vector Koch scheme (seed 000 eq. 5).
 #[test]
 fn koch_with_control_points_is_the_classic_koch_curve() {
-    let design = ifs_preset("koch-control", None, None).unwrap().design();
+    let design = ifs_preset("koch-control", None, None).unwrap();
     let koch = normal_preset("koch").unwrap();
     for k in 1..=5 {
         let ours = points2(&evaluate(&design, k));
@@ -173,10 +173,10 @@ fn koch_with_control_points_is_the_classic_koch_curve() {
 /// the maps S3 and S4 do not use P1 (§4.1, Fig. 10 bottom).
 #[test]
 fn moving_a_control_point_deforms_locally() {
-    let natural = ifs_preset("koch-control", None, None).unwrap().design();
-    let mut points = natural.model.clone().unwrap().points;
+    let natural = ifs_preset("koch-control", None, None).unwrap();
+    let mut points = natural.model().cloned().unwrap().points;
     points[1] = vec![0.25, 0.15];
-    let moved = ifs_preset("koch-control", Some(points), None).unwrap().design();
+    let moved = ifs_preset("koch-control", Some(points), None).unwrap();
     let k = 4;
     let (a, b) = (points2(&evaluate(&natural, k)), points2(&evaluate(&moved, k)));
     let half = a.len() / 2;
@@ -193,8 +193,8 @@ fn moving_a_control_point_deforms_locally() {
 /// Moving the edge points bends the gasket.
 #[test]
 fn sierpinski_with_control_points_is_the_classic_gasket() {
-    let design = ifs_preset("sierpinski-control", None, None).unwrap().design();
-    let control = design.model.clone().unwrap().points;
+    let design = ifs_preset("sierpinski-control", None, None).unwrap();
+    let control = design.model().cloned().unwrap().points;
     let corners = [&control[0], &control[2], &control[4]];
     let k = 6;
     let ours = lift(&points2(&evaluate(&design, k)));
@@ -209,7 +209,7 @@ fn sierpinski_with_control_points_is_the_classic_gasket() {
     assert!(hausdorff(&ours, &classic) < 1e-12);
     let mut bent = control.clone();
     bent[1] = vec![0.5, -0.2];
-    let other = lift(&points2(&evaluate(&ifs_preset("sierpinski-control", Some(bent), None).unwrap().design(), k)));
+    let other = lift(&points2(&evaluate(&ifs_preset("sierpinski-control", Some(bent), None).unwrap(), k)));
     assert!(hausdorff(&ours, &other) > 0.01);
 }
 
@@ -219,9 +219,9 @@ fn sierpinski_with_control_points_is_the_classic_gasket() {
 #[test]
 fn dropping_maps_gives_a_subset() {
     for name in ["sierpinski-control", "bspline", "koch-control"] {
-        let design = ifs_preset(name, None, None).unwrap().design();
+        let design = ifs_preset(name, None, None).unwrap();
         let inst = bcifs::instantiate(&design, &[]).unwrap();
-        let model = design.model.clone().unwrap();
+        let model = design.model().cloned().unwrap();
         let run = |k: usize, drop: &[&str]| {
             let s = Evaluator::new(&inst.automaton, &model, EvalSettings::default().with_depth(k).without(drop))
                 .unwrap()
@@ -242,7 +242,7 @@ fn dropping_maps_gives_a_subset() {
 #[test]
 fn every_catalogue_automaton_passes_check() {
     for name in IFS_NAMES {
-        let design = ifs_preset(name, None, None).unwrap().design();
+        let design = ifs_preset(name, None, None).unwrap();
         let inst = bcifs::instantiate(&design, &[]).unwrap();
         let report = check(&inst.automaton, &inst.values, DEFAULT_CHECK_TOLERANCE).unwrap();
         assert!(report.ok && report.contractive, "{name}: {:?}", report.constraints);

@@ -13,7 +13,7 @@ use bcifs::geometry::Shape;
 /// Evaluates a design (default parameters) with its model to depth `k`.
 pub fn evaluate(design: &Design, k: usize) -> Shape {
     let inst = bcifs::instantiate(design, &[]).expect("instantiates");
-    let model = design.model.clone().expect("model");
+    let model = design.model().cloned().expect("model");
     Evaluator::new(&inst.automaton, &model, EvalSettings::default().with_depth(k).with_threads(1))
         .expect("evaluable")
         .evaluate()

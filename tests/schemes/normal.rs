@@ -84,8 +84,8 @@ fn every_sign_pattern_and_direction_agrees_on_open_and_closed_polygons() {
 #[test]
 fn generated_automata_pass_check_and_solve() {
     for (name, _, design) in interpolatory_presets() {
-        let v = design.automaton.state_id("v").expect("vertex state");
-        assert_eq!(design.automaton.state(v).dim, 1, "{name}: vertices of dimension 1");
+        let v = design.automaton().state_id("v").expect("vertex state");
+        assert_eq!(design.automaton().state(v).dim, 1, "{name}: vertices of dimension 1");
         let inst = bcifs::instantiate(&design, &[]).unwrap();
         let report = check(&inst.automaton, &inst.values, DEFAULT_CHECK_TOLERANCE).unwrap();
         assert!(report.ok, "{name}: {:?}", report.constraints);
@@ -102,7 +102,7 @@ fn sign_patterns_become_two_state_automata() {
     let states = |name: &str| {
         let p = normal_preset(name).unwrap();
         let d = p.scheme.design(name, &p.polygon, p.closed).unwrap();
-        d.automaton.states().filter(|(_, s)| s.kind == bcifs::CellKind::Edge).count()
+        d.automaton().states().filter(|(_, s)| s.kind == bcifs::CellKind::Edge).count()
     };
     assert_eq!(states("koch"), 1);
     assert_eq!(states("dragon"), 2); // (−1)^i
@@ -239,7 +239,7 @@ fn scheme_3_converges_to_the_sierpinski_gasket() {
 #[test]
 fn non_interpolatory_schemes_have_no_automaton_form() {
     let p = normal_preset("approximating").unwrap();
-    let err = p.scheme.automaton_file("a", "", &p.polygon, true).unwrap_err();
+    let err = p.scheme.design("a", &p.polygon, true).unwrap_err();
     assert!(matches!(err, NormalSchemeError::NotInterpolatory { .. }));
     assert!(err.to_string().contains("α_0 = -1/2"), "{err}");
     // The direct form still works and keeps p points per segment of the closed polygon.

@@ -19,8 +19,8 @@ fn ifs_curve_is_the_limit_of_the_rules() {
     // (ω = 0 drops the outer taps: the vertex support shrinks and windows slide by 3.)
     for omega in ["1/100", "3/50", "-1/20"] {
         let w = Surd::parse(omega).unwrap();
-        let design = ifs_preset("ternary5-closed", None, Some(&w)).unwrap().design();
-        let control = design.model.clone().unwrap().points;
+        let design = ifs_preset("ternary5-closed", None, Some(&w)).unwrap();
+        let control = design.model().cloned().unwrap().points;
         let inst = bcifs::instantiate(&design, &[]).unwrap();
         let t1 = &inst.automaton.arrow(inst.automaton.arrow_id("T1").unwrap()).matrix;
         let e3 = nalgebra::DVector::from_fn(7, |i, _| f64::from(i == 3));
@@ -40,12 +40,12 @@ fn ifs_curve_is_the_limit_of_the_rules() {
 /// edge in exactly two quads, Euler characteristic 0.
 #[test]
 fn ternary_torus_is_a_closed_manifold() {
-    let design = ifs_preset("ternary5-torus", None, None).unwrap().design();
+    let design = ifs_preset("ternary5-torus", None, None).unwrap();
     let shape = evaluate(&design, 2);
     assert_eq!(shape.quads.len(), 8 * 12 * 81);
     assert!(shape.edge_multiplicities().values().all(|&m| m == 2));
     assert_eq!(shape.euler_characteristic(), 0);
-    let sheet = evaluate(&ifs_preset("ternary5-surface", None, None).unwrap().design(), 2);
+    let sheet = evaluate(&ifs_preset("ternary5-surface", None, None).unwrap(), 2);
     assert_eq!(sheet.euler_characteristic(), 1, "an open sheet is a disc");
 }
 

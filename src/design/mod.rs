@@ -1,10 +1,15 @@
-//! A design: the automaton of a file or generator before solving, whose
-//! entries are affine in the unknowns and parameters, plus its model.
+//! A design: the automaton of a file, a generator or code before solving,
+//! whose entries are affine in the unknowns and parameters, plus its model.
+//! The one way to make one is the checked [`DesignBuilder`].
+
+mod builder;
 
 use std::collections::HashMap;
 
 use crate::algebra::Affine;
 use crate::automaton::Automaton;
+
+pub use builder::{BuildError, DesignBuilder, Field, Locus, Matrix, Value};
 
 /// Where a variable of the constraint system comes from.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -106,31 +111,138 @@ pub struct Model {
 }
 
 impl Model {
+    /// A model of one piece (layout `single`) on the root state `root`.
+    ///
+    /// ```
+    /// use bcifs::{Layout, Model};
+    /// let m = Model::new("e", vec![vec![0.0, 0.0], vec![1.0, 2.0], vec![2.0, 0.0]]).with_layout(Layout::Open);
+    /// assert_eq!(m.roots, ["e"]);
+    /// ```
+    pub fn new(root: impl Into<String>, points: Vec<Vec<f64>>) -> Model {
+        Model { roots: vec![root.into()], points, layout: Layout::Single, step: None, grid: None, start: Vec::new() }
+    }
+
+    /// The same model with several roots, taken in turn by the pieces.
+    pub fn with_roots(mut self, roots: Vec<String>) -> Model {
+        self.roots = roots;
+        self
+    }
+
+    /// The same model with another layout.
+    pub fn with_layout(mut self, layout: Layout) -> Model {
+        self.layout = layout;
+        self
+    }
+
+    /// The same model with a window step.
+    pub fn with_step(mut self, step: usize) -> Model {
+        self.step = Some(step);
+        self
+    }
+
+    /// The same model with a `rows × cols` control grid (grid layouts).
+    pub fn with_grid(mut self, rows: usize, cols: usize) -> Model {
+        self.grid = Some((rows, cols));
+        self
+    }
+
+    /// The same model with a start set for `state` (barycentric points).
+    pub fn with_start(mut self, state: impl Into<String>, points: Vec<Vec<f64>>) -> Model {
+        self.start.push((state.into(), points));
+        self
+    }
+
     /// The root state of piece `i`.
     pub fn root(&self, i: usize) -> &str {
         &self.roots[i % self.roots.len().max(1)]
     }
 }
 
+/// Free text attached to the parts of a design: written as comments when
+/// the design is printed as an automaton file.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Docs {
+    /// Above the whole file.
+    pub header: String,
+    /// Per state, by name.
+    pub states: HashMap<String, String>,
+    /// Per arrow, by name.
+    pub arrows: HashMap<String, String>,
+    /// Per constraint group, by name.
+    pub groups: HashMap<String, String>,
+    /// Above the parameters.
+    pub parameters: String,
+    /// Above the model.
+    pub model: String,
+}
+
 /// An automaton whose entries are affine in the variables of its constraint
-/// system, as read from a file or made by a generator.
+/// system, made by a [`DesignBuilder`] (from a file, a generator or code),
+/// with its model.
+///
+/// Its parts agree by construction: every variable of an entry exists, every
+/// parameter is declared, the model's roots and start sets name states.
 #[derive(Clone, Debug)]
 pub struct Design {
-    /// The automaton; unknown entries are variables, known entries may use parameters.
-    pub automaton: Automaton<Affine>,
-    /// The variables, indexed as in the affine entries.
-    pub variables: Vec<Variable>,
-    /// Default values of parameters, by name.
-    pub defaults: HashMap<String, f64>,
-    /// The parameter names in the order the file declares them.
-    pub declared: Vec<String>,
-    /// The model, if the file has one.
-    pub model: Option<Model>,
-    /// Free text describing the design.
-    pub description: String,
+    automaton: Automaton<Affine>,
+    variables: Vec<Variable>,
+    defaults: HashMap<String, f64>,
+    declared: Vec<String>,
+    spec: DesignBuilder,
 }
 
 impl Design {
+    /// Starts a design called `name`: see [`DesignBuilder`].
+    pub fn builder(name: impl Into<String>) -> DesignBuilder {
+        DesignBuilder::new(name)
+    }
+
+    /// The automaton; unknown entries are variables, known entries may use parameters.
+    pub fn automaton(&self) -> &Automaton<Affine> {
+        &self.automaton
+    }
+
+    /// The name.
+    pub fn name(&self) -> &str {
+        &self.automaton.name
+    }
+
+    /// The variables of the constraint system, indexed as in the affine entries.
+    pub fn variables(&self) -> &[Variable] {
+        &self.variables
+    }
+
+    /// Default values of parameters, by name.
+    pub fn defaults(&self) -> &HashMap<String, f64> {
+        &self.defaults
+    }
+
+    /// The parameter names in the order they were declared.
+    pub fn declared(&self) -> &[String] {
+        &self.declared
+    }
+
+    /// The model, if the design has one.
+    pub fn model(&self) -> Option<&Model> {
+        self.spec.model_ref()
+    }
+
+    /// Free text describing the design.
+    pub fn description(&self) -> &str {
+        self.spec.description_ref()
+    }
+
+    /// Comments of the parts, for printing.
+    pub fn docs(&self) -> &Docs {
+        self.spec.docs_ref()
+    }
+
+    /// A builder holding everything this design was built from, to change
+    /// and build again (another model, other defaults, more constraints).
+    pub fn to_builder(&self) -> DesignBuilder {
+        self.spec.clone()
+    }
+
     /// The variable called `name`.
     pub fn variable(&self, name: &str) -> Option<usize> {
         self.variables.iter().position(|v| v.name == name)

@@ -1,0 +1,28 @@
+//! The automata shipped in `automata/`, embedded in the library.
+
+/// The automata shipped in `automata/`: `(name, file text)`.
+pub const BUILTIN_AUTOMATA: &[(&str, &str)] = &[
+    ("corner_cutting", include_str!("../../automata/corner_cutting.toml")),
+    ("curve_4_3", include_str!("../../automata/curve_4_3.toml")),
+    ("doo_sabin_quad", include_str!("../../automata/doo_sabin_quad.toml")),
+    ("doo_sabin_torus", include_str!("../../automata/doo_sabin_torus.toml")),
+    ("fern", include_str!("../../automata/fern.toml")),
+    ("fern_sierpinski", include_str!("../../automata/fern_sierpinski.toml")),
+    ("koch", include_str!("../../automata/koch.toml")),
+    ("levy", include_str!("../../automata/levy.toml")),
+];
+
+/// The shipped automaton called `name`, parsed.
+///
+/// ```
+/// let design = bcifs::builtin_design("corner_cutting").unwrap();
+/// assert_eq!(design.name(), "corner_cutting");
+/// assert!(bcifs::builtin_design("nope").is_none());
+/// ```
+///
+/// # Errors
+/// `None` if there is no such automaton. The shipped files are tested to parse.
+pub fn builtin_design(name: &str) -> Option<crate::design::Design> {
+    let (_, text) = BUILTIN_AUTOMATA.iter().find(|(n, _)| *n == name)?;
+    super::parse_design(text, &format!("automata/{name}.toml"), name).ok()
+}
