@@ -296,7 +296,8 @@ impl Surd {
 
     /// The nearest `f64`.
     pub fn to_f64(&self) -> f64 {
-        self.terms().map(|(r, q)| q.to_f64().unwrap_or(f64::NAN) * (r as f64).sqrt()).sum()
+        let rational = self.rational.to_f64().unwrap_or(f64::NAN);
+        self.roots.iter().fold(rational, |acc, (r, q)| acc + q.to_f64().unwrap_or(f64::NAN) * (*r as f64).sqrt())
     }
 
     /// Whether it is negative (exact for rationals; by its `f64` value otherwise).

@@ -75,7 +75,8 @@ pub fn write_design(design: &Design) -> String {
 }
 
 fn floats(p: &[f64]) -> String {
-    p.iter().map(|x| format!("{x:?}")).collect::<Vec<_>>().join(", ")
+    // `x + 0.0` writes -0.0 as 0.0 (what it reads back as).
+    p.iter().map(|x| format!("{:?}", x + 0.0)).collect::<Vec<_>>().join(", ")
 }
 
 /// Builds the text of an automaton file in the order a reader expects:

@@ -1,5 +1,6 @@
 //! Integration tests of the core: families, errors, properties, CLI.
 
+mod builder;
 mod cli;
 mod errors;
 mod families;
