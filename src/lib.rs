@@ -91,7 +91,7 @@ mod family;
 mod format;
 pub mod geometry;
 mod names;
-mod render;
+mod progress;
 pub mod schemes;
 mod space;
 
@@ -108,9 +108,5 @@ pub use family::{
 };
 pub use format::{BUILTIN_AUTOMATA, FormatError, ReadError, builtin_design, parse_design, read_design, write_design};
 pub use names::suggest;
-pub use render::{
-    GALLERY_BUDGET_BYTES, GALLERY_MAX_DEPTH, GalleryEntry, GallerySource, RenderError, RenderOptions, RenderSummary,
-    SchemeForm, evaluate_design, gallery, gallery_depth, gallery_items, normal_shape, render, ternary5_plot,
-    write_shape,
-};
+pub use progress::Progress;
 pub use space::{CellKind, State};

@@ -16,6 +16,7 @@ use super::plan::{Plan, PlanError};
 use crate::automaton::Automaton;
 use crate::design::Model;
 use crate::geometry::{Shape, Sink};
+use crate::progress::{Progress, Steps};
 use crate::space::CellKind;
 
 /// Default in-memory output limit: 4 GiB.
@@ -54,8 +55,8 @@ pub struct EvalSettings {
     pub start: Vec<(String, Vec<Vec<f64>>)>,
     /// Subdivision arrows to leave out (a subset of the attractor).
     pub dropped: Vec<String>,
-    /// Show a progress bar on stderr when it is a terminal.
-    pub progress: bool,
+    /// Told how far a long evaluation is (`None`: nobody listens).
+    pub progress: Option<Progress>,
 }
 
 impl Default for EvalSettings {
@@ -66,7 +67,7 @@ impl Default for EvalSettings {
             memory_limit: DEFAULT_MEMORY_LIMIT,
             start: Vec::new(),
             dropped: Vec::new(),
-            progress: false,
+            progress: None,
         }
     }
 }
@@ -95,6 +96,11 @@ impl EvalSettings {
     /// With a start set for a state.
     pub fn with_start(mut self, state: &str, points: Vec<Vec<f64>>) -> Self {
         self.start.push((state.to_string(), points));
+        self
+    }
+    /// With a progress callback.
+    pub fn with_progress(mut self, progress: Progress) -> Self {
+        self.progress = Some(progress);
         self
     }
     /// Without the given subdivision arrows.
@@ -478,23 +484,12 @@ impl Evaluator {
         )))
     }
 
-    fn progress_bar(&self, total: u64) -> Option<indicatif::ProgressBar> {
-        (self.settings.progress && std::io::IsTerminal::is_terminal(&std::io::stderr())).then(|| {
-            let bar = indicatif::ProgressBar::new(total);
-            bar.set_style(
-                indicatif::ProgressStyle::with_template("{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} {msg}")
-                    .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-            );
-            bar
-        })
-    }
-
     fn curves_fixed(&self, k: usize, sink: &mut dyn Sink, in_memory: bool) -> Result<(), EvalError> {
         let d = self.pieces.dim;
         let threads = self.pool.current_num_threads();
         let mut first_vertex = 0usize;
         let count = self.pieces.pieces.len();
-        let bar = self.progress_bar(count as u64);
+        let mut steps = Steps::new(self.settings.progress.as_ref(), count as u64);
         let mut run_start = 0usize;
         for (pi, piece) in self.pieces.pieces.iter().enumerate() {
             let sp = self.plan.state(piece.state);
@@ -527,12 +522,7 @@ impl Evaluator {
                 }
             }
             self.end_curve(piece, pi + 1 == count, sink, &mut first_vertex, &mut run_start)?;
-            if let Some(b) = &bar {
-                b.inc(1);
-            }
-        }
-        if let Some(b) = bar {
-            b.finish_and_clear();
+            steps.step();
         }
         Ok(())
     }
@@ -643,7 +633,7 @@ impl Evaluator {
         &self.pool
     }
 
-    pub(super) fn progress(&self, total: u64) -> Option<indicatif::ProgressBar> {
-        self.progress_bar(total)
+    pub(super) fn progress(&self, total: u64) -> Steps<'_> {
+        Steps::new(self.settings.progress.as_ref(), total)
     }
 }

@@ -164,7 +164,7 @@ pub(super) fn mesh(ev: &Evaluator, k: usize, sink: &mut dyn Sink, in_memory: boo
 
     let blocks = pr * pc * lat.s * lat.s;
     let batch = if in_memory { blocks } else { BATCH_BLOCKS };
-    let bar = ev.progress((blocks / batch.max(1)).max(1) as u64);
+    let mut steps = ev.progress((blocks / batch.max(1)).max(1) as u64);
     let mut extras: Vec<Extra> = Vec::new();
     let bb = lat.b * lat.b;
     // Writes block `g`: its owned positions, normals, quads and texture quads
@@ -263,9 +263,7 @@ pub(super) fn mesh(ev: &Evaluator, k: usize, sink: &mut dyn Sink, in_memory: boo
             sink.vertices(d, &pos, Some(&nrm))?;
             sink.faces(&quads, Some(&quv))?;
         }
-        if let Some(b) = &bar {
-            b.inc(1);
-        }
+        steps.step();
     }
     if !torus {
         extras.sort_by_key(|e| e.0);
@@ -275,9 +273,7 @@ pub(super) fn mesh(ev: &Evaluator, k: usize, sink: &mut dyn Sink, in_memory: boo
         let normals: Vec<f64> = extras.iter().flat_map(|e| e.2).collect();
         sink.vertices(d, &positions, Some(&normals))?;
     }
-    if let Some(b) = bar {
-        b.finish_and_clear();
-    }
+    drop(steps);
     Ok(())
 }
 

@@ -1,0 +1,157 @@
+//! `bcifs analyze`: continuity and fractal ranges of a scheme family.
+
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+use anyhow::{Context, Result, bail};
+use clap::Subcommand;
+
+#[derive(Subcommand)]
+pub enum AnalyzeCommand {
+    /// The ternary 5-point scheme with tension ω (seed 003): C0/C1/C2 bounds,
+    /// polygon length growth, fractal ranges; a table and a PNG plot.
+    Ternary5 {
+        /// The ω interval, A B.
+        #[arg(long, num_args = 2, value_names = ["A", "B"], allow_hyphen_values = true, default_values_t = [-0.1, 0.17])]
+        omega_range: Vec<f64>,
+        /// Number of intervals (the table has STEPS + 1 rows).
+        #[arg(long, default_value_t = 54)]
+        steps: usize,
+        /// The plot (PNG).
+        #[arg(short, long, default_value = "ternary5.png")]
+        output: PathBuf,
+    },
+}
+
+fn run_ternary5(out: &mut String, from: f64, to: f64, steps: usize, output: &std::path::Path) -> Result<u8> {
+    use bcifs::analysis::ternary::{PAPER_RANGES, boundary, intervals, omegas, ternary5_rows};
+    if from >= to || !from.is_finite() || !to.is_finite() {
+        bail!("--omega-range A B needs finite A < B");
+    }
+    if steps == 0 || steps > 10_000 {
+        bail!("--steps must be between 1 and 10000");
+    }
+    // In chunks, with a progress bar on a terminal.
+    let all = omegas(from, to, steps);
+    let bar = super::progress_bar();
+    let mut rows = Vec::with_capacity(all.len());
+    for chunk in all.chunks(32) {
+        rows.extend(ternary5_rows(chunk));
+        if let Some(b) = &bar {
+            b.report(rows.len() as u64, all.len() as u64);
+        }
+    }
+    writeln!(out, "ternary 5-point scheme (seed 003, eq. 1), ω from {from} to {to}")?;
+    writeln!(
+        out,
+        "{:>10}  {:>8}  {:>8}  {:>8}  {:>8}  {:>8}  verdict",
+        "omega", "C0 bound", "JSR low", "C1 bound", "C2 bound", "growth"
+    )?;
+    for r in &rows {
+        writeln!(
+            out,
+            "{:>10.5}  {:>8.4}  {:>8.4}  {:>8.4}  {:>8.4}  {:>8.4}  {}",
+            r.omega,
+            r.c0,
+            r.c0_lower,
+            r.c1,
+            r.c2,
+            r.growth,
+            r.verdict()
+        )?;
+    }
+    writeln!(
+        out,
+        "
+C0 bound: min over L ≤ 8 of ‖S_b^L‖∞^(1/L) for the difference scheme b = a/(1+z+z²) (< 1 proves C0);"
+    )?;
+    writeln!(out, "JSR low: max over block products of length ≤ 4 of ρ^(1/len) (≥ 1 proves divergence);")?;
+    writeln!(
+        out,
+        "C1/C2 bounds: the same for 3a/σ² and 9a/σ³; growth: polygon length ratio per step after 10 steps.
+"
+    )?;
+    let step = (to - from) / steps as f64;
+    let refine = |ranges: Vec<(f64, f64)>, pred: &dyn Fn(&bcifs::analysis::ternary::TernaryRow) -> bool| {
+        ranges
+            .into_iter()
+            .map(|(a, b)| {
+                let lo = if a > from { boundary(a - step, a, 1e-6, pred) } else { a };
+                let hi = if b < to { boundary(b, b + step, 1e-6, pred) } else { b };
+                (lo, hi)
+            })
+            .collect::<Vec<_>>()
+    };
+    let show = |v: &[(f64, f64)]| {
+        if v.is_empty() {
+            "none".to_string()
+        } else {
+            v.iter().map(|(a, b)| format!("({a:.5}, {b:.5})")).collect::<Vec<_>>().join(" ∪ ")
+        }
+    };
+    let paper = |i: usize| format!("paper: ({:.5}, {:.5})", PAPER_RANGES[i].1, PAPER_RANGES[i].2);
+    let c0 = refine(intervals(&rows, |r| r.converges()), &|r| r.converges());
+    writeln!(out, "C0 proven on       {}   [{}]", show(&c0), paper(0))?;
+    let fails = refine(intervals(&rows, |r| r.fails()), &|r| r.fails());
+    writeln!(out, "not C0 (proven) on {}", show(&fails))?;
+    let c1 = refine(intervals(&rows, |r| r.c1 < 1.0), &|r| r.c1 < 1.0);
+    writeln!(out, "C1 proven on       {}   [{}]", show(&c1), paper(1))?;
+    let c2 = refine(intervals(&rows, |r| r.c2 < 1.0), &|r| r.c2 < 1.0);
+    writeln!(out, "C2 proven on       {}   [{}]", show(&c2), paper(2))?;
+    let fractal = refine(intervals(&rows, |r| r.fractal()), &|r| r.fractal());
+    writeln!(out, "fractal (C0 and length growth > 1.001) on {}", show(&fractal))?;
+    let img = ternary5_plot(&rows).render(900, 600);
+    bcifs::export::write_png(output, &img).with_context(|| format!("cannot write {}", output.display()))?;
+    writeln!(out, "plot → {}", output.display())?;
+    Ok(0)
+}
+
+/// Runs a `bcifs analyze` command.
+pub fn run(out: &mut String, what: AnalyzeCommand) -> Result<u8> {
+    match what {
+        AnalyzeCommand::Ternary5 { omega_range, steps, output } => {
+            run_ternary5(out, omega_range[0], omega_range[1], steps, &output)
+        }
+    }
+}
+
+/// The plot of the ternary 5-point analysis: measured length growth per step
+/// and the C0 contraction bound against ω, the line 1, the fractal intervals
+/// shaded, and the paper's C0 bounds as vertical lines.
+pub fn ternary5_plot(rows: &[bcifs::analysis::ternary::TernaryRow]) -> bcifs::export::Plot {
+    use bcifs::analysis::ternary::{PAPER_RANGES, intervals};
+    use bcifs::export::{Plot, Series};
+    let series = |label: &str, f: &dyn Fn(&bcifs::analysis::ternary::TernaryRow) -> f64, color| Series {
+        label: label.into(),
+        points: rows.iter().map(|r| (r.omega, f(r))).collect(),
+        color,
+    };
+    let mut bands: Vec<(f64, f64, [u8; 3], String)> = intervals(rows, |r| r.fractal())
+        .into_iter()
+        .map(|(a, b)| (a, b, [255, 222, 222], "fractal".to_string()))
+        .collect();
+    bands
+        .extend(intervals(rows, |r| r.fails()).into_iter().map(|(a, b)| (a, b, [225, 225, 225], "not C0".to_string())));
+    // One legend entry per kind.
+    let mut seen = std::collections::HashSet::new();
+    for b in &mut bands {
+        if !seen.insert(b.3.clone()) {
+            b.3.clear();
+        }
+    }
+    let top = rows.iter().map(|r| r.growth.max(r.c0)).fold(1.5f64, f64::max).min(4.0);
+    Plot {
+        title: "TERNARY 5-POINT SCHEME".into(),
+        x_label: "TENSION W".into(),
+        y_label: "RATE PER STEP".into(),
+        series: vec![
+            series("LENGTH GROWTH", &|r| r.growth, [30, 70, 170]),
+            series("C0 BOUND (<1: C0)", &|r| r.c0, [230, 120, 20]),
+            series("C1 BOUND", &|r| r.c1, [40, 150, 60]),
+        ],
+        bands: bands.into_iter().map(|(a, b, c, l)| (a, b, c, l.to_uppercase())).collect(),
+        hlines: vec![(1.0, [200, 0, 0])],
+        vlines: vec![(PAPER_RANGES[0].1, [150, 0, 150]), (PAPER_RANGES[0].2, [150, 0, 150])],
+        y_range: Some((0.0, top)),
+    }
+}

@@ -1,0 +1,142 @@
+//! `bcifs solve`, `check` and `new`: families, verification, generated topologies.
+
+use std::fmt::Write as _;
+
+use anyhow::{Result, bail};
+use clap::Subcommand;
+use serde_json::json;
+
+use bcifs::analysis::{DEFAULT_CHECK_TOLERANCE, check};
+use bcifs::schemes::{curve, quad_patch};
+use bcifs::{SolveError, solve};
+
+use super::{load, parse_params};
+
+#[derive(Subcommand)]
+pub enum Topology {
+    /// An edge bounded by two vertices.
+    Curve {
+        /// Control points of the edge.
+        #[arg(long, default_value_t = 3)]
+        points: usize,
+        /// Control points of a vertex (the first/last points of the edge).
+        #[arg(long, default_value_t = 2)]
+        vertex: usize,
+        /// Number of sub-edges.
+        #[arg(long, default_value_t = 2)]
+        arity: usize,
+    },
+    /// The quad patch: 3×3 face, 2×2 sub-faces, edges along u and v, 2×2 vertex.
+    QuadPatch {
+        /// Use the rotationally symmetric vertex rule (3 parameters).
+        #[arg(long)]
+        symmetric: bool,
+    },
+}
+
+pub fn run_solve(out: &mut String, file: &str, as_json: bool) -> Result<u8> {
+    let design = load(file)?;
+    let name = design.name().to_string();
+    match solve(&design) {
+        Ok(family) => {
+            let matrices = family.matrices_text();
+            if as_json {
+                let m: serde_json::Map<String, serde_json::Value> =
+                    matrices.iter().map(|(n, rows)| (n.clone(), json!(rows))).collect();
+                writeln!(
+                    out,
+                    "{}",
+                    serde_json::to_string_pretty(&json!({
+                        "automaton": name, "consistent": true, "dof": family.dof(),
+                        "parameters": family.parameter_names(), "matrices": m,
+                    }))?
+                )?;
+            } else {
+                writeln!(out, "{name}: {} free parameter(s): {}", family.dof(), family.parameter_names().join(", "))?;
+                writeln!(out, "({} scalar equations, rank {})", family.equations, family.rank)?;
+                for (n, rows) in &matrices {
+                    let width = rows.iter().flatten().map(String::len).max().unwrap_or(1);
+                    writeln!(out, "\n{n} =")?;
+                    for row in rows {
+                        let cells: Vec<String> = row.iter().map(|c| format!("{c:>width$}")).collect();
+                        writeln!(out, "  [ {} ]", cells.join("  "))?;
+                    }
+                }
+            }
+            Ok(0)
+        }
+        Err(SolveError::Inconsistent { conflicts }) => {
+            if as_json {
+                writeln!(
+                    out,
+                    "{}",
+                    serde_json::to_string_pretty(
+                        &json!({"automaton": name, "consistent": false, "conflicts": conflicts})
+                    )?
+                )?;
+            } else {
+                writeln!(out, "{name}: the constraints are inconsistent; these equations conflict:")?;
+                for c in &conflicts {
+                    writeln!(out, "  {c}")?;
+                }
+            }
+            Ok(1)
+        }
+        Err(e) => bail!("{name}: {e}"),
+    }
+}
+
+pub fn run_check(out: &mut String, file: &str, params: &[String], as_json: bool) -> Result<u8> {
+    let design = load(file)?;
+    let values = parse_params(params)?;
+    let instance = bcifs::instantiate(&design, &values).map_err(|e| anyhow::anyhow!("{}: {e}", design.name()))?;
+    let report = check(&instance.automaton, &instance.values, DEFAULT_CHECK_TOLERANCE)?;
+    if as_json {
+        let params: serde_json::Map<String, serde_json::Value> =
+            instance.parameters.iter().map(|(n, v)| (n.clone(), json!(v))).collect();
+        let spectra: serde_json::Map<String, serde_json::Value> = report
+            .spectra
+            .iter()
+            .map(|(n, eig)| (n.clone(), json!(eig.iter().map(|l| [l.re, l.im]).collect::<Vec<_>>())))
+            .collect();
+        let constraints: Vec<_> =
+            report.constraints.iter().map(|(e, r)| json!({"equation": e, "max_abs_residual": r})).collect();
+        writeln!(
+            out,
+            "{}",
+            serde_json::to_string_pretty(&json!({
+                "automaton": design.name(), "ok": report.ok, "parameters": params,
+                "constraints": constraints, "max_column_sum_error": report.max_column_sum_error,
+                "spectra": spectra, "contractive": report.contractive,
+            }))?
+        )?;
+    } else {
+        let p: Vec<String> = instance.parameters.iter().map(|(n, v)| format!("{n} = {v}")).collect();
+        writeln!(out, "{}: {}", design.name(), if p.is_empty() { "no free parameter".into() } else { p.join(", ") })?;
+        for (e, r) in &report.constraints {
+            let mark = if *r <= DEFAULT_CHECK_TOLERANCE { "ok  " } else { "FAIL" };
+            writeln!(out, "  {mark} {e}   (residual {r:.3e})")?;
+        }
+        writeln!(out, "  column sums: max error {:.3e}", report.max_column_sum_error)?;
+        for (n, eig) in &report.spectra {
+            let list: Vec<String> = eig
+                .iter()
+                .map(|l| if l.im.abs() < 1e-12 { format!("{:.6}", l.re) } else { format!("{:.6}{:+.6}i", l.re, l.im) })
+                .collect();
+            writeln!(out, "  spectrum of {n}: {}", list.join(", "))?;
+        }
+        writeln!(out, "  contractive: {}", if report.contractive { "yes" } else { "no" })?;
+        writeln!(out, "{}", if report.ok { "ok" } else { "FAILED: some constraints do not hold" })?;
+    }
+    Ok(if report.ok { 0 } else { 1 })
+}
+
+/// Prints the automaton file of a generated topology.
+pub fn run_new(out: &mut String, topology: Topology) -> Result<u8> {
+    let design = match topology {
+        Topology::Curve { points, vertex, arity } => curve(points, vertex, arity)?,
+        Topology::QuadPatch { symmetric } => quad_patch(symmetric)?,
+    };
+    out.push_str(&bcifs::write_design(&design));
+    Ok(0)
+}

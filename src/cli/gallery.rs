@@ -1,0 +1,166 @@
+//! The gallery: every shipped automaton and scheme preset rendered into a
+//! directory, with an `index.html`.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use bcifs::eval::{Depth, EvalSettings, Evaluator, RandomSettings};
+use bcifs::export::{RasterSettings, write_atomic};
+use bcifs::geometry::Shape;
+use bcifs::{CellKind, Design, Layout, Progress, instantiate};
+
+use super::render::{
+    RenderError, RenderOptions, RenderSummary, SchemeForm, model_of, normal_shape, render, write_shape,
+};
+
+/// In-memory output budget of a gallery picture.
+pub const GALLERY_BUDGET_BYTES: u128 = 12 << 20;
+/// Deepest gallery depth.
+pub const GALLERY_MAX_DEPTH: usize = 16;
+
+/// One rendered gallery entry.
+#[derive(Clone, Debug)]
+pub struct GalleryEntry {
+    /// Automaton name.
+    pub name: String,
+    /// Description.
+    pub description: String,
+    /// Depth used (`None`: chaos game).
+    pub depth: Option<usize>,
+    /// Files written, relative to the gallery directory.
+    pub files: Vec<String>,
+    /// Vertices and quads of the picture.
+    pub summary: RenderSummary,
+}
+
+/// The deepest depth whose in-memory output fits the gallery budget.
+///
+/// # Errors
+/// The design cannot be evaluated.
+pub fn gallery_depth(design: &Design) -> Result<usize, RenderError> {
+    let model = model_of(design)?;
+    let instance = instantiate(design, &[])?;
+    let ev = Evaluator::new(&instance.automaton, &model, EvalSettings::default())?;
+    Ok((1..=GALLERY_MAX_DEPTH).take_while(|&k| ev.estimate_bytes(k) <= GALLERY_BUDGET_BYTES).last().unwrap_or(1))
+}
+
+/// What a gallery entry is made from.
+#[derive(Clone, Debug)]
+pub enum GallerySource {
+    /// An automaton with a model, evaluated to the deepest depth within the budget
+    /// (or to the given depth).
+    Design(Box<Design>, Option<usize>),
+    /// A shape computed directly (a scheme's polyline form), with its depth.
+    Shape(Box<Shape>, usize),
+}
+
+/// The gallery: every shipped automaton with a model, every normal-vector
+/// preset of seed 000 at the paper's depth, every scheme of the catalogue
+/// (seeds 001 and 003): `(name, description, source)`.
+pub fn gallery_items() -> Vec<(String, String, GallerySource)> {
+    let mut items: Vec<(String, String, GallerySource)> = bcifs::BUILTIN_AUTOMATA
+        .iter()
+        .filter_map(|(n, _)| bcifs::builtin_design(n))
+        .filter(|d| d.model().is_some())
+        .map(|d| (d.name().to_string(), d.description().to_string(), GallerySource::Design(Box::new(d), None)))
+        .collect();
+    for name in bcifs::schemes::PRESET_NAMES {
+        let Ok(preset) = bcifs::schemes::normal_preset(name) else { continue };
+        let entry = format!("normal-{name}");
+        let description = format!("{} (normal-vector scheme, seed 000)", preset.description);
+        let source = match preset.scheme.design(&entry, &preset.polygon, preset.closed) {
+            Ok(design) => GallerySource::Design(Box::new(design), Some(preset.depth)),
+            Err(_) => match normal_shape(&preset, preset.depth, SchemeForm::Direct, GALLERY_BUDGET_BYTES as usize) {
+                Ok(shape) => GallerySource::Shape(Box::new(shape), preset.depth),
+                Err(_) => continue,
+            },
+        };
+        items.push((entry, description, source));
+    }
+    for name in bcifs::schemes::IFS_NAMES {
+        if let Ok(g) = bcifs::schemes::ifs_preset(name, None, None) {
+            items.push((g.name().to_string(), g.description().to_string(), GallerySource::Design(Box::new(g), None)));
+        }
+    }
+    items
+}
+
+/// Renders the gallery ([`gallery_items`]) into `dir`: a PNG and an OBJ each
+/// (plus a chaos-game picture for plain IFS), and an `index.html`.
+///
+/// # Errors
+/// The first entry that fails, or an I/O error.
+pub fn gallery(dir: &Path, progress: Option<&Progress>) -> Result<Vec<GalleryEntry>, RenderError> {
+    std::fs::create_dir_all(dir).map_err(|e| RenderError::Io(dir.to_path_buf(), e))?;
+    let mut entries = Vec::new();
+    let items = gallery_items();
+    let total = items.len() as u64;
+    for (done, (name, description, source)) in items.into_iter().enumerate() {
+        if let Some(p) = progress {
+            p.report(done as u64, total);
+        }
+        let mut files = Vec::new();
+        let (png, obj) = (format!("{name}.png"), format!("{name}.obj"));
+        let (depth, summary) = match source {
+            GallerySource::Shape(shape, depth) => {
+                let summary = write_shape(&shape, &name, &RasterSettings::default(), &dir.join(&png))?;
+                write_shape(&shape, &name, &RasterSettings::default(), &dir.join(&obj))?;
+                files.extend([png, obj]);
+                (depth, summary)
+            }
+            GallerySource::Design(design, fixed) => {
+                let depth = match fixed {
+                    Some(d) => d,
+                    None => gallery_depth(&design)?,
+                };
+                let mut options = RenderOptions::default();
+                options.eval.depth = Depth::Fixed(depth);
+                let summary = render(&design, &options, &dir.join(&png))?;
+                render(&design, &options, &dir.join(&obj))?;
+                files.extend([png, obj]);
+                let model = model_of(&design)?;
+                let plain_ifs = model.layout == Layout::Single
+                    && design
+                        .automaton()
+                        .state_id(model.root(0))
+                        .is_some_and(|r| design.automaton().state(r).kind == CellKind::Free);
+                if plain_ifs {
+                    let mut random = options.clone();
+                    random.random = Some(RandomSettings::default().with_points(2_000_000));
+                    let png = format!("{name}-chaos.png");
+                    render(&design, &random, &dir.join(&png))?;
+                    files.push(png);
+                }
+                (depth, summary)
+            }
+        };
+        entries.push(GalleryEntry { name, description, depth: Some(depth), files, summary });
+    }
+    if let Some(p) = progress {
+        p.report(total, total);
+    }
+    let mut html = String::from(
+        "<!doctype html>\n<html><head><meta charset=\"utf-8\"><title>bcifs gallery</title>\n<style>body{font-family:sans-serif;margin:2em;background:#f6f7f9}figure{display:inline-block;margin:1em;background:white;padding:1em;box-shadow:0 1px 3px #0002;vertical-align:top}img{width:360px;height:360px;object-fit:contain}figcaption{max-width:360px}</style></head><body>\n<h1>bcifs gallery</h1>\n",
+    );
+    for e in &entries {
+        let _ = write!(html, "<figure>");
+        for f in e.files.iter().filter(|f| f.ends_with(".png")) {
+            let _ = write!(html, "<img src=\"{f}\" alt=\"{}\">", e.name);
+        }
+        let obj: Vec<String> =
+            e.files.iter().filter(|f| f.ends_with(".obj")).map(|f| format!("<a href=\"{f}\">{f}</a>")).collect();
+        let _ = writeln!(
+            html,
+            "<figcaption><b>{}</b> — {}<br>depth {}, {} vertices{}; {}</figcaption></figure>",
+            e.name,
+            e.description,
+            e.depth.map_or("-".into(), |d| d.to_string()),
+            e.summary.vertices,
+            if e.summary.quads > 0 { format!(", {} quads", e.summary.quads) } else { String::new() },
+            obj.join(" ")
+        );
+    }
+    html.push_str("</body></html>\n");
+    write_atomic(&dir.join("index.html"), html.as_bytes()).map_err(|e| RenderError::Io(dir.join("index.html"), e))?;
+    Ok(entries)
+}

@@ -1,0 +1,294 @@
+//! The `bcifs` command line (cargo feature `cli`): parses arguments, calls
+//! the library, prints. Application code only: rendering by file
+//! extension, the gallery, progress bars.
+
+mod analyze;
+mod core;
+mod gallery;
+mod render;
+mod scheme;
+
+use std::fmt::Write as _;
+use std::io::Write as _;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use anyhow::{Context, Result, bail};
+use clap::{Parser, Subcommand};
+
+use bcifs::{Design, Progress, read_design};
+
+use self::analyze::AnalyzeCommand;
+use self::core::Topology;
+use self::gallery::gallery;
+use self::render::{RenderOptions, render};
+use self::scheme::SchemeCommand;
+
+#[derive(Parser)]
+#[command(name = "bcifs", version, about = "Iterative geometric modelling with Boundary Controlled IFS")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Solve the constraints of an automaton file into its admissible family.
+    Solve {
+        /// The automaton file (TOML), or the name of a shipped automaton.
+        file: String,
+        /// Print JSON instead of text.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Instantiate an automaton and verify constraints, column sums and spectra.
+    Check {
+        /// The automaton file (TOML), or the name of a shipped automaton.
+        file: String,
+        /// A parameter value, NAME=VALUE (repeatable; defaults come from the file).
+        #[arg(long = "param", value_name = "NAME=VALUE")]
+        params: Vec<String>,
+        /// Print JSON instead of text.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Evaluate an automaton with its model and write OBJ, SVG or PNG.
+    Render {
+        /// The automaton file (TOML), or the name of a shipped automaton.
+        file: String,
+        /// A parameter value, NAME=VALUE (repeatable).
+        #[arg(long = "param", value_name = "NAME=VALUE")]
+        params: Vec<String>,
+        /// Subdivision depth.
+        #[arg(long, conflicts_with = "tolerance")]
+        depth: Option<usize>,
+        /// Subdivide until every cell's control polygon is smaller than this (modelling units).
+        #[arg(long)]
+        tolerance: Option<f64>,
+        /// Chaos game with this many points instead of deterministic evaluation.
+        #[arg(long, value_name = "N")]
+        random: Option<usize>,
+        /// Seed of the chaos game.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Probability of an arrow in the chaos game, ARROW=P (repeatable; default ∝ |det|).
+        #[arg(long = "prob", value_name = "ARROW=P")]
+        probs: Vec<String>,
+        /// Leave out a subdivision arrow (repeatable): a subset of the attractor.
+        #[arg(long = "drop", value_name = "ARROW")]
+        drop: Vec<String>,
+        /// Worker threads (default: all cores).
+        #[arg(long)]
+        threads: Option<usize>,
+        /// In-memory limit in MiB for PNG/SVG output.
+        #[arg(long, default_value_t = 4096)]
+        memory_mib: usize,
+        /// Picture size in pixels, WIDTHxHEIGHT.
+        #[arg(long, default_value = "800x800")]
+        size: String,
+        /// View of 3D shapes: YAW,PITCH in degrees.
+        #[arg(long, default_value = "30,35", allow_hyphen_values = true)]
+        view: String,
+        /// Output file: .obj (streamed), .svg or .png.
+        #[arg(short, long)]
+        output: PathBuf,
+    },
+    /// Render every shipped automaton (PNG, OBJ) and an index.html into DIR.
+    Gallery {
+        /// Output directory.
+        #[arg(default_value = "gallery")]
+        dir: PathBuf,
+    },
+    /// Generate the seeds' subdivision schemes: render them or print their automaton.
+    Scheme {
+        #[command(subcommand)]
+        scheme: SchemeCommand,
+    },
+    /// Analyse a scheme over a parameter range: continuity and fractal ranges.
+    Analyze {
+        #[command(subcommand)]
+        what: AnalyzeCommand,
+    },
+    /// Print a commented automaton file for a BC-IFS topology.
+    New {
+        #[command(subcommand)]
+        topology: Topology,
+    },
+}
+
+fn keyword<T: Copy>(what: &str, value: &str, options: &[(&str, T)]) -> Result<T> {
+    options.iter().find(|(k, _)| *k == value).map(|(_, v)| *v).with_context(|| {
+        let names: Vec<&str> = options.iter().map(|(k, _)| *k).collect();
+        match bcifs::suggest(value, names.iter().copied()) {
+            Some(s) => format!("unknown {what} `{value}` (did you mean `{s}`?); expected {}", names.join(", ")),
+            None => format!("unknown {what} `{value}`; expected {}", names.join(", ")),
+        }
+    })
+}
+
+fn parse_size(size: &str) -> Result<(u32, u32)> {
+    let (w, h) = size.split_once('x').with_context(|| format!("--size `{size}`: expected WIDTHxHEIGHT"))?;
+    Ok((w.trim().parse().context("--size width")?, h.trim().parse().context("--size height")?))
+}
+
+/// Reads a file, or a shipped automaton by name when no such file exists.
+fn load(file: &str) -> Result<Design> {
+    let path = PathBuf::from(file);
+    if !path.exists()
+        && let Some(d) = bcifs::builtin_design(file.trim_end_matches(".toml"))
+    {
+        return Ok(d);
+    }
+    Ok(read_design(&path)?)
+}
+
+fn parse_params(params: &[String]) -> Result<Vec<(String, f64)>> {
+    params
+        .iter()
+        .map(|p| {
+            let (name, value) = p.split_once('=').with_context(|| format!("`{p}`: expected NAME=VALUE"))?;
+            let value: f64 = match value.trim().parse() {
+                Ok(v) => v,
+                Err(_) => {
+                    let e = bcifs::Expr::parse(value.trim()).map_err(|e| anyhow::anyhow!("`{p}`: {e}"))?;
+                    struct NoNames;
+                    impl bcifs::Env<f64> for NoNames {
+                        fn param(&self, _: &str) -> Option<f64> {
+                            None
+                        }
+                        fn entry(&self, _: &str, _: usize, _: usize) -> Option<f64> {
+                            None
+                        }
+                    }
+                    e.eval(&NoNames).map_err(|e| anyhow::anyhow!("`{p}`: {e}"))?
+                }
+            };
+            Ok((name.trim().to_string(), value))
+        })
+        .collect()
+}
+
+/// A progress bar on stderr when it is a terminal, fed by the library's callback.
+pub fn progress_bar() -> Option<Progress> {
+    if !std::io::IsTerminal::is_terminal(&std::io::stderr()) {
+        return None;
+    }
+    let bar = indicatif::ProgressBar::new(0);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} {msg}")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    Some(Progress::new(move |done, total| {
+        if done >= total {
+            bar.finish_and_clear();
+        } else {
+            bar.set_length(total);
+            bar.set_position(done);
+        }
+    }))
+}
+
+fn run(out: &mut String, cli: Cli) -> Result<u8> {
+    match cli.command {
+        Command::Solve { file, json } => core::run_solve(out, &file, json),
+        Command::Check { file, params, json } => core::run_check(out, &file, &params, json),
+        Command::Render {
+            file,
+            params,
+            depth,
+            tolerance,
+            random,
+            seed,
+            probs,
+            drop,
+            threads,
+            memory_mib,
+            size,
+            view,
+            output,
+        } => {
+            let design = load(&file)?;
+            let mut options = RenderOptions { params: parse_params(&params)?, ..RenderOptions::default() };
+            options.eval.depth = match (depth, tolerance) {
+                (_, Some(eps)) if eps > 0.0 => bcifs::eval::Depth::Tolerance(eps),
+                (_, Some(eps)) => bail!("the tolerance must be positive, not {eps}"),
+                (Some(k), None) => bcifs::eval::Depth::Fixed(k),
+                (None, None) => bcifs::eval::Depth::Fixed(bcifs::eval::DEFAULT_DEPTH),
+            };
+            options.eval.threads = threads;
+            options.eval.memory_limit = memory_mib.saturating_mul(1 << 20);
+            options.eval.dropped = drop;
+            options.eval.progress = progress_bar();
+            if let Some(n) = random {
+                let mut r = bcifs::eval::RandomSettings::default().with_points(n).with_seed(seed);
+                r.threads = threads;
+                r.probabilities = parse_params(&probs)?;
+                options.random = Some(r);
+            }
+            let (w, h) = size.split_once('x').with_context(|| format!("--size `{size}`: expected WIDTHxHEIGHT"))?;
+            let (yaw, pitch) = view.split_once(',').with_context(|| format!("--view `{view}`: expected YAW,PITCH"))?;
+            options.raster = options
+                .raster
+                .with_size(w.trim().parse().context("--size width")?, h.trim().parse().context("--size height")?)
+                .with_view(yaw.trim().parse().context("--view yaw")?, pitch.trim().parse().context("--view pitch")?);
+            let started = std::time::Instant::now();
+            let summary = render(&design, &options, &output)?;
+            eprintln!(
+                "{}: {} vertices{} → {} ({:.2} s)",
+                design.name(),
+                summary.vertices,
+                if summary.quads > 0 { format!(", {} quads", summary.quads) } else { String::new() },
+                output.display(),
+                started.elapsed().as_secs_f64()
+            );
+            Ok(0)
+        }
+        Command::Gallery { dir } => {
+            let started = std::time::Instant::now();
+            let entries = gallery(&dir, progress_bar().as_ref())?;
+            for e in &entries {
+                writeln!(
+                    out,
+                    "{:<20} depth {:>2}  {:>9} vertices  {}",
+                    e.name,
+                    e.depth.unwrap_or(0),
+                    e.summary.vertices,
+                    e.files.join(", ")
+                )?;
+            }
+            writeln!(
+                out,
+                "{} automata → {} ({:.1} s)",
+                entries.len(),
+                dir.join("index.html").display(),
+                started.elapsed().as_secs_f64()
+            )?;
+            Ok(0)
+        }
+        Command::Analyze { what } => analyze::run(out, what),
+        Command::Scheme { scheme } => scheme::run(out, scheme),
+        Command::New { topology } => core::run_new(out, topology),
+    }
+}
+
+/// Runs the command line and returns its exit code.
+pub fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let mut out = String::new();
+    let code = match run(&mut out, cli) {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            2
+        }
+    };
+    // A closed pipe (`bcifs solve x | head`) is the reader's choice, not an error.
+    let mut stdout = std::io::stdout().lock();
+    match stdout.write_all(out.as_bytes()).and_then(|()| stdout.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+            eprintln!("error: cannot write the output: {e}");
+            ExitCode::from(2)
+        }
+        _ => ExitCode::from(code),
+    }
+}

@@ -1,0 +1,227 @@
+//! Rendering a design to a file chosen by its extension (`.obj` streamed,
+//! `.svg`, `.png`), and the curves of the normal-vector presets.
+
+use std::path::{Path, PathBuf};
+
+use bcifs::eval::{EvalError, EvalSettings, Evaluator, chaos_game};
+use bcifs::export::{ObjWriter, RasterSettings, raster, svg, write_atomic, write_obj, write_png};
+use bcifs::geometry::{Shape, Sink};
+use bcifs::{Design, DesignInstantiateError, Model, instantiate};
+
+/// What to render and how.
+#[derive(Clone, Debug, Default)]
+pub struct RenderOptions {
+    /// Parameter values (others: the file's defaults).
+    pub params: Vec<(String, f64)>,
+    /// Deterministic evaluation settings (depth or tolerance, threads, memory, start sets, dropped arrows).
+    pub eval: EvalSettings,
+    /// Chaos game instead of deterministic evaluation.
+    pub random: Option<bcifs::eval::RandomSettings>,
+    /// Picture settings for PNG.
+    pub raster: RasterSettings,
+}
+
+/// Why rendering failed.
+#[derive(Debug, thiserror::Error)]
+pub enum RenderError {
+    /// The design has no model to project with.
+    #[error("`{0}` has no [model]: add control points to render it")]
+    NoModel(String),
+    /// Parameters or constraints.
+    #[error(transparent)]
+    Instantiate(#[from] DesignInstantiateError),
+    /// Evaluation.
+    #[error(transparent)]
+    Eval(#[from] EvalError),
+    /// Output format not known.
+    #[error("unknown output format `{0}`: expected .obj, .svg or .png")]
+    Format(String),
+    /// Writing.
+    #[error("cannot write {0}: {1}")]
+    Io(PathBuf, std::io::Error),
+    /// SVG of a 3D shape.
+    #[error("SVG output is for 2D shapes; this model is 3D (use .png or .obj)")]
+    NotPlanar,
+    /// A normal-vector scheme that cannot take the requested form.
+    #[error(transparent)]
+    Scheme(bcifs::schemes::NormalSchemeError),
+}
+
+/// What a render produced.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RenderSummary {
+    /// Vertices written.
+    pub vertices: usize,
+    /// Quads written.
+    pub quads: usize,
+}
+
+pub fn model_of(design: &Design) -> Result<Model, RenderError> {
+    design.model().cloned().ok_or_else(|| RenderError::NoModel(design.name().to_string()))
+}
+
+/// Evaluates a design in memory (deterministic or random, as the options say).
+///
+/// # Errors
+/// See [`RenderError`].
+pub fn evaluate_design(design: &Design, options: &RenderOptions) -> Result<Shape, RenderError> {
+    let model = model_of(design)?;
+    let instance = instantiate(design, &options.params)?;
+    let eval = options.eval.clone();
+    Ok(match &options.random {
+        Some(r) => chaos_game(&instance.automaton, &model, r)?,
+        None => Evaluator::new(&instance.automaton, &model, eval)?.evaluate()?,
+    })
+}
+
+/// Renders a design into `out`, choosing the format by extension: `.obj`
+/// is streamed (any depth), `.svg` and `.png` are drawn from memory.
+///
+/// # Errors
+/// See [`RenderError`]; nothing is left half-written.
+pub fn render(design: &Design, options: &RenderOptions, out: &Path) -> Result<RenderSummary, RenderError> {
+    let ext = out.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
+    let io = |e: std::io::Error| RenderError::Io(out.to_path_buf(), e);
+    match ext.as_str() {
+        "obj" => {
+            let model = model_of(design)?;
+            let instance = instantiate(design, &options.params)?;
+            let mut writer = ObjWriter::create(out).map_err(io)?;
+            match &options.random {
+                Some(r) => {
+                    let shape = chaos_game(&instance.automaton, &model, r)?;
+                    writer.object(design.name()).map_err(io)?;
+                    writer.vertices(shape.dim, &shape.positions, None).map_err(io)?;
+                    writer.finish().map_err(io)?;
+                    Ok(RenderSummary { vertices: shape.vertex_count(), quads: 0 })
+                }
+                None => {
+                    let eval = options.eval.clone();
+                    let ev = Evaluator::new(&instance.automaton, &model, eval)?;
+                    let mut counter = Counter { inner: &mut writer, vertices: 0, quads: 0 };
+                    ev.stream(&mut counter).map_err(|e| match e {
+                        EvalError::Io(e) => io(e),
+                        other => other.into(),
+                    })?;
+                    Ok(RenderSummary { vertices: counter.vertices, quads: counter.quads })
+                }
+            }
+        }
+        "svg" | "png" => {
+            let shape = evaluate_design(design, options)?;
+            write_shape(&shape, design.name(), &options.raster, out)
+        }
+        other => Err(RenderError::Format(other.to_string())),
+    }
+}
+
+/// Writes a shape held in memory to `out`, choosing the format by
+/// extension: `.obj`, `.svg` (2D only) or `.png` (with `raster`).
+///
+/// # Errors
+/// An unknown extension, a 3D shape to SVG, or an I/O error; nothing is
+/// left half-written.
+pub fn write_shape(
+    shape: &Shape,
+    name: &str,
+    raster_settings: &RasterSettings,
+    out: &Path,
+) -> Result<RenderSummary, RenderError> {
+    let ext = out.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
+    let io = |e: std::io::Error| RenderError::Io(out.to_path_buf(), e);
+    let summary = RenderSummary { vertices: shape.vertex_count(), quads: shape.quads.len() };
+    match ext.as_str() {
+        "obj" => write_obj(shape, name, out).map_err(io)?,
+        "svg" => {
+            if shape.dim > 2 {
+                return Err(RenderError::NotPlanar);
+            }
+            write_atomic(out, svg(shape, raster_settings.width).as_bytes()).map_err(io)?;
+        }
+        "png" => write_png(out, &raster(shape, raster_settings)).map_err(io)?,
+        other => return Err(RenderError::Format(other.to_string())),
+    }
+    Ok(summary)
+}
+
+/// Counts what passes through to another sink.
+struct Counter<'a> {
+    inner: &'a mut dyn Sink,
+    vertices: usize,
+    quads: usize,
+}
+
+impl Sink for Counter<'_> {
+    fn object(&mut self, name: &str) -> std::io::Result<()> {
+        self.inner.object(name)
+    }
+    fn vertices(&mut self, dim: usize, positions: &[f64], normals: Option<&[f64]>) -> std::io::Result<()> {
+        self.vertices += positions.len() / dim.max(1);
+        self.inner.vertices(dim, positions, normals)
+    }
+    fn uvs(&mut self, uvs: &[f64]) -> std::io::Result<()> {
+        self.inner.uvs(uvs)
+    }
+    fn polyline(&mut self, first: usize, count: usize, closed: bool) -> std::io::Result<()> {
+        self.inner.polyline(first, count, closed)
+    }
+    fn faces(&mut self, quads: &[[usize; 4]], uvs: Option<&[[usize; 4]]>) -> std::io::Result<()> {
+        self.quads += quads.len();
+        self.inner.faces(quads, uvs)
+    }
+    fn triangles(&mut self, triangles: &[[usize; 3]]) -> std::io::Result<()> {
+        self.inner.triangles(triangles)
+    }
+    fn finish(&mut self) -> std::io::Result<()> {
+        self.inner.finish()
+    }
+}
+
+/// Which form of a scheme to evaluate.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SchemeForm {
+    /// The automaton when the scheme has one, the direct polyline form otherwise.
+    Auto,
+    /// The direct polyline form (the paper's refinement rules).
+    Direct,
+    /// The automaton (BC-IFS) form.
+    Automaton,
+}
+
+/// The curve of a normal-vector scheme on its initial polygon after `depth`
+/// steps, in the requested form (both forms give the same points).
+///
+/// # Errors
+/// A non-interpolatory scheme asked for in automaton form, or an evaluation error.
+pub fn normal_shape(
+    preset: &bcifs::schemes::NormalPreset,
+    depth: usize,
+    form: SchemeForm,
+    memory_limit: usize,
+) -> Result<Shape, RenderError> {
+    let scheme = &preset.scheme;
+    if preset.polygon.iter().flatten().any(|x| !x.is_finite()) {
+        return Err(RenderError::Scheme(bcifs::schemes::NormalSchemeError::NotFinite));
+    }
+    let automaton = match form {
+        SchemeForm::Auto => scheme.is_interpolatory(),
+        SchemeForm::Direct => false,
+        SchemeForm::Automaton => true,
+    };
+    if automaton {
+        let design = scheme.design(preset.name, &preset.polygon, preset.closed).map_err(RenderError::Scheme)?;
+        let options = RenderOptions {
+            eval: EvalSettings::default().with_depth(depth).with_memory_limit(memory_limit),
+            ..Default::default()
+        };
+        return evaluate_design(&design, &options);
+    }
+    let segments = if preset.closed { preset.polygon.len() } else { preset.polygon.len().saturating_sub(1) };
+    let points = (segments as u128 * (scheme.arity() as u128).pow(depth.min(64) as u32) + 1) * 2 * 8;
+    if points > memory_limit as u128 {
+        return Err(RenderError::Eval(EvalError::TooLarge { estimate: points, limit: memory_limit }));
+    }
+    let pts = scheme.polygon(&preset.polygon, preset.closed, depth);
+    let flat: Vec<f64> = pts.iter().flatten().copied().collect();
+    Ok(Shape::polyline(preset.name, 2, &flat, preset.closed))
+}

@@ -1,0 +1,236 @@
+//! `bcifs scheme`: the seeds' schemes, rendered or printed as automaton files.
+
+use std::path::PathBuf;
+
+use anyhow::{Context, Result, bail};
+use clap::Subcommand;
+
+use super::render::{RenderOptions, SchemeForm, normal_shape, render, write_shape};
+use super::{keyword, parse_size, progress_bar};
+
+#[derive(Subcommand)]
+pub enum SchemeCommand {
+    /// The p-ary normal-vector scheme of Li, Zheng, Peng and Zhou (seed 000, eq. 1).
+    Normal(NormalArgs),
+    /// Stationary schemes as IFS (seed 001) and the ternary 5-point scheme (seed 003):
+    /// bspline, bspline-end, bezier, bezier-union, four-point, koch-control,
+    /// sierpinski-control, bicubic, ternary5, ternary5-closed, ternary5-surface, ternary5-torus.
+    Ifs(IfsArgs),
+}
+
+/// Where a generated scheme goes: its automaton file, or a picture or mesh.
+#[derive(clap::Args)]
+pub struct SchemeOutput {
+    /// Print the automaton file (TOML) instead of rendering.
+    #[arg(long)]
+    print: bool,
+    /// Picture size in pixels, WIDTHxHEIGHT.
+    #[arg(long, default_value = "800x800")]
+    size: String,
+    /// Output file: .obj, .svg or .png.
+    #[arg(short, long, required_unless_present = "print")]
+    output: Option<PathBuf>,
+}
+
+#[derive(clap::Args)]
+pub struct IfsArgs {
+    /// The scheme.
+    name: String,
+    /// Control points `x,y x,y ...` or `x,y,z ...` (default: the scheme's natural ones).
+    #[arg(long, allow_hyphen_values = true)]
+    points: Option<String>,
+    /// Tension ω of the ternary schemes, a constant such as 3/50 or -1/20.
+    #[arg(long, allow_hyphen_values = true)]
+    omega: Option<String>,
+    /// Subdivision depth.
+    #[arg(long, default_value_t = 6)]
+    depth: usize,
+    /// Leave out a subdivision arrow (repeatable): a fractal subset of the attractor.
+    #[arg(long = "drop", value_name = "ARROW")]
+    drop: Vec<String>,
+    #[command(flatten)]
+    out: SchemeOutput,
+}
+
+fn run_ifs(out: &mut String, args: IfsArgs) -> Result<u8> {
+    let points = match &args.points {
+        None => None,
+        Some(text) => {
+            let mut pts = Vec::new();
+            for p in text.split_whitespace() {
+                let coords: Vec<f64> = p
+                    .split(',')
+                    .map(|x| x.trim().parse::<f64>().with_context(|| format!("--points `{p}`: expected numbers")))
+                    .collect::<Result<_>>()?;
+                pts.push(coords);
+            }
+            let d = pts.first().map_or(0, Vec::len);
+            if !(2..=3).contains(&d) || pts.iter().any(|p| p.len() != d) {
+                bail!("--points: all points need 2 or all 3 coordinates");
+            }
+            Some(pts)
+        }
+    };
+    let omega = args.omega.as_deref().map(bcifs::Surd::parse).transpose()?;
+    let design = bcifs::schemes::ifs_preset(&args.name, points, omega.as_ref())?;
+    if args.out.print {
+        out.push_str(&bcifs::write_design(&design));
+        return Ok(0);
+    }
+    let output = args.out.output.context("give -o OUT.{png,svg,obj}")?;
+    let (w, h) = parse_size(&args.out.size)?;
+    let mut options = RenderOptions::default();
+    options.eval.depth = bcifs::eval::Depth::Fixed(args.depth);
+    options.eval.dropped = args.drop;
+    options.eval.progress = progress_bar();
+    options.raster = options.raster.with_size(w, h);
+    let started = std::time::Instant::now();
+    let summary = render(&design, &options, &output)?;
+    eprintln!(
+        "{}: {} vertices{} → {} ({:.2} s)",
+        design.description(),
+        summary.vertices,
+        if summary.quads > 0 { format!(", {} quads", summary.quads) } else { String::new() },
+        output.display(),
+        started.elapsed().as_secs_f64()
+    );
+    Ok(0)
+}
+
+#[derive(clap::Args)]
+pub struct NormalArgs {
+    /// A figure of the paper: levy, dragon, dragon-triangle, dragon-quad, sierpinski,
+    /// sierpinski-triangle, sierpinski-quad, koch, koch-triangle, koch-quad, snowflake,
+    /// tigerhead, human, approximating, crown, minkowski.
+    #[arg(long)]
+    preset: Option<String>,
+    /// Arity p (checked against the number of α and β).
+    #[arg(long = "p")]
+    arity: Option<usize>,
+    /// α_0, …, α_{p-1}, comma-separated constants (`0,1/3,1/2,2/3`).
+    #[arg(long, allow_hyphen_values = true)]
+    alpha: Option<String>,
+    /// β_0, …, β_{p-1}, comma-separated constants (`0,0,sqrt(3)/6,0`).
+    #[arg(long, allow_hyphen_values = true)]
+    beta: Option<String>,
+    /// Direction of the normals: positive (counter-clockwise) or negative.
+    #[arg(long)]
+    normal: Option<String>,
+    /// Sign pattern of β: constant, alternate ((−1)^i), level ((−1)^(k+1)), level-index ((−1)^(k+i)).
+    #[arg(long)]
+    sign: Option<String>,
+    /// Initial polygon: segment, triangle or quad (the paper's unit shapes).
+    #[arg(long)]
+    polygon: Option<String>,
+    /// Initial polygon as points `x,y x,y ...` (overrides --polygon).
+    #[arg(long, allow_hyphen_values = true)]
+    points: Option<String>,
+    /// Close the polygon given by --points.
+    #[arg(long)]
+    closed: bool,
+    /// Subdivision steps (default: the paper's figure).
+    #[arg(long)]
+    depth: Option<usize>,
+    /// auto (automaton when interpolatory), direct (eq. 1 on the polygon) or automaton.
+    #[arg(long, default_value = "auto")]
+    form: String,
+    #[command(flatten)]
+    out: SchemeOutput,
+}
+
+fn run_normal(out: &mut String, args: NormalArgs) -> Result<u8> {
+    use bcifs::schemes::{NormalDirection, NormalPreset, NormalScheme, SignPattern, normal_preset};
+    let mut preset = match &args.preset {
+        Some(name) => normal_preset(name)?,
+        None => NormalPreset {
+            name: "normal",
+            description: "normal-vector scheme",
+            scheme: NormalScheme::parse(&["0", "1/2"], &["0", "1/2"])?,
+            polygon: bcifs::schemes::unit_segment(),
+            closed: false,
+            depth: 8,
+        },
+    };
+    match (&args.alpha, &args.beta) {
+        (Some(a), Some(b)) => {
+            let a: Vec<&str> = a.split(',').map(str::trim).collect();
+            let b: Vec<&str> = b.split(',').map(str::trim).collect();
+            let scheme = NormalScheme::parse(&a, &b)?;
+            preset.scheme = scheme.with_normal(preset.scheme.normal).with_sign(preset.scheme.sign);
+        }
+        (None, None) => {}
+        _ => bail!("give both --alpha and --beta"),
+    }
+    if let Some(p) = args.arity
+        && p != preset.scheme.arity()
+    {
+        bail!("--p {p} but {} values of α and β", preset.scheme.arity());
+    }
+    if let Some(n) = &args.normal {
+        let n = keyword(
+            "normal direction",
+            n,
+            &[("positive", NormalDirection::Positive), ("negative", NormalDirection::Negative)],
+        )?;
+        preset.scheme = preset.scheme.with_normal(n);
+    }
+    if let Some(sgn) = &args.sign {
+        let options: Vec<(&str, SignPattern)> = SignPattern::ALL.iter().map(|p| (p.keyword(), *p)).collect();
+        preset.scheme = preset.scheme.with_sign(keyword("sign pattern", sgn, &options)?);
+    }
+    if let Some(text) = &args.points {
+        let mut pts = Vec::new();
+        for p in text.split_whitespace() {
+            let (x, y) = p.split_once(',').with_context(|| format!("--points `{p}`: expected x,y"))?;
+            pts.push([x.trim().parse().context("--points x")?, y.trim().parse().context("--points y")?]);
+        }
+        preset.polygon = pts;
+        preset.closed = args.closed;
+    } else if let Some(poly) = &args.polygon {
+        type Shape = fn() -> Vec<bcifs::schemes::Point2>;
+        let options: [(&str, (Shape, bool)); 3] = [
+            ("segment", (bcifs::schemes::unit_segment, false)),
+            ("triangle", (bcifs::schemes::unit_triangle, true)),
+            ("quad", (bcifs::schemes::unit_square, true)),
+        ];
+        let (make, closed) = keyword("polygon", poly, &options)?;
+        preset.polygon = make();
+        preset.closed = closed;
+    }
+    if preset.polygon.len() < if preset.closed { 3 } else { 2 } {
+        bail!("the initial polygon needs at least {} points", if preset.closed { 3 } else { 2 });
+    }
+    if args.out.print {
+        out.push_str(&bcifs::write_design(&preset.design()?));
+        return Ok(0);
+    }
+    let form = keyword(
+        "form",
+        &args.form,
+        &[("auto", SchemeForm::Auto), ("direct", SchemeForm::Direct), ("automaton", SchemeForm::Automaton)],
+    )?;
+    let depth = args.depth.unwrap_or(preset.depth);
+    let output = args.out.output.context("give -o OUT.{png,svg,obj}")?;
+    let (w, h) = parse_size(&args.out.size)?;
+    let started = std::time::Instant::now();
+    let shape = normal_shape(&preset, depth, form, bcifs::eval::DEFAULT_MEMORY_LIMIT)?;
+    let raster = bcifs::export::RasterSettings::default().with_size(w, h);
+    let summary = write_shape(&shape, preset.name, &raster, &output)?;
+    eprintln!(
+        "{} ({}), depth {depth}: {} vertices → {} ({:.2} s)",
+        preset.name,
+        preset.scheme,
+        summary.vertices,
+        output.display(),
+        started.elapsed().as_secs_f64()
+    );
+    Ok(0)
+}
+
+/// Runs a `bcifs scheme` command.
+pub fn run(out: &mut String, scheme: SchemeCommand) -> Result<u8> {
+    match scheme {
+        SchemeCommand::Normal(args) => run_normal(out, args),
+        SchemeCommand::Ifs(args) => run_ifs(out, args),
+    }
+}

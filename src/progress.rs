@@ -1,0 +1,75 @@
+//! Progress of long computations, reported through a callback: the library
+//! draws nothing; the command line turns reports into a bar on a terminal.
+
+use std::fmt;
+use std::sync::Arc;
+
+/// A callback told how far a long computation is: `report(done, total)`
+/// after each step, and `report(total, total)` when it ends. Cheap to
+/// clone; called from the thread that drives the computation.
+///
+/// ```
+/// use std::sync::atomic::{AtomicU64, Ordering};
+/// use std::sync::Arc;
+/// let seen = Arc::new(AtomicU64::new(0));
+/// let s = seen.clone();
+/// let progress = bcifs::Progress::new(move |done, _total| s.store(done, Ordering::Relaxed));
+/// progress.report(3, 10);
+/// assert_eq!(seen.load(Ordering::Relaxed), 3);
+/// ```
+#[derive(Clone)]
+pub struct Progress(Arc<dyn Fn(u64, u64) + Send + Sync>);
+
+impl Progress {
+    /// A progress callback.
+    pub fn new(report: impl Fn(u64, u64) + Send + Sync + 'static) -> Progress {
+        Progress(Arc::new(report))
+    }
+
+    /// Reports `done` steps of `total`.
+    pub fn report(&self, done: u64, total: u64) {
+        (self.0)(done, total);
+    }
+}
+
+impl fmt::Debug for Progress {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("Progress(..)")
+    }
+}
+
+/// Steps of one computation, reported to an optional [`Progress`].
+pub(crate) struct Steps<'a> {
+    progress: Option<&'a Progress>,
+    done: u64,
+    total: u64,
+}
+
+impl<'a> Steps<'a> {
+    /// Starts a computation of `total` steps (reports `0 / total`).
+    pub(crate) fn new(progress: Option<&'a Progress>, total: u64) -> Steps<'a> {
+        if let Some(p) = progress {
+            p.report(0, total);
+        }
+        Steps { progress, done: 0, total }
+    }
+
+    /// One more step done.
+    pub(crate) fn step(&mut self) {
+        self.done = (self.done + 1).min(self.total);
+        if let Some(p) = self.progress
+            && self.done < self.total
+        {
+            p.report(self.done, self.total);
+        }
+    }
+}
+
+impl Drop for Steps<'_> {
+    /// The computation ended (or failed): `total / total`.
+    fn drop(&mut self) {
+        if let Some(p) = self.progress {
+            p.report(self.total, self.total);
+        }
+    }
+}
