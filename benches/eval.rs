@@ -99,6 +99,7 @@ fn obj(c: &mut Criterion) {
         b.iter(|| {
             let mut w = ObjWriter::create(&path).expect("create");
             ev.stream(&mut w).expect("stream");
+            w.finish().expect("finish");
         })
     });
     // The same triangle mesh through obj-exporter and through ObjWriter.

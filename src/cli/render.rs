@@ -103,7 +103,9 @@ pub fn render(design: &Design, options: &RenderOptions, out: &Path) -> Result<Re
                         EvalError::Io(e) => io(e),
                         other => other.into(),
                     })?;
-                    Ok(RenderSummary { vertices: counter.vertices, quads: counter.quads })
+                    let summary = RenderSummary { vertices: counter.vertices, quads: counter.quads };
+                    writer.finish().map_err(io)?;
+                    Ok(summary)
                 }
             }
         }
@@ -171,9 +173,6 @@ impl Sink for Counter<'_> {
     }
     fn triangles(&mut self, triangles: &[[usize; 3]]) -> std::io::Result<()> {
         self.inner.triangles(triangles)
-    }
-    fn finish(&mut self) -> std::io::Result<()> {
-        self.inner.finish()
     }
 }
 

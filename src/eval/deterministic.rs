@@ -110,6 +110,15 @@ impl EvalSettings {
     }
 }
 
+/// Where an evaluation writes: a shape in memory (whose buffers the mesher
+/// reuses), or a streaming sink.
+pub(super) enum Output<'a> {
+    /// In memory, overwriting this shape.
+    Memory(&'a mut Shape),
+    /// Streamed in bounded batches.
+    Stream(&'a mut dyn Sink),
+}
+
 /// Why an evaluation failed.
 #[derive(Debug, thiserror::Error)]
 pub enum EvalError {
@@ -419,11 +428,11 @@ impl Evaluator {
                 return Err(EvalError::TooLarge { estimate, limit: self.settings.memory_limit });
             }
         }
-        // The mesher recycles the shape's buffers; the other outputs start afresh.
+        // The mesher overwrites the shape's buffers in place; the other outputs start afresh.
         if !self.meshes() {
             *shape = Shape::default();
         }
-        self.run(shape, true)
+        self.run(Output::Memory(shape))
     }
 
     /// Whether the output is a quad mesh (face roots without start sets).
@@ -434,24 +443,29 @@ impl Evaluator {
             .any(|p| self.plan.state(p.state).kind == CellKind::Face && !self.uses_start_set(p.state))
     }
 
-    /// Evaluates into any sink, streaming: memory stays bounded whatever the depth.
+    /// Evaluates into any sink, streaming: memory stays bounded whatever
+    /// the depth. The caller finishes the sink (an
+    /// [`crate::export::ObjWriter`] by its consuming `finish`).
     ///
     /// # Errors
     /// A write error of the sink, or an unsupported combination.
     pub fn stream(&self, sink: &mut dyn Sink) -> Result<(), EvalError> {
-        self.run(sink, false)?;
-        sink.finish()?;
-        Ok(())
+        self.run(Output::Stream(sink))
     }
 
-    fn run(&self, sink: &mut dyn Sink, in_memory: bool) -> Result<(), EvalError> {
+    fn run(&self, out: Output<'_>) -> Result<(), EvalError> {
         if self.meshes() {
             let depth = match self.settings.depth {
                 Depth::Fixed(k) => k,
                 Depth::Tolerance(eps) => self.depth_for_tolerance(eps)?,
             };
-            return super::surface::mesh(self, depth, sink, in_memory);
+            return super::surface::mesh(self, depth, out);
         }
+        let in_memory = matches!(out, Output::Memory(_));
+        let sink: &mut dyn Sink = match out {
+            Output::Memory(shape) => shape,
+            Output::Stream(sink) => sink,
+        };
         match self.settings.depth {
             Depth::Fixed(k) => self.curves_fixed(k, sink, in_memory),
             Depth::Tolerance(eps) => self.curves_adaptive(eps, sink),

@@ -14,8 +14,8 @@
 
 use rayon::prelude::*;
 
-use super::deterministic::{EvalError, Evaluator, mul_into as mat_mul_into, project_into as project};
-use crate::geometry::{Buffers, Quad, Sink};
+use super::deterministic::{EvalError, Evaluator, Output, mul_into as mat_mul_into, project_into as project};
+use crate::geometry::{Shape, Sink};
 
 /// Blocks have at most `BLOCK_SIDE` quads on a side (33² lattice points, 9 coordinates each: ~80 KB).
 const BLOCK_SIDE: usize = 32;
@@ -93,96 +93,109 @@ fn normal(d: usize, du: &[f64], dv: &[f64]) -> [f64; 3] {
     if len > 0.0 { [n[0] / len, n[1] / len, n[2] / len] } else { [0.0, 0.0, 1.0] }
 }
 
-pub(super) fn mesh(ev: &Evaluator, k: usize, sink: &mut dyn Sink, in_memory: bool) -> Result<(), EvalError> {
-    let pieces = ev.pieces();
-    let plan = ev.plan();
-    let d = pieces.dim;
-    let (pr, pc, torus) = match pieces.grid {
-        Some(g) => g,
-        None if pieces.pieces.len() == 1 => (1, 1, false),
-        None => return Err(EvalError::Unsupported("several face pieces need a grid or torus layout".into())),
-    };
-    let state = pieces.pieces[0].state;
-    if pieces.pieces.iter().any(|p| p.state != state) {
-        return Err(EvalError::Unsupported("all patches of a mesh must have the same root state".into()));
-    }
-    let sp = plan.state(state);
-    let n9 = sp.dim;
-    let p = sp.split;
-    let mut level = 0;
-    while level < k && p.pow(level as u32 + 1) <= BLOCK_SIDE {
-        level += 1;
-    }
-    let pow = |e: usize| p.pow(e as u32);
-    let lat = Lattice { pr, pc, torus, n: pow(k), b: pow(level), s: pow(k - level) };
+/// Everything a block needs, prepared once per evaluation.
+struct Mesher<'a> {
+    ev: &'a Evaluator,
+    lat: Lattice,
+    /// Control-point dimension, cell dimension, split, depth, tabulated levels.
+    d: usize,
+    n9: usize,
+    p: usize,
+    k: usize,
+    level: usize,
+    /// The face state's plan.
+    state: usize,
+    /// Λ_level: barycentric lattice of a depth-`level` subtree, `(p^level + 1)²` points.
+    table: Vec<f64>,
+    /// The child arrow at each quadrant `dv * p + du`.
+    child_of: Vec<usize>,
+}
 
-    // Λ_r: barycentric lattice of a depth-r subtree, (p^r + 1)² points, row v then column u.
-    let mut table: Vec<f64> = [0usize, 1, 3, 2].iter().flat_map(|&c| sp.samples[c].clone()).collect();
-    for r in 1..=level {
-        let (side, half) = (pow(r) + 1, pow(r - 1));
-        let prev = pow(r - 1) + 1;
-        let mut next = vec![0.0; side * side * n9];
-        for ((_, _, m), &(du, dv)) in sp.children.iter().zip(&sp.quadrants) {
-            for v in 0..prev {
-                for u in 0..prev {
-                    let l = &table[(v * prev + u) * n9..(v * prev + u + 1) * n9];
-                    let at = ((dv * half + v) * side + du * half + u) * n9;
-                    for row in 0..n9 {
-                        next[at + row] = (0..n9).map(|j| m[row * n9 + j] * l[j]).sum();
+/// The welded mesh of a face automaton at depth `k`, into memory (reusing
+/// the shape's buffers) or streamed to a sink in fixed-size batches.
+pub(super) fn mesh(ev: &Evaluator, k: usize, out: Output<'_>) -> Result<(), EvalError> {
+    let m = Mesher::new(ev, k)?;
+    match out {
+        Output::Memory(shape) => m.fill_shape(shape),
+        Output::Stream(sink) => m.stream(sink),
+    }
+}
+
+impl<'a> Mesher<'a> {
+    fn new(ev: &'a Evaluator, k: usize) -> Result<Mesher<'a>, EvalError> {
+        let pieces = ev.pieces();
+        let (pr, pc, torus) = match pieces.grid {
+            Some(g) => g,
+            None if pieces.pieces.len() == 1 => (1, 1, false),
+            None => return Err(EvalError::Unsupported("several face pieces need a grid or torus layout".into())),
+        };
+        let state = pieces.pieces[0].state;
+        if pieces.pieces.iter().any(|p| p.state != state) {
+            return Err(EvalError::Unsupported("all patches of a mesh must have the same root state".into()));
+        }
+        let sp = ev.plan().state(state);
+        let (n9, p) = (sp.dim, sp.split);
+        let mut level = 0;
+        while level < k && p.pow(level as u32 + 1) <= BLOCK_SIDE {
+            level += 1;
+        }
+        let pow = |e: usize| p.pow(e as u32);
+        let lat = Lattice { pr, pc, torus, n: pow(k), b: pow(level), s: pow(k - level) };
+        // Λ_r from Λ_{r-1}: each quadrant is a child's image of the previous lattice.
+        let mut table: Vec<f64> = [0usize, 1, 3, 2].iter().flat_map(|&c| sp.samples[c].clone()).collect();
+        for r in 1..=level {
+            let (side, half) = (pow(r) + 1, pow(r - 1));
+            let prev = pow(r - 1) + 1;
+            let mut next = vec![0.0; side * side * n9];
+            for ((_, _, m), &(du, dv)) in sp.children.iter().zip(&sp.quadrants) {
+                for v in 0..prev {
+                    for u in 0..prev {
+                        let l = &table[(v * prev + u) * n9..(v * prev + u + 1) * n9];
+                        let at = ((dv * half + v) * side + du * half + u) * n9;
+                        for row in 0..n9 {
+                            next[at + row] = (0..n9).map(|j| m[row * n9 + j] * l[j]).sum();
+                        }
                     }
                 }
             }
+            table = next;
         }
-        table = next;
-    }
-    let side = lat.b + 1;
-    let mut child_of = vec![0usize; p * p];
-    for (i, &(du, dv)) in sp.quadrants.iter().enumerate() {
-        child_of[dv * p + du] = i;
+        let mut child_of = vec![0usize; p * p];
+        for (i, &(du, dv)) in sp.quadrants.iter().enumerate() {
+            child_of[dv * p + du] = i;
+        }
+        Ok(Mesher { ev, lat, d: pieces.dim, n9, p, k, level, state, table, child_of })
     }
 
-    let mut recycled = if in_memory { sink.recycle().unwrap_or_default() } else { Buffers::default() };
-    sink.object("surface")?;
-    // Texture coordinates: the natural parameterisation of each patch.
-    let np = lat.n + 1;
-    let uv_range = |from: usize, to: usize| -> Vec<f64> {
-        (from..to).flat_map(|i| [(i % np) as f64 / lat.n as f64, (i / np) as f64 / lat.n as f64]).collect()
-    };
-    // Every patch has the same parameterisation: one shared table of (p^k + 1)² texture points.
-    if in_memory {
-        let mut uvs = std::mem::take(&mut recycled.uvs);
-        uvs.clear();
-        uvs.extend(uv_range(0, np * np));
-        sink.uvs_owned(uvs)?;
-    } else {
-        // Fixed-size chunks: memory does not grow with the depth.
-        const UV_CHUNK: usize = 1 << 15;
-        for from in (0..np * np).step_by(UV_CHUNK) {
-            sink.uvs(&uv_range(from, (from + UV_CHUNK).min(np * np)))?;
-        }
+    /// Texture points of the shared `[0,1]²` table of every patch, `from..to`.
+    fn uvs(&self, from: usize, to: usize) -> impl Iterator<Item = f64> + '_ {
+        let (n, np) = (self.lat.n, self.lat.n + 1);
+        (from..to).flat_map(move |i| [(i % np) as f64 / n as f64, (i / np) as f64 / n as f64])
     }
 
-    let blocks = pr * pc * lat.s * lat.s;
-    let batch = if in_memory { blocks } else { BATCH_BLOCKS };
-    let mut steps = ev.progress((blocks / batch.max(1)).max(1) as u64);
-    let mut extras: Vec<Extra> = Vec::new();
-    let bb = lat.b * lat.b;
-    // Writes block `g`: its owned positions, normals, quads and texture quads
-    // into the given slices; returns the far-boundary vertices it touches.
-    let compute = |g: usize, pos: &mut [f64], nrm: &mut [f64]| -> Vec<Extra> {
+    fn blocks(&self) -> usize {
+        self.lat.pr * self.lat.pc * self.lat.s * self.lat.s
+    }
+
+    /// Block `g`: its owned positions and normals into the given slices;
+    /// returns the far-boundary vertices it touches.
+    fn block_points(&self, g: usize, pos: &mut [f64], nrm: &mut [f64]) -> Vec<Extra> {
+        let (lat, d, n9, p) = (&self.lat, self.d, self.n9, self.p);
+        let sp = self.ev.plan().state(self.state);
         let Block { patch, bu, bv, u0, v0 } = lat.block(g);
         // Control points of the block's cell: follow the base-p digits of its coordinates.
-        let mut c = pieces.pieces[patch].control.clone();
+        let mut c = self.ev.pieces().pieces[patch].control.clone();
         let mut tmp = vec![0.0; d * n9];
-        let steps = k - level;
+        let steps = self.k - self.level;
         for t in 0..steps {
-            let place = pow(steps - 1 - t);
+            let place = p.pow((steps - 1 - t) as u32);
             let q = (bv / place % p) * p + bu / place % p;
-            mat_mul_into(&c, d, n9, &sp.children[child_of[q]].2, n9, &mut tmp);
+            mat_mul_into(&c, d, n9, &sp.children[self.child_of[q]].2, n9, &mut tmp);
             std::mem::swap(&mut c, &mut tmp);
         }
+        let side = lat.b + 1;
         let mut pts = vec![0.0; side * side * d];
-        project(&c, d, n9, &table, &mut pts);
+        project(&c, d, n9, &self.table, &mut pts);
         let at = |u: usize, v: usize| (v * side + u) * d;
         let mut extras = Vec::new();
         let (mut du, mut dv) = ([0.0; 3], [0.0; 3]);
@@ -190,7 +203,7 @@ pub(super) fn mesh(ev: &Evaluator, k: usize, sink: &mut dyn Sink, in_memory: boo
             for u in 0..side {
                 let (gu, gv) = (u0 + u, v0 + v);
                 let owned = u < lat.b && v < lat.b;
-                if !owned && (torus || (gu != lat.nu() && gv != lat.nv())) {
+                if !owned && (lat.torus || (gu != lat.nu() && gv != lat.nv())) {
                     continue;
                 }
                 // Forward differences inside the block, backward on its far side.
@@ -201,80 +214,131 @@ pub(super) fn mesh(ev: &Evaluator, k: usize, sink: &mut dyn Sink, in_memory: boo
                     dv[x] = pts[e + x] - pts[f + x];
                 }
                 let n = normal(d, &du[..d], &dv[..d]);
-                let p = &pts[at(u, v)..at(u, v) + d];
+                let q = &pts[at(u, v)..at(u, v) + d];
                 if owned {
                     let o = v * lat.b + u;
-                    pos[o * d..(o + 1) * d].copy_from_slice(p);
+                    pos[o * d..(o + 1) * d].copy_from_slice(q);
                     nrm[o * 3..o * 3 + 3].copy_from_slice(&n);
                 } else {
-                    extras.push((lat.index(gu, gv), p.to_vec(), n));
+                    extras.push((lat.index(gu, gv), q.to_vec(), n));
                 }
             }
         }
         extras
-    };
-    let (mut pos, mut nrm) = (Vec::new(), Vec::new());
-    // Quads in memory hold u32 indices (the in-memory limit keeps them below 2^32: half the
-    // memory of usize); streamed quads are usize (a streamed mesh may be larger).
-    let (mut quads, mut quv): (Vec<[usize; 4]>, Vec<[usize; 4]>) = (Vec::new(), Vec::new());
-    let (mut quads32, mut quv32): (Vec<Quad>, Vec<Quad>) = (Vec::new(), Vec::new());
-    if in_memory && lat.vertex_count().max(np * np) > u32::MAX as usize {
-        return Err(EvalError::Unsupported("an in-memory mesh needs fewer than 2^32 vertices: stream it".into()));
     }
-    for start in (0..blocks).step_by(batch.max(1)) {
-        let end = (start + batch).min(blocks);
-        let count = (end - start) * bb;
-        if in_memory {
-            // The sink's earlier buffers when it has some (overwritten in place), else
-            // fresh zeroed allocations: their pages are mapped as they are first written.
-            fn reuse<T: Copy + Default>(mut v: Vec<T>, len: usize) -> Vec<T> {
-                if v.len() == len {
-                    v
-                } else if v.capacity() >= len {
-                    v.clear();
-                    v.resize(len, T::default());
-                    v
-                } else {
-                    vec![T::default(); len]
-                }
-            }
-            pos = reuse(std::mem::take(&mut recycled.positions), count * d);
-            nrm = reuse(std::mem::take(&mut recycled.normals), count * 3);
-            quads32 = reuse::<Quad>(std::mem::take(&mut recycled.quads), count);
-            quv32 = reuse::<Quad>(std::mem::take(&mut recycled.quad_uvs), count);
-        } else {
-            pos.resize(count * d, 0.0);
-            nrm.resize(count * 3, 0.0);
-            quads.resize(count, [0; 4]);
-            quv.resize(count, [0; 4]);
-        }
-        let found: Vec<Extra> = ev.pool().install(|| {
-            if in_memory {
-                fill_batch(&lat, np, start, bb, d, &mut pos, &mut nrm, &mut quads32, &mut quv32, &compute)
-            } else {
-                fill_batch(&lat, np, start, bb, d, &mut pos, &mut nrm, &mut quads, &mut quv, &compute)
-            }
-        });
-        extras.extend(found);
-        if in_memory {
-            sink.vertices_owned(d, std::mem::take(&mut pos), Some(std::mem::take(&mut nrm)))?;
-            sink.faces_compact(std::mem::take(&mut quads32), Some(std::mem::take(&mut quv32)))?;
-        } else {
-            sink.vertices(d, &pos, Some(&nrm))?;
-            sink.faces(&quads, Some(&quv))?;
-        }
-        steps.step();
+
+    /// Fills the blocks `start..` that the slices hold, in parallel: points
+    /// and normals by [`Mesher::block_points`], quads by [`block_quads`];
+    /// returns the far-boundary vertices.
+    fn fill<I: QuadIndex>(&self, start: usize, out: BatchSlices<'_, I>) -> Vec<Extra> {
+        let (bb, d, np) = (self.lat.b * self.lat.b, self.d, self.lat.n + 1);
+        self.ev.pool().install(|| {
+            out.pos
+                .par_chunks_mut(bb * d)
+                .zip(out.nrm.par_chunks_mut(bb * 3))
+                .zip(out.quads.par_chunks_mut(bb))
+                .zip(out.quv.par_chunks_mut(bb))
+                .enumerate()
+                .flat_map_iter(|(i, (((p, n), q), t))| {
+                    block_quads(&self.lat, np, start + i, q, t);
+                    self.block_points(start + i, p, n)
+                })
+                .collect()
+        })
     }
-    if !torus {
+
+    /// The far row and column of an open sheet, each vertex once, in index order.
+    fn far_side(&self, mut extras: Vec<Extra>) -> (Vec<f64>, Vec<f64>) {
         extras.sort_by_key(|e| e.0);
         extras.dedup_by_key(|e| e.0);
-        debug_assert_eq!(extras.len(), lat.vertex_count() - lat.owned());
-        let positions: Vec<f64> = extras.iter().flat_map(|e| e.1.iter().copied()).collect();
-        let normals: Vec<f64> = extras.iter().flat_map(|e| e.2).collect();
-        sink.vertices(d, &positions, Some(&normals))?;
+        debug_assert_eq!(extras.len(), self.lat.vertex_count() - self.lat.owned());
+        (extras.iter().flat_map(|e| e.1.iter().copied()).collect(), extras.iter().flat_map(|e| e.2).collect())
     }
-    drop(steps);
-    Ok(())
+
+    /// All blocks at once into the shape's own buffers (overwritten in
+    /// place when the sizes repeat: no allocation, no page faults).
+    fn fill_shape(&self, shape: &mut Shape) -> Result<(), EvalError> {
+        let (d, lat) = (self.d, &self.lat);
+        let np = lat.n + 1;
+        if lat.vertex_count().max(np * np) > u32::MAX as usize {
+            return Err(EvalError::Unsupported("an in-memory mesh needs fewer than 2^32 vertices: stream it".into()));
+        }
+        let mut steps = self.ev.progress(1);
+        let count = self.blocks() * lat.b * lat.b;
+        fn resized<T: Copy + Default>(v: &mut Vec<T>, len: usize) -> &mut [T] {
+            if v.len() != len {
+                v.clear();
+                v.resize(len, T::default());
+            }
+            v
+        }
+        shape.reuse_as_mesh(d, "surface");
+        resized(&mut shape.uvs, np * np * 2).iter_mut().zip(self.uvs(0, np * np)).for_each(|(o, x)| *o = x);
+        let extras = self.fill::<u32>(
+            0,
+            BatchSlices {
+                pos: resized(&mut shape.positions, count * d),
+                nrm: resized(&mut shape.normals, count * 3),
+                quads: resized(&mut shape.quads, count),
+                quv: resized(&mut shape.quad_uvs, count),
+            },
+        );
+        if !lat.torus {
+            let (positions, normals) = self.far_side(extras);
+            shape.positions.extend_from_slice(&positions);
+            shape.normals.extend_from_slice(&normals);
+        }
+        shape.close_mesh();
+        steps.step();
+        Ok(())
+    }
+
+    /// Batches of blocks pushed to the sink as they are done: memory stays
+    /// bounded whatever the depth.
+    fn stream(&self, sink: &mut dyn Sink) -> Result<(), EvalError> {
+        let (d, lat) = (self.d, &self.lat);
+        let np = lat.n + 1;
+        sink.object("surface")?;
+        // Fixed-size chunks of the shared texture table.
+        const UV_CHUNK: usize = 1 << 15;
+        for from in (0..np * np).step_by(UV_CHUNK) {
+            sink.uvs(&self.uvs(from, (from + UV_CHUNK).min(np * np)).collect::<Vec<_>>())?;
+        }
+        let blocks = self.blocks();
+        let bb = lat.b * lat.b;
+        let mut steps = self.ev.progress(blocks.div_ceil(BATCH_BLOCKS) as u64);
+        let mut extras: Vec<Extra> = Vec::new();
+        let (mut pos, mut nrm, mut quads, mut quv) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        for start in (0..blocks).step_by(BATCH_BLOCKS) {
+            let count = ((start + BATCH_BLOCKS).min(blocks) - start) * bb;
+            pos.resize(count * d, 0.0);
+            nrm.resize(count * 3, 0.0);
+            quads.resize(count, [0usize; 4]);
+            quv.resize(count, [0usize; 4]);
+            extras.extend(
+                self.fill::<usize>(
+                    start,
+                    BatchSlices { pos: &mut pos, nrm: &mut nrm, quads: &mut quads, quv: &mut quv },
+                ),
+            );
+            sink.vertices(d, &pos, Some(&nrm))?;
+            sink.faces(&quads, Some(&quv))?;
+            steps.step();
+        }
+        if !lat.torus {
+            let (positions, normals) = self.far_side(extras);
+            sink.vertices(d, &positions, Some(&normals))?;
+        }
+        Ok(())
+    }
+}
+
+/// The output slices of a batch of blocks.
+struct BatchSlices<'s, I> {
+    pos: &'s mut [f64],
+    nrm: &'s mut [f64],
+    quads: &'s mut [[I; 4]],
+    quv: &'s mut [[I; 4]],
 }
 
 /// An index type of quads: `u32` in memory, `usize` when streamed.
@@ -321,36 +385,6 @@ fn block_quads<I: QuadIndex>(lat: &Lattice, np: usize, g: usize, quads: &mut [[I
             quv[v * lat.b + u] = [of(t), of(t + 1), of(t + 1 + np), of(t + np)];
         }
     }
-}
-
-/// Computes the points and normals a block owns; returns the far-boundary vertices it touches.
-type BlockPoints<'a> = dyn Fn(usize, &mut [f64], &mut [f64]) -> Vec<Extra> + Sync + 'a;
-
-/// Fills a batch of blocks from `start` in parallel: points and normals by
-/// `compute`, quads by [`block_quads`]; returns the far-boundary vertices.
-#[allow(clippy::too_many_arguments)]
-fn fill_batch<I: QuadIndex>(
-    lat: &Lattice,
-    np: usize,
-    start: usize,
-    bb: usize,
-    d: usize,
-    pos: &mut [f64],
-    nrm: &mut [f64],
-    quads: &mut [[I; 4]],
-    quv: &mut [[I; 4]],
-    compute: &BlockPoints,
-) -> Vec<Extra> {
-    pos.par_chunks_mut(bb * d)
-        .zip(nrm.par_chunks_mut(bb * 3))
-        .zip(quads.par_chunks_mut(bb))
-        .zip(quv.par_chunks_mut(bb))
-        .enumerate()
-        .flat_map_iter(|(i, (((p, n), q), t))| {
-            block_quads(lat, np, start + i, q, t);
-            compute(start + i, p, n)
-        })
-        .collect()
 }
 
 #[cfg(test)]

@@ -28,7 +28,7 @@ const LINE_CHUNK: usize = 4096;
 /// A [`Sink`] that streams OBJ text: `v` (and `vn`) and `vt` lines go to the
 /// file as they come, elements (`o`, `l`, `f`) to a spool file appended at
 /// the end, so memory stays bounded whatever the size. The target appears
-/// only when [`Sink::finish`] succeeds.
+/// only when [`ObjWriter::finish`] succeeds.
 pub struct ObjWriter {
     main: Option<AtomicFile>,
     spool_path: PathBuf,
@@ -60,6 +60,29 @@ impl ObjWriter {
             ryu: ryu::Buffer::new(),
             ints: itoa::Buffer::new(),
         })
+    }
+
+    /// Completes the file: appends the elements and renames the temporary
+    /// file onto the target. Without it (an error, a panic) the target is
+    /// left as it was and the temporary files are removed.
+    ///
+    /// # Errors
+    /// An I/O error; the target is then left as it was.
+    pub fn finish(mut self) -> io::Result<()> {
+        let mut spool = self.spool.take().expect("finish once");
+        spool.flush()?;
+        drop(spool);
+        let mut reader = File::open(&self.spool_path)?;
+        let mut buf = vec![0u8; 1 << 20];
+        loop {
+            let n = reader.read(&mut buf)?;
+            if n == 0 {
+                break;
+            }
+            self.main().write_all(&buf[..n])?;
+        }
+        let _ = std::fs::remove_file(&self.spool_path);
+        self.main.take().expect("finish once").commit()
     }
 
     /// Bytes of vertex text written so far.
@@ -210,23 +233,6 @@ impl Sink for ObjWriter {
         }
         self.ints = ints;
         self.spool().write_all(&line)
-    }
-
-    fn finish(&mut self) -> io::Result<()> {
-        let mut spool = self.spool.take().expect("finish once");
-        spool.flush()?;
-        drop(spool);
-        let mut reader = File::open(&self.spool_path)?;
-        let mut buf = vec![0u8; 1 << 20];
-        loop {
-            let n = reader.read(&mut buf)?;
-            if n == 0 {
-                break;
-            }
-            self.main().write_all(&buf[..n])?;
-        }
-        let _ = std::fs::remove_file(&self.spool_path);
-        self.main.take().expect("finish once").commit()
     }
 }
 

@@ -8,7 +8,9 @@ use std::ops::Range;
 /// they are pushed, across all objects; elements refer to those numbers.
 ///
 /// Implemented by [`Shape`] (in memory) and by the streaming
-/// [`crate::export::ObjWriter`].
+/// [`crate::export::ObjWriter`], which is finished by its own consuming
+/// `finish`. To re-evaluate into the buffers of an earlier shape, use
+/// [`crate::eval::Evaluator::evaluate_into`].
 pub trait Sink {
     /// Starts a named object (a piece of the model).
     fn object(&mut self, name: &str) -> io::Result<()>;
@@ -23,48 +25,10 @@ pub trait Sink {
     fn faces(&mut self, quads: &[[usize; 4]], uvs: Option<&[[usize; 4]]>) -> io::Result<()>;
     /// Triangles (vertex indices counter-clockwise).
     fn triangles(&mut self, triangles: &[[usize; 3]]) -> io::Result<()>;
-    /// Ends the output (a file is complete only after this).
-    fn finish(&mut self) -> io::Result<()>;
-
-    /// Like [`Sink::vertices`], handing over the buffers (a sink may keep them without copying).
-    fn vertices_owned(&mut self, dim: usize, positions: Vec<f64>, normals: Option<Vec<f64>>) -> io::Result<()> {
-        self.vertices(dim, &positions, normals.as_deref())
-    }
-    /// Like [`Sink::uvs`], handing over the buffer.
-    fn uvs_owned(&mut self, uvs: Vec<f64>) -> io::Result<()> {
-        self.uvs(&uvs)
-    }
-    /// Like [`Sink::faces`] with compact indices, handing over the buffers
-    /// (in-memory meshes have fewer than 2^32 vertices).
-    fn faces_compact(&mut self, quads: Vec<Quad>, uvs: Option<Vec<Quad>>) -> io::Result<()> {
-        let wide = |v: &[Quad]| -> Vec<[usize; 4]> { v.iter().map(|q| q.map(|i| i as usize)).collect() };
-        self.faces(&wide(&quads), uvs.as_deref().map(wide).as_deref())
-    }
-    /// Buffers of an earlier output that the evaluator may overwrite and hand
-    /// back through the `*_owned` methods (no new allocation, no page faults
-    /// when the sizes repeat). Sinks that keep nothing return `None`.
-    fn recycle(&mut self) -> Option<Buffers> {
-        None
-    }
 }
 
 /// A quad of an in-memory mesh: four vertex (or texture) indices, counter-clockwise.
 pub type Quad = [u32; 4];
-
-/// Output buffers handed back for reuse by [`Sink::recycle`].
-#[derive(Clone, Debug, Default)]
-pub struct Buffers {
-    /// Positions.
-    pub positions: Vec<f64>,
-    /// Normals.
-    pub normals: Vec<f64>,
-    /// Texture coordinates.
-    pub uvs: Vec<f64>,
-    /// Quads.
-    pub quads: Vec<Quad>,
-    /// Texture indices of quads.
-    pub quad_uvs: Vec<Quad>,
-}
 
 /// A named part of a [`Shape`].
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -202,6 +166,24 @@ impl Shape {
         Ok(())
     }
 
+    /// Starts a mesh of `dim`-dimensional vertices that overwrites this
+    /// shape, keeping its buffers' contents for reuse (the mesher resizes
+    /// and overwrites them): one object called `name`.
+    pub(crate) fn reuse_as_mesh(&mut self, dim: usize, name: &str) {
+        self.dim = dim;
+        self.triangles.clear();
+        self.objects.clear();
+        self.objects.push(Object { name: name.to_string(), vertices: 0..0, polylines: Vec::new(), faces: 0..0 });
+    }
+
+    /// Ends a mesh started by [`Shape::reuse_as_mesh`]: its object holds every vertex and quad.
+    pub(crate) fn close_mesh(&mut self) {
+        let (v, f) = (self.vertex_count(), self.quads.len());
+        let o = self.current();
+        o.vertices = 0..v;
+        o.faces = 0..f;
+    }
+
     fn current(&mut self) -> &mut Object {
         if self.objects.is_empty() {
             self.objects.push(Object::default());
@@ -269,57 +251,5 @@ impl Sink for Shape {
     fn triangles(&mut self, triangles: &[[usize; 3]]) -> io::Result<()> {
         self.triangles.extend_from_slice(triangles);
         Ok(())
-    }
-
-    fn vertices_owned(&mut self, dim: usize, positions: Vec<f64>, normals: Option<Vec<f64>>) -> io::Result<()> {
-        if !self.positions.is_empty() || !self.normals.is_empty() || (self.dim != 0 && self.dim != dim) {
-            return self.vertices(dim, &positions, normals.as_deref());
-        }
-        self.dim = dim;
-        self.positions = positions;
-        self.normals = normals.unwrap_or_default();
-        let end = self.vertex_count();
-        self.current().vertices.end = end;
-        Ok(())
-    }
-
-    fn uvs_owned(&mut self, uvs: Vec<f64>) -> io::Result<()> {
-        if self.uvs.is_empty() {
-            self.uvs = uvs;
-            Ok(())
-        } else {
-            self.uvs(&uvs)
-        }
-    }
-
-    fn faces_compact(&mut self, quads: Vec<Quad>, uvs: Option<Vec<Quad>>) -> io::Result<()> {
-        if !self.quads.is_empty() || !self.quad_uvs.is_empty() {
-            self.quads.extend_from_slice(&quads);
-            self.quad_uvs.extend(uvs.unwrap_or_default());
-            let end = self.quads.len();
-            self.current().faces.end = end;
-            return Ok(());
-        }
-        self.quads = quads;
-        self.quad_uvs = uvs.unwrap_or_default();
-        let end = self.quads.len();
-        self.current().faces.end = end;
-        Ok(())
-    }
-
-    fn finish(&mut self) -> io::Result<()> {
-        Ok(())
-    }
-
-    fn recycle(&mut self) -> Option<Buffers> {
-        let b = Buffers {
-            positions: std::mem::take(&mut self.positions),
-            normals: std::mem::take(&mut self.normals),
-            uvs: std::mem::take(&mut self.uvs),
-            quads: std::mem::take(&mut self.quads),
-            quad_uvs: std::mem::take(&mut self.quad_uvs),
-        };
-        *self = Shape::default();
-        Some(b)
     }
 }

@@ -21,6 +21,7 @@ fn obj_round_trip_through_tobj() {
     let path = temp("torus.obj");
     let mut w = ObjWriter::create(&path).unwrap();
     ev.stream(&mut w).unwrap();
+    w.finish().unwrap();
     let (models, _) =
         tobj::load_obj(&path, &tobj::LoadOptions { single_index: false, triangulate: false, ..Default::default() })
             .unwrap();
@@ -58,6 +59,7 @@ fn curves_stream_to_obj() {
     let path = temp("koch.obj");
     let mut w = ObjWriter::create(&path).unwrap();
     ev.stream(&mut w).unwrap();
+    w.finish().unwrap();
     let text = std::fs::read_to_string(&path).unwrap();
     let vertices = text.lines().filter(|l| l.starts_with("v ")).count();
     assert_eq!(vertices, 4usize.pow(7) + 1);
