@@ -8,7 +8,7 @@ use nalgebra::DMatrix;
 use petgraph::stable_graph::{EdgeIndex, NodeIndex, StableDiGraph};
 use petgraph::visit::EdgeRef;
 
-use crate::algebra::{Affine, EvalError, Expr, ExprValue, Num};
+use crate::algebra::{Affine, Expr, ExprError, ExprValue, Num};
 use crate::space::State;
 
 /// What a matrix entry must support to be multiplied along paths.
@@ -51,9 +51,9 @@ impl Entry for Affine {
 /// `a · b` for matrices of any [`Entry`] type.
 ///
 /// # Errors
-/// [`EvalError::Nonlinear`] when two entries that both depend on unknowns
+/// [`ExprError::Nonlinear`] when two entries that both depend on unknowns
 /// would be multiplied.
-pub fn mat_mul<E: Entry>(a: &DMatrix<E>, b: &DMatrix<E>) -> Result<DMatrix<E>, EvalError> {
+pub fn mat_mul<E: Entry>(a: &DMatrix<E>, b: &DMatrix<E>) -> Result<DMatrix<E>, ExprError> {
     debug_assert_eq!(a.ncols(), b.nrows());
     let mut out = DMatrix::from_element(a.nrows(), b.ncols(), E::zero());
     for i in 0..a.nrows() {
@@ -368,8 +368,8 @@ impl<E: Entry> Automaton<E> {
     /// The product of the matrices along `path`, in path order.
     ///
     /// # Errors
-    /// [`EvalError::Nonlinear`] when two factors depend on unknowns.
-    pub fn product(&self, path: &[EdgeIndex]) -> Result<DMatrix<E>, EvalError> {
+    /// [`ExprError::Nonlinear`] when two factors depend on unknowns.
+    pub fn product(&self, path: &[EdgeIndex]) -> Result<DMatrix<E>, ExprError> {
         let mut iter = path.iter();
         let first = iter.next().expect("paths are checked to be non-empty");
         let mut acc = self.graph[*first].matrix.clone();

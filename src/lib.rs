@@ -81,13 +81,13 @@
 
 #![forbid(unsafe_code)]
 
-mod algebra;
+pub mod algebra;
 pub mod analysis;
 mod automaton;
-mod design;
+pub mod design;
 pub mod eval;
 pub mod export;
-mod family;
+pub mod family;
 mod format;
 pub mod geometry;
 mod names;
@@ -95,18 +95,15 @@ mod progress;
 pub mod schemes;
 mod space;
 
-pub use algebra::{
-    Affine, AffineDisplay, Env, EvalError, Expr, ExprSyntaxError, ExprValue, Nonlinear, Num, Surd, SurdError,
-};
-pub use automaton::{Arrow, ArrowKind, Automaton, AutomatonError, Constraint, Entry, Relation, mat_mul, selection};
-pub use design::{
-    BuildError, Design, DesignBuilder, Docs, Field, Layout, Locus, Matrix, Model, Origin, Value, Variable,
-};
-pub use family::{
-    DesignInstantiateError, Equation, Family, Instance, InstantiateError, Parameter, SolveError, equations,
-    instantiate, numeric, solve,
-};
+pub use algebra::{Num, Surd};
+pub use automaton::{Arrow, ArrowKind, Automaton, AutomatonError, Constraint, Entry, Relation};
+pub use design::{BuildError, Design, DesignBuilder, Layout, Matrix, Model, Value};
+pub use family::{DesignInstantiateError, Family, Instance, InstantiateError, SolveError, instantiate, solve};
 pub use format::{BUILTIN_AUTOMATA, FormatError, ReadError, builtin_design, parse_design, read_design, write_design};
+/// Re-exported: its matrices appear in bcifs signatures.
+pub use nalgebra;
 pub use names::suggest;
+/// Re-exported: its indices appear in bcifs signatures.
+pub use petgraph;
 pub use progress::Progress;
 pub use space::{CellKind, State};

@@ -2,7 +2,7 @@
 
 use std::fmt;
 
-use super::expr::{EvalError, ExprValue};
+use super::expr::{ExprError, ExprValue};
 use super::num::Num;
 
 /// An affine expression `constant + Σ coeff · x_var` in numbered variables.
@@ -144,17 +144,17 @@ impl ExprValue for Affine {
     fn minus(&self, other: &Affine) -> Affine {
         self.sub(other)
     }
-    fn times(&self, other: &Affine) -> Result<Affine, EvalError> {
-        self.mul(other).map_err(|_| EvalError::Nonlinear)
+    fn times(&self, other: &Affine) -> Result<Affine, ExprError> {
+        self.mul(other).map_err(|_| ExprError::Nonlinear)
     }
-    fn divide(&self, other: &Affine) -> Result<Affine, EvalError> {
-        let d = other.as_constant().ok_or(EvalError::BadDivision)?;
-        let inv = Num::one().div(d).ok_or(EvalError::BadDivision)?;
+    fn divide(&self, other: &Affine) -> Result<Affine, ExprError> {
+        let d = other.as_constant().ok_or(ExprError::BadDivision)?;
+        let inv = Num::one().div(d).ok_or(ExprError::BadDivision)?;
         Ok(self.scale(&inv))
     }
-    fn root(&self) -> Result<Affine, EvalError> {
-        let c = self.as_constant().ok_or(EvalError::BadSqrt)?;
-        c.sqrt().map(Affine::constant).ok_or(EvalError::BadSqrt)
+    fn root(&self) -> Result<Affine, ExprError> {
+        let c = self.as_constant().ok_or(ExprError::BadSqrt)?;
+        c.sqrt().map(Affine::constant).ok_or(ExprError::BadSqrt)
     }
 }
 

@@ -61,7 +61,7 @@ pub struct ExprSyntaxError {
 
 /// What an expression may fail with when it is evaluated.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
-pub enum EvalError {
+pub enum ExprError {
     /// A name that is neither a parameter nor a known constant.
     #[error("unknown parameter `{0}`")]
     UnknownParam(String, usize),
@@ -97,11 +97,11 @@ pub trait ExprValue: Sized {
     /// `self - other`.
     fn minus(&self, other: &Self) -> Self;
     /// `self * other`, or an error when it would not be linear.
-    fn times(&self, other: &Self) -> Result<Self, EvalError>;
+    fn times(&self, other: &Self) -> Result<Self, ExprError>;
     /// `self / other`.
-    fn divide(&self, other: &Self) -> Result<Self, EvalError>;
+    fn divide(&self, other: &Self) -> Result<Self, ExprError>;
     /// `sqrt(self)`.
-    fn root(&self) -> Result<Self, EvalError>;
+    fn root(&self) -> Result<Self, ExprError>;
 }
 
 impl ExprValue for f64 {
@@ -114,14 +114,14 @@ impl ExprValue for f64 {
     fn minus(&self, other: &f64) -> f64 {
         self - other
     }
-    fn times(&self, other: &f64) -> Result<f64, EvalError> {
+    fn times(&self, other: &f64) -> Result<f64, ExprError> {
         Ok(self * other)
     }
-    fn divide(&self, other: &f64) -> Result<f64, EvalError> {
-        if *other == 0.0 { Err(EvalError::BadDivision) } else { Ok(self / other) }
+    fn divide(&self, other: &f64) -> Result<f64, ExprError> {
+        if *other == 0.0 { Err(ExprError::BadDivision) } else { Ok(self / other) }
     }
-    fn root(&self) -> Result<f64, EvalError> {
-        if *self < 0.0 { Err(EvalError::BadSqrt) } else { Ok(self.sqrt()) }
+    fn root(&self) -> Result<f64, ExprError> {
+        if *self < 0.0 { Err(ExprError::BadSqrt) } else { Ok(self.sqrt()) }
     }
 }
 
@@ -135,14 +135,14 @@ impl ExprValue for Num {
     fn minus(&self, other: &Num) -> Num {
         self.sub(other)
     }
-    fn times(&self, other: &Num) -> Result<Num, EvalError> {
+    fn times(&self, other: &Num) -> Result<Num, ExprError> {
         Ok(self.mul(other))
     }
-    fn divide(&self, other: &Num) -> Result<Num, EvalError> {
-        self.div(other).ok_or(EvalError::BadDivision)
+    fn divide(&self, other: &Num) -> Result<Num, ExprError> {
+        self.div(other).ok_or(ExprError::BadDivision)
     }
-    fn root(&self) -> Result<Num, EvalError> {
-        self.sqrt().ok_or(EvalError::BadSqrt)
+    fn root(&self) -> Result<Num, ExprError> {
+        self.sqrt().ok_or(ExprError::BadSqrt)
     }
 }
 
@@ -152,6 +152,18 @@ pub trait Env<V> {
     fn param(&self, name: &str) -> Option<V>;
     /// The value of entry `arrow[row][col]`, if there is one.
     fn entry(&self, arrow: &str, row: usize, col: usize) -> Option<V>;
+}
+
+/// Constants only: any name is unknown.
+struct NoNames;
+
+impl<V> Env<V> for NoNames {
+    fn param(&self, _: &str) -> Option<V> {
+        None
+    }
+    fn entry(&self, _: &str, _: usize, _: usize) -> Option<V> {
+        None
+    }
 }
 
 impl Expr {
@@ -167,14 +179,14 @@ impl Expr {
     }
 
     /// Evaluates the expression in `env`.
-    pub fn eval<V: ExprValue>(&self, env: &dyn Env<V>) -> Result<V, EvalError> {
+    pub fn eval<V: ExprValue>(&self, env: &dyn Env<V>) -> Result<V, ExprError> {
         Ok(match self {
             Expr::Num(n) => V::from_num(n),
             Expr::Param(name, offset) => {
-                env.param(name).ok_or_else(|| EvalError::UnknownParam(name.clone(), *offset))?
+                env.param(name).ok_or_else(|| ExprError::UnknownParam(name.clone(), *offset))?
             }
             Expr::Entry { arrow, row, col, offset } => env.entry(arrow, *row, *col).ok_or_else(|| {
-                EvalError::UnknownEntry { arrow: arrow.clone(), row: *row, col: *col, offset: *offset }
+                ExprError::UnknownEntry { arrow: arrow.clone(), row: *row, col: *col, offset: *offset }
             })?,
             Expr::Neg(e) => V::from_num(&Num::zero()).minus(&e.eval(env)?),
             Expr::Add(a, b) => a.eval(env)?.plus(&b.eval(env)?),
@@ -183,6 +195,16 @@ impl Expr {
             Expr::Div(a, b) => a.eval(env)?.divide(&b.eval(env)?)?,
             Expr::Sqrt(e) => e.eval(env)?.root()?,
         })
+    }
+
+    /// The value of an expression of constants only (numbers, `+ - * /`,
+    /// `sqrt`): exact when it is a surd.
+    ///
+    /// # Errors
+    /// A name or an entry (not a constant), a division by zero, the square
+    /// root of a negative number.
+    pub fn eval_constant(&self) -> Result<Num, ExprError> {
+        self.eval(&NoNames)
     }
 
     /// Every entry reference `(arrow, row, col, offset)` in the expression.

@@ -9,7 +9,7 @@ mod spectrum;
 mod surd;
 
 pub use affine::{Affine, AffineDisplay, Nonlinear};
-pub use expr::{Env, EvalError, Expr, ExprSyntaxError, ExprValue};
+pub use expr::{Env, Expr, ExprError, ExprSyntaxError, ExprValue};
 pub use num::Num;
 pub use spectrum::{contractive_spectrum, eigenvalues};
 pub use surd::{Surd, SurdError};

@@ -12,7 +12,7 @@ use num_bigint::BigInt;
 use num_rational::BigRational;
 use num_traits::{One, Signed, ToPrimitive, Zero};
 
-use super::expr::{Env, EvalError, Expr};
+use super::expr::{Expr, ExprError};
 use super::num::Num;
 
 /// Largest radicand handled exactly (square-free factorisation by trial division).
@@ -84,18 +84,6 @@ fn square_free(mut n: u64) -> (u64, u64) {
     (s * n, f)
 }
 
-/// Constants only: any name is an error.
-struct NoNames;
-
-impl Env<Num> for NoNames {
-    fn param(&self, _: &str) -> Option<Num> {
-        None
-    }
-    fn entry(&self, _: &str, _: usize, _: usize) -> Option<Num> {
-        None
-    }
-}
-
 impl Surd {
     /// Zero.
     pub fn zero() -> Surd {
@@ -163,10 +151,10 @@ impl Surd {
     /// # Errors
     /// See [`Surd::parse`]; `text` is quoted in the error.
     pub fn from_expr(e: &Expr, text: &str) -> Result<Surd, SurdError> {
-        match e.eval(&NoNames) {
+        match e.eval_constant() {
             Ok(Num::Exact(s)) => Ok(s),
-            Ok(Num::Approx(_)) | Err(EvalError::BadSqrt) => Err(SurdError::Inexact(text.to_string())),
-            Err(EvalError::BadDivision) => Err(SurdError::DivisionByZero(text.to_string())),
+            Ok(Num::Approx(_)) | Err(ExprError::BadSqrt) => Err(SurdError::Inexact(text.to_string())),
+            Err(ExprError::BadDivision) => Err(SurdError::DivisionByZero(text.to_string())),
             Err(_) => Err(SurdError::NotConstant(text.to_string())),
         }
     }

@@ -5,7 +5,7 @@ use std::collections::HashMap;
 
 use nalgebra::Complex;
 
-use crate::algebra::{Env, EvalError, contractive_spectrum, eigenvalues};
+use crate::algebra::{Env, ExprError, contractive_spectrum, eigenvalues};
 use crate::automaton::{ArrowKind, Automaton, Relation};
 
 /// Residuals up to this size count as zero: products of a few matrices with
@@ -48,7 +48,7 @@ impl Env<f64> for Numbers<'_> {
 ///
 /// # Errors
 /// An entry equation that refers to a missing name.
-pub fn check(automaton: &Automaton<f64>, values: &HashMap<String, f64>, tol: f64) -> Result<CheckReport, EvalError> {
+pub fn check(automaton: &Automaton<f64>, values: &HashMap<String, f64>, tol: f64) -> Result<CheckReport, ExprError> {
     let mut constraints = Vec::new();
     for c in automaton.constraints() {
         let residual = match &c.relation {

@@ -147,22 +147,7 @@ fn parse_params(params: &[String]) -> Result<Vec<(String, f64)>> {
         .iter()
         .map(|p| {
             let (name, value) = p.split_once('=').with_context(|| format!("`{p}`: expected NAME=VALUE"))?;
-            let value: f64 = match value.trim().parse() {
-                Ok(v) => v,
-                Err(_) => {
-                    let e = bcifs::Expr::parse(value.trim()).map_err(|e| anyhow::anyhow!("`{p}`: {e}"))?;
-                    struct NoNames;
-                    impl bcifs::Env<f64> for NoNames {
-                        fn param(&self, _: &str) -> Option<f64> {
-                            None
-                        }
-                        fn entry(&self, _: &str, _: usize, _: usize) -> Option<f64> {
-                            None
-                        }
-                    }
-                    e.eval(&NoNames).map_err(|e| anyhow::anyhow!("`{p}`: {e}"))?
-                }
-            };
+            let value = value.trim().parse::<bcifs::Num>().map_err(|e| anyhow::anyhow!("`{p}`: {e}"))?.to_f64();
             Ok((name.trim().to_string(), value))
         })
         .collect()

@@ -11,7 +11,7 @@ use std::fmt;
 use nalgebra::DMatrix;
 
 use super::{Design, Docs, Layout, Model, Origin, Variable};
-use crate::algebra::{Affine, Env, EvalError, Expr, Num, Surd};
+use crate::algebra::{Affine, Env, Expr, ExprError, Num, Surd};
 use crate::automaton::{Arrow, ArrowKind, Automaton, Constraint, Relation, selection};
 use crate::names::suggest;
 use crate::space::{CellKind, State};
@@ -719,9 +719,9 @@ impl<'a> Compiler<'a> {
         Ok(())
     }
 
-    fn eval_error(&self, at: BuildError, e: EvalError, what: &str) -> BuildError {
+    fn eval_error(&self, at: BuildError, e: ExprError, what: &str) -> BuildError {
         match e {
-            EvalError::UnknownParam(name, off) => {
+            ExprError::UnknownParam(name, off) => {
                 let mut err = at
                     .with_message(format!("unknown parameter `{name}` in {what}"))
                     .at_offset(off)

@@ -10,6 +10,6 @@ mod surface;
 pub use deterministic::{
     DEFAULT_DEPTH, DEFAULT_MEMORY_LIMIT, Depth, EvalError, EvalSettings, Evaluator, MAX_ADAPTIVE_DEPTH,
 };
-pub use pieces::{ModelError, Piece, Pieces, pieces};
-pub use plan::{Plan, PlanError, StatePlan};
-pub use random::{Alias, ChaosGame, DEFAULT_BURN_IN, RandomSettings, Rng, SINGULAR_FLOOR, chaos_game, det_weights};
+pub use pieces::{ModelError, Piece, Pieces};
+pub use plan::PlanError;
+pub use random::{ChaosGame, DEFAULT_BURN_IN, RandomSettings, SINGULAR_FLOOR, chaos_game};

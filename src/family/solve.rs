@@ -17,7 +17,7 @@ use nalgebra::DMatrix;
 use num_rational::BigRational;
 use num_traits::{One, Zero};
 
-use crate::algebra::{Affine, Env, EvalError, Expr, Num, Surd};
+use crate::algebra::{Affine, Env, Expr, ExprError, Num, Surd};
 use crate::automaton::{Automaton, Relation};
 use crate::design::{Design, Origin};
 
@@ -46,7 +46,7 @@ pub enum SolveError {
         /// The constraint, `group: text`.
         constraint: String,
         /// What went wrong.
-        error: EvalError,
+        error: ExprError,
     },
     /// An irrational constant multiplies an unknown (the exact solver needs
     /// rational coefficients), or an approximate constant (not a surd) sits in

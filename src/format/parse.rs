@@ -11,7 +11,7 @@ use toml::Spanned;
 
 use super::builtin::BUILTIN_AUTOMATA;
 use super::error::{FormatError, Source};
-use crate::algebra::{Env, Expr, Num};
+use crate::algebra::{Expr, Num};
 use crate::automaton::ArrowKind;
 use crate::design::{BuildError, Design, DesignBuilder, Field, Layout, Locus, Matrix, Model, Value};
 use crate::names::suggest;
@@ -381,18 +381,6 @@ struct Reader<'a> {
     spans: Spans,
 }
 
-/// Constants only: a name in a coordinate is an error.
-struct NoNames;
-
-impl Env<Num> for NoNames {
-    fn param(&self, _: &str) -> Option<Num> {
-        None
-    }
-    fn entry(&self, _: &str, _: usize, _: usize) -> Option<Num> {
-        None
-    }
-}
-
 fn string_offset(span: &Range<usize>, inner: usize) -> usize {
     span.start + 1 + inner
 }
@@ -446,7 +434,7 @@ impl Reader<'_> {
                 let expr = Expr::parse(&text)
                     .map_err(|e| self.src.error(string_offset(&span, e.offset), format!("in {what}: {}", e.message)))?;
                 let v = expr
-                    .eval(&NoNames)
+                    .eval_constant()
                     .map_err(|_| self.src.at(&span, format!("{what}s must be constants (numbers, + - * /, sqrt)")))?;
                 Ok(v.to_f64())
             }

@@ -1,7 +1,8 @@
 //! The checked builder: designs built in code equal the shipped files,
 //! mistakes are named, printing and reading back is exact, nothing panics.
 
-use bcifs::{BuildError, CellKind, Design, DesignBuilder, Field, Layout, Locus, Model, builtin_design, solve};
+use bcifs::design::{Field, Locus};
+use bcifs::{BuildError, CellKind, Design, DesignBuilder, Layout, Model, builtin_design, solve};
 use proptest::prelude::*;
 
 /// The corner-cutting curve of seed 004 §3 as code.

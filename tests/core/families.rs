@@ -150,9 +150,10 @@ fn generators_equal_the_hand_written_files() {
     for (generated, name, values) in pairs {
         let shipped = builtin_design(name).unwrap();
         let (g, s) = (generated.automaton(), shipped.automaton());
-        let states = |a: &bcifs::Automaton<bcifs::Affine>| a.states().map(|(_, s)| s.clone()).collect::<Vec<_>>();
+        let states =
+            |a: &bcifs::Automaton<bcifs::algebra::Affine>| a.states().map(|(_, s)| s.clone()).collect::<Vec<_>>();
         assert_eq!(states(g), states(s), "{name}: states");
-        let arrows = |a: &bcifs::Automaton<bcifs::Affine>| {
+        let arrows = |a: &bcifs::Automaton<bcifs::algebra::Affine>| {
             let mut v: Vec<_> = a
                 .arrows()
                 .map(|(id, x)| {
@@ -164,7 +165,7 @@ fn generators_equal_the_hand_written_files() {
             v
         };
         assert_eq!(arrows(g), arrows(s), "{name}: arrows");
-        let constraints = |a: &bcifs::Automaton<bcifs::Affine>| {
+        let constraints = |a: &bcifs::Automaton<bcifs::algebra::Affine>| {
             let mut v: Vec<String> = a.constraints().iter().map(ToString::to_string).collect();
             v.sort();
             v
@@ -181,11 +182,11 @@ fn generators_equal_the_hand_written_files() {
             .parameters
             .iter()
             .map(|p| match &p.origin {
-                bcifs::Origin::Entry { arrow, row, col } => {
+                bcifs::design::Origin::Entry { arrow, row, col } => {
                     let a = &is.automaton;
                     (p.name.clone(), a.arrow(a.arrow_id(arrow).unwrap()).matrix[(*row, *col)])
                 }
-                bcifs::Origin::Parameter => panic!("generated parameters name entries"),
+                bcifs::design::Origin::Parameter => panic!("generated parameters name entries"),
             })
             .collect();
         let ig = fg.instantiate(&mapped).unwrap();

@@ -1,6 +1,6 @@
 //! Curves and point sets: closed forms, junctions, any start set, chaos game.
 
-use bcifs::analysis::hausdorff;
+use crate::hausdorff::hausdorff;
 use bcifs::eval::{EvalError, EvalSettings, Evaluator, PlanError, RandomSettings, chaos_game};
 use nalgebra::DMatrix;
 
@@ -40,8 +40,15 @@ fn matrix(a: &bcifs::Automaton<f64>, name: &str) -> DMatrix<f64> {
 /// 1e-12 in modelling space, at every depth.
 #[test]
 fn sub_curves_meet_at_any_admissible_parameters() {
-    let mut rng = bcifs::eval::Rng::new(11);
-    let mut uniform = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+    // SplitMix64: a fixed, well-mixed sequence of parameters.
+    let mut state = 11u64;
+    let mut uniform = || {
+        state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    };
     for _ in 0..20 {
         // Sample the convergence domain |a|, |b|, |1-a-b| < 1.
         let (a, b) = loop {
@@ -146,7 +153,7 @@ fn chaos_game_is_reproducible_and_on_the_attractor() {
     assert_ne!(one.positions, other.positions);
     let deterministic = points(&eval("levy", &[], EvalSettings::default().with_depth(16)));
     // Depth-16 cells of the Lévy curve have diameter 2^-8 · diam(frame) ≈ 0.0055.
-    let h = bcifs::analysis::directed_hausdorff(&points(&one), &deterministic);
+    let h = crate::hausdorff::directed_hausdorff(&points(&one), &deterministic);
     assert!(h < 0.006, "{h}");
     // Two-state fern: the Sierpinski branch is reached.
     let (a, model, _) = load("fern_sierpinski", &[]);
@@ -156,7 +163,7 @@ fn chaos_game_is_reproducible_and_on_the_attractor() {
         let t2 = |x: f64, y: f64| [0.2 * x - 0.26 * y, 0.23 * x + 0.22 * y + 1.6, 0.0];
         vec![t2(0.0, 0.0), t2(1.0, 0.0), t2(0.0, 1.0)]
     };
-    let near_branch = bcifs::analysis::directed_hausdorff(&branch, &points(&cloud));
+    let near_branch = crate::hausdorff::directed_hausdorff(&branch, &points(&cloud));
     assert!(near_branch < 0.05, "the chaos game misses the Sierpinski branch: {near_branch}");
     // Every point lies in the fern's hull: x in [-2.2, 2.7], y in [0, 10].
     assert!(points(&cloud).iter().all(|p| (-2.2..2.7).contains(&p[0]) && (0.0..10.0).contains(&p[1])));

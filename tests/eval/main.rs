@@ -3,6 +3,8 @@
 
 mod curves;
 mod export;
+#[path = "../common/hausdorff.rs"]
+mod hausdorff;
 mod surfaces;
 
 use bcifs::eval::{EvalSettings, Evaluator};

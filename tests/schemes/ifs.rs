@@ -2,7 +2,8 @@
 //! the lifted IFS of eq. (2) has the same attractor, fractals with control
 //! points reproduce the classic ones and deform locally, dropped maps give subsets.
 
-use bcifs::analysis::{DEFAULT_CHECK_TOLERANCE, check, directed_hausdorff, hausdorff};
+use crate::hausdorff::{directed_hausdorff, hausdorff};
+use bcifs::analysis::{DEFAULT_CHECK_TOLERANCE, check};
 use bcifs::eval::{EvalSettings, Evaluator};
 use bcifs::schemes::{BSpline, IFS_NAMES, LiftError, LiftedIfs, Rules, ifs_preset, koch_blocks, normal_preset, to_f64};
 

@@ -2,6 +2,8 @@
 #![allow(clippy::needless_range_loop)] // index loops mirror the formulas they check
 
 mod cli;
+#[path = "../common/hausdorff.rs"]
+mod hausdorff;
 mod ifs;
 mod normal;
 mod ternary;

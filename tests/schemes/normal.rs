@@ -1,8 +1,9 @@
 //! The normal-vector p-ary scheme of seed 000: direct and automaton forms
 //! agree, the automata pass `check`, and the paper's properties hold.
 
+use crate::hausdorff::hausdorff;
 use bcifs::Surd;
-use bcifs::analysis::{DEFAULT_CHECK_TOLERANCE, check, hausdorff};
+use bcifs::analysis::{DEFAULT_CHECK_TOLERANCE, check};
 use bcifs::schemes::{
     NormalDirection, NormalPreset, NormalScheme, NormalSchemeError, PRESET_NAMES, SignPattern, normal_preset,
     unit_segment, unit_triangle,

@@ -6,7 +6,7 @@ use bcifs::Surd;
 use bcifs::analysis::ternary::{PAPER_RANGES, ternary5_analysis};
 use bcifs::schemes::{ifs_preset, ternary_five_point};
 
-use bcifs::analysis::hausdorff;
+use crate::hausdorff::hausdorff;
 
 use super::{evaluate, lift, points2};
 
