@@ -80,6 +80,8 @@
 //! ```
 
 #![forbid(unsafe_code)]
+// Library code reports failures; an `unwrap` would turn bad input into a panic.
+#![cfg_attr(not(test), warn(clippy::unwrap_used))]
 
 pub mod algebra;
 pub mod analysis;

@@ -15,7 +15,10 @@
 
 use std::fmt;
 
+use std::str::FromStr;
+
 use super::num::Num;
+use super::surd::{Surd, SurdError};
 
 /// A parsed expression.
 #[derive(Clone, Debug, PartialEq)]
@@ -143,6 +146,48 @@ impl ExprValue for Num {
     }
     fn root(&self) -> Result<Num, ExprError> {
         self.sqrt().ok_or(ExprError::BadSqrt)
+    }
+}
+
+impl FromStr for Num {
+    type Err = SurdError;
+
+    /// A constant expression (`0.25`, `1/4`, `sqrt(3)/6`, `-1e-3`): exact
+    /// when it is a surd, approximate otherwise.
+    fn from_str(text: &str) -> Result<Num, SurdError> {
+        let e =
+            Expr::parse(text).map_err(|e| SurdError::Syntax { text: text.to_string(), message: e.message.clone() })?;
+        e.eval_constant().map_err(|e| match e {
+            ExprError::BadDivision => SurdError::DivisionByZero(text.to_string()),
+            ExprError::BadSqrt => SurdError::Inexact(text.to_string()),
+            _ => SurdError::NotConstant(text.to_string()),
+        })
+    }
+}
+
+/// Constant texts as exact surds (the parser lives here, above the numbers).
+impl Surd {
+    /// Parses a constant expression (`1/2`, `-sqrt(3)/18`, `(1 + sqrt(5))/2`).
+    ///
+    /// # Errors
+    /// A syntax error, a parameter, or an operation that leaves the surds.
+    pub fn parse(text: &str) -> Result<Surd, SurdError> {
+        let e =
+            Expr::parse(text).map_err(|e| SurdError::Syntax { text: text.to_string(), message: e.message.clone() })?;
+        Surd::from_expr(&e, text)
+    }
+
+    /// The exact value of a constant expression.
+    ///
+    /// # Errors
+    /// See [`Surd::parse`]; `text` is quoted in the error.
+    pub fn from_expr(e: &Expr, text: &str) -> Result<Surd, SurdError> {
+        match e.eval_constant() {
+            Ok(Num::Exact(s)) => Ok(s),
+            Ok(Num::Approx(_)) | Err(ExprError::BadSqrt) => Err(SurdError::Inexact(text.to_string())),
+            Err(ExprError::BadDivision) => Err(SurdError::DivisionByZero(text.to_string())),
+            Err(_) => Err(SurdError::NotConstant(text.to_string())),
+        }
     }
 }
 

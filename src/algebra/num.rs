@@ -2,13 +2,11 @@
 //! whenever it can be, with an explicit floating-point escape hatch.
 
 use std::fmt;
-use std::str::FromStr;
 
 use num_bigint::BigInt;
 use num_rational::BigRational;
 
-use super::expr::{Expr, ExprError};
-use super::surd::{Surd, SurdError};
+use super::surd::Surd;
 
 /// A number of an automaton file: exact (a rational, or a sum of rational
 /// multiples of square roots such as `1/2 - sqrt(3)/6`) whenever it can be;
@@ -201,22 +199,6 @@ impl Num {
             return Some(Num::Exact(s));
         }
         Some(Num::Approx(self.to_f64().sqrt()))
-    }
-}
-
-impl FromStr for Num {
-    type Err = SurdError;
-
-    /// A constant expression (`0.25`, `1/4`, `sqrt(3)/6`, `-1e-3`): exact
-    /// when it is a surd, approximate otherwise.
-    fn from_str(text: &str) -> Result<Num, SurdError> {
-        let e =
-            Expr::parse(text).map_err(|e| SurdError::Syntax { text: text.to_string(), message: e.message.clone() })?;
-        e.eval_constant().map_err(|e| match e {
-            ExprError::BadDivision => SurdError::DivisionByZero(text.to_string()),
-            ExprError::BadSqrt => SurdError::Inexact(text.to_string()),
-            _ => SurdError::NotConstant(text.to_string()),
-        })
     }
 }
 

@@ -12,9 +12,6 @@ use num_bigint::BigInt;
 use num_rational::BigRational;
 use num_traits::{One, Signed, ToPrimitive, Zero};
 
-use super::expr::{Expr, ExprError};
-use super::num::Num;
-
 /// Largest radicand handled exactly (square-free factorisation by trial division).
 const MAX_RADICAND: u64 = 1 << 40;
 
@@ -134,29 +131,6 @@ impl Surd {
         let ab = a.checked_mul(b).filter(|x| *x <= MAX_RADICAND)?;
         let (s, f) = square_free(ab);
         Some(Surd::term(s, BigRational::new(BigInt::from(f), BigInt::from(b))))
-    }
-
-    /// Parses a constant expression (`1/2`, `-sqrt(3)/18`, `(1 + sqrt(5))/2`).
-    ///
-    /// # Errors
-    /// A syntax error, a parameter, or an operation that leaves the surds.
-    pub fn parse(text: &str) -> Result<Surd, SurdError> {
-        let e =
-            Expr::parse(text).map_err(|e| SurdError::Syntax { text: text.to_string(), message: e.message.clone() })?;
-        Surd::from_expr(&e, text)
-    }
-
-    /// The exact value of a constant expression.
-    ///
-    /// # Errors
-    /// See [`Surd::parse`]; `text` is quoted in the error.
-    pub fn from_expr(e: &Expr, text: &str) -> Result<Surd, SurdError> {
-        match e.eval_constant() {
-            Ok(Num::Exact(s)) => Ok(s),
-            Ok(Num::Approx(_)) | Err(ExprError::BadSqrt) => Err(SurdError::Inexact(text.to_string())),
-            Err(ExprError::BadDivision) => Err(SurdError::DivisionByZero(text.to_string())),
-            Err(_) => Err(SurdError::NotConstant(text.to_string())),
-        }
     }
 
     /// Whether it is zero.

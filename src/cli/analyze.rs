@@ -6,6 +6,8 @@ use std::path::PathBuf;
 use anyhow::{Context, Result, bail};
 use clap::Subcommand;
 
+use super::plot::{Plot, Series};
+
 #[derive(Subcommand)]
 pub enum AnalyzeCommand {
     /// The ternary 5-point scheme with tension ω (seed 003): C0/C1/C2 bounds,
@@ -100,7 +102,7 @@ C0 bound: min over L ≤ 8 of ‖S_b^L‖∞^(1/L) for the difference scheme b =
     writeln!(out, "C2 proven on       {}   [{}]", show(&c2), paper(2))?;
     let fractal = refine(intervals(&rows, |r| r.fractal()), &|r| r.fractal());
     writeln!(out, "fractal (C0 and length growth > 1.001) on {}", show(&fractal))?;
-    let img = ternary5_plot(&rows).render(900, 600);
+    let img = ternary5_plot(&rows).render(900, 600)?;
     bcifs::export::write_png(output, &img).with_context(|| format!("cannot write {}", output.display()))?;
     writeln!(out, "plot → {}", output.display())?;
     Ok(0)
@@ -118,9 +120,8 @@ pub fn run(out: &mut String, what: AnalyzeCommand) -> Result<u8> {
 /// The plot of the ternary 5-point analysis: measured length growth per step
 /// and the C0 contraction bound against ω, the line 1, the fractal intervals
 /// shaded, and the paper's C0 bounds as vertical lines.
-pub fn ternary5_plot(rows: &[bcifs::analysis::ternary::TernaryRow]) -> bcifs::export::Plot {
+pub fn ternary5_plot(rows: &[bcifs::analysis::ternary::TernaryRow]) -> Plot {
     use bcifs::analysis::ternary::{PAPER_RANGES, intervals};
-    use bcifs::export::{Plot, Series};
     let series = |label: &str, f: &dyn Fn(&bcifs::analysis::ternary::TernaryRow) -> f64, color| Series {
         label: label.into(),
         points: rows.iter().map(|r| (r.omega, f(r))).collect(),
@@ -141,15 +142,15 @@ pub fn ternary5_plot(rows: &[bcifs::analysis::ternary::TernaryRow]) -> bcifs::ex
     }
     let top = rows.iter().map(|r| r.growth.max(r.c0)).fold(1.5f64, f64::max).min(4.0);
     Plot {
-        title: "TERNARY 5-POINT SCHEME".into(),
-        x_label: "TENSION W".into(),
-        y_label: "RATE PER STEP".into(),
+        title: "Ternary 5-point scheme (seed 003)".into(),
+        x_label: "tension ω".into(),
+        y_label: "rate per step".into(),
         series: vec![
-            series("LENGTH GROWTH", &|r| r.growth, [30, 70, 170]),
-            series("C0 BOUND (<1: C0)", &|r| r.c0, [230, 120, 20]),
-            series("C1 BOUND", &|r| r.c1, [40, 150, 60]),
+            series("length growth", &|r| r.growth, [30, 70, 170]),
+            series("C0 bound (< 1: C0)", &|r| r.c0, [230, 120, 20]),
+            series("C1 bound", &|r| r.c1, [40, 150, 60]),
         ],
-        bands: bands.into_iter().map(|(a, b, c, l)| (a, b, c, l.to_uppercase())).collect(),
+        bands,
         hlines: vec![(1.0, [200, 0, 0])],
         vlines: vec![(PAPER_RANGES[0].1, [150, 0, 150]), (PAPER_RANGES[0].2, [150, 0, 150])],
         y_range: Some((0.0, top)),

@@ -9,6 +9,7 @@ use bcifs::export::{RasterSettings, write_atomic};
 use bcifs::geometry::Shape;
 use bcifs::{CellKind, Design, Layout, Progress, instantiate};
 
+use super::progress_bar;
 use super::render::{
     RenderError, RenderOptions, RenderSummary, SchemeForm, model_of, normal_shape, render, write_shape,
 };
@@ -163,4 +164,28 @@ pub fn gallery(dir: &Path, progress: Option<&Progress>) -> Result<Vec<GalleryEnt
     html.push_str("</body></html>\n");
     write_atomic(&dir.join("index.html"), html.as_bytes()).map_err(|e| RenderError::Io(dir.join("index.html"), e))?;
     Ok(entries)
+}
+
+/// `bcifs gallery DIR`: renders the gallery and lists what it wrote.
+pub fn run(out: &mut String, dir: &Path) -> anyhow::Result<u8> {
+    let started = std::time::Instant::now();
+    let entries = gallery(dir, progress_bar().as_ref())?;
+    for e in &entries {
+        writeln!(
+            out,
+            "{:<20} depth {:>2}  {:>9} vertices  {}",
+            e.name,
+            e.depth.unwrap_or(0),
+            e.summary.vertices,
+            e.files.join(", ")
+        )?;
+    }
+    writeln!(
+        out,
+        "{} automata → {} ({:.1} s)",
+        entries.len(),
+        dir.join("index.html").display(),
+        started.elapsed().as_secs_f64()
+    )?;
+    Ok(0)
 }

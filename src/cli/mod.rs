@@ -5,23 +5,22 @@
 mod analyze;
 mod core;
 mod gallery;
+mod plot;
 mod render;
 mod scheme;
 
-use std::fmt::Write as _;
 use std::io::Write as _;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
 
 use bcifs::{Design, Progress, read_design};
 
 use self::analyze::AnalyzeCommand;
 use self::core::Topology;
-use self::gallery::gallery;
-use self::render::{RenderOptions, render};
+use self::render::RenderArgs;
 use self::scheme::SchemeCommand;
 
 #[derive(Parser)]
@@ -53,46 +52,7 @@ enum Command {
         json: bool,
     },
     /// Evaluate an automaton with its model and write OBJ, SVG or PNG.
-    Render {
-        /// The automaton file (TOML), or the name of a shipped automaton.
-        file: String,
-        /// A parameter value, NAME=VALUE (repeatable).
-        #[arg(long = "param", value_name = "NAME=VALUE")]
-        params: Vec<String>,
-        /// Subdivision depth.
-        #[arg(long, conflicts_with = "tolerance")]
-        depth: Option<usize>,
-        /// Subdivide until every cell's control polygon is smaller than this (modelling units).
-        #[arg(long)]
-        tolerance: Option<f64>,
-        /// Chaos game with this many points instead of deterministic evaluation.
-        #[arg(long, value_name = "N")]
-        random: Option<usize>,
-        /// Seed of the chaos game.
-        #[arg(long, default_value_t = 1)]
-        seed: u64,
-        /// Probability of an arrow in the chaos game, ARROW=P (repeatable; default ∝ |det|).
-        #[arg(long = "prob", value_name = "ARROW=P")]
-        probs: Vec<String>,
-        /// Leave out a subdivision arrow (repeatable): a subset of the attractor.
-        #[arg(long = "drop", value_name = "ARROW")]
-        drop: Vec<String>,
-        /// Worker threads (default: all cores).
-        #[arg(long)]
-        threads: Option<usize>,
-        /// In-memory limit in MiB for PNG/SVG output.
-        #[arg(long, default_value_t = 4096)]
-        memory_mib: usize,
-        /// Picture size in pixels, WIDTHxHEIGHT.
-        #[arg(long, default_value = "800x800")]
-        size: String,
-        /// View of 3D shapes: YAW,PITCH in degrees.
-        #[arg(long, default_value = "30,35", allow_hyphen_values = true)]
-        view: String,
-        /// Output file: .obj (streamed), .svg or .png.
-        #[arg(short, long)]
-        output: PathBuf,
-    },
+    Render(RenderArgs),
     /// Render every shipped automaton (PNG, OBJ) and an index.html into DIR.
     Gallery {
         /// Output directory.
@@ -177,79 +137,8 @@ fn run(out: &mut String, cli: Cli) -> Result<u8> {
     match cli.command {
         Command::Solve { file, json } => core::run_solve(out, &file, json),
         Command::Check { file, params, json } => core::run_check(out, &file, &params, json),
-        Command::Render {
-            file,
-            params,
-            depth,
-            tolerance,
-            random,
-            seed,
-            probs,
-            drop,
-            threads,
-            memory_mib,
-            size,
-            view,
-            output,
-        } => {
-            let design = load(&file)?;
-            let mut options = RenderOptions { params: parse_params(&params)?, ..RenderOptions::default() };
-            options.eval.depth = match (depth, tolerance) {
-                (_, Some(eps)) if eps > 0.0 => bcifs::eval::Depth::Tolerance(eps),
-                (_, Some(eps)) => bail!("the tolerance must be positive, not {eps}"),
-                (Some(k), None) => bcifs::eval::Depth::Fixed(k),
-                (None, None) => bcifs::eval::Depth::Fixed(bcifs::eval::DEFAULT_DEPTH),
-            };
-            options.eval.threads = threads;
-            options.eval.memory_limit = memory_mib.saturating_mul(1 << 20);
-            options.eval.dropped = drop;
-            options.eval.progress = progress_bar();
-            if let Some(n) = random {
-                let mut r = bcifs::eval::RandomSettings::default().with_points(n).with_seed(seed);
-                r.threads = threads;
-                r.probabilities = parse_params(&probs)?;
-                options.random = Some(r);
-            }
-            let (w, h) = size.split_once('x').with_context(|| format!("--size `{size}`: expected WIDTHxHEIGHT"))?;
-            let (yaw, pitch) = view.split_once(',').with_context(|| format!("--view `{view}`: expected YAW,PITCH"))?;
-            options.raster = options
-                .raster
-                .with_size(w.trim().parse().context("--size width")?, h.trim().parse().context("--size height")?)
-                .with_view(yaw.trim().parse().context("--view yaw")?, pitch.trim().parse().context("--view pitch")?);
-            let started = std::time::Instant::now();
-            let summary = render(&design, &options, &output)?;
-            eprintln!(
-                "{}: {} vertices{} → {} ({:.2} s)",
-                design.name(),
-                summary.vertices,
-                if summary.quads > 0 { format!(", {} quads", summary.quads) } else { String::new() },
-                output.display(),
-                started.elapsed().as_secs_f64()
-            );
-            Ok(0)
-        }
-        Command::Gallery { dir } => {
-            let started = std::time::Instant::now();
-            let entries = gallery(&dir, progress_bar().as_ref())?;
-            for e in &entries {
-                writeln!(
-                    out,
-                    "{:<20} depth {:>2}  {:>9} vertices  {}",
-                    e.name,
-                    e.depth.unwrap_or(0),
-                    e.summary.vertices,
-                    e.files.join(", ")
-                )?;
-            }
-            writeln!(
-                out,
-                "{} automata → {} ({:.1} s)",
-                entries.len(),
-                dir.join("index.html").display(),
-                started.elapsed().as_secs_f64()
-            )?;
-            Ok(0)
-        }
+        Command::Render(args) => render::run(args),
+        Command::Gallery { dir } => gallery::run(out, &dir),
         Command::Analyze { what } => analyze::run(out, what),
         Command::Scheme { scheme } => scheme::run(out, scheme),
         Command::New { topology } => core::run_new(out, topology),

@@ -3,10 +3,13 @@
 
 use std::path::{Path, PathBuf};
 
+use anyhow::{Context, bail};
 use bcifs::eval::{EvalError, EvalSettings, Evaluator, chaos_game};
 use bcifs::export::{ObjWriter, RasterSettings, raster, svg, write_atomic, write_obj, write_png};
 use bcifs::geometry::{Shape, Sink};
 use bcifs::{Design, DesignInstantiateError, Model, instantiate};
+
+use super::{load, parse_params, parse_size, progress_bar};
 
 /// What to render and how.
 #[derive(Clone, Debug, Default)]
@@ -45,6 +48,103 @@ pub enum RenderError {
     /// A normal-vector scheme that cannot take the requested form.
     #[error(transparent)]
     Scheme(bcifs::schemes::NormalSchemeError),
+}
+
+/// The arguments of `bcifs render`.
+#[derive(clap::Args)]
+pub struct RenderArgs {
+    /// The automaton file (TOML), or the name of a shipped automaton.
+    pub file: String,
+    /// A parameter value, NAME=VALUE (repeatable).
+    #[arg(long = "param", value_name = "NAME=VALUE")]
+    pub params: Vec<String>,
+    /// Subdivision depth.
+    #[arg(long, conflicts_with = "tolerance")]
+    pub depth: Option<usize>,
+    /// Subdivide until every cell's control polygon is smaller than this (modelling units).
+    #[arg(long)]
+    pub tolerance: Option<f64>,
+    /// Chaos game with this many points instead of deterministic evaluation.
+    #[arg(long, value_name = "N")]
+    pub random: Option<usize>,
+    /// Seed of the chaos game.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Probability of an arrow in the chaos game, ARROW=P (repeatable; default ∝ |det|).
+    #[arg(long = "prob", value_name = "ARROW=P")]
+    pub probs: Vec<String>,
+    /// Leave out a subdivision arrow (repeatable): a subset of the attractor.
+    #[arg(long = "drop", value_name = "ARROW")]
+    pub drop: Vec<String>,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// In-memory limit in MiB for PNG/SVG output.
+    #[arg(long, default_value_t = 4096)]
+    pub memory_mib: usize,
+    /// Picture size in pixels, WIDTHxHEIGHT.
+    #[arg(long, default_value = "800x800")]
+    pub size: String,
+    /// View of 3D shapes: YAW,PITCH in degrees.
+    #[arg(long, default_value = "30,35", allow_hyphen_values = true)]
+    pub view: String,
+    /// Output file: .obj (streamed), .svg or .png.
+    #[arg(short, long)]
+    pub output: PathBuf,
+}
+
+/// `bcifs render`: evaluates a design with its model and writes the file.
+pub fn run(args: RenderArgs) -> anyhow::Result<u8> {
+    let RenderArgs {
+        file,
+        params,
+        depth,
+        tolerance,
+        random,
+        seed,
+        probs,
+        drop,
+        threads,
+        memory_mib,
+        size,
+        view,
+        output,
+    } = args;
+    let design = load(&file)?;
+    let mut options = RenderOptions { params: parse_params(&params)?, ..RenderOptions::default() };
+    options.eval.depth = match (depth, tolerance) {
+        (_, Some(eps)) if eps > 0.0 => bcifs::eval::Depth::Tolerance(eps),
+        (_, Some(eps)) => bail!("the tolerance must be positive, not {eps}"),
+        (Some(k), None) => bcifs::eval::Depth::Fixed(k),
+        (None, None) => bcifs::eval::Depth::Fixed(bcifs::eval::DEFAULT_DEPTH),
+    };
+    options.eval.threads = threads;
+    options.eval.memory_limit = memory_mib.saturating_mul(1 << 20);
+    options.eval.dropped = drop;
+    options.eval.progress = progress_bar();
+    if let Some(n) = random {
+        let mut r = bcifs::eval::RandomSettings::default().with_points(n).with_seed(seed);
+        r.threads = threads;
+        r.probabilities = parse_params(&probs)?;
+        options.random = Some(r);
+    }
+    let (w, h) = parse_size(&size)?;
+    let (yaw, pitch) = view.split_once(',').with_context(|| format!("--view `{view}`: expected YAW,PITCH"))?;
+    options.raster = options
+        .raster
+        .with_size(w, h)
+        .with_view(yaw.trim().parse().context("--view yaw")?, pitch.trim().parse().context("--view pitch")?);
+    let started = std::time::Instant::now();
+    let summary = render(&design, &options, &output)?;
+    eprintln!(
+        "{}: {} vertices{} → {} ({:.2} s)",
+        design.name(),
+        summary.vertices,
+        if summary.quads > 0 { format!(", {} quads", summary.quads) } else { String::new() },
+        output.display(),
+        started.elapsed().as_secs_f64()
+    );
+    Ok(0)
 }
 
 /// What a render produced.

@@ -10,7 +10,7 @@ use std::fmt;
 
 use nalgebra::DMatrix;
 
-use super::{Design, Docs, Layout, Model, Origin, Variable};
+use super::model::{Docs, Layout, Model, Origin, Variable};
 use crate::algebra::{Affine, Env, Expr, ExprError, Num, Surd};
 use crate::automaton::{Arrow, ArrowKind, Automaton, Constraint, Relation, selection};
 use crate::names::suggest;
@@ -929,17 +929,7 @@ impl<'a> Compiler<'a> {
     }
 
     fn check_model(&self, m: &Model) -> Result<(), BuildError> {
-        let a = &self.automaton;
-        if m.roots.is_empty() {
-            return Err(Self::model_error(Field::Root, "expected at least one root state"));
-        }
-        let mut roots = Vec::new();
-        for name in &m.roots {
-            let id = a.state_id(name).ok_or_else(|| {
-                Self::model_error(Field::Root, format!("no state named `{name}`")).suggesting(name, self.state_names())
-            })?;
-            roots.push(id);
-        }
+        let roots = self.model_roots(m)?;
         let d = m.points.first().map_or(0, Vec::len);
         if !(2..=3).contains(&d) || m.points.iter().any(|p| p.len() != d) {
             return Err(Self::model_error(Field::Points, "control points must all have 2 or all have 3 coordinates"));
@@ -955,26 +945,53 @@ impl<'a> Compiler<'a> {
         {
             return Err(Self::model_error(Field::Grid, "expected grid = [ROWS, COLS] with positive sizes"));
         }
-        let dim = a.state(roots[0]).dim;
+        self.model_starts(m)?;
+        let needed = self.model_points_needed(m, &roots, d)?;
+        if m.points.len() < needed {
+            return Err(Self::model_error(
+                Field::Points,
+                format!("this layout needs at least {needed} control points, not {}", m.points.len()),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The dimensions of the model's roots, which must all name states (and,
+    /// but for a union, have the same dimension).
+    fn model_roots(&self, m: &Model) -> Result<Vec<usize>, BuildError> {
+        let a = &self.automaton;
+        if m.roots.is_empty() {
+            return Err(Self::model_error(Field::Root, "expected at least one root state"));
+        }
+        let mut dims = Vec::new();
+        for name in &m.roots {
+            let id = a.state_id(name).ok_or_else(|| {
+                Self::model_error(Field::Root, format!("no state named `{name}`")).suggesting(name, self.state_names())
+            })?;
+            dims.push(a.state(id).dim);
+        }
         if m.layout != Layout::Union
-            && let Some(other) = roots.iter().find(|r| a.state(**r).dim != dim)
+            && let Some(k) = dims.iter().position(|&n| n != dims[0])
         {
             return Err(Self::model_error(
                 Field::Whole,
                 format!(
-                    "the roots of this layout must have the same dimension: `{}` has {dim}, `{}` has {}",
-                    m.roots[0],
-                    a.state(*other).name,
-                    a.state(*other).dim
+                    "the roots of this layout must have the same dimension: `{}` has {}, `{}` has {}",
+                    m.roots[0], dims[0], m.roots[k], dims[k]
                 ),
             ));
         }
+        Ok(dims)
+    }
+
+    /// Start sets name states and hold barycentric points of their dimension.
+    fn model_starts(&self, m: &Model) -> Result<(), BuildError> {
         for (k, (state, set)) in m.start.iter().enumerate() {
-            let Some(id) = a.state_id(state) else {
+            let Some(id) = self.automaton.state_id(state) else {
                 return Err(Self::model_error(Field::Start(k), format!("no state named `{state}` for a start set"))
                     .suggesting(state, self.state_names()));
             };
-            let n = a.state(id).dim;
+            let n = self.automaton.state(id).dim;
             for p in set {
                 if p.len() != n {
                     return Err(Self::model_error(
@@ -991,7 +1008,14 @@ impl<'a> Compiler<'a> {
                 }
             }
         }
-        let needed = match m.layout {
+        Ok(())
+    }
+
+    /// How many control points the layout needs at least (`dims`: of the
+    /// roots; `d`: of the points).
+    fn model_points_needed(&self, m: &Model, dims: &[usize], d: usize) -> Result<usize, BuildError> {
+        let dim = dims[0];
+        Ok(match m.layout {
             Layout::Frames | Layout::ClosedFrames => {
                 if d != 2 || dim != 3 {
                     return Err(Self::model_error(
@@ -1003,7 +1027,7 @@ impl<'a> Compiler<'a> {
             }
             Layout::Single | Layout::Open | Layout::Closed => dim,
             Layout::Union => {
-                let total: usize = roots.iter().map(|r| a.state(*r).dim).sum();
+                let total: usize = dims.iter().sum();
                 if !m.points.len().is_multiple_of(total) {
                     return Err(Self::model_error(
                         Field::Points,
@@ -1023,13 +1047,84 @@ impl<'a> Compiler<'a> {
                 }
                 dim
             }
-        };
-        if m.points.len() < needed {
-            return Err(Self::model_error(
-                Field::Points,
-                format!("this layout needs at least {needed} control points, not {}", m.points.len()),
-            ));
-        }
-        Ok(())
+        })
+    }
+}
+
+/// An automaton whose entries are affine in the variables of its constraint
+/// system, made by a [`DesignBuilder`] (from a file, a generator or code),
+/// with its model.
+///
+/// Its parts agree by construction: every variable of an entry exists, every
+/// parameter is declared, the model's roots and start sets name states.
+#[derive(Clone, Debug)]
+pub struct Design {
+    automaton: Automaton<Affine>,
+    variables: Vec<Variable>,
+    defaults: HashMap<String, f64>,
+    declared: Vec<String>,
+    spec: DesignBuilder,
+}
+
+impl Design {
+    /// Starts a design called `name`: see [`DesignBuilder`].
+    pub fn builder(name: impl Into<String>) -> DesignBuilder {
+        DesignBuilder::new(name)
+    }
+
+    /// The automaton; unknown entries are variables, known entries may use parameters.
+    pub fn automaton(&self) -> &Automaton<Affine> {
+        &self.automaton
+    }
+
+    /// The name.
+    pub fn name(&self) -> &str {
+        &self.automaton.name
+    }
+
+    /// The variables of the constraint system, indexed as in the affine entries.
+    pub fn variables(&self) -> &[Variable] {
+        &self.variables
+    }
+
+    /// Default values of parameters, by name.
+    pub fn defaults(&self) -> &HashMap<String, f64> {
+        &self.defaults
+    }
+
+    /// The parameter names in the order they were declared.
+    pub fn declared(&self) -> &[String] {
+        &self.declared
+    }
+
+    /// The model, if the design has one.
+    pub fn model(&self) -> Option<&Model> {
+        self.spec.model_ref()
+    }
+
+    /// Free text describing the design.
+    pub fn description(&self) -> &str {
+        self.spec.description_ref()
+    }
+
+    /// Comments of the parts, for printing.
+    pub fn docs(&self) -> &Docs {
+        self.spec.docs_ref()
+    }
+
+    /// A builder holding everything this design was built from, to change
+    /// and build again (another model, other defaults, more constraints).
+    pub fn to_builder(&self) -> DesignBuilder {
+        self.spec.clone()
+    }
+
+    /// The variable called `name`.
+    pub fn variable(&self, name: &str) -> Option<usize> {
+        self.variables.iter().position(|v| v.name == name)
+    }
+
+    /// The names of all variables, indexed like them.
+    pub fn variable_names(&self) -> Vec<String> {
+        self.variables.iter().map(|v| v.name.clone()).collect()
     }
 }

@@ -1,15 +1,23 @@
-//! Evaluation of instantiated automata with a model: deterministic
-//! (fixed depth or tolerance) and random (chaos game).
+//! Evaluation of instantiated automata with a model: deterministic (fixed
+//! depth or tolerance) and random (chaos game).
+//!
+//! The files, bottom first: `settings` (what to evaluate, what can fail),
+//! `plan` and `pieces` (per-state preparation, the model cut into root
+//! cells), `prepared` (the `Evaluator`: plan, pieces, tabulated levels,
+//! thread pool), `curve` and `surface` (curves and points; welded meshes),
+//! `evaluate` (into memory or streamed), `random` (the chaos game).
 
-mod deterministic;
+mod curve;
+mod evaluate;
 mod pieces;
 mod plan;
+mod prepared;
 mod random;
+mod settings;
 mod surface;
 
-pub use deterministic::{
-    DEFAULT_DEPTH, DEFAULT_MEMORY_LIMIT, Depth, EvalError, EvalSettings, Evaluator, MAX_ADAPTIVE_DEPTH,
-};
 pub use pieces::{ModelError, Piece, Pieces};
 pub use plan::PlanError;
+pub use prepared::Evaluator;
 pub use random::{ChaosGame, DEFAULT_BURN_IN, RandomSettings, SINGULAR_FLOOR, chaos_game};
+pub use settings::{DEFAULT_DEPTH, DEFAULT_MEMORY_LIMIT, Depth, EvalError, EvalSettings, MAX_ADAPTIVE_DEPTH};

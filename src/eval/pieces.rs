@@ -75,122 +75,176 @@ pub fn pieces(automaton: &Automaton<f64>, model: &Model) -> Result<Pieces, Model
             automaton.state(*other).dim
         )));
     }
-    let root_of = |i: usize| roots[i % roots.len()].index();
-    let d = model.points.first().map_or(2, Vec::len);
-    let len = model.points.len();
-    let err = |s: String| Err(ModelError::Layout(s));
     // Default step: the control points one cell does not share with its neighbour.
     let boundary_dim =
         automaton.outgoing(root, ArrowKind::Boundary).first().map(|e| automaton.state(automaton.arrow_ends(*e).1).dim);
-    let piece = |k: usize, name: String, idx: Vec<usize>| Piece {
-        name,
-        state: root_of(k),
-        control: control(&model.points, &idx, d),
+    let cut = Cut {
+        model,
+        dims: roots.iter().map(|r| automaton.state(*r).dim).collect(),
+        roots: roots.iter().map(|r| r.index()).collect(),
+        n,
+        d: model.points.first().map_or(2, Vec::len),
+        boundary_dim,
     };
-    let mut out = Pieces { dim: d, pieces: Vec::new(), closed: false, connected: false, grid: None };
+    let mut out = Pieces { dim: cut.d, pieces: Vec::new(), closed: false, connected: false, grid: None };
     match model.layout {
         Layout::Single => {
+            let len = model.points.len();
             if len < n {
-                return err(format!("the root has dim {n} but the model has {len} control points"));
+                return layout_error(format!("the root has dim {n} but the model has {len} control points"));
             }
-            out.pieces.push(piece(0, "piece 0".into(), (0..n).collect()));
+            out.pieces.push(cut.piece(0, "piece 0".into(), (0..n).collect()));
         }
-        Layout::Union => {
-            let mut at = 0;
-            while at < len {
-                let k = out.pieces.len();
-                let m = automaton.state(roots[k % roots.len()]).dim;
-                if at + m > len {
-                    return err(format!(
-                        "a union piece of `{}` needs {m} control points; only {} are left",
-                        model.root(k),
-                        len - at
-                    ));
-                }
-                out.pieces.push(piece(k, format!("piece {k}"), (at..at + m).collect()));
-                at += m;
-            }
-        }
+        Layout::Union => out.pieces = cut.union()?,
         Layout::Open | Layout::Closed => {
-            let step = model.step.unwrap_or(n - boundary_dim.unwrap_or(0).min(n - 1));
-            let closed = model.layout == Layout::Closed;
-            if closed {
-                if !len.is_multiple_of(step) || len < n {
-                    return err(format!(
-                        "a closed layout with step {step} needs a multiple of {step} control points (at least {n}), not {len}"
-                    ));
-                }
-                for (k, s) in (0..len).step_by(step).enumerate() {
-                    out.pieces.push(piece(k, format!("piece {k}"), (s..s + n).map(|i| i % len).collect()));
-                }
-            } else {
-                if len < n || !(len - n).is_multiple_of(step) {
-                    return err(format!(
-                        "an open layout of windows of {n} with step {step} needs {n} + a multiple of {step} control points, not {len}"
-                    ));
-                }
-                for (k, s) in (0..=len - n).step_by(step).enumerate() {
-                    out.pieces.push(piece(k, format!("piece {k}"), (s..s + n).collect()));
-                }
-            }
-            out.closed = closed;
+            out.closed = model.layout == Layout::Closed;
+            out.pieces = cut.windows(out.closed)?;
             out.connected = true;
         }
         Layout::Frames | Layout::ClosedFrames => {
-            let closed = model.layout == Layout::ClosedFrames;
-            if len < 2 || d != 2 {
-                return err(format!("frame layouts need at least two 2D points, not {len} of dimension {d}"));
-            }
-            let segments = if closed { len } else { len - 1 };
-            for i in 0..segments {
-                let (p, q) = (&model.points[i], &model.points[(i + 1) % len]);
-                let frame = [p[0] - (q[1] - p[1]), p[1] + (q[0] - p[0])];
-                out.pieces.push(Piece {
-                    name: format!("segment {i}"),
-                    state: root_of(i),
-                    control: vec![p[0], q[0], frame[0], p[1], q[1], frame[1]],
-                });
-            }
-            out.closed = closed;
+            out.closed = model.layout == Layout::ClosedFrames;
+            out.pieces = cut.frames(out.closed)?;
             out.connected = true;
         }
         Layout::Grid | Layout::Torus => {
-            let w = (n as f64).sqrt().round() as usize;
-            if w * w != n {
-                return err(format!("grid layouts need a root of square dimension (w × w windows), not {n}"));
-            }
-            let (rows, cols) =
-                model.grid.ok_or_else(|| ModelError::Layout("grid layouts need grid = [ROWS, COLS]".into()))?;
-            // A boundary edge of a w × w face holds `bw` rows of w points.
-            let bw = boundary_dim.map_or(w - 1, |b| (b / w).clamp(1, w - 1));
-            let step = model.step.unwrap_or(w - bw);
-            let torus = model.layout == Layout::Torus;
-            let (pr, pc) = if torus {
-                if !rows.is_multiple_of(step) || !cols.is_multiple_of(step) {
-                    return err(format!(
-                        "a torus with step {step} needs rows and columns that are multiples of {step}"
-                    ));
-                }
-                (rows / step, cols / step)
-            } else {
-                if rows < w || cols < w || !(rows - w).is_multiple_of(step) || !(cols - w).is_multiple_of(step) {
-                    return err(format!(
-                        "a grid of {w}×{w} windows with step {step} does not fit {rows}×{cols} control points"
-                    ));
-                }
-                ((rows - w) / step + 1, (cols - w) / step + 1)
-            };
-            for i in 0..pr {
-                for j in 0..pc {
-                    let idx = (0..w)
-                        .flat_map(|r| (0..w).map(move |c| ((i * step + r) % rows) * cols + (j * step + c) % cols))
-                        .collect();
-                    let k = out.pieces.len();
-                    out.pieces.push(piece(k, format!("patch {i},{j}"), idx));
-                }
-            }
-            out.grid = Some((pr, pc, torus));
+            let (pieces, grid) = cut.grid(model.layout == Layout::Torus)?;
+            out.pieces = pieces;
+            out.grid = Some(grid);
         }
     }
     Ok(out)
+}
+
+/// Patch rows, patch columns, and whether they wrap around (a torus).
+type PatchGrid = (usize, usize, bool);
+
+fn layout_error<T>(message: String) -> Result<T, ModelError> {
+    Err(ModelError::Layout(message))
+}
+
+/// What cutting a model needs: its roots (state indices and dimensions),
+/// the root dimension `n`, the point dimension `d`, and the dimension of a
+/// boundary cell of the root (the points neighbouring cells share).
+struct Cut<'a> {
+    model: &'a Model,
+    roots: Vec<usize>,
+    dims: Vec<usize>,
+    n: usize,
+    d: usize,
+    boundary_dim: Option<usize>,
+}
+
+impl Cut<'_> {
+    /// Piece `k` (root `k mod roots`) on the control points `idx`.
+    fn piece(&self, k: usize, name: String, idx: Vec<usize>) -> Piece {
+        Piece { name, state: self.roots[k % self.roots.len()], control: control(&self.model.points, &idx, self.d) }
+    }
+
+    /// Consecutive runs of `dim(root_k)` points, nothing shared.
+    fn union(&self) -> Result<Vec<Piece>, ModelError> {
+        let len = self.model.points.len();
+        let (mut out, mut at) = (Vec::new(), 0);
+        while at < len {
+            let k = out.len();
+            let m = self.dims[k % self.dims.len()];
+            if at + m > len {
+                return layout_error(format!(
+                    "a union piece of `{}` needs {m} control points; only {} are left",
+                    self.model.root(k),
+                    len - at
+                ));
+            }
+            out.push(self.piece(k, format!("piece {k}"), (at..at + m).collect()));
+            at += m;
+        }
+        Ok(out)
+    }
+
+    /// Windows of `n` points sliding by the step, wrapping around when closed.
+    fn windows(&self, closed: bool) -> Result<Vec<Piece>, ModelError> {
+        let (n, len) = (self.n, self.model.points.len());
+        let step = self.model.step.unwrap_or(n - self.boundary_dim.unwrap_or(0).min(n - 1));
+        if closed {
+            if !len.is_multiple_of(step) || len < n {
+                return layout_error(format!(
+                    "a closed layout with step {step} needs a multiple of {step} control points (at least {n}), not {len}"
+                ));
+            }
+            return Ok((0..len)
+                .step_by(step)
+                .enumerate()
+                .map(|(k, s)| self.piece(k, format!("piece {k}"), (s..s + n).map(|i| i % len).collect()))
+                .collect());
+        }
+        if len < n || !(len - n).is_multiple_of(step) {
+            return layout_error(format!(
+                "an open layout of windows of {n} with step {step} needs {n} + a multiple of {step} control points, not {len}"
+            ));
+        }
+        Ok((0..=len - n)
+            .step_by(step)
+            .enumerate()
+            .map(|(k, s)| self.piece(k, format!("piece {k}"), (s..s + n).collect()))
+            .collect())
+    }
+
+    /// Segments `(P_i, P_{i+1})` with their rotated frame points.
+    fn frames(&self, closed: bool) -> Result<Vec<Piece>, ModelError> {
+        let (points, len, d) = (&self.model.points, self.model.points.len(), self.d);
+        if len < 2 || d != 2 {
+            return layout_error(format!("frame layouts need at least two 2D points, not {len} of dimension {d}"));
+        }
+        let segments = if closed { len } else { len - 1 };
+        Ok((0..segments)
+            .map(|i| {
+                let (p, q) = (&points[i], &points[(i + 1) % len]);
+                let frame = [p[0] - (q[1] - p[1]), p[1] + (q[0] - p[0])];
+                Piece {
+                    name: format!("segment {i}"),
+                    state: self.roots[i % self.roots.len()],
+                    control: vec![p[0], q[0], frame[0], p[1], q[1], frame[1]],
+                }
+            })
+            .collect())
+    }
+
+    /// `w × w` windows of the control grid (`n = w²`), wrapping on a torus;
+    /// with the patch rows and columns.
+    fn grid(&self, torus: bool) -> Result<(Vec<Piece>, PatchGrid), ModelError> {
+        let n = self.n;
+        let w = (n as f64).sqrt().round() as usize;
+        if w * w != n {
+            return layout_error(format!("grid layouts need a root of square dimension (w × w windows), not {n}"));
+        }
+        let (rows, cols) =
+            self.model.grid.ok_or_else(|| ModelError::Layout("grid layouts need grid = [ROWS, COLS]".into()))?;
+        // A boundary edge of a w × w face holds `bw` rows of w points.
+        let bw = self.boundary_dim.map_or(w - 1, |b| (b / w).clamp(1, w - 1));
+        let step = self.model.step.unwrap_or(w - bw);
+        let (pr, pc) = if torus {
+            if !rows.is_multiple_of(step) || !cols.is_multiple_of(step) {
+                return layout_error(format!(
+                    "a torus with step {step} needs rows and columns that are multiples of {step}"
+                ));
+            }
+            (rows / step, cols / step)
+        } else {
+            if rows < w || cols < w || !(rows - w).is_multiple_of(step) || !(cols - w).is_multiple_of(step) {
+                return layout_error(format!(
+                    "a grid of {w}×{w} windows with step {step} does not fit {rows}×{cols} control points"
+                ));
+            }
+            ((rows - w) / step + 1, (cols - w) / step + 1)
+        };
+        let mut out = Vec::with_capacity(pr * pc);
+        for i in 0..pr {
+            for j in 0..pc {
+                let idx = (0..w)
+                    .flat_map(|r| (0..w).map(move |c| ((i * step + r) % rows) * cols + (j * step + c) % cols))
+                    .collect();
+                out.push(self.piece(out.len(), format!("patch {i},{j}"), idx));
+            }
+        }
+        Ok((out, (pr, pc, torus)))
+    }
 }

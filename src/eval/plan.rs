@@ -107,36 +107,8 @@ impl Plan {
     /// be evaluated (a vertex without rule, an edge without ends, a face
     /// that is not a 2×2 split in grid orientation).
     pub fn new(automaton: &Automaton<f64>, start_sets: &[(String, Vec<Vec<f64>>)]) -> Result<Plan, PlanError> {
-        for (_, arrow) in automaton.arrows() {
-            for (j, col) in arrow.matrix.column_iter().enumerate() {
-                let sum = col.sum();
-                if (sum - 1.0).abs() > 1e-9 {
-                    return Err(PlanError::NotStochastic { arrow: arrow.name.clone(), column: j, sum });
-                }
-            }
-            if arrow.kind == ArrowKind::Subdivision && arrow.matrix.is_square() {
-                let eig = crate::algebra::eigenvalues(&arrow.matrix)
-                    .ok_or_else(|| PlanError::Spectrum(arrow.name.clone()))?;
-                if !crate::algebra::contractive_spectrum(&eig, 1e-9) {
-                    let mut moduli: Vec<f64> = eig.iter().map(|l| l.norm()).collect();
-                    moduli.sort_by(f64::total_cmp);
-                    let modulus = if moduli.len() > 1 { moduli[moduli.len() - 2] } else { moduli[0] };
-                    return Err(PlanError::NotContractive { arrow: arrow.name.clone(), modulus });
-                }
-            }
-        }
-        let size = automaton.states().map(|(i, _)| i.index() + 1).max().unwrap_or(0);
-        let mut vertex_point: Vec<Option<Vec<f64>>> = vec![None; size];
-        for (id, s) in automaton.states() {
-            if s.kind == CellKind::Vertex {
-                let rule = automaton
-                    .outgoing(id, ArrowKind::Subdivision)
-                    .into_iter()
-                    .find(|e| automaton.arrow_ends(*e).1 == id)
-                    .ok_or_else(|| PlanError::NoVertexRule(s.name.clone()))?;
-                vertex_point[id.index()] = fixed_point(&automaton.arrow(rule).matrix);
-            }
-        }
+        check_arrows(automaton)?;
+        let vertex_point = vertex_points(automaton)?;
         // Barycentric ends of an edge state: b · v* for its first two boundary arrows.
         let ends = |edge: NodeIndex| -> Option<(Vec<f64>, Vec<f64>)> {
             let b: Vec<Vec<f64>> = automaton
@@ -151,7 +123,7 @@ impl Plan {
                 .collect();
             (b.len() >= 2).then(|| (b[0].clone(), b[1].clone()))
         };
-        let mut states = vec![None; size];
+        let mut states = vec![None; vertex_point.len()];
         for (id, s) in automaton.states() {
             let children: Vec<(EdgeIndex, usize, Vec<f64>)> = automaton
                 .outgoing(id, ArrowKind::Subdivision)
@@ -198,6 +170,49 @@ impl Plan {
     }
 }
 
+/// Every column of every arrow sums to 1, and every square subdivision
+/// arrow has one eigenvalue 1 and all others of modulus < 1.
+fn check_arrows(automaton: &Automaton<f64>) -> Result<(), PlanError> {
+    for (_, arrow) in automaton.arrows() {
+        for (j, col) in arrow.matrix.column_iter().enumerate() {
+            let sum = col.sum();
+            if (sum - 1.0).abs() > 1e-9 {
+                return Err(PlanError::NotStochastic { arrow: arrow.name.clone(), column: j, sum });
+            }
+        }
+        if arrow.kind == ArrowKind::Subdivision && arrow.matrix.is_square() {
+            let eig =
+                crate::algebra::eigenvalues(&arrow.matrix).ok_or_else(|| PlanError::Spectrum(arrow.name.clone()))?;
+            if !crate::algebra::contractive_spectrum(&eig, 1e-9) {
+                let mut moduli: Vec<f64> = eig.iter().map(|l| l.norm()).collect();
+                moduli.sort_by(f64::total_cmp);
+                let modulus = if moduli.len() > 1 { moduli[moduli.len() - 2] } else { moduli[0] };
+                return Err(PlanError::NotContractive { arrow: arrow.name.clone(), modulus });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The fixed point of each vertex state's own rule (indexed by state), `None` for other states.
+fn vertex_points(automaton: &Automaton<f64>) -> Result<Vec<Option<Vec<f64>>>, PlanError> {
+    let size = automaton.states().map(|(i, _)| i.index() + 1).max().unwrap_or(0);
+    let mut vertex_point: Vec<Option<Vec<f64>>> = vec![None; size];
+    for (id, s) in automaton.states() {
+        if s.kind == CellKind::Vertex {
+            let rule = automaton
+                .outgoing(id, ArrowKind::Subdivision)
+                .into_iter()
+                .find(|e| automaton.arrow_ends(*e).1 == id)
+                .ok_or_else(|| PlanError::NoVertexRule(s.name.clone()))?;
+            vertex_point[id.index()] = fixed_point(&automaton.arrow(rule).matrix);
+        }
+    }
+    Ok(vertex_point)
+}
+
+/// The corners of a face (its boundary edges' ends, walked as a cycle),
+/// then the placement of its sub-faces.
 fn face_plan(
     automaton: &Automaton<f64>,
     id: NodeIndex,
@@ -258,6 +273,13 @@ fn face_plan(
         return Err(bad(&format!("expected 4 corners joined by 4 edges, found {} corners", corners.len())));
     }
     plan.samples = cycle.iter().map(|&i| corners[i].clone()).collect();
+    place_sub_faces(id, plan)
+}
+
+/// Places the sub-faces of a face as a `p × p` grid keeping its orientation
+/// (`plan.quadrants`, `plan.split`), from its corners (`plan.samples`).
+fn place_sub_faces(id: NodeIndex, plan: &mut StatePlan) -> Result<(), PlanError> {
+    let bad = |why: &str| PlanError::BadFace(plan.name.clone(), why.to_string());
     // Sub-faces tile the face as a p × p grid and keep its orientation: sub-face
     // corner c is the lattice corner (du, dv) + OFFSETS[c]. The one whose corner 0
     // is the face's corner 0 sits at (0, 0); the right neighbour's corner 0 is

@@ -12,9 +12,9 @@
 
 use rayon::prelude::*;
 
-use super::deterministic::EvalError;
 use super::pieces::pieces;
 use super::plan::Plan;
+use super::settings::EvalError;
 use crate::automaton::{ArrowKind, Automaton};
 use crate::design::Model;
 use crate::geometry::Shape;
@@ -266,14 +266,10 @@ impl ChaosGame {
         let per = s.points.div_ceil(chains).max(1);
         let chain = |(k, slot): (usize, &mut [f64])| {
             let mut rng = Rng::new(s.seed.wrapping_mul(0x2545_F491_4F6C_DD1D).wrapping_add(k as u64));
-            let (root, n) = (self.root, self.plan.state(self.root).dim);
-            if self.single
-                && self.pieces.pieces.len() == 1
-                && affine_chain(&self.inc, root, &self.pieces.pieces[0].control, d, n, s.burn_in, &mut rng, slot)
-            {
+            if self.single && self.pieces.pieces.len() == 1 && self.affine_chain(&mut rng, slot) {
                 return;
             }
-            general_chain(&self.inc, &self.plan, root, &self.pieces, d, s.burn_in, self.single, &mut rng, slot);
+            self.general_chain(&mut rng, slot);
         };
         if self.pool.current_num_threads() == 1 {
             out.chunks_mut(per * d).enumerate().for_each(chain);
@@ -297,145 +293,135 @@ pub fn chaos_game(automaton: &Automaton<f64>, model: &Model, settings: &RandomSe
     Ok(shape)
 }
 
-/// Single-state IFS with `n = d + 1` and affinely independent control points:
-/// iterate the projected affine maps `x ← A x + t` in modelling space.
-#[allow(clippy::too_many_arguments)]
-fn affine_chain(
-    inc: &Incoming,
-    root: usize,
-    control: &[f64],
-    d: usize,
-    n: usize,
-    burn_in: usize,
-    rng: &mut Rng,
-    out: &mut [f64],
-) -> bool {
-    if n != d + 1 {
-        return false;
-    }
-    // P̂ = [P; 1 … 1] (n × n); the map of arrow M is P̂ M P̂⁻¹ = [A t; 0 1].
-    let mut ph = nalgebra::DMatrix::<f64>::zeros(n, n);
-    for a in 0..d {
+impl ChaosGame {
+    /// Single-state IFS with `n = d + 1` and affinely independent control points:
+    /// iterate the projected affine maps `x ← A x + t` in modelling space.
+    /// `false` when the control points do not allow it (then the general walk runs).
+    fn affine_chain(&self, rng: &mut Rng, out: &mut [f64]) -> bool {
+        let (inc, root, burn_in) = (&self.inc, self.root, self.settings.burn_in);
+        let (control, d, n) = (&self.pieces.pieces[0].control, self.pieces.dim, self.plan.state(root).dim);
+        if n != d + 1 {
+            return false;
+        }
+        // P̂ = [P; 1 … 1] (n × n); the map of arrow M is P̂ M P̂⁻¹ = [A t; 0 1].
+        let mut ph = nalgebra::DMatrix::<f64>::zeros(n, n);
+        for a in 0..d {
+            for i in 0..n {
+                ph[(a, i)] = control[a * n + i];
+            }
+        }
         for i in 0..n {
-            ph[(a, i)] = control[a * n + i];
+            ph[(d, i)] = 1.0;
         }
-    }
-    for i in 0..n {
-        ph[(d, i)] = 1.0;
-    }
-    let Some(inv) = ph.clone().try_inverse() else { return false };
-    if ph.norm() * inv.norm() > 1e8 {
-        return false;
-    }
-    let maps: Vec<Vec<f64>> = inc.arrows[root]
-        .iter()
-        .map(|(_, m)| {
-            let m = nalgebra::DMatrix::from_row_slice(n, n, m);
-            let h = &ph * m * &inv;
-            (0..d).flat_map(|a| (0..n).map(move |j| (a, j))).map(|(a, j)| h[(a, j)]).collect()
-        })
-        .collect();
-    let alias = inc.alias[root].as_ref().expect("root has incoming arrows");
-    match d {
-        2 => {
-            let maps: Vec<[f64; 6]> = maps.iter().map(|m| [m[0], m[1], m[2], m[3], m[4], m[5]]).collect();
-            let (mut x, mut y) = (0.0, 0.0);
-            let k = maps.len();
-            for _ in 0..burn_in {
-                let m = &maps[alias.pick(rng.next_u64()) % k];
-                (x, y) = (m[0] * x + m[1] * y + m[2], m[3] * x + m[4] * y + m[5]);
-            }
-            for p in out.chunks_exact_mut(2) {
-                let m = &maps[alias.pick(rng.next_u64()) % k];
-                (x, y) = (m[0] * x + m[1] * y + m[2], m[3] * x + m[4] * y + m[5]);
-                p[0] = x;
-                p[1] = y;
-            }
+        let Some(inv) = ph.clone().try_inverse() else { return false };
+        if ph.norm() * inv.norm() > 1e8 {
+            return false;
         }
-        _ => {
-            let mut x = vec![0.0; d];
-            let mut next = vec![0.0; d];
-            let mut step = |x: &mut Vec<f64>, rng: &mut Rng| {
-                let m = &maps[alias.pick(rng.next_u64())];
-                for a in 0..d {
-                    next[a] = m[a * n + d] + (0..d).map(|j| m[a * n + j] * x[j]).sum::<f64>();
+        let maps: Vec<Vec<f64>> = inc.arrows[root]
+            .iter()
+            .map(|(_, m)| {
+                let m = nalgebra::DMatrix::from_row_slice(n, n, m);
+                let h = &ph * m * &inv;
+                (0..d).flat_map(|a| (0..n).map(move |j| (a, j))).map(|(a, j)| h[(a, j)]).collect()
+            })
+            .collect();
+        let Some(alias) = inc.alias[root].as_ref() else { return false };
+        match d {
+            2 => {
+                let maps: Vec<[f64; 6]> = maps.iter().map(|m| [m[0], m[1], m[2], m[3], m[4], m[5]]).collect();
+                let (mut x, mut y) = (0.0, 0.0);
+                let k = maps.len();
+                for _ in 0..burn_in {
+                    let m = &maps[alias.pick(rng.next_u64()) % k];
+                    (x, y) = (m[0] * x + m[1] * y + m[2], m[3] * x + m[4] * y + m[5]);
                 }
-                x.copy_from_slice(&next);
-            };
-            for _ in 0..burn_in {
-                step(&mut x, rng);
+                for p in out.chunks_exact_mut(2) {
+                    let m = &maps[alias.pick(rng.next_u64()) % k];
+                    (x, y) = (m[0] * x + m[1] * y + m[2], m[3] * x + m[4] * y + m[5]);
+                    p[0] = x;
+                    p[1] = y;
+                }
             }
-            for p in out.chunks_exact_mut(d) {
-                step(&mut x, rng);
-                p.copy_from_slice(&x);
+            _ => {
+                let mut x = vec![0.0; d];
+                let mut next = vec![0.0; d];
+                let mut step = |x: &mut Vec<f64>, rng: &mut Rng| {
+                    let m = &maps[alias.pick(rng.next_u64())];
+                    for a in 0..d {
+                        next[a] = m[a * n + d] + (0..d).map(|j| m[a * n + j] * x[j]).sum::<f64>();
+                    }
+                    x.copy_from_slice(&next);
+                };
+                for _ in 0..burn_in {
+                    step(&mut x, rng);
+                }
+                for p in out.chunks_exact_mut(d) {
+                    step(&mut x, rng);
+                    p.copy_from_slice(&x);
+                }
             }
         }
+        true
     }
-    true
-}
 
-#[allow(clippy::too_many_arguments)]
-fn general_chain(
-    inc: &Incoming,
-    plan: &Plan,
-    root: usize,
-    pieces: &super::pieces::Pieces,
-    d: usize,
-    burn_in: usize,
-    strongly_connected: bool,
-    rng: &mut Rng,
-    out: &mut [f64],
-) {
-    let size = plan.states.len();
-    // Last point seen in each state; at first, the centroid of its simplex.
-    let mut last: Vec<Vec<f64>> =
-        (0..size).map(|s| plan.states[s].as_ref().map_or_else(Vec::new, |p| vec![1.0 / p.dim as f64; p.dim])).collect();
-    let mut state = root;
-    let mut lambda = last[root].clone();
-    let restart = if strongly_connected { 0 } else { u64::MAX / 32 };
-    // The pieces drawn from the attractor of each state.
-    let mut pieces_of: Vec<Vec<usize>> = vec![Vec::new(); size];
-    for (i, p) in pieces.pieces.iter().enumerate() {
-        pieces_of[p.state].push(i);
-    }
-    let live: Vec<usize> = (0..size).filter(|&s| !inc.arrows[s].is_empty()).collect();
-    let mut emitted = 0;
-    // Steps left before emitting: the burn-in, again after a restart from a
-    // state whose last point is not yet on its attractor.
-    let mut settle = burn_in;
-    let mut converged = vec![false; size];
-    let total = out.len() / d;
-    while emitted < total {
-        if settle == 0 && rng.next_u64() < restart {
-            state = live[(rng.next_u64() % live.len() as u64) as usize];
-            lambda = last[state].clone();
-            if !converged[state] {
-                settle = burn_in;
-            }
+    /// Any automaton: a walk along the incoming arrows of the states that feed
+    /// the roots, restarting in a random state now and then unless the walk is
+    /// strongly connected.
+    fn general_chain(&self, rng: &mut Rng, out: &mut [f64]) {
+        let (inc, plan, root, pieces) = (&self.inc, &self.plan, self.root, &self.pieces);
+        let (d, burn_in, strongly_connected) = (self.pieces.dim, self.settings.burn_in, self.single);
+        let size = plan.states.len();
+        // Last point seen in each state; at first, the centroid of its simplex.
+        let mut last: Vec<Vec<f64>> = (0..size)
+            .map(|s| plan.states[s].as_ref().map_or_else(Vec::new, |p| vec![1.0 / p.dim as f64; p.dim]))
+            .collect();
+        let mut state = root;
+        let mut lambda = last[root].clone();
+        let restart = if strongly_connected { 0 } else { u64::MAX / 32 };
+        // The pieces drawn from the attractor of each state.
+        let mut pieces_of: Vec<Vec<usize>> = vec![Vec::new(); size];
+        for (i, p) in pieces.pieces.iter().enumerate() {
+            pieces_of[p.state].push(i);
         }
-        let Some(alias) = &inc.alias[state] else {
-            state = root;
-            lambda = last[root].clone();
-            continue;
-        };
-        let (src, m) = &inc.arrows[state][alias.pick(rng.next_u64())];
-        let (rows, cols) = (plan.state(*src).dim, lambda.len());
-        lambda = (0..rows).map(|i| (0..cols).map(|j| m[i * cols + j] * lambda[j]).sum()).collect();
-        state = *src;
-        last[state].clone_from(&lambda);
-        if settle > 0 {
-            settle -= 1;
-            continue;
-        }
-        converged[state] = true;
-        let here = &pieces_of[state];
-        if !here.is_empty() {
-            let piece = &pieces.pieces[here[(rng.next_u64() % here.len() as u64) as usize]];
-            let n = lambda.len();
-            for a in 0..d {
-                out[emitted * d + a] = (0..n).map(|i| piece.control[a * n + i] * lambda[i]).sum();
+        let live: Vec<usize> = (0..size).filter(|&s| !inc.arrows[s].is_empty()).collect();
+        let mut emitted = 0;
+        // Steps left before emitting: the burn-in, again after a restart from a
+        // state whose last point is not yet on its attractor.
+        let mut settle = burn_in;
+        let mut converged = vec![false; size];
+        let total = out.len() / d;
+        while emitted < total {
+            if settle == 0 && rng.next_u64() < restart {
+                state = live[(rng.next_u64() % live.len() as u64) as usize];
+                lambda = last[state].clone();
+                if !converged[state] {
+                    settle = burn_in;
+                }
             }
-            emitted += 1;
+            let Some(alias) = &inc.alias[state] else {
+                state = root;
+                lambda = last[root].clone();
+                continue;
+            };
+            let (src, m) = &inc.arrows[state][alias.pick(rng.next_u64())];
+            let (rows, cols) = (plan.state(*src).dim, lambda.len());
+            lambda = (0..rows).map(|i| (0..cols).map(|j| m[i * cols + j] * lambda[j]).sum()).collect();
+            state = *src;
+            last[state].clone_from(&lambda);
+            if settle > 0 {
+                settle -= 1;
+                continue;
+            }
+            converged[state] = true;
+            let here = &pieces_of[state];
+            if !here.is_empty() {
+                let piece = &pieces.pieces[here[(rng.next_u64() % here.len() as u64) as usize]];
+                let n = lambda.len();
+                for a in 0..d {
+                    out[emitted * d + a] = (0..n).map(|i| piece.control[a * n + i] * lambda[i]).sum();
+                }
+                emitted += 1;
+            }
         }
     }
 }

@@ -12,9 +12,11 @@
 //! its patch by the sub-face path given by the base-`p` digits of its block
 //! coordinates.
 
+use glam::DVec3;
 use rayon::prelude::*;
 
-use super::deterministic::{EvalError, Evaluator, Output, mul_into as mat_mul_into, project_into as project};
+use super::prepared::{Evaluator, mul_into as mat_mul_into, project_into as project};
+use super::settings::EvalError;
 use crate::geometry::{Shape, Sink};
 
 /// Blocks have at most `BLOCK_SIDE` quads on a side (33² lattice points, 9 coordinates each: ~80 KB).
@@ -84,13 +86,13 @@ struct Block {
 /// A vertex of the far row or column of an open sheet: `(index, position, normal)`.
 type Extra = (usize, Vec<f64>, [f64; 3]);
 
+/// The unit normal `du × dv` of a 3D surface (`+z` for planar sheets and degenerate points).
 fn normal(d: usize, du: &[f64], dv: &[f64]) -> [f64; 3] {
     if d < 3 {
         return [0.0, 0.0, 1.0];
     }
-    let n = [du[1] * dv[2] - du[2] * dv[1], du[2] * dv[0] - du[0] * dv[2], du[0] * dv[1] - du[1] * dv[0]];
-    let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
-    if len > 0.0 { [n[0] / len, n[1] / len, n[2] / len] } else { [0.0, 0.0, 1.0] }
+    let (du, dv) = (DVec3::from_slice(du), DVec3::from_slice(dv));
+    du.cross(dv).try_normalize().unwrap_or(DVec3::Z).to_array()
 }
 
 /// Everything a block needs, prepared once per evaluation.
@@ -111,14 +113,14 @@ struct Mesher<'a> {
     child_of: Vec<usize>,
 }
 
-/// The welded mesh of a face automaton at depth `k`, into memory (reusing
-/// the shape's buffers) or streamed to a sink in fixed-size batches.
-pub(super) fn mesh(ev: &Evaluator, k: usize, out: Output<'_>) -> Result<(), EvalError> {
-    let m = Mesher::new(ev, k)?;
-    match out {
-        Output::Memory(shape) => m.fill_shape(shape),
-        Output::Stream(sink) => m.stream(sink),
-    }
+/// The welded mesh of a face automaton at depth `k` into `shape`, reusing its buffers.
+pub(super) fn mesh_into(ev: &Evaluator, k: usize, shape: &mut Shape) -> Result<(), EvalError> {
+    Mesher::new(ev, k)?.fill_shape(shape)
+}
+
+/// The welded mesh of a face automaton at depth `k`, streamed to `sink` in fixed-size batches.
+pub(super) fn mesh_stream(ev: &Evaluator, k: usize, sink: &mut dyn Sink) -> Result<(), EvalError> {
+    Mesher::new(ev, k)?.stream(sink)
 }
 
 impl<'a> Mesher<'a> {
@@ -265,10 +267,17 @@ impl<'a> Mesher<'a> {
         }
         let mut steps = self.ev.progress(1);
         let count = self.blocks() * lat.b * lat.b;
+        // Same size: overwritten in place. Larger: a fresh zeroed allocation, whose
+        // pages the kernel maps as the parallel fill first writes them (resizing
+        // would touch them all on this one thread first).
         fn resized<T: Copy + Default>(v: &mut Vec<T>, len: usize) -> &mut [T] {
             if v.len() != len {
-                v.clear();
-                v.resize(len, T::default());
+                if v.capacity() >= len {
+                    v.clear();
+                    v.resize(len, T::default());
+                } else {
+                    *v = vec![T::default(); len];
+                }
             }
             v
         }

@@ -1,13 +1,11 @@
-//! Writers: streaming OBJ, SVG, PNG (pictures and plots); files are replaced atomically.
+//! Writers: streaming OBJ, SVG, PNG pictures; files are replaced atomically.
 
 mod atomic;
 mod obj;
-mod plot;
 mod png;
 mod svg;
 
 pub use atomic::{AtomicFile, write_atomic};
 pub use obj::{ObjWriter, write_obj};
-pub use plot::{Plot, Series};
 pub use png::{RasterSettings, View, ascii, raster, write_png};
 pub use svg::svg;

@@ -4,6 +4,7 @@
 use std::io;
 use std::path::Path;
 
+use glam::{DMat3, DVec3};
 use image::{ImageFormat, Rgb, RgbImage};
 
 use super::atomic::write_atomic;
@@ -60,20 +61,19 @@ impl RasterSettings {
 const INK: [f64; 3] = [27.0, 58.0, 107.0];
 const PAPER: [f64; 3] = [255.0, 255.0, 255.0];
 
-/// Projects shape vertices to `(screen x, screen y up, depth)`.
+/// Projects shape vertices to `(screen x, screen y up, depth)`: rotate
+/// about z by the yaw, then tilt about x by the pitch, so x stays right, z
+/// goes up the screen and y into it.
 fn project(shape: &Shape, view: View) -> Vec<[f64; 3]> {
-    let (sy, cy) = view.yaw.to_radians().sin_cos();
-    let (sp, cp) = view.pitch.to_radians().sin_cos();
+    let turn = DMat3::from_rotation_x(view.pitch.to_radians()) * DMat3::from_rotation_z(view.yaw.to_radians());
     (0..shape.vertex_count())
         .map(|i| {
             let p = shape.point(i);
             if shape.dim < 3 {
                 return [p[0], p[1], 0.0];
             }
-            // Rotate about z, then tilt about x: x stays right, z up, y into the screen.
-            let (x, y) = (cy * p[0] - sy * p[1], sy * p[0] + cy * p[1]);
-            let (y2, z2) = (cp * y - sp * p[2], sp * y + cp * p[2]);
-            [x, z2, y2]
+            let q = turn * DVec3::from(p);
+            [q.x, q.z, q.y]
         })
         .collect()
 }
@@ -108,7 +108,7 @@ impl Canvas {
 }
 
 /// Xiaolin Wu's anti-aliased line into a coverage buffer.
-pub(super) fn wu_line(cov: &mut [f32], w: usize, h: usize, (mut x0, mut y0): (f64, f64), (mut x1, mut y1): (f64, f64)) {
+fn wu_line(cov: &mut [f32], w: usize, h: usize, (mut x0, mut y0): (f64, f64), (mut x1, mut y1): (f64, f64)) {
     let mut plot = |x: i64, y: i64, c: f64| {
         if x >= 0 && y >= 0 && (x as usize) < w && (y as usize) < h {
             let cell = &mut cov[y as usize * w + x as usize];
@@ -193,23 +193,14 @@ pub fn raster(shape: &Shape, settings: &RasterSettings) -> RgbImage {
 fn shade(shape: &Shape, pts: &[[f64; 3]], canvas: &Canvas, img: &mut RgbImage) {
     let (w, h) = (canvas.w, canvas.h);
     let mut depth = vec![f64::INFINITY; w * h];
-    let light = {
-        let l: [f64; 3] = [-0.4, -0.7, 0.6];
-        let n = l[0] * l[0] + l[1] * l[1] + l[2] * l[2];
-        let n = n.sqrt();
-        [l[0] / n, l[1] / n, l[2] / n]
-    };
+    // Screen: x right, y up, depth into the screen: light from the viewer's upper left.
+    let light = DVec3::new(-0.4, 0.6, -0.7).normalize();
     for q in &shape.quads {
         for tri in [[q[0], q[1], q[2]], [q[0], q[2], q[3]]] {
             let [a, b, c] = tri.map(|i| pts[i as usize]);
-            let (u, v) = ([b[0] - a[0], b[1] - a[1], b[2] - a[2]], [c[0] - a[0], c[1] - a[1], c[2] - a[2]]);
-            let n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
-            let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
-            if len == 0.0 {
-                continue;
-            }
-            // Screen: x right, y up, depth into the screen: light from the viewer's upper left.
-            let lambert = ((n[0] * light[0] + n[1] * light[2] + n[2] * light[1]) / len).abs();
+            let (va, vb, vc) = (DVec3::from(a), DVec3::from(b), DVec3::from(c));
+            let Some(n) = (vb - va).cross(vc - va).try_normalize() else { continue };
+            let lambert = n.dot(light).abs();
             let colour = mix([40.0, 52.0, 80.0], [214.0, 226.0, 245.0], 0.15 + 0.85 * lambert);
             let s = [a, b, c].map(|p| canvas.px(p));
             let (x0, x1) = (

@@ -330,6 +330,13 @@ pub fn solve(design: &Design) -> Result<Family, SolveError> {
         return Err(SolveError::Inconsistent { conflicts: vec![bad.label.clone()] });
     }
     eqs.retain(|e| !e.form.terms().is_empty() || e.form.constant_term().is_exact());
+    let elim = eliminate(design, &eqs)?;
+    let count = eqs.len();
+    family_of(design, &elim, count)
+}
+
+/// The reduced system of `eqs`, or the smallest conflicting subset found.
+fn eliminate(design: &Design, eqs: &[Equation]) -> Result<Eliminator, SolveError> {
     let words = eqs.len().div_ceil(64).max(1);
     let key: Vec<(bool, usize)> = design.variables().iter().enumerate().map(|(i, v)| (v.named, i)).collect();
     let rows: Vec<Row> = eqs.iter().enumerate().map(|(i, e)| to_row(e, i, words)).collect::<Result<_, _>>()?;
@@ -351,7 +358,11 @@ pub fn solve(design: &Design) -> Result<Family, SolveError> {
             return Err(SolveError::Inconsistent { conflicts: subset.iter().map(|&e| eqs[e].label.clone()).collect() });
         }
     }
+    Ok(elim)
+}
 
+/// The family read off the reduced system: every variable in the free ones.
+fn family_of(design: &Design, elim: &Eliminator, equations: usize) -> Result<Family, SolveError> {
     // Free variables: the user's names in declaration order, then the others.
     let nvars = design.variables().len();
     let mut free: Vec<usize> = (0..nvars).filter(|v| !elim.pivot_of.contains_key(v)).collect();
@@ -400,7 +411,7 @@ pub fn solve(design: &Design) -> Result<Family, SolveError> {
             }
         })
         .collect();
-    Ok(Family { automaton, parameters, variables, equations: eqs.len(), rank: elim.rows.len() })
+    Ok(Family { automaton, parameters, variables, equations, rank: elim.rows.len() })
 }
 
 /// Why parameter values could not be applied.

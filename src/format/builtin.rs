@@ -11,18 +11,3 @@ pub const BUILTIN_AUTOMATA: &[(&str, &str)] = &[
     ("koch", include_str!("../../automata/koch.toml")),
     ("levy", include_str!("../../automata/levy.toml")),
 ];
-
-/// The shipped automaton called `name`, parsed.
-///
-/// ```
-/// let design = bcifs::builtin_design("corner_cutting").unwrap();
-/// assert_eq!(design.name(), "corner_cutting");
-/// assert!(bcifs::builtin_design("nope").is_none());
-/// ```
-///
-/// # Errors
-/// `None` if there is no such automaton. The shipped files are tested to parse.
-pub fn builtin_design(name: &str) -> Option<crate::design::Design> {
-    let (_, text) = BUILTIN_AUTOMATA.iter().find(|(n, _)| *n == name)?;
-    super::parse_design(text, &format!("automata/{name}.toml"), name).ok()
-}

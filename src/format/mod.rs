@@ -6,7 +6,7 @@ mod error;
 mod parse;
 mod write;
 
-pub use builtin::{BUILTIN_AUTOMATA, builtin_design};
+pub use builtin::BUILTIN_AUTOMATA;
 pub use error::FormatError;
-pub use parse::{ReadError, parse_design, read_design};
+pub use parse::{ReadError, builtin_design, parse_design, read_design};
 pub use write::write_design;

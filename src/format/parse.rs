@@ -322,6 +322,21 @@ impl Spans {
     }
 }
 
+/// The shipped automaton called `name`, parsed.
+///
+/// ```
+/// let design = bcifs::builtin_design("corner_cutting").unwrap();
+/// assert_eq!(design.name(), "corner_cutting");
+/// assert!(bcifs::builtin_design("nope").is_none());
+/// ```
+///
+/// # Errors
+/// `None` if there is no such automaton. The shipped files are tested to parse.
+pub fn builtin_design(name: &str) -> Option<Design> {
+    let (_, text) = BUILTIN_AUTOMATA.iter().find(|(n, _)| *n == name)?;
+    parse_design(text, &format!("automata/{name}.toml"), name).ok()
+}
+
 /// A file with `extends = "NAME"`: the shipped automaton NAME (or the file
 /// NAME relative to this one) with this file's model and parameter defaults.
 fn extend(

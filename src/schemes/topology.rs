@@ -173,6 +173,48 @@ fn block(cols: usize, rows: std::ops::Range<usize>, columns: std::ops::Range<usi
     rows.flat_map(|r| columns.clone().map(move |c| r * cols + c)).collect()
 }
 
+/// Adjacency of the quad patch: neighbouring sub-cells share their boundary.
+const QUAD_ADJACENCY: [&str; 6] = [
+    "T00 right = T10 left",
+    "T01 right = T11 left",
+    "T00 top = T01 bottom",
+    "T10 top = T11 bottom",
+    "U0 u_end = U1 u_start",
+    "V0 v_end = V1 v_start",
+];
+
+/// Incidence of the quad patch: the boundary of a sub-cell is the subdivided boundary.
+const QUAD_INCIDENCE: [&str; 12] = [
+    "T00 bottom = bottom U0",
+    "T10 bottom = bottom U1",
+    "T01 top = top U0",
+    "T11 top = top U1",
+    "T00 left = left V0",
+    "T01 left = left V1",
+    "T10 right = right V0",
+    "T11 right = right V1",
+    "U0 u_start = u_start W",
+    "U1 u_end = u_end W",
+    "V0 v_start = v_start W",
+    "V1 v_end = v_end W",
+];
+
+/// The rotationally symmetric vertex rule: corners counter-clockwise in
+/// (u, v) are (0,0)=0, (1,0)=1, (1,1)=3, (0,1)=2; column c of W (the new
+/// point near corner c) weighs corner c by alpha, the next corner by beta,
+/// the previous by gamma.
+const QUAD_SYMMETRY: [&str; 9] = [
+    "W[1][1] = W[0][0]",
+    "W[3][3] = W[0][0]",
+    "W[2][2] = W[0][0]",
+    "W[3][1] = W[1][0]",
+    "W[2][3] = W[1][0]",
+    "W[0][2] = W[1][0]",
+    "W[0][1] = W[2][0]",
+    "W[1][3] = W[2][0]",
+    "W[3][2] = W[2][0]",
+];
+
 /// The design of the Doo-Sabin-like quad patch (DESIGN §2): a face with a
 /// 3×3 grid of control points split into 2×2 sub-faces, one edge state
 /// along u (2 rows of 3) and one along v (3 rows of 2), and a 2×2 vertex.
@@ -217,47 +259,16 @@ pub fn quad_patch(symmetric: bool) -> Result<Design, TopologyError> {
     b.select("u_end", "edge_u", "vertex", block(3, 0..2, 1..3)).doc("End of an edge along u: its columns 1-2.");
     b.select("v_start", "edge_v", "vertex", block(2, 0..2, 0..2)).doc("Start of an edge along v: its rows 0-1.");
     b.select("v_end", "edge_v", "vertex", block(2, 1..3, 0..2)).doc("End of an edge along v: its rows 1-2.");
-    for e in [
-        "T00 right = T10 left",
-        "T01 right = T11 left",
-        "T00 top = T01 bottom",
-        "T10 top = T11 bottom",
-        "U0 u_end = U1 u_start",
-        "V0 v_end = V1 v_start",
-    ] {
+    for e in QUAD_ADJACENCY {
         b.adjacency(e);
     }
     b.doc("Neighbouring sub-cells share their common boundary.");
-    for e in [
-        "T00 bottom = bottom U0",
-        "T10 bottom = bottom U1",
-        "T01 top = top U0",
-        "T11 top = top U1",
-        "T00 left = left V0",
-        "T01 left = left V1",
-        "T10 right = right V0",
-        "T11 right = right V1",
-        "U0 u_start = u_start W",
-        "U1 u_end = u_end W",
-        "V0 v_start = v_start W",
-        "V1 v_end = v_end W",
-    ] {
+    for e in QUAD_INCIDENCE {
         b.incidence(e);
     }
     b.doc("The boundary of a sub-cell is the subdivided boundary.");
     if symmetric {
-        // Corners counter-clockwise in (u, v): (0,0)=0, (1,0)=1, (1,1)=3, (0,1)=2.
-        for e in [
-            "W[1][1] = W[0][0]",
-            "W[3][3] = W[0][0]",
-            "W[2][2] = W[0][0]",
-            "W[3][1] = W[1][0]",
-            "W[2][3] = W[1][0]",
-            "W[0][2] = W[1][0]",
-            "W[0][1] = W[2][0]",
-            "W[1][3] = W[2][0]",
-            "W[3][2] = W[2][0]",
-        ] {
+        for e in QUAD_SYMMETRY {
             b.constraint("symmetry", e);
         }
         b.doc(

@@ -45,5 +45,5 @@ fn tree_agrees_with_brute_force() {
             .fold(0.0, f64::max)
             .sqrt()
     };
-    assert!((hausdorff(&a, &b) - brute(&a, &b).max(brute(&b, &a))).abs() < 1e-15);
+    approx::assert_abs_diff_eq!(hausdorff(&a, &b), brute(&a, &b).max(brute(&b, &a)), epsilon = 1e-15);
 }

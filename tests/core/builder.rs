@@ -54,7 +54,7 @@ fn known_matrices_and_defaults_are_exact() {
     let f = solve(&d).unwrap();
     assert_eq!(f.entry_text("A", 0, 0), "1/10");
     assert_eq!(f.entry_text("B", 0, 0), "1 - t");
-    assert!((d.defaults()["t"] - 1.0 / 3.0).abs() < 1e-16);
+    approx::assert_abs_diff_eq!(d.defaults()["t"], 1.0 / 3.0, epsilon = 1e-16);
 }
 
 #[test]

@@ -48,7 +48,7 @@ fn corner_cutting_eigenvalues() {
             for (g, x) in got.iter().zip(&e) {
                 // Eigenvalues of a 3×3 matrix with entries O(1): backward-stable to ~1e-15;
                 // a double eigenvalue (a = 1-a-b) loses half the digits, hence 1e-7.
-                assert!((g - x).abs() < 1e-7, "{arrow} at a={a}, b={b}: {got:?} vs {e:?}");
+                assert!(approx::abs_diff_eq!(g, x, epsilon = 1e-7), "{arrow} at a={a}, b={b}: {got:?} vs {e:?}");
             }
         }
         let report = check(&inst.automaton, &inst.values, 1e-9).unwrap();
@@ -127,7 +127,7 @@ fn koch_scheme_passes_check() {
         if name.starts_with('T') && name != "Tv" {
             let mut m: Vec<f64> = eig.iter().map(|l| l.norm()).collect();
             m.sort_by(f64::total_cmp);
-            assert!((m[0] - 1.0 / 3.0).abs() < 1e-12 && (m[1] - 1.0 / 3.0).abs() < 1e-12, "{name}: {m:?}");
+            assert!(approx::abs_diff_eq!(m[..2], [1.0 / 3.0; 2][..], epsilon = 1e-12), "{name}: {m:?}");
         }
     }
 }

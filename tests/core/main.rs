@@ -4,4 +4,5 @@ mod builder;
 mod cli;
 mod errors;
 mod families;
+mod layers;
 mod properties;

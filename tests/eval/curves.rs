@@ -24,7 +24,7 @@ fn chaikin_output_is_the_quadratic_bspline() {
         for a in 0..2 {
             let expected: f64 = (0..3).map(|m| w[m] * model.points[(i + m) % n][a]).sum();
             // Products of 9 matrices with dyadic entries: rounding ~1e-15.
-            assert!((p[a] - expected).abs() < 1e-12, "point {idx}: {} vs {expected}", p[a]);
+            assert!(approx::abs_diff_eq!(p[a], expected, epsilon = 1e-12), "point {idx}: {} vs {expected}", p[a]);
         }
     }
     let polylines: Vec<_> = shape.polylines().collect();

@@ -61,7 +61,7 @@ fn bspline_limit_points_are_the_closed_form() {
             for (j, p) in pts.iter().enumerate() {
                 let t = lo + (hi - lo) * j as f64 / (1 << k) as f64;
                 let q = bspline_point(3, &knots, &control, t);
-                assert!((p[0] - q[0]).abs() < 1e-12 && (p[1] - q[1]).abs() < 1e-12, "{name} k={k} j={j}: {p:?} {q:?}");
+                assert!(approx::abs_diff_eq!(p[..2], q[..2], epsilon = 1e-12), "{name} k={k} j={j}: {p:?} {q:?}");
             }
         }
     }
@@ -84,7 +84,7 @@ fn bezier_limit_points_are_bernstein_and_the_union_is_two_curves() {
             let w = [(1.0 - t).powi(2), 2.0 * t * (1.0 - t), t * t];
             for a in 0..2 {
                 let expected: f64 = (0..3).map(|i| w[i] * piece[i][a]).sum();
-                assert!((pts[c * per + j][a] - expected).abs() < 1e-12);
+                approx::assert_abs_diff_eq!(pts[c * per + j][a], expected, epsilon = 1e-12);
             }
         }
     }
@@ -112,7 +112,7 @@ fn four_point_limit_interpolates() {
     let k = 6;
     let pts = points2(&evaluate(&design, k));
     for (j, i) in [(0, 2), (1 << (k - 1), 3), (1 << k, 4)] {
-        assert!((pts[j][0] - control[i][0]).abs() < 1e-12 && (pts[j][1] - control[i][1]).abs() < 1e-12);
+        approx::assert_abs_diff_eq!(pts[j][..2], control[i][..2], epsilon = 1e-12);
     }
     // Every point of the closed-polygon limit of the plain rules is a control point at some level.
     let rules = Rules::four_point();
@@ -165,7 +165,7 @@ fn koch_with_control_points_is_the_classic_koch_curve() {
         let classic = koch.scheme.polygon(&koch.polygon, false, k);
         assert_eq!(ours.len(), classic.len());
         for (a, b) in ours.iter().zip(&classic) {
-            assert!((a[0] - b[0]).abs() < 1e-12 && (a[1] - b[1]).abs() < 1e-12);
+            approx::assert_abs_diff_eq!(a[..2], b[..2], epsilon = 1e-12);
         }
     }
 }

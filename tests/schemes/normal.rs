@@ -135,15 +135,15 @@ fn koch_length_grows_by_four_thirds() {
     for k in 0..=6 {
         let direct = koch.scheme.polygon(&koch.polygon, false, k);
         let expected = (4.0f64 / 3.0).powi(k as i32);
-        assert!((length(&direct, false) - expected).abs() < 1e-12 * expected, "k={k}");
+        assert!(approx::abs_diff_eq!(length(&direct, false), expected, epsilon = 1e-12 * expected), "k={k}");
         let auto = points2(&evaluate(&design, k));
-        assert!((length(&auto, false) - expected).abs() < 1e-12 * expected, "k={k}");
+        assert!(approx::abs_diff_eq!(length(&auto, false), expected, epsilon = 1e-12 * expected), "k={k}");
     }
     // On a closed polygon too: the snowflake's perimeter is 3 (4/3)^k.
     let flake = normal_preset("snowflake").unwrap();
     for k in 0..=5 {
         let pts = flake.scheme.polygon(&flake.polygon, true, k);
-        assert!((length(&pts, true) - 3.0 * (4.0f64 / 3.0).powi(k as i32)).abs() < 1e-11);
+        approx::assert_abs_diff_eq!(length(&pts, true), 3.0 * (4.0f64 / 3.0).powi(k as i32), epsilon = 1e-11);
     }
 }
 
@@ -176,8 +176,8 @@ fn koch_convergence_bound_of_theorem_1() {
         let bound = s3 / 6.0 * ((s3 + 1.0) / 6.0).powi(k as i32) * max0;
         assert!(dist <= bound * (1.0 + 1e-12), "k={k}: {dist} > {bound}");
         let max_k = coarse.windows(2).map(|w| length(w, false)).fold(0.0, f64::max);
-        assert!((dist - s3 / 6.0 * max_k).abs() < 1e-12, "k={k}");
-        assert!((max_k - max0 / 3f64.powi(k as i32)).abs() < 1e-12);
+        assert!(approx::abs_diff_eq!(dist, s3 / 6.0 * max_k, epsilon = 1e-12), "k={k}");
+        approx::assert_abs_diff_eq!(max_k, max0 / 3f64.powi(k as i32), epsilon = 1e-12);
     }
 }
 
@@ -212,7 +212,7 @@ fn snowflake_is_a_closed_simple_curve() {
     let centre = [0.5, 3f64.sqrt() / 6.0];
     let r = |p: &[f64; 2]| ((p[0] - centre[0]).powi(2) + (p[1] - centre[1]).powi(2)).sqrt();
     let rmax = pts.iter().map(r).fold(0.0, f64::max);
-    assert!((rmax - 1.0 / 3f64.sqrt()).abs() < 1e-12, "{rmax}");
+    assert!(approx::abs_diff_eq!(rmax, 1.0 / 3f64.sqrt(), epsilon = 1e-12), "{rmax}");
 }
 
 /// Scheme (3) on a segment converges to the Sierpinski gasket of the triangle
@@ -301,7 +301,7 @@ fn first_steps_are_the_papers_points() {
         let got = p.scheme.polygon(&unit_segment(), false, 1);
         assert_eq!(got.len(), expected.len(), "{name}");
         for (g, e) in got.iter().zip(&expected) {
-            assert!((g[0] - e[0]).abs() < 1e-15 && (g[1] - e[1]).abs() < 1e-15, "{name}: {g:?} vs {e:?}");
+            assert!(approx::abs_diff_eq!(g[..], e[..], epsilon = 1e-15), "{name}: {g:?} vs {e:?}");
         }
     }
     // The second step of the human-like curve flips the sign: (−1)^(k+1) = +1 at k = 1.
@@ -311,5 +311,5 @@ fn first_steps_are_the_papers_points() {
     let (a, b) = (one[0], one[1]);
     let d = [-(b[1] - a[1]), b[0] - a[0]];
     let expected = [a[0] + 5.0 / 9.0 * (b[0] - a[0]) + d[0] / 3.0, a[1] + 5.0 / 9.0 * (b[1] - a[1]) + d[1] / 3.0];
-    assert!((two[1][0] - expected[0]).abs() < 1e-15 && (two[1][1] - expected[1]).abs() < 1e-15);
+    approx::assert_abs_diff_eq!(two[1][..], expected[..], epsilon = 1e-15);
 }

@@ -1,0 +1,169 @@
+//! The data of a design: where its variables come from, and the model that
+//! projects it into modelling space.
+
+use std::collections::HashMap;
+
+/// Where a variable of the constraint system comes from.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Origin {
+    /// A parameter that appears in known matrices or entry equations.
+    Parameter,
+    /// The entry `arrow[row][col]` of an unknown matrix.
+    Entry {
+        /// Arrow name.
+        arrow: String,
+        /// Row, from 0.
+        row: usize,
+        /// Column, from 0.
+        col: usize,
+    },
+}
+
+/// A variable of the constraint system.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Variable {
+    /// The name it prints with: the user's parameter name, or `T0_1_0` for
+    /// the unnamed entry `T0[1][0]`.
+    pub name: String,
+    /// Whether the user named it (named variables are kept free if possible).
+    pub named: bool,
+    /// What it stands for.
+    pub origin: Origin,
+}
+
+/// How the pieces of a model are cut from its control points.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Layout {
+    /// One piece: the first `dim(root)` control points.
+    Single,
+    /// An open curve: windows of `dim(root)` consecutive points, sliding by `step`.
+    Open,
+    /// A closed curve: like `Open`, wrapping around.
+    Closed,
+    /// A sheet: `w × w` windows of a `rows × cols` grid (`dim(root) = w²`), sliding by `step`.
+    Grid,
+    /// A torus: like `Grid`, wrapping around in both directions.
+    Torus,
+    /// An open polyline of 2D points; piece `i` is `(P_i, P_{i+1}, Q_i)` with
+    /// the rotated frame point `Q_i = P_i + R90(P_{i+1} - P_i)` (normal-vector schemes).
+    Frames,
+    /// Like `Frames`, closing the polygon.
+    ClosedFrames,
+    /// Separate pieces: piece `i` takes the next `dim(root_i)` control points
+    /// (a union of attractors, seed 001 §2.2); nothing is shared or joined.
+    Union,
+}
+
+impl Layout {
+    /// All layouts.
+    pub const ALL: [Layout; 8] = [
+        Layout::Single,
+        Layout::Open,
+        Layout::Closed,
+        Layout::Grid,
+        Layout::Torus,
+        Layout::Frames,
+        Layout::ClosedFrames,
+        Layout::Union,
+    ];
+
+    /// The keyword used in automaton files.
+    pub fn keyword(self) -> &'static str {
+        match self {
+            Layout::Single => "single",
+            Layout::Open => "open",
+            Layout::Closed => "closed",
+            Layout::Grid => "grid",
+            Layout::Torus => "torus",
+            Layout::Frames => "frames",
+            Layout::ClosedFrames => "closed-frames",
+            Layout::Union => "union",
+        }
+    }
+}
+
+/// A projection of the root attractor into modelling space.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Model {
+    /// The states whose attractors are drawn: piece `i` is a cell of
+    /// `roots[i % roots.len()]` (one root for most models; a cycle of roots
+    /// for sign-alternating schemes and unions of different automata).
+    pub roots: Vec<String>,
+    /// Control points, all of the same dimension (2 or 3).
+    pub points: Vec<Vec<f64>>,
+    /// How pieces are cut from the points.
+    pub layout: Layout,
+    /// Window step for curve and grid layouts (`None`: derived from the boundary).
+    pub step: Option<usize>,
+    /// `(rows, cols)` of the control grid for grid layouts.
+    pub grid: Option<(usize, usize)>,
+    /// Start sets: barycentric points per state, emitted at leaves instead
+    /// of the kind's default (any compact start set converges to the attractor).
+    pub start: Vec<(String, Vec<Vec<f64>>)>,
+}
+
+impl Model {
+    /// A model of one piece (layout `single`) on the root state `root`.
+    ///
+    /// ```
+    /// use bcifs::{Layout, Model};
+    /// let m = Model::new("e", vec![vec![0.0, 0.0], vec![1.0, 2.0], vec![2.0, 0.0]]).with_layout(Layout::Open);
+    /// assert_eq!(m.roots, ["e"]);
+    /// ```
+    pub fn new(root: impl Into<String>, points: Vec<Vec<f64>>) -> Model {
+        Model { roots: vec![root.into()], points, layout: Layout::Single, step: None, grid: None, start: Vec::new() }
+    }
+
+    /// The same model with several roots, taken in turn by the pieces.
+    pub fn with_roots(mut self, roots: Vec<String>) -> Model {
+        self.roots = roots;
+        self
+    }
+
+    /// The same model with another layout.
+    pub fn with_layout(mut self, layout: Layout) -> Model {
+        self.layout = layout;
+        self
+    }
+
+    /// The same model with a window step.
+    pub fn with_step(mut self, step: usize) -> Model {
+        self.step = Some(step);
+        self
+    }
+
+    /// The same model with a `rows × cols` control grid (grid layouts).
+    pub fn with_grid(mut self, rows: usize, cols: usize) -> Model {
+        self.grid = Some((rows, cols));
+        self
+    }
+
+    /// The same model with a start set for `state` (barycentric points).
+    pub fn with_start(mut self, state: impl Into<String>, points: Vec<Vec<f64>>) -> Model {
+        self.start.push((state.into(), points));
+        self
+    }
+
+    /// The root state of piece `i`.
+    pub fn root(&self, i: usize) -> &str {
+        &self.roots[i % self.roots.len().max(1)]
+    }
+}
+
+/// Free text attached to the parts of a design: written as comments when
+/// the design is printed as an automaton file.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Docs {
+    /// Above the whole file.
+    pub header: String,
+    /// Per state, by name.
+    pub states: HashMap<String, String>,
+    /// Per arrow, by name.
+    pub arrows: HashMap<String, String>,
+    /// Per constraint group, by name.
+    pub groups: HashMap<String, String>,
+    /// Above the parameters.
+    pub parameters: String,
+    /// Above the model.
+    pub model: String,
+}

@@ -1,0 +1,339 @@
+//! An automaton prepared for deterministic evaluation with a model: the
+//! plan of every state, the pieces of the model, the tabulated last levels
+//! of the subdivision tree, the thread pool. Curves (`curve.rs`) and
+//! surfaces (`surface.rs`) are evaluated from it; `evaluate.rs` chooses.
+//!
+//! Hot path: the last levels of the subdivision tree are tabulated once per
+//! state (barycentric points of all leaf samples of a subtree), so a subtree
+//! costs one `d × n` by `n × m` product; subtrees are spread over threads
+//! with rayon and write into disjoint parts of a preallocated buffer.
+
+use std::io;
+
+use rayon::prelude::*;
+
+use super::pieces::{Pieces, pieces};
+use super::plan::Plan;
+use super::settings::{EvalError, EvalSettings};
+use crate::automaton::Automaton;
+use crate::design::Model;
+use crate::progress::Steps;
+use crate::space::CellKind;
+
+/// Largest number of leaf samples tabulated per state (fits in L2 cache).
+const TAIL_POINTS: usize = 2048;
+/// Deepest tabulated level (a state with one child never exceeds `TAIL_POINTS`).
+const MAX_TAIL_LEVEL: usize = 16;
+
+/// An automaton prepared for evaluation with a model.
+pub struct Evaluator {
+    pub(super) plan: Plan,
+    pub(super) pieces: Pieces,
+    /// tails[state][r]: leaf samples of a depth-r subtree, `n` barycentric coordinates each.
+    pub(super) tails: Vec<Vec<Vec<f64>>>,
+    /// counts[state][r]: number of leaf samples of a depth-r subtree (saturating).
+    pub(super) counts: Vec<Vec<u128>>,
+    pub(super) pool: rayon::ThreadPool,
+    pub(super) settings: EvalSettings,
+}
+
+/// `C (d × n) · M (n × m)` into `out (d × m)`, all row-major.
+#[inline]
+pub(super) fn mul_into(c: &[f64], d: usize, n: usize, m: &[f64], cols: usize, out: &mut [f64]) {
+    for a in 0..d {
+        let row = &mut out[a * cols..(a + 1) * cols];
+        row.iter_mut().for_each(|x| *x = 0.0);
+        for i in 0..n {
+            let cai = c[a * n + i];
+            if cai != 0.0 {
+                for (x, mij) in row.iter_mut().zip(&m[i * cols..(i + 1) * cols]) {
+                    *x += cai * mij;
+                }
+            }
+        }
+    }
+}
+
+/// Points `C · λ_j` for barycentric `λ_j` (`n` each, packed) into `out` (`d` each, packed).
+#[inline]
+pub(super) fn project_into(c: &[f64], d: usize, n: usize, lambdas: &[f64], out: &mut [f64]) {
+    match (d, n) {
+        (2, 3) => {
+            let (c0, c1) = (&c[0..3], &c[3..6]);
+            for (o, l) in out.chunks_exact_mut(2).zip(lambdas.chunks_exact(3)) {
+                o[0] = c0[0] * l[0] + c0[1] * l[1] + c0[2] * l[2];
+                o[1] = c1[0] * l[0] + c1[1] * l[1] + c1[2] * l[2];
+            }
+        }
+        _ => {
+            for (o, l) in out.chunks_exact_mut(d).zip(lambdas.chunks_exact(n)) {
+                for (a, x) in o.iter_mut().enumerate() {
+                    *x = c[a * n..(a + 1) * n].iter().zip(l).map(|(p, q)| p * q).sum();
+                }
+            }
+        }
+    }
+}
+
+pub(super) fn diameter(c: &[f64], d: usize, n: usize) -> f64 {
+    let mut best: f64 = 0.0;
+    for i in 0..n {
+        for j in i + 1..n {
+            let s: f64 = (0..d).map(|a| (c[a * n + i] - c[a * n + j]).powi(2)).sum();
+            best = best.max(s);
+        }
+    }
+    best.sqrt()
+}
+
+impl Evaluator {
+    /// Prepares `automaton` with `model`: checks stochasticity and
+    /// contractivity, cuts the pieces, tabulates the last levels. The
+    /// model's start sets are used, except for the states that
+    /// `settings.start` gives its own.
+    ///
+    /// # Errors
+    /// See [`EvalError`].
+    pub fn new(automaton: &Automaton<f64>, model: &Model, settings: EvalSettings) -> Result<Evaluator, EvalError> {
+        let mut start: Vec<(String, Vec<Vec<f64>>)> =
+            model.start.iter().filter(|(s, _)| !settings.start.iter().any(|(t, _)| t == s)).cloned().collect();
+        start.extend(settings.start.iter().cloned());
+        let mut plan = Plan::new(automaton, &start)?;
+        for name in &settings.dropped {
+            let found = plan.states.iter_mut().flatten().any(|s| {
+                let before = s.children.len();
+                s.children.retain(|(e, _, _)| automaton.arrow(*e).name != *name);
+                s.quadrants.truncate(s.children.len());
+                before != s.children.len()
+            });
+            if !found {
+                return Err(EvalError::UnknownArrow(name.clone()));
+            }
+        }
+        let pieces = pieces(automaton, model)?;
+        let kinds: Vec<CellKind> = pieces.pieces.iter().map(|p| plan.state(p.state).kind).collect();
+        if kinds.contains(&CellKind::Face) && !settings.dropped.is_empty() {
+            return Err(EvalError::Unsupported(
+                "dropping arrows of a face leaves holes: the mesh cannot be welded".into(),
+            ));
+        }
+        let threads = settings.threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .map_err(|e| io::Error::other(e.to_string()))?;
+        let mut ev = Evaluator { plan, pieces, tails: Vec::new(), counts: Vec::new(), pool, settings };
+        ev.tabulate();
+        Ok(ev)
+    }
+
+    /// The pieces of the model.
+    pub fn pieces(&self) -> &Pieces {
+        &self.pieces
+    }
+
+    fn tabulate(&mut self) {
+        let size = self.plan.states.len();
+        self.tails = vec![Vec::new(); size];
+        self.counts = vec![Vec::new(); size];
+        for (i, s) in self.plan.states.iter().enumerate() {
+            if let Some(s) = s {
+                self.tails[i].push(s.samples.concat());
+                self.counts[i].push(s.samples.len() as u128);
+            }
+        }
+        // Grow tables level by level while they stay small.
+        loop {
+            let mut grew = false;
+            for i in 0..size {
+                let Some(s) = &self.plan.states[i] else { continue };
+                if s.kind == CellKind::Face {
+                    continue;
+                }
+                let r = self.tails[i].len();
+                let total: u128 =
+                    s.children.iter().map(|(_, t, _)| self.counts[*t].get(r - 1).copied().unwrap_or(u128::MAX)).sum();
+                if r > MAX_TAIL_LEVEL
+                    || total as usize > TAIL_POINTS
+                    || s.children.iter().any(|(_, t, _)| self.tails[*t].len() < r)
+                {
+                    continue;
+                }
+                let mut table = Vec::with_capacity(total as usize * s.dim);
+                for (_, t, m) in &s.children {
+                    let nt = self.plan.state(*t).dim;
+                    for l in self.tails[*t][r - 1].chunks_exact(nt) {
+                        table.extend((0..s.dim).map(|row| (0..nt).map(|j| m[row * nt + j] * l[j]).sum::<f64>()));
+                    }
+                }
+                self.tails[i].push(table);
+                self.counts[i].push(total);
+                grew = true;
+            }
+            if !grew {
+                break;
+            }
+        }
+    }
+
+    pub(super) fn count(&self, state: usize, r: usize) -> u128 {
+        if let Some(c) = self.counts[state].get(r) {
+            return *c;
+        }
+        let s = self.plan.state(state);
+        s.children.iter().map(|(_, t, _)| self.count(*t, r - 1)).fold(0u128, |a, b| a.saturating_add(b))
+    }
+
+    /// Fills `out` with the `d`-dimensional samples of the subtree of `state`
+    /// with control points `c`, `r` levels deep.
+    pub(super) fn fill(&self, state: usize, c: &[f64], d: usize, r: usize, out: &mut [f64]) {
+        let s = self.plan.state(state);
+        if let Some(tail) = self.tails[state].get(r) {
+            project_into(c, d, s.dim, tail, out);
+            return;
+        }
+        let mut offset = 0;
+        let mut child = Vec::new();
+        for (_, t, m) in &s.children {
+            let nt = self.plan.state(*t).dim;
+            child.resize(d * nt, 0.0);
+            mul_into(c, d, s.dim, m, nt, &mut child);
+            let len = self.count(*t, r - 1) as usize * d;
+            self.fill(*t, &child, d, r - 1, &mut out[offset..offset + len]);
+            offset += len;
+        }
+    }
+
+    /// Subtrees at the level where there are enough of them to keep every
+    /// thread busy: `(state, control points, remaining depth)`, in order.
+    pub(super) fn tasks(
+        &self,
+        state: usize,
+        c: Vec<f64>,
+        d: usize,
+        depth: usize,
+        want: usize,
+    ) -> Vec<(usize, Vec<f64>, usize)> {
+        let mut level = vec![(state, c, depth)];
+        while level.len() < want && level.iter().all(|(s, _, r)| *r > 0 && self.tails[*s].get(*r).is_none()) {
+            let mut next = Vec::new();
+            for (s, c, r) in level {
+                let sp = self.plan.state(s);
+                for (_, t, m) in &sp.children {
+                    let nt = self.plan.state(*t).dim;
+                    let mut child = vec![0.0; d * nt];
+                    mul_into(&c, d, sp.dim, m, nt, &mut child);
+                    next.push((*t, child, r - 1));
+                }
+            }
+            level = next;
+        }
+        level
+    }
+
+    pub(super) fn root_kind(&self) -> Result<CellKind, EvalError> {
+        let mut kinds = self.pieces.pieces.iter().map(|p| self.plan.state(p.state).kind);
+        let k = kinds.next().unwrap_or(CellKind::Free);
+        Ok(k)
+    }
+
+    pub(super) fn uses_start_set(&self, state: usize) -> bool {
+        self.settings.start.iter().any(|(n, _)| *n == self.plan.state(state).name)
+    }
+
+    /// Bytes the in-memory output of a fixed-depth evaluation would take.
+    pub fn estimate_bytes(&self, depth: usize) -> u128 {
+        let d = self.pieces.dim as u128;
+        match self.root_kind() {
+            Ok(CellKind::Face) if !self.pieces.pieces.iter().any(|p| self.uses_start_set(p.state)) => {
+                let split = self.plan.state(self.pieces.pieces[0].state).split.max(2) as u128;
+                let n = split.saturating_pow(depth.min(120) as u32);
+                let cells = (self.pieces.pieces.len() as u128).saturating_mul(n.saturating_mul(n));
+                // positions + normals + uvs (8 bytes each) and two index quads.
+                cells.saturating_mul((d + 3 + 2) * 8 + 64)
+            }
+            _ => self
+                .pieces
+                .pieces
+                .iter()
+                .map(|p| self.count(p.state, depth).saturating_add(1))
+                .fold(0u128, |a, b| a.saturating_add(b))
+                .saturating_mul(d * 8),
+        }
+    }
+
+    /// Number of leaf samples of piece `piece` at depth `k` (points it fills).
+    pub fn sample_count(&self, piece: usize, k: usize) -> usize {
+        self.count(self.pieces.pieces[piece].state, k).min(usize::MAX as u128) as usize
+    }
+
+    /// Fills `out` (resized to `sample_count(piece, k) · d`, reusing its
+    /// allocation) with the leaf samples of one piece at depth `k`, in
+    /// order, on the evaluator's threads: the hot path without the sink.
+    pub fn fill_piece(&self, piece: usize, k: usize, out: &mut Vec<f64>) {
+        let d = self.pieces.dim;
+        let p = &self.pieces.pieces[piece];
+        let threads = self.pool.current_num_threads();
+        let tasks = self.tasks(p.state, p.control.clone(), d, k, 16 * threads);
+        out.resize(self.sample_count(piece, k) * d, 0.0);
+        let mut slices = Vec::with_capacity(tasks.len());
+        let mut rest = out.as_mut_slice();
+        for (s, _, r) in &tasks {
+            let (head, tail) = rest.split_at_mut(self.count(*s, *r) as usize * d);
+            slices.push(head);
+            rest = tail;
+        }
+        if threads == 1 {
+            tasks.iter().zip(slices).for_each(|((s, c, r), slot)| self.fill(*s, c, d, *r, slot));
+        } else {
+            self.pool
+                .install(|| tasks.par_iter().zip(slices).for_each(|((s, c, r), slot)| self.fill(*s, c, d, *r, slot)));
+        }
+    }
+
+    /// Whether the output is a quad mesh (face roots without start sets).
+    pub(super) fn meshes(&self) -> bool {
+        self.pieces
+            .pieces
+            .iter()
+            .any(|p| self.plan.state(p.state).kind == CellKind::Face && !self.uses_start_set(p.state))
+    }
+
+    /// The smallest uniform depth at which every cell of every piece is below `eps`.
+    pub(super) fn depth_for_tolerance(&self, eps: f64) -> Result<usize, EvalError> {
+        let d = self.pieces.dim;
+        let mut level: Vec<(usize, Vec<f64>)> =
+            self.pieces.pieces.iter().map(|p| (p.state, p.control.clone())).collect();
+        for k in 0..=12 {
+            if level.iter().all(|(s, c)| diameter(c, d, self.plan.state(*s).dim) < eps) {
+                return Ok(k);
+            }
+            let mut next = Vec::new();
+            for (s, c) in &level {
+                let sp = self.plan.state(*s);
+                for (_, t, m) in &sp.children {
+                    let nt = self.plan.state(*t).dim;
+                    let mut child = vec![0.0; d * nt];
+                    mul_into(c, d, sp.dim, m, nt, &mut child);
+                    next.push((*t, child));
+                }
+            }
+            level = next;
+        }
+        Err(EvalError::Unsupported(format!(
+            "surface cells are still larger than {eps} at depth 12: raise the tolerance or give a depth"
+        )))
+    }
+
+    pub(super) fn plan(&self) -> &Plan {
+        &self.plan
+    }
+
+    pub(super) fn pool(&self) -> &rayon::ThreadPool {
+        &self.pool
+    }
+
+    pub(super) fn progress(&self, total: u64) -> Steps<'_> {
+        Steps::new(self.settings.progress.as_ref(), total)
+    }
+}

@@ -1,0 +1,120 @@
+//! Settings of deterministic evaluation, and what can go wrong.
+
+use std::io;
+
+use super::pieces::ModelError;
+use super::plan::PlanError;
+use crate::progress::Progress;
+
+/// Default in-memory output limit: 4 GiB.
+pub const DEFAULT_MEMORY_LIMIT: usize = 4 << 30;
+/// Default depth.
+pub const DEFAULT_DEPTH: usize = 8;
+/// Deepest level the adaptive mode goes to, whatever the tolerance.
+pub const MAX_ADAPTIVE_DEPTH: usize = 40;
+
+/// How deep to evaluate.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Depth {
+    /// Every root cell to exactly this depth.
+    Fixed(usize),
+    /// Until every cell's control polygon has diameter below this (modelling units).
+    Tolerance(f64),
+}
+
+/// Settings of an evaluation.
+#[derive(Clone, Debug)]
+#[non_exhaustive]
+pub struct EvalSettings {
+    /// Depth or tolerance.
+    pub depth: Depth,
+    /// Worker threads (`None`: all cores).
+    pub threads: Option<usize>,
+    /// In-memory output larger than this (bytes) is refused.
+    pub memory_limit: usize,
+    /// Start sets: barycentric points per state name, emitted at leaves instead of the kind's default.
+    pub start: Vec<(String, Vec<Vec<f64>>)>,
+    /// Subdivision arrows to leave out (a subset of the attractor).
+    pub dropped: Vec<String>,
+    /// Told how far a long evaluation is (`None`: nobody listens).
+    pub progress: Option<Progress>,
+}
+
+impl Default for EvalSettings {
+    fn default() -> EvalSettings {
+        EvalSettings {
+            depth: Depth::Fixed(DEFAULT_DEPTH),
+            threads: None,
+            memory_limit: DEFAULT_MEMORY_LIMIT,
+            start: Vec::new(),
+            dropped: Vec::new(),
+            progress: None,
+        }
+    }
+}
+
+impl EvalSettings {
+    /// With a fixed depth.
+    pub fn with_depth(mut self, depth: usize) -> Self {
+        self.depth = Depth::Fixed(depth);
+        self
+    }
+    /// With a tolerance.
+    pub fn with_tolerance(mut self, eps: f64) -> Self {
+        self.depth = Depth::Tolerance(eps);
+        self
+    }
+    /// With a thread count.
+    pub fn with_threads(mut self, threads: usize) -> Self {
+        self.threads = Some(threads);
+        self
+    }
+    /// With a memory limit in bytes.
+    pub fn with_memory_limit(mut self, bytes: usize) -> Self {
+        self.memory_limit = bytes;
+        self
+    }
+    /// With a start set for a state.
+    pub fn with_start(mut self, state: &str, points: Vec<Vec<f64>>) -> Self {
+        self.start.push((state.to_string(), points));
+        self
+    }
+    /// With a progress callback.
+    pub fn with_progress(mut self, progress: Progress) -> Self {
+        self.progress = Some(progress);
+        self
+    }
+    /// Without the given subdivision arrows.
+    pub fn without(mut self, arrows: &[&str]) -> Self {
+        self.dropped.extend(arrows.iter().map(|s| s.to_string()));
+        self
+    }
+}
+
+/// Why an evaluation failed.
+#[derive(Debug, thiserror::Error)]
+pub enum EvalError {
+    /// The automaton cannot be evaluated.
+    #[error(transparent)]
+    Plan(#[from] PlanError),
+    /// The model does not fit the automaton.
+    #[error(transparent)]
+    Model(#[from] ModelError),
+    /// The output would not fit the memory limit.
+    #[error("the output would take about {estimate} bytes ({:.1} GiB), over the in-memory limit of {:.1} GiB: lower the depth or stream it (`-o FILE.obj`)", *estimate as f64 / (1u64 << 30) as f64, *limit as f64 / (1u64 << 30) as f64)]
+    TooLarge {
+        /// Estimated bytes.
+        estimate: u128,
+        /// The limit.
+        limit: usize,
+    },
+    /// A dropped arrow that does not exist.
+    #[error("no subdivision arrow named `{0}` to drop")]
+    UnknownArrow(String),
+    /// Writing to the sink failed.
+    #[error("cannot write the output: {0}")]
+    Io(#[from] io::Error),
+    /// Faces mixed with other root kinds, or a face evaluated adaptively past the limit.
+    #[error("{0}")]
+    Unsupported(String),
+}

@@ -1,0 +1,165 @@
+//! The architecture, checked: the library's files import only from their own
+//! layer or the layers below it, and no two files import each other, even
+//! through others (the README's design notes list the layers).
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+
+/// The library's top-level modules, bottom first.
+const LAYERS: [&[&str]; 11] = [
+    &["algebra", "names", "progress"],
+    &["space"],
+    &["automaton"],
+    &["design"],
+    &["family"],
+    &["format"],
+    &["schemes"],
+    &["analysis"],
+    &["geometry"],
+    &["eval"],
+    &["export"],
+];
+
+fn rank(top: &str) -> usize {
+    LAYERS.iter().position(|l| l.contains(&top)).unwrap_or_else(|| panic!("module `{top}` is in no layer"))
+}
+
+/// Every library source file (the `cli` application and `main.rs` are not the library).
+fn library_files(dir: &Path, out: &mut Vec<PathBuf>) {
+    for entry in std::fs::read_dir(dir).expect("src is readable") {
+        let path = entry.expect("entry").path();
+        if path.is_dir() {
+            if path.file_name().is_some_and(|n| n != "cli") {
+                library_files(&path, out);
+            }
+        } else if path.extension().is_some_and(|e| e == "rs") && path.file_name().is_some_and(|n| n != "main.rs") {
+            out.push(path);
+        }
+    }
+}
+
+/// `src/eval/surface.rs` → `["eval", "surface"]`; `src/eval/mod.rs` → `["eval"]`; `src/lib.rs` → `[]`.
+fn module_of(src: &Path, file: &Path) -> Vec<String> {
+    let rel = file.strip_prefix(src).expect("under src").with_extension("");
+    let mut parts: Vec<String> = rel.iter().map(|p| p.to_string_lossy().into_owned()).collect();
+    if parts.last().is_some_and(|p| p == "mod" || p == "lib") {
+        parts.pop();
+    }
+    parts
+}
+
+/// The module paths a file refers to (`crate::a::b`, `super::c`, `self::d`),
+/// outside its unit tests.
+fn references(text: &str, module: &[String], is_dir_module: bool) -> Vec<Vec<String>> {
+    let code = text.split("#[cfg(test)]").next().unwrap_or_default();
+    let code: String = code.lines().filter(|l| !l.trim_start().starts_with("//")).collect::<Vec<_>>().join("\n");
+    // `super` of `eval/surface.rs` is `eval`; of `eval/mod.rs` it is the crate.
+    let parent: Vec<String> = if is_dir_module || module.is_empty() {
+        module[..module.len().saturating_sub(1)].to_vec()
+    } else {
+        module[..module.len() - 1].to_vec()
+    };
+    let mut out = Vec::new();
+    for (word, base) in [("crate::", Vec::new()), ("super::", parent), ("self::", module.to_vec())] {
+        let mut rest = code.as_str();
+        while let Some(at) = rest.find(word) {
+            let before = rest[..at].chars().last();
+            rest = &rest[at + word.len()..];
+            if before.is_some_and(|c| c.is_alphanumeric() || c == '_' || c == ':') {
+                continue;
+            }
+            // `use crate::{a::X, b::Y}` names several paths.
+            let heads: Vec<String> = if let Some(group) = rest.strip_prefix('{') {
+                let end = group.find('}').unwrap_or(group.len());
+                group[..end].split(',').map(|p| p.trim().to_string()).collect()
+            } else {
+                vec![rest.chars().take_while(|c| c.is_alphanumeric() || *c == '_' || *c == ':').collect()]
+            };
+            for head in heads {
+                let mut path = base.clone();
+                path.extend(head.split("::").filter(|s| !s.is_empty()).map(str::to_string));
+                out.push(path);
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn no_file_imports_from_above_or_in_a_cycle() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files = Vec::new();
+    library_files(&src, &mut files);
+    let modules: BTreeMap<Vec<String>, PathBuf> = files.iter().map(|f| (module_of(&src, f), f.clone())).collect();
+    let mut edges: BTreeMap<Vec<String>, BTreeSet<Vec<String>>> = BTreeMap::new();
+    let mut above = Vec::new();
+    for (module, file) in &modules {
+        let text = std::fs::read_to_string(file).expect("readable");
+        // A facade (`lib.rs`, `mod.rs`) depends on the children it declares.
+        for line in text.lines().map(str::trim) {
+            if let Some(child) = line.strip_prefix("mod ").or_else(|| line.strip_prefix("pub mod ")) {
+                let mut path = module.clone();
+                path.push(child.trim_end_matches(';').to_string());
+                if modules.contains_key(&path) {
+                    edges.entry(module.clone()).or_default().insert(path);
+                }
+            }
+        }
+        if module.is_empty() {
+            continue;
+        }
+        let is_dir_module = file.file_name().is_some_and(|n| n == "mod.rs");
+        for path in references(&text, module, is_dir_module) {
+            // The deepest module file that the path goes through (the crate root at worst).
+            let Some(target) = (0..=path.len()).rev().map(|k| path[..k].to_vec()).find(|p| modules.contains_key(p))
+            else {
+                continue;
+            };
+            if target == *module {
+                continue;
+            }
+            match target.first() {
+                None => above.push(format!("{} reaches into the crate root", module.join("::"))),
+                Some(top) if rank(top) > rank(&module[0]) => {
+                    above.push(format!("{} imports {}", module.join("::"), target.join("::")));
+                }
+                Some(_) => {}
+            }
+            edges.entry(module.clone()).or_default().insert(target);
+        }
+    }
+    assert!(above.is_empty(), "imports from a layer above:\n  {}", above.join("\n  "));
+    // A depth-first search finds any cycle.
+    fn visit(
+        m: &Vec<String>,
+        edges: &BTreeMap<Vec<String>, BTreeSet<Vec<String>>>,
+        state: &mut BTreeMap<Vec<String>, u8>,
+        stack: &mut Vec<Vec<String>>,
+    ) -> Option<Vec<String>> {
+        match state.get(m) {
+            Some(2) => return None,
+            Some(1) => {
+                let from = stack.iter().position(|x| x == m).unwrap_or(0);
+                return Some(stack[from..].iter().chain([m]).map(|p| p.join("::")).collect());
+            }
+            _ => {}
+        }
+        state.insert(m.clone(), 1);
+        stack.push(m.clone());
+        for next in edges.get(m).into_iter().flatten() {
+            if let Some(cycle) = visit(next, edges, state, stack) {
+                return Some(cycle);
+            }
+        }
+        stack.pop();
+        state.insert(m.clone(), 2);
+        None
+    }
+    let mut state = BTreeMap::new();
+    for m in modules.keys() {
+        if let Some(cycle) = visit(m, &edges, &mut state, &mut Vec::new()) {
+            panic!("import cycle: {}", cycle.join(" → "));
+        }
+    }
+    assert!(edges.len() > 20, "the scan found the imports ({} files with imports)", edges.len());
+}
