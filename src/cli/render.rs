@@ -136,14 +136,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<u8> {
         .with_view(yaw.trim().parse().context("--view yaw")?, pitch.trim().parse().context("--view pitch")?);
     let started = std::time::Instant::now();
     let summary = render(&design, &options, &output)?;
-    eprintln!(
-        "{}: {} vertices{} → {} ({:.2} s)",
-        design.name(),
-        summary.vertices,
-        if summary.quads > 0 { format!(", {} quads", summary.quads) } else { String::new() },
-        output.display(),
-        started.elapsed().as_secs_f64()
-    );
+    summary.report(design.name(), &output, started);
     Ok(0)
 }
 
@@ -154,6 +147,19 @@ pub struct RenderSummary {
     pub vertices: usize,
     /// Quads written.
     pub quads: usize,
+}
+
+impl RenderSummary {
+    /// Tells stderr what went where: `label: N vertices, M quads → OUT (T s)`.
+    pub fn report(&self, label: &str, output: &Path, started: std::time::Instant) {
+        eprintln!(
+            "{label}: {} vertices{} → {} ({:.2} s)",
+            self.vertices,
+            if self.quads > 0 { format!(", {} quads", self.quads) } else { String::new() },
+            output.display(),
+            started.elapsed().as_secs_f64()
+        );
+    }
 }
 
 pub fn model_of(design: &Design) -> Result<Model, RenderError> {

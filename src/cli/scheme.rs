@@ -85,15 +85,7 @@ fn run_ifs(out: &mut String, args: IfsArgs) -> Result<u8> {
     options.eval.progress = progress_bar();
     options.raster = options.raster.with_size(w, h);
     let started = std::time::Instant::now();
-    let summary = render(&design, &options, &output)?;
-    eprintln!(
-        "{}: {} vertices{} → {} ({:.2} s)",
-        design.description(),
-        summary.vertices,
-        if summary.quads > 0 { format!(", {} quads", summary.quads) } else { String::new() },
-        output.display(),
-        started.elapsed().as_secs_f64()
-    );
+    render(&design, &options, &output)?.report(design.description(), &output, started);
     Ok(0)
 }
 
@@ -215,15 +207,8 @@ fn run_normal(out: &mut String, args: NormalArgs) -> Result<u8> {
     let started = std::time::Instant::now();
     let shape = normal_shape(&preset, depth, form, bcifs::eval::DEFAULT_MEMORY_LIMIT)?;
     let raster = bcifs::export::RasterSettings::default().with_size(w, h);
-    let summary = write_shape(&shape, preset.name, &raster, &output)?;
-    eprintln!(
-        "{} ({}), depth {depth}: {} vertices → {} ({:.2} s)",
-        preset.name,
-        preset.scheme,
-        summary.vertices,
-        output.display(),
-        started.elapsed().as_secs_f64()
-    );
+    let label = format!("{} ({}), depth {depth}", preset.name, preset.scheme);
+    write_shape(&shape, preset.name, &raster, &output)?.report(&label, &output, started);
     Ok(0)
 }
 

@@ -5,8 +5,6 @@
 
 use std::io;
 
-use rayon::prelude::*;
-
 use super::prepared::{Evaluator, diameter, mul_into, project_into};
 use super::settings::{EvalError, MAX_ADAPTIVE_DEPTH};
 use crate::geometry::Sink;
@@ -39,24 +37,14 @@ impl Evaluator {
             if pi == 0 || !joined {
                 sink.object(&piece.name)?;
             }
-            let tasks = self.tasks(piece.state, piece.control.clone(), d, k, 16 * threads);
             if in_memory {
-                let total: usize = tasks.iter().map(|(s, _, r)| self.count(*s, *r) as usize).sum();
-                let mut out = vec![0.0; total * d];
-                let mut slices = Vec::with_capacity(tasks.len());
-                let mut rest = out.as_mut_slice();
-                for (s, _, r) in &tasks {
-                    let (head, tail) = rest.split_at_mut(self.count(*s, *r) as usize * d);
-                    slices.push(head);
-                    rest = tail;
-                }
-                self.pool.install(|| {
-                    tasks.par_iter().zip(slices).for_each(|((s, c, r), slot)| self.fill(*s, c, d, *r, slot));
-                });
+                let mut out = Vec::new();
+                self.fill_piece(pi, k, &mut out);
                 sink.vertices(d, &out, None)?;
-                first_vertex += total;
+                first_vertex += out.len() / d;
             } else {
                 // Streaming: one subtree at a time, each at most a bounded chunk.
+                let tasks = self.tasks(piece.state, piece.control.clone(), d, k, 16 * threads);
                 let mut out = CurveStream { sink: &mut *sink, buf: Vec::new(), vertices: &mut first_vertex };
                 for (s, c, r) in tasks {
                     self.stream_subtree(s, &c, r, &mut out)?;

@@ -275,7 +275,13 @@ impl Evaluator {
         let p = &self.pieces.pieces[piece];
         let threads = self.pool.current_num_threads();
         let tasks = self.tasks(p.state, p.control.clone(), d, k, 16 * threads);
-        out.resize(self.sample_count(piece, k) * d, 0.0);
+        let len = self.sample_count(piece, k) * d;
+        if out.capacity() >= len {
+            out.resize(len, 0.0);
+        } else {
+            // Zeroed pages are mapped as the threads first write them, in parallel.
+            *out = vec![0.0; len];
+        }
         let mut slices = Vec::with_capacity(tasks.len());
         let mut rest = out.as_mut_slice();
         for (s, _, r) in &tasks {

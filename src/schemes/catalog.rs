@@ -86,18 +86,33 @@ fn torus_points(rows: usize, cols: usize) -> Vec<Vec<f64>> {
 /// # Errors
 /// An unknown name (with the closest one), or control points that do not fit.
 pub fn ifs_preset(name: &str, points: Option<Vec<Vec<f64>>>, omega: Option<&Surd>) -> Result<Design, CatalogError> {
-    let seed1 = "Schaefer, Levin, Goldman, Subdivision schemes and attractors (seed 001)";
-    let wave = pts(&[[0.0, 0.0], [1.0, 2.0], [2.5, 2.2], [3.5, 0.4], [5.0, 1.2]]);
-    let omega = omega.cloned().unwrap_or_else(|| Surd::frac(DEFAULT_OMEGA.0, DEFAULT_OMEGA.1));
-    let curve = |blocks: Vec<ExactMatrix>, description: &str, comment: &str, model: ModelSpec| {
-        ifs_design(name, description, comment, &blocks, &model).map_err(|e| CatalogError::Points(e.to_string()))
-    };
-    let n_of = |blocks: &[ExactMatrix]| blocks[0].len();
-    let with = |default: Vec<Vec<f64>>| points.clone().unwrap_or(default);
-    let check = |model: &ModelSpec, min: usize| -> Result<(), CatalogError> {
+    let request = Request { name, points };
+    match name {
+        "ternary5" | "ternary5-closed" | "ternary5-surface" | "ternary5-torus" => {
+            let omega = omega.cloned().unwrap_or_else(|| Surd::frac(DEFAULT_OMEGA.0, DEFAULT_OMEGA.1));
+            ternary_preset(&request, &omega)
+        }
+        _ => seed1_preset(&request),
+    }
+}
+
+/// A preset asked for: its name and the user's control points, if any.
+struct Request<'a> {
+    name: &'a str,
+    points: Option<Vec<Vec<f64>>>,
+}
+
+impl Request<'_> {
+    /// The user's control points, or the preset's.
+    fn with(&self, default: Vec<Vec<f64>>) -> Vec<Vec<f64>> {
+        self.points.clone().unwrap_or(default)
+    }
+
+    /// At least `min` finite control points, all of 2 or all of 3 coordinates.
+    fn check(&self, model: &ModelSpec, min: usize) -> Result<(), CatalogError> {
         let model = &model.model;
         if model.points.len() < min {
-            return Err(CatalogError::Points(format!("`{name}` needs at least {min} control points")));
+            return Err(CatalogError::Points(format!("`{}` needs at least {min} control points", self.name)));
         }
         if model.points.iter().flatten().any(|x| !x.is_finite()) {
             return Err(CatalogError::Points("control point coordinates must be finite numbers".into()));
@@ -107,7 +122,30 @@ pub fn ifs_preset(name: &str, points: Option<Vec<Vec<f64>>>, omega: Option<&Surd
             return Err(CatalogError::Points("control points need 2 or 3 coordinates, all the same".into()));
         }
         Ok(())
-    };
+    }
+
+    /// The curve (or fractal) IFS of `blocks`.
+    fn curve(
+        &self,
+        blocks: Vec<ExactMatrix>,
+        description: &str,
+        comment: &str,
+        model: ModelSpec,
+    ) -> Result<Design, CatalogError> {
+        ifs_design(self.name, description, comment, &blocks, &model).map_err(|e| CatalogError::Points(e.to_string()))
+    }
+}
+
+/// The presets of seed 001: B-splines, Bézier curves, the four-point
+/// scheme, Koch and Sierpinski with control points, the bicubic patch.
+fn seed1_preset(request: &Request<'_>) -> Result<Design, CatalogError> {
+    let name = request.name;
+    let seed1 = "Schaefer, Levin, Goldman, Subdivision schemes and attractors (seed 001)";
+    let wave = pts(&[[0.0, 0.0], [1.0, 2.0], [2.5, 2.2], [3.5, 0.4], [5.0, 1.2]]);
+    let n_of = |blocks: &[ExactMatrix]| blocks[0].len();
+    let with = |default| request.with(default);
+    let check = |model: &ModelSpec, min| request.check(model, min);
+    let curve = |blocks, description: &str, comment: &str, model| request.curve(blocks, description, comment, model);
     match name {
         "bspline" => {
             let b = BSpline::uniform(3, 5).expect("valid").blocks(2).expect("self-similar");
@@ -224,64 +262,59 @@ pub fn ifs_preset(name: &str, points: Option<Vec<Vec<f64>>>, omega: Option<&Surd
             )
             .map_err(|e| CatalogError::Points(e.to_string()))
         }
-        "ternary5" | "ternary5-closed" | "ternary5-surface" | "ternary5-torus" => {
-            let rules = ternary_five_point(&omega);
-            let b = rules.blocks(super::ternary::TERNARY_WINDOW).expect("7 points give blocks");
-            let seed3 = format!(
-                "The ternary 5-point scheme of Siddiqi, Siddiqui and Ahmad (seed 003, eq. 1) with tension ω = {omega}:\n\
-                 three 7×7 blocks; the attractor of one window is the curve around its middle point."
-            );
-            match name {
-                "ternary5" | "ternary5-closed" => {
-                    let closed = name == "ternary5-closed";
-                    let default: Vec<Vec<f64>> = if closed {
-                        (0..9)
-                            .map(|i| {
-                                let t = std::f64::consts::TAU * i as f64 / 9.0;
-                                let r = if i % 3 == 0 { 1.3 } else { 1.0 };
-                                vec![(r * t.cos() * 1e6).round() / 1e6, (r * t.sin() * 1e6).round() / 1e6]
-                            })
-                            .collect()
-                    } else {
-                        (0..12).map(|i| vec![i as f64, if i % 2 == 0 { 0.0 } else { 1.0 }]).collect()
-                    };
-                    let model = spec(
-                        with(default),
-                        if closed { Layout::Closed } else { Layout::Open },
-                        None,
-                        "Windows of 7 control points sliding by 1.",
-                    );
-                    check(&model, 7)?;
-                    curve(b, &format!("ternary 5-point curve, ω = {omega}, seed 003"), &seed3, model)
-                }
-                _ => {
-                    let torus = name == "ternary5-torus";
-                    let model = if torus {
-                        spec(
-                            with(torus_points(8, 12)),
-                            Layout::Torus,
-                            Some((8, 12)),
-                            "A closed 8×12 control grid on a torus.",
-                        )
-                    } else {
-                        let default =
-                            grid_points(9, 9, |c, r| ((c - 4.0).powi(2) + (r - 4.0).powi(2) < 5.0) as u8 as f64 * 1.5);
-                        spec(
-                            with(default),
-                            Layout::Grid,
-                            Some((9, 9)),
-                            "A 9×9 control grid: 3×3 patches of 7×7 windows.",
-                        )
-                    };
-                    check(&model, 49)?;
-                    let description = format!("ternary 5-point tensor-product surface, ω = {omega}, seed 003");
-                    tensor_design(name, &description, &seed3, &b, &model)
-                        .map_err(|e| CatalogError::Points(e.to_string()))
-                }
-            }
-        }
         other => {
             Err(CatalogError::Unknown { name: other.to_string(), suggestion: crate::names::suggest(other, IFS_NAMES) })
+        }
+    }
+}
+
+/// The ternary 5-point presets of seed 003: open and closed curves, a
+/// sheet and a torus, with tension `omega`.
+fn ternary_preset(request: &Request<'_>, omega: &Surd) -> Result<Design, CatalogError> {
+    let name = request.name;
+    let with = |default| request.with(default);
+    let check = |model: &ModelSpec, min| request.check(model, min);
+    let rules = ternary_five_point(omega);
+    let b = rules.blocks(super::ternary::TERNARY_WINDOW).expect("7 points give blocks");
+    let seed3 = format!(
+        "The ternary 5-point scheme of Siddiqi, Siddiqui and Ahmad (seed 003, eq. 1) with tension ω = {omega}:\n\
+         three 7×7 blocks; the attractor of one window is the curve around its middle point."
+    );
+    match name {
+        "ternary5" | "ternary5-closed" => {
+            let closed = name == "ternary5-closed";
+            let default: Vec<Vec<f64>> = if closed {
+                (0..9)
+                    .map(|i| {
+                        let t = std::f64::consts::TAU * i as f64 / 9.0;
+                        let r = if i % 3 == 0 { 1.3 } else { 1.0 };
+                        vec![(r * t.cos() * 1e6).round() / 1e6, (r * t.sin() * 1e6).round() / 1e6]
+                    })
+                    .collect()
+            } else {
+                (0..12).map(|i| vec![i as f64, if i % 2 == 0 { 0.0 } else { 1.0 }]).collect()
+            };
+            let model = spec(
+                with(default),
+                if closed { Layout::Closed } else { Layout::Open },
+                None,
+                "Windows of 7 control points sliding by 1.",
+            );
+            check(&model, 7)?;
+            request.curve(b, &format!("ternary 5-point curve, ω = {omega}, seed 003"), &seed3, model)
+        }
+        _ => {
+            let torus = name == "ternary5-torus";
+            let model = if torus {
+                spec(with(torus_points(8, 12)), Layout::Torus, Some((8, 12)), "A closed 8×12 control grid on a torus.")
+            } else {
+                let default =
+                    grid_points(9, 9, |c, r| ((c - 4.0).powi(2) + (r - 4.0).powi(2) < 5.0) as u8 as f64 * 1.5);
+                spec(with(default), Layout::Grid, Some((9, 9)), "A 9×9 control grid: 3×3 patches of 7×7 windows.")
+            };
+            check(&model, 49)?;
+            let description = format!("ternary 5-point tensor-product surface, ω = {omega}, seed 003");
+            tensor_design(name, &description, &seed3, &b, &model).map_err(|e| CatalogError::Points(e.to_string()))
         }
     }
 }
