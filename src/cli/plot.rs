@@ -88,17 +88,6 @@ impl Plot {
                 .y_label_area_size(64)
                 .build_cartesian_2d(x0..x1, y0..y1)
                 .map_err(draw)?;
-            for (a, b, c, label) in &self.bands {
-                let colour = rgb(*c);
-                let drawn = chart
-                    .draw_series(std::iter::once(Rectangle::new([(*a, y0), (*b, y1)], colour.filled())))
-                    .map_err(draw)?;
-                if !label.is_empty() {
-                    drawn
-                        .label(label)
-                        .legend(move |(x, y)| Rectangle::new([(x, y - 6), (x + 18, y + 6)], colour.filled()));
-                }
-            }
             chart
                 .configure_mesh()
                 .x_desc(&self.x_label)
@@ -108,6 +97,17 @@ impl Plot {
                 .light_line_style(RGBColor(236, 236, 236))
                 .draw()
                 .map_err(draw)?;
+            for (a, b, c, label) in &self.bands {
+                let colour = rgb(*c);
+                let drawn = chart
+                    .draw_series(std::iter::once(Rectangle::new([(*a, y0), (*b, y1)], colour.mix(0.75).filled())))
+                    .map_err(draw)?;
+                if !label.is_empty() {
+                    drawn
+                        .label(label)
+                        .legend(move |(x, y)| Rectangle::new([(x, y - 6), (x + 18, y + 6)], colour.filled()));
+                }
+            }
             for (y, c) in &self.hlines {
                 chart.draw_series(LineSeries::new([(x0, *y), (x1, *y)], rgb(*c).stroke_width(1))).map_err(draw)?;
             }
