@@ -209,3 +209,23 @@ fn adaptive_evaluation_meets_the_tolerance() {
     }
     assert!(pts.len() > 100);
 }
+
+/// `Evaluator::new` uses the model's start sets; settings given for a state
+/// take their place, so both ways give the same points.
+#[test]
+fn the_models_start_sets_are_honoured() {
+    let (a, model, _) = load("fern_sierpinski", &[]);
+    assert!(!model.start.is_empty(), "the shipped model has start sets");
+    let settings = EvalSettings::default().with_depth(3).with_threads(1);
+    let from_model = Evaluator::new(&a, &model, settings.clone()).unwrap().evaluate().unwrap();
+    let mut bare = model.clone();
+    let start = std::mem::take(&mut bare.start);
+    let mut given = settings.clone();
+    for (state, points) in &start {
+        given = given.with_start(state, points.clone());
+    }
+    let from_settings = Evaluator::new(&a, &bare, given).unwrap().evaluate().unwrap();
+    assert_eq!(from_model.positions, from_settings.positions);
+    let without = Evaluator::new(&a, &bare, settings).unwrap().evaluate().unwrap();
+    assert_ne!(from_model.positions, without.positions, "the start set changes the points");
+}
