@@ -1,10 +1,12 @@
 //! Numeric verification of an instantiated automaton: constraint residuals,
-//! column sums, spectra and contractivity.
+//! column sums, spectra, and the convergence verdict of the joint spectral
+//! radius bounds.
 
 use std::collections::HashMap;
 
 use nalgebra::Complex;
 
+use super::jsr::{Jsr, JsrSettings, jsr};
 use crate::algebra::{Env, ExprError, contractive_spectrum, eigenvalues};
 use crate::automaton::{ArrowKind, Automaton, Relation};
 
@@ -24,8 +26,14 @@ pub struct CheckReport {
     /// Eigenvalues of every square subdivision arrow, by arrow name.
     pub spectra: Vec<(String, Vec<Complex<f64>>)>,
     /// Whether every square subdivision arrow has, besides one eigenvalue 1,
-    /// only eigenvalues of modulus < 1.
+    /// only eigenvalues of modulus < 1: the per-matrix condition of seed 004
+    /// §3, which is necessary for convergence but not sufficient.
     pub contractive: bool,
+    /// Bounds on the joint spectral radius on the difference subspaces
+    /// (`None` when a subdivision matrix is not column-stochastic).
+    pub jsr: Option<Jsr>,
+    /// The verdict of the bounds: converges, diverges, or `None` (undecided).
+    pub converges: Option<bool>,
 }
 
 struct Numbers<'a> {
@@ -78,5 +86,7 @@ pub fn check(automaton: &Automaton<f64>, values: &HashMap<String, f64>, tol: f64
         }
     }
     let ok = max_column_sum_error <= tol && constraints.iter().all(|(_, r)| *r <= tol);
-    Ok(CheckReport { ok, constraints, max_column_sum_error, spectra, contractive })
+    let jsr = jsr(automaton, &JsrSettings::default()).ok();
+    let converges = jsr.as_ref().and_then(|j| j.verdict().converges());
+    Ok(CheckReport { ok, constraints, max_column_sum_error, spectra, contractive, jsr, converges })
 }

@@ -1,7 +1,9 @@
 //! Analysis of instantiated automata and of subdivision schemes.
 
 mod check;
+mod jsr;
 pub mod subdivision;
 pub mod ternary;
 
 pub use check::{CheckReport, DEFAULT_CHECK_TOLERANCE, check};
+pub use jsr::{Jsr, JsrError, JsrSettings, ROUNDING, Verdict, jsr};

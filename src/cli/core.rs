@@ -101,13 +101,15 @@ pub fn run_check(out: &mut String, file: &str, params: &[String], as_json: bool)
             .collect();
         let constraints: Vec<_> =
             report.constraints.iter().map(|(e, r)| json!({"equation": e, "max_abs_residual": r})).collect();
+        let jsr = report.jsr.as_ref().map(|j| json!({"lower": j.lower, "upper": j.upper, "witness": j.witness}));
         writeln!(
             out,
             "{}",
             serde_json::to_string_pretty(&json!({
                 "automaton": design.name(), "ok": report.ok, "parameters": params,
                 "constraints": constraints, "max_column_sum_error": report.max_column_sum_error,
-                "spectra": spectra, "contractive": report.contractive,
+                "spectra": spectra, "per_matrix_condition": report.contractive,
+                "jsr": jsr, "converges": report.converges, "contractive": report.converges,
             }))?
         )?;
     } else {
@@ -125,10 +127,24 @@ pub fn run_check(out: &mut String, file: &str, params: &[String], as_json: bool)
                 .collect();
             writeln!(out, "  spectrum of {n}: {}", list.join(", "))?;
         }
-        writeln!(out, "  contractive: {}", if report.contractive { "yes" } else { "no" })?;
+        writeln!(
+            out,
+            "  per-matrix condition (seed 004 §3, necessary only): {}",
+            if report.contractive { "holds" } else { "fails" }
+        )?;
+        match &report.jsr {
+            Some(j) => writeln!(out, "  {j}")?,
+            None => writeln!(out, "  JSR: not defined (a subdivision matrix is not column-stochastic)")?,
+        }
+        let verdict = match report.converges {
+            Some(true) => "converges (the upper bound is below 1)",
+            Some(false) => "DIVERGES (the lower bound is at least 1)",
+            None => "undecided (the bounds straddle 1)",
+        };
+        writeln!(out, "  convergence: {verdict}")?;
         writeln!(out, "{}", if report.ok { "ok" } else { "FAILED: some constraints do not hold" })?;
     }
-    Ok(if report.ok { 0 } else { 1 })
+    Ok(if report.ok && report.converges != Some(false) { 0 } else { 1 })
 }
 
 /// Prints the automaton file of a generated topology.

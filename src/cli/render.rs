@@ -91,6 +91,9 @@ pub struct RenderArgs {
     /// Output file: .obj (streamed), .svg or .png.
     #[arg(short, long)]
     pub output: PathBuf,
+    /// Evaluate even a system whose convergence bounds prove it diverges.
+    #[arg(long)]
+    pub force: bool,
 }
 
 /// `bcifs render`: evaluates a design with its model and writes the file.
@@ -109,6 +112,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<u8> {
         size,
         view,
         output,
+        force,
     } = args;
     let design = load(&file)?;
     let mut options = RenderOptions { params: parse_params(&params)?, ..RenderOptions::default() };
@@ -121,11 +125,13 @@ pub fn run(args: RenderArgs) -> anyhow::Result<u8> {
     options.eval.threads = threads;
     options.eval.memory_limit = memory_mib.saturating_mul(1 << 20);
     options.eval.dropped = drop;
+    options.eval.force = force;
     options.eval.progress = progress_bar();
     if let Some(n) = random {
         let mut r = bcifs::eval::RandomSettings::default().with_points(n).with_seed(seed);
         r.threads = threads;
         r.probabilities = parse_params(&probs)?;
+        r.force = force;
         options.random = Some(r);
     }
     let (w, h) = parse_size(&size)?;
@@ -176,8 +182,21 @@ pub fn evaluate_design(design: &Design, options: &RenderOptions) -> Result<Shape
     let eval = options.eval.clone();
     Ok(match &options.random {
         Some(r) => chaos_game(&instance.automaton, &model, r)?,
-        None => Evaluator::new(&instance.automaton, &model, eval)?.evaluate()?,
+        None => evaluator(&instance.automaton, &model, eval)?.evaluate()?,
     })
+}
+
+/// An evaluator, its warnings (undecided convergence) told on stderr.
+fn evaluator(
+    automaton: &bcifs::Automaton<f64>,
+    model: &Model,
+    settings: EvalSettings,
+) -> Result<Evaluator, RenderError> {
+    let ev = Evaluator::new(automaton, model, settings)?;
+    for w in ev.warnings() {
+        eprintln!("warning: {w}");
+    }
+    Ok(ev)
 }
 
 /// Renders a design into `out`, choosing the format by extension: `.obj`
@@ -203,7 +222,7 @@ pub fn render(design: &Design, options: &RenderOptions, out: &Path) -> Result<Re
                 }
                 None => {
                     let eval = options.eval.clone();
-                    let ev = Evaluator::new(&instance.automaton, &model, eval)?;
+                    let ev = evaluator(&instance.automaton, &model, eval)?;
                     let mut counter = Counter { inner: &mut writer, vertices: 0, quads: 0 };
                     ev.stream(&mut counter).map_err(|e| match e {
                         EvalError::Io(e) => io(e),

@@ -15,6 +15,7 @@ use rayon::prelude::*;
 use super::pieces::{Pieces, pieces};
 use super::plan::Plan;
 use super::settings::{EvalError, EvalSettings};
+use crate::analysis::{JsrSettings, Verdict, jsr};
 use crate::automaton::Automaton;
 use crate::design::Model;
 use crate::progress::Steps;
@@ -27,6 +28,8 @@ const MAX_TAIL_LEVEL: usize = 16;
 
 /// An automaton prepared for evaluation with a model.
 pub struct Evaluator {
+    /// What the convergence bounds say when they do not decide (empty when they prove convergence).
+    pub(super) warnings: Vec<String>,
     pub(super) plan: Plan,
     pub(super) pieces: Pieces,
     /// tails[state][r]: leaf samples of a depth-r subtree, `n` barycentric coordinates each.
@@ -35,6 +38,24 @@ pub struct Evaluator {
     pub(super) counts: Vec<Vec<u128>>,
     pub(super) pool: rayon::ThreadPool,
     pub(super) settings: EvalSettings,
+}
+
+/// Refuses a system whose joint spectral radius bounds prove divergence
+/// (unless `force`); a warning when they leave it undecided.
+pub(super) fn convergence_warnings(automaton: &Automaton<f64>, force: bool) -> Result<Vec<String>, EvalError> {
+    let Ok(bounds) = jsr(automaton, &JsrSettings::quick()) else {
+        return Ok(Vec::new()); // not stochastic: the plan refuses it with a better message
+    };
+    match bounds.verdict() {
+        Verdict::Converges => Ok(Vec::new()),
+        Verdict::Diverges if !force => Err(EvalError::Diverges { witness: bounds.witness_text() }),
+        Verdict::Diverges => {
+            Ok(vec![format!("the subdivision diverges ({}); evaluated on request", bounds.witness_text())])
+        }
+        Verdict::Undecided => {
+            Ok(vec![format!("convergence is undecided: {bounds}; the picture may not converge to an attractor")])
+        }
+    }
 }
 
 /// `C (d × n) · M (n × m)` into `out (d × m)`, all row-major.
@@ -99,6 +120,7 @@ impl Evaluator {
             model.start.iter().filter(|(s, _)| !settings.start.iter().any(|(t, _)| t == s)).cloned().collect();
         start.extend(settings.start.iter().cloned());
         let mut plan = Plan::new(automaton, &start)?;
+        let warnings = convergence_warnings(automaton, settings.force)?;
         for name in &settings.dropped {
             let found = plan.states.iter_mut().flatten().any(|s| {
                 let before = s.children.len();
@@ -122,9 +144,15 @@ impl Evaluator {
             .num_threads(threads)
             .build()
             .map_err(|e| io::Error::other(e.to_string()))?;
-        let mut ev = Evaluator { plan, pieces, tails: Vec::new(), counts: Vec::new(), pool, settings };
+        let mut ev = Evaluator { warnings, plan, pieces, tails: Vec::new(), counts: Vec::new(), pool, settings };
         ev.tabulate();
         Ok(ev)
+    }
+
+    /// Warnings about the input: the joint spectral radius bounds left
+    /// convergence undecided (the picture may show no attractor).
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
     }
 
     /// The pieces of the model.

@@ -40,6 +40,8 @@ pub struct RandomSettings {
     pub threads: Option<usize>,
     /// Independent chains (fixed, so output does not depend on threads).
     pub chains: usize,
+    /// Run even a system whose joint spectral radius bounds prove it diverges.
+    pub force: bool,
 }
 
 impl Default for RandomSettings {
@@ -51,6 +53,7 @@ impl Default for RandomSettings {
             probabilities: Vec::new(),
             threads: None,
             chains: 8,
+            force: false,
         }
     }
 }
@@ -174,6 +177,7 @@ impl ChaosGame {
     /// fit, an unknown arrow in the probabilities, or a root no arrow leads into.
     pub fn new(automaton: &Automaton<f64>, model: &Model, settings: &RandomSettings) -> Result<ChaosGame, EvalError> {
         let plan = Plan::new(automaton, &[])?;
+        super::prepared::convergence_warnings(automaton, settings.force)?;
         let pieces = pieces(automaton, model)?;
         let size = plan.states.len();
         let mut inc = Incoming { arrows: vec![Vec::new(); size], alias: vec![None; size] };

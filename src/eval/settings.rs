@@ -38,6 +38,9 @@ pub struct EvalSettings {
     pub dropped: Vec<String>,
     /// Told how far a long evaluation is (`None`: nobody listens).
     pub progress: Option<Progress>,
+    /// Evaluate even a system whose joint spectral radius bounds prove it
+    /// diverges (its pictures show the divergence, not an attractor).
+    pub force: bool,
 }
 
 impl Default for EvalSettings {
@@ -49,6 +52,7 @@ impl Default for EvalSettings {
             start: Vec::new(),
             dropped: Vec::new(),
             progress: None,
+            force: false,
         }
     }
 }
@@ -84,6 +88,11 @@ impl EvalSettings {
         self.progress = Some(progress);
         self
     }
+    /// Evaluating even a divergent system.
+    pub fn with_force(mut self) -> Self {
+        self.force = true;
+        self
+    }
     /// Without the given subdivision arrows.
     pub fn without(mut self, arrows: &[&str]) -> Self {
         self.dropped.extend(arrows.iter().map(|s| s.to_string()));
@@ -114,6 +123,14 @@ pub enum EvalError {
     /// Writing to the sink failed.
     #[error("cannot write the output: {0}")]
     Io(#[from] io::Error),
+    /// The joint spectral radius bounds prove that the subdivision diverges.
+    #[error(
+        "the subdivision diverges: {witness} ≥ 1 on the differences (its powers do not contract); evaluate anyway with force (`--force`)"
+    )]
+    Diverges {
+        /// The cycle and its normalised spectral radius, `T0 T1 T1 T1: ρ^(1/4) = 1.2601`.
+        witness: String,
+    },
     /// Faces mixed with other root kinds, or a face evaluated adaptively past the limit.
     #[error("{0}")]
     Unsupported(String),

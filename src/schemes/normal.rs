@@ -609,7 +609,7 @@ pub fn normal_preset(name: &str) -> Result<NormalPreset, NormalSchemeError> {
         ),
         "minkowski" => preset(
             "minkowski",
-            "Minkowski curve, 7-ary, Fig. 9b",
+            "\"Minkowski curve\", 7-ary, Fig. 9b (dimension log 3/log 2 ≈ 1.585, not the Minkowski curve's 1.5: docs/errata.md)",
             scheme(
                 &["0", "1/4", "1/4", "1/2", "1/2", "3/4", "3/4"],
                 &["0", "0", "1/4", "1/4", "-1/4", "-1/4", "0"],

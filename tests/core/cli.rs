@@ -45,10 +45,27 @@ fn check_json_contract_and_exit_codes() {
     assert_eq!(v["spectra"]["T0"].as_array().unwrap().len(), 3);
     assert!(v["max_column_sum_error"].as_f64().unwrap() < 1e-12);
 
-    // Outside the convergence domain: constraints hold, not contractive.
+    assert_eq!(v["converges"], true);
+    assert_eq!(v["per_matrix_condition"], true);
+    assert!(v["jsr"]["upper"].as_f64().unwrap() < 1.0);
+
+    // Outside the convergence domain: constraints hold, the system diverges (exit 1).
     let (code, out, _) = bcifs(&["check", "corner_cutting", "--param", "a=1.5", "--json"]);
-    assert_eq!(code, 0);
-    assert_eq!(json(&out)["contractive"], false);
+    assert_eq!(code, 1);
+    let v = json(&out);
+    assert_eq!(
+        (v["ok"].clone(), v["contractive"].clone(), v["converges"].clone()),
+        (true.into(), false.into(), false.into())
+    );
+
+    // Seed 004's "iff" is false: each matrix passes, the JSR proves divergence.
+    let (code, out, _) = bcifs(&["check", "corner_cutting", "--param", "a=-0.9", "--param", "b=0.95", "--json"]);
+    assert_eq!(code, 1);
+    let v = json(&out);
+    assert_eq!(v["per_matrix_condition"], true);
+    assert_eq!(v["converges"], false);
+    assert!((v["jsr"]["lower"].as_f64().unwrap() - 1.2601).abs() < 1e-4, "{v}");
+    assert_eq!(v["jsr"]["witness"], serde_json::json!(["T0", "T1", "T1", "T1"]));
 
     // Unknown parameter, missing file: usage/file errors, exit 2.
     let (code, _, err) = bcifs(&["check", "corner_cutting", "--param", "aa=0.2"]);

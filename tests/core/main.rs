@@ -2,6 +2,7 @@
 
 mod builder;
 mod cli;
+mod convergence;
 mod errors;
 mod families;
 mod layers;

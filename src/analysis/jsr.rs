@@ -1,0 +1,453 @@
+//! Joint spectral radius bounds of an automaton on its difference subspaces:
+//! sound convergence verdicts for any (graph-directed) subdivision system.
+//!
+//! A column-stochastic matrix `M` (`λ_A = M λ_B`) maps the differences of
+//! `B` (coordinates summing to 0) into those of `A`. The subdivision converges
+//! when every long product of subdivision matrices along the automaton's
+//! paths contracts those differences: when the joint spectral radius (JSR) of
+//! the restricted matrices, over the admissible paths of each strongly
+//! connected part of the automaton, is below 1. It diverges when some cycle's
+//! product has a restricted spectral radius `ρ(P)^(1/length) ≥ 1`: its powers
+//! do not shrink the differences. Per-matrix eigenvalues (seed 004 §3) give a
+//! necessary condition only.
+//!
+//! - **Lower bound**: `max ρ(P)^(1/|P|)` over the cycles of length up to
+//!   [`JsrSettings::max_cycle`], with the cycle that attains it as the witness.
+//! - **Upper bound**: in an ellipsoidal norm adapted to the system (the
+//!   Perron eigenvector of `Y ↦ Σ Rᵀ Y R`, whose norm bounds every matrix by
+//!   the "ρ₂" bound of Blondel and Nesterov), a branch and bound over paths:
+//!   a path is closed once its norm is at most `γ^length`; when every path
+//!   from every state closes, every infinite path is a chain of closed paths
+//!   and `JSR ≤ γ`. Targets `γ` rise from just above the lower bound to 1
+//!   until one closes within the budget.
+//!
+//! Every verdict is a theorem about the bounds beside it: `Converges` when
+//! the upper bound is below 1, `Diverges` when the lower bound is at least 1
+//! (less the rounding of an eigenvalue, [`ROUNDING`]), `Undecided` otherwise.
+
+use std::fmt;
+
+use nalgebra::DMatrix;
+use petgraph::algo::tarjan_scc;
+use petgraph::graph::DiGraph;
+
+use crate::automaton::{ArrowKind, Automaton};
+
+/// Rounding allowed when a spectral radius is compared with 1: eigenvalues
+/// of small products with entries of order 1 are backward stable to ~1e-15.
+pub const ROUNDING: f64 = 1e-12;
+
+/// How hard to look for the bounds. Work is counted in floating-point
+/// operations of the products, eigenvalues and norms (about `n³` each for
+/// `n × n` restricted matrices), so large surface patches get fewer products
+/// than curves for the same time.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct JsrSettings {
+    /// Longest cycle whose product's spectral radius is computed.
+    pub max_cycle: usize,
+    /// Work for the lower bound (cycles), in operations.
+    pub cycle_work: f64,
+    /// Work for the upper bound (adapted norm and branch and bound), in operations.
+    pub norm_work: f64,
+}
+
+impl Default for JsrSettings {
+    /// A fraction of a second on the largest shipped patches; milliseconds on curves.
+    fn default() -> JsrSettings {
+        JsrSettings { max_cycle: 10, cycle_work: 3e7, norm_work: 6e7 }
+    }
+}
+
+impl JsrSettings {
+    /// A small budget, to refuse a divergent system before evaluation: a
+    /// few milliseconds.
+    pub fn quick() -> JsrSettings {
+        JsrSettings { max_cycle: 6, cycle_work: 2e6, norm_work: 2e6 }
+    }
+}
+
+/// Operations left to spend.
+struct Work(f64);
+
+impl Work {
+    /// Spends `ops`; false when the budget is exhausted.
+    fn spend(&mut self, ops: f64) -> bool {
+        self.0 -= ops;
+        self.0 >= 0.0
+    }
+}
+
+/// Operations of `a (r × k) · b (k × c)`, with the cost of a small
+/// allocation counted as 500 operations.
+fn product_ops(a: &DMatrix<f64>, b: &DMatrix<f64>) -> f64 {
+    2.0 * (a.nrows() * a.ncols() * b.ncols()) as f64 + 500.0
+}
+
+/// Operations of an eigenvalue or singular value computation of `m`
+/// (iterative: about `30 n³`, and a fixed cost).
+fn decomposition_ops(m: &DMatrix<f64>) -> f64 {
+    30.0 * (m.nrows().max(m.ncols()) as f64).powi(3) + 5000.0
+}
+
+/// What the bounds prove.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Verdict {
+    /// The upper bound is below 1: the subdivision converges.
+    Converges,
+    /// The lower bound is at least 1: the witness's powers do not contract.
+    Diverges,
+    /// The bounds straddle 1 within the budget.
+    Undecided,
+}
+
+impl Verdict {
+    /// `Some(true)`, `Some(false)` or `None` (undecided).
+    pub fn converges(self) -> Option<bool> {
+        match self {
+            Verdict::Converges => Some(true),
+            Verdict::Diverges => Some(false),
+            Verdict::Undecided => None,
+        }
+    }
+}
+
+/// Bounds on the joint spectral radius of an automaton on its difference subspaces.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Jsr {
+    /// `max ρ(P)^(1/|P|)` over the cycles tried.
+    pub lower: f64,
+    /// An upper bound (∞ when no norm bound was found).
+    pub upper: f64,
+    /// The cycle attaining the lower bound, arrow names in path order.
+    pub witness: Vec<String>,
+}
+
+impl Jsr {
+    /// What the bounds prove.
+    pub fn verdict(&self) -> Verdict {
+        if self.lower >= 1.0 - ROUNDING {
+            Verdict::Diverges
+        } else if self.upper < 1.0 {
+            Verdict::Converges
+        } else {
+            Verdict::Undecided
+        }
+    }
+
+    /// The witness as `T0 T1 T1 T1: ρ^(1/4) = 1.2601`.
+    pub fn witness_text(&self) -> String {
+        format!("{}: ρ^(1/{}) = {:.4}", self.witness.join(" "), self.witness.len(), self.lower)
+    }
+}
+
+impl fmt::Display for Jsr {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "JSR in [{:.6}, {:.6}]", self.lower, self.upper)?;
+        if !self.witness.is_empty() {
+            write!(f, " (lower bound by {})", self.witness_text())?;
+        }
+        Ok(())
+    }
+}
+
+/// Why the bounds cannot be computed.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum JsrError {
+    /// A subdivision matrix whose columns do not sum to 1 does not keep the differences.
+    #[error("arrow `{arrow}` is not column-stochastic (column {column} sums to {sum}): differences are not kept")]
+    NotStochastic {
+        /// The arrow.
+        arrow: String,
+        /// The column.
+        column: usize,
+        /// Its sum.
+        sum: f64,
+    },
+}
+
+/// An orthonormal basis of `{x ∈ R^n : Σ x = 0}` (Helmert): `n × (n − 1)`.
+fn difference_basis(n: usize) -> DMatrix<f64> {
+    DMatrix::from_fn(n, n.saturating_sub(1), |i, k| {
+        let k1 = (k + 1) as f64;
+        let scale = 1.0 / (k1 * (k1 + 1.0)).sqrt();
+        match i.cmp(&(k + 1)) {
+            std::cmp::Ordering::Less => scale,
+            std::cmp::Ordering::Equal => -k1 * scale,
+            std::cmp::Ordering::Greater => 0.0,
+        }
+    })
+}
+
+/// An edge of a strongly connected part: its arrow's name, source and
+/// target (indices in the part), and its restriction to the differences.
+struct Edge {
+    name: String,
+    from: usize,
+    to: usize,
+    matrix: DMatrix<f64>,
+}
+
+/// The state of the cycle enumeration: where cycles start, the current
+/// path (edge indices), the products left to form, the best cycle so far.
+struct CycleSearch {
+    start: usize,
+    path: Vec<usize>,
+    work: Work,
+    best: (f64, Vec<usize>),
+}
+
+/// A strongly connected part of the automaton with at least one edge.
+struct Part {
+    dims: Vec<usize>,
+    edges: Vec<Edge>,
+}
+
+fn spectral_radius(m: &DMatrix<f64>) -> f64 {
+    if m.nrows() == 0 {
+        return 0.0;
+    }
+    match crate::algebra::eigenvalues(m) {
+        Some(eig) => eig.iter().map(|l| l.norm()).fold(0.0, f64::max),
+        // A stalled eigenvalue iteration proves nothing: no lower bound from it.
+        None => 0.0,
+    }
+}
+
+fn spectral_norm(m: &DMatrix<f64>) -> f64 {
+    if m.is_empty() {
+        return 0.0;
+    }
+    m.clone().svd(false, false).singular_values.iter().copied().fold(0.0, f64::max)
+}
+
+/// Bounds on the JSR of the subdivision arrows of `automaton` restricted to
+/// the difference subspaces, over the paths of each strongly connected part
+/// (the largest over the parts).
+///
+/// Complexity: bounded by the work of [`JsrSettings`]: products, eigenvalues
+/// and singular values of `(n − 1) × (n − 1)` restricted matrices.
+///
+/// # Errors
+/// [`JsrError::NotStochastic`] for a subdivision arrow whose columns do not sum to 1.
+///
+/// # Example
+/// ```
+/// let design = bcifs::builtin_design("corner_cutting").unwrap();
+/// let chaikin = bcifs::instantiate(&design, &[("a".into(), 0.25), ("b".into(), 0.25)]).unwrap();
+/// let jsr = bcifs::analysis::jsr(&chaikin.automaton, &Default::default()).unwrap();
+/// assert!((jsr.lower - 0.5).abs() < 1e-12 && jsr.upper < 0.5 + 1e-3);
+/// assert_eq!(jsr.verdict(), bcifs::analysis::Verdict::Converges);
+/// ```
+pub fn jsr(automaton: &Automaton<f64>, settings: &JsrSettings) -> Result<Jsr, JsrError> {
+    let parts = parts(automaton)?;
+    let mut out = Jsr { lower: 0.0, upper: 0.0, witness: Vec::new() };
+    for part in &parts {
+        let (lower, witness) = part.lower_bound(settings);
+        if lower > out.lower || out.witness.is_empty() && !witness.is_empty() {
+            out.lower = out.lower.max(lower);
+            out.witness = witness;
+        }
+        let upper = if lower >= 1.0 - ROUNDING { part.norm_bound(settings) } else { part.upper_bound(lower, settings) };
+        out.upper = out.upper.max(upper.max(lower));
+    }
+    Ok(out)
+}
+
+/// The strongly connected parts with an edge, their matrices restricted.
+fn parts(automaton: &Automaton<f64>) -> Result<Vec<Part>, JsrError> {
+    let mut graph: DiGraph<usize, usize> = DiGraph::new();
+    let mut node_of = std::collections::HashMap::new();
+    for (id, state) in automaton.states() {
+        node_of.insert(id, graph.add_node(state.dim));
+    }
+    let mut arrows = Vec::new();
+    for (id, arrow) in automaton.arrows() {
+        if arrow.kind != ArrowKind::Subdivision {
+            continue;
+        }
+        for (column, col) in arrow.matrix.column_iter().enumerate() {
+            let sum = col.sum();
+            if !sum.is_finite() || (sum - 1.0).abs() > 1e-9 {
+                return Err(JsrError::NotStochastic { arrow: arrow.name.clone(), column, sum });
+            }
+        }
+        let (from, to) = automaton.arrow_ends(id);
+        graph.add_edge(node_of[&from], node_of[&to], arrows.len());
+        arrows.push((arrow.name.clone(), &arrow.matrix));
+    }
+    let mut out = Vec::new();
+    for component in tarjan_scc(&graph) {
+        let index = |n| component.iter().position(|c| *c == n);
+        let dims: Vec<usize> = component.iter().map(|n| graph[*n]).collect();
+        let mut edges = Vec::new();
+        for e in graph.edge_indices() {
+            let Some((a, b)) = graph.edge_endpoints(e) else { continue };
+            if let (Some(from), Some(to)) = (index(a), index(b)) {
+                let (name, m) = &arrows[graph[e]];
+                let matrix = difference_basis(dims[from]).transpose() * *m * difference_basis(dims[to]);
+                edges.push(Edge { name: name.clone(), from, to, matrix });
+            }
+        }
+        if !edges.is_empty() && dims.iter().all(|d| *d >= 2) {
+            out.push(Part { dims, edges });
+        }
+    }
+    Ok(out)
+}
+
+impl Part {
+    /// `max ρ(P)^(1/|P|)` over the cycles of length up to `max_cycle`, by a
+    /// depth-first walk from every state; the cycle that attains it.
+    fn lower_bound(&self, settings: &JsrSettings) -> (f64, Vec<String>) {
+        let mut search =
+            CycleSearch { start: 0, path: Vec::new(), work: Work(settings.cycle_work), best: (0.0, Vec::new()) };
+        for start in 0..self.dims.len() {
+            let n = self.dims[start] - 1;
+            search.start = start;
+            self.cycles(start, &DMatrix::identity(n, n), settings.max_cycle, &mut search);
+        }
+        let (rho, path) = search.best;
+        (rho, path.iter().map(|&e| self.edges[e].name.clone()).collect())
+    }
+
+    fn cycles(&self, at: usize, product: &DMatrix<f64>, left: usize, search: &mut CycleSearch) {
+        if left == 0 {
+            return;
+        }
+        for (k, e) in self.edges.iter().enumerate().filter(|(_, e)| e.from == at) {
+            if !search.work.spend(product_ops(product, &e.matrix)) {
+                return;
+            }
+            let p = product * &e.matrix;
+            search.path.push(k);
+            if e.to == search.start && search.work.spend(decomposition_ops(&p)) {
+                let rho = spectral_radius(&p).powf(1.0 / search.path.len() as f64);
+                if rho > search.best.0 + 1e-12 {
+                    search.best = (rho, search.path.clone());
+                }
+            }
+            self.cycles(e.to, &p, left - 1, search);
+            search.path.pop();
+        }
+    }
+
+    /// Ellipsoidal norms `‖x‖_s = |L_s x|` (`Y_s = L_sᵀ L_s`) from the Perron
+    /// eigenvector of `Y_t ↦ Σ_{e: s → t} R_eᵀ Y_s R_e`: in them every
+    /// matrix has norm at most the ρ₂ bound. The matrices in those norms.
+    fn adapted(&self, work: &mut Work) -> Vec<DMatrix<f64>> {
+        let m: Vec<usize> = self.dims.iter().map(|d| d - 1).collect();
+        let mut y: Vec<DMatrix<f64>> = m.iter().map(|&k| DMatrix::identity(k, k)).collect();
+        let round: f64 = self.edges.iter().map(|e| 2.0 * product_ops(&e.matrix, &e.matrix)).sum();
+        for _ in 0..100 {
+            if !work.spend(round) {
+                break;
+            }
+            let mut next: Vec<DMatrix<f64>> = m.iter().map(|&k| DMatrix::zeros(k, k)).collect();
+            for e in &self.edges {
+                next[e.to] += e.matrix.transpose() * &y[e.from] * &e.matrix;
+            }
+            let scale = next.iter().map(|x| x.norm()).fold(0.0, f64::max);
+            if !(scale > 0.0 && scale.is_finite()) {
+                break;
+            }
+            let mut change: f64 = 0.0;
+            for (x, n) in y.iter_mut().zip(next) {
+                // A little of the identity keeps the norm definite.
+                let n = n / scale + DMatrix::identity(x.nrows(), x.ncols()) * 1e-9;
+                change = change.max((&n - &*x).amax());
+                *x = n;
+            }
+            if change < 1e-10 {
+                break;
+            }
+        }
+        let factors: Vec<Option<(DMatrix<f64>, DMatrix<f64>)>> = y
+            .into_iter()
+            .map(|x| {
+                let l = nalgebra::Cholesky::new(x)?.l().transpose();
+                let inv = l.clone().try_inverse()?;
+                Some((l, inv))
+            })
+            .collect();
+        self.edges
+            .iter()
+            .map(|e| match (&factors[e.from], &factors[e.to]) {
+                (Some((l, _)), Some((_, inv))) => l * &e.matrix * inv,
+                _ => e.matrix.clone(),
+            })
+            .collect()
+    }
+
+    /// The largest matrix norm in the adapted norms: an upper bound by itself.
+    fn norm_bound(&self, settings: &JsrSettings) -> f64 {
+        self.adapted(&mut Work(settings.norm_work)).iter().map(spectral_norm).fold(0.0, f64::max)
+    }
+
+    /// The smallest target `γ` above `lower` whose branch and bound closes
+    /// within the budget, or the adapted norm bound.
+    fn upper_bound(&self, lower: f64, settings: &JsrSettings) -> f64 {
+        let mut work = Work(settings.norm_work);
+        let matrices = self.adapted(&mut work);
+        let norms: Vec<f64> = matrices.iter().map(spectral_norm).collect();
+        let single = norms.iter().copied().fold(0.0, f64::max);
+        if single <= lower * (1.0 + 1e-9) {
+            return single;
+        }
+        for t in [1e-4, 1e-3, 1e-2, 0.03, 0.1, 0.2, 0.35, 0.5, 0.7, 0.85, 0.95, 0.99] {
+            let gamma = lower + (single.min(1.0).max(lower) - lower) * t;
+            if gamma >= single {
+                break;
+            }
+            // Each target gets a quarter of what is left.
+            let mut share = Work(work.0 / 4.0);
+            let closed = gamma > lower && self.closes(&matrices, &norms, gamma, &mut share);
+            work.0 -= work.0 / 4.0 - share.0.max(0.0);
+            if closed {
+                return gamma;
+            }
+            if work.0 <= 0.0 {
+                break;
+            }
+        }
+        single
+    }
+
+    /// Whether every path from every state reaches, within `max_nodes`
+    /// expansions, a prefix whose norm bound is at most `γ^length`.
+    fn closes(&self, matrices: &[DMatrix<f64>], norms: &[f64], gamma: f64, work: &mut Work) -> bool {
+        // (end state, product, length, bound on its norm)
+        let mut open: Vec<(usize, DMatrix<f64>, i32, f64)> = Vec::new();
+        for (s, d) in self.dims.iter().enumerate() {
+            open.push((s, DMatrix::identity(d - 1, d - 1), 0, 1.0));
+        }
+        while let Some((at, product, len, bound)) = open.pop() {
+            for (k, e) in self.edges.iter().enumerate().filter(|(_, e)| e.from == at) {
+                let p = &product * &matrices[k];
+                if !work.spend(product_ops(&product, &matrices[k]) + decomposition_ops(&p)) {
+                    return false;
+                }
+                let b = (bound * norms[k]).min(spectral_norm(&p));
+                if b <= gamma.powi(len + 1) {
+                    continue;
+                }
+                open.push((e.to, p, len + 1, b));
+            }
+        }
+        true
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_difference_basis_is_orthonormal_and_sums_to_zero() {
+        for n in 1..6 {
+            let q = difference_basis(n);
+            assert!((q.transpose() * &q - DMatrix::identity(n - 1, n - 1)).amax() < 1e-15);
+            assert!(q.row_sum().amax() < 1e-15);
+        }
+    }
+}

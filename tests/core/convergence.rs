@@ -1,0 +1,159 @@
+//! Convergence decided soundly: joint spectral radius bounds on the
+//! difference subspaces, with known values from the literature.
+
+use bcifs::analysis::{JsrSettings, Verdict, check, jsr};
+use bcifs::eval::{EvalError, EvalSettings, Evaluator};
+use bcifs::{builtin_design, instantiate};
+
+fn corner(a: f64, b: f64) -> bcifs::Automaton<f64> {
+    let d = builtin_design("corner_cutting").unwrap();
+    instantiate(&d, &[("a".into(), a), ("b".into(), b)]).unwrap().automaton
+}
+
+/// Chaikin (a = b = 1/4): the differences contract by exactly 1/2 (T0
+/// restricted has eigenvalues 1/4 and 1/2; the adapted norm closes at 1/2).
+#[test]
+fn chaikin_has_jsr_one_half() {
+    let j = jsr(&corner(0.25, 0.25), &JsrSettings::default()).unwrap();
+    approx::assert_abs_diff_eq!(j.lower, 0.5, epsilon = 1e-12);
+    assert!(j.upper >= j.lower && j.upper <= 0.5 + 1e-6, "{j}");
+    assert_eq!(j.verdict(), Verdict::Converges);
+}
+
+/// Similarity maps have their ratio as JSR: Lévy (ratio 1/√2, one state)
+/// and the dragon (1/√2, two states of the sign automaton).
+#[test]
+fn similarities_have_their_ratio() {
+    let levy = instantiate(&builtin_design("levy").unwrap(), &[]).unwrap().automaton;
+    let dragon = bcifs::schemes::normal_preset("dragon").unwrap().design().unwrap();
+    let dragon = instantiate(&dragon, &[]).unwrap().automaton;
+    for (name, a) in [("levy", levy), ("dragon", dragon)] {
+        let j = jsr(&a, &JsrSettings::default()).unwrap();
+        approx::assert_abs_diff_eq!(j.lower, 0.5f64.sqrt(), epsilon = 1e-12);
+        assert!(j.upper <= 0.5f64.sqrt() + 1e-6, "{name}: {j}");
+    }
+}
+
+/// The cubic B-spline and the four-point scheme contract differences by 1/2;
+/// the Koch curve with control points by 1/3.
+#[test]
+fn schemes_of_seed_001_have_their_known_jsr() {
+    for (name, expected) in [("bspline", 0.5), ("four-point", 0.5), ("koch-control", 1.0 / 3.0)] {
+        let d = bcifs::schemes::ifs_preset(name, None, None).unwrap();
+        let j = jsr(&instantiate(&d, &[]).unwrap().automaton, &JsrSettings::default()).unwrap();
+        approx::assert_abs_diff_eq!(j.lower, expected, epsilon = 1e-9);
+        assert!(j.upper <= expected + 1e-3, "{name}: {j}");
+        assert_eq!(j.verdict(), Verdict::Converges, "{name}");
+    }
+}
+
+/// Seed 004 §3 states convergence iff |a|, |b|, |1 − a − b| < 1. At
+/// a = −0.9, b = 0.95 each matrix passes, yet ρ(T0 T1³)^(1/4) = 1.2601 on the
+/// differences: the curve diverges (docs/errata.md).
+#[test]
+fn the_per_matrix_condition_is_not_sufficient() {
+    let a = corner(-0.9, 0.95);
+    let report = check(&a, &Default::default(), 1e-9).unwrap();
+    assert!(report.ok && report.contractive, "each matrix passes the seed's test");
+    assert_eq!(report.converges, Some(false));
+    let j = report.jsr.unwrap();
+    assert_eq!(j.witness, ["T0", "T1", "T1", "T1"]);
+    approx::assert_abs_diff_eq!(j.lower, 1.2601, epsilon = 1e-4);
+    assert_eq!(j.witness_text(), "T0 T1 T1 T1: ρ^(1/4) = 1.2601");
+}
+
+/// On a 0.05 grid of the parameter triangle, no verdict contradicts the
+/// per-matrix condition (a matrix with ρ ≥ 1 is a cycle of length 1), the
+/// JSR bounds find the points where the per-matrix test passes and the
+/// curve still diverges, and every point is decided.
+#[test]
+fn verdicts_on_the_parameter_triangle() {
+    let (mut passes_but_diverges, mut undecided, mut total) = (0, 0, 0);
+    for i in -20..=20 {
+        for k in -20..=20 {
+            let (a, b) = (i as f64 * 0.05, k as f64 * 0.05);
+            if a.abs() >= 1.0 || b.abs() >= 1.0 || (1.0 - a - b).abs() >= 1.0 {
+                let j = jsr(&corner(a, b), &JsrSettings::quick()).unwrap();
+                assert_eq!(j.verdict(), Verdict::Diverges, "a={a} b={b}: a matrix has ρ ≥ 1");
+                continue;
+            }
+            total += 1;
+            let j = jsr(&corner(a, b), &JsrSettings::default()).unwrap();
+            assert!(j.lower <= j.upper + 1e-12, "a={a} b={b}: {j}");
+            match j.verdict() {
+                Verdict::Diverges => passes_but_diverges += 1,
+                Verdict::Undecided => undecided += 1,
+                Verdict::Converges => {}
+            }
+        }
+    }
+    // Measured: 54 of the 745 interior points diverge (cycles of length ≤ 10
+    // find them; a search to length 16 finds no other and never contradicts
+    // an upper bound), the 691 others are proven to converge.
+    assert_eq!((passes_but_diverges, undecided, total), (54, 0, 745));
+}
+
+/// Evaluation refuses a divergent system, with the witness, unless forced;
+/// the chaos game too.
+#[test]
+fn evaluators_refuse_divergent_systems() {
+    let d = builtin_design("corner_cutting").unwrap();
+    let a = corner(-0.9, 0.95);
+    let model = d.model().unwrap();
+    match Evaluator::new(&a, model, EvalSettings::default().with_depth(4)) {
+        Err(EvalError::Diverges { witness }) => assert!(witness.contains("T0 T1 T1 T1"), "{witness}"),
+        other => panic!("expected a refusal, got {:?}", other.err()),
+    }
+    let forced = Evaluator::new(&a, model, EvalSettings::default().with_depth(4).with_force()).unwrap();
+    assert_eq!(forced.warnings().len(), 1);
+    assert!(forced.evaluate().is_ok());
+    let random = bcifs::eval::RandomSettings::default().with_points(100);
+    assert!(matches!(bcifs::eval::chaos_game(&a, model, &random), Err(EvalError::Diverges { .. })));
+    let fine = Evaluator::new(&corner(0.25, 0.25), model, EvalSettings::default()).unwrap();
+    assert!(fine.warnings().is_empty());
+}
+
+/// Seed 004 §3: the intermediate T0 has `e_s` at (3, 3). Adjacency
+/// `T0 b1 = T1 b0` compares T0's last two columns with T1's first two: at
+/// (3, 2) the paper's matrices give `e_s` and `d_s`, so the paper's T0 is
+/// admissible only when `e_s = d_s`; the solved family has `d_s` (= a) there.
+#[test]
+fn the_intermediate_t0_of_seed_004_needs_d_s() {
+    let (a_s, b_s, d_s, e_s): (f64, f64, f64, f64) = (0.75, 0.25, 0.25, 0.75);
+    let t0 = nalgebra::DMatrix::from_row_slice(3, 3, &[a_s, b_s, 0.0, d_s, e_s, a_s, 0.0, 0.0, e_s]);
+    let t1 = nalgebra::DMatrix::from_row_slice(3, 3, &[b_s, 0.0, 0.0, e_s, a_s, b_s, 0.0, d_s, e_s]);
+    let b0 = nalgebra::DMatrix::from_row_slice(3, 2, &[1.0, 0.0, 0.0, 1.0, 0.0, 0.0]);
+    let b1 = nalgebra::DMatrix::from_row_slice(3, 2, &[0.0, 0.0, 1.0, 0.0, 0.0, 1.0]);
+    approx::assert_abs_diff_eq!((&t0 * &b1 - &t1 * &b0).amax(), (e_s - d_s).abs(), epsilon = 1e-15);
+    let family = bcifs::solve(&builtin_design("corner_cutting").unwrap()).unwrap();
+    assert_eq!(family.entry_text("T0", 2, 2), family.entry_text("T0", 1, 0), "T0[3][3] is d_s");
+    assert_ne!(family.entry_text("T0", 2, 2), family.entry_text("T0", 1, 1), "not e_s");
+}
+
+/// Seed 004 Fig. 11 lists `a = b` among the degenerate (piecewise linear)
+/// cases; the footnote of §4 says `a = 0`. At a = 0 every point of the curve
+/// lies on the control polygon; at a = b = 1/4 (Chaikin) it does not.
+#[test]
+fn the_degenerate_case_is_a_zero_not_a_equals_b() {
+    let d = builtin_design("corner_cutting").unwrap();
+    let model = d.model().unwrap();
+    let off_polygon = |a: f64, b: f64| -> f64 {
+        let inst = instantiate(&d, &[("a".into(), a), ("b".into(), b)]).unwrap();
+        let shape =
+            Evaluator::new(&inst.automaton, model, EvalSettings::default().with_depth(6)).unwrap().evaluate().unwrap();
+        let p = &model.points;
+        let dist = |q: [f64; 3]| {
+            (0..p.len())
+                .map(|i| {
+                    let (s, e) = (&p[i], &p[(i + 1) % p.len()]);
+                    let (dx, dy) = (e[0] - s[0], e[1] - s[1]);
+                    let t = (((q[0] - s[0]) * dx + (q[1] - s[1]) * dy) / (dx * dx + dy * dy)).clamp(0.0, 1.0);
+                    (q[0] - s[0] - t * dx).hypot(q[1] - s[1] - t * dy)
+                })
+                .fold(f64::INFINITY, f64::min)
+        };
+        shape.points().into_iter().map(dist).fold(0.0, f64::max)
+    };
+    assert!(off_polygon(0.0, 0.3) < 1e-12, "a = 0: piecewise linear");
+    assert!(off_polygon(0.25, 0.25) > 0.05, "a = b = 1/4: Chaikin, not piecewise linear");
+}
