@@ -187,6 +187,36 @@ pub fn spectral_lower_bound(mask: &Mask, p: usize) -> Option<f64> {
     Some(best)
 }
 
+/// A lower bound of the growth rate of the polygon length of the scheme
+/// whose difference mask is `c`: `max ρ(Σ_i s_i B_i)` over the sign
+/// vectors `s` (`s_0 = +1`) and the square blocks `B_i` of `c`.
+///
+/// After `K` steps the edges between two control points are `r B_P w` over
+/// the `p^K` block products `P` (`w` the initial differences around them),
+/// so by the triangle inequality `L_K ≥ |r (Σ_i s_i B_i)^K w|` for any signs:
+/// when the bound exceeds 1 the length diverges at that rate for every
+/// control polygon whose differences have a component along the dominant
+/// eigenvector (all but a closed set of measure zero: the generic case).
+pub fn length_lower_bound(mask: &Mask, p: usize) -> Option<f64> {
+    let rules = mask.rules(p);
+    let blocks = (2..=40).find_map(|n| rules.blocks(n).ok())?;
+    let mats: Vec<nalgebra::DMatrix<f64>> = blocks.iter().map(crate::schemes::to_f64).collect();
+    let mut best: f64 = 0.0;
+    for signs in 0..1usize << (mats.len() - 1) {
+        let mut sum = mats[0].clone();
+        for (i, m) in mats.iter().enumerate().skip(1) {
+            if signs >> (i - 1) & 1 == 1 {
+                sum -= m;
+            } else {
+                sum += m;
+            }
+        }
+        let rho = crate::algebra::eigenvalues(&sum).unwrap_or_default().iter().map(|l| l.norm()).fold(0.0, f64::max);
+        best = best.max(rho);
+    }
+    Some(best)
+}
+
 /// The growth rate of the polygon length between two fixed control points:
 /// the scheme refines a closed test polygon (`n` points on a wavy closed
 /// curve, in general position) `steps` times and the rate is

@@ -20,17 +20,20 @@
 //! 3. **Convergence (C0)** holds iff `S_b` is contractive: `‖S_b^L‖∞ < 1` for
 //!    some `L`. **C1** holds if the mask `3a(z)/σ(z)²` is contractive, **C2**
 //!    if `9a(z)/σ(z)³` is.
-//! 4. **Non-rectifiability**: `L_k` grows like `γ(ω)^k`, where `γ` is the
-//!    growth rate of the polygon length (measured) and is bounded by
-//!    `lim ‖b_k‖_1^{1/k}` (the ℓ1 norm of the `k`-step difference mask). For
-//!    a non-negative `b` it is 1; negative coefficients large enough make
-//!    `γ > 1`, and the length between any two points diverges.
-//! 5. The **fractal range** is where the scheme converges (step 3) and the
-//!    length diverges (step 4): the limit is a continuous, non-rectifiable
-//!    curve. [`ternary5_analysis`] computes both for each ω; the intervals
-//!    it finds are in the README and the tests.
+//! 4. **Non-rectifiability**: `L_k` grows like `γ(ω)^k`. The edges after
+//!    `k` steps are the products of the difference scheme's blocks applied
+//!    to the initial differences, so by the triangle inequality
+//!    `L_k ≥ |r (Σ_i s_i B_i)^k w|` for any signs `s_i`: `γ ≥ max_s ρ(Σ_i s_i B_i)`
+//!    for generic control polygons. When that bound exceeds 1 the length
+//!    between any two points diverges (proven); the measured rate is shown
+//!    beside it.
+//! 5. The **fractal range** is where the scheme is proven to converge
+//!    (step 3) and the length proven to diverge (step 4): the limit is a
+//!    continuous, non-rectifiable curve. C1 proves a finite length, so the
+//!    C1 and fractal verdicts never meet. [`ternary5_analysis`] computes the
+//!    bounds for each ω; the intervals it finds are in the README and the tests.
 
-use super::subdivision::{Mask, contraction, l1_growth, length_growth, spectral_lower_bound};
+use super::subdivision::{Mask, contraction, l1_growth, length_growth, length_lower_bound, spectral_lower_bound};
 use crate::algebra::Surd;
 use crate::schemes::ternary_five_point;
 
@@ -47,8 +50,11 @@ pub struct TernaryRow {
     pub c1: f64,
     /// Contraction of `9a/σ³`: below 1 the scheme is C2.
     pub c2: f64,
-    /// Measured growth rate of the polygon length per step.
+    /// Measured growth rate of the polygon length per step (shown, not used by the verdicts).
     pub growth: f64,
+    /// Lower bound of the growth rate of the polygon length per step
+    /// ([`crate::analysis::subdivision::length_lower_bound`]): above 1 the length diverges.
+    pub length_lower: f64,
     /// `‖b_k‖_1^{1/k}`: the growth rate the difference mask allows.
     pub growth_bound: f64,
 }
@@ -59,9 +65,10 @@ impl TernaryRow {
         self.c0 < 1.0
     }
 
-    /// Whether the polygon length diverges geometrically (rate above 1 + 1e-3).
+    /// Whether the bound proves that the polygon length diverges
+    /// geometrically (for generic control polygons): `length_lower > 1`.
     pub fn diverges(&self) -> bool {
-        self.growth > 1.0 + 1e-3
+        self.length_lower > 1.0 + LENGTH_ROUNDING
     }
 
     /// Continuous and non-rectifiable: in the fractal range.
@@ -99,6 +106,10 @@ pub const PAPER_RANGES: [(&str, f64, f64); 3] =
 /// Largest `L` of the norms `‖S^L‖∞` (the `L`-step masks have about `15 · 3^L` coefficients).
 pub const CONTRACTION_STEPS: usize = 8;
 
+/// Rounding allowed when the length bound is compared with 1 (a spectral
+/// radius of a small matrix: backward error ~1e-15).
+pub const LENGTH_ROUNDING: f64 = 1e-9;
+
 /// Steps of the length measurement.
 pub const GROWTH_STEPS: usize = 10;
 
@@ -117,6 +128,7 @@ pub fn ternary5_analysis(omega: f64) -> TernaryRow {
         c1: contraction(&c1, 3, CONTRACTION_STEPS),
         c2: c2.map_or(f64::INFINITY, |m| contraction(&m, 3, CONTRACTION_STEPS)),
         growth: length_growth(&rules, GROWTH_STEPS),
+        length_lower: length_lower_bound(&b, 3).unwrap_or(f64::NAN),
         growth_bound: l1_growth(&b, 3, 8),
     }
 }

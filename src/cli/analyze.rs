@@ -22,10 +22,19 @@ pub enum AnalyzeCommand {
         /// The plot (PNG).
         #[arg(short, long, default_value = "ternary5.png")]
         output: PathBuf,
+        /// Print JSON: one object per row (omega, the bounds, the verdict), and the proven ranges.
+        #[arg(long)]
+        json: bool,
     },
 }
 
-fn run_ternary5(out: &mut String, from: f64, to: f64, steps: usize, output: &std::path::Path) -> Result<u8> {
+fn run_ternary5(
+    out: &mut String,
+    (from, to): (f64, f64),
+    steps: usize,
+    output: &std::path::Path,
+    as_json: bool,
+) -> Result<u8> {
     use bcifs::analysis::ternary::{PAPER_RANGES, boundary, intervals, omegas, ternary5_rows};
     if from >= to || !from.is_finite() || !to.is_finite() {
         bail!("--omega-range A B needs finite A < B");
@@ -43,34 +52,38 @@ fn run_ternary5(out: &mut String, from: f64, to: f64, steps: usize, output: &std
             b.report(rows.len() as u64, all.len() as u64);
         }
     }
-    writeln!(out, "ternary 5-point scheme (seed 003, eq. 1), ω from {from} to {to}")?;
+    let mut table = String::new();
+    writeln!(table, "ternary 5-point scheme (seed 003, eq. 1), ω from {from} to {to}")?;
     writeln!(
-        out,
-        "{:>10}  {:>8}  {:>8}  {:>8}  {:>8}  {:>8}  verdict",
-        "omega", "C0 bound", "JSR low", "C1 bound", "C2 bound", "growth"
+        table,
+        "{:>10}  {:>8}  {:>8}  {:>8}  {:>8}  {:>8}  {:>8}  verdict",
+        "omega", "C0 bound", "JSR low", "C1 bound", "C2 bound", "len low", "growth"
     )?;
     for r in &rows {
         writeln!(
-            out,
-            "{:>10.5}  {:>8.4}  {:>8.4}  {:>8.4}  {:>8.4}  {:>8.4}  {}",
+            table,
+            "{:>10.5}  {:>8.4}  {:>8.4}  {:>8.4}  {:>8.4}  {:>8.4}  {:>8.4}  {}",
             r.omega,
             r.c0,
             r.c0_lower,
             r.c1,
             r.c2,
+            r.length_lower,
             r.growth,
             r.verdict()
         )?;
     }
     writeln!(
-        out,
+        table,
         "
 C0 bound: min over L ≤ 8 of ‖S_b^L‖∞^(1/L) for the difference scheme b = a/(1+z+z²) (< 1 proves C0);"
     )?;
-    writeln!(out, "JSR low: max over block products of length ≤ 4 of ρ^(1/len) (≥ 1 proves divergence);")?;
+    writeln!(table, "JSR low: max over block products of length ≤ 4 of ρ^(1/len) (≥ 1 proves divergence);")?;
+    writeln!(table, "C1/C2 bounds: the same for 3a/σ² and 9a/σ³ (< 1 proves C1, C2);")?;
     writeln!(
-        out,
-        "C1/C2 bounds: the same for 3a/σ² and 9a/σ³; growth: polygon length ratio per step after 10 steps.
+        table,
+        "len low: max over signs of ρ(Σ ±B_i) for the blocks of b (> 1 proves the length diverges);
+growth: the measured polygon length ratio per step after 10 steps (shown, no verdict uses it).
 "
     )?;
     let step = (to - from) / steps as f64;
@@ -93,26 +106,49 @@ C0 bound: min over L ≤ 8 of ‖S_b^L‖∞^(1/L) for the difference scheme b =
     };
     let paper = |i: usize| format!("paper: ({:.5}, {:.5})", PAPER_RANGES[i].1, PAPER_RANGES[i].2);
     let c0 = refine(intervals(&rows, |r| r.converges()), &|r| r.converges());
-    writeln!(out, "C0 proven on       {}   [{}]", show(&c0), paper(0))?;
     let fails = refine(intervals(&rows, |r| r.fails()), &|r| r.fails());
-    writeln!(out, "not C0 (proven) on {}", show(&fails))?;
     let c1 = refine(intervals(&rows, |r| r.c1 < 1.0), &|r| r.c1 < 1.0);
-    writeln!(out, "C1 proven on       {}   [{}]", show(&c1), paper(1))?;
     let c2 = refine(intervals(&rows, |r| r.c2 < 1.0), &|r| r.c2 < 1.0);
-    writeln!(out, "C2 proven on       {}   [{}]", show(&c2), paper(2))?;
     let fractal = refine(intervals(&rows, |r| r.fractal()), &|r| r.fractal());
-    writeln!(out, "fractal (C0 and length growth > 1.001) on {}", show(&fractal))?;
+    if as_json {
+        let ranges = |v: &[(f64, f64)]| serde_json::json!(v.iter().map(|(a, b)| [a, b]).collect::<Vec<_>>());
+        let json_rows: Vec<_> = rows
+            .iter()
+            .map(|r| {
+                serde_json::json!({
+                    "omega": r.omega, "c0_upper": r.c0, "c0_lower": r.c0_lower, "c1_upper": r.c1,
+                    "c2_upper": r.c2, "length_lower": r.length_lower, "growth_measured": r.growth,
+                    "verdict": r.verdict(),
+                })
+            })
+            .collect();
+        let doc = serde_json::json!({
+            "scheme": "ternary5", "rows": json_rows,
+            "ranges": {"c0": ranges(&c0), "not_c0": ranges(&fails), "c1": ranges(&c1), "c2": ranges(&c2),
+                       "fractal": ranges(&fractal)},
+        });
+        writeln!(out, "{}", serde_json::to_string_pretty(&doc)?)?;
+    } else {
+        out.push_str(&table);
+        writeln!(out, "C0 proven on       {}   [{}]", show(&c0), paper(0))?;
+        writeln!(out, "not C0 (proven) on {}", show(&fails))?;
+        writeln!(out, "C1 proven on       {}   [{}]", show(&c1), paper(1))?;
+        writeln!(out, "C2 proven on       {}   [{}]", show(&c2), paper(2))?;
+        writeln!(out, "fractal (C0 and length growth proven > 1) on {}", show(&fractal))?;
+    }
     let img = ternary5_plot(&rows).render(900, 600)?;
     bcifs::export::write_png(output, &img).with_context(|| format!("cannot write {}", output.display()))?;
-    writeln!(out, "plot → {}", output.display())?;
+    if !as_json {
+        writeln!(out, "plot → {}", output.display())?;
+    }
     Ok(0)
 }
 
 /// Runs a `bcifs analyze` command.
 pub fn run(out: &mut String, what: AnalyzeCommand) -> Result<u8> {
     match what {
-        AnalyzeCommand::Ternary5 { omega_range, steps, output } => {
-            run_ternary5(out, omega_range[0], omega_range[1], steps, &output)
+        AnalyzeCommand::Ternary5 { omega_range, steps, output, json } => {
+            run_ternary5(out, (omega_range[0], omega_range[1]), steps, &output, json)
         }
     }
 }

@@ -84,10 +84,49 @@ fn analyze_ternary5_prints_ranges_and_plots() {
         bcifs(&["analyze", "ternary5", "--omega-range", "-0.1", "0.1", "--steps", "20", "-o", png.to_str().unwrap()]);
     assert_eq!(code, 0, "{err}");
     assert_eq!(out.lines().filter(|l| l.trim_start().starts_with(['-', '0'])).count(), 21, "{out}");
-    assert!(out.contains("fractal (C0 and length growth > 1.001) on ("), "{out}");
+    assert!(out.contains("fractal (C0 and length growth proven > 1) on ("), "{out}");
     assert!(out.contains("paper: (-0.01235, 0.16358)"), "{out}");
     let img = image::open(&png).unwrap();
     assert_eq!((img.width(), img.height()), (900, 600));
     let (code, _, _) = bcifs(&["analyze", "ternary5", "--omega-range", "0.1", "-0.1", "-o", png.to_str().unwrap()]);
     assert_eq!(code, 2);
+}
+
+/// Issue 14: the verdicts of `--omega-range 0.03 0.04` follow from the bounds:
+/// C1 and fractal never meet (a C1 curve has finite length), and the JSON has
+/// one object per row.
+#[test]
+fn analyze_ternary5_verdicts_never_contradict() {
+    let png = temp("t5c.png");
+    let (code, out, err) = bcifs(&[
+        "analyze",
+        "ternary5",
+        "--omega-range",
+        "0.03",
+        "0.04",
+        "--steps",
+        "4",
+        "--json",
+        "-o",
+        png.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let rows = v["rows"].as_array().unwrap();
+    assert_eq!(rows.len(), 5);
+    for r in rows {
+        let c1 = r["c1_upper"].as_f64().unwrap() < 1.0;
+        let fractal = r["verdict"] == "fractal";
+        assert!(!(c1 && fractal), "{r}");
+        if fractal {
+            assert!(r["length_lower"].as_f64().unwrap() > 1.0 && r["c0_upper"].as_f64().unwrap() < 1.0, "{r}");
+        }
+    }
+    let hi = |name: &str| {
+        v["ranges"][name].as_array().unwrap().iter().map(|r| r[1].as_f64().unwrap()).fold(f64::NEG_INFINITY, f64::max)
+    };
+    let lo = |name: &str| {
+        v["ranges"][name].as_array().unwrap().iter().map(|r| r[0].as_f64().unwrap()).fold(f64::INFINITY, f64::min)
+    };
+    assert!(hi("c1") < lo("fractal"), "C1 ends before the fractal range starts: {}", v["ranges"]);
 }

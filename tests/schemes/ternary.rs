@@ -82,16 +82,21 @@ fn c1_and_c2_ranges_contain_the_papers() {
 }
 
 /// The fractal ranges: two intervals, one on each side of the smooth range,
-/// where the scheme converges and the polygon length between two control
-/// points grows geometrically (non-rectifiable limit).
+/// where the scheme is proven to converge and the polygon length between two
+/// control points proven to grow geometrically (non-rectifiable limit). The
+/// bound agrees with the measured growth there (within 3 %: the measurement
+/// after 10 steps is not yet asymptotic); at ω = −0.02 the measured
+/// growth is 1.002 but nothing proves divergence: not fractal.
 #[test]
 fn two_fractal_ranges() {
     for omega in [-0.08, -0.05, -0.03, 0.04, 0.06, 0.08] {
         let r = ternary5_analysis(omega);
-        assert!(r.fractal(), "fractal at {omega}: growth {}", r.growth);
+        assert!(r.fractal(), "fractal at {omega}: length bound {}", r.length_lower);
+        // The measured rate (L_10/L_8)^(1/2) is still approaching the asymptotic one.
+        assert!((r.length_lower - r.growth).abs() < 0.03, "bound and measured rate agree at {omega}");
     }
-    for omega in [-0.01, 0.0, 0.01, 0.02] {
+    for omega in [-0.02, -0.01, 0.0, 0.01, 0.02] {
         let r = ternary5_analysis(omega);
-        assert!(!r.fractal() && (r.growth - 1.0).abs() < 1e-3, "smooth at {omega}: growth {}", r.growth);
+        assert!(!r.fractal() && (r.growth - 1.0).abs() < 3e-3, "smooth at {omega}: growth {}", r.growth);
     }
 }
