@@ -15,5 +15,32 @@ fn solve_benches(c: &mut Criterion) {
     });
 }
 
-criterion_group!(benches, solve_benches);
+/// Issue 14 targets: the check of the corner cutting answers in under 50 ms
+/// at any point; a 256 × 256 verdict map of its triangle takes seconds (a
+/// 64 × 64 map here, 1/16 of the pixels).
+fn convergence_benches(c: &mut Criterion) {
+    let family = bcifs::solve(&bcifs::builtin_design("corner_cutting").expect("shipped")).expect("consistent");
+    let mut g = c.benchmark_group("convergence");
+    g.sample_size(10);
+    // The slowest points seen: near the divergence boundary, and a point the paper gets wrong.
+    for (a, b) in [(-0.3, 0.45), (-0.9, 0.95), (0.25, 0.25)] {
+        let instance = family.instantiate(&[("a".into(), a), ("b".into(), b)]).expect("values");
+        g.bench_function(format!("check/corner_cutting_a{a}_b{b}"), |bench| {
+            bench.iter(|| {
+                bcifs::analysis::check(std::hint::black_box(&instance.automaton), &instance.values, 1e-9)
+                    .expect("checks")
+            })
+        });
+    }
+    let plane =
+        bcifs::analysis::ParameterPlane { x: ("a".into(), -1.0, 2.0), y: ("b".into(), -1.0, 2.0), size: (64, 64) };
+    g.bench_function("verdict_map/corner_cutting_64x64_quick", |bench| {
+        bench.iter(|| {
+            bcifs::analysis::verdict_map(&family, &plane, &bcifs::analysis::JsrSettings::quick()).expect("map")
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(benches, solve_benches, convergence_benches);
 criterion_main!(benches);

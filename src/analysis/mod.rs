@@ -2,8 +2,10 @@
 
 mod check;
 mod jsr;
+mod map;
 pub mod subdivision;
 pub mod ternary;
 
 pub use check::{CheckReport, DEFAULT_CHECK_TOLERANCE, check};
 pub use jsr::{Jsr, JsrError, JsrSettings, ROUNDING, Verdict, jsr};
+pub use map::{ParameterPlane, verdict_map};

@@ -157,3 +157,30 @@ fn the_degenerate_case_is_a_zero_not_a_equals_b() {
     assert!(off_polygon(0.0, 0.3) < 1e-12, "a = 0: piecewise linear");
     assert!(off_polygon(0.25, 0.25) > 0.05, "a = b = 1/4: Chaikin, not piecewise linear");
 }
+
+/// A verdict map of the corner cutting: outside the per-matrix domain every
+/// pixel diverges; inside, converging and diverging pixels both occur.
+#[test]
+fn verdict_maps_agree_with_the_per_matrix_domain() {
+    use bcifs::analysis::{ParameterPlane, verdict_map};
+    let family = bcifs::solve(&builtin_design("corner_cutting").unwrap()).unwrap();
+    let plane = ParameterPlane { x: ("a".into(), -1.5, 2.5), y: ("b".into(), -1.5, 2.5), size: (40, 40) };
+    let map = verdict_map(&family, &plane, &JsrSettings::quick()).unwrap();
+    let (mut inside_converge, mut inside_diverge) = (0, 0);
+    for row in 0..40 {
+        for column in 0..40 {
+            let (a, b) = plane.at(column, row);
+            let v = map[row * 40 + column];
+            if a.abs() >= 1.0 || b.abs() >= 1.0 || (1.0 - a - b).abs() >= 1.0 {
+                assert_eq!(v, Verdict::Diverges, "a={a} b={b}");
+            } else if v == Verdict::Converges {
+                inside_converge += 1;
+            } else if v == Verdict::Diverges {
+                inside_diverge += 1;
+            }
+        }
+    }
+    assert!(inside_converge > 100 && inside_diverge > 5, "{inside_converge} converge, {inside_diverge} diverge");
+    let bad = ParameterPlane { x: ("q".into(), 0.0, 1.0), ..plane };
+    assert!(verdict_map(&family, &bad, &JsrSettings::quick()).is_err());
+}

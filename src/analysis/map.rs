@@ -1,0 +1,72 @@
+//! Convergence verdicts over a plane of two parameters of a family: the
+//! map a designer looks at to find where a family converges.
+
+use rayon::prelude::*;
+
+use super::jsr::{JsrSettings, Verdict, jsr};
+use crate::family::{Family, InstantiateError};
+
+/// A rectangle of two free parameters of a family, sampled at pixel centres.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ParameterPlane {
+    /// The parameter along x and its range.
+    pub x: (String, f64, f64),
+    /// The parameter along y and its range (y grows upwards: row 0 is the top).
+    pub y: (String, f64, f64),
+    /// Pixels along x and along y.
+    pub size: (usize, usize),
+}
+
+impl ParameterPlane {
+    /// The parameter values at the centre of pixel `(column, row)`.
+    pub fn at(&self, column: usize, row: usize) -> (f64, f64) {
+        let (w, h) = (self.size.0.max(1) as f64, self.size.1.max(1) as f64);
+        let x = self.x.1 + (self.x.2 - self.x.1) * (column as f64 + 0.5) / w;
+        let y = self.y.2 - (self.y.2 - self.y.1) * (row as f64 + 0.5) / h;
+        (x, y)
+    }
+}
+
+/// The convergence verdict at every pixel of `plane` (row by row, top row
+/// first), the other parameters at their defaults, in parallel over rows.
+/// A pixel whose matrices are not column-stochastic is `Undecided`.
+///
+/// # Errors
+/// A parameter of the plane that the family does not have, or another
+/// parameter without a default.
+///
+/// # Example
+/// ```
+/// use bcifs::analysis::{JsrSettings, ParameterPlane, Verdict, verdict_map};
+/// let family = bcifs::solve(&bcifs::builtin_design("corner_cutting").unwrap()).unwrap();
+/// let plane = ParameterPlane { x: ("a".into(), -1.0, 1.0), y: ("b".into(), -1.0, 1.0), size: (8, 8) };
+/// let map = verdict_map(&family, &plane, &JsrSettings::quick()).unwrap();
+/// assert_eq!(map.len(), 64);
+/// assert!(map.contains(&Verdict::Converges) && map.contains(&Verdict::Diverges));
+/// ```
+pub fn verdict_map(
+    family: &Family,
+    plane: &ParameterPlane,
+    settings: &JsrSettings,
+) -> Result<Vec<Verdict>, InstantiateError> {
+    let (w, h) = plane.size;
+    // Checks the names and the defaults once, before the threads start.
+    family.instantiate(&[(plane.x.0.clone(), plane.x.1), (plane.y.0.clone(), plane.y.1)])?;
+    let rows: Vec<Vec<Verdict>> = (0..h)
+        .into_par_iter()
+        .map(|row| {
+            (0..w)
+                .map(|column| {
+                    let (x, y) = plane.at(column, row);
+                    let values = [(plane.x.0.clone(), x), (plane.y.0.clone(), y)];
+                    family
+                        .instantiate(&values)
+                        .ok()
+                        .and_then(|i| jsr(&i.automaton, settings).ok())
+                        .map_or(Verdict::Undecided, |j| j.verdict())
+                })
+                .collect()
+        })
+        .collect();
+    Ok(rows.into_iter().flatten().collect())
+}
