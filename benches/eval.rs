@@ -153,5 +153,11 @@ fn obj(c: &mut Criterion) {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-criterion_group!(benches, levy, chaos, doo_sabin, obj);
+// Criterion's plots use plotters, whose `ab_glyph` fonts (enabled for the
+// command line's plots) are registered by bcifs only: no plots here.
+criterion_group! {
+    name = benches;
+    config = Criterion::default().without_plots();
+    targets = levy, chaos, doo_sabin, obj
+}
 criterion_main!(benches);

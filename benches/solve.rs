@@ -42,5 +42,11 @@ fn convergence_benches(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, solve_benches, convergence_benches);
+// Criterion's plots use plotters, whose `ab_glyph` fonts (enabled for the
+// command line's plots) are registered by bcifs only: no plots here.
+criterion_group! {
+    name = benches;
+    config = Criterion::default().without_plots();
+    targets = solve_benches, convergence_benches
+}
 criterion_main!(benches);
