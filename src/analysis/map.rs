@@ -4,7 +4,29 @@
 use rayon::prelude::*;
 
 use super::jsr::{JsrSettings, Verdict, jsr};
+use crate::algebra::{contractive_spectrum, eigenvalues};
+use crate::automaton::{ArrowKind, Automaton};
 use crate::family::{Family, InstantiateError};
+
+/// One pixel of a verdict map.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct MapCell {
+    /// What the joint spectral radius bounds prove.
+    pub verdict: Verdict,
+    /// Whether every square subdivision matrix passes the per-matrix
+    /// eigenvalue test (seed 004 §3: necessary, not sufficient).
+    pub per_matrix: bool,
+}
+
+/// The per-matrix condition of seed 004 §3: every square subdivision arrow
+/// has one eigenvalue 1 and all others of modulus below 1.
+pub fn per_matrix_condition(automaton: &Automaton<f64>) -> bool {
+    automaton.arrows().all(|(_, a)| {
+        a.kind != ArrowKind::Subdivision
+            || !a.matrix.is_square()
+            || eigenvalues(&a.matrix).is_some_and(|e| contractive_spectrum(&e, 1e-9))
+    })
+}
 
 /// A rectangle of two free parameters of a family, sampled at pixel centres.
 #[derive(Clone, Debug, PartialEq)]
@@ -27,9 +49,10 @@ impl ParameterPlane {
     }
 }
 
-/// The convergence verdict at every pixel of `plane` (row by row, top row
-/// first), the other parameters at their defaults, in parallel over rows.
-/// A pixel whose matrices are not column-stochastic is `Undecided`.
+/// The convergence verdict and the per-matrix condition at every pixel of
+/// `plane` (row by row, top row first), the other parameters at their
+/// defaults, in parallel over rows. A pixel whose matrices are not
+/// column-stochastic is `Undecided`.
 ///
 /// # Errors
 /// A parameter of the plane that the family does not have, or another
@@ -42,28 +65,28 @@ impl ParameterPlane {
 /// let plane = ParameterPlane { x: ("a".into(), -1.0, 1.0), y: ("b".into(), -1.0, 1.0), size: (8, 8) };
 /// let map = verdict_map(&family, &plane, &JsrSettings::quick()).unwrap();
 /// assert_eq!(map.len(), 64);
-/// assert!(map.contains(&Verdict::Converges) && map.contains(&Verdict::Diverges));
+/// assert!(map.iter().any(|c| c.verdict == Verdict::Converges) && map.iter().any(|c| c.verdict == Verdict::Diverges));
 /// ```
 pub fn verdict_map(
     family: &Family,
     plane: &ParameterPlane,
     settings: &JsrSettings,
-) -> Result<Vec<Verdict>, InstantiateError> {
+) -> Result<Vec<MapCell>, InstantiateError> {
     let (w, h) = plane.size;
     // Checks the names and the defaults once, before the threads start.
     family.instantiate(&[(plane.x.0.clone(), plane.x.1), (plane.y.0.clone(), plane.y.1)])?;
-    let rows: Vec<Vec<Verdict>> = (0..h)
+    let rows: Vec<Vec<MapCell>> = (0..h)
         .into_par_iter()
         .map(|row| {
             (0..w)
                 .map(|column| {
                     let (x, y) = plane.at(column, row);
                     let values = [(plane.x.0.clone(), x), (plane.y.0.clone(), y)];
-                    family
-                        .instantiate(&values)
-                        .ok()
-                        .and_then(|i| jsr(&i.automaton, settings).ok())
-                        .map_or(Verdict::Undecided, |j| j.verdict())
+                    let Ok(instance) = family.instantiate(&values) else {
+                        return MapCell { verdict: Verdict::Undecided, per_matrix: false };
+                    };
+                    let verdict = jsr(&instance.automaton, settings).map_or(Verdict::Undecided, |j| j.verdict());
+                    MapCell { verdict, per_matrix: per_matrix_condition(&instance.automaton) }
                 })
                 .collect()
         })

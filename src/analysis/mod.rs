@@ -8,4 +8,4 @@ pub mod ternary;
 
 pub use check::{CheckReport, DEFAULT_CHECK_TOLERANCE, check};
 pub use jsr::{Jsr, JsrError, JsrSettings, ROUNDING, Verdict, jsr};
-pub use map::{ParameterPlane, verdict_map};
+pub use map::{MapCell, ParameterPlane, per_matrix_condition, verdict_map};

@@ -26,6 +26,99 @@ pub enum AnalyzeCommand {
         #[arg(long)]
         json: bool,
     },
+    /// The convergence verdict over a plane of two free parameters of a
+    /// family (the others at their defaults): a PNG map of where the joint
+    /// spectral radius bounds prove convergence, prove divergence inside the
+    /// per-matrix domain of seed 004 §3, or leave it undecided.
+    Map {
+        /// The automaton file (TOML), or the name of a shipped automaton.
+        file: String,
+        /// The parameter along x and its range, NAME=FROM:TO.
+        #[arg(long, allow_hyphen_values = true)]
+        x: String,
+        /// The parameter along y and its range, NAME=FROM:TO.
+        #[arg(long, allow_hyphen_values = true)]
+        y: String,
+        /// Pixels on a side.
+        #[arg(long, default_value_t = 256)]
+        size: usize,
+        /// Search the bounds with the full budget at every pixel (slower, fewer undecided pixels).
+        #[arg(long)]
+        thorough: bool,
+        /// The map (PNG).
+        #[arg(short, long, default_value = "map.png")]
+        output: PathBuf,
+    },
+}
+
+/// `NAME=FROM:TO`.
+fn axis(text: &str) -> Result<(String, f64, f64)> {
+    let bad = || anyhow::anyhow!("`{text}`: expected NAME=FROM:TO, such as a=-1:2");
+    let (name, range) = text.split_once('=').ok_or_else(bad)?;
+    let (from, to) = range.split_once(':').ok_or_else(bad)?;
+    let (from, to): (f64, f64) = (from.trim().parse().map_err(|_| bad())?, to.trim().parse().map_err(|_| bad())?);
+    if !(from.is_finite() && to.is_finite() && from < to) {
+        bail!("`{text}`: the range needs finite FROM < TO");
+    }
+    Ok((name.trim().to_string(), from, to))
+}
+
+/// `bcifs analyze map`: the verdict map as a picture, and its counts.
+fn run_map(
+    out: &mut String,
+    file: &str,
+    (x, y): (&str, &str),
+    size: usize,
+    thorough: bool,
+    output: &std::path::Path,
+) -> Result<u8> {
+    use bcifs::analysis::{JsrSettings, ParameterPlane, Verdict, verdict_map};
+    if size == 0 || size > 4096 {
+        bail!("--size must be between 1 and 4096");
+    }
+    let design = super::load(file)?;
+    let family = bcifs::solve(&design).map_err(|e| anyhow::anyhow!("{}: {e}", design.name()))?;
+    let plane = ParameterPlane { x: axis(x)?, y: axis(y)?, size: (size, size) };
+    let settings = if thorough { JsrSettings::default() } else { JsrSettings::quick() };
+    let started = std::time::Instant::now();
+    let map = verdict_map(&family, &plane, &settings)?;
+    let colour = |c: &bcifs::analysis::MapCell| match (c.verdict, c.per_matrix) {
+        (Verdict::Converges, _) => [150, 205, 150],
+        (Verdict::Diverges, true) => [215, 60, 60],
+        (Verdict::Diverges, false) => [228, 228, 228],
+        (Verdict::Undecided, _) => [240, 200, 80],
+    };
+    let img = image::RgbImage::from_fn(size as u32, size as u32, |i, j| {
+        image::Rgb(colour(&map[j as usize * size + i as usize]))
+    });
+    bcifs::export::write_png(output, &img).with_context(|| format!("cannot write {}", output.display()))?;
+    let count = |f: &dyn Fn(&bcifs::analysis::MapCell) -> bool| map.iter().filter(|c| f(c)).count();
+    writeln!(
+        out,
+        "{}: {} ∈ [{}, {}] (x) × {} ∈ [{}, {}] (y), {size}×{size} pixels in {:.2} s",
+        design.name(),
+        plane.x.0,
+        plane.x.1,
+        plane.x.2,
+        plane.y.0,
+        plane.y.1,
+        plane.y.2,
+        started.elapsed().as_secs_f64()
+    )?;
+    writeln!(out, "  converges (green):                          {}", count(&|c| c.verdict == Verdict::Converges))?;
+    writeln!(
+        out,
+        "  diverges although each matrix passes (red):  {}",
+        count(&|c| c.verdict == Verdict::Diverges && c.per_matrix)
+    )?;
+    writeln!(
+        out,
+        "  diverges, a matrix fails (grey):            {}",
+        count(&|c| c.verdict == Verdict::Diverges && !c.per_matrix)
+    )?;
+    writeln!(out, "  undecided (yellow):                         {}", count(&|c| c.verdict == Verdict::Undecided))?;
+    writeln!(out, "map → {}", output.display())?;
+    Ok(0)
 }
 
 fn run_ternary5(
@@ -149,6 +242,9 @@ pub fn run(out: &mut String, what: AnalyzeCommand) -> Result<u8> {
     match what {
         AnalyzeCommand::Ternary5 { omega_range, steps, output, json } => {
             run_ternary5(out, (omega_range[0], omega_range[1]), steps, &output, json)
+        }
+        AnalyzeCommand::Map { file, x, y, size, thorough, output } => {
+            run_map(out, &file, (&x, &y), size, thorough, &output)
         }
     }
 }

@@ -130,3 +130,41 @@ fn analyze_ternary5_verdicts_never_contradict() {
     };
     assert!(hi("c1") < lo("fractal"), "C1 ends before the fractal range starts: {}", v["ranges"]);
 }
+
+/// `bcifs analyze map`: a verdict map of the corner cutting; the counts add
+/// up, the paper's domain has diverging pixels, bad axes are usage errors.
+#[test]
+fn analyze_map_draws_the_verdicts() {
+    let png = temp("map.png");
+    let (code, out, err) = bcifs(&[
+        "analyze",
+        "map",
+        "corner_cutting",
+        "--x",
+        "a=-1:2",
+        "--y",
+        "b=-1:2",
+        "--size",
+        "48",
+        "-o",
+        png.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let count = |label: &str| -> usize {
+        let line = out.lines().find(|l| l.contains(label)).unwrap_or_else(|| panic!("{label} in {out}"));
+        line.split_whitespace().last().unwrap().parse().unwrap()
+    };
+    let (green, red, grey, yellow) =
+        (count("converges"), count("each matrix passes"), count("a matrix fails"), count("undecided"));
+    assert_eq!(green + red + grey + yellow, 48 * 48);
+    assert!(green > 100 && red > 0, "{out}");
+    let img = image::open(&png).unwrap();
+    assert_eq!((img.width(), img.height()), (48, 48));
+    let (code, _, err) =
+        bcifs(&["analyze", "map", "corner_cutting", "--x", "a=2:-1", "--y", "b=-1:2", "-o", png.to_str().unwrap()]);
+    assert_eq!(code, 2);
+    assert!(err.contains("FROM < TO"), "{err}");
+    let (code, _, _) =
+        bcifs(&["analyze", "map", "corner_cutting", "--x", "q=0:1", "--y", "b=-1:2", "-o", png.to_str().unwrap()]);
+    assert_eq!(code, 2);
+}
