@@ -17,7 +17,7 @@ use std::fmt;
 
 use std::str::FromStr;
 
-use super::num::Num;
+use super::num::{MAX_EXPONENT, Num};
 use super::surd::{Surd, SurdError};
 
 /// A parsed expression.
@@ -214,7 +214,7 @@ impl<V> Env<V> for NoNames {
 impl Expr {
     /// Parses `text`.
     pub fn parse(text: &str) -> Result<Expr, ExprSyntaxError> {
-        let mut p = Parser { text, pos: 0 };
+        let mut p = Parser { text, pos: 0, depth: 0 };
         let e = p.expr()?;
         p.skip_ws();
         if p.pos < text.len() {
@@ -306,7 +306,12 @@ impl fmt::Display for Expr {
 struct Parser<'a> {
     text: &'a str,
     pos: usize,
+    /// Open parentheses, square roots and signs around the current position.
+    depth: usize,
 }
+
+/// Deepest nesting of parentheses, square roots and signs an expression may have.
+pub const MAX_NESTING: usize = 200;
 
 impl Parser<'_> {
     fn error(&self, expected: &str) -> ExprSyntaxError {
@@ -360,13 +365,22 @@ impl Parser<'_> {
     }
 
     fn unary(&mut self) -> Result<Expr, ExprSyntaxError> {
-        if self.eat('-') {
-            return Ok(Expr::Neg(Box::new(self.unary()?)));
+        self.depth += 1;
+        if self.depth > MAX_NESTING {
+            return Err(ExprSyntaxError {
+                offset: self.pos,
+                message: format!("the expression is nested more than {MAX_NESTING} levels deep"),
+            });
         }
-        if self.eat('+') {
-            return self.unary();
-        }
-        self.atom()
+        let e = if self.eat('-') {
+            Ok(Expr::Neg(Box::new(self.unary()?)))
+        } else if self.eat('+') {
+            self.unary()
+        } else {
+            self.atom()
+        };
+        self.depth -= 1;
+        e
     }
 
     fn take_while(&mut self, f: impl Fn(char) -> bool) -> &str {
@@ -412,9 +426,10 @@ impl Parser<'_> {
                 self.pos += 1 + sign_len;
                 literal.push_str(self.take_while(|c| c.is_ascii_digit()));
             }
-            return Num::parse_decimal(&literal)
-                .map(Expr::Num)
-                .ok_or(ExprSyntaxError { offset: start, message: format!("`{literal}` is not a number") });
+            return Num::parse_decimal(&literal).map(Expr::Num).ok_or(ExprSyntaxError {
+                offset: start,
+                message: format!("`{literal}` is not a number (or its exponent is beyond ±{MAX_EXPONENT})"),
+            });
         }
         if c.is_alphabetic() || c == '_' {
             let name = self.take_while(|c| c.is_alphanumeric() || c == '_').to_string();

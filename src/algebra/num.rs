@@ -8,6 +8,10 @@ use num_rational::BigRational;
 
 use super::surd::Surd;
 
+/// Largest power of ten a decimal literal may carry: far beyond any float
+/// (`1e308`), small enough to stay exact in microseconds.
+pub const MAX_EXPONENT: u32 = 4000;
+
 /// A number of an automaton file: exact (a rational, or a sum of rational
 /// multiples of square roots such as `1/2 - sqrt(3)/6`) whenever it can be;
 /// a float only for values outside that field (`sqrt(1 + sqrt(2))`,
@@ -50,7 +54,9 @@ impl Num {
         Num::Exact(Surd::one())
     }
 
-    /// Parses a decimal literal (`3`, `0.5625`, `1e-3`, `2.5E+2`) exactly.
+    /// Parses a decimal literal (`3`, `0.5625`, `1e-3`, `2.5E+2`) exactly;
+    /// `None` when it is not one, or when its power of ten is beyond
+    /// ±[`MAX_EXPONENT`] (an exact `10^900000000` would take gigabytes).
     pub fn parse_decimal(text: &str) -> Option<Num> {
         let (mantissa, exponent) = match text.find(['e', 'E']) {
             Some(i) => (&text[..i], text[i + 1..].parse::<i32>().ok()?),
@@ -68,7 +74,10 @@ impl Num {
         }
         let digits: BigInt = format!("{int_part}{frac_part}0").parse().ok()?;
         let digits = digits / BigInt::from(10);
-        let scale = exponent - frac_part.len() as i32;
+        let scale = exponent.checked_sub(i32::try_from(frac_part.len()).ok()?)?;
+        if scale.unsigned_abs() > MAX_EXPONENT {
+            return None;
+        }
         let ten = BigInt::from(10);
         let value = if scale >= 0 {
             BigRational::from_integer(digits * num_traits::pow(ten, scale as usize))

@@ -241,6 +241,13 @@ impl BuildError {
     }
 }
 
+/// Most entries of one matrix (a 2000 × 2000 matrix): larger dimensions are mistakes.
+pub const MAX_MATRIX_ENTRIES: usize = 4_000_000;
+
+/// Most unknowns of a constraint system: the exact solver stays within
+/// seconds and a few hundred megabytes (the quad patch has 484).
+pub const MAX_UNKNOWNS: usize = 20_000;
+
 /// Parameters that name entries, by entry: `(name, order of the parameter)`.
 type NamedEntries = HashMap<(String, usize, usize), (String, usize)>;
 
@@ -695,6 +702,15 @@ impl<'a> Compiler<'a> {
             }
             let rows = self.endpoint(index, Field::From, &arrow.from)?;
             let cols = self.endpoint(index, Field::To, &arrow.to)?;
+            if self.vars.len().saturating_add(rows.saturating_mul(cols)) > MAX_UNKNOWNS {
+                return Err(self.arrow_error(
+                    index,
+                    Field::Matrix,
+                    format!(
+                        "its {rows}×{cols} unknown matrix would bring the system over {MAX_UNKNOWNS} unknowns (is a dim mistyped?)"
+                    ),
+                ));
+            }
             self.unknown_base.insert(arrow.name.clone(), self.vars.len());
             for r in 0..rows {
                 for c in 0..cols {
@@ -759,6 +775,13 @@ impl<'a> Compiler<'a> {
         let name = &arrow.name;
         let rows = self.endpoint(index, Field::From, &arrow.from)?;
         let cols = self.endpoint(index, Field::To, &arrow.to)?;
+        if rows.saturating_mul(cols) > MAX_MATRIX_ENTRIES {
+            return Err(self.arrow_error(
+                index,
+                Field::Matrix,
+                format!("its matrix would be {rows}×{cols}: at most {MAX_MATRIX_ENTRIES} entries (is a dim mistyped?)"),
+            ));
+        }
         let matrix = match &arrow.matrix {
             Matrix::Unknown => {
                 let Some(&base) = self.unknown_base.get(name) else {

@@ -20,4 +20,6 @@ pub use pieces::{ModelError, Piece, Pieces};
 pub use plan::PlanError;
 pub use prepared::Evaluator;
 pub use random::{ChaosGame, DEFAULT_BURN_IN, RandomSettings, SINGULAR_FLOOR, chaos_game};
-pub use settings::{DEFAULT_DEPTH, DEFAULT_MEMORY_LIMIT, Depth, EvalError, EvalSettings, MAX_ADAPTIVE_DEPTH};
+pub use settings::{
+    DEFAULT_DEPTH, DEFAULT_MEMORY_LIMIT, Depth, EvalError, EvalSettings, MAX_ADAPTIVE_DEPTH, MAX_DEPTH,
+};

@@ -213,8 +213,10 @@ impl Cut<'_> {
     fn grid(&self, torus: bool) -> Result<(Vec<Piece>, PatchGrid), ModelError> {
         let n = self.n;
         let w = (n as f64).sqrt().round() as usize;
-        if w * w != n {
-            return layout_error(format!("grid layouts need a root of square dimension (w × w windows), not {n}"));
+        if w * w != n || w < 2 {
+            return layout_error(format!(
+                "grid layouts need a root of square dimension w × w with w ≥ 2 (windows of the grid), not {n}"
+            ));
         }
         let (rows, cols) =
             self.model.grid.ok_or_else(|| ModelError::Layout("grid layouts need grid = [ROWS, COLS]".into()))?;

@@ -14,7 +14,7 @@ use rayon::prelude::*;
 
 use super::pieces::{Pieces, pieces};
 use super::plan::Plan;
-use super::settings::{EvalError, EvalSettings};
+use super::settings::{Depth, EvalError, EvalSettings, MAX_DEPTH};
 use crate::analysis::{JsrSettings, Verdict, jsr};
 use crate::automaton::Automaton;
 use crate::design::Model;
@@ -119,6 +119,13 @@ impl Evaluator {
         let mut start: Vec<(String, Vec<Vec<f64>>)> =
             model.start.iter().filter(|(s, _)| !settings.start.iter().any(|(t, _)| t == s)).cloned().collect();
         start.extend(settings.start.iter().cloned());
+        if let Depth::Fixed(k) = settings.depth
+            && k > MAX_DEPTH
+        {
+            return Err(EvalError::Unsupported(format!(
+                "depth {k} is beyond any evaluation (at most {MAX_DEPTH}: two maps already give 2^{MAX_DEPTH} cells)"
+            )));
+        }
         let mut plan = Plan::new(automaton, &start)?;
         let warnings = convergence_warnings(automaton, settings.force)?;
         for name in &settings.dropped {
@@ -204,12 +211,24 @@ impl Evaluator {
         }
     }
 
+    /// The number of leaf samples of a depth-`r` subtree of `state`
+    /// (saturating): the tabulated count, or level by level from level 0
+    /// (`O(r · arrows)`, no recursion).
     pub(super) fn count(&self, state: usize, r: usize) -> u128 {
         if let Some(c) = self.counts[state].get(r) {
             return *c;
         }
-        let s = self.plan.state(state);
-        s.children.iter().map(|(_, t, _)| self.count(*t, r - 1)).fold(0u128, |a, b| a.saturating_add(b))
+        let mut level: Vec<u128> = self.counts.iter().map(|c| c.first().copied().unwrap_or(0)).collect();
+        for depth in 1..=r {
+            level = (0..level.len())
+                .map(|s| match (self.counts[s].get(depth), &self.plan.states[s]) {
+                    (Some(c), _) => *c,
+                    (None, Some(p)) => p.children.iter().fold(0u128, |a, (_, t, _)| a.saturating_add(level[*t])),
+                    (None, None) => 0,
+                })
+                .collect();
+        }
+        level[state]
     }
 
     /// Fills `out` with the `d`-dimensional samples of the subtree of `state`

@@ -10,6 +10,9 @@ use crate::progress::Progress;
 pub const DEFAULT_MEMORY_LIMIT: usize = 4 << 30;
 /// Default depth.
 pub const DEFAULT_DEPTH: usize = 8;
+/// Deepest fixed depth accepted: beyond it no output fits any memory or disk
+/// (two maps give `2^1000` cells), and counts saturate.
+pub const MAX_DEPTH: usize = 1000;
 /// Deepest level the adaptive mode goes to, whatever the tolerance.
 pub const MAX_ADAPTIVE_DEPTH: usize = 40;
 

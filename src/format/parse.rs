@@ -214,13 +214,21 @@ pub fn read_design(path: &Path) -> Result<Design, ReadError> {
 /// assert_eq!(err.to_string(), "bad.toml:3:7: a state needs at least one control point (dim ≥ 1)");
 /// ```
 pub fn parse_design(text: &str, file: &str, default_name: &str) -> Result<Design, FormatError> {
+    parse_in_chain(text, file, default_name, &mut Vec::new())
+}
+
+/// Files that `extends` may chain through: a longer chain is refused.
+const MAX_EXTENDS: usize = 16;
+
+/// [`parse_design`] inside a chain of `extends` (the files being read, outermost first).
+fn parse_in_chain(text: &str, file: &str, default_name: &str, chain: &mut Vec<String>) -> Result<Design, FormatError> {
     let src = Source { file, text };
     let spec: FileSpec = toml::from_str(text).map_err(|e| {
         let offset = e.span().map_or(0, |s| s.start);
         src.error(offset, e.message().trim().to_string())
     })?;
     let (builder, spans) = match &spec.extends {
-        Some(base) => extend(&src, &spec, base, default_name)?,
+        Some(base) => extend(&src, &spec, base, default_name, chain)?,
         None => Reader { src: &src, spans: Spans::default() }.read(&spec, default_name)?,
     };
     builder.build().map_err(|e| spans.locate(&src, e))
@@ -344,6 +352,7 @@ fn extend(
     spec: &FileSpec,
     base: &Spanned<String>,
     default_name: &str,
+    chain: &mut Vec<String>,
 ) -> Result<(DesignBuilder, Spans), FormatError> {
     if !spec.states.is_empty() || !spec.arrows.is_empty() || !spec.constraints.is_empty() {
         return Err(src.at(&base.span(), "a file that extends another may only add a model and parameter defaults"));
@@ -353,13 +362,25 @@ fn extend(
         Some((n, text)) => parse_design(text, &format!("automata/{n}.toml"), n)?,
         None => {
             let path = Path::new(src.file).parent().unwrap_or(Path::new(".")).join(name);
+            let here =
+                std::fs::canonicalize(src.file).map_or_else(|_| src.file.to_string(), |p| p.display().to_string());
+            let there =
+                std::fs::canonicalize(&path).map_or_else(|_| path.display().to_string(), |p| p.display().to_string());
+            chain.push(here);
+            if chain.contains(&there) || chain.len() > MAX_EXTENDS {
+                let mut names: Vec<String> = chain.clone();
+                names.push(there);
+                return Err(src.at(&base.span(), format!("`extends` goes round in a cycle: {}", names.join(" → "))));
+            }
             let text = std::fs::read_to_string(&path).map_err(|e| {
                 let mut err = src.at(&base.span(), format!("cannot read `{}`: {e}", path.display()));
                 err.help =
                     suggest(name, BUILTIN_AUTOMATA.iter().map(|(n, _)| *n)).map(|s| format!("did you mean `{s}`?"));
                 err
             })?;
-            parse_design(&text, &path.display().to_string(), name)?
+            let design = parse_in_chain(&text, &path.display().to_string(), name, chain)?;
+            chain.pop();
+            design
         }
     };
     let mut b = design.to_builder();

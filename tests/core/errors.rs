@@ -152,3 +152,87 @@ proptest! {
         }
     }
 }
+
+/// Hostile inputs of issue 15: each ends with a clear error, at once, with
+/// no panic, abort, hang or unbounded allocation.
+mod hostile {
+    use super::*;
+
+    fn one_state(entry: &str) -> String {
+        format!(
+            "[[state]]\nname = \"x\"\ndim = 1\n[[arrow]]\nname = \"T\"\nfrom = \"x\"\nto = \"x\"\nmatrix = [[\"{entry}\"]]\n"
+        )
+    }
+
+    #[test]
+    fn deeply_nested_expressions_are_refused() {
+        let deep = format!("{}1{}", "(".repeat(20_000), ")".repeat(20_000));
+        let e = error_of(&one_state(&deep));
+        assert!(e.contains("nested more than 200 levels"), "{e}");
+        let signs = format!("{}1", "-".repeat(20_000));
+        assert!(error_of(&one_state(&signs)).contains("nested"));
+    }
+
+    #[test]
+    fn huge_exponents_are_refused_at_once() {
+        let started = std::time::Instant::now();
+        let e = error_of(&one_state("1e900000000"));
+        assert!(e.contains("exponent is beyond ±4000"), "{e}");
+        let e = error_of(
+            "[[state]]\nname = \"x\"\ndim = 1\n[[arrow]]\nname = \"T\"\nfrom = \"x\"\nto = \"x\"\nmatrix = [[1e900000000]]\n",
+        );
+        assert!(e.starts_with("f.toml:8:"), "a positioned error: {e}");
+        assert!(started.elapsed().as_secs() < 5);
+    }
+
+    #[test]
+    fn extends_cycles_are_refused() {
+        let dir = std::env::temp_dir().join(format!("bcifs-extends-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join("a.toml"), "extends = \"b.toml\"\n").unwrap();
+        std::fs::write(dir.join("b.toml"), "extends = \"a.toml\"\n").unwrap();
+        let e = bcifs::read_design(&dir.join("a.toml")).unwrap_err().to_string();
+        assert!(e.contains("cycle") && e.contains("a.toml") && e.contains("b.toml"), "{e}");
+        std::fs::write(dir.join("c.toml"), "extends = \"c.toml\"\n").unwrap();
+        assert!(bcifs::read_design(&dir.join("c.toml")).unwrap_err().to_string().contains("cycle"));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn a_grid_of_points_of_dimension_one_is_a_layout_error() {
+        let text = "[[state]]\nname = \"x\"\ndim = 1\n[[arrow]]\nname = \"T\"\nfrom = \"x\"\nto = \"x\"\nmatrix = [[1]]\n\
+            [model]\nroot = \"x\"\nlayout = \"grid\"\ngrid = [2, 2]\npoints = [[0, 0], [1, 0], [0, 1], [1, 1]]\n";
+        let d = parse_design(text, "g.toml", "g").unwrap();
+        let inst = bcifs::instantiate(&d, &[]).unwrap();
+        let e = bcifs::eval::Evaluator::new(&inst.automaton, d.model().unwrap(), Default::default());
+        assert!(e.err().unwrap().to_string().contains("w ≥ 2"));
+    }
+
+    #[test]
+    fn absurd_depths_are_refused_at_once() {
+        let d = bcifs::builtin_design("levy").unwrap();
+        let inst = bcifs::instantiate(&d, &[]).unwrap();
+        let started = std::time::Instant::now();
+        for depth in [60, 1000, 4_294_967_296] {
+            let ev = bcifs::eval::Evaluator::new(
+                &inst.automaton,
+                d.model().unwrap(),
+                bcifs::eval::EvalSettings::default().with_depth(depth),
+            );
+            // Refused by the depth limit, or by the memory estimate before any output.
+            assert!(ev.and_then(|e| e.evaluate()).is_err(), "depth {depth}");
+        }
+        assert!(started.elapsed().as_secs() < 5, "no exponential count");
+    }
+
+    #[test]
+    fn mistyped_dimensions_are_refused_before_solving() {
+        let text = "[[state]]\nname = \"x\"\ndim = 100000\n[[arrow]]\nname = \"T\"\nfrom = \"x\"\nto = \"x\"\nmatrix = \"unknown\"\n";
+        let started = std::time::Instant::now();
+        let e = error_of(text);
+        assert!(e.contains("100000×100000") && e.contains("mistyped"), "{e}");
+        let text = text.replace("100000", "300");
+        assert!(error_of(&text).contains("unknowns"), "{}", error_of(&text));
+        assert!(started.elapsed().as_secs() < 5);
+    }
+}
