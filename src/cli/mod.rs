@@ -13,7 +13,7 @@ use std::io::Write as _;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use anyhow::{Context, Result};
+use anyhow::{Context, Result, bail};
 use clap::{Parser, Subcommand};
 
 use bcifs::{Design, Progress, read_design};
@@ -86,9 +86,25 @@ fn keyword<T: Copy>(what: &str, value: &str, options: &[(&str, T)]) -> Result<T>
     })
 }
 
+/// Largest picture side: a 16384 × 16384 RGB picture is 768 MiB.
+const MAX_PICTURE_SIDE: u32 = 16384;
+
 fn parse_size(size: &str) -> Result<(u32, u32)> {
     let (w, h) = size.split_once('x').with_context(|| format!("--size `{size}`: expected WIDTHxHEIGHT"))?;
-    Ok((w.trim().parse().context("--size width")?, h.trim().parse().context("--size height")?))
+    let (w, h): (u32, u32) = (w.trim().parse().context("--size width")?, h.trim().parse().context("--size height")?);
+    if w == 0 || h == 0 || w > MAX_PICTURE_SIDE || h > MAX_PICTURE_SIDE {
+        bail!("--size {w}x{h}: each side must be between 1 and {MAX_PICTURE_SIDE} pixels");
+    }
+    Ok((w, h))
+}
+
+/// Worker threads: at least 1, at most 64 times the cores (more only waits).
+fn check_threads(threads: Option<usize>) -> Result<Option<usize>> {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    match threads {
+        Some(t) if t == 0 || t > 64 * cores => bail!("--threads {t}: expected 1 to {} on this machine", 64 * cores),
+        other => Ok(other),
+    }
 }
 
 /// Reads a file, or a shipped automaton by name when no such file exists.

@@ -9,7 +9,7 @@ use bcifs::export::{ObjWriter, RasterSettings, raster, svg, write_atomic, write_
 use bcifs::geometry::{Shape, Sink};
 use bcifs::{Design, DesignInstantiateError, Model, instantiate};
 
-use super::{load, parse_params, parse_size, progress_bar};
+use super::{check_threads, load, parse_params, parse_size, progress_bar};
 
 /// What to render and how.
 #[derive(Clone, Debug, Default)]
@@ -115,6 +115,16 @@ pub fn run(args: RenderArgs) -> anyhow::Result<u8> {
         force,
     } = args;
     let design = load(&file)?;
+    if random.is_some() && (depth.is_some() || tolerance.is_some()) {
+        bail!("--random draws points by the chaos game: --depth and --tolerance do not apply to it");
+    }
+    let threads = check_threads(threads)?;
+    // A fully known automaton whose constraints fail is not what its file says.
+    if let Err(bcifs::SolveError::Inconsistent { conflicts }) = bcifs::solve(&design)
+        && !force
+    {
+        bail!("{}: the constraints do not hold ({}); render anyway with --force", design.name(), conflicts.join("; "));
+    }
     let mut options = RenderOptions { params: parse_params(&params)?, ..RenderOptions::default() };
     options.eval.depth = match (depth, tolerance) {
         (_, Some(eps)) if eps > 0.0 => bcifs::eval::Depth::Tolerance(eps),
@@ -136,13 +146,18 @@ pub fn run(args: RenderArgs) -> anyhow::Result<u8> {
     }
     let (w, h) = parse_size(&size)?;
     let (yaw, pitch) = view.split_once(',').with_context(|| format!("--view `{view}`: expected YAW,PITCH"))?;
-    options.raster = options
-        .raster
-        .with_size(w, h)
-        .with_view(yaw.trim().parse().context("--view yaw")?, pitch.trim().parse().context("--view pitch")?);
+    let (yaw, pitch): (f64, f64) =
+        (yaw.trim().parse().context("--view yaw")?, pitch.trim().parse().context("--view pitch")?);
+    if !yaw.is_finite() || !pitch.is_finite() {
+        bail!("--view {yaw},{pitch}: the angles must be finite numbers of degrees");
+    }
+    options.raster = options.raster.with_size(w, h).with_view(yaw, pitch);
     let started = std::time::Instant::now();
     let summary = render(&design, &options, &output)?;
     summary.report(design.name(), &output, started);
+    if summary.vertices == 0 {
+        eprintln!("warning: the output is empty (every arrow dropped, or nothing to draw)");
+    }
     Ok(0)
 }
 

@@ -194,9 +194,19 @@ impl ChaosGame {
             mats[to.index()].push(m);
             names[to.index()].push(&arrow.name);
         }
-        for (name, _) in &settings.probabilities {
+        for (name, p) in &settings.probabilities {
             if !names.iter().flatten().any(|n| n == name) {
-                return Err(EvalError::UnknownArrow(name.clone()));
+                let all = names.iter().flatten().copied();
+                let help =
+                    crate::names::suggest(name, all).map(|h| format!(" (did you mean `{h}`?)")).unwrap_or_default();
+                return Err(EvalError::Probability(format!(
+                    "no subdivision arrow named `{name}` to give a probability{help}"
+                )));
+            }
+            if !p.is_finite() || *p < 0.0 {
+                return Err(EvalError::Probability(format!(
+                    "the probability of `{name}` is {p}: probabilities are finite and at least 0"
+                )));
             }
         }
         for s in 0..size {
@@ -206,10 +216,16 @@ impl ChaosGame {
             let mut w = det_weights(&mats[s]);
             for (k, n) in names[s].iter().enumerate() {
                 if let Some((_, p)) = settings.probabilities.iter().find(|(a, _)| a == n) {
-                    w[k] = p.max(0.0);
+                    w[k] = *p;
                 }
             }
             if w.iter().sum::<f64>() <= 0.0 {
+                if names[s].iter().any(|n| settings.probabilities.iter().any(|(a, _)| a == n)) {
+                    return Err(EvalError::Probability(format!(
+                        "the arrows into `{}` all have probability 0: the walk could not go on",
+                        plan.state(s).name
+                    )));
+                }
                 w = vec![1.0; w.len()];
             }
             inc.alias[s] = Some(Alias::new(&w));

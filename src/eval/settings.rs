@@ -120,6 +120,10 @@ pub enum EvalError {
         /// The limit.
         limit: usize,
     },
+    /// A chaos-game probability that names no subdivision arrow, is not a
+    /// finite non-negative number, or leaves a state with total probability 0.
+    #[error("{0}")]
+    Probability(String),
     /// A dropped arrow that does not exist.
     #[error("no subdivision arrow named `{0}` to drop")]
     UnknownArrow(String),

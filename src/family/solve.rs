@@ -418,12 +418,26 @@ fn family_of(design: &Design, elim: &Eliminator, equations: usize) -> Result<Fam
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum InstantiateError {
     /// A value was given for a name that is not a free parameter.
-    #[error("`{name}` is not a free parameter{}", help.as_ref().map(|h| format!(" (did you mean `{h}`?)")).unwrap_or_default())]
+    #[error(
+        "`{name}` is not a free parameter{}; the free parameters are {}",
+        help.as_ref().map(|h| format!(" (did you mean `{h}`?)")).unwrap_or_default(),
+        if free.is_empty() { "none".to_string() } else { free.iter().map(|n| format!("`{n}`")).collect::<Vec<_>>().join(", ") }
+    )]
     UnknownParameter {
         /// The name given.
         name: String,
         /// The closest parameter name.
         help: Option<String>,
+        /// The free parameters.
+        free: Vec<String>,
+    },
+    /// A value that is not a finite number.
+    #[error("`{name}` = {value}: parameter values must be finite numbers")]
+    NotFinite {
+        /// The parameter.
+        name: String,
+        /// The value given.
+        value: f64,
     },
     /// Free parameters with neither a value nor a default.
     #[error("no value for {}: pass --param NAME=VALUE or give a default in [parameters]", names.iter().map(|n| format!("`{n}`")).collect::<Vec<_>>().join(", "))]
@@ -485,10 +499,13 @@ impl Family {
     /// A value for an unknown name, or a parameter with no value at all.
     pub fn instantiate(&self, values: &[(String, f64)]) -> Result<Instance, InstantiateError> {
         let names = self.parameter_names();
-        for (name, _) in values {
+        for (name, value) in values {
             if !names.contains(name) {
                 let help = crate::names::suggest(name, names.iter().map(String::as_str));
-                return Err(InstantiateError::UnknownParameter { name: name.clone(), help });
+                return Err(InstantiateError::UnknownParameter { name: name.clone(), help, free: names.clone() });
+            }
+            if !value.is_finite() {
+                return Err(InstantiateError::NotFinite { name: name.clone(), value: *value });
             }
         }
         let mut x = Vec::with_capacity(names.len());
@@ -522,10 +539,10 @@ pub fn numeric(automaton: &Automaton<Affine>, x: &[f64]) -> Automaton<f64> {
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum DesignInstantiateError {
     /// The constraints have no solution with unknowns.
-    #[error("{0}")]
+    #[error(transparent)]
     Solve(#[from] SolveError),
     /// Bad or missing parameter values.
-    #[error("{0}")]
+    #[error(transparent)]
     Values(#[from] InstantiateError),
 }
 

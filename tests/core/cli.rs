@@ -117,3 +117,60 @@ fn new_prints_files_that_solve() {
     assert_eq!(code, 2);
     assert!(err.contains("1 ≤ vertex < points"), "{err}");
 }
+
+/// Options that make no sense get a clear error (exit 2), not a broken picture.
+#[test]
+fn nonsense_options_are_refused() {
+    let png = std::env::temp_dir().join(format!("bcifs-cli-{}.png", std::process::id()));
+    let out = png.to_str().unwrap();
+    for (args, expected) in [
+        (vec!["render", "levy", "--threads", "100000", "-o", out], "--threads 100000"),
+        (vec!["render", "levy", "--threads", "0", "-o", out], "--threads 0"),
+        (vec!["render", "levy", "--size", "0x0", "-o", out], "between 1 and"),
+        (vec!["render", "levy", "--size", "100000x100000", "-o", out], "between 1 and"),
+        (vec!["render", "levy", "--view", "nan,nan", "-o", out], "finite"),
+        (vec!["render", "fern", "--random", "100", "--depth", "3", "-o", out], "do not apply"),
+        (vec!["render", "fern", "--random", "100", "--prob", "T0=-1", "-o", out], "at least 0"),
+        (vec!["render", "fern", "--random", "100", "--prob", "TX=0.5", "-o", out], "to give a probability"),
+        (vec!["render", "levy", "--random", "100", "--prob", "T0=0", "--prob", "T1=0", "-o", out], "probability 0"),
+        (vec!["check", "corner_cutting", "--param", "zzz=1"], "the free parameters are `a`, `b`"),
+        (vec!["check", "corner_cutting", "--param", "a=1e400"], "finite"),
+    ] {
+        let (code, _, err) = bcifs(&args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(err.contains(expected), "{args:?}: {err}");
+        assert!(err.matches("is not a free parameter").count() <= 1, "said once: {err}");
+    }
+}
+
+/// A fully known automaton whose constraints fail: `solve` says so (exit 1),
+/// `render` refuses it too unless `--force`.
+#[test]
+fn render_refuses_a_file_whose_constraints_fail() {
+    let dir = std::env::temp_dir().join(format!("bcifs-bad-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("bad.toml");
+    std::fs::write(
+        &file,
+        "[[state]]\nname = \"e\"\ndim = 2\nkind = \"edge\"\n[[state]]\nname = \"v\"\ndim = 1\nkind = \"vertex\"\n\
+         [[arrow]]\nname = \"T0\"\nfrom = \"e\"\nto = \"e\"\nmatrix = [[1, 0.5], [0, 0.5]]\n\
+         [[arrow]]\nname = \"T1\"\nfrom = \"e\"\nto = \"e\"\nmatrix = [[0.6, 0], [0.4, 1]]\n\
+         [[arrow]]\nname = \"Tv\"\nfrom = \"v\"\nto = \"v\"\nmatrix = [[1]]\n\
+         [[arrow]]\nname = \"b0\"\nfrom = \"e\"\nto = \"v\"\nkind = \"boundary\"\nselect = [0]\n\
+         [[arrow]]\nname = \"b1\"\nfrom = \"e\"\nto = \"v\"\nkind = \"boundary\"\nselect = [1]\n\
+         [constraints]\nadjacency = [\"T0 b1 = T1 b0\"]\n\
+         [model]\nroot = \"e\"\npoints = [[0, 0], [1, 0]]\n",
+    )
+    .unwrap();
+    let (f, png) = (file.to_str().unwrap(), dir.join("bad.png"));
+    let (code, _, _) = bcifs(&["solve", f]);
+    assert_eq!(code, 1);
+    let (code, _, err) = bcifs(&["render", f, "--depth", "3", "-o", png.to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("the constraints do not hold") && err.contains("--force"), "{err}");
+    assert!(!png.exists());
+    let (code, _, err) = bcifs(&["render", f, "--depth", "3", "--force", "-o", png.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert!(png.exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
