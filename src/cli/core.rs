@@ -156,3 +156,48 @@ pub fn run_new(out: &mut String, topology: Topology) -> Result<u8> {
     out.push_str(&bcifs::write_design(&design));
     Ok(0)
 }
+
+/// `bcifs list`: the shipped automata, then the scheme presets.
+pub fn run_list(out: &mut String) -> Result<u8> {
+    writeln!(out, "shipped automata (bcifs render NAME, bcifs show NAME):")?;
+    for (name, _) in bcifs::BUILTIN_AUTOMATA {
+        let d =
+            bcifs::builtin_design(name).ok_or_else(|| anyhow::anyhow!("internal error: `{name}` does not parse"))?;
+        writeln!(out, "  {name:<22} {}", d.description())?;
+    }
+    writeln!(out, "normal-vector presets (bcifs scheme normal --preset NAME):")?;
+    for name in bcifs::schemes::PRESET_NAMES {
+        let p = bcifs::schemes::normal_preset(name)?;
+        writeln!(out, "  {name:<22} {}", p.description)?;
+    }
+    writeln!(out, "subdivision schemes as IFS (bcifs scheme ifs NAME):")?;
+    for name in bcifs::schemes::IFS_NAMES {
+        let d = bcifs::schemes::ifs_preset(name, None, None)?;
+        writeln!(out, "  {name:<22} {}", d.description())?;
+    }
+    Ok(0)
+}
+
+/// `bcifs show NAME`: the embedded file of a shipped automaton, or a
+/// preset's automaton printed as a file.
+pub fn run_show(out: &mut String, name: &str) -> Result<u8> {
+    if let Some((_, text)) = bcifs::BUILTIN_AUTOMATA.iter().find(|(n, _)| *n == name) {
+        out.push_str(text);
+        return Ok(0);
+    }
+    if bcifs::schemes::IFS_NAMES.contains(&name) {
+        out.push_str(&bcifs::write_design(&bcifs::schemes::ifs_preset(name, None, None)?));
+        return Ok(0);
+    }
+    if bcifs::schemes::PRESET_NAMES.contains(&name) {
+        out.push_str(&bcifs::write_design(&bcifs::schemes::normal_preset(name)?.design()?));
+        return Ok(0);
+    }
+    let all = bcifs::BUILTIN_AUTOMATA
+        .iter()
+        .map(|(n, _)| *n)
+        .chain(bcifs::schemes::IFS_NAMES)
+        .chain(bcifs::schemes::PRESET_NAMES);
+    let help = bcifs::suggest(name, all).map(|s| format!(" (did you mean `{s}`?)")).unwrap_or_default();
+    bail!("no shipped automaton or preset named `{name}`{help}; `bcifs list` shows them")
+}

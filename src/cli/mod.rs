@@ -74,6 +74,13 @@ enum Command {
         #[command(subcommand)]
         topology: Topology,
     },
+    /// List the shipped automata and the scheme presets, one line each.
+    List,
+    /// Print a shipped automaton (its TOML, with control points) or a scheme preset's automaton.
+    Show {
+        /// A shipped automaton, `scheme normal` preset or `scheme ifs` preset.
+        name: String,
+    },
 }
 
 fn keyword<T: Copy>(what: &str, value: &str, options: &[(&str, T)]) -> Result<T> {
@@ -107,13 +114,20 @@ fn check_threads(threads: Option<usize>) -> Result<Option<usize>> {
     }
 }
 
-/// Reads a file, or a shipped automaton by name when no such file exists.
+/// Reads a file, or a shipped automaton by name when no such file exists;
+/// a name that is neither says which shipped automaton is closest.
 fn load(file: &str) -> Result<Design> {
     let path = PathBuf::from(file);
-    if !path.exists()
-        && let Some(d) = bcifs::builtin_design(file.trim_end_matches(".toml"))
-    {
-        return Ok(d);
+    if !path.exists() {
+        let name = file.trim_end_matches(".toml");
+        if let Some(d) = bcifs::builtin_design(name) {
+            return Ok(d);
+        }
+        let shipped: Vec<&str> = bcifs::BUILTIN_AUTOMATA.iter().map(|(n, _)| *n).collect();
+        let help = bcifs::suggest(name, shipped.iter().copied())
+            .map(|s| format!(" (did you mean `{s}`?)"))
+            .unwrap_or_default();
+        bail!("`{file}` is neither a file nor a shipped automaton{help}; `bcifs list` shows the shipped ones");
     }
     Ok(read_design(&path)?)
 }
@@ -158,6 +172,8 @@ fn run(out: &mut String, cli: Cli) -> Result<u8> {
         Command::Analyze { what } => analyze::run(out, what),
         Command::Scheme { scheme } => scheme::run(out, scheme),
         Command::New { topology } => core::run_new(out, topology),
+        Command::List => core::run_list(out),
+        Command::Show { name } => core::run_show(out, &name),
     }
 }
 

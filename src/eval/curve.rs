@@ -100,7 +100,8 @@ impl Evaluator {
 
     /// After the samples of `piece`: closes its polyline when it is an edge
     /// that ends a curve (the last piece of a connected curve, or any piece
-    /// of a union), adding the end point unless the curve is closed.
+    /// of a union), adding the end point unless the curve is closed. With
+    /// dropped arrows the samples are a subset with gaps: points, no line.
     fn end_curve(
         &self,
         piece: &super::pieces::Piece,
@@ -126,7 +127,9 @@ impl Evaluator {
             sink.vertices(d, &p, None)?;
             *first_vertex += 1;
         }
-        sink.polyline(*run_start, *first_vertex - *run_start, closed)?;
+        if self.settings.dropped.is_empty() {
+            sink.polyline(*run_start, *first_vertex - *run_start, closed)?;
+        }
         *run_start = *first_vertex;
         Ok(())
     }

@@ -174,3 +174,27 @@ fn render_refuses_a_file_whose_constraints_fail() {
     assert!(png.exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Discoverability: `list` names every shipped automaton and preset, `show`
+/// prints one, and a misspelt name gets the nearest one.
+#[test]
+fn list_show_and_suggestions() {
+    let (code, out, _) = bcifs(&["list"]);
+    assert_eq!(code, 0);
+    for (name, _) in bcifs::BUILTIN_AUTOMATA {
+        assert!(out.contains(name), "{name} in {out}");
+    }
+    assert!(out.contains("bicubic") && out.contains("snowflake"), "{out}");
+    let (code, out, _) = bcifs(&["show", "fern"]);
+    assert_eq!(code, 0);
+    assert!(bcifs::parse_design(&out, "fern.toml", "fern").is_ok());
+    let (code, out, _) = bcifs(&["show", "bicubic"]);
+    assert_eq!(code, 0);
+    assert!(bcifs::parse_design(&out, "bicubic.toml", "bicubic").is_ok());
+    let (code, _, err) = bcifs(&["show", "levvy"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("did you mean `levy`?"), "{err}");
+    let (code, _, err) = bcifs(&["solve", "fren"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("did you mean `fern`?") && err.contains("bcifs list"), "{err}");
+}

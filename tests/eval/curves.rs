@@ -229,3 +229,16 @@ fn the_models_start_sets_are_honoured() {
     let without = Evaluator::new(&a, &bare, settings).unwrap().evaluate().unwrap();
     assert_ne!(from_model.positions, without.positions, "the start set changes the points");
 }
+
+/// Dropping an arrow of a curve leaves a subset with gaps: points, no
+/// polyline joining across the gaps (Koch without its second quarter).
+#[test]
+fn dropped_arrows_give_points_not_lines() {
+    let (a, model, _) = load("koch", &[]);
+    let full = Evaluator::new(&a, &model, EvalSettings::default().with_depth(4)).unwrap().evaluate().unwrap();
+    assert_eq!(full.polylines().count(), 1);
+    let subset =
+        Evaluator::new(&a, &model, EvalSettings::default().with_depth(4).without(&["T1"])).unwrap().evaluate().unwrap();
+    assert_eq!(subset.polylines().count(), 0);
+    assert_eq!(subset.vertex_count(), 3usize.pow(4) + 1);
+}
