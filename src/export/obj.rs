@@ -21,10 +21,6 @@ pub fn write_obj(shape: &Shape, name: &str, path: &Path) -> io::Result<()> {
     writer.finish()
 }
 
-/// Indices per `l` line: long polylines are split into consecutive lines
-/// that share their end vertices.
-const LINE_CHUNK: usize = 4096;
-
 /// A [`Sink`] that streams OBJ text: `v` (and `vn`) and `vt` lines go to the
 /// file as they come, elements (`o`, `l`, `f`) to a spool file appended at
 /// the end, so memory stays bounded whatever the size. The target appears
@@ -158,31 +154,25 @@ impl Sink for ObjWriter {
         self.main().write_all(&line)
     }
 
+    /// One `l a b` record per segment: MeshLab (vcglib) and Blender's
+    /// importer keep only the first segment of a longer `l` record, and
+    /// trimesh drops them; two-vertex records load whole in all of them.
     fn polyline(&mut self, first: usize, count: usize, closed: bool) -> io::Result<()> {
         let mut ints = std::mem::replace(&mut self.ints, itoa::Buffer::new());
-        let mut line = Vec::with_capacity(LINE_CHUNK * 12);
-        let mut i = 0;
-        while i + 1 < count || (i == 0 && count == 1) {
+        let mut line = Vec::with_capacity(1 << 16);
+        let segments = if closed && count > 2 { count } else { count.saturating_sub(1) };
+        for k in 0..segments {
             if line.len() > (1 << 20) {
                 // Bounded memory whatever the length of the polyline.
                 self.spool().write_all(&line)?;
                 line.clear();
             }
-            let end = (i + LINE_CHUNK).min(count - 1);
-            line.push(b'l');
-            for v in i..=end {
-                line.push(b' ');
-                line.extend_from_slice(ints.format(first + v + 1).as_bytes());
-            }
-            if closed && end == count - 1 {
-                line.push(b' ');
-                line.extend_from_slice(ints.format(first + 1).as_bytes());
-            }
+            let (a, b) = (first + k + 1, first + (k + 1) % count + 1);
+            line.extend_from_slice(b"l ");
+            line.extend_from_slice(ints.format(a).as_bytes());
+            line.push(b' ');
+            line.extend_from_slice(ints.format(b).as_bytes());
             line.push(b'\n');
-            if end == i {
-                break;
-            }
-            i = end;
         }
         self.ints = ints;
         self.spool().write_all(&line)

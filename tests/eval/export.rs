@@ -50,7 +50,8 @@ fn obj_round_trip_through_tobj() {
     assert_eq!(leftovers.count(), 0);
 }
 
-/// Curves stream too: the OBJ holds every vertex and `l` lines joining them.
+/// Curves stream too: the OBJ holds every vertex and one two-vertex `l`
+/// record per segment (what MeshLab, Blender and trimesh load whole).
 #[test]
 fn curves_stream_to_obj() {
     let (a, model, _) = load("koch", &[]);
@@ -69,6 +70,8 @@ fn curves_stream_to_obj() {
         .filter(|l| l.starts_with("l "))
         .map(|l| l[2..].split(' ').map(|x| x.parse().unwrap()).collect())
         .collect();
+    assert_eq!(lines.len(), vertices - 1, "one record per segment");
+    assert!(lines.iter().all(|l| l.len() == 2));
     assert_eq!(lines[0][0], 1);
     assert_eq!(*lines.last().unwrap().last().unwrap(), vertices);
     for w in lines.windows(2) {

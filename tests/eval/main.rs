@@ -1,6 +1,7 @@
 //! Integration tests of evaluation and export.
 #![allow(clippy::needless_range_loop)] // index loops mirror the formulas they check
 
+mod clients;
 mod curves;
 mod export;
 #[path = "../common/hausdorff.rs"]
