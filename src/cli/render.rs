@@ -94,6 +94,9 @@ pub struct RenderArgs {
     /// Evaluate even a system whose convergence bounds prove it diverges.
     #[arg(long)]
     pub force: bool,
+    /// Texture coordinates on meshes: one (u, v) parameterization of the whole grid or torus.
+    #[arg(long)]
+    pub uv: bool,
 }
 
 /// `bcifs render`: evaluates a design with its model and writes the file.
@@ -113,6 +116,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<u8> {
         view,
         output,
         force,
+        uv,
     } = args;
     let design = load(&file)?;
     if random.is_some() && (depth.is_some() || tolerance.is_some()) {
@@ -136,6 +140,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<u8> {
     options.eval.memory_limit = memory_mib.saturating_mul(1 << 20);
     options.eval.dropped = drop;
     options.eval.force = force;
+    options.eval.uv = uv;
     options.eval.progress = progress_bar();
     if let Some(n) = random {
         let mut r = bcifs::eval::RandomSettings::default().with_points(n).with_seed(seed);

@@ -44,6 +44,10 @@ pub struct EvalSettings {
     /// Evaluate even a system whose joint spectral radius bounds prove it
     /// diverges (its pictures show the divergence, not an attractor).
     pub force: bool,
+    /// Texture coordinates on meshes: one parameterization `(u, v)` of the
+    /// whole grid or torus (a torus repeats its seam). Off by default: a
+    /// closed surface then loads as one watertight body in every client.
+    pub uv: bool,
 }
 
 impl Default for EvalSettings {
@@ -56,6 +60,7 @@ impl Default for EvalSettings {
             dropped: Vec::new(),
             progress: None,
             force: false,
+            uv: false,
         }
     }
 }
@@ -89,6 +94,11 @@ impl EvalSettings {
     /// With a progress callback.
     pub fn with_progress(mut self, progress: Progress) -> Self {
         self.progress = Some(progress);
+        self
+    }
+    /// With texture coordinates on meshes.
+    pub fn with_uv(mut self) -> Self {
+        self.uv = true;
         self
     }
     /// Evaluating even a divergent system.

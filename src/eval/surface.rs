@@ -111,6 +111,10 @@ struct Mesher<'a> {
     table: Vec<f64>,
     /// The child arrow at each quadrant `dv * p + du`.
     child_of: Vec<usize>,
+    /// Write texture coordinates (one parameterization of the whole grid or torus).
+    uv: bool,
+    /// Reverse every quad and normal: a closed surface faces outwards.
+    flip: bool,
 }
 
 /// The welded mesh of a face automaton at depth `k` into `shape`, reusing its buffers.
@@ -166,13 +170,19 @@ impl<'a> Mesher<'a> {
         for (i, &(du, dv)) in sp.quadrants.iter().enumerate() {
             child_of[dv * p + du] = i;
         }
-        Ok(Mesher { ev, lat, d: pieces.dim, n9, p, k, level, state, table, child_of })
+        let flip = torus && signed_volume_of_corners(ev, state) < 0.0;
+        Ok(Mesher { ev, lat, d: pieces.dim, n9, p, k, level, state, table, child_of, uv: ev.settings.uv, flip })
     }
 
-    /// Texture points of the shared `[0,1]²` table of every patch, `from..to`.
+    /// Points of the texture table: `(u, v)` over the whole grid or torus,
+    /// `(nu + 1) × (nv + 1)` of them (a torus repeats its seam), `from..to`.
     fn uvs(&self, from: usize, to: usize) -> impl Iterator<Item = f64> + '_ {
-        let (n, np) = (self.lat.n, self.lat.n + 1);
-        (from..to).flat_map(move |i| [(i % np) as f64 / n as f64, (i / np) as f64 / n as f64])
+        let (nu, nv) = (self.lat.nu(), self.lat.nv());
+        (from..to).flat_map(move |i| [(i % (nu + 1)) as f64 / nu as f64, (i / (nu + 1)) as f64 / nv as f64])
+    }
+
+    fn uv_count(&self) -> usize {
+        (self.lat.nu() + 1) * (self.lat.nv() + 1)
     }
 
     fn blocks(&self) -> usize {
@@ -215,7 +225,7 @@ impl<'a> Mesher<'a> {
                     du[x] = pts[a + x] - pts[b + x];
                     dv[x] = pts[e + x] - pts[f + x];
                 }
-                let n = normal(d, &du[..d], &dv[..d]);
+                let n = normal(d, &du[..d], &dv[..d]).map(|x| if self.flip { -x } else { x });
                 let q = &pts[at(u, v)..at(u, v) + d];
                 if owned {
                     let o = v * lat.b + u;
@@ -230,23 +240,39 @@ impl<'a> Mesher<'a> {
     }
 
     /// Fills the blocks `start..` that the slices hold, in parallel: points
-    /// and normals by [`Mesher::block_points`], quads by [`block_quads`];
-    /// returns the far-boundary vertices.
+    /// and normals by [`Mesher::block_points`], quads by [`block_quads`],
+    /// texture quads when asked; returns the far-boundary vertices.
     fn fill<I: QuadIndex>(&self, start: usize, out: BatchSlices<'_, I>) -> Vec<Extra> {
-        let (bb, d, np) = (self.lat.b * self.lat.b, self.d, self.lat.n + 1);
+        let (bb, d) = (self.lat.b * self.lat.b, self.d);
         self.ev.pool().install(|| {
+            if let Some(quv) = out.quv {
+                quv.par_chunks_mut(bb).enumerate().for_each(|(i, t)| self.uv_quads(start + i, t));
+            }
             out.pos
                 .par_chunks_mut(bb * d)
                 .zip(out.nrm.par_chunks_mut(bb * 3))
                 .zip(out.quads.par_chunks_mut(bb))
-                .zip(out.quv.par_chunks_mut(bb))
                 .enumerate()
-                .flat_map_iter(|(i, (((p, n), q), t))| {
-                    block_quads(&self.lat, np, start + i, q, t);
+                .flat_map_iter(|(i, ((p, n), q))| {
+                    block_quads(&self.lat, start + i, self.flip, q);
                     self.block_points(start + i, p, n)
                 })
                 .collect()
         })
+    }
+
+    /// The texture quads of block `g`: global lattice corners, no wrapping.
+    fn uv_quads<I: QuadIndex>(&self, g: usize, quv: &mut [[I; 4]]) {
+        let lat = &self.lat;
+        let Block { u0, v0, .. } = lat.block(g);
+        let tu = lat.nu() + 1;
+        for v in 0..lat.b {
+            for u in 0..lat.b {
+                let t = (v0 + v) * tu + u0 + u;
+                let q = [t, t + 1, t + 1 + tu, t + tu].map(I::of);
+                quv[v * lat.b + u] = if self.flip { [q[0], q[3], q[2], q[1]] } else { q };
+            }
+        }
     }
 
     /// The far row and column of an open sheet, each vertex once, in index order.
@@ -261,8 +287,7 @@ impl<'a> Mesher<'a> {
     /// place when the sizes repeat: no allocation, no page faults).
     fn fill_shape(&self, shape: &mut Shape) -> Result<(), EvalError> {
         let (d, lat) = (self.d, &self.lat);
-        let np = lat.n + 1;
-        if lat.vertex_count().max(np * np) > u32::MAX as usize {
+        if lat.vertex_count().max(self.uv_count()) > u32::MAX as usize {
             return Err(EvalError::Unsupported("an in-memory mesh needs fewer than 2^32 vertices: stream it".into()));
         }
         let mut steps = self.ev.progress(1);
@@ -282,14 +307,20 @@ impl<'a> Mesher<'a> {
             v
         }
         shape.reuse_as_mesh(d, "surface");
-        resized(&mut shape.uvs, np * np * 2).iter_mut().zip(self.uvs(0, np * np)).for_each(|(o, x)| *o = x);
+        if self.uv {
+            let n = self.uv_count();
+            resized(&mut shape.uvs, n * 2).iter_mut().zip(self.uvs(0, n)).for_each(|(o, x)| *o = x);
+        } else {
+            shape.uvs.clear();
+            shape.quad_uvs.clear();
+        }
         let extras = self.fill::<u32>(
             0,
             BatchSlices {
                 pos: resized(&mut shape.positions, count * d),
                 nrm: resized(&mut shape.normals, count * 3),
                 quads: resized(&mut shape.quads, count),
-                quv: resized(&mut shape.quad_uvs, count),
+                quv: if self.uv { Some(resized(&mut shape.quad_uvs, count)) } else { None },
             },
         );
         if !lat.torus {
@@ -306,12 +337,14 @@ impl<'a> Mesher<'a> {
     /// bounded whatever the depth.
     fn stream(&self, sink: &mut dyn Sink) -> Result<(), EvalError> {
         let (d, lat) = (self.d, &self.lat);
-        let np = lat.n + 1;
         sink.object("surface")?;
-        // Fixed-size chunks of the shared texture table.
-        const UV_CHUNK: usize = 1 << 15;
-        for from in (0..np * np).step_by(UV_CHUNK) {
-            sink.uvs(&self.uvs(from, (from + UV_CHUNK).min(np * np)).collect::<Vec<_>>())?;
+        if self.uv {
+            // Fixed-size chunks of the texture table.
+            const UV_CHUNK: usize = 1 << 15;
+            let n = self.uv_count();
+            for from in (0..n).step_by(UV_CHUNK) {
+                sink.uvs(&self.uvs(from, (from + UV_CHUNK).min(n)).collect::<Vec<_>>())?;
+            }
         }
         let blocks = self.blocks();
         let bb = lat.b * lat.b;
@@ -323,15 +356,13 @@ impl<'a> Mesher<'a> {
             pos.resize(count * d, 0.0);
             nrm.resize(count * 3, 0.0);
             quads.resize(count, [0usize; 4]);
-            quv.resize(count, [0usize; 4]);
+            quv.resize(if self.uv { count } else { 0 }, [0usize; 4]);
+            let uv = self.uv.then_some(quv.as_mut_slice());
             extras.extend(
-                self.fill::<usize>(
-                    start,
-                    BatchSlices { pos: &mut pos, nrm: &mut nrm, quads: &mut quads, quv: &mut quv },
-                ),
+                self.fill::<usize>(start, BatchSlices { pos: &mut pos, nrm: &mut nrm, quads: &mut quads, quv: uv }),
             );
             sink.vertices(d, &pos, Some(&nrm))?;
-            sink.faces(&quads, Some(&quv))?;
+            sink.faces(&quads, self.uv.then_some(quv.as_slice()))?;
             steps.step();
         }
         if !lat.torus {
@@ -347,7 +378,7 @@ struct BatchSlices<'s, I> {
     pos: &'s mut [f64],
     nrm: &'s mut [f64],
     quads: &'s mut [[I; 4]],
-    quv: &'s mut [[I; 4]],
+    quv: Option<&'s mut [[I; 4]]>,
 }
 
 /// An index type of quads: `u32` in memory, `usize` when streamed.
@@ -368,10 +399,11 @@ impl QuadIndex for u32 {
     }
 }
 
-/// The quads and texture quads of block `g` (lattice offsets `u0`, `v0`).
-fn block_quads<I: QuadIndex>(lat: &Lattice, np: usize, g: usize, quads: &mut [[I; 4]], quv: &mut [[I; 4]]) {
+/// The quads of block `g` (counter-clockwise in the lattice, or reversed
+/// when `flip`).
+fn block_quads<I: QuadIndex>(lat: &Lattice, g: usize, flip: bool, quads: &mut [[I; 4]]) {
     let bb = lat.b * lat.b;
-    let Block { bu, bv, u0, v0, .. } = lat.block(g);
+    let Block { u0, v0, .. } = lat.block(g);
     let base = g * bb;
     let of = I::of;
     for v in 0..lat.b {
@@ -388,12 +420,33 @@ fn block_quads<I: QuadIndex>(lat: &Lattice, np: usize, g: usize, quads: &mut [[I
                     of(lat.index(gu, gv + 1)),
                 ]
             };
-            quads[v * lat.b + u] = corner;
-            let (lu, lv) = (bu * lat.b + u, bv * lat.b + v);
-            let t = lv * np + lu;
-            quv[v * lat.b + u] = [of(t), of(t + 1), of(t + 1 + np), of(t + np)];
+            quads[v * lat.b + u] = if flip { [corner[0], corner[3], corner[2], corner[1]] } else { corner };
         }
     }
+}
+
+/// The signed volume enclosed by the quads of the patches' corners (the
+/// coarsest picture of a closed surface): positive when the lattice
+/// orientation faces outwards.
+fn signed_volume_of_corners(ev: &Evaluator, state: usize) -> f64 {
+    let pieces = ev.pieces();
+    let sp = ev.plan().state(state);
+    let (d, n) = (pieces.dim, sp.dim);
+    if d < 3 {
+        return 0.0;
+    }
+    let mut volume = 0.0;
+    for piece in &pieces.pieces {
+        // Corners in lattice order (0,0), (1,0), (1,1), (0,1).
+        let corner = |c: usize| {
+            let mut p = [0.0; 3];
+            project(&piece.control, d, n, &sp.samples[c], &mut p);
+            DVec3::from(p)
+        };
+        let [a, b, c, e] = [0usize, 1, 3, 2].map(corner);
+        volume += (a.dot(b.cross(c)) + a.dot(c.cross(e))) / 6.0;
+    }
+    volume
 }
 
 #[cfg(test)]

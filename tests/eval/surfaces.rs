@@ -21,15 +21,16 @@ fn classic_doo_sabin_is_the_biquadratic_bspline() {
     let shape = eval(
         "doo_sabin_quad",
         &[("alpha", 0.5625), ("beta", 0.1875), ("gamma", 0.1875)],
-        EvalSettings::default().with_depth(k),
+        EvalSettings::default().with_depth(k).with_uv(),
     );
     let (rows, cols) = model.grid.unwrap();
     let (pr, pc) = (rows - 2, cols - 2);
-    let np = (1 << k) + 1;
     assert_eq!(shape.quads.len(), pr * pc * (1 << (2 * k)));
-    assert_eq!(shape.uvs.len(), np * np * 2, "one texture table shared by the patches");
-    // The patch of a quad: its texture quad gives (u, v) in the patch; the patch is
-    // the one whose B-spline puts that parameter at the quad's corners (exactly one does).
+    let (nu, nv) = (pc << k, pr << k);
+    assert_eq!(shape.uvs.len(), (nu + 1) * (nv + 1) * 2, "one parameterization of the whole sheet");
+    // The patch of a quad: its texture quad gives (u, v) over the sheet; in patch
+    // (i, j) that is (u·pc − j, v·pr − i), and exactly one patch's B-spline puts
+    // those parameters at the quad's corners.
     let bspline = |i: usize, j: usize, u: f64, v: f64| -> [f64; 3] {
         let (wu, wv) = (quad_bspline(u), quad_bspline(v));
         std::array::from_fn(|a| {
@@ -45,9 +46,12 @@ fn classic_doo_sabin_is_the_biquadratic_bspline() {
         let matches: Vec<usize> = (0..pr * pc)
             .filter(|&patch| {
                 (0..4).all(|c| {
-                    let (u, v) = (shape.uvs[2 * t[c]], shape.uvs[2 * t[c] + 1]);
-                    let (p, e) = (shape.point(q[c]), bspline(patch / pc, patch % pc, u, v));
-                    (0..3).all(|a| (p[a] - e[a]).abs() < 1e-12)
+                    let (i, j) = (patch / pc, patch % pc);
+                    let (u, v) =
+                        (shape.uvs[2 * t[c]] * pc as f64 - j as f64, shape.uvs[2 * t[c] + 1] * pr as f64 - i as f64);
+                    let inside = (-1e-12..=1.0 + 1e-12).contains(&u) && (-1e-12..=1.0 + 1e-12).contains(&v);
+                    let (p, e) = (shape.point(q[c]), bspline(i, j, u, v));
+                    inside && (0..3).all(|a| (p[a] - e[a]).abs() < 1e-12)
                 })
             })
             .collect();
@@ -106,7 +110,7 @@ fn neighbouring_patches_agree_on_their_boundary() {
         m.layout = bcifs::Layout::Single;
         m.grid = None;
         m.points = (0..9).map(|q| model.points[(i + q / 3) * cols + j + q % 3].clone()).collect();
-        let s = Evaluator::new(&a, &m, EvalSettings::default().with_depth(k)).unwrap().evaluate().unwrap();
+        let s = Evaluator::new(&a, &m, EvalSettings::default().with_depth(k).with_uv()).unwrap().evaluate().unwrap();
         let n = 1 << k;
         // Corner positions by natural parameters.
         let mut grid = vec![[0.0; 3]; (n + 1) * (n + 1)];
