@@ -9,7 +9,7 @@ use bcifs::export::{ObjWriter, RasterSettings, raster, svg, write_atomic, write_
 use bcifs::geometry::{Shape, Sink};
 use bcifs::{Design, DesignInstantiateError, Model, instantiate};
 
-use super::{check_threads, load, parse_params, parse_size, progress_bar};
+use super::{check_threads, keyword, load, parse_params, parse_size, progress_bar};
 
 /// What to render and how.
 #[derive(Clone, Debug, Default)]
@@ -22,6 +22,8 @@ pub struct RenderOptions {
     pub random: Option<bcifs::eval::RandomSettings>,
     /// Picture settings for PNG.
     pub raster: RasterSettings,
+    /// Which model axis is up in OBJ files (Y-up by convention).
+    pub up: bcifs::export::Up,
 }
 
 /// Why rendering failed.
@@ -97,6 +99,9 @@ pub struct RenderArgs {
     /// Texture coordinates on meshes: one (u, v) parameterization of the whole grid or torus.
     #[arg(long)]
     pub uv: bool,
+    /// The model axis that is up in OBJ files: y (the convention: model z becomes the file's y) or z (as is).
+    #[arg(long, default_value = "y")]
+    pub up: String,
 }
 
 /// `bcifs render`: evaluates a design with its model and writes the file.
@@ -117,6 +122,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<u8> {
         output,
         force,
         uv,
+        up,
     } = args;
     let design = load(&file)?;
     if random.is_some() && (depth.is_some() || tolerance.is_some()) {
@@ -141,6 +147,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<u8> {
     options.eval.dropped = drop;
     options.eval.force = force;
     options.eval.uv = uv;
+    options.up = keyword("up axis", &up, &[("y", bcifs::export::Up::Y), ("z", bcifs::export::Up::Z)])?;
     options.eval.progress = progress_bar();
     if let Some(n) = random {
         let mut r = bcifs::eval::RandomSettings::default().with_points(n).with_seed(seed);
@@ -231,7 +238,7 @@ pub fn render(design: &Design, options: &RenderOptions, out: &Path) -> Result<Re
         "obj" => {
             let model = model_of(design)?;
             let instance = instantiate(design, &options.params)?;
-            let mut writer = ObjWriter::create(out).map_err(io)?;
+            let mut writer = ObjWriter::create(out).map_err(io)?.with_up(options.up);
             match &options.random {
                 Some(r) => {
                     let shape = chaos_game(&instance.automaton, &model, r)?;

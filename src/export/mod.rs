@@ -6,6 +6,6 @@ mod png;
 mod svg;
 
 pub use atomic::{AtomicFile, write_atomic};
-pub use obj::{ObjWriter, write_obj};
+pub use obj::{ObjWriter, Up, write_obj};
 pub use png::{RasterSettings, View, ascii, raster, write_png};
 pub use svg::svg;

@@ -8,7 +8,8 @@ use super::atomic::{AtomicFile, temp_path};
 use crate::geometry::{Shape, Sink};
 
 /// Writes a shape held in memory as an OBJ file (through a temporary file
-/// renamed at the end); `name` names its object when it has none.
+/// renamed at the end, Y-up: see [`Up`]); `name` names its object when it
+/// has none.
 ///
 /// # Errors
 /// An I/O error; nothing is left half-written.
@@ -26,6 +27,7 @@ pub fn write_obj(shape: &Shape, name: &str, path: &Path) -> io::Result<()> {
 /// the end, so memory stays bounded whatever the size. The target appears
 /// only when [`ObjWriter::finish`] succeeds.
 pub struct ObjWriter {
+    up: Up,
     main: Option<AtomicFile>,
     spool_path: PathBuf,
     spool: Option<BufWriter<File>>,
@@ -36,7 +38,26 @@ pub struct ObjWriter {
     ints: itoa::Buffer,
 }
 
+/// Which model axis is "up" in the file. OBJ is Y-up by convention (Blender's
+/// importer turns file Y into its Z), so a model whose z is up is written
+/// with model z as file y (`(x, y, z)` → `(x, z, −y)`, a rotation); 2D
+/// curves stay in the xy plane.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Up {
+    /// Model z becomes the file's y (the convention; the default).
+    #[default]
+    Y,
+    /// The model's axes as they are.
+    Z,
+}
+
 impl ObjWriter {
+    /// The same writer, with the model's axes mapped as `up` says.
+    pub fn with_up(mut self, up: Up) -> ObjWriter {
+        self.up = up;
+        self
+    }
+
     /// Starts writing `path`.
     ///
     /// # Errors
@@ -47,6 +68,7 @@ impl ObjWriter {
         let spool_path = temp_path(path, "elements");
         let spool = BufWriter::with_capacity(1 << 20, File::create(&spool_path)?);
         Ok(ObjWriter {
+            up: Up::Y,
             main: Some(main),
             spool_path,
             spool: Some(spool),
@@ -116,18 +138,21 @@ impl Sink for ObjWriter {
         let count = positions.len() / dim.max(1);
         let mut line = Vec::with_capacity(count * 48);
         let mut ryu = std::mem::replace(&mut self.ryu, ryu::Buffer::new());
+        let turn = dim == 3 && self.up == Up::Y;
+        let axes = |v: [f64; 3]| if turn { [v[0], v[2], -v[1]] } else { v };
         for (i, p) in positions.chunks_exact(dim).enumerate() {
             line.extend_from_slice(b"v");
-            for x in p.iter().copied().chain(std::iter::repeat(0.0)).take(3) {
+            let v = [p[0], p.get(1).copied().unwrap_or(0.0), p.get(2).copied().unwrap_or(0.0)];
+            for x in axes(v) {
                 line.push(b' ');
                 push_f64(&mut line, &mut ryu, x);
             }
             line.push(b'\n');
             if let Some(n) = normals {
                 line.extend_from_slice(b"vn");
-                for x in &n[i * 3..i * 3 + 3] {
+                for x in axes([n[i * 3], n[i * 3 + 1], n[i * 3 + 2]]) {
                     line.push(b' ');
-                    push_f64(&mut line, &mut ryu, *x);
+                    push_f64(&mut line, &mut ryu, x);
                 }
                 line.push(b'\n');
             }

@@ -198,3 +198,31 @@ fn list_show_and_suggestions() {
     assert_eq!(code, 2);
     assert!(err.contains("did you mean `fern`?") && err.contains("bcifs list"), "{err}");
 }
+
+/// OBJ is Y-up: a 3D model's z becomes the file's y (so Blender shows it
+/// upright); `--up z` keeps the model's axes; 2D curves stay in the xy plane.
+#[test]
+fn obj_files_are_y_up_unless_asked() {
+    let dir = std::env::temp_dir().join(format!("bcifs-up-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let first_vertex = |args: &[&str], file: &str| -> Vec<f64> {
+        let path = dir.join(file);
+        let mut all = args.to_vec();
+        all.extend(["-o", path.to_str().unwrap()]);
+        let (code, _, err) = bcifs(&all);
+        assert_eq!(code, 0, "{err}");
+        let text = std::fs::read_to_string(&path).unwrap();
+        let line = text.lines().find(|l| l.starts_with("v ")).unwrap();
+        line[2..].split(' ').map(|x| x.parse().unwrap()).collect()
+    };
+    let y = first_vertex(&["render", "doo_sabin_quad", "--depth", "1"], "y.obj");
+    let z = first_vertex(&["render", "doo_sabin_quad", "--depth", "1", "--up", "z"], "z.obj");
+    assert_eq!((y[0], y[1], y[2]), (z[0], z[2], -z[1]));
+    assert!(z[2] != 0.0 || z[1] != 0.0);
+    let curve = first_vertex(&["render", "corner_cutting", "--depth", "2"], "c.obj");
+    assert_eq!(curve[2], 0.0, "2D stays in the xy plane");
+    let (code, _, err) = bcifs(&["render", "levy", "--up", "x", "-o", dir.join("x.obj").to_str().unwrap()]);
+    assert_eq!(code, 2);
+    assert!(err.contains("up axis"), "{err}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

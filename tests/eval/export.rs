@@ -33,8 +33,10 @@ fn obj_round_trip_through_tobj() {
     assert!(mesh.face_arities.iter().all(|&n| n == 4));
     for (k, &i) in shape.quads.iter().flatten().enumerate() {
         let (i, j) = (i as usize, mesh.indices[k] as usize);
-        // Shortest round-trip text: positions come back bit for bit.
-        assert_eq!(&mesh.positions[3 * j..3 * j + 3], &shape.positions[3 * i..3 * i + 3], "corner {k}");
+        // Shortest round-trip text: positions come back bit for bit, Y-up
+        // (model z is the file's y: (x, y, z) → (x, z, −y)).
+        let p = &shape.positions[3 * i..3 * i + 3];
+        assert_eq!(&mesh.positions[3 * j..3 * j + 3], &[p[0], p[2], -p[1]], "corner {k}");
     }
     // Shared corners stay shared: as many distinct indices as vertices.
     let mut used: Vec<u32> = mesh.indices.clone();
