@@ -90,7 +90,9 @@ impl Evaluator {
                 sink.object(&piece.name)?;
             }
             let mut out = Vec::new();
-            self.adaptive(piece.state, &piece.control, d, eps, 0, &mut out);
+            // The samples of one piece are held in memory: bounded by the memory limit.
+            let room = (self.settings.memory_limit / 8).saturating_sub(first_vertex * d);
+            self.adaptive(piece.state, &piece.control, (d, eps, room), 0, &mut out)?;
             first_vertex += out.len() / d;
             sink.vertices(d, &out, None)?;
             self.end_curve(piece, pi + 1 == count, sink, &mut first_vertex, &mut run_start)?;
@@ -134,19 +136,36 @@ impl Evaluator {
         Ok(())
     }
 
-    fn adaptive(&self, state: usize, c: &[f64], d: usize, eps: f64, level: usize, out: &mut Vec<f64>) {
+    /// The samples of a cell with control points `c`, subdivided until its
+    /// control polygon is below `eps` (`(d, eps, room)`: point dimension,
+    /// tolerance, coordinates `out` may hold before the memory limit).
+    fn adaptive(
+        &self,
+        state: usize,
+        c: &[f64],
+        (d, eps, room): (usize, f64, usize),
+        level: usize,
+        out: &mut Vec<f64>,
+    ) -> Result<(), EvalError> {
         let sp = self.plan.state(state);
         if level >= MAX_ADAPTIVE_DEPTH || diameter(c, d, sp.dim) < eps || sp.children.is_empty() {
             let start = out.len();
+            if start + sp.samples.len() * d > room {
+                return Err(EvalError::TooLarge {
+                    estimate: (start as u128 + 1) * 8,
+                    limit: self.settings.memory_limit,
+                });
+            }
             out.resize(start + sp.samples.len() * d, 0.0);
             project_into(c, d, sp.dim, &self.tails[state][0], &mut out[start..]);
-            return;
+            return Ok(());
         }
         for (_, t, m) in &sp.children {
             let nt = self.plan.state(*t).dim;
             let mut child = vec![0.0; d * nt];
             mul_into(c, d, sp.dim, m, nt, &mut child);
-            self.adaptive(*t, &child, d, eps, level + 1, out);
+            self.adaptive(*t, &child, (d, eps, room), level + 1, out)?;
         }
+        Ok(())
     }
 }

@@ -242,3 +242,13 @@ fn dropped_arrows_give_points_not_lines() {
     assert_eq!(subset.polylines().count(), 0);
     assert_eq!(subset.vertex_count(), 3usize.pow(4) + 1);
 }
+
+/// A tolerance whose output would not fit the memory limit is refused with
+/// the size reached, not by the allocator.
+#[test]
+fn adaptive_evaluation_respects_the_memory_limit() {
+    let (a, model, _) = load("levy", &[]);
+    let settings = EvalSettings::default().with_tolerance(1e-9).with_memory_limit(1 << 20);
+    let err = Evaluator::new(&a, &model, settings).unwrap().evaluate().unwrap_err();
+    assert!(matches!(err, bcifs::eval::EvalError::TooLarge { limit, .. } if limit == 1 << 20), "{err}");
+}
