@@ -179,6 +179,13 @@ fn run(out: &mut String, cli: Cli) -> Result<u8> {
 
 /// Runs the command line and returns its exit code.
 pub fn main() -> ExitCode {
+    // Interrupted (SIGINT, SIGTERM, SIGHUP): remove the temporary files of the
+    // writes in progress, so no `.partial`/`.elements` file is left behind.
+    let _ = ctrlc::set_handler(|| {
+        bcifs::export::remove_temporary_files();
+        eprintln!("\ninterrupted: the output files keep their old content");
+        std::process::exit(130);
+    });
     let cli = Cli::parse();
     let mut out = String::new();
     let code = match run(&mut out, cli) {

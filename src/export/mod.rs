@@ -5,7 +5,7 @@ mod obj;
 mod png;
 mod svg;
 
-pub use atomic::{AtomicFile, write_atomic};
+pub use atomic::{AtomicFile, remove_temporary_files, write_atomic};
 pub use obj::{ObjWriter, Up, write_obj};
 pub use png::{RasterSettings, View, ascii, raster, write_png};
 pub use svg::svg;

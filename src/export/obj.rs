@@ -4,7 +4,7 @@ use std::fs::File;
 use std::io::{self, BufWriter, Read, Write};
 use std::path::{Path, PathBuf};
 
-use super::atomic::{AtomicFile, temp_path};
+use super::atomic::{AtomicFile, forget, temp_path};
 use crate::geometry::{Shape, Sink};
 
 /// Writes a shape held in memory as an OBJ file (through a temporary file
@@ -100,6 +100,7 @@ impl ObjWriter {
             self.main().write_all(&buf[..n])?;
         }
         let _ = std::fs::remove_file(&self.spool_path);
+        forget(&self.spool_path);
         self.main.take().expect("finish once").commit()
     }
 
@@ -255,6 +256,7 @@ impl Drop for ObjWriter {
     fn drop(&mut self) {
         if self.spool.take().is_some() {
             let _ = std::fs::remove_file(&self.spool_path);
+            forget(&self.spool_path);
         }
     }
 }

@@ -226,3 +226,35 @@ fn obj_files_are_y_up_unless_asked() {
     assert!(err.contains("up axis"), "{err}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// SIGTERM (and SIGINT, SIGHUP) during a streamed write removes its
+/// temporary files; the target keeps its old content.
+#[test]
+fn an_interrupted_write_leaves_nothing_behind() {
+    let dir = std::env::temp_dir().join(format!("bcifs-signal-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let target = dir.join("big.obj");
+    std::fs::write(&target, b"old content").unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_bcifs"))
+        .args(["render", "doo_sabin_torus", "--depth", "10", "-o", target.to_str().unwrap()])
+        .spawn()
+        .unwrap();
+    let temporary = || {
+        std::fs::read_dir(&dir).unwrap().flatten().filter(|e| e.file_name().to_string_lossy().ends_with(".tmp")).count()
+    };
+    let started = std::time::Instant::now();
+    while temporary() == 0 && started.elapsed().as_secs() < 20 {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    if temporary() == 0 {
+        let _ = child.kill();
+        panic!("the write did not start");
+    }
+    let killed = Command::new("kill").args(["-TERM", &child.id().to_string()]).status().unwrap();
+    assert!(killed.success());
+    let status = child.wait().unwrap();
+    assert_eq!(status.code(), Some(130));
+    assert_eq!(temporary(), 0, "no temporary file left");
+    assert_eq!(std::fs::read(&target).unwrap(), b"old content");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -213,3 +213,25 @@ proptest::proptest! {
         std::fs::remove_file(&path).unwrap();
     }
 }
+
+/// Temporary files of a dead process (an interrupted earlier run) are swept
+/// when the same target is written again; live ones are left alone.
+#[test]
+fn stale_temporary_files_are_swept() {
+    let dir = std::env::temp_dir().join(format!("bcifs-stale-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let dead = (4_000_000u32..4_100_000).find(|p| !std::path::Path::new(&format!("/proc/{p}")).exists()).unwrap();
+    let stale = dir.join(format!(".x.obj.partial.{dead}.0.tmp"));
+    let stale_elements = dir.join(format!(".x.obj.elements.{dead}.1.tmp"));
+    let mine = dir.join(format!(".x.obj.partial.{}.999.tmp", std::process::id()));
+    let other = dir.join(format!(".y.obj.partial.{dead}.0.tmp"));
+    for f in [&stale, &stale_elements, &mine, &other] {
+        std::fs::write(f, b"old").unwrap();
+    }
+    let w = ObjWriter::create(&dir.join("x.obj")).unwrap();
+    w.finish().unwrap();
+    assert!(!stale.exists() && !stale_elements.exists(), "swept");
+    assert!(mine.exists(), "a live process's file stays");
+    assert!(other.exists(), "another target's file stays");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
