@@ -24,6 +24,8 @@ pub struct RenderOptions {
     pub raster: RasterSettings,
     /// Which model axis is up in OBJ files (Y-up by convention).
     pub up: bcifs::export::Up,
+    /// Largest OBJ output to write, in bytes (0: no limit).
+    pub max_output: u128,
 }
 
 /// Why rendering failed.
@@ -44,6 +46,9 @@ pub enum RenderError {
     /// Writing.
     #[error("cannot write {0}: {1}")]
     Io(PathBuf, std::io::Error),
+    /// An output that would not fit the disk or the size limit.
+    #[error("{0}")]
+    TooBig(String),
     /// SVG of a 3D shape.
     #[error("SVG output is for 2D shapes; this model is 3D (use .png or .obj)")]
     NotPlanar,
@@ -102,6 +107,9 @@ pub struct RenderArgs {
     /// The model axis that is up in OBJ files: y (the convention: model z becomes the file's y) or z (as is).
     #[arg(long, default_value = "y")]
     pub up: String,
+    /// Largest OBJ file to write, in GiB (the estimate is checked before writing; raise it on purpose).
+    #[arg(long, default_value_t = 4.0)]
+    pub max_output_gib: f64,
 }
 
 /// `bcifs render`: evaluates a design with its model and writes the file.
@@ -123,6 +131,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<u8> {
         force,
         uv,
         up,
+        max_output_gib,
     } = args;
     let design = load(&file)?;
     if random.is_some() && (depth.is_some() || tolerance.is_some()) {
@@ -148,6 +157,10 @@ pub fn run(args: RenderArgs) -> anyhow::Result<u8> {
     options.eval.force = force;
     options.eval.uv = uv;
     options.up = keyword("up axis", &up, &[("y", bcifs::export::Up::Y), ("z", bcifs::export::Up::Z)])?;
+    if !(max_output_gib.is_finite() && max_output_gib > 0.0) {
+        bail!("--max-output-gib {max_output_gib}: expected a positive number of GiB");
+    }
+    options.max_output = (max_output_gib * (1u64 << 30) as f64) as u128;
     options.eval.progress = progress_bar();
     if let Some(n) = random {
         let mut r = bcifs::eval::RandomSettings::default().with_points(n).with_seed(seed);
@@ -171,6 +184,32 @@ pub fn run(args: RenderArgs) -> anyhow::Result<u8> {
         eprintln!("warning: the output is empty (every arrow dropped, or nothing to draw)");
     }
     Ok(0)
+}
+
+/// Refuses an OBJ output whose estimated size is over `max` (0: no limit)
+/// or over the free space of the target's disk (with the temporary side
+/// file, a streamed OBJ peaks at about 1.5 times its size).
+fn check_disk(out: &Path, estimate: u128, max: u128) -> Result<(), RenderError> {
+    let gib = |b: u128| b as f64 / (1u64 << 30) as f64;
+    if max > 0 && estimate > max {
+        return Err(RenderError::TooBig(format!(
+            "the OBJ would take about {:.1} GiB, over --max-output-gib {:.1}: lower the depth or raise the limit",
+            gib(estimate),
+            gib(max)
+        )));
+    }
+    let dir = out.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    if let Ok(free) = fs4::available_space(dir)
+        && estimate.saturating_mul(3) / 2 > u128::from(free)
+    {
+        return Err(RenderError::TooBig(format!(
+            "the OBJ would take about {:.1} GiB (and half as much again while it is written); {} has {:.1} GiB free",
+            gib(estimate),
+            dir.display(),
+            gib(u128::from(free))
+        )));
+    }
+    Ok(())
 }
 
 /// What a render produced.
@@ -249,7 +288,10 @@ pub fn render(design: &Design, options: &RenderOptions, out: &Path) -> Result<Re
                 }
                 None => {
                     let eval = options.eval.clone();
-                    let ev = evaluator(&instance.automaton, &model, eval)?;
+                    let ev = evaluator(&instance.automaton, &model, eval.clone())?;
+                    if let bcifs::eval::Depth::Fixed(k) = eval.depth {
+                        check_disk(out, ev.estimate_obj_bytes(k), options.max_output)?;
+                    }
                     let mut counter = Counter { inner: &mut writer, vertices: 0, quads: 0 };
                     ev.stream(&mut counter).map_err(|e| match e {
                         EvalError::Io(e) => io(e),

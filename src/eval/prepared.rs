@@ -309,6 +309,23 @@ impl Evaluator {
         }
     }
 
+    /// Bytes of OBJ text a streamed fixed-depth evaluation would write, roughly
+    /// (a vertex with its normal and a quad: ~200 bytes; a curve or cloud
+    /// point and its line record: ~70): for refusing outputs that would not
+    /// fit the disk before writing any.
+    pub fn estimate_obj_bytes(&self, depth: usize) -> u128 {
+        let per_cell: u128 = match self.root_kind() {
+            Ok(CellKind::Face) => 200,
+            _ => 70,
+        };
+        let d = self.pieces.dim as u128;
+        let per_memory_cell = match self.root_kind() {
+            Ok(CellKind::Face) => (d + 3 + 2) * 8 + 64,
+            _ => d * 8,
+        };
+        (self.estimate_bytes(depth) / per_memory_cell.max(1)).saturating_mul(per_cell)
+    }
+
     /// Number of leaf samples of piece `piece` at depth `k` (points it fills).
     pub fn sample_count(&self, piece: usize, k: usize) -> usize {
         self.count(self.pieces.pieces[piece].state, k).min(usize::MAX as u128) as usize

@@ -236,7 +236,8 @@ fn an_interrupted_write_leaves_nothing_behind() {
     let target = dir.join("big.obj");
     std::fs::write(&target, b"old content").unwrap();
     let mut child = Command::new(env!("CARGO_BIN_EXE_bcifs"))
-        .args(["render", "doo_sabin_torus", "--depth", "10", "-o", target.to_str().unwrap()])
+        .args(["render", "doo_sabin_torus", "--depth", "8", "-o", target.to_str().unwrap()])
+        .stderr(std::process::Stdio::piped())
         .spawn()
         .unwrap();
     let temporary = || {
@@ -244,7 +245,15 @@ fn an_interrupted_write_leaves_nothing_behind() {
     };
     let started = std::time::Instant::now();
     while temporary() == 0 && started.elapsed().as_secs() < 20 {
-        std::thread::sleep(std::time::Duration::from_millis(20));
+        if let Some(status) = child.try_wait().unwrap() {
+            let mut err = String::new();
+            std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut err).unwrap();
+            assert!(err.contains("free"), "the render ended early ({status}): {err}");
+            println!("skipped: not enough free disk for the write ({err})");
+            std::fs::remove_dir_all(&dir).unwrap();
+            return;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(5));
     }
     if temporary() == 0 {
         let _ = child.kill();
@@ -257,4 +266,19 @@ fn an_interrupted_write_leaves_nothing_behind() {
     assert_eq!(temporary(), 0, "no temporary file left");
     assert_eq!(std::fs::read(&target).unwrap(), b"old content");
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// An OBJ whose estimated size is over `--max-output-gib` (4 GiB by
+/// default) is refused before anything is written, with the estimate.
+#[test]
+fn oversized_outputs_are_refused_with_the_estimate() {
+    let target = std::env::temp_dir().join(format!("bcifs-huge-{}.obj", std::process::id()));
+    let (code, _, err) = bcifs(&["render", "doo_sabin_torus", "--depth", "10", "-o", target.to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("GiB") && err.contains("--max-output-gib"), "{err}");
+    assert!(!target.exists());
+    let (code, _, err) =
+        bcifs(&["render", "doo_sabin_torus", "--depth", "2", "--max-output-gib", "0", "-o", target.to_str().unwrap()]);
+    assert_eq!(code, 2);
+    assert!(err.contains("positive"), "{err}");
 }
