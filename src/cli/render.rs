@@ -167,6 +167,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<u8> {
         r.threads = threads;
         r.probabilities = parse_params(&probs)?;
         r.force = force;
+        r.memory_limit = memory_mib.saturating_mul(1 << 20);
         options.random = Some(r);
     }
     let (w, h) = parse_size(&size)?;

@@ -42,6 +42,8 @@ pub struct RandomSettings {
     pub chains: usize,
     /// Run even a system whose joint spectral radius bounds prove it diverges.
     pub force: bool,
+    /// The points are held in memory: more than this many bytes is refused.
+    pub memory_limit: usize,
 }
 
 impl Default for RandomSettings {
@@ -54,6 +56,7 @@ impl Default for RandomSettings {
             threads: None,
             chains: 8,
             force: false,
+            memory_limit: super::settings::DEFAULT_MEMORY_LIMIT,
         }
     }
 }
@@ -179,6 +182,10 @@ impl ChaosGame {
         let plan = Plan::new(automaton, &[])?;
         super::prepared::convergence_warnings(automaton, settings.force)?;
         let pieces = pieces(automaton, model)?;
+        let bytes = (settings.points as u128).saturating_mul(pieces.dim as u128 * 8);
+        if bytes > settings.memory_limit as u128 {
+            return Err(EvalError::TooLarge { estimate: bytes, limit: settings.memory_limit });
+        }
         let size = plan.states.len();
         let mut inc = Incoming { arrows: vec![Vec::new(); size], alias: vec![None; size] };
         let mut mats: Vec<Vec<&nalgebra::DMatrix<f64>>> = vec![Vec::new(); size];

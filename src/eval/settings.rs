@@ -123,7 +123,7 @@ pub enum EvalError {
     #[error(transparent)]
     Model(#[from] ModelError),
     /// The output would not fit the memory limit.
-    #[error("the output would take about {estimate} bytes ({:.1} GiB), over the in-memory limit of {:.1} GiB: lower the depth or stream it (`-o FILE.obj`)", *estimate as f64 / (1u64 << 30) as f64, *limit as f64 / (1u64 << 30) as f64)]
+    #[error("the output would take about {estimate} bytes ({:.1} GiB), over the in-memory limit of {:.1} GiB (--memory-mib): lower the depth or the number of points, or stream a fixed depth to `-o FILE.obj`", *estimate as f64 / (1u64 << 30) as f64, *limit as f64 / (1u64 << 30) as f64)]
     TooLarge {
         /// Estimated bytes.
         estimate: u128,

@@ -252,3 +252,14 @@ fn adaptive_evaluation_respects_the_memory_limit() {
     let err = Evaluator::new(&a, &model, settings).unwrap().evaluate().unwrap_err();
     assert!(matches!(err, bcifs::eval::EvalError::TooLarge { limit, .. } if limit == 1 << 20), "{err}");
 }
+
+/// A chaos game whose points would not fit the memory limit is refused
+/// before allocating them.
+#[test]
+fn chaos_games_respect_the_memory_limit() {
+    let (a, model, _) = load("fern", &[]);
+    let mut settings = RandomSettings::default().with_points(2_000_000_000);
+    settings.memory_limit = 1 << 30;
+    let err = chaos_game(&a, &model, &settings).unwrap_err();
+    assert!(matches!(err, EvalError::TooLarge { estimate, .. } if estimate == 32_000_000_000), "{err}");
+}
