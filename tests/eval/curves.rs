@@ -193,7 +193,7 @@ fn oversized_output_is_refused_with_an_estimate() {
     let err = ev.evaluate().expect_err("refused");
     // 2^24 + 1 points of 2 coordinates.
     assert!(matches!(err, EvalError::TooLarge { estimate, .. } if estimate == ((1u128 << 24) + 1) * 16), "{err}");
-    assert!(err.to_string().contains("stream it"), "{err}");
+    assert!(err.to_string().contains("stream a fixed depth"), "{err}");
 }
 
 /// Adaptive evaluation: every emitted cell is below the tolerance, so
