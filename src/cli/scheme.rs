@@ -60,7 +60,13 @@ fn run_ifs(out: &mut String, args: IfsArgs) -> Result<u8> {
             for p in text.split_whitespace() {
                 let coords: Vec<f64> = p
                     .split(',')
-                    .map(|x| x.trim().parse::<f64>().with_context(|| format!("--points `{p}`: expected numbers")))
+                    .map(|x| {
+                        x.trim()
+                            .parse::<f64>()
+                            .ok()
+                            .filter(|v| v.is_finite())
+                            .with_context(|| format!("--points `{p}`: `{}` is not a finite number", x.trim()))
+                    })
                     .collect::<Result<_>>()?;
                 pts.push(coords);
             }

@@ -74,6 +74,9 @@ fn scheme_renders_and_reports_bad_input() {
     assert_eq!(models.iter().map(|m| m.mesh.positions.len() / 3).sum::<usize>(), 8 * 12 * 9);
     let (code, _, err) = bcifs(&["scheme", "ifs", "bezier", "--points", "0,0 1", "-o", obj.to_str().unwrap()]);
     assert_eq!(code, 2, "{err}");
+    let (code, _, err) = bcifs(&["scheme", "ifs", "bezier", "--points", "0,0 1,x 2,0", "-o", obj.to_str().unwrap()]);
+    assert_eq!(code, 2);
+    assert!(err.contains("`x` is not a finite number"), "the bad token is named: {err}");
 }
 
 /// `bcifs analyze ternary5` prints the table and the ranges and writes the plot.
