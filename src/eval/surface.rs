@@ -67,10 +67,25 @@ impl Lattice {
         if !self.torus && v == nv {
             return self.owned() + nv + u;
         }
+        let block = self.block_at(u, v);
+        block * self.b * self.b + (v % self.n % self.b) * self.b + u % self.n % self.b
+    }
+
+    /// The block that owns lattice vertex `(u, v)` (inside the lattice, no wrapping).
+    fn block_at(&self, u: usize, v: usize) -> usize {
         let (pu, ru) = (u / self.n, u % self.n);
         let (pv, rv) = (v / self.n, v % self.n);
-        let block = ((pv * self.pc + pu) * self.s + rv / self.b) * self.s + ru / self.b;
-        block * self.b * self.b + (rv % self.b) * self.b + ru % self.b
+        ((pv * self.pc + pu) * self.s + rv / self.b) * self.s + ru / self.b
+    }
+
+    /// The lattice coordinate one step before `x` along an axis of `len`
+    /// quads: wraps on a torus, none before the first row of a sheet.
+    fn before(&self, x: usize, len: usize) -> Option<usize> {
+        match x {
+            0 if self.torus => Some(len - 1),
+            0 => None,
+            _ => Some(x - 1),
+        }
     }
 }
 
@@ -86,13 +101,40 @@ struct Block {
 /// A vertex of the far row or column of an open sheet: `(index, position, normal)`.
 type Extra = (usize, Vec<f64>, [f64; 3]);
 
-/// The unit normal `du × dv` of a 3D surface (`+z` for planar sheets and degenerate points).
-fn normal(d: usize, du: &[f64], dv: &[f64]) -> [f64; 3] {
-    if d < 3 {
-        return [0.0, 0.0, 1.0];
+/// The area vector of the quad `a, b, c, e` (lattice order (0,0), (1,0),
+/// (1,1), (0,1)): half the cross product of its diagonals, along `du × dv`.
+fn quad_area(a: &[f64], b: &[f64], c: &[f64], e: &[f64]) -> DVec3 {
+    let (a, b, c, e) = (DVec3::from_slice(a), DVec3::from_slice(b), DVec3::from_slice(c), DVec3::from_slice(e));
+    0.5 * (c - a).cross(e - b)
+}
+
+/// The unit normal of a vertex from the area vectors of its faces: their
+/// sum (area weighting), unless on a rough surface that points against one
+/// of them; then the centre of the smallest cap of the sphere holding the
+/// unit face normals (spanned by one, two or three of them), which agrees
+/// with every face whenever any direction does. `+z` when all faces are
+/// degenerate.
+fn agreeing_normal(faces: &[DVec3]) -> DVec3 {
+    let units: Vec<DVec3> = faces.iter().filter_map(|f| f.try_normalize()).collect();
+    let worst = |n: DVec3| units.iter().map(|u| u.dot(n)).fold(f64::INFINITY, f64::min);
+    if let Some(n) = faces.iter().sum::<DVec3>().try_normalize().filter(|&n| worst(n) > 0.0) {
+        return n;
     }
-    let (du, dv) = (DVec3::from_slice(du), DVec3::from_slice(dv));
-    du.cross(dv).try_normalize().unwrap_or(DVec3::Z).to_array()
+    let mut candidates = units.clone();
+    for (a, u) in units.iter().enumerate() {
+        for (b, v) in units.iter().enumerate().skip(a + 1) {
+            candidates.extend((*u + *v).try_normalize());
+            for w in &units[b + 1..] {
+                // Equidistant from u, v, w: n·u = n·v = n·w.
+                let m = glam::DMat3::from_cols(*u, *v, *w).transpose();
+                if m.determinant().abs() > 1e-12 {
+                    let c = m.inverse() * DVec3::ONE;
+                    candidates.extend(c.try_normalize());
+                }
+            }
+        }
+    }
+    candidates.into_iter().max_by(|a, b| worst(*a).total_cmp(&worst(*b))).unwrap_or(DVec3::Z)
 }
 
 /// Everything a block needs, prepared once per evaluation.
@@ -191,11 +233,12 @@ impl<'a> Mesher<'a> {
 
     /// Block `g`: its owned positions and normals into the given slices;
     /// returns the far-boundary vertices it touches.
-    fn block_points(&self, g: usize, pos: &mut [f64], nrm: &mut [f64]) -> Vec<Extra> {
-        let (lat, d, n9, p) = (&self.lat, self.d, self.n9, self.p);
+    /// The control points of block `g`'s cell: its patch's, followed down
+    /// the base-`p` digits of the block coordinates.
+    fn cell(&self, g: usize) -> Vec<f64> {
+        let (d, n9, p) = (self.d, self.n9, self.p);
         let sp = self.ev.plan().state(self.state);
-        let Block { patch, bu, bv, u0, v0 } = lat.block(g);
-        // Control points of the block's cell: follow the base-p digits of its coordinates.
+        let Block { patch, bu, bv, .. } = self.lat.block(g);
         let mut c = self.ev.pieces().pieces[patch].control.clone();
         let mut tmp = vec![0.0; d * n9];
         let steps = self.k - self.level;
@@ -205,12 +248,71 @@ impl<'a> Mesher<'a> {
             mat_mul_into(&c, d, n9, &sp.children[self.child_of[q]].2, n9, &mut tmp);
             std::mem::swap(&mut c, &mut tmp);
         }
-        let side = lat.b + 1;
-        let mut pts = vec![0.0; side * side * d];
-        project(&c, d, n9, &self.table, &mut pts);
-        let at = |u: usize, v: usize| (v * side + u) * d;
+        c
+    }
+
+    /// The points of block `g` with the ring before it: `(b + 2)²` points,
+    /// lattice `(u0 - 1 + i, v0 - 1 + j)` at `j * (b + 2) + i`; the ring
+    /// comes from the neighbouring cells (NaN before the edge of a sheet).
+    fn ringed_points(&self, g: usize) -> Vec<f64> {
+        let (lat, d, n9) = (&self.lat, self.d, self.n9);
+        let Block { u0, v0, .. } = lat.block(g);
+        let (side, wide) = (lat.b + 1, lat.b + 2);
+        let mut pts = vec![f64::NAN; wide * wide * d];
+        let mut put = |c: &[f64], rows: std::ops::Range<usize>, cols: std::ops::Range<usize>, i0: usize, j0: usize| {
+            for (j, v) in rows.enumerate() {
+                let (from, to) = (v * side + cols.start, v * side + cols.end);
+                let at = ((j0 + j) * wide + i0) * d;
+                project(c, d, n9, &self.table[from * n9..to * n9], &mut pts[at..at + (to - from) * d]);
+            }
+        };
+        put(&self.cell(g), 0..side, 0..side, 1, 1);
+        let left = lat.before(u0, lat.nu());
+        let below = lat.before(v0, lat.nv());
+        if let Some(u) = left {
+            put(&self.cell(lat.block_at(u, v0)), 0..side, lat.b - 1..lat.b, 0, 1);
+        }
+        if let Some(v) = below {
+            put(&self.cell(lat.block_at(u0, v)), lat.b - 1..lat.b, 0..side, 1, 0);
+        }
+        if let (Some(u), Some(v)) = (left, below) {
+            put(&self.cell(lat.block_at(u, v)), lat.b - 1..lat.b, lat.b - 1..lat.b, 0, 0);
+        }
+        pts
+    }
+
+    /// The unit normal at point `(i, j)` (both ≥ 1) of a ringed block: the sum of the
+    /// area vectors of the quads around it (those that exist), so it leans
+    /// towards the larger faces and never follows one noisy difference;
+    /// `+z` for planar sheets and degenerate points.
+    fn area_normal(&self, pts: &[f64], i: usize, j: usize) -> [f64; 3] {
+        let (d, wide) = (self.d, self.lat.b + 2);
+        if d < 3 {
+            return [0.0, 0.0, 1.0];
+        }
+        let at = |i: usize, j: usize| pts.get((j * wide + i) * d..(j * wide + i + 1) * d).filter(|p| !p[0].is_nan());
+        let mut faces = [DVec3::ZERO; 4];
+        for (f, (qi, qj)) in faces.iter_mut().zip([(i - 1, j - 1), (i, j - 1), (i - 1, j), (i, j)]) {
+            if qi + 1 >= wide || qj + 1 >= wide {
+                continue;
+            }
+            if let (Some(a), Some(b), Some(c), Some(e)) =
+                (at(qi, qj), at(qi + 1, qj), at(qi + 1, qj + 1), at(qi, qj + 1))
+            {
+                *f = quad_area(a, b, c, e);
+            }
+        }
+        let n = agreeing_normal(&faces).to_array();
+        if self.flip { n.map(|x| -x) } else { n }
+    }
+
+    fn block_points(&self, g: usize, pos: &mut [f64], nrm: &mut [f64]) -> Vec<Extra> {
+        let (lat, d) = (&self.lat, self.d);
+        let Block { u0, v0, .. } = lat.block(g);
+        let (side, wide) = (lat.b + 1, lat.b + 2);
+        let pts = self.ringed_points(g);
+        let at = |u: usize, v: usize| ((v + 1) * wide + u + 1) * d;
         let mut extras = Vec::new();
-        let (mut du, mut dv) = ([0.0; 3], [0.0; 3]);
         for v in 0..side {
             for u in 0..side {
                 let (gu, gv) = (u0 + u, v0 + v);
@@ -218,14 +320,7 @@ impl<'a> Mesher<'a> {
                 if !owned && (lat.torus || (gu != lat.nu() && gv != lat.nv())) {
                     continue;
                 }
-                // Forward differences inside the block, backward on its far side.
-                let (a, b) = if u < lat.b { (at(u + 1, v), at(u, v)) } else { (at(u, v), at(u - 1, v)) };
-                let (e, f) = if v < lat.b { (at(u, v + 1), at(u, v)) } else { (at(u, v), at(u, v - 1)) };
-                for x in 0..d {
-                    du[x] = pts[a + x] - pts[b + x];
-                    dv[x] = pts[e + x] - pts[f + x];
-                }
-                let n = normal(d, &du[..d], &dv[..d]).map(|x| if self.flip { -x } else { x });
+                let n = self.area_normal(&pts, u + 1, v + 1);
                 let q = &pts[at(u, v)..at(u, v) + d];
                 if owned {
                     let o = v * lat.b + u;
