@@ -114,12 +114,16 @@ fn quad_area(a: &[f64], b: &[f64], c: &[f64], e: &[f64]) -> DVec3 {
 /// unit face normals (spanned by one, two or three of them), which agrees
 /// with every face whenever any direction does. `+z` when all faces are
 /// degenerate.
-fn agreeing_normal(faces: &[DVec3]) -> DVec3 {
+fn agreeing_normal(faces: &[DVec3; 4]) -> DVec3 {
+    let sum: DVec3 = faces.iter().sum();
+    // The common case: the sum agrees with every (non-degenerate) face.
+    if faces.iter().all(|f| f.dot(sum) > 0.0 || *f == DVec3::ZERO) {
+        if let Some(n) = sum.try_normalize() {
+            return n;
+        }
+    }
     let units: Vec<DVec3> = faces.iter().filter_map(|f| f.try_normalize()).collect();
     let worst = |n: DVec3| units.iter().map(|u| u.dot(n)).fold(f64::INFINITY, f64::min);
-    if let Some(n) = faces.iter().sum::<DVec3>().try_normalize().filter(|&n| worst(n) > 0.0) {
-        return n;
-    }
     let mut candidates = units.clone();
     for (a, u) in units.iter().enumerate() {
         for (b, v) in units.iter().enumerate().skip(a + 1) {
@@ -281,28 +285,37 @@ impl<'a> Mesher<'a> {
         pts
     }
 
-    /// The unit normal at point `(i, j)` (both ≥ 1) of a ringed block: the sum of the
-    /// area vectors of the quads around it (those that exist), so it leans
-    /// towards the larger faces and never follows one noisy difference;
-    /// `+z` for planar sheets and degenerate points.
-    fn area_normal(&self, pts: &[f64], i: usize, j: usize) -> [f64; 3] {
+    /// The area vectors of the quads of a ringed block: `(b + 1)²`, quad
+    /// `(i, j)` (lower-left corner at ringed point `(i, j)`) at `j * (b + 1) + i`;
+    /// zero where a corner is missing (before the edge of a sheet) and for
+    /// planar sheets.
+    fn quad_areas(&self, pts: &[f64]) -> Vec<DVec3> {
         let (d, wide) = (self.d, self.lat.b + 2);
+        let mut areas = vec![DVec3::ZERO; (wide - 1) * (wide - 1)];
         if d < 3 {
+            return areas;
+        }
+        let at = |i: usize, j: usize| &pts[(j * wide + i) * d..(j * wide + i + 1) * d];
+        for j in 0..wide - 1 {
+            for i in 0..wide - 1 {
+                // A NaN corner makes a NaN area: counted as no face.
+                let f = quad_area(at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+                areas[j * (wide - 1) + i] = if f.is_finite() { f } else { DVec3::ZERO };
+            }
+        }
+        areas
+    }
+
+    /// The unit normal at point `(i, j)` (both ≥ 1) of a ringed block, from
+    /// the area vectors of the (up to four) quads around it: see
+    /// [`agreeing_normal`]; `+z` for planar sheets and degenerate points.
+    fn area_normal(&self, areas: &[DVec3], i: usize, j: usize) -> [f64; 3] {
+        if self.d < 3 {
             return [0.0, 0.0, 1.0];
         }
-        let at = |i: usize, j: usize| pts.get((j * wide + i) * d..(j * wide + i + 1) * d).filter(|p| !p[0].is_nan());
-        let mut faces = [DVec3::ZERO; 4];
-        for (f, (qi, qj)) in faces.iter_mut().zip([(i - 1, j - 1), (i, j - 1), (i - 1, j), (i, j)]) {
-            if qi + 1 >= wide || qj + 1 >= wide {
-                continue;
-            }
-            if let (Some(a), Some(b), Some(c), Some(e)) =
-                (at(qi, qj), at(qi + 1, qj), at(qi + 1, qj + 1), at(qi, qj + 1))
-            {
-                *f = quad_area(a, b, c, e);
-            }
-        }
-        let n = agreeing_normal(&faces).to_array();
+        let q = self.lat.b + 1;
+        let face = |i: usize, j: usize| if i < q && j < q { areas[j * q + i] } else { DVec3::ZERO };
+        let n = agreeing_normal(&[face(i - 1, j - 1), face(i, j - 1), face(i - 1, j), face(i, j)]).to_array();
         if self.flip { n.map(|x| -x) } else { n }
     }
 
@@ -311,6 +324,7 @@ impl<'a> Mesher<'a> {
         let Block { u0, v0, .. } = lat.block(g);
         let (side, wide) = (lat.b + 1, lat.b + 2);
         let pts = self.ringed_points(g);
+        let areas = self.quad_areas(&pts);
         let at = |u: usize, v: usize| ((v + 1) * wide + u + 1) * d;
         let mut extras = Vec::new();
         for v in 0..side {
@@ -320,7 +334,7 @@ impl<'a> Mesher<'a> {
                 if !owned && (lat.torus || (gu != lat.nu() && gv != lat.nv())) {
                     continue;
                 }
-                let n = self.area_normal(&pts, u + 1, v + 1);
+                let n = self.area_normal(&areas, u + 1, v + 1);
                 let q = &pts[at(u, v)..at(u, v) + d];
                 if owned {
                     let o = v * lat.b + u;
