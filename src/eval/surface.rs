@@ -117,10 +117,10 @@ fn quad_area(a: &[f64], b: &[f64], c: &[f64], e: &[f64]) -> DVec3 {
 fn agreeing_normal(faces: &[DVec3; 4]) -> DVec3 {
     let sum: DVec3 = faces.iter().sum();
     // The common case: the sum agrees with every (non-degenerate) face.
-    if faces.iter().all(|f| f.dot(sum) > 0.0 || *f == DVec3::ZERO) {
-        if let Some(n) = sum.try_normalize() {
-            return n;
-        }
+    if faces.iter().all(|f| f.dot(sum) > 0.0 || *f == DVec3::ZERO)
+        && let Some(n) = sum.try_normalize()
+    {
+        return n;
     }
     let units: Vec<DVec3> = faces.iter().filter_map(|f| f.try_normalize()).collect();
     let worst = |n: DVec3| units.iter().map(|u| u.dot(n)).fold(f64::INFINITY, f64::min);
