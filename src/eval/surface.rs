@@ -331,7 +331,12 @@ impl<'a> Mesher<'a> {
             for u in 0..side {
                 let (gu, gv) = (u0 + u, v0 + v);
                 let owned = u < lat.b && v < lat.b;
-                if !owned && (lat.torus || (gu != lat.nu() && gv != lat.nv())) {
+                // A vertex of the far column (row) of a sheet comes from the block
+                // above (right of) it when there is one: that block holds both
+                // quads around it.
+                let (far_u, far_v) = (!lat.torus && gu == lat.nu(), !lat.torus && gv == lat.nv());
+                let kept = owned || (far_u && (v < lat.b || far_v)) || (far_v && u < lat.b);
+                if !kept {
                     continue;
                 }
                 let n = self.area_normal(&areas, u + 1, v + 1);

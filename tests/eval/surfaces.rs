@@ -171,8 +171,8 @@ fn flipped_corner_fraction(shape: &Shape) -> f64 {
 /// corner of the shipped surfaces, nor of the rough ternary 5-point sheet at
 /// ω = 3/50 (the default: a fractal sheet, where one-sided differences
 /// flipped 9 % of them and the plain area-weighted sum still 4 %), nor at
-/// ω = 1/50 (smooth), has a normal pointing against its face's area
-/// vector; and they are unit vectors.
+/// ω = 1/50 (smooth) and 1/12 (rougher), has a normal pointing against its
+/// face's area vector; and they are unit vectors.
 #[test]
 fn vertex_normals_agree_with_their_faces() {
     let mut shapes = vec![
@@ -180,7 +180,7 @@ fn vertex_normals_agree_with_their_faces() {
         ("doo_sabin_torus".to_string(), eval("doo_sabin_torus", &[], EvalSettings::default().with_depth(6))),
     ];
     for name in ["ternary5-surface", "ternary5-torus"] {
-        for omega in [None, Some(bcifs::Surd::frac(1, 50))] {
+        for omega in [None, Some(bcifs::Surd::frac(1, 50)), Some(bcifs::Surd::frac(1, 12))] {
             let design = bcifs::schemes::ifs_preset(name, None, omega.as_ref()).unwrap();
             let a = bcifs::instantiate(&design, &[]).unwrap().automaton;
             let settings = EvalSettings::default().with_depth(4).with_force();
