@@ -26,8 +26,8 @@ pub struct GalleryEntry {
     pub name: String,
     /// Description.
     pub description: String,
-    /// Depth used (`None`: chaos game).
-    pub depth: Option<usize>,
+    /// Depth or tolerance used.
+    pub depth: Depth,
     /// Files written, relative to the gallery directory.
     pub files: Vec<String>,
     /// Vertices and quads of the picture.
@@ -43,6 +43,38 @@ pub fn gallery_depth(design: &Design) -> Result<usize, RenderError> {
     let instance = instantiate(design, &[])?;
     let ev = Evaluator::new(&instance.automaton, &model, EvalSettings::default())?;
     Ok((1..=GALLERY_MAX_DEPTH).take_while(|&k| ev.estimate_bytes(k) <= GALLERY_BUDGET_BYTES).last().unwrap_or(1))
+}
+
+/// The tolerance of a plain IFS picture (deterministic points within it
+/// of the attractor: half a pixel of the shape's extent,
+/// 800 pixels across), or `None` when its output would not fit three times the budget.
+///
+/// # Errors
+/// The design cannot be evaluated.
+pub fn gallery_tolerance(design: &Design) -> Result<Option<f64>, RenderError> {
+    let model = model_of(design)?;
+    let instance = instantiate(design, &[])?;
+    let coarse = Evaluator::new(&instance.automaton, &model, EvalSettings::default().with_depth(4))?.evaluate()?;
+    let Some((lo, hi)) = coarse.bounds() else { return Ok(None) };
+    let extent = lo.iter().zip(&hi).map(|(l, h)| h - l).fold(0.0, f64::max);
+    if !(extent.is_finite() && extent > 0.0) {
+        return Ok(None);
+    }
+    let eps = extent / 400.0;
+    let settings = EvalSettings::default().with_tolerance(eps).with_memory_limit(3 * GALLERY_BUDGET_BYTES as usize);
+    match Evaluator::new(&instance.automaton, &model, settings)?.evaluate() {
+        Ok(_) => Ok(Some(eps)),
+        Err(bcifs::eval::EvalError::TooLarge { .. }) => Ok(None),
+        Err(e) => Err(e.into()),
+    }
+}
+
+/// `depth 8` or `tolerance 0.028`.
+fn describe(depth: Depth) -> String {
+    match depth {
+        Depth::Fixed(k) => format!("depth {k}"),
+        Depth::Tolerance(eps) => format!("tolerance {eps:.3}"),
+    }
 }
 
 /// What a gallery entry is made from.
@@ -107,7 +139,7 @@ pub fn gallery(dir: &Path, progress: Option<&Progress>) -> Result<Vec<GalleryEnt
                 let summary = write_shape(&shape, &name, &RasterSettings::default(), &dir.join(&png))?;
                 write_shape(&shape, &name, &RasterSettings::default(), &dir.join(&obj))?;
                 files.extend([png, obj]);
-                (depth, summary)
+                (Depth::Fixed(depth), summary)
             }
             GallerySource::Design(design, fixed) => {
                 let depth = match fixed {
@@ -116,15 +148,18 @@ pub fn gallery(dir: &Path, progress: Option<&Progress>) -> Result<Vec<GalleryEnt
                 };
                 let mut options = RenderOptions::default();
                 options.eval.depth = Depth::Fixed(depth);
-                let summary = render(&design, &options, &dir.join(&png))?;
-                render(&design, &options, &dir.join(&obj))?;
-                files.extend([png, obj]);
                 let model = model_of(&design)?;
                 let plain_ifs = model.layout == Layout::Single
                     && design
                         .automaton()
                         .state_id(model.root(0))
                         .is_some_and(|r| design.automaton().state(r).kind == CellKind::Free);
+                if plain_ifs && let Some(eps) = gallery_tolerance(&design)? {
+                    options.eval.depth = Depth::Tolerance(eps);
+                }
+                let summary = render(&design, &options, &dir.join(&png))?;
+                render(&design, &options, &dir.join(&obj))?;
+                files.extend([png, obj]);
                 if plain_ifs {
                     let mut random = options.clone();
                     random.random = Some(RandomSettings::default().with_points(2_000_000));
@@ -132,10 +167,10 @@ pub fn gallery(dir: &Path, progress: Option<&Progress>) -> Result<Vec<GalleryEnt
                     render(&design, &random, &dir.join(&png))?;
                     files.push(png);
                 }
-                (depth, summary)
+                (options.eval.depth, summary)
             }
         };
-        entries.push(GalleryEntry { name, description, depth: Some(depth), files, summary });
+        entries.push(GalleryEntry { name, description, depth, files, summary });
     }
     if let Some(p) = progress {
         p.report(total, total);
@@ -152,10 +187,10 @@ pub fn gallery(dir: &Path, progress: Option<&Progress>) -> Result<Vec<GalleryEnt
             e.files.iter().filter(|f| f.ends_with(".obj")).map(|f| format!("<a href=\"{f}\">{f}</a>")).collect();
         let _ = writeln!(
             html,
-            "<figcaption><b>{}</b> — {}<br>depth {}, {} vertices{}; {}</figcaption></figure>",
+            "<figcaption><b>{}</b> — {}<br>{}, {} vertices{}; {}</figcaption></figure>",
             e.name,
             e.description,
-            e.depth.map_or("-".into(), |d| d.to_string()),
+            describe(e.depth),
             e.summary.vertices,
             if e.summary.quads > 0 { format!(", {} quads", e.summary.quads) } else { String::new() },
             obj.join(" ")
@@ -173,9 +208,9 @@ pub fn run(out: &mut String, dir: &Path) -> anyhow::Result<u8> {
     for e in &entries {
         writeln!(
             out,
-            "{:<20} depth {:>2}  {:>9} vertices  {}",
+            "{:<20} {:<16} {:>9} vertices  {}",
             e.name,
-            e.depth.unwrap_or(0),
+            describe(e.depth),
             e.summary.vertices,
             e.files.join(", ")
         )?;

@@ -26,6 +26,8 @@ pub struct RenderOptions {
     pub up: bcifs::export::Up,
     /// Largest OBJ output to write, in bytes (0: no limit).
     pub max_output: u128,
+    /// Drop exact duplicate points of a point cloud.
+    pub dedup: bool,
 }
 
 /// Why rendering failed.
@@ -68,7 +70,7 @@ pub struct RenderArgs {
     /// Subdivision depth.
     #[arg(long, conflicts_with = "tolerance")]
     pub depth: Option<usize>,
-    /// Subdivide until every cell's control polygon is smaller than this (modelling units).
+    /// Subdivide until every cell is smaller than this (modelling units): its part of the attractor for an IFS of affine contractions (a Hausdorff bound), its control polygon otherwise.
     #[arg(long)]
     pub tolerance: Option<f64>,
     /// Chaos game with this many points instead of deterministic evaluation.
@@ -110,6 +112,9 @@ pub struct RenderArgs {
     /// Largest OBJ file to write, in GiB (the estimate is checked before writing; raise it on purpose).
     #[arg(long, default_value_t = 4.0)]
     pub max_output_gib: f64,
+    /// Drop exact duplicate points of a point cloud (evaluated in memory), reporting how many.
+    #[arg(long)]
+    pub dedup: bool,
 }
 
 /// `bcifs render`: evaluates a design with its model and writes the file.
@@ -132,6 +137,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<u8> {
         uv,
         up,
         max_output_gib,
+        dedup,
     } = args;
     let design = load(&file)?;
     if random.is_some() && (depth.is_some() || tolerance.is_some()) {
@@ -156,6 +162,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<u8> {
     options.eval.dropped = drop;
     options.eval.force = force;
     options.eval.uv = uv;
+    options.dedup = dedup;
     options.up = keyword("up axis", &up, &[("y", bcifs::export::Up::Y), ("z", bcifs::export::Up::Z)])?;
     if !(max_output_gib.is_finite() && max_output_gib > 0.0) {
         bail!("--max-output-gib {max_output_gib}: expected a positive number of GiB");
@@ -220,15 +227,18 @@ pub struct RenderSummary {
     pub vertices: usize,
     /// Quads written.
     pub quads: usize,
+    /// Exact duplicate points dropped (`--dedup`), `None` when not asked or not a point cloud.
+    pub duplicates: Option<usize>,
 }
 
 impl RenderSummary {
     /// Tells stderr what went where: `label: N vertices, M quads → OUT (T s)`.
     pub fn report(&self, label: &str, output: &Path, started: std::time::Instant) {
         eprintln!(
-            "{label}: {} vertices{} → {} ({:.2} s)",
+            "{label}: {} vertices{}{} → {} ({:.2} s)",
             self.vertices,
             if self.quads > 0 { format!(", {} quads", self.quads) } else { String::new() },
+            self.duplicates.map_or(String::new(), |n| format!(" ({n} exact duplicates dropped)")),
             output.display(),
             started.elapsed().as_secs_f64()
         );
@@ -251,6 +261,19 @@ pub fn evaluate_design(design: &Design, options: &RenderOptions) -> Result<Shape
         Some(r) => chaos_game(&instance.automaton, &model, r)?,
         None => evaluator(&instance.automaton, &model, eval)?.evaluate()?,
     })
+}
+
+/// Drops the exact duplicate points of `shape` when `options.dedup` asks
+/// for it: how many, or `None` (not asked, or not a point cloud: a warning).
+fn dedup(shape: &mut Shape, options: &RenderOptions) -> Option<usize> {
+    if !options.dedup {
+        return None;
+    }
+    let dropped = shape.dedup_points();
+    if dropped.is_none() {
+        eprintln!("warning: --dedup applies to point clouds; this output has lines or faces, kept as is");
+    }
+    dropped
 }
 
 /// An evaluator, its warnings (undecided convergence) told on stderr.
@@ -279,34 +302,35 @@ pub fn render(design: &Design, options: &RenderOptions, out: &Path) -> Result<Re
             let model = model_of(design)?;
             let instance = instantiate(design, &options.params)?;
             let mut writer = ObjWriter::create(out).map_err(io)?.with_up(options.up);
-            match &options.random {
-                Some(r) => {
-                    let shape = chaos_game(&instance.automaton, &model, r)?;
+            if options.random.is_some() || options.dedup {
+                // In memory: the chaos game's points, or a cloud to deduplicate.
+                let mut shape = evaluate_design(design, options)?;
+                let duplicates = dedup(&mut shape, options);
+                if shape.objects.is_empty() {
                     writer.object(design.name()).map_err(io)?;
-                    writer.vertices(shape.dim, &shape.positions, None).map_err(io)?;
-                    writer.finish().map_err(io)?;
-                    Ok(RenderSummary { vertices: shape.vertex_count(), quads: 0 })
                 }
-                None => {
-                    let eval = options.eval.clone();
-                    let ev = evaluator(&instance.automaton, &model, eval.clone())?;
-                    if let bcifs::eval::Depth::Fixed(k) = eval.depth {
-                        check_disk(out, ev.estimate_obj_bytes(k), options.max_output)?;
-                    }
-                    let mut counter = Counter { inner: &mut writer, vertices: 0, quads: 0 };
-                    ev.stream(&mut counter).map_err(|e| match e {
-                        EvalError::Io(e) => io(e),
-                        other => other.into(),
-                    })?;
-                    let summary = RenderSummary { vertices: counter.vertices, quads: counter.quads };
-                    writer.finish().map_err(io)?;
-                    Ok(summary)
-                }
+                shape.replay(&mut writer).map_err(io)?;
+                writer.finish().map_err(io)?;
+                return Ok(RenderSummary { vertices: shape.vertex_count(), quads: shape.quads.len(), duplicates });
             }
+            let eval = options.eval.clone();
+            let ev = evaluator(&instance.automaton, &model, eval.clone())?;
+            if let bcifs::eval::Depth::Fixed(k) = eval.depth {
+                check_disk(out, ev.estimate_obj_bytes(k), options.max_output)?;
+            }
+            let mut counter = Counter { inner: &mut writer, vertices: 0, quads: 0 };
+            ev.stream(&mut counter).map_err(|e| match e {
+                EvalError::Io(e) => io(e),
+                other => other.into(),
+            })?;
+            let summary = RenderSummary { vertices: counter.vertices, quads: counter.quads, duplicates: None };
+            writer.finish().map_err(io)?;
+            Ok(summary)
         }
         "svg" | "png" => {
-            let shape = evaluate_design(design, options)?;
-            write_shape(&shape, design.name(), &options.raster, out)
+            let mut shape = evaluate_design(design, options)?;
+            let duplicates = dedup(&mut shape, options);
+            Ok(RenderSummary { duplicates, ..write_shape(&shape, design.name(), &options.raster, out)? })
         }
         other => Err(RenderError::Format(other.to_string())),
     }
@@ -326,7 +350,7 @@ pub fn write_shape(
 ) -> Result<RenderSummary, RenderError> {
     let ext = out.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
     let io = |e: std::io::Error| RenderError::Io(out.to_path_buf(), e);
-    let summary = RenderSummary { vertices: shape.vertex_count(), quads: shape.quads.len() };
+    let summary = RenderSummary { vertices: shape.vertex_count(), quads: shape.quads.len(), duplicates: None };
     match ext.as_str() {
         "obj" => write_obj(shape, name, out).map_err(io)?,
         "svg" => {

@@ -5,6 +5,7 @@
 
 use std::io;
 
+use super::ball::Balls;
 use super::prepared::{Evaluator, diameter, mul_into, project_into};
 use super::settings::{EvalError, MAX_ADAPTIVE_DEPTH};
 use crate::geometry::Sink;
@@ -89,10 +90,20 @@ impl Evaluator {
             if pi == 0 || !joined {
                 sink.object(&piece.name)?;
             }
-            let mut out = Vec::new();
+            let ball =
+                (sp.kind == CellKind::Free).then(|| Balls::of(&self.plan, piece.state, &piece.control, d)).flatten();
             // The samples of one piece are held in memory: bounded by the memory limit.
             let room = (self.settings.memory_limit / 8).saturating_sub(first_vertex * d);
-            self.adaptive(piece.state, &piece.control, (d, eps, room), 0, &mut out)?;
+            let run = Adaptive { d, eps, room, ball: ball.as_ref() };
+            let estimate = self.probe(piece.state, &piece.control, &run);
+            if estimate > 4 * room as u128 {
+                return Err(EvalError::TooLarge {
+                    estimate: estimate.saturating_mul(8),
+                    limit: self.settings.memory_limit,
+                });
+            }
+            let mut out = Vec::new();
+            self.adaptive(piece.state, &piece.control, &run, 0, &mut out)?;
             first_vertex += out.len() / d;
             sink.vertices(d, &out, None)?;
             self.end_curve(piece, pi + 1 == count, sink, &mut first_vertex, &mut run_start)?;
@@ -136,36 +147,94 @@ impl Evaluator {
         Ok(())
     }
 
-    /// The samples of a cell with control points `c`, subdivided until its
-    /// control polygon is below `eps` (`(d, eps, room)`: point dimension,
-    /// tolerance, coordinates `out` may hold before the memory limit).
+    /// The samples of a cell with control points `c`, subdivided until it is small.
     fn adaptive(
         &self,
         state: usize,
         c: &[f64],
-        (d, eps, room): (usize, f64, usize),
+        run: &Adaptive<'_>,
         level: usize,
         out: &mut Vec<f64>,
     ) -> Result<(), EvalError> {
         let sp = self.plan.state(state);
-        if level >= MAX_ADAPTIVE_DEPTH || diameter(c, d, sp.dim) < eps || sp.children.is_empty() {
+        let d = run.d;
+        if level >= MAX_ADAPTIVE_DEPTH || run.small(state, c, sp.dim) || sp.children.is_empty() {
+            let samples = run.samples(state, &self.tails[state][0]);
             let start = out.len();
-            if start + sp.samples.len() * d > room {
+            let len = samples.len() / sp.dim * d;
+            if start + len > run.room {
                 return Err(EvalError::TooLarge {
                     estimate: (start as u128 + 1) * 8,
                     limit: self.settings.memory_limit,
                 });
             }
-            out.resize(start + sp.samples.len() * d, 0.0);
-            project_into(c, d, sp.dim, &self.tails[state][0], &mut out[start..]);
+            out.resize(start + len, 0.0);
+            project_into(c, d, sp.dim, samples, &mut out[start..]);
             return Ok(());
         }
         for (_, t, m) in &sp.children {
             let nt = self.plan.state(*t).dim;
             let mut child = vec![0.0; d * nt];
             mul_into(c, d, sp.dim, m, nt, &mut child);
-            self.adaptive(*t, &child, (d, eps, room), level + 1, out)?;
+            self.adaptive(*t, &child, run, level + 1, out)?;
         }
         Ok(())
+    }
+
+    /// An estimate of the coordinates an adaptive run from the cell `c`
+    /// writes (Knuth's estimator: the mean, over random descents, of the
+    /// product of the branching factors met, times the leaf's samples),
+    /// so that a tolerance whose output cannot fit is refused at once.
+    fn probe(&self, state: usize, c: &[f64], run: &Adaptive<'_>) -> u128 {
+        const PROBES: u32 = 256;
+        let d = run.d;
+        let mut rng = 0x9E37_79B9_7F4A_7C15u64;
+        let mut total = 0f64;
+        for _ in 0..PROBES {
+            let (mut s, mut cell, mut weight) = (state, c.to_vec(), 1f64);
+            for level in 0.. {
+                let sp = self.plan.state(s);
+                if level >= MAX_ADAPTIVE_DEPTH || run.small(s, &cell, sp.dim) || sp.children.is_empty() {
+                    total += weight * (run.samples(s, &self.tails[s][0]).len() / sp.dim * d) as f64;
+                    break;
+                }
+                rng ^= rng << 13;
+                rng ^= rng >> 7;
+                rng ^= rng << 17;
+                let (_, t, m) = &sp.children[(rng % sp.children.len() as u64) as usize];
+                let nt = self.plan.state(*t).dim;
+                let mut child = vec![0.0; d * nt];
+                mul_into(&cell, d, sp.dim, m, nt, &mut child);
+                weight *= sp.children.len() as f64;
+                (s, cell) = (*t, child);
+            }
+        }
+        (total / f64::from(PROBES)).min(u128::MAX as f64) as u128
+    }
+}
+
+/// An adaptive run: point dimension, tolerance, coordinates the output may
+/// hold before the memory limit, and the piece's invariant balls if it has them.
+struct Adaptive<'b> {
+    d: usize,
+    eps: f64,
+    room: usize,
+    ball: Option<&'b Balls>,
+}
+
+impl Adaptive<'_> {
+    /// Whether the cell `c` (`n` control points) is below the tolerance: its
+    /// part of the attractor, bounded by the balls, for a plain IFS; its
+    /// control polygon otherwise.
+    fn small(&self, state: usize, c: &[f64], n: usize) -> bool {
+        match self.ball {
+            Some(b) => b.cell_diameter(state, c, self.d) < self.eps,
+            None => diameter(c, self.d, n) < self.eps,
+        }
+    }
+
+    /// What a leaf emits: its state's ball centre for a plain IFS, the state's samples otherwise.
+    fn samples<'s>(&'s self, state: usize, own: &'s [f64]) -> &'s [f64] {
+        self.ball.map_or(own, |b| b.centre(state))
     }
 }

@@ -7,6 +7,7 @@
 //! thread pool), `curve` and `surface` (curves and points; welded meshes),
 //! `evaluate` (into memory or streamed), `random` (the chaos game).
 
+mod ball;
 mod curve;
 mod evaluate;
 mod pieces;

@@ -21,7 +21,10 @@ pub const MAX_ADAPTIVE_DEPTH: usize = 40;
 pub enum Depth {
     /// Every root cell to exactly this depth.
     Fixed(usize),
-    /// Until every cell's control polygon has diameter below this (modelling units).
+    /// Until every cell is smaller than this (modelling units): for an IFS
+    /// of affine contractions, its part of the attractor (the output is then
+    /// within this Hausdorff distance of the attractor); otherwise its
+    /// control polygon.
     Tolerance(f64),
 }
 

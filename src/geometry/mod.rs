@@ -90,6 +90,57 @@ impl Shape {
         }))
     }
 
+    /// Drops the exact duplicates among the vertices of a point cloud (a
+    /// shape without polylines, quads or triangles), keeping the first of
+    /// each in order, and returns how many it dropped; `None`, and the
+    /// shape untouched, when the shape has elements that refer to vertices.
+    /// Points are equal when their coordinates are bit for bit (`0.0` and
+    /// `-0.0` are distinct, as a file would print them).
+    ///
+    /// ```
+    /// use bcifs::geometry::Shape;
+    /// let mut cloud = Shape { dim: 2, positions: vec![0.0, 1.0, 2.0, 3.0, 0.0, 1.0], ..Shape::default() };
+    /// assert_eq!(cloud.dedup_points(), Some(1));
+    /// assert_eq!(cloud.positions, [0.0, 1.0, 2.0, 3.0]);
+    /// ```
+    pub fn dedup_points(&mut self) -> Option<usize> {
+        if !self.quads.is_empty() || !self.triangles.is_empty() || self.polylines().next().is_some() {
+            return None;
+        }
+        let (dim, n) = (self.dim.max(1), self.vertex_count());
+        let mut seen = std::collections::HashSet::with_capacity(n);
+        let mut keep = Vec::with_capacity(n);
+        for i in 0..n {
+            let key: Vec<u64> = self.positions[i * dim..(i + 1) * dim].iter().map(|x| x.to_bits()).collect();
+            keep.push(seen.insert(key));
+        }
+        let dropped = keep.iter().filter(|k| !**k).count();
+        if dropped == 0 {
+            return Some(0);
+        }
+        let has_normals = self.normals.len() == 3 * n;
+        let (mut w, mut new_index) = (0usize, Vec::with_capacity(n + 1));
+        for (i, &k) in keep.iter().enumerate() {
+            new_index.push(w);
+            if k {
+                self.positions.copy_within(i * dim..(i + 1) * dim, w * dim);
+                if has_normals {
+                    self.normals.copy_within(3 * i..3 * i + 3, 3 * w);
+                }
+                w += 1;
+            }
+        }
+        new_index.push(w);
+        self.positions.truncate(w * dim);
+        if has_normals {
+            self.normals.truncate(3 * w);
+        }
+        for o in &mut self.objects {
+            o.vertices = new_index[o.vertices.start.min(n)]..new_index[o.vertices.end.min(n)];
+        }
+        Some(dropped)
+    }
+
     /// All polylines of all objects.
     pub fn polylines(&self) -> impl Iterator<Item = (usize, usize, bool)> + '_ {
         self.objects.iter().flat_map(|o| o.polylines.iter().copied())

@@ -282,3 +282,34 @@ fn oversized_outputs_are_refused_with_the_estimate() {
     assert_eq!(code, 2);
     assert!(err.contains("positive"), "{err}");
 }
+
+/// `--dedup` drops the exact duplicate points of a cloud and says how many:
+/// the fern's stem map `(x, y) ↦ (0, 0.16 y)` sends the start square's
+/// bottom corners (±3, 0) to the same point, so a fixed depth repeats points.
+/// The file holds distinct points only, as many as reported.
+#[test]
+fn dedup_drops_and_counts_exact_duplicates() {
+    let dir = std::env::temp_dir().join(format!("bcifs-dedup-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let vertex_lines = |file: &str| -> Vec<String> {
+        let text = std::fs::read_to_string(dir.join(file)).unwrap();
+        text.lines().filter(|l| l.starts_with("v ")).map(str::to_string).collect()
+    };
+    let path = |f: &str| dir.join(f).to_str().unwrap().to_string();
+    let (code, _, err) = bcifs(&["render", "fern", "--depth", "5", "-o", &path("all.obj")]);
+    assert_eq!(code, 0, "{err}");
+    let (code, _, err) = bcifs(&["render", "fern", "--depth", "5", "--dedup", "-o", &path("unique.obj")]);
+    assert_eq!(code, 0, "{err}");
+    let (all, unique) = (vertex_lines("all.obj"), vertex_lines("unique.obj"));
+    let distinct: std::collections::HashSet<&String> = all.iter().collect();
+    assert_eq!(unique.len(), distinct.len());
+    assert!(unique.len() < all.len());
+    let dropped = all.len() - unique.len();
+    assert!(err.contains(&format!("({dropped} exact duplicates dropped)")), "{err}");
+    // On a curve it warns and keeps the polyline.
+    let (code, _, err) = bcifs(&["render", "levy", "--depth", "4", "--dedup", "-o", &path("levy.obj")]);
+    assert_eq!(code, 0);
+    assert!(err.contains("--dedup applies to point clouds"), "{err}");
+    assert!(std::fs::read_to_string(dir.join("levy.obj")).unwrap().contains("\nl "));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -263,3 +263,42 @@ fn chaos_games_respect_the_memory_limit() {
     let err = chaos_game(&a, &model, &settings).unwrap_err();
     assert!(matches!(err, EvalError::TooLarge { estimate, .. } if estimate == 32_000_000_000), "{err}");
 }
+
+/// A tolerance on a plain IFS is a Hausdorff bound: every cell stops when
+/// the ball that holds its part of the attractor is smaller than ε, and
+/// emits a point of that ball. A long chaos game lies on the attractor, so
+/// it is within ε of the output; the output is within ε of the attractor,
+/// hence within ε plus the chaos game's own gaps of its points. The fixed
+/// default depth, the issue this answers, is far coarser.
+#[test]
+fn tolerance_on_a_plain_ifs_bounds_the_hausdorff_distance() {
+    // The fern (one state), and the fern with a Sierpinski branch (graph-directed, two states).
+    for (name, epsilons) in [("fern", &[0.2, 0.05][..]), ("fern_sierpinski", &[0.05][..])] {
+        let (a, model, _) = load(name, &[]);
+        let settings = RandomSettings::default().with_points(1_000_000).with_seed(11);
+        let cloud = points(&chaos_game(&a, &model, &settings).unwrap());
+        for &eps in epsilons {
+            let out = points(&eval(name, &[], EvalSettings::default().with_tolerance(eps)));
+            let to_output = crate::hausdorff::directed_hausdorff(&cloud, &out);
+            assert!(to_output <= eps, "{name}, ε = {eps}: a chaos-game point is {to_output} from the output");
+            let to_cloud = crate::hausdorff::directed_hausdorff(&out, &cloud);
+            assert!(to_cloud <= 1.5 * eps, "{name}, ε = {eps}: an output point is {to_cloud} from the chaos game");
+        }
+        let fixed = points(&eval(name, &[], EvalSettings::default()));
+        let h = crate::hausdorff::directed_hausdorff(&cloud, &fixed);
+        assert!(h > 0.2, "{name}: the fixed depth was expected to be coarse: {h}");
+    }
+}
+
+/// A tolerance whose output cannot fit is refused at once, with the
+/// estimate (2^40 leaves for the Lévy curve at 10⁻⁹), instead of filling
+/// memory first.
+#[test]
+fn hopeless_tolerances_are_refused_at_once() {
+    let (a, model, _) = load("levy", &[]);
+    let ev = Evaluator::new(&a, &model, EvalSettings::default().with_tolerance(1e-9)).unwrap();
+    match ev.evaluate() {
+        Err(EvalError::TooLarge { estimate, .. }) => assert!(estimate > 1 << 40, "{estimate}"),
+        other => panic!("expected TooLarge, got {:?}", other.map(|s| s.vertex_count())),
+    }
+}
