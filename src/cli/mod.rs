@@ -93,14 +93,11 @@ fn keyword<T: Copy>(what: &str, value: &str, options: &[(&str, T)]) -> Result<T>
     })
 }
 
-/// Largest picture side: a 16384 × 16384 RGB picture is 768 MiB.
-const MAX_PICTURE_SIDE: u32 = 16384;
-
 fn parse_size(size: &str) -> Result<(u32, u32)> {
     let (w, h) = size.split_once('x').with_context(|| format!("--size `{size}`: expected WIDTHxHEIGHT"))?;
     let (w, h): (u32, u32) = (w.trim().parse().context("--size width")?, h.trim().parse().context("--size height")?);
-    if w == 0 || h == 0 || w > MAX_PICTURE_SIDE || h > MAX_PICTURE_SIDE {
-        bail!("--size {w}x{h}: each side must be between 1 and {MAX_PICTURE_SIDE} pixels");
+    if w == 0 || h == 0 {
+        bail!("--size {w}x{h}: each side must be at least 1 pixel");
     }
     Ok((w, h))
 }

@@ -45,6 +45,9 @@ pub enum RenderError {
     /// Output format not known.
     #[error("unknown output format `{0}`: expected .obj, .svg or .png")]
     Format(String),
+    /// A picture over the memory limit.
+    #[error(transparent)]
+    Raster(#[from] bcifs::export::RasterTooLarge),
     /// Writing.
     #[error("cannot write {0}: {1}")]
     Io(PathBuf, std::io::Error),
@@ -184,7 +187,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<u8> {
     if !yaw.is_finite() || !pitch.is_finite() {
         bail!("--view {yaw},{pitch}: the angles must be finite numbers of degrees");
     }
-    options.raster = options.raster.with_size(w, h).with_view(yaw, pitch);
+    options.raster = options.raster.with_size(w, h).with_view(yaw, pitch).with_memory_limit(options.eval.memory_limit);
     let started = std::time::Instant::now();
     let summary = render(&design, &options, &output)?;
     summary.report(design.name(), &output, started);
@@ -359,7 +362,7 @@ pub fn write_shape(
             }
             write_atomic(out, svg(shape, raster_settings.width).as_bytes()).map_err(io)?;
         }
-        "png" => write_png(out, &raster(shape, raster_settings)).map_err(io)?,
+        "png" => write_png(out, &raster(shape, raster_settings)?).map_err(io)?,
         other => return Err(RenderError::Format(other.to_string())),
     }
     Ok(summary)

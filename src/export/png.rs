@@ -36,12 +36,48 @@ pub struct RasterSettings {
     pub height: u32,
     /// View of 3D shapes.
     pub view: View,
+    /// The most bytes drawing may allocate (picture, coverage and depth
+    /// buffers, projected points); a larger picture is refused.
+    pub memory_limit: usize,
 }
 
 impl Default for RasterSettings {
     fn default() -> RasterSettings {
-        RasterSettings { width: 800, height: 800, view: View::default() }
+        RasterSettings {
+            width: 800,
+            height: 800,
+            view: View::default(),
+            memory_limit: crate::eval::DEFAULT_MEMORY_LIMIT,
+        }
     }
+}
+
+/// A picture that would not fit the memory limit.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "a {width}×{height} picture of {vertices} points needs about {:.1} GiB to draw, over the in-memory limit of {:.1} GiB (--memory-mib): make it smaller",
+    *needed as f64 / (1u64 << 30) as f64,
+    *limit as f64 / (1u64 << 30) as f64
+)]
+pub struct RasterTooLarge {
+    /// Width asked for.
+    pub width: u32,
+    /// Height asked for.
+    pub height: u32,
+    /// Points of the shape.
+    pub vertices: usize,
+    /// Bytes drawing would allocate.
+    pub needed: u128,
+    /// The limit.
+    pub limit: usize,
+}
+
+/// Bytes [`raster`] allocates for a picture of `vertices` points: 11 per
+/// pixel (the picture's 3, and 8 of coverage and density, or of depth)
+/// and 25 per point (its projection and a flag).
+pub fn raster_bytes(vertices: usize, settings: &RasterSettings) -> u128 {
+    let pixels = u128::from(settings.width.max(1)) * u128::from(settings.height.max(1));
+    pixels * 11 + vertices as u128 * 25
 }
 
 impl RasterSettings {
@@ -54,6 +90,11 @@ impl RasterSettings {
     /// With a view.
     pub fn with_view(mut self, yaw: f64, pitch: f64) -> Self {
         self.view = View { yaw, pitch };
+        self
+    }
+    /// With a memory limit in bytes.
+    pub fn with_memory_limit(mut self, bytes: usize) -> Self {
+        self.memory_limit = bytes;
         self
     }
 }
@@ -147,7 +188,25 @@ fn mix(a: [f64; 3], b: [f64; 3], t: f64) -> Rgb<u8> {
 }
 
 /// Draws the shape.
-pub fn raster(shape: &Shape, settings: &RasterSettings) -> RgbImage {
+///
+/// # Errors
+/// A picture whose buffers ([`raster_bytes`]) would exceed the settings'
+/// memory limit, refused before allocating.
+pub fn raster(shape: &Shape, settings: &RasterSettings) -> Result<RgbImage, RasterTooLarge> {
+    let needed = raster_bytes(shape.vertex_count(), settings);
+    if needed > settings.memory_limit as u128 {
+        return Err(RasterTooLarge {
+            width: settings.width,
+            height: settings.height,
+            vertices: shape.vertex_count(),
+            needed,
+            limit: settings.memory_limit,
+        });
+    }
+    Ok(draw(shape, settings))
+}
+
+fn draw(shape: &Shape, settings: &RasterSettings) -> RgbImage {
     let (w, h) = (settings.width.max(1), settings.height.max(1));
     let mut img = RgbImage::from_pixel(w, h, Rgb([255, 255, 255]));
     let pts = project(shape, settings.view);

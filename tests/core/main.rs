@@ -5,5 +5,6 @@ mod cli;
 mod convergence;
 mod errors;
 mod families;
+mod fuzzed;
 mod layers;
 mod properties;

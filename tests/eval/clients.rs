@@ -1,6 +1,6 @@
 //! The files bcifs writes, loaded by the programs users open them with
-//! (MeshLab through pymeshlab, trimesh). A client that is not installed is
-//! skipped with a printed reason; `.ci/run` installs both.
+//! (MeshLab through pymeshlab, trimesh, Blender). A client that is not
+//! installed is skipped with a printed reason; `.ci/run` installs them.
 
 use std::process::Command;
 
@@ -115,4 +115,76 @@ fn signed_volume(shape: &bcifs::geometry::Shape) -> f64 {
 
 fn det(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
     a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0])
+}
+
+/// Runs a Python script in headless Blender (`blender -b --factory-startup`)
+/// and returns the lines it printed after `BCIFS `; `None` (and a printed
+/// reason) when Blender is not installed.
+fn blender(script: &str) -> Option<Vec<String>> {
+    if Command::new("blender").arg("--version").output().is_err() {
+        println!("skipped: blender is not installed (apt-get install blender)");
+        return None;
+    }
+    let out = Command::new("blender")
+        .args(["-b", "--factory-startup", "--python-exit-code", "1", "--python-expr", script])
+        .output()
+        .expect("blender runs");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "blender failed: {stdout}{}", String::from_utf8_lossy(&out.stderr));
+    Some(stdout.lines().filter_map(|l| l.strip_prefix("BCIFS ")).map(str::to_string).collect())
+}
+
+/// Blender's script: imports `path` with the default OBJ importer of its
+/// version (`wm.obj_import` in 3.4) and prints, in world coordinates,
+/// `vertices edges faces signed_volume manifold dx dy dz`.
+fn blender_import(path: &std::path::Path) -> String {
+    format!(
+        "import bpy, bmesh\n\
+         bpy.ops.object.select_all(action='SELECT')\nbpy.ops.object.delete()\n\
+         bpy.ops.wm.obj_import(filepath=r'{}')\n\
+         bm = bmesh.new()\n\
+         for o in bpy.context.scene.objects:\n    m = o.data.copy()\n    m.transform(o.matrix_world)\n    bm.from_mesh(m)\n\
+         bm.verts.ensure_lookup_table()\n\
+         d = [max(v.co[k] for v in bm.verts) - min(v.co[k] for v in bm.verts) for k in range(3)]\n\
+         print('BCIFS', len(bm.verts), len(bm.edges), len(bm.faces), bm.calc_volume(signed=True), \
+               all(e.is_manifold for e in bm.edges), *d)\n",
+        path.display()
+    )
+}
+
+/// Issue 15 in Blender 3.4 (Debian's), headless: a curve arrives with every
+/// segment (384 edges, not 6), the closed Doo-Sabin torus as one closed
+/// 2-manifold facing outwards, standing up (the model's z axis, the torus
+/// axis, is Blender's z after its importer's Y-up conversion), and a point
+/// cloud with every point.
+#[test]
+fn curves_and_surfaces_load_whole_and_upright_in_blender() {
+    let curve = streamed("corner_cutting", 6, "blender-curve.obj");
+    let Some(lines) = blender(&blender_import(&curve)) else { return };
+    let f: Vec<&str> = lines[0].split(' ').collect();
+    assert_eq!((f[0], f[1], f[2]), ("384", "384", "0"), "Blender: vertices, edges, faces of the curve");
+    std::fs::remove_file(&curve).unwrap();
+
+    let torus = streamed("doo_sabin_torus", 3, "blender-torus.obj");
+    let (a, model, _) = load("doo_sabin_torus", &[]);
+    let shape = Evaluator::new(&a, &model, EvalSettings::default().with_depth(3)).unwrap().evaluate().unwrap();
+    let (lo, hi) = shape.bounds().unwrap();
+    let lines = blender(&blender_import(&torus)).unwrap();
+    let f: Vec<&str> = lines[0].split(' ').collect();
+    let n = shape.vertex_count().to_string();
+    assert_eq!((f[0], f[2]), (n.as_str(), shape.quads.len().to_string().as_str()), "Blender: vertices and faces");
+    assert_eq!(f[4], "True", "Blender: every edge between two faces");
+    let volume: f64 = f[3].parse().unwrap();
+    assert!(volume > 0.0, "Blender: signed volume {volume}");
+    // Blender holds single-precision coordinates: extents agree to 1e-5 relative.
+    let dz: f64 = f[7].parse().unwrap();
+    let model_z = hi[2] - lo[2];
+    assert!((dz - model_z).abs() < 1e-5 * model_z.max(1.0), "Blender's height {dz} is the model's z extent {model_z}");
+    std::fs::remove_file(&torus).unwrap();
+
+    // A point cloud (the fern at depth 4: 4^4 leaves, 4 start points each): every point.
+    let cloud = streamed("fern", 4, "blender-cloud.obj");
+    let lines = blender(&blender_import(&cloud)).unwrap();
+    assert_eq!(lines[0].split(' ').next(), Some("1024"), "Blender: every point of the cloud");
+    std::fs::remove_file(&cloud).unwrap();
 }

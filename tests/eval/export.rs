@@ -98,12 +98,12 @@ fn nothing_is_half_written() {
 #[test]
 fn png_has_the_requested_size_and_ink() {
     let shape = eval("levy", &[], EvalSettings::default().with_depth(10));
-    let img = raster(&shape, &RasterSettings::default().with_size(300, 200));
+    let img = raster(&shape, &RasterSettings::default().with_size(300, 200)).unwrap();
     assert_eq!(img.dimensions(), (300, 200));
     let dark = img.pixels().filter(|p| p[0] < 128).count();
     assert!(dark > 1000, "{dark} dark pixels");
     let torus = eval("doo_sabin_torus", &[], EvalSettings::default().with_depth(2));
-    let img = raster(&torus, &RasterSettings::default().with_size(120, 120));
+    let img = raster(&torus, &RasterSettings::default().with_size(120, 120)).unwrap();
     let shaded = img.pixels().filter(|p| p[0] < 250).count();
     assert!(shaded > 120 * 120 / 4, "{shaded}");
     let doc = svg(&shape, 400);
@@ -124,7 +124,7 @@ fn golden(actual: &str, expected: &str) {
 #[test]
 fn golden_rasters() {
     let koch = eval("koch", &[], EvalSettings::default().with_depth(3));
-    let img = raster(&koch, &RasterSettings::default().with_size(40, 14));
+    let img = raster(&koch, &RasterSettings::default().with_size(40, 14)).unwrap();
     golden(&ascii(&img), KOCH);
     let (a, mut model, _) = load("fern_sierpinski", &[]);
     model.roots = vec!["sierpinski".into()];
@@ -136,7 +136,7 @@ fn golden_rasters() {
     .unwrap()
     .evaluate()
     .unwrap();
-    let img = raster(&s, &RasterSettings::default().with_size(24, 24));
+    let img = raster(&s, &RasterSettings::default().with_size(24, 24)).unwrap();
     golden(&ascii(&img), SIERPINSKI);
 }
 
