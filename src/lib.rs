@@ -92,6 +92,7 @@ pub mod export;
 pub mod family;
 mod format;
 pub mod geometry;
+pub mod mesh;
 mod names;
 mod progress;
 pub mod schemes;

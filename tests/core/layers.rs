@@ -6,7 +6,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// The library's top-level modules, bottom first.
-const LAYERS: [&[&str]; 11] = [
+const LAYERS: [&[&str]; 12] = [
     &["algebra", "names", "progress"],
     &["space"],
     &["automaton"],
@@ -16,6 +16,7 @@ const LAYERS: [&[&str]; 11] = [
     &["schemes"],
     &["analysis"],
     &["geometry"],
+    &["mesh"],
     &["eval"],
     &["export"],
 ];

@@ -1,0 +1,196 @@
+//! Reading polygon meshes: Wavefront OBJ (`v` and `f` records; texture and
+//! normal indices, negative indices, any face degree; other records are
+//! skipped) and OFF (with `#` comments, the counts on the header line or
+//! the next, colours after the coordinates or indices ignored). Errors name
+//! `file:line:column` and what was expected; the mesh is then checked like
+//! [`PolyMesh::new`], naming the face's line.
+
+use std::path::Path;
+
+use super::{MeshError, Place, PolyMesh};
+
+/// Reads a mesh, choosing the format by extension (`.obj`, `.off`).
+///
+/// # Errors
+/// An unreadable or malformed file, or a mesh that fails the checks.
+pub fn read_mesh(path: &Path) -> Result<PolyMesh, MeshError> {
+    let name = path.display().to_string();
+    let ext = path.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
+    let text = || std::fs::read_to_string(path).map_err(|e| MeshError::Io(name.clone(), e));
+    match ext.as_str() {
+        "obj" => read_obj(&text()?, &name),
+        "off" => read_off(&text()?, &name),
+        other => Err(MeshError::Format(other.to_string())),
+    }
+}
+
+fn syntax(file: &str, line: usize, column: usize, message: impl Into<String>) -> MeshError {
+    MeshError::Syntax { file: file.to_string(), line, column, message: message.into() }
+}
+
+/// Checks the parsed mesh, naming faces by their lines.
+fn finish(
+    positions: Vec<[f64; 3]>,
+    faces: Vec<Vec<usize>>,
+    lines: &[usize],
+    file: &str,
+) -> Result<PolyMesh, MeshError> {
+    let mut starts = Vec::with_capacity(faces.len() + 1);
+    starts.push(0);
+    for f in &faces {
+        starts.push(starts[starts.len() - 1] + f.len());
+    }
+    let mesh = PolyMesh::from_flat(positions, starts, faces.concat());
+    mesh.check(&|face| Place { file: Some(file.to_string()), line: lines.get(face).copied(), face })?;
+    Ok(mesh)
+}
+
+/// Reads an OBJ file's text (`file` names it in errors).
+///
+/// # Errors
+/// A malformed `v` or `f` record (`file:line:column`), or a mesh that
+/// fails the checks.
+pub fn read_obj(text: &str, file: &str) -> Result<PolyMesh, MeshError> {
+    let mut positions: Vec<[f64; 3]> = Vec::new();
+    let mut faces = Vec::new();
+    let mut lines = Vec::new();
+    let mut continued = String::new();
+    let mut start_line = 0;
+    for (i, raw) in text.lines().enumerate() {
+        if continued.is_empty() {
+            start_line = i + 1;
+        }
+        // A trailing backslash continues the record on the next line.
+        if let Some(head) = raw.strip_suffix('\\') {
+            continued.push_str(head);
+            continued.push(' ');
+            continue;
+        }
+        continued.push_str(raw);
+        let line = std::mem::take(&mut continued);
+        let content = line.split('#').next().unwrap_or("");
+        let mut tokens = tokens(content);
+        let Some((_, keyword)) = tokens.next() else { continue };
+        match keyword {
+            "v" => {
+                let mut p = [0.0; 3];
+                let mut last = keyword.len() + 1;
+                for x in &mut p {
+                    let (col, tok) =
+                        tokens.next().ok_or_else(|| syntax(file, start_line, last + 1, "expected a coordinate"))?;
+                    *x = tok
+                        .parse()
+                        .map_err(|_| syntax(file, start_line, col, format!("expected a number, found `{tok}`")))?;
+                    last = col + tok.len();
+                }
+                positions.push(p);
+            }
+            "f" => {
+                let mut face = Vec::new();
+                for (col, tok) in tokens {
+                    let index = tok.split('/').next().unwrap_or("");
+                    let k: i64 = index.parse().map_err(|_| {
+                        syntax(file, start_line, col, format!("expected a vertex index, found `{tok}`"))
+                    })?;
+                    let n = positions.len() as i64;
+                    let resolved = if k > 0 { k - 1 } else { n + k };
+                    if k == 0 || resolved < 0 || resolved >= n {
+                        return Err(MeshError::IndexOutOfRange {
+                            place: Place { file: Some(file.to_string()), line: Some(start_line), face: faces.len() },
+                            index: k,
+                            count: positions.len(),
+                        });
+                    }
+                    face.push(resolved as usize);
+                }
+                faces.push(face);
+                lines.push(start_line);
+            }
+            _ => {}
+        }
+    }
+    finish(positions, faces, &lines, file)
+}
+
+/// Whitespace-separated tokens with their 1-based columns.
+fn tokens(line: &str) -> impl Iterator<Item = (usize, &str)> {
+    line.split_ascii_whitespace().map(move |t| (t.as_ptr() as usize - line.as_ptr() as usize + 1, t))
+}
+
+/// Reads an OFF file's text (`file` names it in errors).
+///
+/// # Errors
+/// A malformed header, count, coordinate or face (`file:line:column`), or
+/// a mesh that fails the checks.
+pub fn read_off(text: &str, file: &str) -> Result<PolyMesh, MeshError> {
+    // Tokens with positions, comments removed, grouped by line.
+    let mut lines_of_tokens: Vec<(usize, Vec<(usize, &str)>)> = Vec::new();
+    for (i, raw) in text.lines().enumerate() {
+        let content = raw.split('#').next().unwrap_or("");
+        let t: Vec<(usize, &str)> = tokens(content).collect();
+        if !t.is_empty() {
+            lines_of_tokens.push((i + 1, t));
+        }
+    }
+    let mut rows = lines_of_tokens.iter();
+    let end = || syntax(file, text.lines().count().max(1), 1, "unexpected end of file");
+    let (line, header) = rows.next().ok_or_else(end)?;
+    let (col, keyword) = header[0];
+    if !matches!(keyword, "OFF" | "COFF" | "NOFF" | "CNOFF" | "STOFF") {
+        return Err(syntax(file, *line, col, format!("expected `OFF`, found `{keyword}`")));
+    }
+    let counts: Vec<(usize, usize, &str)> = if header.len() > 1 {
+        header[1..].iter().map(|(c, t)| (*line, *c, *t)).collect()
+    } else {
+        let (l, t) = rows.next().ok_or_else(end)?;
+        t.iter().map(|(c, tok)| (*l, *c, *tok)).collect()
+    };
+    if counts.len() < 2 {
+        let (l, c, _) = counts.last().copied().unwrap_or((*line, 1, ""));
+        return Err(syntax(file, l, c, "expected the counts: vertices faces [edges]"));
+    }
+    let count = |(l, c, t): (usize, usize, &str), what: &str| -> Result<usize, MeshError> {
+        t.parse().map_err(|_| syntax(file, l, c, format!("expected the number of {what}, found `{t}`")))
+    };
+    let (nv, nf) = (count(counts[0], "vertices")?, count(counts[1], "faces")?);
+    let mut positions = Vec::new();
+    for _ in 0..nv {
+        let (l, t) = rows.next().ok_or_else(end)?;
+        if t.len() < 3 {
+            let c = t.last().map_or(1, |(c, tok)| c + tok.len());
+            return Err(syntax(file, *l, c, "expected three coordinates"));
+        }
+        let mut p = [0.0; 3];
+        for (x, (c, tok)) in p.iter_mut().zip(t) {
+            *x = tok.parse().map_err(|_| syntax(file, *l, *c, format!("expected a number, found `{tok}`")))?;
+        }
+        positions.push(p);
+    }
+    let mut faces = Vec::new();
+    let mut lines = Vec::new();
+    for _ in 0..nf {
+        let (l, t) = rows.next().ok_or_else(end)?;
+        let (c, tok) = t[0];
+        let n: usize =
+            tok.parse().map_err(|_| syntax(file, *l, c, format!("expected a vertex count, found `{tok}`")))?;
+        if t.len() < n + 1 {
+            return Err(syntax(file, *l, t[t.len() - 1].0, format!("expected {n} vertex indices")));
+        }
+        let mut face = Vec::with_capacity(n);
+        for (c, tok) in &t[1..=n] {
+            let k: i64 =
+                tok.parse().map_err(|_| syntax(file, *l, *c, format!("expected a vertex index, found `{tok}`")))?;
+            if k < 0 || k as usize >= positions.len() {
+                return Err(MeshError::IndexOutOfRange {
+                    place: Place { file: Some(file.to_string()), line: Some(*l), face: faces.len() },
+                    index: k,
+                    count: positions.len(),
+                });
+            }
+            face.push(k as usize);
+        }
+        faces.push(face);
+        lines.push(*l);
+    }
+    finish(positions, faces, &lines, file)
+}

@@ -1,0 +1,150 @@
+//! `--net` against CGAL's Subdivision_method_3 (Debian's libcgal-dev, 5.5):
+//! the same vertex positions to 1e-12 and the same faces with the same
+//! orientation, up to numbering, on closed and open meshes with triangles,
+//! quads and pentagons and vertices of valence 2 to 5. The peer
+//! (`benches/peers/cgal_subdivide.cpp`) is built once by g++; without g++ or
+//! CGAL the tests say "skipped" and why (`.ci/run` installs libcgal-dev).
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::sync::OnceLock;
+
+use bcifs::mesh::{PolyMesh, Scheme, read_off};
+
+/// The CGAL peer, built on first use into `target/peers/`.
+pub fn cgal_peer() -> Option<&'static Path> {
+    static PEER: OnceLock<Option<PathBuf>> = OnceLock::new();
+    PEER.get_or_init(|| {
+        if !Path::new("/usr/include/CGAL/subdivision_method_3.h").exists() {
+            println!("skipped: CGAL is not installed (apt-get install libcgal-dev)");
+            return None;
+        }
+        let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+        let source = root.join("benches/peers/cgal_subdivide.cpp");
+        let dir = root.join("target/peers");
+        std::fs::create_dir_all(&dir).unwrap();
+        let exe = dir.join("cgal_subdivide");
+        let fresh = |p: &Path| p.metadata().and_then(|m| m.modified()).ok();
+        if fresh(&exe).is_none() || fresh(&exe) < fresh(&source) {
+            let tmp = dir.join(format!("cgal_subdivide.{}.tmp", std::process::id()));
+            let out = Command::new("g++")
+                .args(["-O2", "-std=c++17"])
+                .arg(&source)
+                .arg("-o")
+                .arg(&tmp)
+                .args(["-lgmp", "-lmpfr"])
+                .output();
+            match out {
+                Ok(o) if o.status.success() => std::fs::rename(&tmp, &exe).unwrap(),
+                Ok(o) => panic!("the CGAL peer does not build: {}", String::from_utf8_lossy(&o.stderr)),
+                Err(e) => {
+                    println!("skipped: g++ cannot run ({e})");
+                    return None;
+                }
+            }
+        }
+        Some(exe)
+    })
+    .as_deref()
+}
+
+/// CGAL's mesh after `depth` steps of `scheme` on `mesh`.
+pub fn cgal(peer: &Path, mesh: &PolyMesh, scheme: Scheme, depth: usize, tag: &str) -> PolyMesh {
+    let dir = std::env::temp_dir();
+    let (input, output) = (
+        dir.join(format!("bcifs-cgal-{}-{tag}-in.off", std::process::id())),
+        dir.join(format!("bcifs-cgal-{}-{tag}-out.off", std::process::id())),
+    );
+    std::fs::write(&input, mesh.to_off()).unwrap();
+    let out = Command::new(peer).arg(scheme.name()).arg(depth.to_string()).arg(&input).arg(&output).output().unwrap();
+    assert!(out.status.success(), "CGAL failed: {}", String::from_utf8_lossy(&out.stderr));
+    let text = std::fs::read_to_string(&output).unwrap();
+    std::fs::remove_file(&input).unwrap();
+    std::fs::remove_file(&output).unwrap();
+    read_off(&text, "cgal.off").expect("CGAL's output is a valid mesh")
+}
+
+/// Asserts the two meshes are equal up to numbering: a bijection of the
+/// vertices within `tol`, and the same faces with the same orientation.
+pub fn assert_same_mesh(ours: &PolyMesh, theirs: &PolyMesh, tol: f64, what: &str) {
+    assert_eq!(ours.face_count(), theirs.face_count(), "{what}: faces");
+    assert_eq!(ours.used_vertices(), theirs.used_vertices(), "{what}: vertices");
+    // Match vertices through a grid of cells of size 1e-6 (points closer than tol share or neighbour a cell).
+    let key = |p: [f64; 3]| p.map(|x| (x * 1e6).round() as i64);
+    let mut cells: HashMap<[i64; 3], Vec<usize>> = HashMap::new();
+    for (i, p) in theirs.positions.iter().enumerate() {
+        cells.entry(key(*p)).or_default().push(i);
+    }
+    let mut map = vec![usize::MAX; ours.positions.len()];
+    for (i, p) in ours.positions.iter().enumerate() {
+        let k = key(*p);
+        let mut best = (f64::INFINITY, usize::MAX);
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                for dz in -1..=1 {
+                    for &j in cells.get(&[k[0] + dx, k[1] + dy, k[2] + dz]).into_iter().flatten() {
+                        let q = theirs.positions[j];
+                        let d = (0..3).map(|a| (p[a] - q[a]).abs()).fold(0.0, f64::max);
+                        if d < best.0 {
+                            best = (d, j);
+                        }
+                    }
+                }
+            }
+        }
+        map[i] = best.1;
+        if ours.faces().any(|f| f.contains(&i)) {
+            assert!(best.0 <= tol, "{what}: our vertex {i} at {p:?} is {} from CGAL's nearest", best.0);
+        }
+    }
+    let canonical = |f: Vec<usize>| {
+        let m = (0..f.len()).min_by_key(|&i| f[i]).unwrap();
+        let mut g = f[m..].to_vec();
+        g.extend_from_slice(&f[..m]);
+        g
+    };
+    let mut a: Vec<Vec<usize>> = ours.faces().map(|f| canonical(f.iter().map(|&v| map[v]).collect())).collect();
+    let mut b: Vec<Vec<usize>> = theirs.faces().map(|f| canonical(f.to_vec())).collect();
+    a.sort();
+    b.sort();
+    assert!(
+        a == b,
+        "{what}: the faces differ (same count {}, first difference {:?})",
+        a.len(),
+        a.iter().zip(&b).find(|(x, y)| x != y)
+    );
+}
+
+#[test]
+fn net_is_cgal_subdivision() {
+    let Some(peer) = cgal_peer() else { return };
+    for (name, mesh) in crate::shapes() {
+        for scheme in [Scheme::DooSabin, Scheme::CatmullClark] {
+            for depth in 1..=3 {
+                let ours = mesh.subdivide(scheme, depth).unwrap();
+                let theirs = cgal(peer, &mesh, scheme, depth, &format!("{name}-{}-{depth}", scheme.name()));
+                // A few roundings per step on coordinates of size ~1.
+                assert_same_mesh(&ours, &theirs, 1e-12, &format!("{name}, {}, depth {depth}", scheme.name()));
+            }
+        }
+    }
+}
+
+/// The comparison can fail: other quad weights, or the faces reversed, are not CGAL's mesh.
+#[test]
+fn the_comparison_sees_a_difference() {
+    let Some(peer) = cgal_peer() else { return };
+    let cube = crate::cube();
+    let theirs = cgal(peer, &cube, Scheme::DooSabin, 1, "diff");
+    let weights = bcifs::mesh::QuadWeights { alpha: 0.5, beta: 0.25, gamma: 0.125 };
+    let other = cube.subdivide_with(Scheme::DooSabin, 1, Some(weights), 1 << 30).unwrap();
+    let moved = std::panic::catch_unwind(|| assert_same_mesh(&other, &theirs, 1e-12, "other weights"));
+    assert!(moved.is_err(), "other weights matched CGAL");
+    let ours = cube.subdivide(Scheme::DooSabin, 1).unwrap();
+    let flipped =
+        PolyMesh::new(ours.positions.clone(), ours.faces().map(|f| f.iter().rev().copied().collect()).collect())
+            .unwrap();
+    let reversed = std::panic::catch_unwind(|| assert_same_mesh(&flipped, &theirs, 1e-12, "reversed quads"));
+    assert!(reversed.is_err(), "reversed faces matched CGAL");
+}

@@ -1,0 +1,130 @@
+//! Polygon meshes: reading, checks, subdivision against CGAL, limit surfaces.
+
+mod cgal;
+mod meshes;
+
+use bcifs::mesh::PolyMesh;
+
+/// Test meshes: closed and open, with triangles, quads, pentagons, and
+/// vertices of valence 2 to 5 (faces counter-clockwise seen from outside).
+pub fn shapes() -> Vec<(&'static str, PolyMesh)> {
+    let cube = cube();
+    // A square pyramid: four triangles and a quad; apex of valence 4, base of valence 3.
+    let pyramid = PolyMesh::new(
+        vec![[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [1.0, 1.0, 0.0], [-1.0, 1.0, 0.0], [0.1, 0.2, 1.5]],
+        vec![vec![0, 3, 2, 1], vec![0, 1, 4], vec![1, 2, 4], vec![2, 3, 4], vec![3, 0, 4]],
+    )
+    .unwrap();
+    // A pentagonal prism: two pentagons, five quads, valence 3.
+    let mut p = Vec::new();
+    for z in [0.0, 1.3] {
+        for k in 0..5 {
+            let a = 2.0 * std::f64::consts::PI * k as f64 / 5.0;
+            p.push([a.cos(), a.sin(), z + 0.1 * k as f64]);
+        }
+    }
+    let mut faces = vec![vec![4, 3, 2, 1, 0], vec![5, 6, 7, 8, 9]];
+    faces.extend((0..5).map(|k| vec![k, (k + 1) % 5, 5 + (k + 1) % 5, 5 + k]));
+    let prism = PolyMesh::new(p, faces).unwrap();
+    // An icosahedron: triangles, valence 5.
+    let icosahedron = icosahedron();
+    // A cube without its top: open, a square boundary, corners of valence 2 on the border.
+    let open_box = PolyMesh::new(
+        cube.positions.clone(),
+        cube.faces().filter(|f| f != &[4, 5, 6, 7]).map(<[usize]>::to_vec).collect(),
+    )
+    .unwrap();
+    // A 3 × 2 sheet with a pentagon and a triangle.
+    let sheet = PolyMesh::new(
+        vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.2],
+            [2.0, 0.0, 0.0],
+            [3.0, 0.0, 0.1],
+            [0.0, 1.0, 0.3],
+            [1.0, 1.0, 0.5],
+            [2.0, 1.0, 0.4],
+            [3.0, 1.0, 0.0],
+            [0.0, 2.0, 0.0],
+            [1.5, 2.2, 0.2],
+            [3.0, 2.0, 0.0],
+        ],
+        vec![vec![0, 1, 5, 4], vec![1, 2, 6, 5], vec![2, 3, 7, 6], vec![4, 5, 9, 8], vec![5, 6, 10, 9], vec![6, 7, 10]],
+    )
+    .unwrap();
+    vec![
+        ("cube", cube),
+        ("pyramid", pyramid),
+        ("prism", prism),
+        ("icosahedron", icosahedron),
+        ("open_box", open_box),
+        ("sheet", sheet),
+    ]
+}
+
+/// The cube [-1, 1]³.
+pub fn cube() -> PolyMesh {
+    PolyMesh::new(
+        vec![
+            [-1.0, -1.0, -1.0],
+            [1.0, -1.0, -1.0],
+            [1.0, 1.0, -1.0],
+            [-1.0, 1.0, -1.0],
+            [-1.0, -1.0, 1.0],
+            [1.0, -1.0, 1.0],
+            [1.0, 1.0, 1.0],
+            [-1.0, 1.0, 1.0],
+        ],
+        vec![
+            vec![0, 3, 2, 1],
+            vec![4, 5, 6, 7],
+            vec![0, 1, 5, 4],
+            vec![1, 2, 6, 5],
+            vec![2, 3, 7, 6],
+            vec![3, 0, 4, 7],
+        ],
+    )
+    .unwrap()
+}
+
+/// A regular icosahedron, faces outwards.
+pub fn icosahedron() -> PolyMesh {
+    let g = (1.0 + 5f64.sqrt()) / 2.0;
+    let positions = vec![
+        [-1.0, g, 0.0],
+        [1.0, g, 0.0],
+        [-1.0, -g, 0.0],
+        [1.0, -g, 0.0],
+        [0.0, -1.0, g],
+        [0.0, 1.0, g],
+        [0.0, -1.0, -g],
+        [0.0, 1.0, -g],
+        [g, 0.0, -1.0],
+        [g, 0.0, 1.0],
+        [-g, 0.0, -1.0],
+        [-g, 0.0, 1.0],
+    ];
+    let faces = [
+        [0, 11, 5],
+        [0, 5, 1],
+        [0, 1, 7],
+        [0, 7, 10],
+        [0, 10, 11],
+        [1, 5, 9],
+        [5, 11, 4],
+        [11, 10, 2],
+        [10, 7, 6],
+        [7, 1, 8],
+        [3, 9, 4],
+        [3, 4, 2],
+        [3, 2, 6],
+        [3, 6, 8],
+        [3, 8, 9],
+        [4, 9, 5],
+        [2, 4, 11],
+        [6, 2, 10],
+        [8, 6, 7],
+        [9, 8, 1],
+    ];
+    PolyMesh::new(positions, faces.iter().map(|f| f.to_vec()).collect()).unwrap()
+}
