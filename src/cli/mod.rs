@@ -8,6 +8,7 @@ mod gallery;
 mod plot;
 mod render;
 mod scheme;
+mod surface;
 
 use std::io::Write as _;
 use std::path::PathBuf;
@@ -53,6 +54,8 @@ enum Command {
     },
     /// Evaluate an automaton with its model and write OBJ, SVG or PNG.
     Render(RenderArgs),
+    /// Subdivide a polygon mesh (OBJ or OFF) by Doo-Sabin or Catmull-Clark: its limit surface or its net.
+    Surface(surface::SurfaceArgs),
     /// Render every shipped automaton (PNG, OBJ) and an index.html into DIR.
     Gallery {
         /// Output directory.
@@ -165,6 +168,7 @@ fn run(out: &mut String, cli: Cli) -> Result<u8> {
         Command::Solve { file, json } => core::run_solve(out, &file, json),
         Command::Check { file, params, json } => core::run_check(out, &file, &params, json),
         Command::Render(args) => render::run(args),
+        Command::Surface(args) => surface::run(args),
         Command::Gallery { dir } => gallery::run(out, &dir),
         Command::Analyze { what } => analyze::run(out, what),
         Command::Scheme { scheme } => scheme::run(out, scheme),

@@ -31,7 +31,7 @@ mod write;
 use std::fmt;
 
 pub use read::{read_mesh, read_obj, read_off};
-pub use subdivide::QuadWeights;
+pub use subdivide::{QuadWeights, WeightsVerdict};
 pub use topology::{BORDER, Topology};
 
 /// A polygon mesh: positions and faces (vertex indices, counter-clockwise
@@ -170,6 +170,9 @@ pub enum MeshError {
     /// Faces around a vertex that form more than one fan (two cones touching at a point).
     #[error("vertex {0} is not a manifold vertex: its faces form {1} separate fans")]
     NonManifoldVertex(usize, usize),
+    /// Doo-Sabin weights outside the convergence domain, or not numbers.
+    #[error("Doo-Sabin weights {0}")]
+    Weights(String),
     /// A depth whose output would not fit memory.
     #[error("{what} at depth {depth} would have about {faces} faces ({:.1} GiB), over the in-memory limit of {:.1} GiB: lower the depth or raise the limit", *bytes as f64 / (1u64 << 30) as f64, *limit as f64 / (1u64 << 30) as f64)]
     TooLarge {

@@ -260,3 +260,67 @@ impl PolyMesh {
         PolyMesh::from_flat(positions, starts, indices)
     }
 }
+
+/// What the convergence check of quad weights found.
+#[derive(Clone, Debug, PartialEq)]
+pub enum WeightsVerdict {
+    /// The joint spectral radius bounds of the regular quad patch prove convergence.
+    Converges,
+    /// Not decided; why.
+    Undecided(String),
+}
+
+impl QuadWeights {
+    /// Checks the weights before subdividing: finite, the face rule's
+    /// eigenvalues on the differences below 1 in modulus (necessary), and for
+    /// mirror-symmetric weights (`β = γ`) the joint spectral radius bounds of
+    /// the shipped regular patch `doo_sabin_quad` (sufficient when they decide).
+    ///
+    /// # Errors
+    /// [`MeshError::Weights`] naming the weights and what fails.
+    pub fn check(&self) -> Result<WeightsVerdict, MeshError> {
+        for (name, x) in [("alpha", self.alpha), ("beta", self.beta), ("gamma", self.gamma)] {
+            if !x.is_finite() {
+                return Err(MeshError::Weights(format!("{name} = {x} is not a finite number")));
+            }
+        }
+        let named = format!(
+            "alpha = {}, beta = {}, gamma = {} (opposite corner {})",
+            self.alpha,
+            self.beta,
+            self.gamma,
+            self.delta()
+        );
+        let [l1, l2, _] = self.face_eigenvalues();
+        if l1 >= 1.0 || l2 >= 1.0 {
+            return Err(MeshError::Weights(format!(
+                "{named}: the face rule has eigenvalues of modulus {l1:.6} (twice) and {l2:.6} on the differences; \
+                 one is not below 1, so faces do not shrink to points: the subdivision diverges"
+            )));
+        }
+        if self.beta != self.gamma {
+            return Ok(WeightsVerdict::Undecided(format!(
+                "{named}: beta ≠ gamma makes the quad rule chiral; its convergence is not decided beyond the face rule's eigenvalues"
+            )));
+        }
+        let Some(design) = crate::builtin_design("doo_sabin_quad") else {
+            return Ok(WeightsVerdict::Undecided("the regular patch is not available".into()));
+        };
+        let values =
+            [("alpha", self.alpha), ("beta", self.beta), ("gamma", self.gamma)].map(|(n, v)| (n.to_string(), v));
+        let instance = crate::instantiate(&design, &values).map_err(|e| MeshError::Weights(format!("{named}: {e}")))?;
+        match crate::analysis::jsr(&instance.automaton, &crate::analysis::JsrSettings::quick()) {
+            Ok(bounds) => match bounds.verdict() {
+                crate::analysis::Verdict::Converges => Ok(WeightsVerdict::Converges),
+                crate::analysis::Verdict::Diverges => Err(MeshError::Weights(format!(
+                    "{named}: the regular patch diverges ({}): choose weights inside the convergence domain",
+                    bounds.witness_text()
+                ))),
+                crate::analysis::Verdict::Undecided => {
+                    Ok(WeightsVerdict::Undecided(format!("{named}: convergence is undecided ({bounds})")))
+                }
+            },
+            Err(e) => Ok(WeightsVerdict::Undecided(format!("{named}: {e}"))),
+        }
+    }
+}

@@ -59,3 +59,26 @@ impl PolyMesh {
         out
     }
 }
+
+impl PolyMesh {
+    /// The mesh as a shape (quads and triangles as they are, larger faces
+    /// fanned into triangles), for pictures.
+    pub fn to_shape(&self, name: &str) -> crate::geometry::Shape {
+        use crate::geometry::Sink;
+        let mut shape = crate::geometry::Shape::default();
+        let flat: Vec<f64> = self.positions.iter().flatten().copied().collect();
+        let (mut quads, mut triangles) = (Vec::new(), Vec::new());
+        for f in self.faces() {
+            match f.len() {
+                4 => quads.push([f[0], f[1], f[2], f[3]]),
+                n => triangles.extend((1..n - 1).map(|i| [f[0], f[i], f[i + 1]])),
+            }
+        }
+        // Writing into memory cannot fail.
+        let _ = shape.object(name);
+        let _ = shape.vertices(3, &flat, None);
+        let _ = shape.faces(&quads, None);
+        let _ = shape.triangles(&triangles);
+        shape
+    }
+}

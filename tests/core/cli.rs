@@ -314,3 +314,96 @@ fn dedup_drops_and_counts_exact_duplicates() {
     assert!(std::fs::read_to_string(dir.join("levy.obj")).unwrap().contains("\nl "));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `bcifs surface`: a Blender export subdivided into a closed limit surface
+/// (in the input's axes), its net as OFF, and bad input refused with the
+/// place and no file.
+#[test]
+fn surface_subdivides_a_users_mesh() {
+    let dir = std::env::temp_dir().join(format!("bcifs-surface-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = |f: &str| dir.join(f).to_str().unwrap().to_string();
+    let (code, _, err) = bcifs(&[
+        "surface",
+        "tests/data/torus12.obj",
+        "--scheme",
+        "catmull-clark",
+        "--depth",
+        "2",
+        "-o",
+        &path("t.obj"),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let limit = bcifs::mesh::read_mesh(&dir.join("t.obj")).unwrap();
+    let input = bcifs::mesh::read_mesh(std::path::Path::new("tests/data/torus12.obj")).unwrap();
+    assert!(limit.is_closed());
+    assert_eq!(limit.face_count(), 16 * input.face_count());
+    // Same axes as the input: the torus lies in the file's xz plane (Blender wrote it Y-up).
+    let extent = |m: &bcifs::mesh::PolyMesh, a: usize| {
+        m.positions.iter().map(|p| p[a]).fold(f64::NEG_INFINITY, f64::max)
+            - m.positions.iter().map(|p| p[a]).fold(f64::INFINITY, f64::min)
+    };
+    assert!(extent(&limit, 1) < 0.5 * extent(&limit, 0), "the torus stays in the xz plane");
+    assert!((extent(&limit, 1) - extent(&input, 1)).abs() < 0.5 * extent(&input, 1));
+    let (code, _, err) = bcifs(&[
+        "surface",
+        "tests/data/torus12.obj",
+        "--scheme",
+        "doo-sabin",
+        "--depth",
+        "1",
+        "--net",
+        "-o",
+        &path("n.off"),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let net = bcifs::mesh::read_mesh(&dir.join("n.off")).unwrap();
+    assert_eq!(net.face_count(), input.face_count() * 4, "Doo-Sabin on a quad torus: F + E + V faces = 4F");
+    std::fs::write(dir.join("bad.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 3\n").unwrap();
+    for (args, expected) in [
+        (
+            vec!["surface", &path("bad.obj"), "--scheme", "doo-sabin", "-o", &path("bad.png")],
+            "bad.obj:5: face 1: edge 0→1 runs the same way",
+        ),
+        (
+            vec![
+                "surface",
+                "tests/data/torus12.obj",
+                "--scheme",
+                "doo-sabin",
+                "--param",
+                "alpha=1.2",
+                "-o",
+                &path("bad.png"),
+            ],
+            "alpha = 1.2",
+        ),
+        (
+            vec![
+                "surface",
+                "tests/data/torus12.obj",
+                "--scheme",
+                "catmull-clark",
+                "--param",
+                "alpha=0.5",
+                "-o",
+                &path("bad.png"),
+            ],
+            "has no parameters",
+        ),
+        (
+            vec!["surface", "tests/data/torus12.obj", "--scheme", "loop", "-o", &path("bad.png")],
+            "unknown scheme `loop`",
+        ),
+        (
+            vec!["surface", "tests/data/torus12.obj", "--scheme", "doo-sabin", "--depth", "30", "-o", &path("bad.png")],
+            "would have about",
+        ),
+    ] {
+        let (code, _, err) = bcifs(&args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(err.contains(expected), "{args:?}: {err}");
+        assert!(!dir.join("bad.png").exists(), "no output after an error");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -1,0 +1,133 @@
+//! `bcifs surface`: a user's polygon mesh subdivided by Doo-Sabin or
+//! Catmull-Clark: the limit surface, or with `--net` the control mesh.
+
+use std::path::PathBuf;
+
+use anyhow::{Context, bail};
+use bcifs::export::{ObjWriter, RasterSettings, Up, write_atomic};
+use bcifs::geometry::Sink as _;
+use bcifs::mesh::{QuadWeights, Scheme, WeightsVerdict, read_mesh};
+
+use super::render::{RenderSummary, write_shape};
+use super::{keyword, parse_params, parse_size};
+
+/// The arguments of `bcifs surface`.
+#[derive(clap::Args)]
+pub struct SurfaceArgs {
+    /// The control mesh: an OBJ or OFF file (faces of any degree, closed or with boundary).
+    pub mesh: PathBuf,
+    /// The scheme: doo-sabin or catmull-clark.
+    #[arg(long)]
+    pub scheme: String,
+    /// Doo-Sabin quad weights, NAME=VALUE for alpha (the corner), beta (the next), gamma (the previous);
+    /// defaults 9/16, 3/16, 3/16 (the opposite corner gets the rest).
+    #[arg(long = "param", value_name = "NAME=VALUE")]
+    pub params: Vec<String>,
+    /// Subdivision steps.
+    #[arg(long, default_value_t = 4)]
+    pub depth: usize,
+    /// Write the control mesh after DEPTH steps (as CGAL's Subdivision_method_3 makes it) instead of the limit surface.
+    #[arg(long)]
+    pub net: bool,
+    /// Output file: .obj, .off or .png (in the input file's axes).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// In-memory limit in MiB.
+    #[arg(long, default_value_t = 4096)]
+    pub memory_mib: usize,
+    /// Picture size in pixels, WIDTHxHEIGHT.
+    #[arg(long, default_value = "800x800")]
+    pub size: String,
+    /// View of the picture: YAW,PITCH in degrees.
+    #[arg(long, default_value = "30,35", allow_hyphen_values = true)]
+    pub view: String,
+}
+
+/// Doo-Sabin quad weights from `--param` values (others: classic).
+pub fn quad_weights(scheme: Scheme, params: &[(String, f64)]) -> anyhow::Result<Option<QuadWeights>> {
+    if params.is_empty() {
+        return Ok(None);
+    }
+    if scheme != Scheme::DooSabin {
+        bail!("{} has no parameters (the weights are the classic rules)", scheme.name());
+    }
+    let mut w = QuadWeights::CLASSIC;
+    for (name, value) in params {
+        match name.as_str() {
+            "alpha" => w.alpha = *value,
+            "beta" => w.beta = *value,
+            "gamma" => w.gamma = *value,
+            other => bail!("`{other}` is not a parameter of doo-sabin: the parameters are `alpha`, `beta`, `gamma`"),
+        }
+    }
+    Ok(Some(w))
+}
+
+/// `bcifs surface`.
+pub fn run(args: SurfaceArgs) -> anyhow::Result<u8> {
+    let started = std::time::Instant::now();
+    let scheme =
+        keyword("scheme", &args.scheme, &[("doo-sabin", Scheme::DooSabin), ("catmull-clark", Scheme::CatmullClark)])?;
+    let weights = quad_weights(scheme, &parse_params(&args.params)?)?;
+    if let Some(w) = weights {
+        match w.check()? {
+            WeightsVerdict::Converges => {}
+            WeightsVerdict::Undecided(why) => eprintln!("warning: {why}"),
+        }
+    }
+    let (w, h) = parse_size(&args.size)?;
+    let (yaw, pitch) =
+        args.view.split_once(',').with_context(|| format!("--view `{}`: expected YAW,PITCH", args.view))?;
+    let (yaw, pitch): (f64, f64) =
+        (yaw.trim().parse().context("--view yaw")?, pitch.trim().parse().context("--view pitch")?);
+    let memory = args.memory_mib.saturating_mul(1 << 20);
+    let raster = RasterSettings::default().with_size(w, h).with_view(yaw, pitch).with_memory_limit(memory);
+    let ext = args.output.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
+    if !matches!(ext.as_str(), "obj" | "off" | "png") {
+        bail!("unknown output format `{ext}`: expected .obj, .off or .png");
+    }
+    let mesh = read_mesh(&args.mesh)?;
+    let name = args.mesh.file_stem().map_or("mesh".into(), |s| s.to_string_lossy().to_string());
+    let io = |e: std::io::Error| anyhow::anyhow!("cannot write {}: {e}", args.output.display());
+    let summary = if args.net {
+        let net = mesh.subdivide_with(scheme, args.depth, weights, memory)?;
+        match ext.as_str() {
+            "obj" => write_atomic(&args.output, net.to_obj(&name, false).as_bytes()).map_err(io)?,
+            "off" => write_atomic(&args.output, net.to_off().as_bytes()).map_err(io)?,
+            _ => {
+                write_shape(&net.to_shape(&name), &name, &raster, &args.output)?;
+            }
+        }
+        RenderSummary { vertices: net.positions.len(), quads: net.face_count(), duplicates: None }
+    } else {
+        let shape = mesh.limit_with(scheme, args.depth, weights, memory)?;
+        match ext.as_str() {
+            // The input file's axes: no Y-up turn.
+            "obj" => {
+                let mut writer = ObjWriter::create(&args.output).map_err(io)?.with_up(Up::Z);
+                writer.object(&name).map_err(io)?;
+                shape.replay(&mut writer).map_err(io)?;
+                writer.finish().map_err(io)?;
+            }
+            "off" => {
+                let faces = shape.quads.iter().map(|q| q.iter().map(|&i| i as usize).collect()).collect();
+                let points = shape.positions.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect();
+                let quads = bcifs::mesh::PolyMesh::new(points, faces)?;
+                write_atomic(&args.output, quads.to_off().as_bytes()).map_err(io)?;
+            }
+            _ => {
+                write_shape(&shape, &name, &raster, &args.output)?;
+            }
+        }
+        RenderSummary { vertices: shape.vertex_count(), quads: shape.quads.len(), duplicates: None }
+    };
+    let label = format!("{name} ({}, depth {}{})", scheme.name(), args.depth, if args.net { ", net" } else { "" });
+    eprintln!(
+        "{label}: {} vertices, {} faces → {} ({:.2} s)",
+        summary.vertices,
+        summary.quads,
+        args.output.display(),
+        started.elapsed().as_secs_f64()
+    );
+    Ok(0)
+}
