@@ -77,6 +77,48 @@ fn describe(depth: Depth) -> String {
     }
 }
 
+/// Depth of the cube textures.
+const CUBE_DEPTH: usize = 5;
+
+/// The six cube textures, and one picture of them side by side (3 × 2).
+fn cube_textures() -> Vec<(String, String, GallerySource)> {
+    use bcifs::geometry::Sink as _;
+    let cube = bcifs::mesh::PolyMesh::cube();
+    let mut items = Vec::new();
+    let mut all = Shape::default();
+    for (i, &w) in bcifs::mesh::QuadWeights::TEXTURES.iter().enumerate() {
+        let (alpha, beta, gamma) = (w.alpha, w.beta, w.gamma);
+        let Ok(shape) =
+            cube.limit_with(bcifs::mesh::Scheme::DooSabin, CUBE_DEPTH, Some(w), GALLERY_BUDGET_BYTES as usize)
+        else {
+            continue;
+        };
+        let label = format!("α = {alpha}, β = {beta}, γ = {gamma}");
+        // Placed on a 3 × 2 grid, 3 units apart.
+        let (dx, dy) = (3.0 * (i % 3) as f64, -3.0 * (i / 3) as f64);
+        let first = all.vertex_count();
+        let moved: Vec<f64> = shape.positions.chunks_exact(3).flat_map(|p| [p[0] + dx, p[1] + dy, p[2]]).collect();
+        let quads: Vec<[usize; 4]> = shape.quads.iter().map(|q| q.map(|v| first + v as usize)).collect();
+        let _ = all.object(&label);
+        let _ = all.vertices(3, &moved, None);
+        let _ = all.faces(&quads, None);
+        items.push((
+            format!("cube-texture-{}", i + 1),
+            format!("the cube, Doo-Sabin-like weights {label} (seed 004 Fig. 12)"),
+            GallerySource::Shape(Box::new(shape), CUBE_DEPTH),
+        ));
+    }
+    items.insert(
+        0,
+        (
+            "cube-textures".into(),
+            "six geometric textures of the cube: Doo-Sabin-like weight triples (seed 004 Fig. 12)".into(),
+            GallerySource::Shape(Box::new(all), CUBE_DEPTH),
+        ),
+    );
+    items
+}
+
 /// What a gallery entry is made from.
 #[derive(Clone, Debug)]
 pub enum GallerySource {
@@ -110,6 +152,7 @@ pub fn gallery_items() -> Vec<(String, String, GallerySource)> {
         };
         items.push((entry, description, source));
     }
+    items.extend(cube_textures());
     for name in bcifs::schemes::IFS_NAMES {
         if let Ok(g) = bcifs::schemes::ifs_preset(name, None, None) {
             items.push((g.name().to_string(), g.description().to_string(), GallerySource::Design(Box::new(g), None)));

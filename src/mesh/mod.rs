@@ -260,6 +260,21 @@ impl PolyMesh {
         Topology::new(self, place).map(|_| ())
     }
 
+    /// The cube `[-1, 1]³`, faces counter-clockwise seen from outside
+    /// (seed 004 Fig. 12 subdivides it).
+    pub fn cube() -> PolyMesh {
+        let positions = (0..8)
+            .map(|i| {
+                let (x, y, z) =
+                    ([-1.0, 1.0, 1.0, -1.0][i % 4], [-1.0, -1.0, 1.0, 1.0][i % 4], if i < 4 { -1.0 } else { 1.0 });
+                [x, y, z]
+            })
+            .collect();
+        let faces = [[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]];
+        let starts = (0..=6).map(|f| 4 * f).collect();
+        PolyMesh::from_flat(positions, starts, faces.concat())
+    }
+
     /// Number of vertices used by faces.
     pub fn used_vertices(&self) -> usize {
         let mut used = vec![false; self.positions.len()];

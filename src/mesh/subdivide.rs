@@ -32,6 +32,19 @@ impl QuadWeights {
     /// The classic Doo-Sabin weights `(9/16, 3/16, 3/16)`, opposite `1/16`.
     pub const CLASSIC: QuadWeights = QuadWeights { alpha: 0.5625, beta: 0.1875, gamma: 0.1875 };
 
+    /// Seed 004 Fig. 12's "geometric textures" of the cube, as the gallery
+    /// draws them: the classic smooth surface, a bilinear corner cutting
+    /// (`δ = 0`), a creased one, a bulging one, a negative opposite weight and
+    /// a chiral rule (`β ≠ γ`, rough). Each passes [`QuadWeights::check`].
+    pub const TEXTURES: [QuadWeights; 6] = [
+        QuadWeights::CLASSIC,
+        QuadWeights { alpha: 0.5, beta: 0.25, gamma: 0.25 },
+        QuadWeights { alpha: 0.3, beta: 0.3, gamma: 0.3 },
+        QuadWeights { alpha: 0.7, beta: 0.1, gamma: 0.1 },
+        QuadWeights { alpha: 0.6, beta: 0.35, gamma: 0.35 },
+        QuadWeights { alpha: 0.45, beta: 0.35, gamma: 0.1 },
+    ];
+
     /// The weight of the opposite corner.
     pub fn delta(&self) -> f64 {
         1.0 - self.alpha - self.beta - self.gamma

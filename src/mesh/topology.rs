@@ -3,8 +3,6 @@
 //! vertex to the next one of the face. Its twin runs the other way in the
 //! neighbouring face, or is [`BORDER`].
 
-use std::collections::HashMap;
-
 use super::{MeshError, Place, PolyMesh};
 
 /// The twin of a border half-edge.
@@ -40,28 +38,43 @@ impl Topology {
             face[mesh.starts[f]..mesh.starts[f + 1]].iter_mut().for_each(|x| *x = f);
         }
         let next = |c: usize| if c + 1 == mesh.starts[face[c] + 1] { mesh.starts[face[c]] } else { c + 1 };
-        // Undirected uses per edge first: three faces is non-manifold, two the same way is orientation.
-        let mut uses: HashMap<(usize, usize), (u32, usize)> = HashMap::with_capacity(corners);
-        for c in 0..corners {
-            let (a, b) = (mesh.indices[c], mesh.indices[next(c)]);
-            let e = uses.entry((a.min(b), a.max(b))).or_insert((0, c));
-            e.0 += 1;
-            if e.0 > 2 {
-                return Err(MeshError::NonManifoldEdge { place: place(face[c]), a, b, count: e.0 as usize });
-            }
+        // Outgoing corners per vertex (a counting sort), to find each half-edge's twin among few.
+        let nv = mesh.positions.len();
+        let mut out_start = vec![0usize; nv + 1];
+        mesh.indices.iter().for_each(|&v| out_start[v + 1] += 1);
+        for v in 0..nv {
+            out_start[v + 1] += out_start[v];
         }
-        let mut half: HashMap<(usize, usize), usize> = HashMap::with_capacity(corners);
+        let mut fill = out_start.clone();
+        let mut out = vec![0usize; corners];
         for c in 0..corners {
-            let (a, b) = (mesh.indices[c], mesh.indices[next(c)]);
-            if let Some(&other) = half.get(&(a, b)) {
-                return Err(MeshError::Orientation { place: place(face[c]), a, b, other: place(face[other]) });
-            }
-            half.insert((a, b), c);
+            let v = mesh.indices[c];
+            out[fill[v]] = c;
+            fill[v] += 1;
         }
+        let ends = |a: usize, b: usize| {
+            out[out_start[a]..out_start[a + 1]].iter().copied().filter(move |&d| mesh.indices[next(d)] == b)
+        };
         let mut twin = vec![BORDER; corners];
         for c in 0..corners {
             let (a, b) = (mesh.indices[c], mesh.indices[next(c)]);
-            if let Some(&t) = half.get(&(b, a)) {
+            let (same, back) = (ends(a, b).count(), ends(b, a).count());
+            if same + back > 2 {
+                // Named at the face that comes last in the file: the one too many.
+                let last = ends(a, b).chain(ends(b, a)).map(|d| face[d]).max().unwrap_or(face[c]);
+                return Err(MeshError::NonManifoldEdge {
+                    place: place(last),
+                    a: a.min(b),
+                    b: a.max(b),
+                    count: same + back,
+                });
+            }
+            if same > 1 {
+                let other = ends(a, b).find(|&d| d != c).unwrap_or(c);
+                let (first, second) = (c.min(other), c.max(other));
+                return Err(MeshError::Orientation { place: place(face[second]), a, b, other: place(face[first]) });
+            }
+            if let Some(t) = ends(b, a).next() {
                 twin[c] = t;
             }
         }
@@ -95,16 +108,18 @@ impl Topology {
                 topology.first[v] = c;
             }
         }
-        let mut fans: HashMap<usize, Vec<usize>> = HashMap::new();
-        for c in 0..corners {
-            let r = root(&mut parent, c);
-            let roots = fans.entry(mesh.indices[c]).or_default();
-            if !roots.contains(&r) {
-                roots.push(r);
+        let mut roots = Vec::new();
+        for v in 0..nv {
+            roots.clear();
+            for &c in &out[out_start[v]..out_start[v + 1]] {
+                let r = root(&mut parent, c);
+                if !roots.contains(&r) {
+                    roots.push(r);
+                }
             }
-        }
-        if let Some((&v, roots)) = fans.iter().filter(|(_, r)| r.len() > 1).min_by_key(|(v, _)| **v) {
-            return Err(MeshError::NonManifoldVertex(v, roots.len()));
+            if roots.len() > 1 {
+                return Err(MeshError::NonManifoldVertex(v, roots.len()));
+            }
         }
         Ok(topology)
     }

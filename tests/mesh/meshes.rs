@@ -249,3 +249,27 @@ fn directed(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
         .fold(0.0, f64::max)
         .sqrt()
 }
+
+/// Weights: the classic ones and the mirror-symmetric textures of Fig. 12
+/// converge by the regular patch's joint spectral radius bounds; the chiral
+/// one passes the face rule's eigenvalue test and is undecided beyond it;
+/// weights whose face rule expands are refused, naming them.
+#[test]
+fn doo_sabin_weights_are_checked() {
+    use bcifs::mesh::{QuadWeights, WeightsVerdict};
+    for w in QuadWeights::TEXTURES {
+        let verdict = w.check().unwrap_or_else(|e| panic!("{w:?}: {e}"));
+        if w.beta == w.gamma {
+            assert_eq!(verdict, WeightsVerdict::Converges, "{w:?}");
+        } else {
+            assert!(matches!(verdict, WeightsVerdict::Undecided(_)), "{w:?}");
+        }
+    }
+    // Classic: the face rule's eigenvalues are 1/2 (twice) and 1/4.
+    let [l1, l2, _] = QuadWeights::CLASSIC.face_eigenvalues();
+    assert!((l1 - 0.5).abs() < 1e-15 && (l2 - 0.25).abs() < 1e-15);
+    let e = QuadWeights { alpha: 0.9, beta: 0.2, gamma: 0.2 }.check().unwrap_err().to_string();
+    assert!(e.contains("alpha = 0.9") && e.contains("diverges"), "{e}");
+    let e = QuadWeights { alpha: f64::NAN, beta: 0.2, gamma: 0.2 }.check().unwrap_err().to_string();
+    assert!(e.contains("alpha = NaN"), "{e}");
+}
