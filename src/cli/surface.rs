@@ -4,11 +4,10 @@
 use std::path::PathBuf;
 
 use anyhow::{Context, bail};
-use bcifs::export::{ObjWriter, RasterSettings, Up, write_atomic};
-use bcifs::geometry::Sink as _;
-use bcifs::mesh::{QuadWeights, Scheme, WeightsVerdict, read_mesh};
+use bcifs::export::{AtomicFile, RasterSettings};
+use bcifs::mesh::{MeshFormat, QuadWeights, Scheme, WeightsVerdict, Written, read_mesh};
 
-use super::render::{RenderSummary, write_shape};
+use super::render::write_shape;
 use super::{keyword, parse_params, parse_size};
 
 /// The arguments of `bcifs surface`.
@@ -89,43 +88,27 @@ pub fn run(args: SurfaceArgs) -> anyhow::Result<u8> {
     let mesh = read_mesh(&args.mesh)?;
     let name = args.mesh.file_stem().map_or("mesh".into(), |s| s.to_string_lossy().to_string());
     let io = |e: std::io::Error| anyhow::anyhow!("cannot write {}: {e}", args.output.display());
-    let summary = if args.net {
-        let net = mesh.subdivide_with(scheme, args.depth, weights, memory)?;
-        match ext.as_str() {
-            "obj" => write_atomic(&args.output, net.to_obj(&name, false).as_bytes()).map_err(io)?,
-            "off" => write_atomic(&args.output, net.to_off().as_bytes()).map_err(io)?,
-            _ => {
-                write_shape(&net.to_shape(&name), &name, &raster, &args.output)?;
-            }
-        }
-        RenderSummary { vertices: net.positions.len(), quads: net.face_count(), duplicates: None }
+    let summary = if ext == "png" {
+        let shape = if args.net {
+            mesh.subdivide_with(scheme, args.depth, weights, memory)?.to_shape(&name)
+        } else {
+            mesh.limit_with(scheme, args.depth, weights, memory)?
+        };
+        write_shape(&shape, &name, &raster, &args.output)?;
+        Written { vertices: shape.vertex_count(), faces: shape.quads.len() + shape.triangles.len() }
     } else {
-        let shape = mesh.limit_with(scheme, args.depth, weights, memory)?;
-        match ext.as_str() {
-            // The input file's axes: no Y-up turn.
-            "obj" => {
-                let mut writer = ObjWriter::create(&args.output).map_err(io)?.with_up(Up::Z);
-                writer.object(&name).map_err(io)?;
-                shape.replay(&mut writer).map_err(io)?;
-                writer.finish().map_err(io)?;
-            }
-            "off" => {
-                let faces = shape.quads.iter().map(|q| q.iter().map(|&i| i as usize).collect()).collect();
-                let points = shape.positions.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect();
-                let quads = bcifs::mesh::PolyMesh::new(points, faces)?;
-                write_atomic(&args.output, quads.to_off().as_bytes()).map_err(io)?;
-            }
-            _ => {
-                write_shape(&shape, &name, &raster, &args.output)?;
-            }
-        }
-        RenderSummary { vertices: shape.vertex_count(), quads: shape.quads.len(), duplicates: None }
+        // Streamed through a temporary file renamed at the end, in the input file's axes.
+        let format = if ext == "obj" { MeshFormat::Obj(&name) } else { MeshFormat::Off };
+        let mut file = AtomicFile::create(&args.output).map_err(io)?;
+        let written = mesh.write_subdivided(scheme, args.depth, weights, !args.net, format, file.writer(), memory)?;
+        file.commit().map_err(io)?;
+        written
     };
     let label = format!("{name} ({}, depth {}{})", scheme.name(), args.depth, if args.net { ", net" } else { "" });
     eprintln!(
         "{label}: {} vertices, {} faces → {} ({:.2} s)",
         summary.vertices,
-        summary.quads,
+        summary.faces,
         args.output.display(),
         started.elapsed().as_secs_f64()
     );

@@ -10,9 +10,9 @@
 //! opposite corners `f_j` of its quads), `(u + 4v + w)/6` on the border (the
 //! cubic B-spline of the boundary polygon); the quads are the net's.
 
-use super::subdivide::QuadWeights;
+use super::subdivide::{Builder, QuadWeights};
 use super::topology::{BORDER, Topology};
-use super::{MeshError, Place, PolyMesh, Scheme};
+use super::{MeshError, PolyMesh, Scheme};
 use crate::geometry::{Shape, Sink};
 
 impl PolyMesh {
@@ -37,11 +37,20 @@ impl PolyMesh {
         quad: Option<QuadWeights>,
         memory_limit: usize,
     ) -> Result<Shape, MeshError> {
-        let net = self.subdivide_with(scheme, depth.max(1), quad, memory_limit)?;
-        let t = Topology::new(&net, &|face| Place { file: None, line: None, face })?;
         let (points, quads) = match scheme {
-            Scheme::DooSabin => dual_of_centroids(&net, &t),
-            Scheme::CatmullClark => catmull_clark_limit(&net, &t),
+            Scheme::DooSabin => {
+                let net = self.subdivide_with(scheme, depth.max(1) - 1, quad, memory_limit)?;
+                let t = Topology::trusted(&net);
+                let mut out = Builder::with_capacity(net.face_count() * 3, 4 * net.corner_count());
+                // Writing into memory cannot fail.
+                let _ = net.doo_sabin_limit_into(&t, quad, &mut out);
+                let dual = out.finish();
+                (dual.positions.clone(), dual.faces().map(|f| [f[0], f[1], f[2], f[3]]).collect())
+            }
+            Scheme::CatmullClark => {
+                let net = self.subdivide_with(scheme, depth.max(1), quad, memory_limit)?;
+                catmull_clark_limit(&net, &Topology::trusted(&net))
+            }
         };
         let mut shape = Shape::default();
         // Writing into memory cannot fail.
@@ -53,44 +62,18 @@ impl PolyMesh {
     }
 }
 
-fn dual_of_centroids(net: &PolyMesh, t: &Topology) -> (Vec<[f64; 3]>, Vec<[usize; 4]>) {
-    let points: Vec<[f64; 3]> = net
-        .faces()
-        .map(|face| {
-            let mut c = [0.0; 3];
-            for &v in face {
-                (0..3).for_each(|a| c[a] += net.positions[v][a]);
-            }
-            c.map(|x| x / face.len() as f64)
-        })
-        .collect();
-    let mut quads = Vec::new();
-    for v in 0..net.positions.len() {
-        let c0 = t.first[v];
-        if c0 == BORDER || t.on_border[v] {
-            continue;
-        }
-        let c1 = t.rotate(net, c0);
-        let c2 = t.rotate(net, c1);
-        let c3 = t.rotate(net, c2);
-        debug_assert_eq!(t.rotate(net, c3), c0, "interior vertices of a Doo-Sabin net have four faces");
-        quads.push([t.face[c0], t.face[c1], t.face[c2], t.face[c3]]);
-    }
-    (points, quads)
-}
-
 fn catmull_clark_limit(net: &PolyMesh, t: &Topology) -> (Vec<[f64; 3]>, Vec<[usize; 4]>) {
     let p = |c: usize| net.positions[net.indices[c]];
     let mut points = Vec::with_capacity(net.positions.len());
     for v in 0..net.positions.len() {
         let x = net.positions[v];
-        let c0 = t.first[v];
+        let c0 = t.first(v);
         if c0 == BORDER {
             points.push(x);
             continue;
         }
         let mut out = [0.0; 3];
-        if t.on_border[v] {
+        if t.on_border(v) {
             let w = p(t.next(net, c0));
             let mut last = c0;
             while t.rotate(net, last) != BORDER {

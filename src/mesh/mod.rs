@@ -24,6 +24,7 @@
 
 mod limit;
 mod read;
+mod stream;
 mod subdivide;
 mod topology;
 mod write;
@@ -31,6 +32,7 @@ mod write;
 use std::fmt;
 
 pub use read::{read_mesh, read_obj, read_off};
+pub use stream::{MeshFormat, Written};
 pub use subdivide::{QuadWeights, WeightsVerdict};
 pub use topology::{BORDER, Topology};
 
@@ -170,6 +172,9 @@ pub enum MeshError {
     /// Faces around a vertex that form more than one fan (two cones touching at a point).
     #[error("vertex {0} is not a manifold vertex: its faces form {1} separate fans")]
     NonManifoldVertex(usize, usize),
+    /// Writing the output failed.
+    #[error("cannot write the mesh: {0}")]
+    Write(std::io::Error),
     /// Doo-Sabin weights outside the convergence domain, or not numbers.
     #[error("Doo-Sabin weights {0}")]
     Weights(String),
@@ -284,7 +289,7 @@ impl PolyMesh {
 
     /// Whether every edge is in two faces.
     pub fn is_closed(&self) -> bool {
-        Topology::new(self, &|face| Place { file: None, line: None, face }).is_ok_and(|t| t.boundary_edges() == 0)
+        Topology::trusted(self).boundary_edges() == 0
     }
 
     /// The signed volume enclosed (positive when a closed mesh faces outwards).

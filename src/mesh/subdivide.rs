@@ -12,9 +12,10 @@
 //! border, edge points are midpoints and vertex points `(u + 6v + w)/8`.
 
 use std::f64::consts::PI;
+use std::io;
 
 use super::topology::{BORDER, Topology};
-use super::{MeshError, Place, PolyMesh, Scheme};
+use super::{MeshError, PolyMesh, Scheme};
 
 /// Weights of the Doo-Sabin-like quad rule: the corner, the next corner,
 /// the previous corner; the opposite one gets `1 − α − β − γ`.
@@ -108,7 +109,7 @@ impl PolyMesh {
         }
         let mut mesh = self.clone();
         for _ in 0..depth {
-            let topology = Topology::new(&mesh, &|face| Place { file: None, line: None, face })?;
+            let topology = Topology::trusted(&mesh);
             mesh = match scheme {
                 Scheme::DooSabin => mesh.doo_sabin_step(&topology, quad),
                 Scheme::CatmullClark => mesh.catmull_clark_step(&topology),
@@ -133,72 +134,176 @@ impl PolyMesh {
     }
 
     fn doo_sabin_step(&self, t: &Topology, quad: Option<QuadWeights>) -> PolyMesh {
-        let corners = self.corner_count();
-        let mut positions = vec![[0.0; 3]; corners];
-        let mut weights: Vec<Vec<f64>> = Vec::new();
-        for f in 0..self.face_count() {
-            let face = self.face(f);
-            let n = face.len();
-            if weights.len() <= n {
-                weights.resize(n + 1, Vec::new());
-            }
-            if weights[n].is_empty() {
-                weights[n] = match (n, quad) {
-                    (4, Some(q)) => vec![q.alpha, q.beta, q.delta(), q.gamma],
-                    _ => doo_sabin_weights(n),
-                };
-            }
-            let w = &weights[n];
-            for i in 0..n {
-                let p = &mut positions[self.starts[f] + i];
-                for (k, wk) in w.iter().enumerate() {
-                    add(p, self.positions[face[(i + k) % n]], *wk);
-                }
-            }
-        }
-        let mut starts = self.starts.clone();
-        let mut indices = self.indices.clone();
-        indices.iter_mut().enumerate().for_each(|(c, x)| *x = c);
-        // An E-face per interior edge: [next(c), c, next(t), t].
-        for c in 0..corners {
-            let tw = t.twin[c];
-            if tw != BORDER && c < tw {
-                indices.extend([t.next(self, c), c, t.next(self, tw), tw]);
-                starts.push(indices.len());
-            }
-        }
-        // A V-face per interior vertex: its corners in rotation order.
-        for v in 0..self.positions.len() {
-            let c0 = t.first[v];
-            if c0 == BORDER || t.on_border[v] {
-                continue;
-            }
-            let mut c = c0;
-            loop {
-                indices.push(c);
-                c = t.rotate(self, c);
-                if c == c0 {
-                    break;
-                }
-            }
-            starts.push(indices.len());
-        }
-        PolyMesh::from_flat(positions, starts, indices)
+        let mut out = Builder::with_capacity(self.corner_count(), 4 * self.corner_count());
+        // Writing into memory cannot fail.
+        let _ = self.doo_sabin_into(t, quad, &mut out);
+        out.finish()
     }
 
     fn catmull_clark_step(&self, t: &Topology) -> PolyMesh {
-        let (nv, nf, corners) = (self.positions.len(), self.face_count(), self.corner_count());
-        // Face points.
-        let mut face_points = vec![[0.0; 3]; nf];
-        for (f, fp) in face_points.iter_mut().enumerate() {
-            let face = self.face(f);
-            face.iter().for_each(|&v| add(fp, self.positions[v], 1.0 / face.len() as f64));
+        let mut out = Builder::with_capacity(self.positions.len() + self.corner_count(), 4 * self.corner_count());
+        let _ = self.catmull_clark_into(t, &mut out);
+        out.finish()
+    }
+
+    /// The new position of corner `c` of face `f` (Doo-Sabin).
+    #[inline]
+    fn corner_point(&self, f: usize, i: usize, weights: &[f64]) -> [f64; 3] {
+        let face = self.face(f);
+        let n = face.len();
+        let mut p = [0.0; 3];
+        for (k, wk) in weights.iter().enumerate() {
+            add(&mut p, self.positions[face[(i + k) % n]], *wk);
         }
-        // Edges: one per interior pair of half-edges (the smaller corner) or border half-edge.
-        let mut edge_of = vec![0usize; corners];
-        let mut edge_points: Vec<[f64; 3]> = Vec::with_capacity(corners / 2 + 1);
+        p
+    }
+
+    /// One Doo-Sabin step into `out`: the corners' points face by face (so
+    /// the vertices are numbered as the corners), then the faces of the
+    /// faces, of the interior edges and of the interior vertices.
+    pub(crate) fn doo_sabin_into(
+        &self,
+        t: &Topology,
+        quad: Option<QuadWeights>,
+        out: &mut dyn MeshOut,
+    ) -> io::Result<()> {
+        let weights = Weights::new(quad);
+        for f in 0..self.face_count() {
+            let n = self.face(f).len();
+            let w = weights.of(n);
+            for i in 0..n {
+                out.vertex(self.corner_point(f, i, &w))?;
+            }
+        }
+        for f in 0..self.face_count() {
+            out.face(&mut (self.starts[f]..self.starts[f + 1]))?;
+        }
+        for c in 0..self.corner_count() {
+            let tw = t.twin(c);
+            if tw != BORDER && c < tw {
+                out.face(&mut [t.next(self, c), c, t.next(self, tw), tw].into_iter())?;
+            }
+        }
+        for v in 0..self.positions.len() {
+            let c0 = t.first(v);
+            if c0 != BORDER && !t.on_border(v) {
+                out.face(&mut Rotation { mesh: self, t, first: c0, at: Some(c0) })?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Doo-Sabin's limit after one more step, straight from this net:
+    /// the centroids of the next net's faces (a face keeps its centroid, the
+    /// edges' and vertices' faces are made of corner points), and a quad per
+    /// corner at an interior vertex, around the next net's vertex there:
+    /// `[F(face), E(previous edge), V(vertex), E(edge)]`.
+    pub(crate) fn doo_sabin_limit_into(
+        &self,
+        t: &Topology,
+        quad: Option<QuadWeights>,
+        out: &mut dyn MeshOut,
+    ) -> io::Result<()> {
+        let weights = Weights::new(quad);
+        let point = |c: usize| {
+            let f = t.face(c);
+            self.corner_point(f, c - self.starts[f], &weights.of(self.face(f).len()))
+        };
+        let nf = self.face_count();
+        for f in 0..nf {
+            let face = self.face(f);
+            let mut p = [0.0; 3];
+            face.iter().for_each(|&v| add(&mut p, self.positions[v], 1.0 / face.len() as f64));
+            out.vertex(p)?;
+        }
+        // Edge faces, numbered in corner order; both half-edges know the number.
+        let mut edge = vec![u32::MAX; self.corner_count()];
+        let mut count = 0u32;
+        for c in 0..self.corner_count() {
+            let tw = t.twin(c);
+            if tw != BORDER && c < tw {
+                let mut p = [0.0; 3];
+                for q in [t.next(self, c), c, t.next(self, tw), tw] {
+                    add(&mut p, point(q), 0.25);
+                }
+                out.vertex(p)?;
+                (edge[c], edge[tw]) = (count, count);
+                count += 1;
+            }
+        }
+        let mut vertex = vec![u32::MAX; self.positions.len()];
+        let mut interior = 0u32;
+        for v in 0..self.positions.len() {
+            let c0 = t.first(v);
+            if c0 != BORDER && !t.on_border(v) {
+                let corners: Vec<usize> = Rotation { mesh: self, t, first: c0, at: Some(c0) }.collect();
+                let mut p = [0.0; 3];
+                corners.iter().for_each(|&c| add(&mut p, point(c), 1.0 / corners.len() as f64));
+                out.vertex(p)?;
+                vertex[v] = interior;
+                interior += 1;
+            }
+        }
+        let (e0, v0) = (nf, nf + count as usize);
+        for c in 0..self.corner_count() {
+            let v = self.indices[c];
+            if vertex[v] != u32::MAX {
+                let p = t.prev(self, c);
+                let quad = [t.face(c), e0 + edge[p] as usize, v0 + vertex[v] as usize, e0 + edge[c] as usize];
+                out.face(&mut quad.into_iter())?;
+            }
+        }
+        Ok(())
+    }
+
+    /// One Catmull-Clark step into `out`: vertex points, edge points (in
+    /// corner order), face points; a quad per corner.
+    pub(crate) fn catmull_clark_into(&self, t: &Topology, out: &mut dyn MeshOut) -> io::Result<()> {
+        let (nv, nf, corners) = (self.positions.len(), self.face_count(), self.corner_count());
+        let centroid = |f: usize| {
+            let face = self.face(f);
+            let mut p = [0.0; 3];
+            face.iter().for_each(|&v| add(&mut p, self.positions[v], 1.0 / face.len() as f64));
+            p
+        };
+        let face_points: Vec<[f64; 3]> = (0..nf).map(centroid).collect();
+        for v in 0..nv {
+            let p = self.positions[v];
+            let c0 = t.first(v);
+            if c0 == BORDER {
+                out.vertex(p)?; // unused by any face: kept as is
+                continue;
+            }
+            if t.on_border(v) {
+                // The fan runs from the border half-edge going out (to w) to the one coming in (from u).
+                let w = self.positions[self.indices[t.next(self, c0)]];
+                let last = Rotation { mesh: self, t, first: c0, at: Some(c0) }.last().unwrap_or(c0);
+                let u = self.positions[self.indices[t.prev(self, last)]];
+                let mut q = [0.0; 3];
+                add(&mut q, u, 1.0 / 8.0);
+                add(&mut q, p, 6.0 / 8.0);
+                add(&mut q, w, 1.0 / 8.0);
+                out.vertex(q)?;
+                continue;
+            }
+            let (mut q, mut r, mut n) = ([0.0; 3], [0.0; 3], 0usize);
+            for c in (Rotation { mesh: self, t, first: c0, at: Some(c0) }) {
+                add(&mut q, face_points[t.face(c)], 1.0);
+                add(&mut r, p, 0.5);
+                add(&mut r, self.positions[self.indices[t.next(self, c)]], 0.5);
+                n += 1;
+            }
+            let nf64 = n as f64;
+            let mut o = [0.0; 3];
+            add(&mut o, q, 1.0 / nf64 / nf64);
+            add(&mut o, r, 2.0 / nf64 / nf64);
+            add(&mut o, p, (nf64 - 3.0) / nf64);
+            out.vertex(o)?;
+        }
+        let mut edge_of = vec![0u32; corners];
+        let mut edges = 0u32;
         for c in 0..corners {
-            let tw = t.twin[c];
+            let tw = t.twin(c);
             if tw != BORDER && tw < c {
                 continue;
             }
@@ -208,69 +313,111 @@ impl PolyMesh {
                 add(&mut p, a, 0.5);
                 add(&mut p, b, 0.5);
             } else {
-                for q in [a, b, face_points[t.face[c]], face_points[t.face[tw]]] {
+                for q in [a, b, face_points[t.face(c)], face_points[t.face(tw)]] {
                     add(&mut p, q, 0.25);
                 }
-                edge_of[tw] = nv + edge_points.len();
+                edge_of[tw] = edges;
             }
-            edge_of[c] = nv + edge_points.len();
-            edge_points.push(p);
+            edge_of[c] = edges;
+            edges += 1;
+            out.vertex(p)?;
         }
-        // Vertex points.
-        let mut positions = Vec::with_capacity(nv + edge_points.len() + nf);
-        for v in 0..nv {
-            let p = self.positions[v];
-            let c0 = t.first[v];
-            if c0 == BORDER {
-                positions.push(p); // unused by any face: kept as is
-                continue;
-            }
-            if t.on_border[v] {
-                // The fan runs from the border half-edge going out (to w) to the one coming in (from u).
-                let w = self.positions[self.indices[t.next(self, c0)]];
-                let mut last = c0;
-                while t.rotate(self, last) != BORDER {
-                    last = t.rotate(self, last);
-                }
-                let u = self.positions[self.indices[t.prev(self, last)]];
-                let mut q = [0.0; 3];
-                add(&mut q, u, 1.0 / 8.0);
-                add(&mut q, p, 6.0 / 8.0);
-                add(&mut q, w, 1.0 / 8.0);
-                positions.push(q);
-                continue;
-            }
-            let (mut q, mut r, mut n) = ([0.0; 3], [0.0; 3], 0usize);
-            let mut c = c0;
-            loop {
-                add(&mut q, face_points[t.face[c]], 1.0);
-                add(&mut r, p, 0.5);
-                add(&mut r, self.positions[self.indices[t.next(self, c)]], 0.5);
-                n += 1;
-                c = t.rotate(self, c);
-                if c == c0 {
-                    break;
-                }
-            }
-            let nf64 = n as f64;
-            let mut out = [0.0; 3];
-            add(&mut out, q, 1.0 / nf64 / nf64);
-            add(&mut out, r, 2.0 / nf64 / nf64);
-            add(&mut out, p, (nf64 - 3.0) / nf64);
-            positions.push(out);
+        for p in &face_points {
+            out.vertex(*p)?;
         }
-        positions.extend(edge_points);
-        let face_base = positions.len();
-        positions.extend(face_points);
-        let mut starts = Vec::with_capacity(corners + 1);
-        let mut indices = Vec::with_capacity(4 * corners);
-        starts.push(0);
+        let (e0, f0) = (nv, nv + edges as usize);
         for c in 0..corners {
-            let f = t.face[c];
-            indices.extend([self.indices[c], edge_of[c], face_base + f, edge_of[t.prev(self, c)]]);
-            starts.push(indices.len());
+            let quad =
+                [self.indices[c], e0 + edge_of[c] as usize, f0 + t.face(c), e0 + edge_of[t.prev(self, c)] as usize];
+            out.face(&mut quad.into_iter())?;
         }
-        PolyMesh::from_flat(positions, starts, indices)
+        Ok(())
+    }
+}
+
+/// The weights of the Doo-Sabin corner rule by face degree, computed once.
+struct Weights {
+    quad: Option<QuadWeights>,
+    by_degree: std::cell::RefCell<Vec<std::rc::Rc<[f64]>>>,
+}
+
+impl Weights {
+    fn new(quad: Option<QuadWeights>) -> Weights {
+        Weights { quad, by_degree: std::cell::RefCell::new(Vec::new()) }
+    }
+
+    fn of(&self, n: usize) -> std::rc::Rc<[f64]> {
+        let mut table = self.by_degree.borrow_mut();
+        if table.len() <= n {
+            table.resize(n + 1, std::rc::Rc::from(Vec::new()));
+        }
+        if table[n].is_empty() {
+            table[n] = match (n, self.quad) {
+                (4, Some(q)) => vec![q.alpha, q.beta, q.delta(), q.gamma],
+                _ => doo_sabin_weights(n),
+            }
+            .into();
+        }
+        table[n].clone()
+    }
+}
+
+/// The outgoing corners around a vertex, from `first` by the rotation, to
+/// the border or back to `first`.
+struct Rotation<'a> {
+    mesh: &'a PolyMesh,
+    t: &'a Topology,
+    first: usize,
+    at: Option<usize>,
+}
+
+impl Iterator for Rotation<'_> {
+    type Item = usize;
+    fn next(&mut self) -> Option<usize> {
+        let c = self.at?;
+        let r = self.t.rotate(self.mesh, c);
+        self.at = (r != BORDER && r != self.first).then_some(r);
+        Some(c)
+    }
+}
+
+/// Where a subdivision step writes its mesh: vertices (numbered from 0 in
+/// order), then faces of those numbers.
+pub(crate) trait MeshOut {
+    /// A vertex.
+    fn vertex(&mut self, p: [f64; 3]) -> io::Result<()>;
+    /// A face, its vertices counter-clockwise.
+    fn face(&mut self, vertices: &mut dyn Iterator<Item = usize>) -> io::Result<()>;
+}
+
+/// A mesh built in memory.
+pub(crate) struct Builder {
+    positions: Vec<[f64; 3]>,
+    starts: Vec<usize>,
+    indices: Vec<usize>,
+}
+
+impl Builder {
+    pub(crate) fn with_capacity(vertices: usize, corners: usize) -> Builder {
+        let mut starts = Vec::with_capacity(corners / 3 + 2);
+        starts.push(0);
+        Builder { positions: Vec::with_capacity(vertices), starts, indices: Vec::with_capacity(corners) }
+    }
+
+    pub(crate) fn finish(self) -> PolyMesh {
+        PolyMesh::from_flat(self.positions, self.starts, self.indices)
+    }
+}
+
+impl MeshOut for Builder {
+    fn vertex(&mut self, p: [f64; 3]) -> io::Result<()> {
+        self.positions.push(p);
+        Ok(())
+    }
+    fn face(&mut self, vertices: &mut dyn Iterator<Item = usize>) -> io::Result<()> {
+        self.indices.extend(vertices);
+        self.starts.push(self.indices.len());
+        Ok(())
     }
 }
 

@@ -1,27 +1,33 @@
-//! The half-edge structure of a polygon mesh, checked: corner `c` of face
-//! `f` (the `i`-th) is `starts[f] + i`; it is also the half-edge from its
-//! vertex to the next one of the face. Its twin runs the other way in the
-//! neighbouring face, or is [`BORDER`].
+//! The half-edge structure of a polygon mesh: corner `c` of face `f` (the
+//! `i`-th) is `starts[f] + i`; it is also the half-edge from its vertex to
+//! the next one of the face. Its twin runs the other way in the
+//! neighbouring face, or is [`BORDER`]. Stored in 32 bits (a mesh in memory
+//! has fewer than 2³² corners), so a deep net's structure costs 9 bytes a
+//! corner.
 
 use super::{MeshError, Place, PolyMesh};
 
-/// The twin of a border half-edge.
+/// The twin of a border half-edge, and the first corner of an unused vertex.
 pub const BORDER: usize = usize::MAX;
 
-/// Half-edges of a checked mesh.
+const NONE: u32 = u32::MAX;
+
+/// Half-edges of a mesh.
 #[derive(Clone, Debug)]
 pub struct Topology {
     /// Face of each corner.
-    pub face: Vec<usize>,
-    /// Twin half-edge of each corner, or [`BORDER`].
-    pub twin: Vec<usize>,
-    /// Per vertex: an outgoing corner (for a border vertex, the one whose
-    /// half-edge is on the border: the rotation [`Topology::rotate`] walks its
-    /// fan from there to the corner whose incoming half-edge is on the
-    /// border), or `BORDER` when unused.
-    pub first: Vec<usize>,
+    face: Vec<u32>,
+    /// Twin half-edge of each corner, or `NONE`.
+    twin: Vec<u32>,
+    /// Per vertex: an outgoing corner, or `NONE` when unused.
+    first: Vec<u32>,
     /// Per vertex: on the border.
-    pub on_border: Vec<bool>,
+    on_border: Vec<bool>,
+}
+
+#[inline]
+fn wide(x: u32) -> usize {
+    if x == NONE { BORDER } else { x as usize }
 }
 
 impl Topology {
@@ -29,124 +35,179 @@ impl Topology {
     /// consistently oriented, every vertex a single fan.
     ///
     /// # Errors
-    /// The first problem found, its face named by `place`.
-    #[allow(clippy::needless_range_loop)] // a corner indexes several arrays at once
+    /// The first problem found, its face named by `place`; a mesh too large
+    /// for 32-bit corner numbers.
     pub fn new(mesh: &PolyMesh, place: &dyn Fn(usize) -> Place) -> Result<Topology, MeshError> {
+        Topology::build(mesh, Some(place))
+    }
+
+    /// The half-edges of a mesh known to be valid (made by subdividing a
+    /// checked one): no checks, less memory.
+    pub(crate) fn trusted(mesh: &PolyMesh) -> Topology {
+        // Without checks the only failure is the size, excluded by the memory estimate.
+        Topology::build(mesh, None).unwrap_or_else(|_| Topology {
+            face: Vec::new(),
+            twin: Vec::new(),
+            first: Vec::new(),
+            on_border: Vec::new(),
+        })
+    }
+
+    #[allow(clippy::needless_range_loop)] // a corner indexes several arrays at once
+    fn build(mesh: &PolyMesh, check: Option<&dyn Fn(usize) -> Place>) -> Result<Topology, MeshError> {
         let corners = mesh.corner_count();
-        let mut face = vec![0; corners];
-        for f in 0..mesh.face_count() {
-            face[mesh.starts[f]..mesh.starts[f + 1]].iter_mut().for_each(|x| *x = f);
-        }
-        let next = |c: usize| if c + 1 == mesh.starts[face[c] + 1] { mesh.starts[face[c]] } else { c + 1 };
-        // Outgoing corners per vertex (a counting sort), to find each half-edge's twin among few.
         let nv = mesh.positions.len();
-        let mut out_start = vec![0usize; nv + 1];
+        if corners >= NONE as usize || nv >= NONE as usize {
+            return Err(MeshError::TooLarge {
+                what: "a mesh with 2^32 corners",
+                depth: 0,
+                faces: mesh.face_count() as u128,
+                bytes: corners as u128 * 9,
+                limit: 0,
+            });
+        }
+        let mut face = vec![0u32; corners];
+        for f in 0..mesh.face_count() {
+            face[mesh.starts[f]..mesh.starts[f + 1]].iter_mut().for_each(|x| *x = f as u32);
+        }
+        let next = |c: usize| {
+            let f = face[c] as usize;
+            if c + 1 == mesh.starts[f + 1] { mesh.starts[f] } else { c + 1 }
+        };
+        // Outgoing corners per vertex (a counting sort), to find each half-edge's twin among few.
+        let mut out_start = vec![0u32; nv + 1];
         mesh.indices.iter().for_each(|&v| out_start[v + 1] += 1);
         for v in 0..nv {
             out_start[v + 1] += out_start[v];
         }
-        let mut fill = out_start.clone();
-        let mut out = vec![0usize; corners];
-        for c in 0..corners {
-            let v = mesh.indices[c];
-            out[fill[v]] = c;
-            fill[v] += 1;
+        let mut out = vec![0u32; corners];
+        {
+            let mut fill: Vec<u32> = out_start[..nv].to_vec();
+            for c in 0..corners {
+                let v = mesh.indices[c];
+                out[fill[v] as usize] = c as u32;
+                fill[v] += 1;
+            }
         }
-        let ends = |a: usize, b: usize| {
-            out[out_start[a]..out_start[a + 1]].iter().copied().filter(move |&d| mesh.indices[next(d)] == b)
-        };
-        let mut twin = vec![BORDER; corners];
+        let outgoing = |a: usize| out[out_start[a] as usize..out_start[a + 1] as usize].iter().map(|&d| d as usize);
+        let ends = |a: usize, b: usize| outgoing(a).filter(move |&d| mesh.indices[next(d)] == b);
+        let mut twin = vec![NONE; corners];
         for c in 0..corners {
             let (a, b) = (mesh.indices[c], mesh.indices[next(c)]);
-            let (same, back) = (ends(a, b).count(), ends(b, a).count());
-            if same + back > 2 {
-                // Named at the face that comes last in the file: the one too many.
-                let last = ends(a, b).chain(ends(b, a)).map(|d| face[d]).max().unwrap_or(face[c]);
-                return Err(MeshError::NonManifoldEdge {
-                    place: place(last),
-                    a: a.min(b),
-                    b: a.max(b),
-                    count: same + back,
-                });
-            }
-            if same > 1 {
-                let other = ends(a, b).find(|&d| d != c).unwrap_or(c);
-                let (first, second) = (c.min(other), c.max(other));
-                return Err(MeshError::Orientation { place: place(face[second]), a, b, other: place(face[first]) });
-            }
-            if let Some(t) = ends(b, a).next() {
-                twin[c] = t;
-            }
-        }
-        let mut topology = Topology {
-            face,
-            twin,
-            first: vec![BORDER; mesh.positions.len()],
-            on_border: vec![false; mesh.positions.len()],
-        };
-        // Fans: outgoing corners of a vertex joined by the rotation c → twin(prev(c)).
-        let mut parent: Vec<usize> = (0..corners).collect();
-        fn root(parent: &mut [usize], mut c: usize) -> usize {
-            while parent[c] != c {
-                parent[c] = parent[parent[c]];
-                c = parent[c];
-            }
-            c
-        }
-        for c in 0..corners {
-            let r = topology.rotate(mesh, c);
-            if r != BORDER {
-                let (a, b) = (root(&mut parent, c), root(&mut parent, r));
-                parent[a] = b;
-            }
-            let v = mesh.indices[c];
-            if topology.twin[c] == BORDER {
-                // The outgoing half-edge is on the border: the fan starts here.
-                topology.on_border[v] = true;
-                topology.first[v] = c;
-            } else if topology.first[v] == BORDER {
-                topology.first[v] = c;
-            }
-        }
-        let mut roots = Vec::new();
-        for v in 0..nv {
-            roots.clear();
-            for &c in &out[out_start[v]..out_start[v + 1]] {
-                let r = root(&mut parent, c);
-                if !roots.contains(&r) {
-                    roots.push(r);
+            if let Some(place) = check {
+                let (same, back) = (ends(a, b).count(), ends(b, a).count());
+                if same + back > 2 {
+                    // Named at the face that comes last in the file: the one too many.
+                    let last = ends(a, b).chain(ends(b, a)).map(|d| face[d] as usize).max().unwrap_or(0);
+                    return Err(MeshError::NonManifoldEdge {
+                        place: place(last),
+                        a: a.min(b),
+                        b: a.max(b),
+                        count: same + back,
+                    });
+                }
+                if same > 1 {
+                    let other = ends(a, b).find(|&d| d != c).unwrap_or(c);
+                    let (first, second) = (c.min(other), c.max(other));
+                    return Err(MeshError::Orientation {
+                        place: place(face[second] as usize),
+                        a,
+                        b,
+                        other: place(face[first] as usize),
+                    });
                 }
             }
-            if roots.len() > 1 {
-                return Err(MeshError::NonManifoldVertex(v, roots.len()));
+            if let Some(t) = ends(b, a).next() {
+                twin[c] = t as u32;
+            }
+        }
+        let mut topology = Topology { face, twin, first: vec![NONE; nv], on_border: vec![false; nv] };
+        for c in 0..corners {
+            let v = mesh.indices[c];
+            if topology.twin[c] == NONE {
+                // The outgoing half-edge is on the border: the fan starts here.
+                topology.on_border[v] = true;
+                topology.first[v] = c as u32;
+            } else if topology.first[v] == NONE {
+                topology.first[v] = c as u32;
+            }
+        }
+        if check.is_some() {
+            // One fan per vertex: walks of the rotation, from the border corners first, cover its corners.
+            let mut seen: Vec<usize> = Vec::new();
+            for v in 0..nv {
+                seen.clear();
+                let mut fans = 0;
+                let starts = outgoing(v).filter(|&c| topology.twin[c] == NONE).chain(outgoing(v));
+                for c0 in starts {
+                    if seen.contains(&c0) {
+                        continue;
+                    }
+                    fans += 1;
+                    let mut c = c0;
+                    while c != BORDER && !seen.contains(&c) {
+                        seen.push(c);
+                        c = topology.rotate(mesh, c);
+                    }
+                }
+                if fans > 1 {
+                    return Err(MeshError::NonManifoldVertex(v, fans));
+                }
             }
         }
         Ok(topology)
     }
 
-    /// The next outgoing corner around the vertex of `c` (counter-clockwise
-    /// seen from outside): the twin of the half-edge coming into it in its
-    /// face, or [`BORDER`].
-    pub fn rotate(&self, mesh: &PolyMesh, c: usize) -> usize {
-        self.twin[self.prev(mesh, c)]
+    /// The face of corner `c`.
+    #[inline]
+    pub fn face(&self, c: usize) -> usize {
+        self.face[c] as usize
+    }
+
+    /// The twin of half-edge `c`, or [`BORDER`].
+    #[inline]
+    pub fn twin(&self, c: usize) -> usize {
+        wide(self.twin[c])
+    }
+
+    /// An outgoing corner of vertex `v` ([`BORDER`] when unused): for a
+    /// border vertex, the one whose half-edge is on the border, from which
+    /// [`Topology::rotate`] walks its whole fan.
+    #[inline]
+    pub fn first(&self, v: usize) -> usize {
+        wide(self.first[v])
+    }
+
+    /// Whether vertex `v` is on the border.
+    #[inline]
+    pub fn on_border(&self, v: usize) -> bool {
+        self.on_border[v]
     }
 
     /// The corner after `c` in its face.
     #[inline]
     pub fn next(&self, mesh: &PolyMesh, c: usize) -> usize {
-        let f = self.face[c];
+        let f = self.face(c);
         if c + 1 == mesh.starts[f + 1] { mesh.starts[f] } else { c + 1 }
     }
 
     /// The corner before `c` in its face.
     #[inline]
     pub fn prev(&self, mesh: &PolyMesh, c: usize) -> usize {
-        let f = self.face[c];
+        let f = self.face(c);
         if c == mesh.starts[f] { mesh.starts[f + 1] - 1 } else { c - 1 }
+    }
+
+    /// The next outgoing corner around the vertex of `c` (counter-clockwise
+    /// seen from outside): the twin of the half-edge coming into it in its
+    /// face, or [`BORDER`].
+    #[inline]
+    pub fn rotate(&self, mesh: &PolyMesh, c: usize) -> usize {
+        self.twin(self.prev(mesh, c))
     }
 
     /// Number of border half-edges.
     pub fn boundary_edges(&self) -> usize {
-        self.twin.iter().filter(|t| **t == BORDER).count()
+        self.twin.iter().filter(|t| **t == NONE).count()
     }
 }

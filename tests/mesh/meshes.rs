@@ -273,3 +273,41 @@ fn doo_sabin_weights_are_checked() {
     let e = QuadWeights { alpha: f64::NAN, beta: 0.2, gamma: 0.2 }.check().unwrap_err().to_string();
     assert!(e.contains("alpha = NaN"), "{e}");
 }
+
+/// Streamed output (the last step written as it is made) is the in-memory
+/// result, vertex for vertex and face for face, as OBJ and as OFF.
+#[test]
+fn streamed_output_is_the_in_memory_mesh() {
+    use bcifs::mesh::MeshFormat;
+    for (name, mesh) in crate::shapes() {
+        for scheme in [Scheme::DooSabin, Scheme::CatmullClark] {
+            for depth in 0..=3 {
+                for limit in [false, true] {
+                    let expected = if limit {
+                        quads(&mesh.limit(scheme, depth).unwrap())
+                    } else {
+                        mesh.subdivide(scheme, depth).unwrap()
+                    };
+                    for format in [MeshFormat::Obj(name), MeshFormat::Off] {
+                        let mut bytes = Vec::new();
+                        let written =
+                            mesh.write_subdivided(scheme, depth, None, limit, format, &mut bytes, 1 << 30).unwrap();
+                        let text = String::from_utf8(bytes).unwrap();
+                        let back = match format {
+                            MeshFormat::Obj(_) => read_obj(&text, "s.obj"),
+                            MeshFormat::Off => read_off(&text, "s.off"),
+                        }
+                        .unwrap();
+                        let what = format!("{name} {scheme:?} depth {depth} limit {limit} {format:?}");
+                        assert_eq!(back, expected, "{what}");
+                        assert_eq!(
+                            (written.vertices, written.faces),
+                            (expected.positions.len(), expected.face_count()),
+                            "{what}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+}

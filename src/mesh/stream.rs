@@ -1,0 +1,190 @@
+//! Subdivided meshes written as they are made: the net before the last
+//! step is held in memory, the last step (the net, or Doo-Sabin's limit) goes
+//! straight to the writer, so a depth-10 cube (6.3 million faces) needs the
+//! memory of depth 9 only.
+
+use std::io::{self, Write};
+
+use super::subdivide::{MeshOut, QuadWeights};
+use super::topology::{BORDER, Topology};
+use super::{MeshError, PolyMesh, Scheme};
+
+/// A mesh file format.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MeshFormat<'a> {
+    /// Wavefront OBJ, one object of this name, in the mesh's own axes.
+    Obj(&'a str),
+    /// OFF.
+    Off,
+}
+
+/// What was written.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Written {
+    /// Vertices.
+    pub vertices: usize,
+    /// Faces.
+    pub faces: usize,
+}
+
+/// Vertices and faces as text, in a buffer flushed by the megabyte.
+struct Text<'w> {
+    out: &'w mut dyn Write,
+    buf: Vec<u8>,
+    obj: bool,
+    ryu: ryu::Buffer,
+    written: Written,
+}
+
+impl Text<'_> {
+    fn flush_if_full(&mut self) -> io::Result<()> {
+        if self.buf.len() >= 1 << 20 {
+            self.out.write_all(&self.buf)?;
+            self.buf.clear();
+        }
+        Ok(())
+    }
+
+    fn finish(self) -> io::Result<Written> {
+        self.out.write_all(&self.buf)?;
+        self.out.flush()?;
+        Ok(self.written)
+    }
+}
+
+impl MeshOut for Text<'_> {
+    fn vertex(&mut self, p: [f64; 3]) -> io::Result<()> {
+        if self.obj {
+            self.buf.push(b'v');
+        }
+        for (a, x) in p.iter().enumerate() {
+            if self.obj || a > 0 {
+                self.buf.push(b' ');
+            }
+            let x = if *x == 0.0 { 0.0 } else { *x };
+            self.buf.extend_from_slice(self.ryu.format_finite(x).as_bytes());
+        }
+        self.buf.push(b'\n');
+        self.written.vertices += 1;
+        self.flush_if_full()
+    }
+
+    fn face(&mut self, vertices: &mut dyn Iterator<Item = usize>) -> io::Result<()> {
+        let mut ints = itoa::Buffer::new();
+        if self.obj {
+            self.buf.push(b'f');
+            for v in vertices {
+                self.buf.push(b' ');
+                self.buf.extend_from_slice(ints.format(v + 1).as_bytes());
+            }
+        } else {
+            let list: Vec<usize> = vertices.collect();
+            self.buf.extend_from_slice(ints.format(list.len()).as_bytes());
+            for v in list {
+                self.buf.push(b' ');
+                self.buf.extend_from_slice(ints.format(v).as_bytes());
+            }
+        }
+        self.buf.push(b'\n');
+        self.written.faces += 1;
+        self.flush_if_full()
+    }
+}
+
+impl PolyMesh {
+    /// Writes the net after `depth` steps of `scheme` (or, with `limit`,
+    /// the points of the limit surface at its vertices) to `out`, holding
+    /// only the net before the last step in memory.
+    ///
+    /// # Errors
+    /// That net over `memory_limit` (with the estimate), or a write error.
+    pub fn write_subdivided(
+        &self,
+        scheme: Scheme,
+        depth: usize,
+        quad: Option<QuadWeights>,
+        limit: bool,
+        format: MeshFormat<'_>,
+        out: &mut dyn Write,
+        memory_limit: usize,
+    ) -> Result<Written, MeshError> {
+        let depth = if limit { depth.max(1) } else { depth };
+        let obj = matches!(format, MeshFormat::Obj(_));
+        let mut text = Text {
+            out,
+            buf: Vec::with_capacity(1 << 21),
+            obj,
+            ryu: ryu::Buffer::new(),
+            written: Written { vertices: 0, faces: 0 },
+        };
+        let io = MeshError::Write;
+        if let MeshFormat::Obj(name) = format {
+            writeln!(
+                text.buf,
+                "# bcifs: {} {} of depth {depth}\no {name}",
+                scheme.name(),
+                if limit { "limit surface" } else { "net" }
+            )
+            .map_err(io)?;
+        }
+        if limit && scheme == Scheme::CatmullClark {
+            // Limit positions need the last net's neighbourhoods: in memory.
+            let shape = self.limit_with(scheme, depth, quad, memory_limit)?;
+            if !obj {
+                writeln!(text.buf, "OFF\n{} {} 0", shape.vertex_count(), shape.quads.len()).map_err(io)?;
+            }
+            for p in shape.positions.chunks_exact(3) {
+                text.vertex([p[0], p[1], p[2]]).map_err(io)?;
+            }
+            for q in &shape.quads {
+                text.face(&mut q.iter().map(|&v| v as usize)).map_err(io)?;
+            }
+            return text.finish().map_err(io);
+        }
+        if depth == 0 {
+            if !obj {
+                writeln!(text.buf, "OFF\n{} {} 0", self.positions.len(), self.face_count()).map_err(io)?;
+            }
+            for p in &self.positions {
+                text.vertex(*p).map_err(io)?;
+            }
+            for f in self.faces() {
+                text.face(&mut f.iter().copied()).map_err(io)?;
+            }
+            return text.finish().map_err(io);
+        }
+        let net = self.subdivide_with(scheme, depth - 1, quad, memory_limit)?;
+        let t = Topology::trusted(&net);
+        if !obj {
+            let (v, f) = net.last_step_counts(&t, scheme, limit);
+            writeln!(text.buf, "OFF\n{v} {f} 0").map_err(io)?;
+        }
+        match (scheme, limit) {
+            (Scheme::DooSabin, false) => net.doo_sabin_into(&t, quad, &mut text),
+            (Scheme::DooSabin, true) => net.doo_sabin_limit_into(&t, quad, &mut text),
+            (Scheme::CatmullClark, _) => net.catmull_clark_into(&t, &mut text),
+        }
+        .map_err(io)?;
+        text.finish().map_err(io)
+    }
+
+    /// Vertices and faces the last step writes from this net.
+    fn last_step_counts(&self, t: &Topology, scheme: Scheme, limit: bool) -> (usize, usize) {
+        let corners = self.corner_count();
+        let interior_edges = (0..corners).filter(|&c| t.twin(c) != BORDER && c < t.twin(c)).count();
+        let edges = (0..corners).filter(|&c| t.twin(c) == BORDER || c < t.twin(c)).count();
+        let interior_vertices = (0..self.positions.len()).filter(|&v| t.first(v) != BORDER && !t.on_border(v)).count();
+        let nf = self.face_count();
+        match (scheme, limit) {
+            (Scheme::DooSabin, false) => (corners, nf + interior_edges + interior_vertices),
+            (Scheme::DooSabin, true) => {
+                let quads = (0..corners).filter(|&c| {
+                    let v = self.indices[c];
+                    t.first(v) != BORDER && !t.on_border(v)
+                });
+                (nf + interior_edges + interior_vertices, quads.count())
+            }
+            (Scheme::CatmullClark, _) => (self.positions.len() + edges + nf, corners),
+        }
+    }
+}
