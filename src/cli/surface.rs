@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use anyhow::{Context, bail};
 use bcifs::export::{AtomicFile, RasterSettings};
-use bcifs::mesh::{MeshFormat, QuadWeights, Scheme, WeightsVerdict, Written, read_mesh};
+use bcifs::mesh::{MeshFormat, QuadWeights, Scheme, Subdivision, WeightsVerdict, Written, read_mesh};
 
 use super::render::write_shape;
 use super::{keyword, parse_params, parse_size};
@@ -100,7 +100,8 @@ pub fn run(args: SurfaceArgs) -> anyhow::Result<u8> {
         // Streamed through a temporary file renamed at the end, in the input file's axes.
         let format = if ext == "obj" { MeshFormat::Obj(&name) } else { MeshFormat::Off };
         let mut file = AtomicFile::create(&args.output).map_err(io)?;
-        let written = mesh.write_subdivided(scheme, args.depth, weights, !args.net, format, file.writer(), memory)?;
+        let job = Subdivision { scheme, depth: args.depth, weights, memory_limit: memory };
+        let written = mesh.write_subdivided(&job, !args.net, format, file.writer())?;
         file.commit().map_err(io)?;
         written
     };

@@ -32,7 +32,7 @@ mod write;
 use std::fmt;
 
 pub use read::{read_mesh, read_obj, read_off};
-pub use stream::{MeshFormat, Written};
+pub use stream::{MeshFormat, Subdivision, Written};
 pub use subdivide::{QuadWeights, WeightsVerdict};
 pub use topology::{BORDER, Topology};
 

@@ -18,6 +18,20 @@ pub enum MeshFormat<'a> {
     Off,
 }
 
+/// A subdivision to run: the scheme, the steps, Doo-Sabin quad weights
+/// (`None`: classic) and the in-memory limit in bytes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Subdivision {
+    /// The scheme.
+    pub scheme: Scheme,
+    /// Steps.
+    pub depth: usize,
+    /// Doo-Sabin quad weights (`None`: classic).
+    pub weights: Option<QuadWeights>,
+    /// The most bytes the net before the last step may take.
+    pub memory_limit: usize,
+}
+
 /// What was written.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Written {
@@ -92,22 +106,20 @@ impl MeshOut for Text<'_> {
 }
 
 impl PolyMesh {
-    /// Writes the net after `depth` steps of `scheme` (or, with `limit`,
-    /// the points of the limit surface at its vertices) to `out`, holding
-    /// only the net before the last step in memory.
+    /// Writes the net after `job.depth` steps of `job.scheme` (or, with
+    /// `limit`, the points of the limit surface at its vertices) to `out`,
+    /// holding only the net before the last step in memory.
     ///
     /// # Errors
     /// That net over `memory_limit` (with the estimate), or a write error.
     pub fn write_subdivided(
         &self,
-        scheme: Scheme,
-        depth: usize,
-        quad: Option<QuadWeights>,
+        job: &Subdivision,
         limit: bool,
         format: MeshFormat<'_>,
         out: &mut dyn Write,
-        memory_limit: usize,
     ) -> Result<Written, MeshError> {
+        let Subdivision { scheme, depth, weights: quad, memory_limit } = *job;
         let depth = if limit { depth.max(1) } else { depth };
         let obj = matches!(format, MeshFormat::Obj(_));
         let mut text = Text {

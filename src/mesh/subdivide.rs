@@ -198,6 +198,7 @@ impl PolyMesh {
     /// edges' and vertices' faces are made of corner points), and a quad per
     /// corner at an interior vertex, around the next net's vertex there:
     /// `[F(face), E(previous edge), V(vertex), E(edge)]`.
+    #[allow(clippy::needless_range_loop)] // a vertex indexes the mesh and the numbering
     pub(crate) fn doo_sabin_limit_into(
         &self,
         t: &Topology,

@@ -290,8 +290,8 @@ fn streamed_output_is_the_in_memory_mesh() {
                     };
                     for format in [MeshFormat::Obj(name), MeshFormat::Off] {
                         let mut bytes = Vec::new();
-                        let written =
-                            mesh.write_subdivided(scheme, depth, None, limit, format, &mut bytes, 1 << 30).unwrap();
+                        let job = bcifs::mesh::Subdivision { scheme, depth, weights: None, memory_limit: 1 << 30 };
+                        let written = mesh.write_subdivided(&job, limit, format, &mut bytes).unwrap();
                         let text = String::from_utf8(bytes).unwrap();
                         let back = match format {
                             MeshFormat::Obj(_) => read_obj(&text, "s.obj"),
