@@ -1,0 +1,40 @@
+//! Polygon-mesh subdivision throughput: the cube at depth 8 (393k faces),
+//! Doo-Sabin and Catmull-Clark, the net and the limit surface written as
+//! OBJ text to a sink (no disk), and the in-memory net alone. The peers
+//! (CGAL, OpenSubdiv) are measured side by side, end to end, by
+//! `benches/peers/compare.sh`.
+
+use std::hint::black_box;
+
+use bcifs::mesh::{MeshFormat, PolyMesh, Scheme, Subdivision};
+use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+
+fn subdivision(c: &mut Criterion) {
+    let cube = PolyMesh::cube();
+    let mut g = c.benchmark_group("cube_depth8");
+    g.sample_size(10);
+    for scheme in [Scheme::DooSabin, Scheme::CatmullClark] {
+        let faces = cube.subdivide(scheme, 8).expect("fits").face_count();
+        g.throughput(Throughput::Elements(faces as u64));
+        g.bench_function(BenchmarkId::new("net_in_memory", scheme.name()), |b| {
+            b.iter(|| black_box(cube.subdivide(scheme, 8).expect("fits")))
+        });
+        let job = Subdivision { scheme, depth: 8, weights: None, memory_limit: 1 << 30 };
+        for (what, limit) in [("net_obj", false), ("limit_obj", true)] {
+            g.bench_function(BenchmarkId::new(what, scheme.name()), |b| {
+                b.iter(|| {
+                    let mut sink = std::io::sink();
+                    black_box(cube.write_subdivided(&job, limit, MeshFormat::Obj("cube"), &mut sink).expect("writes"))
+                })
+            });
+        }
+    }
+    g.finish();
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default().without_plots();
+    targets = subdivision
+}
+criterion_main!(benches);
