@@ -1,7 +1,7 @@
 // The peer of `bcifs surface --net`: CGAL's Subdivision_method_3 on a mesh
 // read from an OFF file, written back as OFF with full precision.
 //
-//   cgal_subdivide (doo-sabin|catmull-clark) DEPTH IN.off OUT.off [ROUNDS]
+//   cgal_subdivide (doo-sabin|catmull-clark|loop|sqrt3) DEPTH IN.off OUT.off [ROUNDS]
 //
 // Prints the best time (ms) over ROUNDS runs of the subdivision alone.
 // Built by the tests (tests/mesh) and the bench script with
@@ -20,7 +20,7 @@ typedef CGAL::Surface_mesh<Kernel::Point_3> Mesh;
 
 int main(int argc, char** argv) {
   if (argc < 5) {
-    std::cerr << "usage: cgal_subdivide (doo-sabin|catmull-clark) DEPTH IN.off OUT.off [ROUNDS]\n";
+    std::cerr << "usage: cgal_subdivide (doo-sabin|catmull-clark|loop|sqrt3) DEPTH IN.off OUT.off [ROUNDS]\n";
     return 2;
   }
   const std::string scheme = argv[1];
@@ -40,6 +40,10 @@ int main(int argc, char** argv) {
       CGAL::Subdivision_method_3::DooSabin_subdivision(mesh, CGAL::parameters::number_of_iterations(depth));
     } else if (scheme == "catmull-clark") {
       CGAL::Subdivision_method_3::CatmullClark_subdivision(mesh, CGAL::parameters::number_of_iterations(depth));
+    } else if (scheme == "loop") {
+      CGAL::Subdivision_method_3::Loop_subdivision(mesh, CGAL::parameters::number_of_iterations(depth));
+    } else if (scheme == "sqrt3") {
+      CGAL::Subdivision_method_3::Sqrt3_subdivision(mesh, CGAL::parameters::number_of_iterations(depth));
     } else {
       std::cerr << "unknown scheme " << scheme << "\n";
       return 2;

@@ -54,7 +54,7 @@ enum Command {
     },
     /// Evaluate an automaton with its model and write OBJ, SVG or PNG.
     Render(RenderArgs),
-    /// Subdivide a polygon mesh (OBJ or OFF) by Doo-Sabin or Catmull-Clark: its limit surface or its net.
+    /// Subdivide a polygon mesh (OBJ or OFF) by Doo-Sabin, Catmull-Clark, Loop or √3: its limit surface or its net.
     Surface(surface::SurfaceArgs),
     /// Render every shipped automaton (PNG, OBJ) and an index.html into DIR.
     Gallery {

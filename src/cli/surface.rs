@@ -1,5 +1,6 @@
-//! `bcifs surface`: a user's polygon mesh subdivided by Doo-Sabin or
-//! Catmull-Clark: the limit surface, or with `--net` the control mesh.
+//! `bcifs surface`: a user's polygon mesh subdivided by Doo-Sabin,
+//! Catmull-Clark, Loop or √3: the limit surface, or with `--net` the
+//! control mesh.
 
 use std::path::PathBuf;
 
@@ -15,9 +16,12 @@ use super::{keyword, parse_params, parse_size};
 pub struct SurfaceArgs {
     /// The control mesh: an OBJ or OFF file (faces of any degree, closed or with boundary).
     pub mesh: PathBuf,
-    /// The scheme: doo-sabin or catmull-clark.
+    /// The scheme: doo-sabin, catmull-clark (any polygons), loop or sqrt3 (triangles).
     #[arg(long)]
     pub scheme: String,
+    /// Split faces of more than three vertices into fans of triangles first (for loop and sqrt3).
+    #[arg(long)]
+    pub triangulate: bool,
     /// Doo-Sabin quad weights, NAME=VALUE for alpha (the corner), beta (the next), gamma (the previous);
     /// defaults 9/16, 3/16, 3/16 (the opposite corner gets the rest).
     #[arg(long = "param", value_name = "NAME=VALUE")]
@@ -65,8 +69,7 @@ pub fn quad_weights(scheme: Scheme, params: &[(String, f64)]) -> anyhow::Result<
 /// `bcifs surface`.
 pub fn run(args: SurfaceArgs) -> anyhow::Result<u8> {
     let started = std::time::Instant::now();
-    let scheme =
-        keyword("scheme", &args.scheme, &[("doo-sabin", Scheme::DooSabin), ("catmull-clark", Scheme::CatmullClark)])?;
+    let scheme = keyword("scheme", &args.scheme, &Scheme::ALL.map(|s| (s.name(), s)))?;
     let weights = quad_weights(scheme, &parse_params(&args.params)?)?;
     if let Some(w) = weights {
         match w.check()? {
@@ -85,7 +88,10 @@ pub fn run(args: SurfaceArgs) -> anyhow::Result<u8> {
     if !matches!(ext.as_str(), "obj" | "off" | "png") {
         bail!("unknown output format `{ext}`: expected .obj, .off or .png");
     }
-    let mesh = read_mesh(&args.mesh)?;
+    let mut mesh = read_mesh(&args.mesh)?;
+    if args.triangulate {
+        mesh = mesh.triangulated();
+    }
     let name = args.mesh.file_stem().map_or("mesh".into(), |s| s.to_string_lossy().to_string());
     let io = |e: std::io::Error| anyhow::anyhow!("cannot write {}: {e}", args.output.display());
     let summary = if ext == "png" {

@@ -51,6 +51,18 @@ impl PolyMesh {
                 let net = self.subdivide_with(scheme, depth.max(1), quad, memory_limit)?;
                 catmull_clark_limit(&net, &Topology::trusted(&net))
             }
+            Scheme::Loop | Scheme::Sqrt3 => {
+                let net = self.subdivide_with(scheme, depth.max(1), quad, memory_limit)?;
+                let points = net.triangle_limit_points(&Topology::trusted(&net), scheme == Scheme::Sqrt3);
+                let mut shape = Shape::default();
+                let flat: Vec<f64> = points.iter().flatten().copied().collect();
+                let triangles: Vec<[usize; 3]> = net.faces().map(|f| [f[0], f[1], f[2]]).collect();
+                // Writing into memory cannot fail.
+                let _ = shape.object(scheme.name());
+                let _ = shape.vertices(3, &flat, None);
+                let _ = shape.triangles(&triangles);
+                return Ok(shape);
+            }
         };
         let mut shape = Shape::default();
         // Writing into memory cannot fail.

@@ -27,6 +27,7 @@ mod read;
 mod stream;
 mod subdivide;
 mod topology;
+mod triangles;
 mod write;
 
 use std::fmt;
@@ -35,6 +36,7 @@ pub use read::{read_mesh, read_obj, read_off};
 pub use stream::{MeshFormat, Subdivision, Written};
 pub use subdivide::{QuadWeights, WeightsVerdict};
 pub use topology::{BORDER, Topology};
+pub use triangles::{loop_beta, sqrt3_alpha};
 
 /// A polygon mesh: positions and faces (vertex indices, counter-clockwise
 /// seen from the outside), checked when built. Faces are stored flat:
@@ -59,14 +61,25 @@ pub enum Scheme {
     /// Catmull-Clark: face, edge and vertex points, a quad per face corner;
     /// boundaries by the cubic B-spline rules (midpoints, `(1, 6, 1)/8`).
     CatmullClark,
+    /// Loop, on triangle meshes: edge and vertex points, four triangles per
+    /// triangle; the cubic B-spline rules on the border.
+    Loop,
+    /// Kobbelt's √3, on triangle meshes: a centroid per face, the old edges
+    /// flipped; the border kept.
+    Sqrt3,
 }
 
 impl Scheme {
+    /// Every scheme.
+    pub const ALL: [Scheme; 4] = [Scheme::DooSabin, Scheme::CatmullClark, Scheme::Loop, Scheme::Sqrt3];
+
     /// The scheme of a name: `doo-sabin` or `catmull-clark`.
     pub fn from_name(name: &str) -> Option<Scheme> {
         match name {
             "doo-sabin" => Some(Scheme::DooSabin),
             "catmull-clark" => Some(Scheme::CatmullClark),
+            "loop" => Some(Scheme::Loop),
+            "sqrt3" => Some(Scheme::Sqrt3),
             _ => None,
         }
     }
@@ -76,7 +89,14 @@ impl Scheme {
         match self {
             Scheme::DooSabin => "doo-sabin",
             Scheme::CatmullClark => "catmull-clark",
+            Scheme::Loop => "loop",
+            Scheme::Sqrt3 => "sqrt3",
         }
+    }
+
+    /// Whether the scheme needs a triangle mesh.
+    pub fn triangles_only(self) -> bool {
+        matches!(self, Scheme::Loop | Scheme::Sqrt3)
     }
 }
 
@@ -172,6 +192,18 @@ pub enum MeshError {
     /// Faces around a vertex that form more than one fan (two cones touching at a point).
     #[error("vertex {0} is not a manifold vertex: its faces form {1} separate fans")]
     NonManifoldVertex(usize, usize),
+    /// A face that is not a triangle, for a triangle scheme.
+    #[error(
+        "face {face} has {degree} vertices: {scheme} subdivides triangle meshes; split the faces into triangles with --triangulate, or use doo-sabin or catmull-clark"
+    )]
+    NotTriangles {
+        /// The scheme.
+        scheme: &'static str,
+        /// The first face that is not a triangle.
+        face: usize,
+        /// Its degree.
+        degree: usize,
+    },
     /// Writing the output failed.
     #[error("cannot write the mesh: {0}")]
     Write(std::io::Error),

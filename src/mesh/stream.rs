@@ -139,17 +139,21 @@ impl PolyMesh {
             )
             .map_err(io)?;
         }
-        if limit && scheme == Scheme::CatmullClark {
+        if limit && scheme != Scheme::DooSabin {
             // Limit positions need the last net's neighbourhoods: in memory.
             let shape = self.limit_with(scheme, depth, quad, memory_limit)?;
             if !obj {
-                writeln!(text.buf, "OFF\n{} {} 0", shape.vertex_count(), shape.quads.len()).map_err(io)?;
+                let faces = shape.quads.len() + shape.triangles.len();
+                writeln!(text.buf, "OFF\n{} {faces} 0", shape.vertex_count()).map_err(io)?;
             }
             for p in shape.positions.chunks_exact(3) {
                 text.vertex([p[0], p[1], p[2]]).map_err(io)?;
             }
             for q in &shape.quads {
                 text.face(&mut q.iter().map(|&v| v as usize)).map_err(io)?;
+            }
+            for tri in &shape.triangles {
+                text.face(&mut tri.iter().copied()).map_err(io)?;
             }
             return text.finish().map_err(io);
         }
@@ -168,20 +172,20 @@ impl PolyMesh {
         let net = self.subdivide_with(scheme, depth - 1, quad, memory_limit)?;
         let t = Topology::trusted(&net);
         if !obj {
-            let (v, f) = net.last_step_counts(&t, scheme, limit);
+            let (v, f) = net.last_step_counts(&t, scheme, limit, depth - 1);
             writeln!(text.buf, "OFF\n{v} {f} 0").map_err(io)?;
         }
-        match (scheme, limit) {
-            (Scheme::DooSabin, false) => net.doo_sabin_into(&t, quad, &mut text),
-            (Scheme::DooSabin, true) => net.doo_sabin_limit_into(&t, quad, &mut text),
-            (Scheme::CatmullClark, _) => net.catmull_clark_into(&t, &mut text),
+        if limit {
+            net.doo_sabin_limit_into(&t, quad, &mut text)
+        } else {
+            net.step_into(scheme, depth - 1, &t, quad, &mut text)
         }
         .map_err(io)?;
         text.finish().map_err(io)
     }
 
     /// Vertices and faces the last step writes from this net.
-    fn last_step_counts(&self, t: &Topology, scheme: Scheme, limit: bool) -> (usize, usize) {
+    fn last_step_counts(&self, t: &Topology, scheme: Scheme, limit: bool, step: usize) -> (usize, usize) {
         let corners = self.corner_count();
         let interior_edges = (0..corners).filter(|&c| t.twin(c) != BORDER && c < t.twin(c)).count();
         let edges = (0..corners).filter(|&c| t.twin(c) == BORDER || c < t.twin(c)).count();
@@ -197,6 +201,12 @@ impl PolyMesh {
                 (nf + interior_edges + interior_vertices, quads.count())
             }
             (Scheme::CatmullClark, _) => (self.positions.len() + edges + nf, corners),
+            (Scheme::Loop, _) => (self.positions.len() + edges, 4 * nf),
+            (Scheme::Sqrt3, _) => {
+                // On border-refining steps a face on the border has two points instead of one.
+                let split = if step % 2 == 1 { edges - interior_edges } else { 0 };
+                (self.positions.len() + nf + split, 2 * interior_edges + (edges - interior_edges))
+            }
         }
     }
 }

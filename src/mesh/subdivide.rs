@@ -103,17 +103,19 @@ impl PolyMesh {
         quad: Option<QuadWeights>,
         memory_limit: usize,
     ) -> Result<PolyMesh, MeshError> {
+        if scheme.triangles_only()
+            && let Some((face, f)) = self.faces().enumerate().find(|(_, f)| f.len() != 3)
+        {
+            return Err(MeshError::NotTriangles { scheme: scheme.name(), face, degree: f.len() });
+        }
         let (faces, bytes) = self.estimate(scheme, depth);
         if bytes > memory_limit as u128 {
             return Err(MeshError::TooLarge { what: "the subdivided mesh", depth, faces, bytes, limit: memory_limit });
         }
         let mut mesh = self.clone();
-        for _ in 0..depth {
+        for step in 0..depth {
             let topology = Topology::trusted(&mesh);
-            mesh = match scheme {
-                Scheme::DooSabin => mesh.doo_sabin_step(&topology, quad),
-                Scheme::CatmullClark => mesh.catmull_clark_step(&topology),
-            };
+            mesh = mesh.step(scheme, step, &topology, quad);
         }
         Ok(mesh)
     }
@@ -123,27 +125,41 @@ impl PolyMesh {
     /// vertex a position, with the working arrays of the last step).
     pub fn estimate(&self, scheme: Scheme, depth: usize) -> (u128, u128) {
         let corners = self.corner_count() as u128;
-        let grow = 4u128.saturating_pow(depth.min(60) as u32);
+        let grow = |k: u128| k.saturating_pow(depth.min(80) as u32);
         let faces = match (scheme, depth) {
             (_, 0) => self.face_count() as u128,
-            (Scheme::CatmullClark, _) => corners.saturating_mul(grow / 4),
-            (Scheme::DooSabin, _) => corners.saturating_mul(grow / 4).saturating_add(self.face_count() as u128),
+            (Scheme::CatmullClark, _) => corners.saturating_mul(grow(4) / 4),
+            (Scheme::DooSabin, _) => corners.saturating_mul(grow(4) / 4).saturating_add(self.face_count() as u128),
+            (Scheme::Loop, _) => (self.face_count() as u128).saturating_mul(grow(4)),
+            (Scheme::Sqrt3, _) => (self.face_count() as u128).saturating_mul(grow(3)),
         };
         // Per face of the result: 4 corners × (index + twin + face) + start + position + topology map.
         (faces, faces.saturating_mul(4 * 24 + 8 + 24 + 64))
     }
 
-    fn doo_sabin_step(&self, t: &Topology, quad: Option<QuadWeights>) -> PolyMesh {
-        let mut out = Builder::with_capacity(self.corner_count(), 4 * self.corner_count());
+    /// Step number `step` (from 0) of `scheme` in memory.
+    fn step(&self, scheme: Scheme, step: usize, t: &Topology, quad: Option<QuadWeights>) -> PolyMesh {
+        let mut out = Builder::with_capacity(self.positions.len() + self.corner_count(), 4 * self.corner_count());
         // Writing into memory cannot fail.
-        let _ = self.doo_sabin_into(t, quad, &mut out);
+        let _ = self.step_into(scheme, step, t, quad, &mut out);
         out.finish()
     }
 
-    fn catmull_clark_step(&self, t: &Topology) -> PolyMesh {
-        let mut out = Builder::with_capacity(self.positions.len() + self.corner_count(), 4 * self.corner_count());
-        let _ = self.catmull_clark_into(t, &mut out);
-        out.finish()
+    /// Step number `step` (from 0: √3 refines the border on odd ones) of `scheme` into `out`.
+    pub(crate) fn step_into(
+        &self,
+        scheme: Scheme,
+        step: usize,
+        t: &Topology,
+        quad: Option<QuadWeights>,
+        out: &mut dyn MeshOut,
+    ) -> io::Result<()> {
+        match scheme {
+            Scheme::DooSabin => self.doo_sabin_into(t, quad, out),
+            Scheme::CatmullClark => self.catmull_clark_into(t, out),
+            Scheme::Loop => self.loop_into(t, out),
+            Scheme::Sqrt3 => self.sqrt3_into(t, step % 2 == 1, out),
+        }
     }
 
     /// The new position of corner `c` of face `f` (Doo-Sabin).

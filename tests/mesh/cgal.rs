@@ -148,3 +148,22 @@ fn the_comparison_sees_a_difference() {
     let reversed = std::panic::catch_unwind(|| assert_same_mesh(&flipped, &theirs, 1e-12, "reversed quads"));
     assert!(reversed.is_err(), "reversed faces matched CGAL");
 }
+
+/// Loop and √3 against CGAL on triangle meshes: closed ones with vertices of
+/// valence 3 to 6 and more (the icosahedron; the pyramid, the cube and the
+/// prism split into fans), and open ones (the box without its top, the
+/// sheet), where √3 refines the border on even steps.
+#[test]
+fn triangle_nets_are_cgal_subdivision() {
+    let Some(peer) = cgal_peer() else { return };
+    for (name, mesh) in crate::shapes() {
+        let mesh = mesh.triangulated();
+        for scheme in [Scheme::Loop, Scheme::Sqrt3] {
+            for depth in 1..=3 {
+                let ours = mesh.subdivide(scheme, depth).unwrap();
+                let theirs = cgal(peer, &mesh, scheme, depth, &format!("{name}-{}-{depth}", scheme.name()));
+                assert_same_mesh(&ours, &theirs, 1e-12, &format!("{name}, {}, depth {depth}", scheme.name()));
+            }
+        }
+    }
+}

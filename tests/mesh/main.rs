@@ -62,6 +62,23 @@ pub fn shapes() -> Vec<(&'static str, PolyMesh)> {
     ]
 }
 
+/// Every test mesh with the polygon schemes, and split into triangles with
+/// every scheme: `(name, mesh, scheme)`.
+pub fn cases() -> Vec<(String, PolyMesh, bcifs::mesh::Scheme)> {
+    use bcifs::mesh::Scheme;
+    let mut out = Vec::new();
+    for (name, mesh) in shapes() {
+        for scheme in [Scheme::DooSabin, Scheme::CatmullClark] {
+            out.push((name.to_string(), mesh.clone(), scheme));
+        }
+        let triangles = mesh.triangulated();
+        for scheme in Scheme::ALL {
+            out.push((format!("{name} (triangles)"), triangles.clone(), scheme));
+        }
+    }
+    out
+}
+
 /// The cube [-1, 1]³.
 pub fn cube() -> PolyMesh {
     PolyMesh::new(

@@ -1,0 +1,276 @@
+//! Triangle schemes, as CGAL's `Subdivision_method_3` makes them.
+//!
+//! Loop (`Loop_mask_3`, `PTQ_1step`): edge points `3/8 (a + b) + 1/8 (c + d)`,
+//! vertex points `(1 − nβ) v + β Σ p_i` with
+//! `β = (5/8 − (3/8 + cos(2π/n)/4)²)/n` (`(10 v + Σ p_i)/16` at valence 6);
+//! on the border, midpoints and `(u + 6v + w)/8`, so the boundary is the
+//! cubic B-spline of the boundary polygon; each triangle becomes four.
+//! √3 (Kobbelt; `Sqrt3_mask_3`, `Sqrt3_1step`): a centroid per face, vertex
+//! points `(1 − a) v + a/n Σ p_i` with `a = (4 − 2cos(2π/n))/9`, and every
+//! interior edge flipped to join the centroids of its two faces. Border rule
+//! (Kobbelt's, as CGAL does it): on odd steps the border stays; on even
+//! steps each border edge is split in three (`(16a + 10b + a')/27`,
+//! `(10a + 16b + b')/27`) and border vertices move to `(4u + 19v + 4w)/27`,
+//! so two steps make a ternary refinement of the boundary polygon.
+
+use std::f64::consts::PI;
+use std::io;
+
+use super::PolyMesh;
+use super::subdivide::MeshOut;
+use super::topology::{BORDER, Topology};
+
+fn add(a: &mut [f64; 3], b: [f64; 3], w: f64) {
+    a[0] += w * b[0];
+    a[1] += w * b[1];
+    a[2] += w * b[2];
+}
+
+/// Loop's vertex weight `β` at valence `n`.
+pub fn loop_beta(n: usize) -> f64 {
+    let c = 3.0 + 2.0 * (2.0 * PI / n as f64).cos();
+    (5.0 / 8.0 - c * c / 64.0) / n as f64
+}
+
+/// √3's vertex weight `a` at valence `n`.
+pub fn sqrt3_alpha(n: usize) -> f64 {
+    (4.0 - 2.0 * (2.0 * PI / n as f64).cos()) / 9.0
+}
+
+/// The border neighbours `(u, w)` of border vertex `v` whose first corner is `c0`:
+/// `w` ends the border half-edge going out, `u` starts the one coming in.
+pub(crate) fn border_neighbours(mesh: &PolyMesh, t: &Topology, c0: usize) -> (usize, usize) {
+    let w = mesh.indices[t.next(mesh, c0)];
+    let mut last = c0;
+    while t.rotate(mesh, last) != BORDER {
+        last = t.rotate(mesh, last);
+    }
+    (mesh.indices[t.prev(mesh, last)], w)
+}
+
+/// The ring of interior vertex `v` (first corner `c0`): its neighbours in rotation order.
+fn ring<'a>(mesh: &'a PolyMesh, t: &'a Topology, c0: usize) -> impl Iterator<Item = usize> + 'a {
+    let mut at = Some(c0);
+    std::iter::from_fn(move || {
+        let c = at?;
+        let r = t.rotate(mesh, c);
+        at = (r != BORDER && r != c0).then_some(r);
+        Some(mesh.indices[t.next(mesh, c)])
+    })
+}
+
+impl PolyMesh {
+    /// One Loop step into `out`: vertex points, edge points (in corner
+    /// order), four triangles per triangle.
+    pub(crate) fn loop_into(&self, t: &Topology, out: &mut dyn MeshOut) -> io::Result<()> {
+        let (nv, corners) = (self.positions.len(), self.corner_count());
+        for v in 0..nv {
+            let p = self.positions[v];
+            let c0 = t.first(v);
+            let mut q = [0.0; 3];
+            if c0 == BORDER {
+                q = p;
+            } else if t.on_border(v) {
+                let (u, w) = border_neighbours(self, t, c0);
+                add(&mut q, self.positions[u], 1.0 / 8.0);
+                add(&mut q, p, 6.0 / 8.0);
+                add(&mut q, self.positions[w], 1.0 / 8.0);
+            } else {
+                let (mut r, mut n) = ([0.0; 3], 0usize);
+                for u in ring(self, t, c0) {
+                    add(&mut r, self.positions[u], 1.0);
+                    n += 1;
+                }
+                if n == 6 {
+                    add(&mut q, p, 10.0 / 16.0);
+                    add(&mut q, r, 1.0 / 16.0);
+                } else {
+                    // CGAL's arithmetic: (Sw v + R) / W with Cn = nβ, Sw = n(1 − Cn)/Cn, W = n/Cn.
+                    let cn = loop_beta(n) * n as f64;
+                    let (sw, w) = (n as f64 * (1.0 - cn) / cn, n as f64 / cn);
+                    add(&mut q, p, sw / w);
+                    add(&mut q, r, 1.0 / w);
+                }
+            }
+            out.vertex(q)?;
+        }
+        let mut edge_of = vec![0u32; corners];
+        let mut edges = 0u32;
+        for c in 0..corners {
+            let tw = t.twin(c);
+            if tw != BORDER && tw < c {
+                continue;
+            }
+            let (a, b) = (self.positions[self.indices[c]], self.positions[self.indices[t.next(self, c)]]);
+            let mut p = [0.0; 3];
+            if tw == BORDER {
+                add(&mut p, a, 0.5);
+                add(&mut p, b, 0.5);
+            } else {
+                let f1 = self.positions[self.indices[t.prev(self, c)]];
+                let f2 = self.positions[self.indices[t.prev(self, tw)]];
+                for (q, w) in [(a, 3.0), (b, 3.0), (f1, 1.0), (f2, 1.0)] {
+                    add(&mut p, q, w / 8.0);
+                }
+                edge_of[tw] = edges;
+            }
+            edge_of[c] = edges;
+            edges += 1;
+            out.vertex(p)?;
+        }
+        for f in 0..self.face_count() {
+            let s = self.starts[f];
+            let (v, e) = ([0, 1, 2].map(|i| self.indices[s + i]), [0, 1, 2].map(|i| nv + edge_of[s + i] as usize));
+            // Corners a, b, c with edges e0 = ab, e1 = bc, e2 = ca.
+            out.face(&mut [v[0], e[0], e[2]].into_iter())?;
+            out.face(&mut [v[1], e[1], e[0]].into_iter())?;
+            out.face(&mut [v[2], e[2], e[1]].into_iter())?;
+            out.face(&mut [e[0], e[1], e[2]].into_iter())?;
+        }
+        Ok(())
+    }
+
+    /// One √3 step into `out`: vertex points, a centroid per face, and every
+    /// interior edge flipped to join the points of its two faces. With
+    /// `refine_border` (CGAL's even steps), a face on the border gets two
+    /// points on its border edge instead of a centroid, `(16a + 10b + a')/27`
+    /// and `(10a + 16b + b')/27`, and border vertices move to
+    /// `(4u + 19v + 4w)/27`; otherwise border vertices and edges stay.
+    #[allow(clippy::needless_range_loop)] // a face indexes the mesh and the new numbering
+    pub(crate) fn sqrt3_into(&self, t: &Topology, refine_border: bool, out: &mut dyn MeshOut) -> io::Result<()> {
+        let (nv, nf) = (self.positions.len(), self.face_count());
+        for v in 0..nv {
+            let p = self.positions[v];
+            let c0 = t.first(v);
+            if c0 == BORDER || (t.on_border(v) && !refine_border) {
+                out.vertex(p)?;
+                continue;
+            }
+            let mut q = [0.0; 3];
+            if t.on_border(v) {
+                let (u, w) = border_neighbours(self, t, c0);
+                add(&mut q, self.positions[u], 4.0 / 27.0);
+                add(&mut q, p, 19.0 / 27.0);
+                add(&mut q, self.positions[w], 4.0 / 27.0);
+                out.vertex(q)?;
+                continue;
+            }
+            let n = ring(self, t, c0).count();
+            let a = sqrt3_alpha(n);
+            add(&mut q, p, 1.0 - a);
+            for u in ring(self, t, c0) {
+                add(&mut q, self.positions[u], a / n as f64);
+            }
+            out.vertex(q)?;
+        }
+        // Per face: its border corner when it is split, and the number of its first new point.
+        let mut split = vec![BORDER; nf];
+        let mut first = vec![0u32; nf];
+        let mut next_point = nv;
+        for f in 0..nf {
+            first[f] = next_point as u32;
+            let s = self.starts[f];
+            if let Some(cb) = (s..s + 3).find(|&c| refine_border && t.twin(c) == BORDER) {
+                split[f] = cb;
+                let (a, b) = (self.indices[cb], self.indices[t.next(self, cb)]);
+                let (a2, _) = border_neighbours(self, t, t.first(a));
+                let (_, b2) = border_neighbours(self, t, t.first(b));
+                let (pa, pb) = (self.positions[a], self.positions[b]);
+                let mut x1 = [0.0; 3];
+                add(&mut x1, self.positions[a2], 1.0 / 27.0);
+                add(&mut x1, pa, 16.0 / 27.0);
+                add(&mut x1, pb, 10.0 / 27.0);
+                let mut x2 = [0.0; 3];
+                add(&mut x2, pa, 10.0 / 27.0);
+                add(&mut x2, pb, 16.0 / 27.0);
+                add(&mut x2, self.positions[b2], 1.0 / 27.0);
+                out.vertex(x1)?;
+                out.vertex(x2)?;
+                next_point += 2;
+            } else {
+                let mut c = [0.0; 3];
+                self.face(f).iter().for_each(|&v| add(&mut c, self.positions[v], 1.0 / 3.0));
+                out.vertex(c)?;
+                next_point += 1;
+            }
+        }
+        // The point across from half-edge c in its face: the centroid, or on a split face
+        // the border point beside c's end (X2 for the edge after the border one, X1 before).
+        let opposite = |c: usize| {
+            let f = t.face(c);
+            let cb = split[f];
+            if cb == BORDER {
+                first[f] as usize
+            } else if c == t.next(self, cb) {
+                first[f] as usize + 1
+            } else {
+                first[f] as usize
+            }
+        };
+        for c in 0..self.corner_count() {
+            let tw = t.twin(c);
+            let (a, b) = (self.indices[c], self.indices[t.next(self, c)]);
+            if tw == BORDER {
+                let f = t.face(c);
+                if split[f] == BORDER {
+                    out.face(&mut [a, b, opposite(c)].into_iter())?;
+                } else {
+                    let w = self.indices[t.prev(self, c)];
+                    out.face(&mut [first[f] as usize, first[f] as usize + 1, w].into_iter())?;
+                }
+            } else if c < tw {
+                let (cf, cg) = (opposite(c), opposite(tw));
+                out.face(&mut [cg, b, cf].into_iter())?;
+                out.face(&mut [cf, a, cg].into_iter())?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Limit positions of the vertices of a Loop (`sqrt3` false) or √3 net:
+    /// `(3v + 8nβ q)/(3 + 8nβ)` for Loop and `(v + 3a q)/(1 + 3a)` for √3
+    /// (`q` the average of the ring: the left eigenvector of the step on
+    /// `(v, q)`), `(u + 4v + w)/6` on the border (both borders are cubic
+    /// B-splines: Loop's binary, √3's ternary every two steps). A √3
+    /// interior vertex next to the border is approximate: the border's
+    /// splitting steps change its ring.
+    pub(crate) fn triangle_limit_points(&self, t: &Topology, sqrt3: bool) -> Vec<[f64; 3]> {
+        (0..self.positions.len())
+            .map(|v| {
+                let p = self.positions[v];
+                let c0 = t.first(v);
+                if c0 == BORDER {
+                    return p;
+                }
+                let mut out = [0.0; 3];
+                if t.on_border(v) {
+                    let (u, w) = border_neighbours(self, t, c0);
+                    add(&mut out, self.positions[u], 1.0 / 6.0);
+                    add(&mut out, p, 4.0 / 6.0);
+                    add(&mut out, self.positions[w], 1.0 / 6.0);
+                    return out;
+                }
+                let n = ring(self, t, c0).count();
+                let mut q = [0.0; 3];
+                ring(self, t, c0).for_each(|u| add(&mut q, self.positions[u], 1.0 / n as f64));
+                let s = if sqrt3 { 3.0 * sqrt3_alpha(n) } else { 8.0 * n as f64 * loop_beta(n) / 3.0 };
+                add(&mut out, p, 1.0 / (1.0 + s));
+                add(&mut out, q, s / (1.0 + s));
+                out
+            })
+            .collect()
+    }
+
+    /// The mesh with every face of more than three vertices split into a fan of triangles.
+    pub fn triangulated(&self) -> PolyMesh {
+        let mut starts = vec![0];
+        let mut indices = Vec::with_capacity(3 * self.corner_count());
+        for f in self.faces() {
+            for i in 1..f.len() - 1 {
+                indices.extend([f[0], f[i], f[i + 1]]);
+                starts.push(indices.len());
+            }
+        }
+        PolyMesh::from_flat(self.positions.clone(), starts, indices)
+    }
+}
