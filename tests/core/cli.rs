@@ -359,6 +359,23 @@ fn surface_subdivides_a_users_mesh() {
     assert_eq!(code, 0, "{err}");
     let net = bcifs::mesh::read_mesh(&dir.join("n.off")).unwrap();
     assert_eq!(net.face_count(), input.face_count() * 4, "Doo-Sabin on a quad torus: F + E + V faces = 4F");
+    // Loop on the quad torus split into triangles: a closed triangle mesh, 4^2 triangles per triangle.
+    let (code, _, err) = bcifs(&[
+        "surface",
+        "tests/data/torus12.obj",
+        "--scheme",
+        "loop",
+        "--triangulate",
+        "--depth",
+        "2",
+        "--net",
+        "-o",
+        &path("l.off"),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let loop_net = bcifs::mesh::read_mesh(&dir.join("l.off")).unwrap();
+    assert!(loop_net.is_closed() && loop_net.faces().all(|f| f.len() == 3));
+    assert_eq!(loop_net.face_count(), 16 * 2 * input.face_count());
     std::fs::write(dir.join("bad.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 3\n").unwrap();
     for (args, expected) in [
         (
@@ -392,8 +409,12 @@ fn surface_subdivides_a_users_mesh() {
             "has no parameters",
         ),
         (
+            vec!["surface", "tests/data/torus12.obj", "--scheme", "butterfly", "-o", &path("bad.png")],
+            "unknown scheme `butterfly`",
+        ),
+        (
             vec!["surface", "tests/data/torus12.obj", "--scheme", "loop", "-o", &path("bad.png")],
-            "unknown scheme `loop`",
+            "face 0 has 4 vertices: loop subdivides triangle meshes; split the faces into triangles with --triangulate",
         ),
         (
             vec!["surface", "tests/data/torus12.obj", "--scheme", "doo-sabin", "--depth", "30", "-o", &path("bad.png")],
