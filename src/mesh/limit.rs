@@ -10,9 +10,9 @@
 //! opposite corners `f_j` of its quads), `(u + 4v + w)/6` on the border (the
 //! cubic B-spline of the boundary polygon); the quads are the net's.
 
+use super::polymesh::{MeshError, PolyMesh, Scheme};
 use super::subdivide::{Builder, QuadWeights};
 use super::topology::{BORDER, Topology};
-use super::{MeshError, PolyMesh, Scheme};
 use crate::geometry::{Shape, Sink};
 
 impl PolyMesh {
@@ -21,9 +21,9 @@ impl PolyMesh {
     /// oriented like the input.
     ///
     /// # Errors
-    /// An output over [`super::DEFAULT_MESH_MEMORY`], with the estimate.
+    /// An output over [`super::polymesh::DEFAULT_MESH_MEMORY`], with the estimate.
     pub fn limit(&self, scheme: Scheme, depth: usize) -> Result<Shape, MeshError> {
-        self.limit_with(scheme, depth, None, super::DEFAULT_MESH_MEMORY)
+        self.limit_with(scheme, depth, None, super::polymesh::DEFAULT_MESH_MEMORY)
     }
 
     /// As [`PolyMesh::limit`], with Doo-Sabin quad weights and a memory limit.

@@ -7,7 +7,7 @@
 
 use std::path::Path;
 
-use super::{MeshError, Place, PolyMesh};
+use super::polymesh::{MeshError, Place, PolyMesh};
 
 /// Reads a mesh, choosing the format by extension (`.obj`, `.off`).
 ///

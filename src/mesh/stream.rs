@@ -5,9 +5,9 @@
 
 use std::io::{self, Write};
 
+use super::polymesh::{MeshError, PolyMesh, Scheme};
 use super::subdivide::{MeshOut, QuadWeights};
 use super::topology::{BORDER, Topology};
-use super::{MeshError, PolyMesh, Scheme};
 
 /// A mesh file format.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -14,8 +14,8 @@
 use std::f64::consts::PI;
 use std::io;
 
+use super::polymesh::{MeshError, PolyMesh, Scheme};
 use super::topology::{BORDER, Topology};
-use super::{MeshError, PolyMesh, Scheme};
 
 /// Weights of the Doo-Sabin-like quad rule: the corner, the next corner,
 /// the previous corner; the opposite one gets `1 − α − β − γ`.
@@ -86,9 +86,9 @@ impl PolyMesh {
     /// The control mesh after `depth` steps of `scheme` (classic weights).
     ///
     /// # Errors
-    /// An output over [`super::DEFAULT_MESH_MEMORY`], with the estimate.
+    /// An output over [`super::polymesh::DEFAULT_MESH_MEMORY`], with the estimate.
     pub fn subdivide(&self, scheme: Scheme, depth: usize) -> Result<PolyMesh, MeshError> {
-        self.subdivide_with(scheme, depth, None, super::DEFAULT_MESH_MEMORY)
+        self.subdivide_with(scheme, depth, None, super::polymesh::DEFAULT_MESH_MEMORY)
     }
 
     /// The control mesh after `depth` steps of `scheme`, with Doo-Sabin quad
@@ -480,12 +480,13 @@ impl QuadWeights {
                 "{named}: beta ≠ gamma makes the quad rule chiral; its convergence is not decided beyond the face rule's eigenvalues"
             )));
         }
-        let Some(design) = crate::builtin_design("doo_sabin_quad") else {
+        let Some(design) = crate::format::builtin_design("doo_sabin_quad") else {
             return Ok(WeightsVerdict::Undecided("the regular patch is not available".into()));
         };
         let values =
             [("alpha", self.alpha), ("beta", self.beta), ("gamma", self.gamma)].map(|(n, v)| (n.to_string(), v));
-        let instance = crate::instantiate(&design, &values).map_err(|e| MeshError::Weights(format!("{named}: {e}")))?;
+        let instance =
+            crate::family::instantiate(&design, &values).map_err(|e| MeshError::Weights(format!("{named}: {e}")))?;
         match crate::analysis::jsr(&instance.automaton, &crate::analysis::JsrSettings::quick()) {
             Ok(bounds) => match bounds.verdict() {
                 crate::analysis::Verdict::Converges => Ok(WeightsVerdict::Converges),

@@ -5,7 +5,7 @@
 //! has fewer than 2³² corners), so a deep net's structure costs 9 bytes a
 //! corner.
 
-use super::{MeshError, Place, PolyMesh};
+use super::polymesh::{MeshError, Place, PolyMesh};
 
 /// The twin of a border half-edge, and the first corner of an unused vertex.
 pub const BORDER: usize = usize::MAX;
@@ -209,5 +209,54 @@ impl Topology {
     /// Number of border half-edges.
     pub fn boundary_edges(&self) -> usize {
         self.twin.iter().filter(|t| **t == NONE).count()
+    }
+}
+
+impl PolyMesh {
+    /// A checked mesh.
+    ///
+    /// # Errors
+    /// Indices out of range, degenerate faces, non-finite coordinates,
+    /// non-manifold edges or vertices, inconsistent orientation, no face.
+    pub fn new(positions: Vec<[f64; 3]>, faces: Vec<Vec<usize>>) -> Result<PolyMesh, MeshError> {
+        let mut starts = Vec::with_capacity(faces.len() + 1);
+        starts.push(0);
+        for f in &faces {
+            starts.push(starts[starts.len() - 1] + f.len());
+        }
+        let mesh = PolyMesh { positions, starts, indices: faces.concat() };
+        mesh.check(&|face| Place { file: None, line: None, face })?;
+        Ok(mesh)
+    }
+
+    /// Checks the mesh, naming faces with `place`.
+    pub(crate) fn check(&self, place: &dyn Fn(usize) -> Place) -> Result<(), MeshError> {
+        if self.face_count() == 0 {
+            return Err(MeshError::Empty);
+        }
+        if let Some(i) = self.positions.iter().position(|p| p.iter().any(|x| !x.is_finite())) {
+            return Err(MeshError::NotFinite(i));
+        }
+        for (f, face) in self.faces().enumerate() {
+            if let Some(&index) = face.iter().find(|&&v| v >= self.positions.len()) {
+                return Err(MeshError::IndexOutOfRange {
+                    place: place(f),
+                    index: index as i64,
+                    count: self.positions.len(),
+                });
+            }
+            let mut sorted = face.to_vec();
+            sorted.sort_unstable();
+            sorted.dedup();
+            if face.len() < 3 || sorted.len() != face.len() {
+                return Err(MeshError::Degenerate { place: place(f), vertices: face.to_vec() });
+            }
+        }
+        Topology::new(self, place).map(|_| ())
+    }
+
+    /// Whether every edge is in two faces.
+    pub fn is_closed(&self) -> bool {
+        Topology::trusted(self).boundary_edges() == 0
     }
 }

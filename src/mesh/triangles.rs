@@ -16,7 +16,7 @@
 use std::f64::consts::PI;
 use std::io;
 
-use super::PolyMesh;
+use super::polymesh::PolyMesh;
 use super::subdivide::MeshOut;
 use super::topology::{BORDER, Topology};
 

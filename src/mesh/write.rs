@@ -4,7 +4,7 @@
 
 use std::fmt::Write as _;
 
-use super::PolyMesh;
+use super::polymesh::PolyMesh;
 
 fn coordinate(out: &mut String, x: f64) {
     let mut b = ryu::Buffer::new();

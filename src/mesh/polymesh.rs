@@ -1,0 +1,260 @@
+//! The polygon mesh type, the schemes, and what can go wrong.
+
+use std::fmt;
+
+/// A polygon mesh: positions and faces (vertex indices, counter-clockwise
+/// seen from the outside), checked when built. Faces are stored flat:
+/// face `f` is `indices[starts[f]..starts[f + 1]]`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PolyMesh {
+    /// Vertex positions.
+    pub positions: Vec<[f64; 3]>,
+    /// Where each face starts in `indices`, and one past the last face.
+    pub(crate) starts: Vec<usize>,
+    /// The vertices of all faces, face after face.
+    pub(crate) indices: Vec<usize>,
+}
+
+/// A subdivision scheme on polygon meshes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Scheme {
+    /// Doo-Sabin: a new vertex per face corner (`α_0 = 1/4 + 5/(4n)`,
+    /// `α_k = (3 + 2cos(2πk/n))/(4n)`), faces for the faces, the interior
+    /// edges and the interior vertices.
+    DooSabin,
+    /// Catmull-Clark: face, edge and vertex points, a quad per face corner;
+    /// boundaries by the cubic B-spline rules (midpoints, `(1, 6, 1)/8`).
+    CatmullClark,
+    /// Loop, on triangle meshes: edge and vertex points, four triangles per
+    /// triangle; the cubic B-spline rules on the border.
+    Loop,
+    /// Kobbelt's √3, on triangle meshes: a centroid per face, the old edges
+    /// flipped; the border kept.
+    Sqrt3,
+}
+
+impl Scheme {
+    /// Every scheme.
+    pub const ALL: [Scheme; 4] = [Scheme::DooSabin, Scheme::CatmullClark, Scheme::Loop, Scheme::Sqrt3];
+
+    /// The scheme of a name: `doo-sabin` or `catmull-clark`.
+    pub fn from_name(name: &str) -> Option<Scheme> {
+        match name {
+            "doo-sabin" => Some(Scheme::DooSabin),
+            "catmull-clark" => Some(Scheme::CatmullClark),
+            "loop" => Some(Scheme::Loop),
+            "sqrt3" => Some(Scheme::Sqrt3),
+            _ => None,
+        }
+    }
+
+    /// Its name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Scheme::DooSabin => "doo-sabin",
+            Scheme::CatmullClark => "catmull-clark",
+            Scheme::Loop => "loop",
+            Scheme::Sqrt3 => "sqrt3",
+        }
+    }
+
+    /// Whether the scheme needs a triangle mesh.
+    pub fn triangles_only(self) -> bool {
+        matches!(self, Scheme::Loop | Scheme::Sqrt3)
+    }
+}
+
+/// Where a mesh problem is: a face (and its line in the file, when read).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Place {
+    /// The file, when read from one.
+    pub file: Option<String>,
+    /// 1-based line of the face in the file, when read from one.
+    pub line: Option<usize>,
+    /// 0-based face index.
+    pub face: usize,
+}
+
+impl fmt::Display for Place {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match (&self.file, self.line) {
+            (Some(file), Some(line)) => write!(f, "{file}:{line}: face {}", self.face),
+            _ => write!(f, "face {}", self.face),
+        }
+    }
+}
+
+/// Why a mesh cannot be used.
+#[derive(Debug, thiserror::Error)]
+pub enum MeshError {
+    /// The file cannot be read.
+    #[error("cannot read {0}: {1}")]
+    Io(String, std::io::Error),
+    /// The file is not a mesh of the format: `file:line:column: what was expected`.
+    #[error("{file}:{line}:{column}: {message}")]
+    Syntax {
+        /// The file.
+        file: String,
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// What was expected.
+        message: String,
+    },
+    /// The extension is neither `.obj` nor `.off`.
+    #[error("unknown mesh format `{0}`: expected .obj or .off")]
+    Format(String),
+    /// No face.
+    #[error("the mesh has no face")]
+    Empty,
+    /// A vertex index past the last vertex.
+    #[error("{place}: vertex index {index} is out of range (the mesh has {count} vertices)")]
+    IndexOutOfRange {
+        /// The face.
+        place: Place,
+        /// The index.
+        index: i64,
+        /// Vertices of the mesh.
+        count: usize,
+    },
+    /// A face with fewer than 3 distinct vertices, or a vertex twice.
+    #[error("{place}: degenerate face {vertices:?} (a face needs at least 3 distinct vertices, each once)")]
+    Degenerate {
+        /// The face.
+        place: Place,
+        /// Its vertices.
+        vertices: Vec<usize>,
+    },
+    /// A vertex position that is not a finite number.
+    #[error("vertex {0} has a coordinate that is not a finite number")]
+    NotFinite(usize),
+    /// An edge in more than two faces.
+    #[error("{place}: edge {a}–{b} is in {count} faces (a surface has at most two on an edge)")]
+    NonManifoldEdge {
+        /// The third face on the edge.
+        place: Place,
+        /// Its vertices.
+        a: usize,
+        /// Its vertices.
+        b: usize,
+        /// Faces on the edge.
+        count: usize,
+    },
+    /// Two faces that run through an edge in the same direction.
+    #[error("{place}: edge {a}→{b} runs the same way in {other}: the faces are not consistently oriented")]
+    Orientation {
+        /// The second face.
+        place: Place,
+        /// The edge.
+        a: usize,
+        /// The edge.
+        b: usize,
+        /// The first face.
+        other: Place,
+    },
+    /// Faces around a vertex that form more than one fan (two cones touching at a point).
+    #[error("vertex {0} is not a manifold vertex: its faces form {1} separate fans")]
+    NonManifoldVertex(usize, usize),
+    /// A face that is not a triangle, for a triangle scheme.
+    #[error(
+        "face {face} has {degree} vertices: {scheme} subdivides triangle meshes; split the faces into triangles with --triangulate, or use doo-sabin or catmull-clark"
+    )]
+    NotTriangles {
+        /// The scheme.
+        scheme: &'static str,
+        /// The first face that is not a triangle.
+        face: usize,
+        /// Its degree.
+        degree: usize,
+    },
+    /// Writing the output failed.
+    #[error("cannot write the mesh: {0}")]
+    Write(std::io::Error),
+    /// Doo-Sabin weights outside the convergence domain, or not numbers.
+    #[error("Doo-Sabin weights {0}")]
+    Weights(String),
+    /// A depth whose output would not fit memory.
+    #[error("{what} at depth {depth} would have about {faces} faces ({:.1} GiB), over the in-memory limit of {:.1} GiB: lower the depth or raise the limit", *bytes as f64 / (1u64 << 30) as f64, *limit as f64 / (1u64 << 30) as f64)]
+    TooLarge {
+        /// What.
+        what: &'static str,
+        /// Depth asked for.
+        depth: usize,
+        /// Faces it would have.
+        faces: u128,
+        /// Bytes it would take.
+        bytes: u128,
+        /// The limit.
+        limit: usize,
+    },
+}
+
+/// Default in-memory limit of mesh subdivision (4 GiB).
+pub const DEFAULT_MESH_MEMORY: usize = 4 << 30;
+
+impl PolyMesh {
+    /// A mesh from flat faces (not checked: for meshes made by subdivision).
+    pub(crate) fn from_flat(positions: Vec<[f64; 3]>, starts: Vec<usize>, indices: Vec<usize>) -> PolyMesh {
+        PolyMesh { positions, starts, indices }
+    }
+
+    /// Number of faces.
+    pub fn face_count(&self) -> usize {
+        self.starts.len() - 1
+    }
+
+    /// The vertices of face `f`, counter-clockwise.
+    pub fn face(&self, f: usize) -> &[usize] {
+        &self.indices[self.starts[f]..self.starts[f + 1]]
+    }
+
+    /// All faces in order.
+    pub fn faces(&self) -> impl ExactSizeIterator<Item = &[usize]> + '_ {
+        (0..self.face_count()).map(|f| self.face(f))
+    }
+
+    /// Number of face corners (the sum of the face degrees).
+    pub fn corner_count(&self) -> usize {
+        self.indices.len()
+    }
+
+    /// The cube `[-1, 1]³`, faces counter-clockwise seen from outside
+    /// (seed 004 Fig. 12 subdivides it).
+    pub fn cube() -> PolyMesh {
+        let positions = (0..8)
+            .map(|i| {
+                let (x, y, z) =
+                    ([-1.0, 1.0, 1.0, -1.0][i % 4], [-1.0, -1.0, 1.0, 1.0][i % 4], if i < 4 { -1.0 } else { 1.0 });
+                [x, y, z]
+            })
+            .collect();
+        let faces = [[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]];
+        let starts = (0..=6).map(|f| 4 * f).collect();
+        PolyMesh::from_flat(positions, starts, faces.concat())
+    }
+
+    /// Number of vertices used by faces.
+    pub fn used_vertices(&self) -> usize {
+        let mut used = vec![false; self.positions.len()];
+        self.indices.iter().for_each(|&v| used[v] = true);
+        used.iter().filter(|u| **u).count()
+    }
+
+    /// The signed volume enclosed (positive when a closed mesh faces outwards).
+    pub fn signed_volume(&self) -> f64 {
+        self.faces()
+            .map(|f| {
+                let p0 = self.positions[f[0]];
+                (1..f.len() - 1)
+                    .map(|i| {
+                        let (a, b) = (self.positions[f[i]], self.positions[f[i + 1]]);
+                        p0[0] * (a[1] * b[2] - a[2] * b[1]) - p0[1] * (a[0] * b[2] - a[2] * b[0])
+                            + p0[2] * (a[0] * b[1] - a[1] * b[0])
+                    })
+                    .sum::<f64>()
+                    / 6.0
+            })
+            .sum()
+    }
+}
