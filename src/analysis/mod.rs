@@ -1,11 +1,13 @@
 //! Analysis of instantiated automata and of subdivision schemes.
 
 mod check;
+mod dimension;
 mod jsr;
 mod map;
 pub mod subdivision;
 pub mod ternary;
 
 pub use check::{CheckReport, DEFAULT_CHECK_TOLERANCE, check};
+pub use dimension::{BoxCount, box_dimension, similarity_dimension};
 pub use jsr::{Jsr, JsrError, JsrSettings, ROUNDING, Verdict, jsr};
 pub use map::{MapCell, ParameterPlane, per_matrix_condition, verdict_map};

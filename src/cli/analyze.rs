@@ -10,6 +10,19 @@ use super::plot::{Plot, Series};
 
 #[derive(Subcommand)]
 pub enum AnalyzeCommand {
+    /// The fractal dimension of an automaton's attractor: box counting on a
+    /// deterministic evaluation (within 1/1024 of its extent), and the
+    /// similarity dimension (Moran, Mauldin–Williams) when its maps are similarities.
+    Dimension {
+        /// The automaton file (TOML), or the name of a shipped automaton.
+        file: String,
+        /// A parameter value, NAME=VALUE (repeatable).
+        #[arg(long = "param", value_name = "NAME=VALUE")]
+        params: Vec<String>,
+        /// Print JSON: box_dimension, fit (r2, scales), similarity_dimension.
+        #[arg(long)]
+        json: bool,
+    },
     /// The ternary 5-point scheme with tension ω (seed 003): C0/C1/C2 bounds,
     /// polygon length growth, fractal ranges; a table and a PNG plot.
     Ternary5 {
@@ -246,6 +259,7 @@ pub fn run(out: &mut String, what: AnalyzeCommand) -> Result<u8> {
         AnalyzeCommand::Map { file, x, y, size, thorough, output } => {
             run_map(out, &file, (&x, &y), size, thorough, &output)
         }
+        AnalyzeCommand::Dimension { file, params, json } => run_dimension(out, &file, &params, json),
     }
 }
 
@@ -287,4 +301,69 @@ pub fn ternary5_plot(rows: &[bcifs::analysis::ternary::TernaryRow]) -> Plot {
         vlines: vec![(PAPER_RANGES[0].1, [150, 0, 150]), (PAPER_RANGES[0].2, [150, 0, 150])],
         y_range: Some((0.0, top)),
     }
+}
+
+/// `bcifs analyze dimension`.
+fn run_dimension(out: &mut String, file: &str, params: &[String], as_json: bool) -> Result<u8> {
+    use bcifs::eval::{EvalSettings, Evaluator};
+    let design = super::load(file)?;
+    let values = super::parse_params(params)?;
+    let instance = bcifs::instantiate(&design, &values).map_err(|e| anyhow::anyhow!("{}: {e}", design.name()))?;
+    let model =
+        design.model().cloned().with_context(|| format!("`{}` has no [model]: add control points", design.name()))?;
+    // The extent from a coarse evaluation, then points within 1/1024 of it.
+    let coarse_ev = Evaluator::new(&instance.automaton, &model, EvalSettings::default().with_depth(4))?;
+    let pieces = coarse_ev.pieces();
+    let similarity = pieces.pieces.first().and_then(|p| {
+        let root = bcifs::petgraph::graph::NodeIndex::new(p.state);
+        bcifs::analysis::similarity_dimension(&instance.automaton, root, &p.control, pieces.dim)
+    });
+    let coarse = coarse_ev.evaluate()?;
+    let (lo, hi) = coarse.bounds().context("the attractor is empty")?;
+    let extent = (0..3).map(|a| hi[a] - lo[a]).fold(0.0, f64::max);
+    // Surfaces have many more cells per unit of resolution: a quarter of it, and
+    // the quads' centres and edge midpoints as samples too (within O(h²) of a smooth sheet).
+    let surface = !coarse.quads.is_empty();
+    let resolution = extent / if surface { 256.0 } else { 1024.0 };
+    let settings = EvalSettings::default().with_tolerance(resolution).with_memory_limit(1 << 30);
+    let shape = Evaluator::new(&instance.automaton, &model, settings)?.evaluate()?;
+    let mut samples = shape.points();
+    for q in &shape.quads {
+        let p = q.map(|i| shape.point(i as usize));
+        let mid = |a: [f64; 3], b: [f64; 3]| [0, 1, 2].map(|k| (a[k] + b[k]) / 2.0);
+        samples.extend([mid(p[0], p[1]), mid(p[1], p[2]), mid(p[2], p[3]), mid(p[3], p[0]), mid(p[0], p[2])]);
+    }
+    let fit = bcifs::analysis::box_dimension(&samples, if surface { resolution / 2.0 } else { resolution });
+    let params: serde_json::Map<String, serde_json::Value> =
+        instance.parameters.iter().map(|(n, v)| (n.clone(), serde_json::json!(v))).collect();
+    if as_json {
+        let fit_json = fit.as_ref().map(|f| {
+            serde_json::json!({"r2": f.r2, "scales": f.scales.iter().map(|(e, n)| serde_json::json!([e, n])).collect::<Vec<_>>()})
+        });
+        let value = serde_json::json!({
+            "automaton": design.name(), "parameters": params,
+            "box_dimension": fit.as_ref().map(|f| f.dimension), "fit": fit_json,
+            "similarity_dimension": similarity, "points": shape.vertex_count(),
+        });
+        writeln!(out, "{}", serde_json::to_string_pretty(&value)?)?;
+        return Ok(0);
+    }
+    writeln!(out, "{}: {} points within {resolution:.3e}", design.name(), shape.vertex_count())?;
+    match &fit {
+        Some(f) => writeln!(
+            out,
+            "  box-counting dimension {:.4} (r² = {:.5}, {} scales from {:.3e} to {:.3e})",
+            f.dimension,
+            f.r2,
+            f.scales.len(),
+            f.scales[0].0,
+            f.scales[f.scales.len() - 1].0
+        )?,
+        None => writeln!(out, "  box-counting dimension: not enough scales")?,
+    }
+    match similarity {
+        Some(s) => writeln!(out, "  similarity dimension {s:.6}")?,
+        None => writeln!(out, "  similarity dimension: none (a map is not a similarity of modelling space)")?,
+    }
+    Ok(0)
 }

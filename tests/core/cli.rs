@@ -428,3 +428,82 @@ fn surface_subdivides_a_users_mesh() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `analyze dimension`: the similarity dimension where the maps are
+/// similarities (Koch ln 4/ln 3, the Sierpinski gasket ln 3/ln 2, Lévy 2),
+/// none otherwise; box counting within 0.03 of the known dimension on
+/// Koch, the gasket, a smooth curve (1) and a surface patch (2). Lévy's
+/// box count converges too slowly at these scales (its boundary has
+/// dimension 1.93): only its bound is checked.
+#[test]
+fn dimensions_of_shipped_attractors() {
+    let dir = std::env::temp_dir().join(format!("bcifs-dim-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (_, gasket, _) = bcifs(&["show", "sierpinski-control"]);
+    let gasket_file = dir.join("gasket.toml");
+    std::fs::write(&gasket_file, gasket).unwrap();
+    let cases: [(&str, Option<f64>, Option<f64>); 5] = [
+        ("koch", Some(4f64.ln() / 3f64.ln()), Some(4f64.ln() / 3f64.ln())),
+        (gasket_file.to_str().unwrap(), Some(3f64.ln() / 2f64.ln()), Some(3f64.ln() / 2f64.ln())),
+        ("levy", None, Some(2.0)),
+        ("corner_cutting", Some(1.0), None),
+        ("doo_sabin_quad", Some(2.0), None),
+    ];
+    for (name, boxes, similarity) in cases {
+        let (code, out, err) = bcifs(&["analyze", "dimension", name, "--json"]);
+        assert_eq!(code, 0, "{name}: {err}");
+        let v = json(&out);
+        let measured = v["box_dimension"].as_f64().unwrap();
+        match boxes {
+            Some(d) => assert!((measured - d).abs() < 0.03, "{name}: box dimension {measured}, expected {d}"),
+            None => assert!(measured > 1.8 && measured <= 2.0, "{name}: box dimension {measured}"),
+        }
+        assert!(v["fit"]["r2"].as_f64().unwrap() > 0.99, "{name}");
+        match similarity {
+            Some(d) => {
+                let s = v["similarity_dimension"].as_f64().unwrap();
+                assert!((s - d).abs() < 1e-9, "{name}: similarity dimension {s}, expected {d}");
+            }
+            None => assert!(v["similarity_dimension"].is_null(), "{name}"),
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Mauldin–Williams on a graph-directed system of similarities: states A
+/// and B with A → A (ratio 1/2), A → B (1/4), B → A (1/2), B → B (1/3). The
+/// dimension solves ρ([[2^-s, 4^-s], [2^-s, 3^-s]]) = 1, i.e.
+/// (1 − 2^-s)(1 − 3^-s) = 8^-s.
+#[test]
+fn mauldin_williams_dimension_of_a_graph_directed_system() {
+    // x ↦ r x + t as the barycentric matrix of the triangle (0,0), (1,0), (0,1):
+    // columns are the barycentric coordinates of t, r e1 + t, r e2 + t.
+    let map = |r: f64, tx: f64, ty: f64| {
+        let bary = |x: f64, y: f64| [1.0 - x - y, x, y];
+        let cols = [bary(tx, ty), bary(r + tx, ty), bary(tx, r + ty)];
+        format!(
+            "[{}]",
+            (0..3).map(|i| format!("[{}, {}, {}]", cols[0][i], cols[1][i], cols[2][i])).collect::<Vec<_>>().join(", ")
+        )
+    };
+    let text = format!(
+        "[[state]]\nname = \"A\"\ndim = 3\nkind = \"free\"\n[[state]]\nname = \"B\"\ndim = 3\nkind = \"free\"\n\
+         [[arrow]]\nname = \"AA\"\nfrom = \"A\"\nto = \"A\"\nmatrix = {}\n\
+         [[arrow]]\nname = \"AB\"\nfrom = \"A\"\nto = \"B\"\nmatrix = {}\n\
+         [[arrow]]\nname = \"BA\"\nfrom = \"B\"\nto = \"A\"\nmatrix = {}\n\
+         [[arrow]]\nname = \"BB\"\nfrom = \"B\"\nto = \"B\"\nmatrix = {}\n\
+         [model]\nroot = \"A\"\npoints = [[0, 0], [1, 0], [0, 1]]\n",
+        map(0.5, 0.0, 0.0),
+        map(0.25, 0.5, 0.5),
+        map(0.5, 0.5, 0.0),
+        map(1.0 / 3.0, 0.0, 0.6)
+    );
+    let design = bcifs::parse_design(&text, "gd.toml", "gd").unwrap();
+    let instance = bcifs::instantiate(&design, &[]).unwrap();
+    let root = instance.automaton.state_id("A").unwrap();
+    let control = [0.0, 1.0, 0.0, 0.0, 0.0, 1.0];
+    let s = bcifs::analysis::similarity_dimension(&instance.automaton, root, &control, 2).unwrap();
+    let f = |s: f64| (1.0 - 2f64.powf(-s)) * (1.0 - 3f64.powf(-s)) - 8f64.powf(-s);
+    assert!(f(s).abs() < 1e-12, "s = {s}: residual {}", f(s));
+    assert!(s > 0.5 && s < 1.0, "{s}");
+}

@@ -1,0 +1,181 @@
+//! Fractal dimension: box counting on a point set, and the similarity
+//! dimension of an automaton whose maps are similarities of modelling space
+//! (Moran's equation `Σ rᵢˢ = 1` for one state; for a graph-directed system
+//! the Mauldin–Williams dimension, the `s` at which the spectral radius of
+//! the matrix of `Σ rₑˢ` over the arrows between each pair of states is 1).
+//!
+//! A subdivision arrow `e: s → t` maps the attractor of `t`, placed by a
+//! reference cell `C_t` of `t`, onto the cell `C_s M_e` inside the reference
+//! cell of `s`. The map is a similarity exactly when the two point sets are
+//! similar (every pairwise distance scaled by the same `rₑ`): then the
+//! barycentric map `C_t λ ↦ C_s M_e λ` is that similarity. Reference cells:
+//! the model's first piece for the root, and for every other state the first
+//! cell met from it; another choice conjugates the matrix of `rₑˢ` by a
+//! diagonal one and leaves its spectral radius, hence the dimension, as is.
+
+use std::collections::HashSet;
+
+use nalgebra::DMatrix;
+use petgraph::graph::NodeIndex;
+
+use crate::automaton::{ArrowKind, Automaton};
+
+/// Scales in the box-counting fit: the finest ones.
+const FITTED: usize = 5;
+
+/// A box-counting estimate.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BoxCount {
+    /// The slope of `ln N(ε)` against `ln(1/ε)`.
+    pub dimension: f64,
+    /// The coefficient of determination of that fit.
+    pub r2: f64,
+    /// The scales: box side `ε` (modelling units) and boxes met `N(ε)`.
+    pub scales: Vec<(f64, u64)>,
+}
+
+/// The box-counting dimension of `points`, by regression over the five
+/// finest box sides `E/2^k` (`E` the largest side of the bounding box) that
+/// are at least `2 · resolution` (the points are assumed to sample the set
+/// to within `resolution`, every part of it); coarser scales are listed but
+/// left out of the fit, where boundaries still weigh. `None` when the points
+/// span nothing or the resolution leaves fewer than four scales.
+pub fn box_dimension(points: &[[f64; 3]], resolution: f64) -> Option<BoxCount> {
+    let first = *points.first()?;
+    let (mut lo, mut hi) = (first, first);
+    for p in points {
+        for a in 0..3 {
+            lo[a] = lo[a].min(p[a]);
+            hi[a] = hi[a].max(p[a]);
+        }
+    }
+    let extent = (0..3).map(|a| hi[a] - lo[a]).fold(0.0, f64::max);
+    if !(extent > 0.0 && extent.is_finite()) {
+        return None;
+    }
+    let mut scales = Vec::new();
+    for k in 2..=40 {
+        let eps = extent * 0.5f64.powi(k);
+        if eps < 2.0 * resolution {
+            break;
+        }
+        let mut boxes: HashSet<[i64; 3]> = HashSet::with_capacity(points.len().min(1 << 22));
+        for p in points {
+            boxes.insert([0, 1, 2].map(|a| ((p[a] - lo[a]) / eps).floor() as i64));
+        }
+        scales.push((eps, boxes.len() as u64));
+    }
+    if scales.len() < 4 {
+        return None;
+    }
+    let fitted = &scales[scales.len().saturating_sub(FITTED)..];
+    let xy: Vec<(f64, f64)> = fitted.iter().map(|(e, n)| ((1.0 / e).ln(), (*n as f64).ln())).collect();
+    let n = xy.len() as f64;
+    let (mx, my) = (xy.iter().map(|p| p.0).sum::<f64>() / n, xy.iter().map(|p| p.1).sum::<f64>() / n);
+    let sxx: f64 = xy.iter().map(|p| (p.0 - mx).powi(2)).sum();
+    let sxy: f64 = xy.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    let syy: f64 = xy.iter().map(|p| (p.1 - my).powi(2)).sum();
+    let slope = sxy / sxx;
+    let r2 = if syy > 0.0 { sxy * sxy / (sxx * syy) } else { 1.0 };
+    Some(BoxCount { dimension: slope, r2, scales })
+}
+
+/// The ratio of a similarity taking the points `x` onto `y` (columns of
+/// `d × n` row-major arrays), or `None` when none does (to `1e-9` relative).
+fn similarity_ratio(x: &[f64], y: &[f64], d: usize, n: usize) -> Option<f64> {
+    let dist =
+        |c: &[f64], i: usize, j: usize| (0..d).map(|a| (c[a * n + i] - c[a * n + j]).powi(2)).sum::<f64>().sqrt();
+    let mut ratio: Option<f64> = None;
+    let scale = (0..n).flat_map(|i| (0..n).map(move |j| (i, j))).map(|(i, j)| dist(x, i, j)).fold(0.0, f64::max);
+    if scale == 0.0 {
+        return None;
+    }
+    for i in 0..n {
+        for j in i + 1..n {
+            let (dx, dy) = (dist(x, i, j), dist(y, i, j));
+            if dx < 1e-12 * scale {
+                if dy > 1e-9 * scale {
+                    return None;
+                }
+                continue;
+            }
+            match ratio {
+                None => ratio = Some(dy / dx),
+                Some(r) if (dy / dx - r).abs() > 1e-9 * r.max(1e-12) => return None,
+                _ => {}
+            }
+        }
+    }
+    ratio
+}
+
+/// The similarity (Moran, or Mauldin–Williams) dimension of the attractor
+/// of the cell of state `root` with control points `control` (`d` rows of
+/// `dim(root)` coordinates, row-major: a model's first piece), or `None`
+/// when a subdivision arrow reachable from it is not a similarity of
+/// modelling space, or its cycles do not contract.
+pub fn similarity_dimension(automaton: &Automaton<f64>, root: NodeIndex, control: &[f64], d: usize) -> Option<f64> {
+    let n_root = automaton.state(root).dim;
+    if d == 0 || control.len() != d * n_root {
+        return None;
+    }
+    let reference = control.to_vec();
+    // Reference cells, and the ratio of every reachable subdivision arrow.
+    let mut cells: Vec<(NodeIndex, Vec<f64>)> = vec![(root, reference)];
+    let mut edges: Vec<(usize, usize, f64)> = Vec::new();
+    let mut at = 0;
+    while at < cells.len() {
+        let (s, c) = cells[at].clone();
+        let ns = automaton.state(s).dim;
+        for e in automaton.outgoing(s, ArrowKind::Subdivision) {
+            let (_, t) = automaton.arrow_ends(e);
+            let m = &automaton.arrow(e).matrix;
+            let nt = automaton.state(t).dim;
+            let cm = DMatrix::from_row_slice(d, ns, &c) * m;
+            let child: Vec<f64> = (0..d).flat_map(|a| (0..nt).map(move |j| (a, j))).map(|(a, j)| cm[(a, j)]).collect();
+            let ti = match cells.iter().position(|(u, _)| *u == t) {
+                Some(i) => i,
+                None => {
+                    cells.push((t, child.clone()));
+                    cells.len() - 1
+                }
+            };
+            // A ratio may be 1 or more (the arrow that placed a reference cell): what
+            // must contract are the cycles, which the bisection below requires.
+            let r = similarity_ratio(&cells[ti].1, &child, d, nt)?;
+            edges.push((at, ti, r));
+        }
+        at += 1;
+    }
+    if edges.is_empty() {
+        return None;
+    }
+    let k = cells.len();
+    let rho = |s: f64| {
+        let mut m = DMatrix::<f64>::zeros(k, k);
+        for &(u, v, r) in &edges {
+            m[(u, v)] += r.powf(s);
+        }
+        m.complex_eigenvalues().iter().map(|z| z.norm()).fold(0.0, f64::max)
+    };
+    // ρ(s) decreases from the number of arrows of a cycle (s = 0) to 0: bisect for ρ = 1.
+    if rho(0.0) <= 1.0 {
+        return Some(0.0);
+    }
+    let (mut lo, mut hi) = (0.0, 1.0);
+    while rho(hi) > 1.0 {
+        hi *= 2.0;
+        if hi > 1e3 {
+            return None;
+        }
+    }
+    for _ in 0..100 {
+        let mid = (lo + hi) / 2.0;
+        if rho(mid) > 1.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    Some((lo + hi) / 2.0)
+}
