@@ -1,6 +1,7 @@
 //! Analysis of instantiated automata and of subdivision schemes.
 
 mod check;
+mod curve;
 mod dimension;
 mod jsr;
 mod map;
@@ -8,6 +9,7 @@ pub mod subdivision;
 pub mod ternary;
 
 pub use check::{CheckReport, DEFAULT_CHECK_TOLERANCE, check};
+pub use curve::{CurveReport, curve_query};
 pub use dimension::{BoxCount, box_dimension, similarity_dimension};
 pub use jsr::{Jsr, JsrError, JsrSettings, ROUNDING, Verdict, jsr};
 pub use map::{MapCell, ParameterPlane, per_matrix_condition, verdict_map};

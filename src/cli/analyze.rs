@@ -10,6 +10,19 @@ use super::plot::{Plot, Series};
 
 #[derive(Subcommand)]
 pub enum AnalyzeCommand {
+    /// A curve's differential behaviour at a parameter point (seed 004 §4):
+    /// convergence verdict, eigenvalues, half-tangents, junction angle, region.
+    Curve {
+        /// The automaton file (TOML), or the name of a shipped automaton; its
+        /// model's root is an edge state with two subdivision arrows.
+        file: String,
+        /// A parameter value, NAME=VALUE (repeatable).
+        #[arg(long = "param", value_name = "NAME=VALUE")]
+        params: Vec<String>,
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+    },
     /// The fractal dimension of an automaton's attractor: box counting on a
     /// deterministic evaluation (within 1/1024 of its extent), and the
     /// similarity dimension (Moran, Mauldin–Williams) when its maps are similarities.
@@ -260,6 +273,7 @@ pub fn run(out: &mut String, what: AnalyzeCommand) -> Result<u8> {
             run_map(out, &file, (&x, &y), size, thorough, &output)
         }
         AnalyzeCommand::Dimension { file, params, json } => run_dimension(out, &file, &params, json),
+        AnalyzeCommand::Curve { file, params, json } => run_curve(out, &file, &params, json),
     }
 }
 
@@ -365,5 +379,68 @@ fn run_dimension(out: &mut String, file: &str, params: &[String], as_json: bool)
         Some(s) => writeln!(out, "  similarity dimension {s:.6}")?,
         None => writeln!(out, "  similarity dimension: none (a map is not a similarity of modelling space)")?,
     }
+    Ok(0)
+}
+
+/// `bcifs analyze curve`.
+fn run_curve(out: &mut String, file: &str, params: &[String], as_json: bool) -> Result<u8> {
+    use bcifs::analysis::{JsrSettings, Verdict, curve_query, jsr, per_matrix_condition};
+    use bcifs::{ArrowKind, CellKind};
+    let design = super::load(file)?;
+    let values = super::parse_params(params)?;
+    let instance = bcifs::instantiate(&design, &values).map_err(|e| anyhow::anyhow!("{}: {e}", design.name()))?;
+    let automaton = &instance.automaton;
+    let root_name =
+        design.model().map(|m| m.root(0).to_string()).context("the design has no [model] naming its root")?;
+    let root = automaton.state_id(&root_name).context("the model's root is not a state")?;
+    let arrows = automaton.outgoing(root, ArrowKind::Subdivision);
+    if automaton.state(root).kind != CellKind::Edge
+        || arrows.len() != 2
+        || arrows.iter().any(|&e| automaton.arrow_ends(e).1 != root)
+    {
+        bail!(
+            "{}: `analyze curve` needs a root edge state with two subdivision arrows to itself (T0, T1)",
+            design.name()
+        );
+    }
+    let (t0, t1) = (&automaton.arrow(arrows[0]).matrix, &automaton.arrow(arrows[1]).matrix);
+    let names = [automaton.arrow(arrows[0]).name.clone(), automaton.arrow(arrows[1]).name.clone()];
+    let report = curve_query(t0, t1);
+    let verdict = jsr(automaton, &JsrSettings::default()).ok().map(|j| j.verdict());
+    let converges = verdict.and_then(|v| v.converges());
+    let region = match verdict {
+        Some(Verdict::Diverges) => Some("divergent"),
+        Some(Verdict::Converges) => report.region,
+        _ => None,
+    };
+    let params: serde_json::Map<String, serde_json::Value> =
+        instance.parameters.iter().map(|(n, v)| (n.clone(), serde_json::json!(v))).collect();
+    if as_json {
+        let value = serde_json::json!({
+            "automaton": design.name(), "parameters": params, "converges": converges,
+            "per_matrix_condition": per_matrix_condition(automaton),
+            "eigenvalues": {names[0].clone(): report.eigenvalues[0], names[1].clone(): report.eigenvalues[1]},
+            "subdominant": {names[0].clone(): report.subdominant[0], names[1].clone(): report.subdominant[1]},
+            "half_tangents": report.half_tangents.as_ref().map(|[s, e]| serde_json::json!({"start": s, "end": e})),
+            "junction_angle_deg": report.junction_angle_deg,
+            "c1_necessary": report.c1_necessary,
+            "region": region,
+        });
+        writeln!(out, "{}", serde_json::to_string_pretty(&value)?)?;
+        return Ok(0);
+    }
+    let p: Vec<String> = instance.parameters.iter().map(|(n, v)| format!("{n} = {v}")).collect();
+    writeln!(out, "{}: {}", design.name(), p.join(", "))?;
+    writeln!(out, "  converges: {}", converges.map_or("undecided".to_string(), |c| c.to_string()))?;
+    for (k, name) in names.iter().enumerate() {
+        writeln!(out, "  {name}: eigenvalues {:?}, sub-dominant {:?}", report.eigenvalues[k], report.subdominant[k])?;
+    }
+    match (&report.half_tangents, report.junction_angle_deg) {
+        (Some([s, e]), Some(angle)) => {
+            writeln!(out, "  half-tangents: start {s:?}, end {e:?}; junction angle {angle:.4}°")?
+        }
+        _ => writeln!(out, "  no half-tangents (a leading eigenvalue is negative or tied)")?,
+    }
+    writeln!(out, "  C1 necessary condition: {}; region {}", report.c1_necessary, region.unwrap_or("undecided"))?;
     Ok(0)
 }

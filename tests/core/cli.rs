@@ -507,3 +507,78 @@ fn mauldin_williams_dimension_of_a_graph_directed_system() {
     assert!(f(s).abs() < 1e-12, "s = {s}: residual {}", f(s));
     assert!(s > 0.5 && s < 1.0, "{s}");
 }
+
+/// `analyze curve` on the corner cutting against seed 004 §4's closed
+/// forms, at points drawn over the convergence domain: eigenvalues
+/// (1, a, 1 − a − b) and (1, b, 1 − a − b); in case 1 (1 − a − b above |a|
+/// and |b|) region 1 with angle 0 exactly when α1 and β1 have the same sign,
+/// else a cusp (π); case 3 regions 4/5 by the sign of 1 − a − b; the
+/// divergent point of the erratum; a degenerate line.
+#[test]
+fn curve_query_matches_the_closed_forms() {
+    let query = |a: f64, b: f64| {
+        let (code, out, err) = bcifs(&[
+            "analyze",
+            "curve",
+            "corner_cutting",
+            "--param",
+            &format!("a={a}"),
+            "--param",
+            &format!("b={b}"),
+            "--json",
+        ]);
+        assert_eq!(code, 0, "{err}");
+        json(&out)
+    };
+    let mut state = 7u64;
+    let mut r = || {
+        state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let mut seen = std::collections::BTreeSet::new();
+    for _ in 0..40 {
+        let (a, b) = (-0.4 + 1.2 * r(), -0.4 + 1.2 * r());
+        let c = 1.0 - a - b;
+        let v = query(a, b);
+        let mut e0: Vec<f64> = v["eigenvalues"]["T0"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
+        let mut e1: Vec<f64> = v["eigenvalues"]["T1"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
+        let mut x0 = vec![1.0, a, c];
+        let mut x1 = vec![1.0, b, c];
+        for e in [&mut e0, &mut e1, &mut x0, &mut x1] {
+            e.sort_by(f64::total_cmp);
+        }
+        for (got, want) in e0.iter().zip(&x0).chain(e1.iter().zip(&x1)) {
+            assert!((got - want).abs() < 1e-9, "a = {a}, b = {b}: {e0:?} {e1:?}");
+        }
+        let region = v["region"].as_str().map(str::to_string);
+        if v["converges"] != true {
+            continue;
+        }
+        if c > a.abs() + 1e-6 && c > b.abs() + 1e-6 {
+            let alpha1 = -b * (a + b - 1.0) / ((2.0 * a + b - 1.0) * (a + b));
+            let beta1 = -a * (a + b - 1.0) / ((a + 2.0 * b - 1.0) * (a + b));
+            let angle = v["junction_angle_deg"].as_f64().unwrap();
+            if alpha1 * beta1 > 0.0 {
+                assert_eq!(region.as_deref(), Some("1"), "a = {a}, b = {b}");
+                assert!(angle < 1e-4, "a = {a}, b = {b}: {angle}");
+            } else {
+                assert!(matches!(region.as_deref(), Some("2" | "2'")), "a = {a}, b = {b}: {region:?}");
+                assert!((angle - 180.0).abs() < 1e-4, "a = {a}, b = {b}: {angle}");
+            }
+            assert_eq!(v["c1_necessary"], true);
+        } else if c.abs() + 1e-6 < a.abs() && c.abs() + 1e-6 < b.abs() && a > 0.0 && b > 0.0 {
+            assert_eq!(region.as_deref(), Some(if c < 0.0 { "5" } else { "4" }), "a = {a}, b = {b}");
+        }
+        if let Some(r) = region {
+            seen.insert(r);
+        }
+    }
+    assert!(seen.len() >= 4, "regions met: {seen:?}");
+    let v = query(-0.9, 0.95);
+    assert_eq!(
+        (v["region"].as_str(), v["converges"].as_bool(), v["per_matrix_condition"].as_bool()),
+        (Some("divergent"), Some(false), Some(true))
+    );
+    assert_eq!(query(0.0, 0.3)["region"], "degenerate");
+    assert_eq!(query(0.3, 0.7)["region"], "degenerate");
+}

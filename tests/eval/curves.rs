@@ -302,3 +302,35 @@ fn hopeless_tolerances_are_refused_at_once() {
         other => panic!("expected TooLarge, got {:?}", other.map(|s| s.vertex_count())),
     }
 }
+
+/// The half-tangents of `analysis::curve_query` are the directions of the
+/// rendered curve at its ends: the first chord of a deep evaluation leaves
+/// the start along `P · start`, the last one arrives at the end along
+/// `P · end` (depth 14: the next eigenvalue's share is below 2⁻¹⁴ relative).
+#[test]
+fn half_tangents_agree_with_the_rendered_curve() {
+    use bcifs::analysis::curve_query;
+    for (a, b) in [(0.3, 0.1), (0.4, 0.4), (0.1, 0.3), (0.45, 0.35)] {
+        let (automaton, model, _) = load("corner_cutting", &[("a", a), ("b", b)]);
+        let root = automaton.state_id(model.root(0)).unwrap();
+        let arrows = automaton.outgoing(root, bcifs::ArrowKind::Subdivision);
+        let (t0, t1) = (&automaton.arrow(arrows[0]).matrix, &automaton.arrow(arrows[1]).matrix);
+        let report = curve_query(t0, t1);
+        let [start, end] = report.half_tangents.clone().unwrap_or_else(|| panic!("a = {a}, b = {b}: {report:?}"));
+        let k = 14;
+        let shape = eval("corner_cutting", &[("a", a), ("b", b)], EvalSettings::default().with_depth(k));
+        let per = 1usize << k;
+        let p = |i: usize| shape.point(i);
+        let control = |j: usize| &model.points[j];
+        let along = |v: &[f64]| [0, 1].map(|c| (0..3).map(|j| v[j] * control(j)[c]).sum::<f64>());
+        let angle = |u: [f64; 2], w: [f64; 2]| {
+            let cos = (u[0] * w[0] + u[1] * w[1]) / ((u[0].hypot(u[1])) * (w[0].hypot(w[1])));
+            cos.clamp(-1.0, 1.0).acos().to_degrees()
+        };
+        // Piece 0 runs over samples 0 .. per; its end is the start of piece 1.
+        let first = [p(1)[0] - p(0)[0], p(1)[1] - p(0)[1]];
+        let last = [p(per)[0] - p(per - 1)[0], p(per)[1] - p(per - 1)[1]];
+        assert!(angle(first, along(&start)) < 0.1, "a = {a}, b = {b}: start {}", angle(first, along(&start)));
+        assert!(angle(last, along(&end)) < 0.1, "a = {a}, b = {b}: end {}", angle(last, along(&end)));
+    }
+}

@@ -1,0 +1,185 @@
+//! Differential behaviour of a BC-IFS curve at a parameter point (seed 004
+//! §4): eigenvalues, half-tangents, the junction angle, and the region of
+//! the cartography (Fig. 8).
+//!
+//! The curve is `C(t) = P F(t)` with `F([0, 1/2]) = T0 F([0, 1])` and
+//! `F([1/2, 1]) = T1 F([0, 1])`; `F(0)` and `F(1)` are the fixed points of
+//! `T0` and `T1`. Near `t = 0`, `F(2⁻ᵏ t) − F(0) = T0ᵏ (F(t) − F(0))`, so the
+//! direction of `F(t) − F(0)` is that of the component of `F(1) − F(0)` on
+//! the eigenvector of `T0` with the largest eigenvalue below 1 in modulus
+//! among those it has a component on (`α_L v_L⁰`, Property 1), provided that
+//! eigenvalue is positive (negative: the direction alternates, no
+//! half-tangent). Likewise `F(t) − F(1)` goes along `−β_R v_R¹` from the
+//! decomposition `F(1) − F(0) = Σ βᵢ vᵢ¹` in `T1`'s eigenbasis. The paper
+//! names these `t₋ = α_L v_L⁰` and `t₊ = β_R v_R¹` but calls them the
+//! half-tangents at `F(1)` and `F(0)`: it is the other way round (see
+//! `docs/errata.md`).
+//!
+//! At the junction `t = 1/2`, the left piece `T0 F` arrives along
+//! `d_in = T0 (β_R v_R¹)` (the image of the direction in which `F` arrives at
+//! `F(1)`) and the right piece `T1 F` leaves along `d_out = T1 (α_L v_L⁰)`;
+//! the junction angle is the angle between them in barycentric coordinates
+//! (0: a tangent, π: a cusp), as seed 004 §6 measures roughness.
+//!
+//! Regions (§4.3, for three-point curves, the rule stated generally): a
+//! half-tangent is *inner* when its eigenvector has a zero coordinate (it
+//! depends on two control points only: `1 − a − b` sub-dominant for the
+//! corner cutting). Both inner: region `1` when `d_in` and `d_out` point the
+//! same way, else a cusp, `2` when `α_L < 0` and `2'` when `β_R < 0`. One
+//! inner: `3` (at `F(0)`), `3'` (at `F(1)`). None: `4`, or `5` when the
+//! eigenvalue the two matrices share besides 1 is negative. An eigenvalue 0
+//! besides the fixed point is `degenerate` (the corner cutting at `a = 0`,
+//! `b = 0`, `a + b = 1`: piecewise linear). All of it is computed in
+//! floating point from the instantiated matrices.
+
+use nalgebra::{DMatrix, DVector};
+
+/// Two eigenvalues closer than this are taken as equal.
+const TIE: f64 = 1e-12;
+
+/// What [`curve_query`] finds.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CurveReport {
+    /// Real eigenvalues of `T0` and `T1`, decreasing (`None` when complex).
+    pub eigenvalues: [Option<Vec<f64>>; 2],
+    /// The largest eigenvalue below 1 in modulus of `T0` and `T1`.
+    pub subdominant: [Option<f64>; 2],
+    /// Directions (barycentric) in which the curve leaves `F(0)` and arrives at `F(1)`.
+    pub half_tangents: Option<[Vec<f64>; 2]>,
+    /// The junction angle in degrees.
+    pub junction_angle_deg: Option<f64>,
+    /// Half-tangents collinear at the junction (§4.2's necessary condition for C1).
+    pub c1_necessary: bool,
+    /// The region of seed 004 Fig. 8 (before the convergence verdict is taken into account).
+    pub region: Option<&'static str>,
+}
+
+/// Real eigen-decomposition `(λ, V)` of a matrix, or `None` when an
+/// eigenvalue is complex or the eigenvectors are not a basis.
+fn eigen(m: &DMatrix<f64>) -> Option<(Vec<f64>, DMatrix<f64>)> {
+    let n = m.nrows();
+    let values = m.complex_eigenvalues();
+    if values.iter().any(|z| z.im.abs() > 1e-9 * (1.0 + z.re.abs())) {
+        return None;
+    }
+    let mut lambdas: Vec<f64> = values.iter().map(|z| z.re).collect();
+    lambdas.sort_by(|a, b| b.partial_cmp(a).unwrap_or(std::cmp::Ordering::Equal));
+    let mut vectors = DMatrix::zeros(n, n);
+    for (k, &l) in lambdas.iter().enumerate() {
+        // The null space of M − λI: the right singular vector of the smallest singular value.
+        let shifted = m - DMatrix::identity(n, n) * l;
+        let svd = shifted.svd(false, true);
+        let vt = svd.v_t?;
+        let (i, _) = svd
+            .singular_values
+            .iter()
+            .enumerate()
+            .min_by(|a, b| a.1.partial_cmp(b.1).unwrap_or(std::cmp::Ordering::Equal))?;
+        // Sign: the first coordinate that is not 0 is positive (the paper's (1, −1, 0), (0, 1, −1)).
+        let mut v = vt.row(i).transpose();
+        if v.iter().find(|x| x.abs() > 1e-12).is_some_and(|x| *x < 0.0) {
+            v = -v;
+        }
+        vectors.set_column(k, &v);
+    }
+    vectors.clone().try_inverse()?;
+    Some((lambdas, vectors))
+}
+
+/// The fixed point (barycentric, summing to 1) of a column-stochastic matrix.
+fn fixed_point(lambdas: &[f64], vectors: &DMatrix<f64>) -> Option<DVector<f64>> {
+    let k = lambdas.iter().position(|l| (l - 1.0).abs() < 1e-9)?;
+    let v = vectors.column(k).into_owned();
+    let s = v.sum();
+    (s.abs() > 1e-12).then(|| v / s)
+}
+
+/// The direction of `d` along the eigenvector of largest modulus below 1
+/// on which it has a component: `(coefficient · eigenvector, eigenvalue, coefficient)`.
+fn leading_component(lambdas: &[f64], vectors: &DMatrix<f64>, d: &DVector<f64>) -> Option<(DVector<f64>, f64, f64)> {
+    let coefficients = vectors.clone().try_inverse()? * d;
+    let scale = d.norm().max(1e-300);
+    let mut best: Option<usize> = None;
+    for (i, l) in lambdas.iter().enumerate() {
+        if (l - 1.0).abs() < 1e-9 || coefficients[i].abs() * vectors.column(i).norm() < 1e-9 * scale {
+            continue;
+        }
+        match best {
+            Some(b) if lambdas[b].abs() >= l.abs() - TIE => {
+                if (lambdas[b].abs() - l.abs()).abs() < TIE {
+                    return None; // two of the same modulus: no single direction
+                }
+            }
+            _ => best = Some(i),
+        }
+    }
+    let i = best?;
+    Some((vectors.column(i) * coefficients[i], lambdas[i], coefficients[i]))
+}
+
+/// The differential behaviour of the curve whose halves are `t0` and `t1`
+/// (square, column-stochastic).
+pub fn curve_query(t0: &DMatrix<f64>, t1: &DMatrix<f64>) -> CurveReport {
+    let (e0, e1) = (eigen(t0), eigen(t1));
+    let subdominant = |e: &Option<(Vec<f64>, DMatrix<f64>)>| {
+        e.as_ref().and_then(|(l, _)| {
+            l.iter().copied().filter(|x| (x - 1.0).abs() > 1e-9).max_by(|a, b| a.abs().total_cmp(&b.abs()))
+        })
+    };
+    let mut report = CurveReport {
+        eigenvalues: [e0.as_ref().map(|e| e.0.clone()), e1.as_ref().map(|e| e.0.clone())],
+        subdominant: [subdominant(&e0), subdominant(&e1)],
+        half_tangents: None,
+        junction_angle_deg: None,
+        c1_necessary: false,
+        region: None,
+    };
+    let (Some((l0, v0)), Some((l1, v1))) = (e0, e1) else { return report };
+    let degenerate = l0.iter().chain(&l1).any(|l| l.abs() < 1e-12);
+    let (Some(f0), Some(f1)) = (fixed_point(&l0, &v0), fixed_point(&l1, &v1)) else { return report };
+    let d = &f1 - &f0;
+    let (Some((start, lambda_l, alpha)), Some((end_back, lambda_r, _))) =
+        (leading_component(&l0, &v0, &d), leading_component(&l1, &v1, &d))
+    else {
+        return report;
+    };
+    if degenerate {
+        report.region = Some("degenerate");
+    }
+    // Half-tangents exist when the leading eigenvalues are positive.
+    if lambda_l > 0.0 && lambda_r > 0.0 {
+        // F leaves F(0) along α_L v_L⁰ and arrives at F(1) along β_R v_R¹ (F(t) − F(1) ~ −β_R v_R¹).
+        report.half_tangents = Some([start.iter().copied().collect(), end_back.iter().copied().collect()]);
+        let d_in = t0 * &end_back;
+        let d_out = t1 * &start;
+        let cos = d_in.dot(&d_out) / (d_in.norm() * d_out.norm());
+        if cos.is_finite() {
+            report.junction_angle_deg = Some(cos.clamp(-1.0, 1.0).acos().to_degrees());
+            report.c1_necessary = 1.0 - cos.abs() < 1e-9;
+        }
+    }
+    if degenerate || t0.nrows() != 3 {
+        return report;
+    }
+    let inner = |v: &DVector<f64>| v.iter().any(|x| x.abs() < 1e-12 * v.norm());
+    let (inner0, inner1) = (inner(&start), inner(&end_back));
+    report.region = Some(match (inner0, inner1) {
+        (true, true) => {
+            if report.c1_necessary && report.junction_angle_deg.is_some_and(|a| a < 90.0) {
+                "1"
+            } else if alpha < 0.0 {
+                "2"
+            } else {
+                "2'"
+            }
+        }
+        (true, false) => "3",
+        (false, true) => "3'",
+        (false, false) => {
+            // The eigenvalue the two matrices share besides 1 (1 − a − b for the corner cutting).
+            let shared = l0.iter().find(|x| (*x - 1.0).abs() > 1e-9 && l1.iter().any(|y| (y - *x).abs() < 1e-9));
+            if shared.is_some_and(|s| *s < 0.0) { "5" } else { "4" }
+        }
+    });
+    report
+}
