@@ -10,12 +10,14 @@
 //! - [`crate::Surd`]: exact numbers `q + q'√r`, so generated files stay exact.
 
 mod catalog;
+mod contour;
 mod normal;
 mod stationary;
 mod ternary;
 mod topology;
 
 pub use catalog::{CatalogError, DEFAULT_OMEGA, IFS_NAMES, ifs_preset};
+pub use contour::{RowMap, segment_ifs, segment_ifs_as_printed};
 pub use normal::{
     NormalDirection, NormalPreset, NormalScheme, NormalSchemeError, PRESET_NAMES, Point2, SignPattern, normal_preset,
     unit_segment, unit_square, unit_triangle,

@@ -63,4 +63,45 @@ fn the_minkowski_preset_is_not_the_minkowski_curve() {
     }
     approx::assert_abs_diff_eq!(lo, 3f64.log2(), epsilon = 1e-12);
     assert!((lo - 1.5).abs() > 0.08);
+    // The same from the automaton form by the dimension analysis (its maps are similarities).
+    let design = p.scheme.design("minkowski", &p.polygon, p.closed).unwrap();
+    let instance = bcifs::instantiate(&design, &[]).unwrap();
+    let model = design.model().unwrap();
+    let ev = bcifs::eval::Evaluator::new(&instance.automaton, model, bcifs::eval::EvalSettings::default()).unwrap();
+    let piece = &ev.pieces().pieces[0];
+    let root = bcifs::petgraph::graph::NodeIndex::new(piece.state);
+    let s = bcifs::analysis::similarity_dimension(&instance.automaton, root, &piece.control, ev.pieces().dim).unwrap();
+    approx::assert_abs_diff_eq!(s, 3f64.log2(), epsilon = 1e-9);
+}
+
+/// Seed 002 eq. 13: with φ = arctan((y1 − y0)/s) the maps of the segment
+/// (0, 0) → (3, 4) have the attractor (0, 0) → (3.904, 3.124); with the
+/// segment's direction (atan2) each segment's two maps have exactly that
+/// segment as attractor, in every quadrant: F1 fixes P0, F2 fixes P1, and
+/// F1(P1) = F2(P0) is the midpoint (the two half-segments meet, so their
+/// union, the attractor, is the segment).
+#[test]
+fn segment_maps_use_the_segment_direction() {
+    use bcifs::schemes::{RowMap, segment_ifs, segment_ifs_as_printed};
+    let apply = |f: &RowMap, p: [f64; 2]| [0, 1].map(|j| p[0] * f[0][j] + p[1] * f[1][j] + f[2][j]);
+    let close = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).abs() < 1e-12 && (a[1] - b[1]).abs() < 1e-12;
+    let [_, printed] = segment_ifs_as_printed([0.0, 0.0], [3.0, 4.0]);
+    // The fixed point of F2 is where the printed maps put the end: iterate towards it.
+    let mut end = [0.0, 0.0];
+    for _ in 0..200 {
+        end = apply(&printed, end);
+    }
+    assert!((end[0] - 3.904).abs() < 1e-3 && (end[1] - 3.124).abs() < 1e-3, "{end:?}");
+    for (p0, p1) in [
+        ([0.0, 0.0], [3.0, 4.0]),
+        ([1.0, 2.0], [-3.0, 5.0]),
+        ([0.5, -1.0], [-2.0, -4.0]),
+        ([-1.0, 1.0], [2.0, -3.0]),
+        ([2.0, 2.0], [2.0, -1.0]),
+    ] {
+        let [f1, f2] = segment_ifs(p0, p1);
+        let mid = [(p0[0] + p1[0]) / 2.0, (p0[1] + p1[1]) / 2.0];
+        assert!(close(apply(&f1, p0), p0) && close(apply(&f2, p1), p1), "{p0:?} → {p1:?}: fixed points");
+        assert!(close(apply(&f1, p1), mid) && close(apply(&f2, p0), mid), "{p0:?} → {p1:?}: halves");
+    }
 }
