@@ -56,7 +56,7 @@ impl Num {
 
     /// Parses a decimal literal (`3`, `0.5625`, `1e-3`, `2.5E+2`) exactly;
     /// `None` when it is not one, or when its power of ten is beyond
-    /// ±[`MAX_EXPONENT`] (an exact `10^900000000` would take gigabytes).
+    /// ±`MAX_EXPONENT` (an exact `10^900000000` would take gigabytes).
     pub fn parse_decimal(text: &str) -> Option<Num> {
         let (mantissa, exponent) = match text.find(['e', 'E']) {
             Some(i) => (&text[..i], text[i + 1..].parse::<i32>().ok()?),

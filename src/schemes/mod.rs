@@ -1,12 +1,13 @@
 //! Generators: functions that return automata (as files or designs) for the
 //! topologies and schemes of the seeds.
 //!
-//! - [`curve_file`], [`quad_patch_file`]: BC-IFS topologies with unknown
+//! - [`curve`], [`quad_patch`]: BC-IFS topologies with unknown
 //!   matrices, for the solver (seed 004);
 //! - [`NormalScheme`]: the normal-vector p-ary scheme of seed 000, direct and
 //!   as an automaton, with the paper's figures as [`normal_preset`]s;
-//! - [`Rules`], [`BSpline`], [`ifs_file`]: stationary subdivision schemes as
+//! - [`Rules`], [`BSpline`], [`ifs_design`]: stationary subdivision schemes as
 //!   IFS (seed 001), lifted to ordinary IFS by [`LiftedIfs`];
+//! - [`segment_ifs`]: a line segment as two maps (seed 002 §4);
 //! - [`crate::Surd`]: exact numbers `q + q'√r`, so generated files stay exact.
 
 mod catalog;
