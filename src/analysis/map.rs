@@ -93,3 +93,61 @@ pub fn verdict_map(
         .collect();
     Ok(rows.into_iter().flatten().collect())
 }
+
+/// A pixel of a curve-family map: the convergence verdict, the per-matrix
+/// condition and the curve's differential behaviour there.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CurveCell {
+    /// The joint spectral radius verdict.
+    pub verdict: Verdict,
+    /// Seed 004 §3's per-matrix condition.
+    pub per_matrix: bool,
+    /// Half-tangents, junction angle and region (`None` when the pixel does not instantiate).
+    pub report: Option<super::curve::CurveReport>,
+}
+
+/// [`verdict_map`] with [`super::curve::curve_query`] at every pixel, for
+/// a family whose state `root` is a curve with two subdivision arrows `T0`,
+/// `T1` to itself (in the order of the automaton).
+///
+/// # Errors
+/// As [`verdict_map`].
+pub fn curve_map(
+    family: &Family,
+    plane: &ParameterPlane,
+    settings: &JsrSettings,
+    root: &str,
+) -> Result<Vec<CurveCell>, InstantiateError> {
+    let (w, h) = plane.size;
+    family.instantiate(&[(plane.x.0.clone(), plane.x.1), (plane.y.0.clone(), plane.y.1)])?;
+    let rows: Vec<Vec<CurveCell>> = (0..h)
+        .into_par_iter()
+        .map(|row| {
+            (0..w)
+                .map(|column| {
+                    let (x, y) = plane.at(column, row);
+                    let values = [(plane.x.0.clone(), x), (plane.y.0.clone(), y)];
+                    let Ok(instance) = family.instantiate(&values) else {
+                        return CurveCell { verdict: Verdict::Undecided, per_matrix: false, report: None };
+                    };
+                    let a = &instance.automaton;
+                    // A matrix with an eigenvalue of modulus ≥ 1 on the differences already makes
+                    // the joint spectral radius ≥ 1: no bounds needed there.
+                    let per_matrix = per_matrix_condition(a);
+                    let verdict = if per_matrix {
+                        jsr(a, settings).map_or(Verdict::Undecided, |j| j.verdict())
+                    } else {
+                        Verdict::Diverges
+                    };
+                    let report = a.state_id(root).and_then(|r| {
+                        let arrows = a.outgoing(r, ArrowKind::Subdivision);
+                        (arrows.len() == 2)
+                            .then(|| super::curve::curve_query(&a.arrow(arrows[0]).matrix, &a.arrow(arrows[1]).matrix))
+                    });
+                    CurveCell { verdict, per_matrix, report }
+                })
+                .collect()
+        })
+        .collect();
+    Ok(rows.into_iter().flatten().collect())
+}

@@ -22,6 +22,25 @@ pub enum AnalyzeCommand {
         /// Print JSON.
         #[arg(long)]
         json: bool,
+        /// A map instead of a point: regions (Fig. 8), roughness (the junction angle, Fig. 11
+        /// left) or smooth (angle below --threshold, Fig. 11 right), over --x and --y.
+        #[arg(long, requires_all = ["x", "y", "output"])]
+        map: Option<String>,
+        /// The parameter along x and its range, NAME=FROM:TO.
+        #[arg(long, allow_hyphen_values = true)]
+        x: Option<String>,
+        /// The parameter along y and its range, NAME=FROM:TO.
+        #[arg(long, allow_hyphen_values = true)]
+        y: Option<String>,
+        /// Pixels on a side.
+        #[arg(long, default_value_t = 512)]
+        size: usize,
+        /// The smooth map's angle threshold in degrees.
+        #[arg(long, default_value_t = 5.0)]
+        threshold: f64,
+        /// The map: .png, or .csv for the raw grid (x, y, verdict, region, angle).
+        #[arg(short, long)]
+        output: Option<PathBuf>,
     },
     /// The fractal dimension of an automaton's attractor: box counting on a
     /// deterministic evaluation (within 1/1024 of its extent), and the
@@ -273,7 +292,11 @@ pub fn run(out: &mut String, what: AnalyzeCommand) -> Result<u8> {
             run_map(out, &file, (&x, &y), size, thorough, &output)
         }
         AnalyzeCommand::Dimension { file, params, json } => run_dimension(out, &file, &params, json),
-        AnalyzeCommand::Curve { file, params, json } => run_curve(out, &file, &params, json),
+        AnalyzeCommand::Curve { file, params, json, map: None, .. } => run_curve(out, &file, &params, json),
+        AnalyzeCommand::Curve { file, map: Some(kind), x, y, size, threshold, output, .. } => {
+            let (x, y, output) = (x.unwrap_or_default(), y.unwrap_or_default(), output.unwrap_or_default());
+            run_curve_map(out, &file, &kind, (&x, &y), size, threshold, &output)
+        }
     }
 }
 
@@ -442,5 +465,126 @@ fn run_curve(out: &mut String, file: &str, params: &[String], as_json: bool) -> 
         _ => writeln!(out, "  no half-tangents (a leading eigenvalue is negative or tied)")?,
     }
     writeln!(out, "  C1 necessary condition: {}; region {}", report.c1_necessary, region.unwrap_or("undecided"))?;
+    Ok(0)
+}
+
+/// The colour of a region of seed 004 Fig. 8 (and of the verdicts around them).
+fn region_colour(region: Option<&str>) -> [u8; 3] {
+    match region {
+        Some("1") => [40, 150, 70],
+        Some("2") => [150, 60, 200],
+        Some("2'") => [200, 110, 230],
+        Some("3") => [40, 110, 200],
+        Some("3'") => [110, 170, 235],
+        Some("4") => [240, 170, 40],
+        Some("5") => [230, 90, 40],
+        Some("divergent") => [200, 30, 30],
+        Some("degenerate") => [20, 20, 20],
+        Some(_) => [255, 0, 255],
+        None => [245, 230, 120],
+    }
+}
+
+/// `bcifs analyze curve --map`.
+fn run_curve_map(
+    out: &mut String,
+    file: &str,
+    kind: &str,
+    (x, y): (&str, &str),
+    size: usize,
+    threshold: f64,
+    output: &std::path::Path,
+) -> Result<u8> {
+    use bcifs::analysis::{JsrSettings, ParameterPlane, Verdict, curve_map};
+    if size == 0 || size > 4096 {
+        bail!("--size must be between 1 and 4096");
+    }
+    if !matches!(kind, "regions" | "roughness" | "smooth") {
+        bail!("--map {kind}: expected regions, roughness or smooth");
+    }
+    if !(threshold.is_finite() && threshold > 0.0) {
+        bail!("--threshold {threshold}: expected a positive angle in degrees");
+    }
+    let design = super::load(file)?;
+    let root = design.model().map(|m| m.root(0).to_string()).context("the design has no [model] naming its root")?;
+    let family = bcifs::solve(&design).map_err(|e| anyhow::anyhow!("{}: {e}", design.name()))?;
+    let plane = ParameterPlane { x: axis(x)?, y: axis(y)?, size: (size, size) };
+    let started = std::time::Instant::now();
+    let cells = curve_map(&family, &plane, &JsrSettings::quick(), &root)?;
+    // A region only where the bounds prove convergence; outside the per-matrix domain grey.
+    let region = |c: &bcifs::analysis::CurveCell| match c.verdict {
+        Verdict::Diverges => Some("divergent"),
+        Verdict::Converges => c.report.as_ref().and_then(|r| r.region),
+        Verdict::Undecided => None,
+    };
+    let angle = |c: &bcifs::analysis::CurveCell| c.report.as_ref().and_then(|r| r.junction_angle_deg);
+    let ext = output.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
+    if ext == "csv" {
+        let mut text = format!("{},{},verdict,per_matrix,region,junction_angle_deg\n", plane.x.0, plane.y.0);
+        for (i, c) in cells.iter().enumerate() {
+            let (px, py) = plane.at(i % size, i / size);
+            let verdict = match c.verdict {
+                Verdict::Converges => "converges",
+                Verdict::Diverges => "diverges",
+                Verdict::Undecided => "undecided",
+            };
+            writeln!(
+                text,
+                "{px},{py},{verdict},{},{},{}",
+                c.per_matrix,
+                region(c).unwrap_or(""),
+                angle(c).map_or(String::new(), |a| a.to_string())
+            )?;
+        }
+        bcifs::export::write_atomic(output, text.as_bytes())
+            .with_context(|| format!("cannot write {}", output.display()))?;
+    } else {
+        let colour = |c: &bcifs::analysis::CurveCell| -> [u8; 3] {
+            if !c.per_matrix && c.verdict != Verdict::Converges {
+                return [228, 228, 228];
+            }
+            match kind {
+                "regions" => region_colour(region(c)),
+                _ => match (c.verdict, angle(c)) {
+                    (Verdict::Diverges, _) => [200, 30, 30],
+                    (Verdict::Converges, Some(a)) if kind == "smooth" => {
+                        if a < threshold {
+                            [20, 20, 20]
+                        } else {
+                            [255, 255, 255]
+                        }
+                    }
+                    (Verdict::Converges, Some(a)) => {
+                        // 0 (red) to 180 (violet) through the hues, as Fig. 11.
+                        let h = (a / 180.0).clamp(0.0, 1.0) * 0.8;
+                        let f = |n: f64| {
+                            let k = (n + h * 6.0) % 6.0;
+                            (255.0 * (1.0 - k.min(4.0 - k).clamp(0.0, 1.0))) as u8
+                        };
+                        [f(5.0), f(3.0), f(1.0)]
+                    }
+                    _ => [245, 230, 120],
+                },
+            }
+        };
+        let img = image::RgbImage::from_fn(size as u32, size as u32, |i, j| {
+            image::Rgb(colour(&cells[j as usize * size + i as usize]))
+        });
+        bcifs::export::write_png(output, &img).with_context(|| format!("cannot write {}", output.display()))?;
+    }
+    let mut counts: std::collections::BTreeMap<&str, usize> = std::collections::BTreeMap::new();
+    for c in &cells {
+        *counts.entry(region(c).unwrap_or("undecided")).or_default() += 1;
+    }
+    writeln!(
+        out,
+        "{}: {kind} map, {size}×{size} pixels in {:.2} s → {}",
+        design.name(),
+        started.elapsed().as_secs_f64(),
+        output.display()
+    )?;
+    for (r, n) in counts {
+        writeln!(out, "  region {r:<10} {n}")?;
+    }
     Ok(0)
 }

@@ -582,3 +582,77 @@ fn curve_query_matches_the_closed_forms() {
     assert_eq!(query(0.0, 0.3)["region"], "degenerate");
     assert_eq!(query(0.3, 0.7)["region"], "degenerate");
 }
+
+/// `analyze curve --map`: the raw grid as CSV; over the corner cutting's
+/// plane it has every region of Fig. 8, each pixel's region is the point
+/// query's, and the PNG maps are written.
+#[test]
+fn curve_maps_cover_the_regions() {
+    let dir = std::env::temp_dir().join(format!("bcifs-cmap-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let csv = dir.join("r.csv");
+    let (code, _, err) = bcifs(&[
+        "analyze",
+        "curve",
+        "corner_cutting",
+        "--map",
+        "regions",
+        "--x",
+        "a=-0.5:1",
+        "--y",
+        "b=-0.5:1",
+        "--size",
+        "24",
+        "-o",
+        csv.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let rows: Vec<Vec<&str>> = text.lines().skip(1).map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), 24 * 24);
+    let regions: std::collections::BTreeSet<&str> = rows.iter().map(|r| r[4]).collect();
+    for r in ["1", "2", "2'", "3", "3'", "4", "5"] {
+        assert!(regions.contains(r), "region {r} missing: {regions:?}");
+    }
+    for row in rows.iter().step_by(37) {
+        if row[2] != "converges" {
+            continue;
+        }
+        let (code, out, _) = bcifs(&[
+            "analyze",
+            "curve",
+            "corner_cutting",
+            "--param",
+            &format!("a={}", row[0]),
+            "--param",
+            &format!("b={}", row[1]),
+            "--json",
+        ]);
+        assert_eq!(code, 0);
+        let v = json(&out);
+        if v["converges"] == true {
+            assert_eq!(v["region"].as_str().unwrap_or(""), row[4], "at {row:?}");
+        }
+    }
+    for kind in ["roughness", "smooth"] {
+        let png = dir.join(format!("{kind}.png"));
+        let (code, _, err) = bcifs(&[
+            "analyze",
+            "curve",
+            "corner_cutting",
+            "--map",
+            kind,
+            "--x",
+            "a=-0.5:1",
+            "--y",
+            "b=-0.5:1",
+            "--size",
+            "16",
+            "-o",
+            png.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{err}");
+        assert!(png.metadata().unwrap().len() > 0);
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
