@@ -175,7 +175,7 @@ pub enum MeshError {
     #[error("Doo-Sabin weights {0}")]
     Weights(String),
     /// A depth whose output would not fit memory.
-    #[error("{what} at depth {depth} would have about {faces} faces ({:.1} GiB), over the in-memory limit of {:.1} GiB: lower the depth or raise the limit", *bytes as f64 / (1u64 << 30) as f64, *limit as f64 / (1u64 << 30) as f64)]
+    #[error("{what} at depth {depth} would have about {faces} faces ({:.1} GiB): over the in-memory limit of {:.1} GiB (--memory-mib) or the 2^32 corners a mesh can number; lower the depth", *bytes as f64 / (1u64 << 30) as f64, *limit as f64 / (1u64 << 30) as f64)]
     TooLarge {
         /// What.
         what: &'static str,

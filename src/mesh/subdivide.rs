@@ -109,7 +109,8 @@ impl PolyMesh {
             return Err(MeshError::NotTriangles { scheme: scheme.name(), face, degree: f.len() });
         }
         let (faces, bytes) = self.estimate(scheme, depth);
-        if bytes > memory_limit as u128 {
+        // Corners are numbered in 32 bits: a mesh with 2³² of them is refused whatever the memory.
+        if bytes > memory_limit as u128 || faces.saturating_mul(4) >= u128::from(u32::MAX) {
             return Err(MeshError::TooLarge { what: "the subdivided mesh", depth, faces, bytes, limit: memory_limit });
         }
         let mut mesh = self.clone();
