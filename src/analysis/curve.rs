@@ -183,3 +183,40 @@ pub fn curve_query(t0: &DMatrix<f64>, t1: &DMatrix<f64>) -> CurveReport {
     });
     report
 }
+
+/// The blending functions of a curve (seed 004 §5, Fig. 9).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Blending {
+    /// The natural parameters `t = j / 2^depth`, `0..=1`.
+    pub t: Vec<f64>,
+    /// `F(t)`: the barycentric coordinates of the curve point, one vector per `t`.
+    pub f: Vec<Vec<f64>>,
+    /// The parameters `tᵢ = i/(n − 1)` given to the control points.
+    pub knots: Vec<f64>,
+    /// The non-singular parameterization `u(t) = Σ tᵢ Fᵢ(t)`: the parameter
+    /// values subdivided by the same matrices as the control points (Fig. 10).
+    pub u: Vec<f64>,
+}
+
+/// The blending functions of the curve whose halves are `t0`, `t1` at the
+/// dyadic parameters of `depth` (at most 20), and the non-singular
+/// parameterization; `None` when a matrix has no fixed point.
+pub fn blending(t0: &DMatrix<f64>, t1: &DMatrix<f64>, depth: usize) -> Option<Blending> {
+    let (l0, v0) = eigen(t0)?;
+    let (l1, v1) = eigen(t1)?;
+    let (start, end) = (fixed_point(&l0, &v0)?, fixed_point(&l1, &v1)?);
+    let n = t0.nrows();
+    let depth = depth.min(20);
+    // F(j / 2^k) = T_w F(0) for the word w of j: the leaves of the subdivision tree in order.
+    let mut cells = vec![DMatrix::<f64>::identity(n, n)];
+    for _ in 0..depth {
+        cells = cells.iter().flat_map(|m| [m * t0, m * t1]).collect();
+    }
+    let mut f: Vec<Vec<f64>> = cells.iter().map(|m| (m * &start).iter().copied().collect()).collect();
+    f.push(end.iter().copied().collect());
+    let steps = f.len() - 1;
+    let t = (0..=steps).map(|j| j as f64 / steps as f64).collect();
+    let knots: Vec<f64> = (0..n).map(|i| i as f64 / (n.max(2) - 1) as f64).collect();
+    let u = f.iter().map(|x| x.iter().zip(&knots).map(|(a, b)| a * b).sum()).collect();
+    Some(Blending { t, f, knots, u })
+}

@@ -42,6 +42,21 @@ pub enum AnalyzeCommand {
         #[arg(short, long)]
         output: Option<PathBuf>,
     },
+    /// The blending functions F(t) of a curve in the natural parameterization, the
+    /// non-singular parameterization u(t) and F in it: three panels (seed 004 Fig. 9).
+    Blend {
+        /// The automaton file (TOML), or the name of a shipped automaton (a curve root with T0, T1).
+        file: String,
+        /// A parameter value, NAME=VALUE (repeatable).
+        #[arg(long = "param", value_name = "NAME=VALUE")]
+        params: Vec<String>,
+        /// Subdivision depth of the samples (2^DEPTH + 1 of them).
+        #[arg(long, default_value_t = 10)]
+        depth: usize,
+        /// The picture (PNG).
+        #[arg(short, long)]
+        output: PathBuf,
+    },
     /// The fractal dimension of an automaton's attractor: box counting on a
     /// deterministic evaluation (within 1/1024 of its extent), and the
     /// similarity dimension (Moran, Mauldin–Williams) when its maps are similarities.
@@ -292,6 +307,7 @@ pub fn run(out: &mut String, what: AnalyzeCommand) -> Result<u8> {
             run_map(out, &file, (&x, &y), size, thorough, &output)
         }
         AnalyzeCommand::Dimension { file, params, json } => run_dimension(out, &file, &params, json),
+        AnalyzeCommand::Blend { file, params, depth, output } => run_blend(out, &file, &params, depth, &output),
         AnalyzeCommand::Curve { file, params, json, map: None, .. } => run_curve(out, &file, &params, json),
         AnalyzeCommand::Curve { file, map: Some(kind), x, y, size, threshold, output, .. } => {
             let (x, y, output) = (x.unwrap_or_default(), y.unwrap_or_default(), output.unwrap_or_default());
@@ -408,24 +424,8 @@ fn run_dimension(out: &mut String, file: &str, params: &[String], as_json: bool)
 /// `bcifs analyze curve`.
 fn run_curve(out: &mut String, file: &str, params: &[String], as_json: bool) -> Result<u8> {
     use bcifs::analysis::{JsrSettings, Verdict, curve_query, jsr, per_matrix_condition};
-    use bcifs::{ArrowKind, CellKind};
-    let design = super::load(file)?;
-    let values = super::parse_params(params)?;
-    let instance = bcifs::instantiate(&design, &values).map_err(|e| anyhow::anyhow!("{}: {e}", design.name()))?;
+    let (design, instance, arrows) = curve_halves(file, params)?;
     let automaton = &instance.automaton;
-    let root_name =
-        design.model().map(|m| m.root(0).to_string()).context("the design has no [model] naming its root")?;
-    let root = automaton.state_id(&root_name).context("the model's root is not a state")?;
-    let arrows = automaton.outgoing(root, ArrowKind::Subdivision);
-    if automaton.state(root).kind != CellKind::Edge
-        || arrows.len() != 2
-        || arrows.iter().any(|&e| automaton.arrow_ends(e).1 != root)
-    {
-        bail!(
-            "{}: `analyze curve` needs a root edge state with two subdivision arrows to itself (T0, T1)",
-            design.name()
-        );
-    }
     let (t0, t1) = (&automaton.arrow(arrows[0]).matrix, &automaton.arrow(arrows[1]).matrix);
     let names = [automaton.arrow(arrows[0]).name.clone(), automaton.arrow(arrows[1]).name.clone()];
     let report = curve_query(t0, t1);
@@ -586,5 +586,98 @@ fn run_curve_map(
     for (r, n) in counts {
         writeln!(out, "  region {r:<10} {n}")?;
     }
+    Ok(0)
+}
+
+/// The two subdivision matrices of a design's curve root, with the instance's parameters.
+fn curve_halves(
+    file: &str,
+    params: &[String],
+) -> Result<(bcifs::Design, bcifs::Instance, [bcifs::petgraph::graph::EdgeIndex; 2])> {
+    use bcifs::{ArrowKind, CellKind};
+    let design = super::load(file)?;
+    let values = super::parse_params(params)?;
+    let instance = bcifs::instantiate(&design, &values).map_err(|e| anyhow::anyhow!("{}: {e}", design.name()))?;
+    let automaton = &instance.automaton;
+    let root_name =
+        design.model().map(|m| m.root(0).to_string()).context("the design has no [model] naming its root")?;
+    let root = automaton.state_id(&root_name).context("the model's root is not a state")?;
+    let arrows = automaton.outgoing(root, ArrowKind::Subdivision);
+    if automaton.state(root).kind != CellKind::Edge
+        || arrows.len() != 2
+        || arrows.iter().any(|&e| automaton.arrow_ends(e).1 != root)
+    {
+        bail!(
+            "{}: a curve root (an edge state with two subdivision arrows to itself, T0 and T1) is needed",
+            design.name()
+        );
+    }
+    Ok((design, instance, [arrows[0], arrows[1]]))
+}
+
+/// `bcifs analyze blend`.
+fn run_blend(out: &mut String, file: &str, params: &[String], depth: usize, output: &std::path::Path) -> Result<u8> {
+    if depth == 0 || depth > 16 {
+        bail!("--depth must be between 1 and 16");
+    }
+    let (design, instance, [e0, e1]) = curve_halves(file, params)?;
+    let a = &instance.automaton;
+    let b = bcifs::analysis::blending(&a.arrow(e0).matrix, &a.arrow(e1).matrix, depth)
+        .context("a subdivision matrix has no fixed point")?;
+    let colours = [[200, 40, 40], [40, 140, 60], [40, 80, 200], [200, 140, 20], [130, 60, 170], [20, 150, 160]];
+    let components = |xs: &[f64]| -> Vec<Series> {
+        (0..b.knots.len())
+            .map(|i| Series {
+                label: format!("F{i}"),
+                points: xs.iter().zip(&b.f).map(|(x, f)| (*x, f[i])).collect(),
+                color: colours[i % colours.len()],
+            })
+            .collect()
+    };
+    let p: Vec<String> = instance.parameters.iter().map(|(n, v)| format!("{n} = {v}")).collect();
+    let panels = [
+        Plot {
+            title: "F(t), natural parameterization".into(),
+            x_label: "t".into(),
+            y_label: "F".into(),
+            series: components(&b.t),
+            ..Plot::default()
+        },
+        Plot {
+            title: "u(t) = Σ tᵢ Fᵢ(t)".into(),
+            x_label: "t".into(),
+            y_label: "u".into(),
+            series: vec![Series {
+                label: "u".into(),
+                points: b.t.iter().copied().zip(b.u.iter().copied()).collect(),
+                color: [30, 30, 30],
+            }],
+            ..Plot::default()
+        },
+        Plot {
+            title: "F(u), non-singular parameterization".into(),
+            x_label: "u".into(),
+            y_label: "F".into(),
+            series: components(&b.u),
+            ..Plot::default()
+        },
+    ];
+    let (w, h) = (520u32, 420u32);
+    let mut img = image::RgbImage::from_pixel(3 * w, h, image::Rgb([255, 255, 255]));
+    for (k, panel) in panels.iter().enumerate() {
+        let pic = panel.render(w, h)?;
+        image::imageops::replace(&mut img, &pic, i64::from(k as u32 * w), 0);
+    }
+    bcifs::export::write_png(output, &img).with_context(|| format!("cannot write {}", output.display()))?;
+    let monotone = b.u.windows(2).all(|x| x[1] > x[0]);
+    writeln!(
+        out,
+        "{} ({}): {} samples; u(t) {} → {}",
+        design.name(),
+        p.join(", "),
+        b.t.len(),
+        if monotone { "increasing" } else { "NOT increasing (no reparameterization)" },
+        output.display()
+    )?;
     Ok(0)
 }

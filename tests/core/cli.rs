@@ -656,3 +656,62 @@ fn curve_maps_cover_the_regions() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Seed 004 §5: blending functions. They sum to 1; at Chaikin (a = b = 1/4)
+/// they are the quadratic B-spline basis and u(t) is affine (linear
+/// precision); at the paper's a = 1/20, b = 1/8 (Gregory region) F is
+/// singular in t (its steepest chord grows with the depth) but not in u
+/// (bounded), and u increases. `analyze blend` draws the three panels.
+#[test]
+fn blending_functions_and_the_non_singular_parameterization() {
+    use bcifs::analysis::blending;
+    let halves = |a: f64, b: f64| {
+        let design = bcifs::builtin_design("corner_cutting").unwrap();
+        let inst = bcifs::instantiate(&design, &[("a".to_string(), a), ("b".to_string(), b)]).unwrap();
+        let root = inst.automaton.state_id("e").or_else(|| inst.automaton.states().next().map(|(i, _)| i)).unwrap();
+        let arrows = inst.automaton.outgoing(root, bcifs::ArrowKind::Subdivision);
+        (inst.automaton.arrow(arrows[0]).matrix.clone(), inst.automaton.arrow(arrows[1]).matrix.clone())
+    };
+    let (t0, t1) = halves(0.25, 0.25);
+    let b = blending(&t0, &t1, 8).unwrap();
+    for (t, f) in b.t.iter().zip(&b.f) {
+        let basis = [(1.0 - t) * (1.0 - t) / 2.0, 0.5 + t - t * t, t * t / 2.0];
+        for i in 0..3 {
+            assert!((f[i] - basis[i]).abs() < 1e-12, "t = {t}: {f:?}");
+        }
+    }
+    for (t, u) in b.t.iter().zip(&b.u) {
+        assert!((u - (0.25 + t / 2.0)).abs() < 1e-12, "Chaikin's u is affine: u({t}) = {u}");
+    }
+    let (t0, t1) = halves(1.0 / 20.0, 1.0 / 8.0);
+    let steepest = |depth: usize| {
+        let b = blending(&t0, &t1, depth).unwrap();
+        assert!(b.f.iter().all(|f| (f.iter().sum::<f64>() - 1.0).abs() < 1e-12));
+        assert!(b.u.windows(2).all(|w| w[1] > w[0]), "u increases");
+        let slope = |xs: &[f64]| {
+            (0..b.f.len() - 1)
+                .flat_map(|j| (0..3).map(move |i| (j, i)))
+                .map(|(j, i)| ((b.f[j + 1][i] - b.f[j][i]) / (xs[j + 1] - xs[j])).abs())
+                .fold(0.0, f64::max)
+        };
+        (slope(&b.t), slope(&b.u))
+    };
+    let ((t8, u8), (t12, u12)) = (steepest(8), steepest(12));
+    assert!(t12 > 2.0 * t8, "F is singular in t: {t8} → {t12}");
+    assert!(u12 < 1.2 * u8, "F is Lipschitz in u: {u8} → {u12}");
+    let png = std::env::temp_dir().join(format!("bcifs-blend-{}.png", std::process::id()));
+    let (code, out, err) = bcifs(&[
+        "analyze",
+        "blend",
+        "corner_cutting",
+        "--param",
+        "a=1/20",
+        "--param",
+        "b=1/8",
+        "-o",
+        png.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("u(t) increasing"), "{out}");
+    std::fs::remove_file(&png).unwrap();
+}
