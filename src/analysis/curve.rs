@@ -27,7 +27,7 @@
 //! corner cutting). Both inner: region `1` when `d_in` and `d_out` point the
 //! same way, else a cusp, `2` when `α_L < 0` and `2'` when `β_R < 0`. One
 //! inner: `3` (at `F(0)`), `3'` (at `F(1)`). None: `4`, or `5` when the
-//! eigenvalue the two matrices share besides 1 is negative. An eigenvalue 0
+//! smallest eigenvalue of `T0` in modulus (`1 − a − b`) is negative. An eigenvalue 0
 //! besides the fixed point is `degenerate` (the corner cutting at `a = 0`,
 //! `b = 0`, `a + b = 1`: piecewise linear). All of it is computed in
 //! floating point from the instantiated matrices.
@@ -176,9 +176,9 @@ pub fn curve_query(t0: &DMatrix<f64>, t1: &DMatrix<f64>) -> CurveReport {
         (true, false) => "3",
         (false, true) => "3'",
         (false, false) => {
-            // The eigenvalue the two matrices share besides 1 (1 − a − b for the corner cutting).
-            let shared = l0.iter().find(|x| (*x - 1.0).abs() > 1e-9 && l1.iter().any(|y| (y - *x).abs() < 1e-9));
-            if shared.is_some_and(|s| *s < 0.0) { "5" } else { "4" }
+            // The sign of the smallest eigenvalue in modulus (1 − a − b for the corner cutting).
+            let smallest = l0.iter().filter(|x| (*x - 1.0).abs() > 1e-9).min_by(|a, b| a.abs().total_cmp(&b.abs()));
+            if smallest.is_some_and(|s| *s < 0.0) { "5" } else { "4" }
         }
     });
     report

@@ -570,7 +570,47 @@ fn run_curve_map(
         let img = image::RgbImage::from_fn(size as u32, size as u32, |i, j| {
             image::Rgb(colour(&cells[j as usize * size + i as usize]))
         });
-        bcifs::export::write_png(output, &img).with_context(|| format!("cannot write {}", output.display()))?;
+        let mut legend: Vec<([u8; 3], String)> = match kind {
+            "regions" => [
+                ("1", "1: C1 candidates (tangent)"),
+                ("2", "2: cusp (α < 0)"),
+                ("2'", "2': cusp (β < 0)"),
+                ("3", "3: inner tangent at start"),
+                ("3'", "3': inner tangent at end"),
+                ("4", "4: no inner tangent"),
+                ("5", "5: oscillating (1−a−b < 0)"),
+                ("degenerate", "degenerate"),
+            ]
+            .iter()
+            .map(|(r, l)| (region_colour(Some(r)), l.to_string()))
+            .collect(),
+            "smooth" => vec![([20, 20, 20], format!("angle < {threshold}°")), ([255, 255, 255], "rougher".into())],
+            _ => [0.0, 45.0, 90.0, 135.0, 180.0]
+                .iter()
+                .map(|a: &f64| {
+                    let h = a / 180.0 * 0.8;
+                    let f = |n: f64| {
+                        let k = (n + h * 6.0) % 6.0;
+                        (255.0 * (1.0 - k.min(4.0 - k).clamp(0.0, 1.0))) as u8
+                    };
+                    ([f(5.0), f(3.0), f(1.0)], format!("angle {a}°"))
+                })
+                .collect(),
+        };
+        legend.extend([
+            ([200, 30, 30], "diverges (JSR ≥ 1)".to_string()),
+            ([245, 230, 120], "undecided".to_string()),
+            ([228, 228, 228], "a matrix fails (§3)".to_string()),
+        ]);
+        let title = format!("{}: {kind}", design.name());
+        let framed = super::plot::framed_map(
+            &title,
+            (&plane.x.0, plane.x.1, plane.x.2),
+            (&plane.y.0, plane.y.1, plane.y.2),
+            &img,
+            &legend,
+        )?;
+        bcifs::export::write_png(output, &framed).with_context(|| format!("cannot write {}", output.display()))?;
     }
     let mut counts: std::collections::BTreeMap<&str, usize> = std::collections::BTreeMap::new();
     for c in &cells {

@@ -137,3 +137,61 @@ impl Plot {
             .ok_or_else(|| anyhow!("internal error: plot buffer size (please report)"))
     }
 }
+
+/// A map of a parameter plane with labelled axes and a legend: `pixels`
+/// (row 0 at the top, the largest y) drawn over `x` and `y` (label, from,
+/// to), and one legend entry per colour, to the right.
+///
+/// # Errors
+/// The font does not load, or plotters fails to draw.
+pub fn framed_map(
+    title: &str,
+    x: (&str, f64, f64),
+    y: (&str, f64, f64),
+    pixels: &RgbImage,
+    legend: &[([u8; 3], String)],
+) -> Result<RgbImage> {
+    register_font()?;
+    let (map_side, legend_width) = (720u32, 260u32);
+    let (width, height) = (map_side + legend_width, map_side);
+    let mut buf = vec![255u8; width as usize * height as usize * 3];
+    let draw = |e| anyhow!("cannot draw the map: {e}");
+    {
+        let root = BitMapBackend::with_buffer(&mut buf, (width, height)).into_drawing_area();
+        root.fill(&WHITE).map_err(draw)?;
+        let (left, right) = root.split_horizontally(map_side);
+        let mut chart = ChartBuilder::on(&left)
+            .caption(title, ("sans-serif", 22))
+            .margin(14)
+            .x_label_area_size(44)
+            .y_label_area_size(56)
+            .build_cartesian_2d(x.1..x.2, y.1..y.2)
+            .map_err(draw)?;
+        chart
+            .configure_mesh()
+            .x_desc(x.0)
+            .y_desc(y.0)
+            .label_style(("sans-serif", 15))
+            .axis_desc_style(("sans-serif", 18))
+            .disable_mesh()
+            .draw()
+            .map_err(draw)?;
+        let (w, h) = (pixels.width() as usize, pixels.height() as usize);
+        let (dx, dy) = ((x.2 - x.1) / w as f64, (y.2 - y.1) / h as f64);
+        chart
+            .draw_series((0..h).flat_map(|row| (0..w).map(move |col| (row, col))).map(|(row, col)| {
+                let p = pixels.get_pixel(col as u32, row as u32).0;
+                let (px, py) = (x.1 + col as f64 * dx, y.2 - (row + 1) as f64 * dy);
+                Rectangle::new([(px, py), (px + dx, py + dy)], RGBColor(p[0], p[1], p[2]).filled())
+            }))
+            .map_err(draw)?;
+        for (i, (c, label)) in legend.iter().enumerate() {
+            let top = 60 + 28 * i as i32;
+            right.draw(&Rectangle::new([(10, top), (34, top + 18)], rgb(*c).filled())).map_err(draw)?;
+            right.draw(&Rectangle::new([(10, top), (34, top + 18)], RGBColor(90, 90, 90))).map_err(draw)?;
+            right.draw(&Text::new(label.clone(), (42, top + 1), ("sans-serif", 16))).map_err(draw)?;
+        }
+        root.present().map_err(draw)?;
+    }
+    RgbImage::from_raw(width, height, buf).ok_or_else(|| anyhow!("internal error: map buffer size (please report)"))
+}
