@@ -188,3 +188,62 @@ fn curves_and_surfaces_load_whole_and_upright_in_blender() {
     assert_eq!(lines[0].split(' ').next(), Some("1024"), "Blender: every point of the cloud");
     std::fs::remove_file(&cloud).unwrap();
 }
+
+/// `bcifs surface` output (the library's streamed writer) in the clients: the
+/// Catmull-Clark limit of the Blender-exported 12 × 6 torus loads watertight
+/// and outward in trimesh and MeshLab, with every face in Blender; Suzanne's
+/// Doo-Sabin net (n-gon faces, open) keeps every face in MeshLab.
+#[test]
+fn subdivided_meshes_load_in_the_clients() {
+    use bcifs::mesh::{MeshFormat, Scheme, Subdivision, read_mesh};
+    let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    let write = |input: &str, scheme, depth, limit, file: &str| {
+        let mesh = read_mesh(&data.join(input)).unwrap();
+        let path = std::env::temp_dir().join(format!("bcifs-client-{}-{file}", std::process::id()));
+        let job = Subdivision { scheme, depth, weights: None, memory_limit: 1 << 30 };
+        let mut out = std::io::BufWriter::new(std::fs::File::create(&path).unwrap());
+        let written = mesh.write_subdivided(&job, limit, MeshFormat::Obj("mesh"), &mut out).unwrap();
+        drop(out);
+        (path, written)
+    };
+    let (torus, w) = write("torus12.obj", Scheme::CatmullClark, 2, true, "torus-limit.obj");
+    let p = torus.display();
+    if let Some(out) = python(
+        "trimesh",
+        &format!(
+            "import trimesh\nm = trimesh.load('{p}')\nprint(m.is_watertight, m.euler_number, m.volume > 0, len(m.vertices))"
+        ),
+    ) {
+        assert_eq!(out, format!("True 0 True {}", w.vertices), "trimesh");
+    }
+    if let Some(out) = python(
+        "pymeshlab",
+        &format!(
+            "import pymeshlab\nms = pymeshlab.MeshSet()\nms.load_new_mesh('{p}')\n\
+             t = ms.get_topological_measures()\nprint(t['boundary_edges'], t['is_mesh_two_manifold'], ms.current_mesh().vertex_number())"
+        ),
+    ) {
+        assert_eq!(out, format!("0 True {}", w.vertices), "MeshLab");
+    }
+    if let Some(lines) = blender(&blender_import(&torus)) {
+        let f: Vec<&str> = lines[0].split(' ').collect();
+        assert_eq!(
+            (f[0], f[2], f[4]),
+            (w.vertices.to_string().as_str(), w.faces.to_string().as_str(), "True"),
+            "Blender"
+        );
+        assert!(f[3].parse::<f64>().unwrap() > 0.0, "Blender: outward");
+    }
+    std::fs::remove_file(&torus).unwrap();
+    let (net, w) = write("suzanne.obj", Scheme::DooSabin, 1, false, "suzanne-net.obj");
+    let p = net.display();
+    if let Some(out) = python(
+        "pymeshlab",
+        &format!(
+            "import pymeshlab\nms = pymeshlab.MeshSet()\nms.load_new_mesh('{p}')\nprint(ms.current_mesh().vertex_number())"
+        ),
+    ) {
+        assert_eq!(out, w.vertices.to_string(), "MeshLab vertices of the n-gon net");
+    }
+    std::fs::remove_file(&net).unwrap();
+}
