@@ -118,6 +118,10 @@ pub struct RenderArgs {
     /// Drop exact duplicate points of a point cloud (evaluated in memory), reporting how many.
     #[arg(long)]
     pub dedup: bool,
+    /// Write the model's control net instead of the attractor (the control polygon of a
+    /// curve, the control grid of a surface as quads), to show next to the attractor.
+    #[arg(long)]
+    pub control: bool,
 }
 
 /// `bcifs render`: evaluates a design with its model and writes the file.
@@ -141,8 +145,18 @@ pub fn run(args: RenderArgs) -> anyhow::Result<u8> {
         up,
         max_output_gib,
         dedup,
+        control,
     } = args;
     let design = load(&file)?;
+    if control {
+        let model = model_of(&design)?;
+        let (w, h) = parse_size(&size)?;
+        let raster = RasterSettings::default().with_size(w, h).with_memory_limit(memory_mib.saturating_mul(1 << 20));
+        let started = std::time::Instant::now();
+        let summary = write_shape(&control_net(&model), design.name(), &raster, &output)?;
+        summary.report(&format!("{} (control net)", design.name()), &output, started);
+        return Ok(0);
+    }
     if random.is_some() && (depth.is_some() || tolerance.is_some()) {
         bail!("--random draws points by the chaos game: --depth and --tolerance do not apply to it");
     }
@@ -336,6 +350,49 @@ pub fn render(design: &Design, options: &RenderOptions, out: &Path) -> Result<Re
             Ok(RenderSummary { duplicates, ..write_shape(&shape, design.name(), &options.raster, out)? })
         }
         other => Err(RenderError::Format(other.to_string())),
+    }
+}
+
+/// The control net of a model: the control polygon of a curve (closed for
+/// closed layouts), the control grid of a sheet or torus as quads, the
+/// points in order otherwise.
+pub fn control_net(model: &Model) -> Shape {
+    use bcifs::Layout;
+    let dim = model.points.first().map_or(2, Vec::len);
+    let flat: Vec<f64> = model.points.iter().flatten().copied().collect();
+    let closed = matches!(model.layout, Layout::Closed | Layout::ClosedFrames);
+    match (model.layout, model.grid) {
+        (Layout::Grid | Layout::Torus, Some((rows, cols))) if rows * cols == model.points.len() => {
+            let wrap = model.layout == Layout::Torus;
+            let (r_end, c_end) = if wrap { (rows, cols) } else { (rows - 1, cols - 1) };
+            let mut quads: Vec<[usize; 4]> = (0..r_end)
+                .flat_map(|r| (0..c_end).map(move |c| (r, c)))
+                .map(|(r, c)| {
+                    let at = |r: usize, c: usize| (r % rows) * cols + c % cols;
+                    [at(r, c), at(r, c + 1), at(r + 1, c + 1), at(r + 1, c)]
+                })
+                .collect();
+            // A closed net faces outwards, like the surfaces evaluated from it.
+            if wrap && dim == 3 {
+                let p = |i: usize| [0, 1, 2].map(|a| model.points[i][a]);
+                let det = |a: [f64; 3], b: [f64; 3], c: [f64; 3]| {
+                    a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+                        + a[2] * (b[0] * c[1] - b[1] * c[0])
+                };
+                let volume: f64 =
+                    quads.iter().map(|q| det(p(q[0]), p(q[1]), p(q[2])) + det(p(q[0]), p(q[2]), p(q[3]))).sum();
+                if volume < 0.0 {
+                    quads.iter_mut().for_each(|q| q.reverse());
+                }
+            }
+            let mut shape = Shape::default();
+            // Writing into memory cannot fail.
+            let _ = shape.object("control net");
+            let _ = shape.vertices(dim, &flat, None);
+            let _ = shape.faces(&quads, None);
+            shape
+        }
+        _ => Shape::polyline("control polygon", dim, &flat, closed),
     }
 }
 

@@ -715,3 +715,28 @@ fn blending_functions_and_the_non_singular_parameterization() {
     assert!(out.contains("u(t) increasing"), "{out}");
     std::fs::remove_file(&png).unwrap();
 }
+
+/// `render --control` writes the model's control net: the closed control
+/// polygon of the corner cutting (one two-vertex `l` per side), the 8 × 8
+/// torus grid as a closed quad mesh facing outwards.
+#[test]
+fn control_nets_are_written() {
+    let dir = std::env::temp_dir().join(format!("bcifs-control-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let curve = dir.join("c.obj");
+    let (code, _, err) = bcifs(&["render", "corner_cutting", "--control", "-o", curve.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    let text = std::fs::read_to_string(&curve).unwrap();
+    let design = bcifs::builtin_design("corner_cutting").unwrap();
+    let n = design.model().unwrap().points.len();
+    assert_eq!(text.lines().filter(|l| l.starts_with("v ")).count(), n);
+    assert_eq!(text.lines().filter(|l| l.starts_with("l ")).count(), n, "closed: a segment per side");
+    let torus = dir.join("t.obj");
+    let (code, _, err) = bcifs(&["render", "doo_sabin_torus", "--control", "--up", "z", "-o", torus.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    let mesh = bcifs::mesh::read_mesh(&torus).unwrap();
+    assert_eq!(mesh.face_count(), 64);
+    assert!(mesh.is_closed());
+    assert!(mesh.signed_volume() > 0.0, "outwards");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
