@@ -309,9 +309,10 @@ pub fn run(out: &mut String, what: AnalyzeCommand) -> Result<u8> {
         AnalyzeCommand::Dimension { file, params, json } => run_dimension(out, &file, &params, json),
         AnalyzeCommand::Blend { file, params, depth, output } => run_blend(out, &file, &params, depth, &output),
         AnalyzeCommand::Curve { file, params, json, map: None, .. } => run_curve(out, &file, &params, json),
-        AnalyzeCommand::Curve { file, map: Some(kind), x, y, size, threshold, output, .. } => {
+        AnalyzeCommand::Curve { file, params, map: Some(kind), x, y, size, threshold, output, .. } => {
             let (x, y, output) = (x.unwrap_or_default(), y.unwrap_or_default(), output.unwrap_or_default());
-            run_curve_map(out, &file, &kind, (&x, &y), size, threshold, &output)
+            let marker = super::parse_params(&params)?;
+            run_curve_map(out, &file, &kind, (&x, &y), (size, threshold, &marker), &output)
         }
     }
 }
@@ -491,8 +492,7 @@ fn run_curve_map(
     file: &str,
     kind: &str,
     (x, y): (&str, &str),
-    size: usize,
-    threshold: f64,
+    (size, threshold, marker): (usize, f64, &[(String, f64)]),
     output: &std::path::Path,
 ) -> Result<u8> {
     use bcifs::analysis::{JsrSettings, ParameterPlane, Verdict, curve_map};
@@ -567,9 +567,25 @@ fn run_curve_map(
                 },
             }
         };
-        let img = image::RgbImage::from_fn(size as u32, size as u32, |i, j| {
+        let mut img = image::RgbImage::from_fn(size as u32, size as u32, |i, j| {
             image::Rgb(colour(&cells[j as usize * size + i as usize]))
         });
+        // The point given with --param, as a black cross.
+        let value = |name: &str| marker.iter().find(|(n, _)| n == name).map(|(_, v)| *v);
+        if let (Some(px), Some(py)) = (value(&plane.x.0), value(&plane.y.0)) {
+            let col = ((px - plane.x.1) / (plane.x.2 - plane.x.1) * size as f64).floor();
+            let row = ((plane.y.2 - py) / (plane.y.2 - plane.y.1) * size as f64).floor();
+            let arm = (size as f64 / 64.0).max(2.0);
+            for d in -(arm as i64)..=(arm as i64) {
+                for (c, r) in [(col + d as f64, row), (col, row + d as f64)] {
+                    if c >= 0.0 && r >= 0.0 && (c as usize) < size && (r as usize) < size {
+                        img.put_pixel(c as u32, r as u32, image::Rgb([0, 0, 0]));
+                    }
+                }
+            }
+        } else if !marker.is_empty() {
+            bail!("--param with --map marks a point: give both {} and {}", plane.x.0, plane.y.0);
+        }
         let mut legend: Vec<([u8; 3], String)> = match kind {
             "regions" => [
                 ("1", "1: C1 candidates (tangent)"),

@@ -634,6 +634,29 @@ fn curve_maps_cover_the_regions() {
             assert_eq!(v["region"].as_str().unwrap_or(""), row[4], "at {row:?}");
         }
     }
+    // A point given with --param is marked; half a point is an error.
+    let marked = dir.join("marked.png");
+    let base = [
+        "analyze",
+        "curve",
+        "corner_cutting",
+        "--map",
+        "regions",
+        "--x",
+        "a=-0.5:1",
+        "--y",
+        "b=-0.5:1",
+        "--size",
+        "16",
+    ];
+    let mut args = base.to_vec();
+    args.extend(["--param", "a=0.25", "--param", "b=0.25", "-o", marked.to_str().unwrap()]);
+    assert_eq!(bcifs(&args).0, 0);
+    let mut args = base.to_vec();
+    args.extend(["--param", "a=0.25", "-o", marked.to_str().unwrap()]);
+    let (code, _, err) = bcifs(&args);
+    assert_eq!(code, 2);
+    assert!(err.contains("give both a and b"), "{err}");
     for kind in ["roughness", "smooth"] {
         let png = dir.join(format!("{kind}.png"));
         let (code, _, err) = bcifs(&[
