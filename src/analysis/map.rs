@@ -72,21 +72,33 @@ pub fn verdict_map(
     plane: &ParameterPlane,
     settings: &JsrSettings,
 ) -> Result<Vec<MapCell>, InstantiateError> {
+    over_plane(family, plane, |instance| {
+        let Some(instance) = instance else {
+            return MapCell { verdict: Verdict::Undecided, per_matrix: false };
+        };
+        let verdict = jsr(&instance.automaton, settings).map_or(Verdict::Undecided, |j| j.verdict());
+        MapCell { verdict, per_matrix: per_matrix_condition(&instance.automaton) }
+    })
+}
+
+/// `cell` at the centre of every pixel of `plane` (row by row, top row
+/// first), the other parameters at their defaults, in parallel over rows;
+/// `None` where the family does not instantiate.
+fn over_plane<T: Send>(
+    family: &Family,
+    plane: &ParameterPlane,
+    cell: impl Fn(Option<&crate::family::Instance>) -> T + Sync,
+) -> Result<Vec<T>, InstantiateError> {
     let (w, h) = plane.size;
     // Checks the names and the defaults once, before the threads start.
     family.instantiate(&[(plane.x.0.clone(), plane.x.1), (plane.y.0.clone(), plane.y.1)])?;
-    let rows: Vec<Vec<MapCell>> = (0..h)
+    let rows: Vec<Vec<T>> = (0..h)
         .into_par_iter()
         .map(|row| {
             (0..w)
                 .map(|column| {
                     let (x, y) = plane.at(column, row);
-                    let values = [(plane.x.0.clone(), x), (plane.y.0.clone(), y)];
-                    let Ok(instance) = family.instantiate(&values) else {
-                        return MapCell { verdict: Verdict::Undecided, per_matrix: false };
-                    };
-                    let verdict = jsr(&instance.automaton, settings).map_or(Verdict::Undecided, |j| j.verdict());
-                    MapCell { verdict, per_matrix: per_matrix_condition(&instance.automaton) }
+                    cell(family.instantiate(&[(plane.x.0.clone(), x), (plane.y.0.clone(), y)]).ok().as_ref())
                 })
                 .collect()
         })
@@ -118,36 +130,21 @@ pub fn curve_map(
     settings: &JsrSettings,
     root: &str,
 ) -> Result<Vec<CurveCell>, InstantiateError> {
-    let (w, h) = plane.size;
-    family.instantiate(&[(plane.x.0.clone(), plane.x.1), (plane.y.0.clone(), plane.y.1)])?;
-    let rows: Vec<Vec<CurveCell>> = (0..h)
-        .into_par_iter()
-        .map(|row| {
-            (0..w)
-                .map(|column| {
-                    let (x, y) = plane.at(column, row);
-                    let values = [(plane.x.0.clone(), x), (plane.y.0.clone(), y)];
-                    let Ok(instance) = family.instantiate(&values) else {
-                        return CurveCell { verdict: Verdict::Undecided, per_matrix: false, report: None };
-                    };
-                    let a = &instance.automaton;
-                    // A matrix with an eigenvalue of modulus ≥ 1 on the differences already makes
-                    // the joint spectral radius ≥ 1: no bounds needed there.
-                    let per_matrix = per_matrix_condition(a);
-                    let verdict = if per_matrix {
-                        jsr(a, settings).map_or(Verdict::Undecided, |j| j.verdict())
-                    } else {
-                        Verdict::Diverges
-                    };
-                    let report = a.state_id(root).and_then(|r| {
-                        let arrows = a.outgoing(r, ArrowKind::Subdivision);
-                        (arrows.len() == 2)
-                            .then(|| super::curve::curve_query(&a.arrow(arrows[0]).matrix, &a.arrow(arrows[1]).matrix))
-                    });
-                    CurveCell { verdict, per_matrix, report }
-                })
-                .collect()
-        })
-        .collect();
-    Ok(rows.into_iter().flatten().collect())
+    over_plane(family, plane, |instance| {
+        let Some(instance) = instance else {
+            return CurveCell { verdict: Verdict::Undecided, per_matrix: false, report: None };
+        };
+        let a = &instance.automaton;
+        // A matrix with an eigenvalue of modulus ≥ 1 on the differences already makes
+        // the joint spectral radius ≥ 1: no bounds needed there.
+        let per_matrix = per_matrix_condition(a);
+        let verdict =
+            if per_matrix { jsr(a, settings).map_or(Verdict::Undecided, |j| j.verdict()) } else { Verdict::Diverges };
+        let report = a.state_id(root).and_then(|r| {
+            let arrows = a.outgoing(r, ArrowKind::Subdivision);
+            (arrows.len() == 2)
+                .then(|| super::curve::curve_query(&a.arrow(arrows[0]).matrix, &a.arrow(arrows[1]).matrix))
+        });
+        CurveCell { verdict, per_matrix, report }
+    })
 }

@@ -469,6 +469,16 @@ fn run_curve(out: &mut String, file: &str, params: &[String], as_json: bool) -> 
     Ok(0)
 }
 
+/// A junction angle's colour: 0° red to 180° violet through the hues, as Fig. 11.
+fn angle_colour(degrees: f64) -> [u8; 3] {
+    let h = (degrees / 180.0).clamp(0.0, 1.0) * 0.8;
+    let f = |n: f64| {
+        let k = (n + h * 6.0) % 6.0;
+        (255.0 * (1.0 - k.min(4.0 - k).clamp(0.0, 1.0))) as u8
+    };
+    [f(5.0), f(3.0), f(1.0)]
+}
+
 /// The colour of a region of seed 004 Fig. 8 (and of the verdicts around them).
 fn region_colour(region: Option<&str>) -> [u8; 3] {
     match region {
@@ -554,15 +564,7 @@ fn run_curve_map(
                             [255, 255, 255]
                         }
                     }
-                    (Verdict::Converges, Some(a)) => {
-                        // 0 (red) to 180 (violet) through the hues, as Fig. 11.
-                        let h = (a / 180.0).clamp(0.0, 1.0) * 0.8;
-                        let f = |n: f64| {
-                            let k = (n + h * 6.0) % 6.0;
-                            (255.0 * (1.0 - k.min(4.0 - k).clamp(0.0, 1.0))) as u8
-                        };
-                        [f(5.0), f(3.0), f(1.0)]
-                    }
+                    (Verdict::Converges, Some(a)) => angle_colour(a),
                     _ => [245, 230, 120],
                 },
             }
@@ -603,14 +605,7 @@ fn run_curve_map(
             "smooth" => vec![([20, 20, 20], format!("angle < {threshold}°")), ([255, 255, 255], "rougher".into())],
             _ => [0.0, 45.0, 90.0, 135.0, 180.0]
                 .iter()
-                .map(|a: &f64| {
-                    let h = a / 180.0 * 0.8;
-                    let f = |n: f64| {
-                        let k = (n + h * 6.0) % 6.0;
-                        (255.0 * (1.0 - k.min(4.0 - k).clamp(0.0, 1.0))) as u8
-                    };
-                    ([f(5.0), f(3.0), f(1.0)], format!("angle {a}°"))
-                })
+                .map(|a: &f64| (angle_colour(*a), format!("angle {a}°")))
                 .collect(),
         };
         legend.extend([

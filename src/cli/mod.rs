@@ -105,6 +105,17 @@ fn parse_size(size: &str) -> Result<(u32, u32)> {
     Ok((w, h))
 }
 
+/// `--view YAW,PITCH`: two finite angles in degrees.
+fn parse_view(view: &str) -> Result<(f64, f64)> {
+    let (yaw, pitch) = view.split_once(',').with_context(|| format!("--view `{view}`: expected YAW,PITCH"))?;
+    let (yaw, pitch): (f64, f64) =
+        (yaw.trim().parse().context("--view yaw")?, pitch.trim().parse().context("--view pitch")?);
+    if !yaw.is_finite() || !pitch.is_finite() {
+        bail!("--view {yaw},{pitch}: the angles must be finite numbers of degrees");
+    }
+    Ok((yaw, pitch))
+}
+
 /// Worker threads: at least 1, at most 64 times the cores (more only waits).
 fn check_threads(threads: Option<usize>) -> Result<Option<usize>> {
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());

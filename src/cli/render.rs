@@ -3,13 +3,13 @@
 
 use std::path::{Path, PathBuf};
 
-use anyhow::{Context, bail};
+use anyhow::bail;
 use bcifs::eval::{EvalError, EvalSettings, Evaluator, chaos_game};
 use bcifs::export::{ObjWriter, RasterSettings, raster, svg, write_atomic, write_obj, write_png};
 use bcifs::geometry::{Shape, Sink};
 use bcifs::{Design, DesignInstantiateError, Model, instantiate};
 
-use super::{check_threads, keyword, load, parse_params, parse_size, progress_bar};
+use super::{check_threads, keyword, load, parse_params, parse_size, parse_view, progress_bar};
 
 /// What to render and how.
 #[derive(Clone, Debug, Default)]
@@ -195,12 +195,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<u8> {
         options.random = Some(r);
     }
     let (w, h) = parse_size(&size)?;
-    let (yaw, pitch) = view.split_once(',').with_context(|| format!("--view `{view}`: expected YAW,PITCH"))?;
-    let (yaw, pitch): (f64, f64) =
-        (yaw.trim().parse().context("--view yaw")?, pitch.trim().parse().context("--view pitch")?);
-    if !yaw.is_finite() || !pitch.is_finite() {
-        bail!("--view {yaw},{pitch}: the angles must be finite numbers of degrees");
-    }
+    let (yaw, pitch) = parse_view(&view)?;
     options.raster = options.raster.with_size(w, h).with_view(yaw, pitch).with_memory_limit(options.eval.memory_limit);
     let started = std::time::Instant::now();
     let summary = render(&design, &options, &output)?;

@@ -4,12 +4,12 @@
 
 use std::path::PathBuf;
 
-use anyhow::{Context, bail};
+use anyhow::bail;
 use bcifs::export::{AtomicFile, RasterSettings};
 use bcifs::mesh::{MeshFormat, QuadWeights, Scheme, Subdivision, WeightsVerdict, Written, read_mesh};
 
 use super::render::write_shape;
-use super::{keyword, parse_params, parse_size};
+use super::{keyword, parse_params, parse_size, parse_view};
 
 /// The arguments of `bcifs surface`.
 #[derive(clap::Args)]
@@ -78,10 +78,7 @@ pub fn run(args: SurfaceArgs) -> anyhow::Result<u8> {
         }
     }
     let (w, h) = parse_size(&args.size)?;
-    let (yaw, pitch) =
-        args.view.split_once(',').with_context(|| format!("--view `{}`: expected YAW,PITCH", args.view))?;
-    let (yaw, pitch): (f64, f64) =
-        (yaw.trim().parse().context("--view yaw")?, pitch.trim().parse().context("--view pitch")?);
+    let (yaw, pitch) = parse_view(&args.view)?;
     let memory = args.memory_mib.saturating_mul(1 << 20);
     let raster = RasterSettings::default().with_size(w, h).with_view(yaw, pitch).with_memory_limit(memory);
     let ext = args.output.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();

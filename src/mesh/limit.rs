@@ -86,12 +86,8 @@ fn catmull_clark_limit(net: &PolyMesh, t: &Topology) -> (Vec<[f64; 3]>, Vec<[usi
         }
         let mut out = [0.0; 3];
         if t.on_border(v) {
-            let w = p(t.next(net, c0));
-            let mut last = c0;
-            while t.rotate(net, last) != BORDER {
-                last = t.rotate(net, last);
-            }
-            let u = p(t.prev(net, last));
+            let (u, w) = t.border_neighbours(net, c0);
+            let (u, w) = (net.positions[u], net.positions[w]);
             (0..3).for_each(|a| out[a] = (u[a] + 4.0 * x[a] + w[a]) / 6.0);
         } else {
             let (mut e, mut f, mut n) = ([0.0; 3], [0.0; 3], 0usize);

@@ -209,6 +209,16 @@ impl PolyMesh {
         &self.indices[self.starts[f]..self.starts[f + 1]]
     }
 
+    /// The centroid of face `f` (the average of its vertices).
+    pub fn centroid(&self, f: usize) -> [f64; 3] {
+        let face = self.face(f);
+        let mut c = [0.0; 3];
+        for &v in face {
+            (0..3).for_each(|a| c[a] += self.positions[v][a] / face.len() as f64);
+        }
+        c
+    }
+
     /// All faces in order.
     pub fn faces(&self) -> impl ExactSizeIterator<Item = &[usize]> + '_ {
         (0..self.face_count()).map(|f| self.face(f))

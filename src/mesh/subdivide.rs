@@ -76,7 +76,8 @@ fn doo_sabin_weights(n: usize) -> Vec<f64> {
         .collect()
 }
 
-fn add(a: &mut [f64; 3], b: [f64; 3], w: f64) {
+/// `a += w b`.
+pub(crate) fn add(a: &mut [f64; 3], b: [f64; 3], w: f64) {
     a[0] += w * b[0];
     a[1] += w * b[1];
     a[2] += w * b[2];
@@ -184,12 +185,12 @@ impl PolyMesh {
         quad: Option<QuadWeights>,
         out: &mut dyn MeshOut,
     ) -> io::Result<()> {
-        let weights = Weights::new(quad);
+        let weights = Weights::new(self, quad);
         for f in 0..self.face_count() {
             let n = self.face(f).len();
             let w = weights.of(n);
             for i in 0..n {
-                out.vertex(self.corner_point(f, i, &w))?;
+                out.vertex(self.corner_point(f, i, w))?;
             }
         }
         for f in 0..self.face_count() {
@@ -222,17 +223,14 @@ impl PolyMesh {
         quad: Option<QuadWeights>,
         out: &mut dyn MeshOut,
     ) -> io::Result<()> {
-        let weights = Weights::new(quad);
+        let weights = Weights::new(self, quad);
         let point = |c: usize| {
             let f = t.face(c);
-            self.corner_point(f, c - self.starts[f], &weights.of(self.face(f).len()))
+            self.corner_point(f, c - self.starts[f], weights.of(self.face(f).len()))
         };
         let nf = self.face_count();
         for f in 0..nf {
-            let face = self.face(f);
-            let mut p = [0.0; 3];
-            face.iter().for_each(|&v| add(&mut p, self.positions[v], 1.0 / face.len() as f64));
-            out.vertex(p)?;
+            out.vertex(self.centroid(f))?;
         }
         // Edge faces, numbered in corner order; both half-edges know the number.
         let mut edge = vec![u32::MAX; self.corner_count()];
@@ -278,13 +276,7 @@ impl PolyMesh {
     /// corner order), face points; a quad per corner.
     pub(crate) fn catmull_clark_into(&self, t: &Topology, out: &mut dyn MeshOut) -> io::Result<()> {
         let (nv, nf, corners) = (self.positions.len(), self.face_count(), self.corner_count());
-        let centroid = |f: usize| {
-            let face = self.face(f);
-            let mut p = [0.0; 3];
-            face.iter().for_each(|&v| add(&mut p, self.positions[v], 1.0 / face.len() as f64));
-            p
-        };
-        let face_points: Vec<[f64; 3]> = (0..nf).map(centroid).collect();
+        let face_points: Vec<[f64; 3]> = (0..nf).map(|f| self.centroid(f)).collect();
         for v in 0..nv {
             let p = self.positions[v];
             let c0 = t.first(v);
@@ -293,15 +285,7 @@ impl PolyMesh {
                 continue;
             }
             if t.on_border(v) {
-                // The fan runs from the border half-edge going out (to w) to the one coming in (from u).
-                let w = self.positions[self.indices[t.next(self, c0)]];
-                let last = Rotation { mesh: self, t, first: c0, at: Some(c0) }.last().unwrap_or(c0);
-                let u = self.positions[self.indices[t.prev(self, last)]];
-                let mut q = [0.0; 3];
-                add(&mut q, u, 1.0 / 8.0);
-                add(&mut q, p, 6.0 / 8.0);
-                add(&mut q, w, 1.0 / 8.0);
-                out.vertex(q)?;
+                out.vertex(border_curve_point(self, t, c0))?;
                 continue;
             }
             let (mut q, mut r, mut n) = ([0.0; 3], [0.0; 3], 0usize);
@@ -318,32 +302,18 @@ impl PolyMesh {
             add(&mut o, p, (nf64 - 3.0) / nf64);
             out.vertex(o)?;
         }
-        let mut edge_of = vec![0u32; corners];
-        let mut edges = 0u32;
-        for c in 0..corners {
-            let tw = t.twin(c);
-            if tw != BORDER && tw < c {
-                continue;
+        let (edge_of, edges) = self.edge_points(t, out, |c, tw| {
+            let mut e = [0.0; 3];
+            let ends = [self.positions[self.indices[c]], self.positions[self.indices[tw]]];
+            for q in [ends[0], ends[1], face_points[t.face(c)], face_points[t.face(tw)]] {
+                add(&mut e, q, 0.25);
             }
-            let (a, b) = (self.positions[self.indices[c]], self.positions[self.indices[t.next(self, c)]]);
-            let mut p = [0.0; 3];
-            if tw == BORDER {
-                add(&mut p, a, 0.5);
-                add(&mut p, b, 0.5);
-            } else {
-                for q in [a, b, face_points[t.face(c)], face_points[t.face(tw)]] {
-                    add(&mut p, q, 0.25);
-                }
-                edge_of[tw] = edges;
-            }
-            edge_of[c] = edges;
-            edges += 1;
-            out.vertex(p)?;
-        }
+            e
+        })?;
         for p in &face_points {
             out.vertex(*p)?;
         }
-        let (e0, f0) = (nv, nv + edges as usize);
+        let (e0, f0) = (nv, nv + edges);
         for c in 0..corners {
             let quad =
                 [self.indices[c], e0 + edge_of[c] as usize, f0 + t.face(c), e0 + edge_of[t.prev(self, c)] as usize];
@@ -353,30 +323,71 @@ impl PolyMesh {
     }
 }
 
-/// The weights of the Doo-Sabin corner rule by face degree, computed once.
+/// The cubic B-spline point `(u + 6v + w)/8` of the border vertex `v` whose
+/// first corner is `c0` (Catmull-Clark's and Loop's border rule).
+pub(crate) fn border_curve_point(mesh: &PolyMesh, t: &Topology, c0: usize) -> [f64; 3] {
+    let (u, w) = t.border_neighbours(mesh, c0);
+    let mut q = [0.0; 3];
+    add(&mut q, mesh.positions[u], 1.0 / 8.0);
+    add(&mut q, mesh.positions[mesh.indices[c0]], 6.0 / 8.0);
+    add(&mut q, mesh.positions[w], 1.0 / 8.0);
+    q
+}
+
+impl PolyMesh {
+    /// One point per edge into `out`, numbered in corner order (the smaller
+    /// corner of an interior edge): the midpoint of a border edge, `interior(c, twin)`
+    /// otherwise. Returns each corner's edge number, and the number of edges.
+    pub(crate) fn edge_points(
+        &self,
+        t: &Topology,
+        out: &mut dyn MeshOut,
+        interior: impl Fn(usize, usize) -> [f64; 3],
+    ) -> io::Result<(Vec<u32>, usize)> {
+        let mut edge_of = vec![0u32; self.corner_count()];
+        let mut edges = 0u32;
+        for c in 0..self.corner_count() {
+            let tw = t.twin(c);
+            if tw != BORDER && tw < c {
+                continue;
+            }
+            let p = if tw == BORDER {
+                let mut m = [0.0; 3];
+                add(&mut m, self.positions[self.indices[c]], 0.5);
+                add(&mut m, self.positions[self.indices[t.next(self, c)]], 0.5);
+                m
+            } else {
+                edge_of[tw] = edges;
+                interior(c, tw)
+            };
+            edge_of[c] = edges;
+            edges += 1;
+            out.vertex(p)?;
+        }
+        Ok((edge_of, edges as usize))
+    }
+}
+
+/// The weights of the Doo-Sabin corner rule for every face degree of a mesh, computed once.
 struct Weights {
-    quad: Option<QuadWeights>,
-    by_degree: std::cell::RefCell<Vec<std::rc::Rc<[f64]>>>,
+    by_degree: Vec<Vec<f64>>,
 }
 
 impl Weights {
-    fn new(quad: Option<QuadWeights>) -> Weights {
-        Weights { quad, by_degree: std::cell::RefCell::new(Vec::new()) }
-    }
-
-    fn of(&self, n: usize) -> std::rc::Rc<[f64]> {
-        let mut table = self.by_degree.borrow_mut();
-        if table.len() <= n {
-            table.resize(n + 1, std::rc::Rc::from(Vec::new()));
-        }
-        if table[n].is_empty() {
-            table[n] = match (n, self.quad) {
+    fn new(mesh: &PolyMesh, quad: Option<QuadWeights>) -> Weights {
+        let largest = mesh.faces().map(<[usize]>::len).max().unwrap_or(0);
+        let by_degree = (0..=largest)
+            .map(|n| match (n, quad) {
+                (0..=2, _) => Vec::new(),
                 (4, Some(q)) => vec![q.alpha, q.beta, q.delta(), q.gamma],
                 _ => doo_sabin_weights(n),
-            }
-            .into();
-        }
-        table[n].clone()
+            })
+            .collect();
+        Weights { by_degree }
+    }
+
+    fn of(&self, n: usize) -> &[f64] {
+        &self.by_degree[n]
     }
 }
 

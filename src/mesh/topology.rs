@@ -206,6 +206,18 @@ impl Topology {
         self.twin(self.prev(mesh, c))
     }
 
+    /// The border neighbours `(u, w)` of the border vertex whose first
+    /// corner is `c0`: `w` ends the border half-edge going out, `u` starts the
+    /// one coming in.
+    pub fn border_neighbours(&self, mesh: &PolyMesh, c0: usize) -> (usize, usize) {
+        let w = mesh.indices[self.next(mesh, c0)];
+        let mut last = c0;
+        while self.rotate(mesh, last) != BORDER {
+            last = self.rotate(mesh, last);
+        }
+        (mesh.indices[self.prev(mesh, last)], w)
+    }
+
     /// Number of border half-edges.
     pub fn boundary_edges(&self) -> usize {
         self.twin.iter().filter(|t| **t == NONE).count()

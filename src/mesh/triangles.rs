@@ -17,14 +17,8 @@ use std::f64::consts::PI;
 use std::io;
 
 use super::polymesh::PolyMesh;
-use super::subdivide::MeshOut;
+use super::subdivide::{MeshOut, add, border_curve_point};
 use super::topology::{BORDER, Topology};
-
-fn add(a: &mut [f64; 3], b: [f64; 3], w: f64) {
-    a[0] += w * b[0];
-    a[1] += w * b[1];
-    a[2] += w * b[2];
-}
 
 /// Loop's vertex weight `β` at valence `n`.
 pub fn loop_beta(n: usize) -> f64 {
@@ -35,17 +29,6 @@ pub fn loop_beta(n: usize) -> f64 {
 /// √3's vertex weight `a` at valence `n`.
 pub fn sqrt3_alpha(n: usize) -> f64 {
     (4.0 - 2.0 * (2.0 * PI / n as f64).cos()) / 9.0
-}
-
-/// The border neighbours `(u, w)` of border vertex `v` whose first corner is `c0`:
-/// `w` ends the border half-edge going out, `u` starts the one coming in.
-pub(crate) fn border_neighbours(mesh: &PolyMesh, t: &Topology, c0: usize) -> (usize, usize) {
-    let w = mesh.indices[t.next(mesh, c0)];
-    let mut last = c0;
-    while t.rotate(mesh, last) != BORDER {
-        last = t.rotate(mesh, last);
-    }
-    (mesh.indices[t.prev(mesh, last)], w)
 }
 
 /// The ring of interior vertex `v` (first corner `c0`): its neighbours in rotation order.
@@ -63,7 +46,7 @@ impl PolyMesh {
     /// One Loop step into `out`: vertex points, edge points (in corner
     /// order), four triangles per triangle.
     pub(crate) fn loop_into(&self, t: &Topology, out: &mut dyn MeshOut) -> io::Result<()> {
-        let (nv, corners) = (self.positions.len(), self.corner_count());
+        let nv = self.positions.len();
         for v in 0..nv {
             let p = self.positions[v];
             let c0 = t.first(v);
@@ -71,10 +54,7 @@ impl PolyMesh {
             if c0 == BORDER {
                 q = p;
             } else if t.on_border(v) {
-                let (u, w) = border_neighbours(self, t, c0);
-                add(&mut q, self.positions[u], 1.0 / 8.0);
-                add(&mut q, p, 6.0 / 8.0);
-                add(&mut q, self.positions[w], 1.0 / 8.0);
+                q = border_curve_point(self, t, c0);
             } else {
                 let (mut r, mut n) = ([0.0; 3], 0usize);
                 for u in ring(self, t, c0) {
@@ -94,30 +74,14 @@ impl PolyMesh {
             }
             out.vertex(q)?;
         }
-        let mut edge_of = vec![0u32; corners];
-        let mut edges = 0u32;
-        for c in 0..corners {
-            let tw = t.twin(c);
-            if tw != BORDER && tw < c {
-                continue;
+        let (edge_of, _) = self.edge_points(t, out, |c, tw| {
+            let p = |c: usize| self.positions[self.indices[c]];
+            let mut e = [0.0; 3];
+            for (q, w) in [(p(c), 3.0), (p(tw), 3.0), (p(t.prev(self, c)), 1.0), (p(t.prev(self, tw)), 1.0)] {
+                add(&mut e, q, w / 8.0);
             }
-            let (a, b) = (self.positions[self.indices[c]], self.positions[self.indices[t.next(self, c)]]);
-            let mut p = [0.0; 3];
-            if tw == BORDER {
-                add(&mut p, a, 0.5);
-                add(&mut p, b, 0.5);
-            } else {
-                let f1 = self.positions[self.indices[t.prev(self, c)]];
-                let f2 = self.positions[self.indices[t.prev(self, tw)]];
-                for (q, w) in [(a, 3.0), (b, 3.0), (f1, 1.0), (f2, 1.0)] {
-                    add(&mut p, q, w / 8.0);
-                }
-                edge_of[tw] = edges;
-            }
-            edge_of[c] = edges;
-            edges += 1;
-            out.vertex(p)?;
-        }
+            e
+        })?;
         for f in 0..self.face_count() {
             let s = self.starts[f];
             let (v, e) = ([0, 1, 2].map(|i| self.indices[s + i]), [0, 1, 2].map(|i| nv + edge_of[s + i] as usize));
@@ -148,7 +112,7 @@ impl PolyMesh {
             }
             let mut q = [0.0; 3];
             if t.on_border(v) {
-                let (u, w) = border_neighbours(self, t, c0);
+                let (u, w) = t.border_neighbours(self, c0);
                 add(&mut q, self.positions[u], 4.0 / 27.0);
                 add(&mut q, p, 19.0 / 27.0);
                 add(&mut q, self.positions[w], 4.0 / 27.0);
@@ -173,8 +137,8 @@ impl PolyMesh {
             if let Some(cb) = (s..s + 3).find(|&c| refine_border && t.twin(c) == BORDER) {
                 split[f] = cb;
                 let (a, b) = (self.indices[cb], self.indices[t.next(self, cb)]);
-                let (a2, _) = border_neighbours(self, t, t.first(a));
-                let (_, b2) = border_neighbours(self, t, t.first(b));
+                let (a2, _) = t.border_neighbours(self, t.first(a));
+                let (_, b2) = t.border_neighbours(self, t.first(b));
                 let (pa, pb) = (self.positions[a], self.positions[b]);
                 let mut x1 = [0.0; 3];
                 add(&mut x1, self.positions[a2], 1.0 / 27.0);
@@ -188,9 +152,7 @@ impl PolyMesh {
                 out.vertex(x2)?;
                 next_point += 2;
             } else {
-                let mut c = [0.0; 3];
-                self.face(f).iter().for_each(|&v| add(&mut c, self.positions[v], 1.0 / 3.0));
-                out.vertex(c)?;
+                out.vertex(self.centroid(f))?;
                 next_point += 1;
             }
         }
@@ -244,7 +206,7 @@ impl PolyMesh {
                 }
                 let mut out = [0.0; 3];
                 if t.on_border(v) {
-                    let (u, w) = border_neighbours(self, t, c0);
+                    let (u, w) = t.border_neighbours(self, c0);
                     add(&mut out, self.positions[u], 1.0 / 6.0);
                     add(&mut out, p, 4.0 / 6.0);
                     add(&mut out, self.positions[w], 1.0 / 6.0);
