@@ -481,24 +481,16 @@ fn mauldin_williams_dimension_of_a_graph_directed_system() {
     let map = |r: f64, tx: f64, ty: f64| {
         let bary = |x: f64, y: f64| [1.0 - x - y, x, y];
         let cols = [bary(tx, ty), bary(r + tx, ty), bary(tx, r + ty)];
-        format!(
-            "[{}]",
-            (0..3).map(|i| format!("[{}, {}, {}]", cols[0][i], cols[1][i], cols[2][i])).collect::<Vec<_>>().join(", ")
-        )
+        [0, 1, 2].map(|i| [cols[0][i], cols[1][i], cols[2][i]])
     };
-    let text = format!(
-        "[[state]]\nname = \"A\"\ndim = 3\nkind = \"free\"\n[[state]]\nname = \"B\"\ndim = 3\nkind = \"free\"\n\
-         [[arrow]]\nname = \"AA\"\nfrom = \"A\"\nto = \"A\"\nmatrix = {}\n\
-         [[arrow]]\nname = \"AB\"\nfrom = \"A\"\nto = \"B\"\nmatrix = {}\n\
-         [[arrow]]\nname = \"BA\"\nfrom = \"B\"\nto = \"A\"\nmatrix = {}\n\
-         [[arrow]]\nname = \"BB\"\nfrom = \"B\"\nto = \"B\"\nmatrix = {}\n\
-         [model]\nroot = \"A\"\npoints = [[0, 0], [1, 0], [0, 1]]\n",
-        map(0.5, 0.0, 0.0),
-        map(0.25, 0.5, 0.5),
-        map(0.5, 0.5, 0.0),
-        map(1.0 / 3.0, 0.0, 0.6)
-    );
-    let design = bcifs::parse_design(&text, "gd.toml", "gd").unwrap();
+    let mut b = bcifs::Design::builder("gd");
+    b.state("A", 3, bcifs::CellKind::Free).state("B", 3, bcifs::CellKind::Free);
+    b.matrix("AA", "A", "A", map(0.5, 0.0, 0.0))
+        .matrix("AB", "A", "B", map(0.25, 0.5, 0.5))
+        .matrix("BA", "B", "A", map(0.5, 0.5, 0.0))
+        .matrix("BB", "B", "B", map(1.0 / 3.0, 0.0, 0.6));
+    b.model(bcifs::Model::new("A", vec![vec![0.0, 0.0], vec![1.0, 0.0], vec![0.0, 1.0]]));
+    let design = b.build().unwrap();
     let instance = bcifs::instantiate(&design, &[]).unwrap();
     let root = instance.automaton.state_id("A").unwrap();
     let control = [0.0, 1.0, 0.0, 0.0, 0.0, 1.0];
