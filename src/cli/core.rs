@@ -185,8 +185,9 @@ pub fn run_show(out: &mut String, name: &str) -> Result<u8> {
         out.push_str(text);
         return Ok(0);
     }
-    if bcifs::schemes::IFS_NAMES.contains(&name) {
-        out.push_str(&bcifs::write_design(&bcifs::schemes::ifs_preset(name, None, None)?));
+    let preset = name.replace('_', "-");
+    if bcifs::schemes::IFS_NAMES.contains(&preset.as_str()) {
+        out.push_str(&bcifs::write_design(&bcifs::schemes::ifs_preset(&preset, None, None)?));
         return Ok(0);
     }
     if bcifs::schemes::PRESET_NAMES.contains(&name) {

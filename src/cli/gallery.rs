@@ -197,7 +197,16 @@ pub fn gallery(dir: &Path, progress: Option<&Progress>) -> Result<Vec<GalleryEnt
                         .automaton()
                         .state_id(model.root(0))
                         .is_some_and(|r| design.automaton().state(r).kind == CellKind::Free);
-                if plain_ifs && let Some(eps) = gallery_tolerance(&design)? {
+                // Affine maps (d + 1 control points) get a Hausdorff tolerance; larger
+                // free states (subdivision patches as IFS) keep the deepest depth that fits.
+                let affine = design
+                    .automaton()
+                    .state_id(model.root(0))
+                    .is_some_and(|r| design.automaton().state(r).dim <= model.points[0].len() + 1);
+                if plain_ifs
+                    && affine
+                    && let Some(eps) = gallery_tolerance(&design)?
+                {
                     options.eval.depth = Depth::Tolerance(eps);
                 }
                 let summary = render(&design, &options, &dir.join(&png))?;

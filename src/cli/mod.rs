@@ -125,8 +125,8 @@ fn check_threads(threads: Option<usize>) -> Result<Option<usize>> {
     }
 }
 
-/// Reads a file, or a shipped automaton by name when no such file exists;
-/// a name that is neither says which shipped automaton is closest.
+/// Reads a file, or a shipped automaton or scheme preset by name when no
+/// such file exists; a name that is neither says which one is closest.
 fn load(file: &str) -> Result<Design> {
     let path = PathBuf::from(file);
     if !path.exists() {
@@ -134,7 +134,13 @@ fn load(file: &str) -> Result<Design> {
         if let Some(d) = bcifs::builtin_design(name) {
             return Ok(d);
         }
-        let shipped: Vec<&str> = bcifs::BUILTIN_AUTOMATA.iter().map(|(n, _)| *n).collect();
+        // The scheme presets too, spelt with `-` or `_`.
+        let preset = name.replace('_', "-");
+        if bcifs::schemes::IFS_NAMES.contains(&preset.as_str()) {
+            return Ok(bcifs::schemes::ifs_preset(&preset, None, None)?);
+        }
+        let shipped: Vec<&str> =
+            bcifs::BUILTIN_AUTOMATA.iter().map(|(n, _)| *n).chain(bcifs::schemes::IFS_NAMES).collect();
         let help = bcifs::suggest(name, shipped.iter().copied())
             .map(|s| format!(" (did you mean `{s}`?)"))
             .unwrap_or_default();

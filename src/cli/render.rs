@@ -356,6 +356,24 @@ pub fn control_net(model: &Model) -> Shape {
     let dim = model.points.first().map_or(2, Vec::len);
     let flat: Vec<f64> = model.points.iter().flatten().copied().collect();
     let closed = matches!(model.layout, Layout::Closed | Layout::ClosedFrames);
+    if !model.net.is_empty() {
+        let mut shape = Shape::default();
+        // Writing into memory cannot fail.
+        let _ = shape.object("control net");
+        let _ = shape.vertices(dim, &flat, None);
+        // Quads stay quads; other faces become fans of triangles.
+        let quads: Vec<[usize; 4]> =
+            model.net.iter().filter(|f| f.len() == 4).map(|f| [f[0], f[1], f[2], f[3]]).collect();
+        let fans: Vec<[usize; 3]> = model
+            .net
+            .iter()
+            .filter(|f| f.len() != 4)
+            .flat_map(|f| (1..f.len() - 1).map(move |k| [f[0], f[k], f[k + 1]]))
+            .collect();
+        let _ = shape.faces(&quads, None);
+        let _ = shape.triangles(&fans);
+        return shape;
+    }
     match (model.layout, model.grid) {
         (Layout::Grid | Layout::Torus, Some((rows, cols))) if rows * cols == model.points.len() => {
             let wrap = model.layout == Layout::Torus;

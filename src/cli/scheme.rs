@@ -14,7 +14,8 @@ pub enum SchemeCommand {
     Normal(NormalArgs),
     /// Stationary schemes as IFS (seed 001) and the ternary 5-point scheme (seed 003):
     /// bspline, bspline-end, bezier, bezier-union, four-point, koch-control,
-    /// sierpinski-control, bicubic, ternary5, ternary5-closed, ternary5-surface, ternary5-torus.
+    /// sierpinski-control, bicubic, box-spline, box-spline-gasket, box-spline-quad,
+    /// sqrt3-patch, ternary5, ternary5-closed, ternary5-surface, ternary5-torus.
     Ifs(IfsArgs),
 }
 
@@ -78,7 +79,7 @@ fn run_ifs(out: &mut String, args: IfsArgs) -> Result<u8> {
         }
     };
     let omega = args.omega.as_deref().map(bcifs::Surd::parse).transpose()?;
-    let design = bcifs::schemes::ifs_preset(&args.name, points, omega.as_ref())?;
+    let design = bcifs::schemes::ifs_preset(&args.name.replace('_', "-"), points, omega.as_ref())?;
     if args.out.print {
         out.push_str(&bcifs::write_design(&design));
         return Ok(0);

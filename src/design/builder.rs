@@ -125,6 +125,8 @@ pub enum Field {
     Grid,
     /// The model's `k`-th start set.
     Start(usize),
+    /// The model's control net.
+    Net,
 }
 
 /// Where an error is, by the order items were given to the builder (the
@@ -969,6 +971,12 @@ impl<'a> Compiler<'a> {
             return Err(Self::model_error(Field::Grid, "expected grid = [ROWS, COLS] with positive sizes"));
         }
         self.model_starts(m)?;
+        if let Some(face) = m.net.iter().find(|f| f.len() < 3 || f.iter().any(|&i| i >= m.points.len())) {
+            return Err(Self::model_error(
+                Field::Net,
+                format!("net faces need at least 3 control point indices below {}: {face:?}", m.points.len()),
+            ));
+        }
         let needed = self.model_points_needed(m, &roots, d)?;
         if m.points.len() < needed {
             return Err(Self::model_error(

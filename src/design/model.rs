@@ -100,6 +100,10 @@ pub struct Model {
     /// Start sets: barycentric points per state, emitted at leaves instead
     /// of the kind's default (any compact start set converges to the attractor).
     pub start: Vec<(String, Vec<Vec<f64>>)>,
+    /// Faces of the control net, as indices into `points` (at least 3 each),
+    /// for drawing it (`bcifs render --control`); empty: the net follows
+    /// from the layout (a polygon, or the grid's quads).
+    pub net: Vec<Vec<usize>>,
 }
 
 impl Model {
@@ -111,7 +115,15 @@ impl Model {
     /// assert_eq!(m.roots, ["e"]);
     /// ```
     pub fn new(root: impl Into<String>, points: Vec<Vec<f64>>) -> Model {
-        Model { roots: vec![root.into()], points, layout: Layout::Single, step: None, grid: None, start: Vec::new() }
+        Model {
+            roots: vec![root.into()],
+            points,
+            layout: Layout::Single,
+            step: None,
+            grid: None,
+            start: Vec::new(),
+            net: Vec::new(),
+        }
     }
 
     /// The same model with several roots, taken in turn by the pieces.
@@ -129,6 +141,12 @@ impl Model {
     /// The same model with a window step.
     pub fn with_step(mut self, step: usize) -> Model {
         self.step = Some(step);
+        self
+    }
+
+    /// The same model with the faces of its control net.
+    pub fn with_net(mut self, net: Vec<Vec<usize>>) -> Model {
+        self.net = net;
         self
     }
 

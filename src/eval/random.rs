@@ -5,7 +5,8 @@
 //! `X → Y` (DESIGN §1), so from `Y` the walk picks an incoming arrow with its
 //! probability, moves `λ` and the state, and emits `P λ` whenever it is at
 //! the root. Default probabilities are proportional to `|det M|` (the
-//! projected map's area ratio: seed 002 §2.2), with a floor so that
+//! projected map's area ratio: seed 002 §2.2; on more control points than
+//! the dimension plus one, see [`det_weights`]), with a floor so that
 //! singular maps (the fern's stem) are still visited. When the automaton is
 //! not strongly connected the walk restarts now and then in a random state
 //! from the last point it had there, so every state keeps feeding the root.
@@ -144,9 +145,26 @@ impl Alias {
     }
 }
 
-/// Default probability weights of arrows: `|det M|` with a floor.
-pub fn det_weights(matrices: &[&nalgebra::DMatrix<f64>]) -> Vec<f64> {
-    let dets: Vec<f64> = matrices.iter().map(|m| if m.is_square() { m.determinant().abs() } else { 0.0 }).collect();
+/// Default probability weights of arrows: `|det M|` with a floor, for maps
+/// of modelling dimension `d`. A square `M` on more than `d + 1` control
+/// points is not an affine map of R^d: its area (volume) ratio is that of
+/// its dominant invariant subspace, the product of its `d + 1` largest
+/// eigenvalue moduli (which is `|det M|` on `d + 1` points; for the
+/// sub-patches of a subdivision surface, the same for every map).
+pub fn det_weights(matrices: &[&nalgebra::DMatrix<f64>], d: usize) -> Vec<f64> {
+    let ratio = |m: &nalgebra::DMatrix<f64>| {
+        if !m.is_square() {
+            return 0.0;
+        }
+        if m.nrows() <= d + 1 {
+            return m.determinant().abs();
+        }
+        let Some(eig) = crate::algebra::eigenvalues(m) else { return 0.0 };
+        let mut moduli: Vec<f64> = eig.iter().map(|l| l.norm()).collect();
+        moduli.sort_by(|a, b| b.total_cmp(a));
+        moduli.iter().take(d + 1).product()
+    };
+    let dets: Vec<f64> = matrices.iter().map(|m| ratio(m)).collect();
     let mean = dets.iter().sum::<f64>() / dets.len().max(1) as f64;
     if mean <= 0.0 {
         return vec![1.0; dets.len()];
@@ -220,7 +238,7 @@ impl ChaosGame {
             if mats[s].is_empty() {
                 continue;
             }
-            let mut w = det_weights(&mats[s]);
+            let mut w = det_weights(&mats[s], pieces.dim);
             for (k, n) in names[s].iter().enumerate() {
                 if let Some((_, p)) = settings.probabilities.iter().find(|(a, _)| a == n) {
                     w[k] = *p;

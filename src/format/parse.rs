@@ -69,6 +69,7 @@ struct ModelSpec {
     layout: Option<Spanned<String>>,
     step: Option<Spanned<i64>>,
     grid: Option<Spanned<Vec<i64>>>,
+    net: Option<Spanned<Vec<Vec<i64>>>>,
     #[serde(default)]
     start: IndexMap<String, Spanned<Vec<Vec<Spanned<EntrySpec>>>>>,
 }
@@ -272,6 +273,7 @@ struct ModelSpans {
     points: Range<usize>,
     step: Option<Range<usize>>,
     grid: Option<Range<usize>>,
+    net: Option<Range<usize>>,
     starts: Vec<Range<usize>>,
 }
 
@@ -310,6 +312,7 @@ impl Spans {
                     Field::Step => m.step.clone().unwrap_or(m.whole.clone()),
                     Field::Grid => m.grid.clone().unwrap_or(m.whole.clone()),
                     Field::Start(k) => m.starts.get(k).cloned().unwrap_or(m.whole.clone()),
+                    Field::Net => m.net.clone().unwrap_or(m.whole.clone()),
                     _ => m.whole.clone(),
                 };
                 (span, false)
@@ -615,6 +618,12 @@ impl Reader<'_> {
             let [r, c] = g.get_ref()[..] else { return Err(bad()) };
             model.grid = Some((usize::try_from(r).map_err(|_| bad())?, usize::try_from(c).map_err(|_| bad())?));
         }
+        if let Some(net) = &spec.net {
+            let bad = || src.at(&net.span(), "expected net = [[I, J, K, ...], ...]: faces of control point indices");
+            for face in net.get_ref() {
+                model.net.push(face.iter().map(|&i| usize::try_from(i).map_err(|_| bad())).collect::<Result<_, _>>()?);
+            }
+        }
         let mut starts = Vec::new();
         for (state, pts) in &spec.start {
             let mut set = Vec::new();
@@ -630,6 +639,7 @@ impl Reader<'_> {
             points: spec.points.span(),
             step: spec.step.as_ref().map(Spanned::span),
             grid: spec.grid.as_ref().map(Spanned::span),
+            net: spec.net.as_ref().map(Spanned::span),
             starts,
         };
         Ok(model)

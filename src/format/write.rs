@@ -61,6 +61,10 @@ pub fn write_design(design: &Design) -> String {
         if let Some(s) = m.step {
             let _ = writeln!(extra, "step = {s}");
         }
+        if !m.net.is_empty() {
+            let faces: Vec<String> = m.net.iter().map(|f| format!("{f:?}")).collect();
+            let _ = writeln!(extra, "net = [{}]", faces.join(", "));
+        }
         let roots: Vec<&str> = m.roots.iter().map(String::as_str).collect();
         w.model(&roots, &m.points, m.layout.keyword(), extra.trim_end(), &docs.model);
         if !m.start.is_empty() {

@@ -28,7 +28,7 @@ pub enum CatalogError {
 }
 
 /// The names of the presets.
-pub const IFS_NAMES: [&str; 12] = [
+pub const IFS_NAMES: [&str; 16] = [
     "bspline",
     "bspline-end",
     "bezier",
@@ -37,6 +37,10 @@ pub const IFS_NAMES: [&str; 12] = [
     "koch-control",
     "sierpinski-control",
     "bicubic",
+    "box-spline",
+    "box-spline-gasket",
+    "box-spline-quad",
+    "sqrt3-patch",
     "ternary5",
     "ternary5-closed",
     "ternary5-surface",
@@ -262,11 +266,88 @@ fn seed1_preset(request: &Request<'_>) -> Result<Design, CatalogError> {
             )
             .map_err(|e| CatalogError::Points(e.to_string()))
         }
+        "box-spline" | "box-spline-gasket" | "box-spline-quad" | "sqrt3-patch" => triangle_preset(request),
         other => {
             Err(CatalogError::Unknown { name: other.to_string(), suggestion: crate::names::suggest(other, IFS_NAMES) })
         }
     }
 }
+
+/// The triangle schemes of seed 001 §3.2–3.3 as IFS on lattice cells
+/// ([`super::lattice`]): the box-spline's hexagon (six maps), the same
+/// with two maps left out, its parallelogram (four maps), and √3's
+/// triangle (nine maps of a ternary split).
+fn triangle_preset(request: &Request<'_>) -> Result<Design, CatalogError> {
+    use super::lattice::{LatticeScheme, hexagon_parts, lattice_ifs, parallelogram_parts, ternary_triangle_parts};
+    let seed1 = "Schaefer, Levin, Goldman, Subdivision schemes and attractors (seed 001)";
+    let (scheme, parts, corners, description, comment) = match request.name {
+        "box-spline" => (
+            LatticeScheme::BoxSpline,
+            hexagon_parts(),
+            vec![(0, 0)],
+            "three-direction quartic box-spline (Loop) hexagonal patch, six maps, seed 001 §3.2 (Fig. 7)",
+            "Loop's rules on the regular lattice: the six half-size hexagons around the centre.\n\
+             19 control points (two rings around the centre); the attractor is the limit surface over\n\
+             the hexagon of the first ring.",
+        ),
+        "box-spline-gasket" => (
+            LatticeScheme::BoxSpline,
+            hexagon_parts(),
+            vec![(0, 0)],
+            "box-spline patch with two of its six maps left out: a fractal on the surface, seed 001 §3.2 (Fig. 9)",
+            "The box-spline IFS without the sub-hexagons towards (0,-1) and (1,-1): G ⊂ F, so every point\n\
+             lies on the box-spline surface of the same control points (which two the paper drops is not\n\
+             printed; these four leave the largest holes).",
+        ),
+        "box-spline-quad" => (
+            LatticeScheme::BoxSpline,
+            parallelogram_parts(),
+            vec![(0, 0), (1, 0), (0, 1), (1, 1)],
+            "box-spline patch over a lattice parallelogram, four maps, seed 001 §3.2",
+            "The four-map split the seed mentions: the parallelogram (0,0), (1,0), (1,1), (0,1) into four\n\
+             half-size copies; 14 control points. Its attractor looks rectangular.",
+        ),
+        _ => (
+            LatticeScheme::Sqrt3,
+            ternary_triangle_parts(),
+            vec![(0, 0), (1, 0), (0, 1)],
+            "Kobbelt's √3 scheme on one triangle: two steps are a ternary split, nine maps, seed 001 §3.3 (Fig. 8)",
+            "Two rounds of √3 (valence-6 rules, α = 1/3) split the triangle (0,0), (1,0), (0,1) into six\n\
+             upright and three half-turned thirds; 27 control points.",
+        ),
+    };
+    let mut ifs = lattice_ifs(scheme, &parts, &corners).map_err(|e| CatalogError::Points(e.to_string()))?;
+    if request.name == "box-spline-gasket" {
+        // The same IFS on the same control points, two maps left out.
+        ifs.blocks =
+            ifs.blocks.into_iter().enumerate().filter(|(i, _)| !GASKET_DROPPED.contains(i)).map(|(_, b)| b).collect();
+    }
+    let default = ifs
+        .control
+        .iter()
+        .map(|&p| {
+            let [x, y] = super::lattice::position(p);
+            let z = 0.9 * (-(x * x + y * y) / 2.5).exp() + 0.2 * x - 0.1 * y * y;
+            [x, y, z].iter().map(|c| (c * 1e6).round() / 1e6).collect()
+        })
+        .collect();
+    let mut model = spec(
+        request.with(default),
+        Layout::Single,
+        None,
+        "Control points on the triangular lattice (axial (i, j) at (i + j/2, j√3/2)), sorted by row, lifted to a hill;\n\
+         the net is the lattice's triangles.",
+    );
+    model.model.net = super::lattice::lattice_triangles(&ifs.control);
+    request.check(&model, ifs.control.len())?;
+    let lattice: Vec<String> = ifs.control.iter().map(|(i, j)| format!("({i},{j})")).collect();
+    let comment = format!("{comment}\nLattice points in order: {}.\n{seed1}.", lattice.join(" "));
+    request.curve(ifs.blocks, description, &comment, model)
+}
+
+/// Which of the box-spline's six sub-hexagons (counter-clockwise from the
+/// one towards `(1, 0)`) the gasket preset leaves out.
+pub const GASKET_DROPPED: [usize; 2] = [4, 5];
 
 /// The ternary 5-point presets of seed 003: open and closed curves, a
 /// sheet and a torus, with tension `omega`.

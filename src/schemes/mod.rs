@@ -12,6 +12,7 @@
 
 mod catalog;
 mod contour;
+mod lattice;
 mod normal;
 mod stationary;
 mod ternary;
@@ -19,6 +20,10 @@ mod topology;
 
 pub use catalog::{CatalogError, DEFAULT_OMEGA, IFS_NAMES, ifs_preset};
 pub use contour::{RowMap, segment_ifs, segment_ifs_as_printed};
+pub use lattice::{
+    Axial, LatticeIfs, LatticeScheme, NotClosed, SubPatch, hexagon_parts, lattice_ifs, lattice_triangles,
+    parallelogram_parts, ternary_triangle_parts,
+};
 pub use normal::{
     NormalDirection, NormalPreset, NormalScheme, NormalSchemeError, PRESET_NAMES, Point2, SignPattern, normal_preset,
     unit_segment, unit_square, unit_triangle,

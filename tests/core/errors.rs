@@ -208,6 +208,24 @@ mod hostile {
         assert!(e.err().unwrap().to_string().contains("w ≥ 2"));
     }
 
+    /// A control net is written and read back; a face with an index past the
+    /// points, or a negative one, is refused at the `net` line.
+    #[test]
+    fn control_nets_round_trip_and_bad_faces_are_positioned() {
+        let base = "[[state]]\nname = \"x\"\ndim = 3\n[[arrow]]\nname = \"T\"\nfrom = \"x\"\nto = \"x\"\n\
+            matrix = [[1, 0.5, 0.5], [0, 0.5, 0], [0, 0, 0.5]]\n[model]\nroot = \"x\"\n\
+            points = [[0, 0], [1, 0], [0, 1], [1, 1]]\n";
+        let d = parse_design(&format!("{base}net = [[0, 1, 3, 2]]\n"), "n.toml", "n").unwrap();
+        assert_eq!(d.model().unwrap().net, vec![vec![0, 1, 3, 2]]);
+        let again = parse_design(&bcifs::write_design(&d), "n.toml", "n").unwrap();
+        assert_eq!(again.model().unwrap().net, d.model().unwrap().net);
+        for bad in ["net = [[0, 1, 4]]", "net = [[0, 1]]", "net = [[0, -1, 2]]"] {
+            let e = error_of(&format!("{base}{bad}\n"));
+            assert!(e.starts_with("f.toml:12:"), "{bad}: {e}");
+            assert!(e.contains("net") || e.contains("indices"), "{bad}: {e}");
+        }
+    }
+
     #[test]
     fn absurd_depths_are_refused_at_once() {
         let d = bcifs::builtin_design("levy").unwrap();

@@ -8,6 +8,7 @@ mod hausdorff;
 mod ifs;
 mod normal;
 mod ternary;
+mod triangles;
 
 use bcifs::Design;
 use bcifs::eval::{EvalSettings, Evaluator};
