@@ -39,6 +39,14 @@ fn convergence_benches(c: &mut Criterion) {
             bcifs::analysis::verdict_map(&family, &plane, &bcifs::analysis::JsrSettings::quick()).expect("map")
         })
     });
+    // Issue 16: a 512 × 512 curve map (regions, half-tangents and verdicts at every pixel) under 2 s.
+    let plane =
+        bcifs::analysis::ParameterPlane { x: ("a".into(), -1.0, 1.0), y: ("b".into(), -1.0, 1.0), size: (512, 512) };
+    g.bench_function("curve_map/corner_cutting_512x512_quick", |bench| {
+        bench.iter(|| {
+            bcifs::analysis::curve_map(&family, &plane, &bcifs::analysis::JsrSettings::quick(), "e").expect("map")
+        })
+    });
     g.finish();
 }
 

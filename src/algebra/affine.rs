@@ -128,6 +128,12 @@ impl Affine {
         self.terms.iter().fold(self.constant.to_f64(), |acc, (v, c)| acc + c.to_f64() * values[*v])
     }
 
+    /// The constant and the `(variable, coefficient)` terms in floating
+    /// point, for evaluating the same form many times.
+    pub fn to_f64_terms(&self) -> (f64, Vec<(usize, f64)>) {
+        (self.constant.to_f64(), self.terms.iter().map(|(v, c)| (*v, c.to_f64())).collect())
+    }
+
     /// A displayable view that prints variables with the given names.
     pub fn display<'a>(&'a self, names: &'a [String]) -> AffineDisplay<'a> {
         AffineDisplay { form: self, names }

@@ -66,17 +66,9 @@ fn eigen(m: &DMatrix<f64>) -> Option<(Vec<f64>, DMatrix<f64>)> {
     lambdas.sort_by(|a, b| b.partial_cmp(a).unwrap_or(std::cmp::Ordering::Equal));
     let mut vectors = DMatrix::zeros(n, n);
     for (k, &l) in lambdas.iter().enumerate() {
-        // The null space of M − λI: the right singular vector of the smallest singular value.
         let shifted = m - DMatrix::identity(n, n) * l;
-        let svd = shifted.svd(false, true);
-        let vt = svd.v_t?;
-        let (i, _) = svd
-            .singular_values
-            .iter()
-            .enumerate()
-            .min_by(|a, b| a.1.partial_cmp(b.1).unwrap_or(std::cmp::Ordering::Equal))?;
+        let mut v = null_vector(&shifted)?;
         // Sign: the first coordinate that is not 0 is positive (the paper's (1, −1, 0), (0, 1, −1)).
-        let mut v = vt.row(i).transpose();
         if v.iter().find(|x| x.abs() > 1e-12).is_some_and(|x| *x < 0.0) {
             v = -v;
         }
@@ -84,6 +76,29 @@ fn eigen(m: &DMatrix<f64>) -> Option<(Vec<f64>, DMatrix<f64>)> {
     }
     vectors.clone().try_inverse()?;
     Some((lambdas, vectors))
+}
+
+/// A unit vector of the null space of a singular matrix. For 3 × 3 of rank
+/// 2 (the three-point curves of a map, pixel after pixel) the largest cross
+/// product of two rows, which is orthogonal to every row; otherwise the
+/// right singular vector of the smallest singular value.
+fn null_vector(a: &DMatrix<f64>) -> Option<DVector<f64>> {
+    if a.shape() == (3, 3) {
+        let r = |i: usize| nalgebra::Vector3::new(a[(i, 0)], a[(i, 1)], a[(i, 2)]);
+        let best = [(0, 1), (0, 2), (1, 2)]
+            .map(|(i, j)| r(i).cross(&r(j)))
+            .into_iter()
+            .max_by(|x, y| x.norm().total_cmp(&y.norm()))?;
+        // Rank 2 for sure when the cross product is far from rounding.
+        if best.norm() > 1e-6 * a.norm_squared().max(1e-300) {
+            let v = best.normalize();
+            return Some(DVector::from_column_slice(v.as_slice()));
+        }
+    }
+    let svd = a.clone().svd(false, true);
+    let vt = svd.v_t?;
+    let (i, _) = svd.singular_values.iter().enumerate().min_by(|x, y| x.1.total_cmp(y.1))?;
+    Some(vt.row(i).transpose())
 }
 
 /// The fixed point (barycentric, summing to 1) of a column-stochastic matrix.

@@ -195,6 +195,7 @@ struct CycleSearch {
     path: Vec<usize>,
     work: Work,
     best: (f64, Vec<usize>),
+    stop_at_one: bool,
 }
 
 /// A strongly connected part of the automaton with at least one edge.
@@ -204,8 +205,18 @@ struct Part {
 }
 
 fn spectral_radius(m: &DMatrix<f64>) -> f64 {
-    if m.nrows() == 0 {
-        return 0.0;
+    match m.shape() {
+        (0, _) => return 0.0,
+        (1, 1) => return m[(0, 0)].abs(),
+        (2, 2) => {
+            // λ = t/2 ± √((a − d)²/4 + bc) (no cancellation for a scaled identity): a real
+            // pair, or complex with |λ|² = det.
+            let (t, det) = (m[(0, 0)] + m[(1, 1)], m[(0, 0)] * m[(1, 1)] - m[(0, 1)] * m[(1, 0)]);
+            let half = (m[(0, 0)] - m[(1, 1)]) / 2.0;
+            let disc = half * half + m[(0, 1)] * m[(1, 0)];
+            return if disc >= 0.0 { t.abs() / 2.0 + disc.sqrt() } else { det.sqrt() };
+        }
+        _ => {}
     }
     match crate::algebra::eigenvalues(m) {
         Some(eig) => eig.iter().map(|l| l.norm()).fold(0.0, f64::max),
@@ -215,8 +226,16 @@ fn spectral_radius(m: &DMatrix<f64>) -> f64 {
 }
 
 fn spectral_norm(m: &DMatrix<f64>) -> f64 {
-    if m.is_empty() {
-        return 0.0;
+    match m.shape() {
+        _ if m.is_empty() => return 0.0,
+        (1, 1) => return m[(0, 0)].abs(),
+        (2, 2) => {
+            // σ² are the eigenvalues of MᵀM: (F ± √(F² − 4 det²)) / 2 with F = ‖M‖²_F.
+            let f = m.norm_squared();
+            let det = m[(0, 0)] * m[(1, 1)] - m[(0, 1)] * m[(1, 0)];
+            return ((f + (f * f - 4.0 * det * det).max(0.0).sqrt()) / 2.0).sqrt();
+        }
+        _ => {}
     }
     m.clone().svd(false, false).singular_values.iter().copied().fold(0.0, f64::max)
 }
@@ -243,7 +262,7 @@ pub fn jsr(automaton: &Automaton<f64>, settings: &JsrSettings) -> Result<Jsr, Js
     let parts = parts(automaton)?;
     let mut out = Jsr { lower: 0.0, upper: 0.0, witness: Vec::new() };
     for part in &parts {
-        let (lower, witness) = part.lower_bound(settings);
+        let (lower, witness) = part.lower_bound(settings, false);
         if lower > out.lower || out.witness.is_empty() && !witness.is_empty() {
             out.lower = out.lower.max(lower);
             out.witness = witness;
@@ -252,6 +271,40 @@ pub fn jsr(automaton: &Automaton<f64>, settings: &JsrSettings) -> Result<Jsr, Js
         out.upper = out.upper.max(upper.max(lower));
     }
     Ok(out)
+}
+
+/// The convergence verdict alone, as [`jsr`] would prove it but with early
+/// exits: a part is settled as soon as the adapted norm bound is below 1, a
+/// cycle reaches `ρ^(1/length) ≥ 1`, or the branch and bound closes for a
+/// target just below 1 (the tight bounds are not needed for a verdict). For
+/// maps over a parameter plane: each decision is a proof, as in [`jsr`], and
+/// it can only be more decisive for the same budget.
+///
+/// # Errors
+/// [`JsrError::NotStochastic`] for a subdivision arrow whose columns do not sum to 1.
+pub fn jsr_verdict(automaton: &Automaton<f64>, settings: &JsrSettings) -> Result<Verdict, JsrError> {
+    let mut verdict = Verdict::Converges;
+    for part in &parts(automaton)? {
+        // Contracting in the Euclidean norm already settles it, without adapting the norm.
+        if part.edges.iter().all(|e| spectral_norm(&e.matrix) < 1.0) {
+            continue;
+        }
+        let mut work = Work(settings.norm_work);
+        let matrices = part.adapted(&mut work);
+        let norms: Vec<f64> = matrices.iter().map(spectral_norm).collect();
+        if norms.iter().all(|&n| n < 1.0) {
+            continue;
+        }
+        let (lower, _) = part.lower_bound(settings, true);
+        if lower >= 1.0 - ROUNDING {
+            return Ok(Verdict::Diverges);
+        }
+        let gamma = 1.0 - 1e-9;
+        if !(gamma > lower && part.closes(&matrices, &norms, gamma, &mut work)) {
+            verdict = Verdict::Undecided;
+        }
+    }
+    Ok(verdict)
 }
 
 /// The strongly connected parts with an edge, their matrices restricted.
@@ -298,10 +351,16 @@ fn parts(automaton: &Automaton<f64>) -> Result<Vec<Part>, JsrError> {
 
 impl Part {
     /// `max ρ(P)^(1/|P|)` over the cycles of length up to `max_cycle`, by a
-    /// depth-first walk from every state; the cycle that attains it.
-    fn lower_bound(&self, settings: &JsrSettings) -> (f64, Vec<String>) {
-        let mut search =
-            CycleSearch { start: 0, path: Vec::new(), work: Work(settings.cycle_work), best: (0.0, Vec::new()) };
+    /// depth-first walk from every state; the cycle that attains it. With
+    /// `stop_at_one`, the first cycle that proves divergence ends the search.
+    fn lower_bound(&self, settings: &JsrSettings, stop_at_one: bool) -> (f64, Vec<String>) {
+        let mut search = CycleSearch {
+            start: 0,
+            path: Vec::new(),
+            work: Work(settings.cycle_work),
+            best: (0.0, Vec::new()),
+            stop_at_one,
+        };
         for start in 0..self.dims.len() {
             let n = self.dims[start] - 1;
             search.start = start;
@@ -312,7 +371,7 @@ impl Part {
     }
 
     fn cycles(&self, at: usize, product: &DMatrix<f64>, left: usize, search: &mut CycleSearch) {
-        if left == 0 {
+        if left == 0 || search.stop_at_one && search.best.0 >= 1.0 - ROUNDING {
             return;
         }
         for (k, e) in self.edges.iter().enumerate().filter(|(_, e)| e.from == at) {
@@ -441,6 +500,27 @@ impl Part {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The 2 × 2 closed forms agree with the general decompositions (real,
+    /// complex and double eigenvalues, singular and rotation matrices).
+    #[test]
+    fn closed_forms_of_two_by_two_agree_with_the_general_ones() {
+        let mut seed = 7u64;
+        let mut next = || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64 * 4.0 - 2.0
+        };
+        let mut cases: Vec<DMatrix<f64>> = (0..200).map(|_| DMatrix::from_fn(2, 2, |_, _| next())).collect();
+        cases.push(DMatrix::from_row_slice(2, 2, &[0.5, -0.5, 0.5, 0.5]));
+        cases.push(DMatrix::from_row_slice(2, 2, &[0.3, 0.0, 0.0, 0.3]));
+        cases.push(DMatrix::from_row_slice(2, 2, &[1.0, 2.0, 2.0, 4.0]));
+        for m in cases {
+            let rho = crate::algebra::eigenvalues(&m).unwrap().iter().map(|l| l.norm()).fold(0.0, f64::max);
+            let sigma = m.clone().svd(false, false).singular_values.max();
+            assert!((spectral_radius(&m) - rho).abs() < 1e-9 * (1.0 + rho), "{m}");
+            assert!((spectral_norm(&m) - sigma).abs() < 1e-12 * (1.0 + sigma), "{m}");
+        }
+    }
 
     #[test]
     fn the_difference_basis_is_orthonormal_and_sums_to_zero() {

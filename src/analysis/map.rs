@@ -3,10 +3,10 @@
 
 use rayon::prelude::*;
 
-use super::jsr::{JsrSettings, Verdict, jsr};
+use super::jsr::{JsrSettings, Verdict, jsr_verdict};
 use crate::algebra::{contractive_spectrum, eigenvalues};
 use crate::automaton::{ArrowKind, Automaton};
-use crate::family::{Family, InstantiateError};
+use crate::family::{Family, InstantiateError, NumericFamily};
 
 /// One pixel of a verdict map.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -72,36 +72,42 @@ pub fn verdict_map(
     plane: &ParameterPlane,
     settings: &JsrSettings,
 ) -> Result<Vec<MapCell>, InstantiateError> {
-    over_plane(family, plane, |instance| {
-        let Some(instance) = instance else {
-            return MapCell { verdict: Verdict::Undecided, per_matrix: false };
-        };
-        let verdict = jsr(&instance.automaton, settings).map_or(Verdict::Undecided, |j| j.verdict());
-        MapCell { verdict, per_matrix: per_matrix_condition(&instance.automaton) }
+    over_plane(family, plane, |automaton| {
+        let verdict = jsr_verdict(automaton, settings).unwrap_or(Verdict::Undecided);
+        MapCell { verdict, per_matrix: per_matrix_condition(automaton) }
     })
 }
 
 /// `cell` at the centre of every pixel of `plane` (row by row, top row
-/// first), the other parameters at their defaults, in parallel over rows;
-/// `None` where the family does not instantiate.
+/// first), the other parameters at their defaults, in parallel over rows
+/// (one numeric automaton per thread, refilled at every pixel).
 fn over_plane<T: Send>(
     family: &Family,
     plane: &ParameterPlane,
-    cell: impl Fn(Option<&crate::family::Instance>) -> T + Sync,
+    cell: impl Fn(&Automaton<f64>) -> T + Sync,
 ) -> Result<Vec<T>, InstantiateError> {
     let (w, h) = plane.size;
     // Checks the names and the defaults once, before the threads start.
-    family.instantiate(&[(plane.x.0.clone(), plane.x.1), (plane.y.0.clone(), plane.y.1)])?;
+    let (xname, yname) = (plane.x.0.clone(), plane.y.0.clone());
+    let base = family.parameter_values(&[(xname.clone(), plane.x.1), (yname.clone(), plane.y.1)])?;
+    let names = family.parameter_names();
+    let (ix, iy) =
+        (names.iter().position(|n| *n == xname).unwrap_or(0), names.iter().position(|n| *n == yname).unwrap_or(0));
+    let numeric = NumericFamily::new(family);
     let rows: Vec<Vec<T>> = (0..h)
         .into_par_iter()
-        .map(|row| {
-            (0..w)
-                .map(|column| {
-                    let (x, y) = plane.at(column, row);
-                    cell(family.instantiate(&[(plane.x.0.clone(), x), (plane.y.0.clone(), y)]).ok().as_ref())
-                })
-                .collect()
-        })
+        .map_init(
+            || (numeric.automaton(), base.clone()),
+            |(automaton, x), row| {
+                (0..w)
+                    .map(|column| {
+                        (x[ix], x[iy]) = plane.at(column, row);
+                        numeric.fill(x, automaton);
+                        cell(automaton)
+                    })
+                    .collect()
+            },
+        )
         .collect();
     Ok(rows.into_iter().flatten().collect())
 }
@@ -130,16 +136,12 @@ pub fn curve_map(
     settings: &JsrSettings,
     root: &str,
 ) -> Result<Vec<CurveCell>, InstantiateError> {
-    over_plane(family, plane, |instance| {
-        let Some(instance) = instance else {
-            return CurveCell { verdict: Verdict::Undecided, per_matrix: false, report: None };
-        };
-        let a = &instance.automaton;
+    over_plane(family, plane, |a| {
         // A matrix with an eigenvalue of modulus ≥ 1 on the differences already makes
         // the joint spectral radius ≥ 1: no bounds needed there.
         let per_matrix = per_matrix_condition(a);
         let verdict =
-            if per_matrix { jsr(a, settings).map_or(Verdict::Undecided, |j| j.verdict()) } else { Verdict::Diverges };
+            if per_matrix { jsr_verdict(a, settings).unwrap_or(Verdict::Undecided) } else { Verdict::Diverges };
         let report = a.state_id(root).and_then(|r| {
             let arrows = a.outgoing(r, ArrowKind::Subdivision);
             (arrows.len() == 2)

@@ -3,6 +3,6 @@
 mod solve;
 
 pub use solve::{
-    DesignInstantiateError, Equation, Family, Instance, InstantiateError, Parameter, SolveError, equations,
-    instantiate, numeric, solve,
+    DesignInstantiateError, Equation, Family, Instance, InstantiateError, NumericFamily, Parameter, SolveError,
+    equations, instantiate, numeric, solve,
 };

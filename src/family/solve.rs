@@ -498,6 +498,18 @@ impl Family {
     /// # Errors
     /// A value for an unknown name, or a parameter with no value at all.
     pub fn instantiate(&self, values: &[(String, f64)]) -> Result<Instance, InstantiateError> {
+        let x = self.parameter_values(values)?;
+        let automaton = numeric(&self.automaton, &x);
+        let values = self.variables.iter().map(|(n, e)| (n.clone(), e.eval(&x))).collect();
+        Ok(Instance { automaton, parameters: self.parameter_names().into_iter().zip(x).collect(), values })
+    }
+
+    /// The value of every free parameter, in order: `values` where given,
+    /// the defaults elsewhere.
+    ///
+    /// # Errors
+    /// As [`Family::instantiate`].
+    pub fn parameter_values(&self, values: &[(String, f64)]) -> Result<Vec<f64>, InstantiateError> {
         let names = self.parameter_names();
         for (name, value) in values {
             if !names.contains(name) {
@@ -522,9 +534,50 @@ impl Family {
         if !missing.is_empty() {
             return Err(InstantiateError::Missing { names: missing });
         }
-        let automaton = numeric(&self.automaton, &x);
-        let values = self.variables.iter().map(|(n, e)| (n.clone(), e.eval(&x))).collect();
-        Ok(Instance { automaton, parameters: names.into_iter().zip(x).collect(), values })
+        Ok(x)
+    }
+}
+
+/// A family prepared for many instantiations (a parameter map): the
+/// numeric automaton is built once, and [`NumericFamily::fill`] rewrites
+/// only the entries that depend on parameters, from floating-point
+/// coefficients.
+#[derive(Clone, Debug)]
+pub struct NumericFamily {
+    template: Automaton<f64>,
+    /// `(arrow, row, col, constant, terms)` of every entry with terms.
+    entries: Vec<(petgraph::graph::EdgeIndex, usize, usize, f64, Vec<(usize, f64)>)>,
+}
+
+impl NumericFamily {
+    /// Prepares `family`.
+    pub fn new(family: &Family) -> NumericFamily {
+        let mut entries = Vec::new();
+        for (id, arrow) in family.automaton.arrows() {
+            let m = &arrow.matrix;
+            for (r, c) in (0..m.nrows()).flat_map(|r| (0..m.ncols()).map(move |c| (r, c))) {
+                let (constant, terms) = m[(r, c)].to_f64_terms();
+                if !terms.is_empty() {
+                    entries.push((id, r, c, constant, terms));
+                }
+            }
+        }
+        let zeros = vec![0.0; family.parameters.len()];
+        NumericFamily { template: numeric(&family.automaton, &zeros), entries }
+    }
+
+    /// A numeric automaton to [`NumericFamily::fill`] (one per thread).
+    pub fn automaton(&self) -> Automaton<f64> {
+        self.template.clone()
+    }
+
+    /// Writes the family's matrices at parameter values `x` (in the order of
+    /// [`Family::parameter_names`]) into `automaton`, one made by
+    /// [`NumericFamily::automaton`].
+    pub fn fill(&self, x: &[f64], automaton: &mut Automaton<f64>) {
+        for (id, r, c, constant, terms) in &self.entries {
+            automaton.arrow_mut(*id).matrix[(*r, *c)] = terms.iter().fold(*constant, |acc, (v, k)| acc + k * x[*v]);
+        }
     }
 }
 
