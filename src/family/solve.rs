@@ -546,8 +546,11 @@ impl Family {
 pub struct NumericFamily {
     template: Automaton<f64>,
     /// `(arrow, row, col, constant, terms)` of every entry with terms.
-    entries: Vec<(petgraph::graph::EdgeIndex, usize, usize, f64, Vec<(usize, f64)>)>,
+    entries: Vec<NumericEntry>,
 }
+
+/// An entry of a [`NumericFamily`] that depends on parameters.
+type NumericEntry = (petgraph::graph::EdgeIndex, usize, usize, f64, Vec<(usize, f64)>);
 
 impl NumericFamily {
     /// Prepares `family`.
