@@ -128,6 +128,12 @@ impl Affine {
         self.terms.iter().fold(self.constant.to_f64(), |acc, (v, c)| acc + c.to_f64() * values[*v])
     }
 
+    /// The value at exact variable values `x` (approximate where a value or
+    /// a coefficient is).
+    pub fn eval_num(&self, x: &[Num]) -> Num {
+        self.terms.iter().fold(self.constant.clone(), |acc, (v, c)| acc.add(&c.mul(&x[*v])))
+    }
+
     /// The constant and the `(variable, coefficient)` terms in floating
     /// point, for evaluating the same form many times.
     pub fn to_f64_terms(&self) -> (f64, Vec<(usize, f64)>) {

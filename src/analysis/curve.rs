@@ -30,7 +30,9 @@
 //! smallest eigenvalue of `T0` in modulus (`1 − a − b`) is negative. An eigenvalue 0
 //! besides the fixed point is `degenerate` (the corner cutting at `a = 0`,
 //! `b = 0`, `a + b = 1`: piecewise linear). All of it is computed in
-//! floating point from the instantiated matrices.
+//! floating point from the instantiated matrices (ties within `1e-12`);
+//! [`super::exact::curve_query_exact`] decides the same in exact arithmetic
+//! for rational three-point curves, and `bcifs analyze curve` uses it there.
 
 use nalgebra::{DMatrix, DVector};
 

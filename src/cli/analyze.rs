@@ -429,7 +429,16 @@ fn run_curve(out: &mut String, file: &str, params: &[String], as_json: bool) -> 
     let automaton = &instance.automaton;
     let (t0, t1) = (&automaton.arrow(arrows[0]).matrix, &automaton.arrow(arrows[1]).matrix);
     let names = [automaton.arrow(arrows[0]).name.clone(), automaton.arrow(arrows[1]).name.clone()];
-    let report = curve_query(t0, t1);
+    let mut report = curve_query(t0, t1);
+    let exact = exact_query(&design, params, &instance.parameters, &names);
+    if let Some(e) = &exact {
+        // The exact answers replace the floating-point ones where they decide something.
+        report.region = e.region;
+        report.c1_necessary = e.c1_necessary;
+        report.junction_angle_deg = e.junction_angle_deg;
+        report.half_tangents =
+            e.half_tangents.as_ref().map(|[s, t]| [s, t].map(|v| v.iter().map(|x| x.to_f64()).collect()));
+    }
     let verdict = jsr(automaton, &JsrSettings::default()).ok().map(|j| j.verdict());
     let converges = verdict.and_then(|v| v.converges());
     let region = match verdict {
@@ -437,6 +446,15 @@ fn run_curve(out: &mut String, file: &str, params: &[String], as_json: bool) -> 
         Some(Verdict::Converges) => report.region,
         _ => None,
     };
+    let strings = |v: &[bcifs::Surd]| v.iter().map(|x| x.to_string()).collect::<Vec<_>>();
+    let exact_json = exact.as_ref().map(|e| {
+        serde_json::json!({
+            "eigenvalues": {names[0].clone(): strings(&e.eigenvalues[0]), names[1].clone(): strings(&e.eigenvalues[1])},
+            "subdominant": {names[0].clone(): e.subdominant[0].as_ref().map(|x| x.to_string()),
+                            names[1].clone(): e.subdominant[1].as_ref().map(|x| x.to_string())},
+            "half_tangents": e.half_tangents.as_ref().map(|[s, t]| serde_json::json!({"start": strings(s), "end": strings(t)})),
+        })
+    });
     let params: serde_json::Map<String, serde_json::Value> =
         instance.parameters.iter().map(|(n, v)| (n.clone(), serde_json::json!(v))).collect();
     if as_json {
@@ -449,6 +467,7 @@ fn run_curve(out: &mut String, file: &str, params: &[String], as_json: bool) -> 
             "junction_angle_deg": report.junction_angle_deg,
             "c1_necessary": report.c1_necessary,
             "region": region,
+            "exact": exact_json,
         });
         writeln!(out, "{}", serde_json::to_string_pretty(&value)?)?;
         return Ok(0);
@@ -466,7 +485,47 @@ fn run_curve(out: &mut String, file: &str, params: &[String], as_json: bool) -> 
         _ => writeln!(out, "  no half-tangents (a leading eigenvalue is negative or tied)")?,
     }
     writeln!(out, "  C1 necessary condition: {}; region {}", report.c1_necessary, region.unwrap_or("undecided"))?;
+    match &exact {
+        Some(e) => {
+            for (k, name) in names.iter().enumerate() {
+                writeln!(out, "  exact {name}: eigenvalues {}", strings(&e.eigenvalues[k]).join(", "))?;
+            }
+            writeln!(out, "  (regions, ties and collinearity decided in exact arithmetic)")?;
+        }
+        None => writeln!(out, "  (floating point: the matrices are not rational 3×3 with real eigenvalues)")?,
+    }
     Ok(0)
+}
+
+/// The exact query when the curve's halves are rational `3 × 3` at the
+/// parameter values: the user's values read exactly (`1/20`, `0.05`), the
+/// defaults as the decimals they print as.
+fn exact_query(
+    design: &bcifs::Design,
+    params: &[String],
+    values: &[(String, f64)],
+    names: &[String; 2],
+) -> Option<bcifs::analysis::ExactCurveReport> {
+    let family = bcifs::solve(design).ok()?;
+    let given: Vec<(String, bcifs::Num)> = params
+        .iter()
+        .filter_map(|p| {
+            let (n, v) = p.split_once('=')?;
+            Some((n.trim().to_string(), v.trim().parse::<bcifs::Num>().ok()?))
+        })
+        .collect();
+    let x: Vec<bcifs::Num> = family
+        .parameter_names()
+        .iter()
+        .map(|n| {
+            given.iter().rev().find(|(g, _)| g == n).map(|(_, v)| v.clone()).unwrap_or_else(|| {
+                bcifs::Num::from_f64(values.iter().find(|(m, _)| m == n).map_or(f64::NAN, |(_, v)| *v))
+            })
+        })
+        .collect();
+    let t0 = family.exact_matrix(&names[0], &x)?;
+    let t1 = family.exact_matrix(&names[1], &x)?;
+    bcifs::analysis::curve_query_exact(&t0, &t1)
 }
 
 /// A junction angle's colour: 0° red to 180° violet through the hues, as Fig. 11.

@@ -504,6 +504,13 @@ impl Family {
         Ok(Instance { automaton, parameters: self.parameter_names().into_iter().zip(x).collect(), values })
     }
 
+    /// The matrix of arrow `arrow` at exact parameter values `x` (in the
+    /// order of [`Family::parameter_names`]), when every entry is rational.
+    pub fn exact_matrix(&self, arrow: &str, x: &[Num]) -> Option<Vec<Vec<BigRational>>> {
+        let m = &self.automaton.arrow(self.automaton.arrow_id(arrow)?).matrix;
+        (0..m.nrows()).map(|r| (0..m.ncols()).map(|c| m[(r, c)].eval_num(x).as_rational().cloned()).collect()).collect()
+    }
+
     /// The value of every free parameter, in order: `values` where given,
     /// the defaults elsewhere.
     ///

@@ -334,3 +334,64 @@ fn half_tangents_agree_with_the_rendered_curve() {
         assert!(angle(last, along(&end)) < 0.1, "a = {a}, b = {b}: end {}", angle(last, along(&end)));
     }
 }
+
+/// The exact query of the corner cutting at rational points: T0 has the
+/// eigenvalues (1, a, 1 − a − b) and T1 (1, b, 1 − a − b) exactly (seed 004
+/// §4.1), and away from ties the region is the floating-point query's.
+#[test]
+fn exact_query_reproduces_the_closed_forms() {
+    use bcifs::analysis::{curve_query, curve_query_exact};
+    use bcifs::{Num, Surd};
+    let family = bcifs::solve(&bcifs::builtin_design("corner_cutting").unwrap()).unwrap();
+    let names = family.parameter_names();
+    let mut agreed = 0;
+    for (i, j) in [(1, 3), (5, 7), (-3, 11), (13, 4), (2, 9), (-7, 5), (17, 3), (1, 1), (8, 8), (11, -2)] {
+        for (p, q) in [(20, 23), (17, 19)] {
+            let (a, b) = (Num::frac(i, p), Num::frac(j, q));
+            let x: Vec<Num> = names.iter().map(|n| if n == "a" { a.clone() } else { b.clone() }).collect();
+            let (t0, t1) = (family.exact_matrix("T0", &x).unwrap(), family.exact_matrix("T1", &x).unwrap());
+            let Some(exact) = curve_query_exact(&t0, &t1) else { continue };
+            let rest = Num::one().sub(&a).sub(&b);
+            let sorted = |v: [&Num; 3]| {
+                let mut v: Vec<Surd> = v.iter().map(|n| Surd::rational(n.as_rational().unwrap().clone())).collect();
+                v.sort_by(|x, y| y.to_f64().total_cmp(&x.to_f64()));
+                v
+            };
+            assert_eq!(exact.eigenvalues[0], sorted([&Num::one(), &a, &rest]), "a = {a:?}, b = {b:?}");
+            assert_eq!(exact.eigenvalues[1], sorted([&Num::one(), &b, &rest]), "a = {a:?}, b = {b:?}");
+            let to_f64 = |m: &Vec<Vec<num_rational::BigRational>>| {
+                nalgebra::DMatrix::from_fn(3, 3, |r, c| num_traits::ToPrimitive::to_f64(&m[r][c]).unwrap())
+            };
+            let float = curve_query(&to_f64(&t0), &to_f64(&t1));
+            assert_eq!(float.region, exact.region, "a = {a:?}, b = {b:?}");
+            agreed += 1;
+        }
+    }
+    assert!(agreed >= 15, "{agreed} points compared");
+}
+
+/// Where floating point cannot tell: 1 − a − b one part in 10¹³ above
+/// a = 1/10 is a strict order, not a tie. The exact query finds the
+/// half-tangent and a region; the floating-point one sees a tie (its
+/// tolerance) and gives none. An exact tie (a = 1 − a − b) gives none in both.
+#[test]
+fn exact_query_separates_what_rounding_merges() {
+    use bcifs::Num;
+    use bcifs::analysis::{curve_query, curve_query_exact};
+    let family = bcifs::solve(&bcifs::builtin_design("corner_cutting").unwrap()).unwrap();
+    let names = family.parameter_names();
+    let at = |a: Num, b: Num| {
+        let x: Vec<Num> = names.iter().map(|n| if n == "a" { a.clone() } else { b.clone() }).collect();
+        let (t0, t1) = (family.exact_matrix("T0", &x).unwrap(), family.exact_matrix("T1", &x).unwrap());
+        let f = |m: &Vec<Vec<num_rational::BigRational>>| {
+            nalgebra::DMatrix::from_fn(3, 3, |r, c| num_traits::ToPrimitive::to_f64(&m[r][c]).unwrap())
+        };
+        (curve_query_exact(&t0, &t1).unwrap(), curve_query(&f(&t0), &f(&t1)))
+    };
+    let near = "0.7999999999999".parse::<Num>().unwrap();
+    let (exact, float) = at(Num::frac(1, 10), near);
+    assert!(exact.region.is_some() && exact.half_tangents.is_some(), "{exact:?}");
+    assert_eq!(float.region, None, "{float:?}");
+    let (exact, _) = at(Num::frac(1, 4), Num::frac(1, 2));
+    assert_eq!(exact.region, None, "a tie in modulus: {exact:?}");
+}
