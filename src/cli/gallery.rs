@@ -79,43 +79,70 @@ fn describe(depth: Depth) -> String {
 
 /// Depth of the cube textures.
 const CUBE_DEPTH: usize = 5;
+/// Depth of the icosahedron textures.
+const ICOSAHEDRON_DEPTH: usize = 5;
 
-/// The six cube textures, and one picture of them side by side (3 × 2).
-fn cube_textures() -> Vec<(String, String, GallerySource)> {
+/// Geometric textures of a mesh: one entry per weight set (its limit
+/// surface), and a first one with all of them side by side (3 × 2, 3.5 units apart).
+fn mesh_textures(
+    mesh: &bcifs::mesh::PolyMesh,
+    scheme: bcifs::mesh::Scheme,
+    depth: usize,
+    textures: &[(bcifs::mesh::RuleWeights, String)],
+    (name, what): (&str, &str),
+) -> Vec<(String, String, GallerySource)> {
     use bcifs::geometry::Sink as _;
-    let cube = bcifs::mesh::PolyMesh::cube();
     let mut items = Vec::new();
     let mut all = Shape::default();
-    for (i, &w) in bcifs::mesh::QuadWeights::TEXTURES.iter().enumerate() {
-        let (alpha, beta, gamma) = (w.alpha, w.beta, w.gamma);
-        let Ok(shape) =
-            cube.limit_with(bcifs::mesh::Scheme::DooSabin, CUBE_DEPTH, Some(w), GALLERY_BUDGET_BYTES as usize)
-        else {
+    for (i, (w, label)) in textures.iter().enumerate() {
+        let Ok(shape) = mesh.limit_with(scheme, depth, Some(*w), GALLERY_BUDGET_BYTES as usize) else {
             continue;
         };
-        let label = format!("α = {alpha}, β = {beta}, γ = {gamma}");
-        // Placed on a 3 × 2 grid, 3 units apart.
-        let (dx, dy) = (3.0 * (i % 3) as f64, -3.0 * (i / 3) as f64);
+        let (dx, dy) = (3.5 * (i % 3) as f64, -3.5 * (i / 3) as f64);
         let first = all.vertex_count();
         let moved: Vec<f64> = shape.positions.chunks_exact(3).flat_map(|p| [p[0] + dx, p[1] + dy, p[2]]).collect();
         let quads: Vec<[usize; 4]> = shape.quads.iter().map(|q| q.map(|v| first + v as usize)).collect();
-        let _ = all.object(&label);
+        let triangles: Vec<[usize; 3]> = shape.triangles.iter().map(|t| t.map(|v| first + v)).collect();
+        let _ = all.object(label);
         let _ = all.vertices(3, &moved, None);
         let _ = all.faces(&quads, None);
+        let _ = all.triangles(&triangles);
         items.push((
-            format!("cube-texture-{}", i + 1),
-            format!("the cube, Doo-Sabin-like weights {label} (seed 004 Fig. 12)"),
-            GallerySource::Shape(Box::new(shape), CUBE_DEPTH),
+            format!("{name}-texture-{}", i + 1),
+            format!("{what}, weights {label} (seed 004 Fig. 12)"),
+            GallerySource::Shape(Box::new(shape), depth),
         ));
     }
     items.insert(
         0,
         (
-            "cube-textures".into(),
-            "six geometric textures of the cube: Doo-Sabin-like weight triples (seed 004 Fig. 12)".into(),
-            GallerySource::Shape(Box::new(all), CUBE_DEPTH),
+            format!("{name}-textures"),
+            format!("six geometric textures of {what}: weight sets of the family (seed 004 Fig. 12)"),
+            GallerySource::Shape(Box::new(all), depth),
         ),
     );
+    items
+}
+
+/// The six cube textures (Doo-Sabin-like weight triples) and the six
+/// icosahedron textures (Loop-like weights).
+fn textures() -> Vec<(String, String, GallerySource)> {
+    use bcifs::mesh::{LoopWeights, PolyMesh, QuadWeights, Scheme};
+    let cube: Vec<_> = QuadWeights::TEXTURES
+        .iter()
+        .map(|w| ((*w).into(), format!("α = {}, β = {}, γ = {}", w.alpha, w.beta, w.gamma)))
+        .collect();
+    let ico: Vec<_> =
+        LoopWeights::TEXTURES.iter().map(|w| ((*w).into(), format!("w = {}, σ = {}", w.w, w.sigma))).collect();
+    let mut items =
+        mesh_textures(&PolyMesh::cube(), Scheme::DooSabin, CUBE_DEPTH, &cube, ("cube", "the cube, Doo-Sabin-like"));
+    items.extend(mesh_textures(
+        &PolyMesh::icosahedron(),
+        Scheme::Loop,
+        ICOSAHEDRON_DEPTH,
+        &ico,
+        ("icosahedron", "the icosahedron, Loop-like"),
+    ));
     items
 }
 
@@ -152,7 +179,7 @@ pub fn gallery_items() -> Vec<(String, String, GallerySource)> {
         };
         items.push((entry, description, source));
     }
-    items.extend(cube_textures());
+    items.extend(textures());
     for name in bcifs::schemes::IFS_NAMES {
         if let Ok(g) = bcifs::schemes::ifs_preset(name, None, None) {
             items.push((g.name().to_string(), g.description().to_string(), GallerySource::Design(Box::new(g), None)));

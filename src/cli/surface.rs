@@ -6,7 +6,9 @@ use std::path::PathBuf;
 
 use anyhow::bail;
 use bcifs::export::{AtomicFile, RasterSettings};
-use bcifs::mesh::{MeshFormat, QuadWeights, Scheme, Subdivision, WeightsVerdict, Written, read_mesh};
+use bcifs::mesh::{
+    LoopWeights, MeshFormat, QuadWeights, RuleWeights, Scheme, Subdivision, WeightsVerdict, Written, read_mesh,
+};
 
 use super::render::write_shape;
 use super::{keyword, parse_params, parse_size, parse_view};
@@ -22,8 +24,9 @@ pub struct SurfaceArgs {
     /// Split faces of more than three vertices into fans of triangles first (for loop and sqrt3).
     #[arg(long)]
     pub triangulate: bool,
-    /// Doo-Sabin quad weights, NAME=VALUE for alpha (the corner), beta (the next), gamma (the previous);
-    /// defaults 9/16, 3/16, 3/16 (the opposite corner gets the rest).
+    /// Rule weights, NAME=VALUE. Doo-Sabin: alpha (the corner), beta (the next), gamma (the previous),
+    /// defaults 9/16, 3/16, 3/16 (the opposite corner gets the rest). Loop: w (each end of an edge,
+    /// default 3/8) and sigma (the vertex eigenvalue relative to Loop's, default 1).
     #[arg(long = "param", value_name = "NAME=VALUE")]
     pub params: Vec<String>,
     /// Subdivision steps.
@@ -46,37 +49,47 @@ pub struct SurfaceArgs {
     pub view: String,
 }
 
-/// Doo-Sabin quad weights from `--param` values (others: classic).
-pub fn quad_weights(scheme: Scheme, params: &[(String, f64)]) -> anyhow::Result<Option<QuadWeights>> {
+/// Rule weights from `--param` values (others: classic): `alpha`, `beta`,
+/// `gamma` for Doo-Sabin, `w`, `sigma` for Loop.
+pub fn rule_weights(scheme: Scheme, params: &[(String, f64)]) -> anyhow::Result<Option<RuleWeights>> {
     if params.is_empty() {
         return Ok(None);
     }
-    if scheme != Scheme::DooSabin {
-        bail!("{} has no parameters (the weights are the classic rules)", scheme.name());
-    }
-    let mut w = QuadWeights::CLASSIC;
-    for (name, value) in params {
-        match name.as_str() {
-            "alpha" => w.alpha = *value,
-            "beta" => w.beta = *value,
-            "gamma" => w.gamma = *value,
-            other => bail!("`{other}` is not a parameter of doo-sabin: the parameters are `alpha`, `beta`, `gamma`"),
+    match scheme {
+        Scheme::DooSabin => {
+            let mut w = QuadWeights::CLASSIC;
+            for (name, value) in params {
+                match name.as_str() {
+                    "alpha" => w.alpha = *value,
+                    "beta" => w.beta = *value,
+                    "gamma" => w.gamma = *value,
+                    other => {
+                        bail!("`{other}` is not a parameter of doo-sabin: the parameters are `alpha`, `beta`, `gamma`")
+                    }
+                }
+            }
+            Ok(Some(w.into()))
         }
+        Scheme::Loop => {
+            let mut w = LoopWeights::CLASSIC;
+            for (name, value) in params {
+                match name.as_str() {
+                    "w" => w.w = *value,
+                    "sigma" => w.sigma = *value,
+                    other => bail!("`{other}` is not a parameter of loop: the parameters are `w`, `sigma`"),
+                }
+            }
+            Ok(Some(w.into()))
+        }
+        _ => bail!("{} has no parameters (the weights are the classic rules)", scheme.name()),
     }
-    Ok(Some(w))
 }
 
 /// `bcifs surface`.
 pub fn run(args: SurfaceArgs) -> anyhow::Result<u8> {
     let started = std::time::Instant::now();
     let scheme = keyword("scheme", &args.scheme, &Scheme::ALL.map(|s| (s.name(), s)))?;
-    let weights = quad_weights(scheme, &parse_params(&args.params)?)?;
-    if let Some(w) = weights {
-        match w.check()? {
-            WeightsVerdict::Converges => {}
-            WeightsVerdict::Undecided(why) => eprintln!("warning: {why}"),
-        }
-    }
+    let weights = rule_weights(scheme, &parse_params(&args.params)?)?;
     let (w, h) = parse_size(&args.size)?;
     let (yaw, pitch) = parse_view(&args.view)?;
     let memory = args.memory_mib.saturating_mul(1 << 20);
@@ -88,6 +101,14 @@ pub fn run(args: SurfaceArgs) -> anyhow::Result<u8> {
     let mut mesh = read_mesh(&args.mesh)?;
     if args.triangulate {
         mesh = mesh.triangulated();
+    }
+    let verdict = match weights {
+        Some(RuleWeights::Quad(w)) => Some(w.check()?),
+        Some(RuleWeights::Loop(w)) => Some(w.check(&mesh.interior_valences())?),
+        None => None,
+    };
+    if let Some(WeightsVerdict::Undecided(why)) = verdict {
+        eprintln!("warning: {why}");
     }
     let name = args.mesh.file_stem().map_or("mesh".into(), |s| s.to_string_lossy().to_string());
     let io = |e: std::io::Error| anyhow::anyhow!("cannot write {}: {e}", args.output.display());

@@ -215,7 +215,7 @@ fn draw(shape: &Shape, settings: &RasterSettings) -> RgbImage {
     }
     let canvas = Canvas::fit(&pts, w, h);
     let (wu, hu) = (w as usize, h as usize);
-    if !shape.quads.is_empty() {
+    if !shape.quads.is_empty() || !shape.triangles.is_empty() {
         shade(shape, &pts, &canvas, &mut img);
         return img;
     }
@@ -254,46 +254,46 @@ fn shade(shape: &Shape, pts: &[[f64; 3]], canvas: &Canvas, img: &mut RgbImage) {
     let mut depth = vec![f64::INFINITY; w * h];
     // Screen: x right, y up, depth into the screen: light from the viewer's upper left.
     let light = DVec3::new(-0.4, 0.6, -0.7).normalize();
-    for q in &shape.quads {
-        for tri in [[q[0], q[1], q[2]], [q[0], q[2], q[3]]] {
-            let [a, b, c] = tri.map(|i| pts[i as usize]);
-            let (va, vb, vc) = (DVec3::from(a), DVec3::from(b), DVec3::from(c));
-            let Some(n) = (vb - va).cross(vc - va).try_normalize() else { continue };
-            let lambert = n.dot(light).abs();
-            let colour = mix([40.0, 52.0, 80.0], [214.0, 226.0, 245.0], 0.15 + 0.85 * lambert);
-            let s = [a, b, c].map(|p| canvas.px(p));
-            let (x0, x1) = (
-                s.iter().map(|p| p.0).fold(f64::INFINITY, f64::min),
-                s.iter().map(|p| p.0).fold(f64::NEG_INFINITY, f64::max),
-            );
-            let (y0, y1) = (
-                s.iter().map(|p| p.1).fold(f64::INFINITY, f64::min),
-                s.iter().map(|p| p.1).fold(f64::NEG_INFINITY, f64::max),
-            );
-            let area = (s[1].0 - s[0].0) * (s[2].1 - s[0].1) - (s[2].0 - s[0].0) * (s[1].1 - s[0].1);
-            if area.abs() < 1e-12 {
-                continue;
-            }
-            let (xs, xe) = (x0.floor().max(0.0) as usize, (x1.ceil() as usize).min(w.saturating_sub(1)));
-            let (ys, ye) = (y0.floor().max(0.0) as usize, (y1.ceil() as usize).min(h.saturating_sub(1)));
-            if x1 < 0.0 || y1 < 0.0 {
-                continue;
-            }
-            for y in ys..=ye {
-                for x in xs..=xe {
-                    let (fx, fy) = (x as f64 + 0.5, y as f64 + 0.5);
-                    let w0 = ((s[1].0 - fx) * (s[2].1 - fy) - (s[2].0 - fx) * (s[1].1 - fy)) / area;
-                    let w1 = ((s[2].0 - fx) * (s[0].1 - fy) - (s[0].0 - fx) * (s[2].1 - fy)) / area;
-                    let w2 = 1.0 - w0 - w1;
-                    if w0 < -1e-9 || w1 < -1e-9 || w2 < -1e-9 {
-                        continue;
-                    }
-                    let z = w0 * a[2] + w1 * b[2] + w2 * c[2];
-                    let cell = &mut depth[y * w + x];
-                    if z < *cell {
-                        *cell = z;
-                        img.put_pixel(x as u32, y as u32, colour);
-                    }
+    let split =
+        shape.quads.iter().flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]].map(|t| t.map(|i| i as usize)));
+    for tri in split.chain(shape.triangles.iter().copied()) {
+        let [a, b, c] = tri.map(|i| pts[i]);
+        let (va, vb, vc) = (DVec3::from(a), DVec3::from(b), DVec3::from(c));
+        let Some(n) = (vb - va).cross(vc - va).try_normalize() else { continue };
+        let lambert = n.dot(light).abs();
+        let colour = mix([40.0, 52.0, 80.0], [214.0, 226.0, 245.0], 0.15 + 0.85 * lambert);
+        let s = [a, b, c].map(|p| canvas.px(p));
+        let (x0, x1) = (
+            s.iter().map(|p| p.0).fold(f64::INFINITY, f64::min),
+            s.iter().map(|p| p.0).fold(f64::NEG_INFINITY, f64::max),
+        );
+        let (y0, y1) = (
+            s.iter().map(|p| p.1).fold(f64::INFINITY, f64::min),
+            s.iter().map(|p| p.1).fold(f64::NEG_INFINITY, f64::max),
+        );
+        let area = (s[1].0 - s[0].0) * (s[2].1 - s[0].1) - (s[2].0 - s[0].0) * (s[1].1 - s[0].1);
+        if area.abs() < 1e-12 {
+            continue;
+        }
+        let (xs, xe) = (x0.floor().max(0.0) as usize, (x1.ceil() as usize).min(w.saturating_sub(1)));
+        let (ys, ye) = (y0.floor().max(0.0) as usize, (y1.ceil() as usize).min(h.saturating_sub(1)));
+        if x1 < 0.0 || y1 < 0.0 {
+            continue;
+        }
+        for y in ys..=ye {
+            for x in xs..=xe {
+                let (fx, fy) = (x as f64 + 0.5, y as f64 + 0.5);
+                let w0 = ((s[1].0 - fx) * (s[2].1 - fy) - (s[2].0 - fx) * (s[1].1 - fy)) / area;
+                let w1 = ((s[2].0 - fx) * (s[0].1 - fy) - (s[0].0 - fx) * (s[2].1 - fy)) / area;
+                let w2 = 1.0 - w0 - w1;
+                if w0 < -1e-9 || w1 < -1e-9 || w2 < -1e-9 {
+                    continue;
+                }
+                let z = w0 * a[2] + w1 * b[2] + w2 * c[2];
+                let cell = &mut depth[y * w + x];
+                if z < *cell {
+                    *cell = z;
+                    img.put_pixel(x as u32, y as u32, colour);
                 }
             }
         }

@@ -11,7 +11,7 @@
 //! cubic B-spline of the boundary polygon); the quads are the net's.
 
 use super::polymesh::{MeshError, PolyMesh, Scheme};
-use super::subdivide::{Builder, QuadWeights};
+use super::subdivide::{Builder, RuleWeights};
 use super::topology::{BORDER, Topology};
 use crate::geometry::{Shape, Sink};
 
@@ -26,7 +26,7 @@ impl PolyMesh {
         self.limit_with(scheme, depth, None, super::polymesh::DEFAULT_MESH_MEMORY)
     }
 
-    /// As [`PolyMesh::limit`], with Doo-Sabin quad weights and a memory limit.
+    /// As [`PolyMesh::limit`], with rule weights (Doo-Sabin's quad rule, Loop's) and a memory limit.
     ///
     /// # Errors
     /// An output over `memory_limit`, with the estimate.
@@ -34,26 +34,30 @@ impl PolyMesh {
         &self,
         scheme: Scheme,
         depth: usize,
-        quad: Option<QuadWeights>,
+        weights: Option<RuleWeights>,
         memory_limit: usize,
     ) -> Result<Shape, MeshError> {
         let (points, quads) = match scheme {
             Scheme::DooSabin => {
-                let net = self.subdivide_with(scheme, depth.max(1) - 1, quad, memory_limit)?;
+                let net = self.subdivide_with(scheme, depth.max(1) - 1, weights, memory_limit)?;
                 let t = Topology::trusted(&net);
                 let mut out = Builder::with_capacity(net.face_count() * 3, 4 * net.corner_count());
                 // Writing into memory cannot fail.
-                let _ = net.doo_sabin_limit_into(&t, quad, &mut out);
+                let _ = net.doo_sabin_limit_into(&t, weights.and_then(RuleWeights::quad), &mut out);
                 let dual = out.finish();
                 (dual.positions.clone(), dual.faces().map(|f| [f[0], f[1], f[2], f[3]]).collect())
             }
             Scheme::CatmullClark => {
-                let net = self.subdivide_with(scheme, depth.max(1), quad, memory_limit)?;
+                let net = self.subdivide_with(scheme, depth.max(1), weights, memory_limit)?;
                 catmull_clark_limit(&net, &Topology::trusted(&net))
             }
             Scheme::Loop | Scheme::Sqrt3 => {
-                let net = self.subdivide_with(scheme, depth.max(1), quad, memory_limit)?;
-                let points = net.triangle_limit_points(&Topology::trusted(&net), scheme == Scheme::Sqrt3);
+                let net = self.subdivide_with(scheme, depth.max(1), weights, memory_limit)?;
+                let points = net.triangle_limit_points(
+                    &Topology::trusted(&net),
+                    scheme == Scheme::Sqrt3,
+                    weights.and_then(RuleWeights::triangle),
+                );
                 let mut shape = Shape::default();
                 let flat: Vec<f64> = points.iter().flatten().copied().collect();
                 let triangles: Vec<[usize; 3]> = net.faces().map(|f| [f[0], f[1], f[2]]).collect();

@@ -34,6 +34,6 @@ mod write;
 pub use polymesh::{DEFAULT_MESH_MEMORY, MeshError, Place, PolyMesh, Scheme};
 pub use read::{read_mesh, read_obj, read_off};
 pub use stream::{MeshFormat, Subdivision, Written};
-pub use subdivide::{QuadWeights, WeightsVerdict};
+pub use subdivide::{LoopWeights, QuadWeights, RuleWeights, WeightsVerdict};
 pub use topology::{BORDER, Topology};
 pub use triangles::{loop_beta, sqrt3_alpha};

@@ -171,8 +171,8 @@ pub enum MeshError {
     /// Writing the output failed.
     #[error("cannot write the mesh: {0}")]
     Write(std::io::Error),
-    /// Doo-Sabin weights outside the convergence domain, or not numbers.
-    #[error("Doo-Sabin weights {0}")]
+    /// Rule weights outside the convergence domain, or not numbers.
+    #[error("{0}")]
     Weights(String),
     /// A depth whose output would not fit memory.
     #[error("{what} at depth {depth} would have about {faces} faces ({:.1} GiB): over the in-memory limit of {:.1} GiB (--memory-mib) or the 2^32 corners a mesh can number; lower the depth", *bytes as f64 / (1u64 << 30) as f64, *limit as f64 / (1u64 << 30) as f64)]
@@ -241,6 +241,44 @@ impl PolyMesh {
             .collect();
         let faces = [[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]];
         let starts = (0..=6).map(|f| 4 * f).collect();
+        PolyMesh::from_flat(positions, starts, faces.concat())
+    }
+
+    /// The regular icosahedron with vertices `(0, ±1, ±φ)` and their cyclic
+    /// permutations, faces counter-clockwise seen from outside: every vertex
+    /// of valence 5 (Loop's and √3's extraordinary case).
+    pub fn icosahedron() -> PolyMesh {
+        let phi = (1.0 + 5f64.sqrt()) / 2.0;
+        let mut positions = Vec::with_capacity(12);
+        for axis in 0..3 {
+            for (a, b) in [(-1.0, -phi), (-1.0, phi), (1.0, -phi), (1.0, phi)] {
+                let mut p = [0.0; 3];
+                p[(axis + 1) % 3] = a;
+                p[(axis + 2) % 3] = b;
+                positions.push(p);
+            }
+        }
+        // Faces: triples of mutually adjacent vertices (edge length 2), oriented outwards.
+        let d = |i: usize, j: usize| (0..3).map(|a| (positions[i][a] - positions[j][a]).powi(2)).sum::<f64>();
+        let near = |i: usize, j: usize| (d(i, j) - 4.0).abs() < 1e-9;
+        let mut faces = Vec::new();
+        for i in 0..12 {
+            for j in i + 1..12 {
+                for k in j + 1..12 {
+                    if near(i, j) && near(j, k) && near(i, k) {
+                        let (a, b, c) = (positions[i], positions[j], positions[k]);
+                        let n = [
+                            (b[1] - a[1]) * (c[2] - a[2]) - (b[2] - a[2]) * (c[1] - a[1]),
+                            (b[2] - a[2]) * (c[0] - a[0]) - (b[0] - a[0]) * (c[2] - a[2]),
+                            (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]),
+                        ];
+                        let outward = (0..3).map(|x| n[x] * (a[x] + b[x] + c[x])).sum::<f64>() > 0.0;
+                        faces.push(if outward { [i, j, k] } else { [i, k, j] });
+                    }
+                }
+            }
+        }
+        let starts = (0..=faces.len()).map(|f| 3 * f).collect();
         PolyMesh::from_flat(positions, starts, faces.concat())
     }
 

@@ -6,7 +6,7 @@
 use std::io::{self, Write};
 
 use super::polymesh::{MeshError, PolyMesh, Scheme};
-use super::subdivide::{MeshOut, QuadWeights};
+use super::subdivide::{MeshOut, RuleWeights};
 use super::topology::{BORDER, Topology};
 
 /// A mesh file format.
@@ -27,7 +27,7 @@ pub struct Subdivision {
     /// Steps.
     pub depth: usize,
     /// Doo-Sabin quad weights (`None`: classic).
-    pub weights: Option<QuadWeights>,
+    pub weights: Option<RuleWeights>,
     /// The most bytes the net before the last step may take.
     pub memory_limit: usize,
 }
@@ -119,7 +119,7 @@ impl PolyMesh {
         format: MeshFormat<'_>,
         out: &mut dyn Write,
     ) -> Result<Written, MeshError> {
-        let Subdivision { scheme, depth, weights: quad, memory_limit } = *job;
+        let Subdivision { scheme, depth, weights, memory_limit } = *job;
         let depth = if limit { depth.max(1) } else { depth };
         let obj = matches!(format, MeshFormat::Obj(_));
         let mut text = Text {
@@ -141,7 +141,7 @@ impl PolyMesh {
         }
         if limit && scheme != Scheme::DooSabin {
             // Limit positions need the last net's neighbourhoods: in memory.
-            let shape = self.limit_with(scheme, depth, quad, memory_limit)?;
+            let shape = self.limit_with(scheme, depth, weights, memory_limit)?;
             if !obj {
                 let faces = shape.quads.len() + shape.triangles.len();
                 writeln!(text.buf, "OFF\n{} {faces} 0", shape.vertex_count()).map_err(io)?;
@@ -169,16 +169,16 @@ impl PolyMesh {
             }
             return text.finish().map_err(io);
         }
-        let net = self.subdivide_with(scheme, depth - 1, quad, memory_limit)?;
+        let net = self.subdivide_with(scheme, depth - 1, weights, memory_limit)?;
         let t = Topology::trusted(&net);
         if !obj {
             let (v, f) = net.last_step_counts(&t, scheme, limit, depth - 1);
             writeln!(text.buf, "OFF\n{v} {f} 0").map_err(io)?;
         }
         if limit {
-            net.doo_sabin_limit_into(&t, quad, &mut text)
+            net.doo_sabin_limit_into(&t, weights.and_then(RuleWeights::quad), &mut text)
         } else {
-            net.step_into(scheme, depth - 1, &t, quad, &mut text)
+            net.step_into(scheme, depth - 1, &t, weights, &mut text)
         }
         .map_err(io)?;
         text.finish().map_err(io)

@@ -62,6 +62,150 @@ impl QuadWeights {
     }
 }
 
+/// Weights of Loop-like triangle rules: edge points
+/// `w (a + b) + (1/2 − w)(c + d)`, and at a vertex of valence `n` the ring
+/// weight `nβ(n) = 1 − w − σ λ₁(n)²` with `λ₁(n) = w + (1 − 2w) cos(2π/n)`
+/// (the 1-ring's eigenvalues are then `σ λ₁²` for the average and
+/// `w + (1 − 2w) cos(2πk/n)` for the other frequencies). Loop is `w = 3/8`,
+/// `σ = 1` at every valence; the border keeps the cubic B-spline rule.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LoopWeights {
+    /// Weight of each end of an edge (the two opposite vertices get `1/2 − w`).
+    pub w: f64,
+    /// The vertex eigenvalue relative to Loop's choice `λ₁²`.
+    pub sigma: f64,
+}
+
+impl LoopWeights {
+    /// Loop's weights.
+    pub const CLASSIC: LoopWeights = LoopWeights { w: 0.375, sigma: 1.0 };
+
+    /// Geometric textures of a triangle mesh, as the gallery draws them on
+    /// the icosahedron (seed 004 Fig. 12's idea on triangles): Loop, a
+    /// flatter vertex rule, a sharper one, heavier edge ends (bulging),
+    /// lighter edge ends (creased) and a negative vertex eigenvalue (rough).
+    /// Each passes [`LoopWeights::check`] on the icosahedron.
+    pub const TEXTURES: [LoopWeights; 6] = [
+        LoopWeights::CLASSIC,
+        LoopWeights { w: 0.375, sigma: 3.0 },
+        LoopWeights { w: 0.25, sigma: 1.0 },
+        LoopWeights { w: 0.15, sigma: 0.5 },
+        LoopWeights { w: 0.6, sigma: 1.0 },
+        LoopWeights { w: 0.42, sigma: -2.0 },
+    ];
+
+    /// `λ₁(n) = w + (1 − 2w) cos(2π/n)`.
+    fn lambda1(&self, n: usize) -> f64 {
+        self.w + (1.0 - 2.0 * self.w) * (2.0 * PI / n as f64).cos()
+    }
+
+    /// The ring weight `nβ(n)`.
+    pub fn ring(&self, n: usize) -> f64 {
+        1.0 - self.w - self.sigma * self.lambda1(n).powi(2)
+    }
+
+    /// Checks the weights before subdividing a mesh whose interior vertices
+    /// have the valences `valences`: finite; at each valence the 1-ring's
+    /// eigenvalues on the differences below 1 in modulus (necessary); the
+    /// joint spectral radius bounds of the regular box-spline hexagon with
+    /// these weights (seed 001 §3.2's six-map IFS; sufficient for the
+    /// regular parts when they decide).
+    ///
+    /// # Errors
+    /// [`MeshError::Weights`] naming the weights and what fails.
+    pub fn check(&self, valences: &[usize]) -> Result<WeightsVerdict, MeshError> {
+        for (name, x) in [("w", self.w), ("sigma", self.sigma)] {
+            if !x.is_finite() {
+                return Err(MeshError::Weights(format!("loop weight {name} = {x} is not a finite number")));
+            }
+        }
+        let named = format!("loop weights w = {}, sigma = {}", self.w, self.sigma);
+        for &n in valences.iter().filter(|&&n| n >= 3) {
+            let average = self.sigma * self.lambda1(n).powi(2);
+            let worst = (1..n).map(|k| (self.w + (1.0 - 2.0 * self.w) * (2.0 * PI * k as f64 / n as f64).cos()).abs());
+            let worst = worst.fold(average.abs(), f64::max);
+            if worst >= 1.0 {
+                let culprit = if average.abs() >= 1.0 { "sigma" } else { "w" };
+                return Err(MeshError::Weights(format!(
+                    "{named}: at a vertex of valence {n} the 1-ring rule has an eigenvalue of modulus {worst:.6} \
+                     on the differences (`{culprit}` puts it there); the subdivision diverges"
+                )));
+            }
+        }
+        // The regular hexagon's IFS, exact from the decimals given.
+        let exact = |x: f64| crate::algebra::Num::from_f64(x).as_rational().cloned();
+        let (Some(w), Some(ring6)) = (exact(self.w), exact(self.ring(6))) else {
+            return Ok(WeightsVerdict::Undecided(format!("{named}: not a decimal")));
+        };
+        let beta = ring6 / num_rational::BigRational::from_integer(6.into());
+        let ifs = crate::schemes::box_spline_hexagon(&w, &beta);
+        let mut automaton = crate::automaton::Automaton::new("box_spline");
+        let n = ifs.control.len();
+        let state = automaton
+            .add_state(crate::space::State::new("hexagon", n, crate::space::CellKind::Free))
+            .map_err(|e| MeshError::Weights(e.to_string()))?;
+        for (k, block) in ifs.blocks.iter().enumerate() {
+            let matrix = crate::schemes::to_f64(block).transpose();
+            let arrow = crate::automaton::Arrow {
+                name: format!("T{k}"),
+                kind: crate::automaton::ArrowKind::Subdivision,
+                matrix,
+            };
+            automaton.add_arrow(state, state, arrow).map_err(|e| MeshError::Weights(e.to_string()))?;
+        }
+        match crate::analysis::jsr_verdict(&automaton, &crate::analysis::JsrSettings::default()) {
+            Ok(crate::analysis::Verdict::Converges) => Ok(WeightsVerdict::Converges),
+            Ok(crate::analysis::Verdict::Diverges) => Err(MeshError::Weights(format!(
+                "{named}: the regular box-spline patch with these weights diverges (a product of its six maps \
+                 does not contract): choose `w` and `sigma` inside the convergence domain"
+            ))),
+            Ok(crate::analysis::Verdict::Undecided) => Ok(WeightsVerdict::Undecided(format!(
+                "{named}: the convergence of the regular patch is undecided within the budget"
+            ))),
+            Err(e) => Ok(WeightsVerdict::Undecided(format!("{named}: {e}"))),
+        }
+    }
+}
+
+/// Weights of a scheme's rules other than the classic ones.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum RuleWeights {
+    /// Doo-Sabin's quad rule.
+    Quad(QuadWeights),
+    /// Loop's edge and vertex rules.
+    Loop(LoopWeights),
+}
+
+impl RuleWeights {
+    /// The Doo-Sabin weights, if these are.
+    pub fn quad(self) -> Option<QuadWeights> {
+        match self {
+            RuleWeights::Quad(q) => Some(q),
+            RuleWeights::Loop(_) => None,
+        }
+    }
+
+    /// The Loop weights, if these are.
+    pub fn triangle(self) -> Option<LoopWeights> {
+        match self {
+            RuleWeights::Loop(l) => Some(l),
+            RuleWeights::Quad(_) => None,
+        }
+    }
+}
+
+impl From<QuadWeights> for RuleWeights {
+    fn from(q: QuadWeights) -> RuleWeights {
+        RuleWeights::Quad(q)
+    }
+}
+
+impl From<LoopWeights> for RuleWeights {
+    fn from(l: LoopWeights) -> RuleWeights {
+        RuleWeights::Loop(l)
+    }
+}
+
 /// The classic Doo-Sabin weights of an `n`-gon, `α_0 .. α_{n−1}`.
 fn doo_sabin_weights(n: usize) -> Vec<f64> {
     if n == 4 {
@@ -101,7 +245,7 @@ impl PolyMesh {
         &self,
         scheme: Scheme,
         depth: usize,
-        quad: Option<QuadWeights>,
+        weights: Option<RuleWeights>,
         memory_limit: usize,
     ) -> Result<PolyMesh, MeshError> {
         if scheme.triangles_only()
@@ -117,7 +261,7 @@ impl PolyMesh {
         let mut mesh = self.clone();
         for step in 0..depth {
             let topology = Topology::trusted(&mesh);
-            mesh = mesh.step(scheme, step, &topology, quad);
+            mesh = mesh.step(scheme, step, &topology, weights);
         }
         Ok(mesh)
     }
@@ -140,10 +284,10 @@ impl PolyMesh {
     }
 
     /// Step number `step` (from 0) of `scheme` in memory.
-    fn step(&self, scheme: Scheme, step: usize, t: &Topology, quad: Option<QuadWeights>) -> PolyMesh {
+    fn step(&self, scheme: Scheme, step: usize, t: &Topology, weights: Option<RuleWeights>) -> PolyMesh {
         let mut out = Builder::with_capacity(self.positions.len() + self.corner_count(), 4 * self.corner_count());
         // Writing into memory cannot fail.
-        let _ = self.step_into(scheme, step, t, quad, &mut out);
+        let _ = self.step_into(scheme, step, t, weights, &mut out);
         out.finish()
     }
 
@@ -153,13 +297,13 @@ impl PolyMesh {
         scheme: Scheme,
         step: usize,
         t: &Topology,
-        quad: Option<QuadWeights>,
+        weights: Option<RuleWeights>,
         out: &mut dyn MeshOut,
     ) -> io::Result<()> {
         match scheme {
-            Scheme::DooSabin => self.doo_sabin_into(t, quad, out),
+            Scheme::DooSabin => self.doo_sabin_into(t, weights.and_then(RuleWeights::quad), out),
             Scheme::CatmullClark => self.catmull_clark_into(t, out),
-            Scheme::Loop => self.loop_into(t, out),
+            Scheme::Loop => self.loop_into(t, weights.and_then(RuleWeights::triangle), out),
             Scheme::Sqrt3 => self.sqrt3_into(t, step % 2 == 1, out),
         }
     }
@@ -470,11 +614,11 @@ impl QuadWeights {
     pub fn check(&self) -> Result<WeightsVerdict, MeshError> {
         for (name, x) in [("alpha", self.alpha), ("beta", self.beta), ("gamma", self.gamma)] {
             if !x.is_finite() {
-                return Err(MeshError::Weights(format!("{name} = {x} is not a finite number")));
+                return Err(MeshError::Weights(format!("doo-sabin weight {name} = {x} is not a finite number")));
             }
         }
         let named = format!(
-            "alpha = {}, beta = {}, gamma = {} (opposite corner {})",
+            "doo-sabin weights alpha = {}, beta = {}, gamma = {} (opposite corner {})",
             self.alpha,
             self.beta,
             self.gamma,

@@ -267,6 +267,22 @@ impl PolyMesh {
         Topology::new(self, place).map(|_| ())
     }
 
+    /// The valences of the interior vertices that occur (sorted, once
+    /// each), and 6, which subdivision makes everywhere.
+    pub fn interior_valences(&self) -> Vec<usize> {
+        let t = Topology::trusted(self);
+        let mut count = vec![0usize; self.positions.len()];
+        self.indices.iter().for_each(|&v| count[v] += 1);
+        let mut out: Vec<usize> = (0..self.positions.len())
+            .filter(|&v| t.first(v) != BORDER && !t.on_border(v))
+            .map(|v| count[v])
+            .chain([6])
+            .collect();
+        out.sort_unstable();
+        out.dedup();
+        out
+    }
+
     /// Whether every edge is in two faces.
     pub fn is_closed(&self) -> bool {
         Topology::trusted(self).boundary_edges() == 0

@@ -17,7 +17,7 @@ use std::f64::consts::PI;
 use std::io;
 
 use super::polymesh::PolyMesh;
-use super::subdivide::{MeshOut, add, border_curve_point};
+use super::subdivide::{LoopWeights, MeshOut, add, border_curve_point};
 use super::topology::{BORDER, Topology};
 
 /// Loop's vertex weight `β` at valence `n`.
@@ -45,7 +45,14 @@ fn ring<'a>(mesh: &'a PolyMesh, t: &'a Topology, c0: usize) -> impl Iterator<Ite
 impl PolyMesh {
     /// One Loop step into `out`: vertex points, edge points (in corner
     /// order), four triangles per triangle.
-    pub(crate) fn loop_into(&self, t: &Topology, out: &mut dyn MeshOut) -> io::Result<()> {
+    /// With weights other than Loop's, the general rules of [`LoopWeights`].
+    pub(crate) fn loop_into(
+        &self,
+        t: &Topology,
+        weights: Option<LoopWeights>,
+        out: &mut dyn MeshOut,
+    ) -> io::Result<()> {
+        let custom = weights.filter(|w| *w != LoopWeights::CLASSIC);
         let nv = self.positions.len();
         for v in 0..nv {
             let p = self.positions[v];
@@ -61,7 +68,11 @@ impl PolyMesh {
                     add(&mut r, self.positions[u], 1.0);
                     n += 1;
                 }
-                if n == 6 {
+                if let Some(l) = custom {
+                    let ring = l.ring(n);
+                    add(&mut q, p, 1.0 - ring);
+                    add(&mut q, r, ring / n as f64);
+                } else if n == 6 {
                     add(&mut q, p, 10.0 / 16.0);
                     add(&mut q, r, 1.0 / 16.0);
                 } else {
@@ -77,8 +88,9 @@ impl PolyMesh {
         let (edge_of, _) = self.edge_points(t, out, |c, tw| {
             let p = |c: usize| self.positions[self.indices[c]];
             let mut e = [0.0; 3];
-            for (q, w) in [(p(c), 3.0), (p(tw), 3.0), (p(t.prev(self, c)), 1.0), (p(t.prev(self, tw)), 1.0)] {
-                add(&mut e, q, w / 8.0);
+            let (end, opposite) = custom.map_or((3.0 / 8.0, 1.0 / 8.0), |l| (l.w, 0.5 - l.w));
+            for (q, w) in [(p(c), end), (p(tw), end), (p(t.prev(self, c)), opposite), (p(t.prev(self, tw)), opposite)] {
+                add(&mut e, q, w);
             }
             e
         })?;
@@ -196,7 +208,15 @@ impl PolyMesh {
     /// B-splines: Loop's binary, √3's ternary every two steps). A √3
     /// interior vertex next to the border is approximate: the border's
     /// splitting steps change its ring.
-    pub(crate) fn triangle_limit_points(&self, t: &Topology, sqrt3: bool) -> Vec<[f64; 3]> {
+    /// With Loop weights `(w, σ)`, the 2×2 step on `(v, ring average)` is
+    /// `[[1 − s, s], [w, 1 − w]]` (`s = nβ(n)`), whose left fixed vector
+    /// gives `(w v + s Q)/(w + s)`.
+    pub(crate) fn triangle_limit_points(
+        &self,
+        t: &Topology,
+        sqrt3: bool,
+        weights: Option<LoopWeights>,
+    ) -> Vec<[f64; 3]> {
         (0..self.positions.len())
             .map(|v| {
                 let p = self.positions[v];
@@ -215,7 +235,11 @@ impl PolyMesh {
                 let n = ring(self, t, c0).count();
                 let mut q = [0.0; 3];
                 ring(self, t, c0).for_each(|u| add(&mut q, self.positions[u], 1.0 / n as f64));
-                let s = if sqrt3 { 3.0 * sqrt3_alpha(n) } else { 8.0 * n as f64 * loop_beta(n) / 3.0 };
+                let s = match weights.filter(|w| !sqrt3 && *w != LoopWeights::CLASSIC) {
+                    Some(l) => l.ring(n) / l.w,
+                    None if sqrt3 => 3.0 * sqrt3_alpha(n),
+                    None => 8.0 * n as f64 * loop_beta(n) / 3.0,
+                };
                 add(&mut out, p, 1.0 / (1.0 + s));
                 add(&mut out, q, s / (1.0 + s));
                 out

@@ -112,12 +112,16 @@ impl Level {
         Some(out)
     }
 
-    /// One Loop step at valence 6 (directions even: new points at the midpoints).
-    fn loop_step(&self) -> Level {
+    /// One Loop step at valence 6 (directions even: new points at the
+    /// midpoints), edge points `w (a + b) + (1/2 − w)(c + d)`, vertex points
+    /// `(1 − 6β) v + β Σ neighbours`.
+    fn loop_step(&self, w: &BigRational, beta: &BigRational) -> Level {
         let mut values = HashMap::new();
         let d = self.dirs;
+        let own = q(1, 1) - beta * q(6, 1);
+        let opposite = q(1, 2) - w;
         for &p in self.values.keys() {
-            if let Some(v) = self.smooth(p, &q(5, 8), &q(1, 16)) {
+            if let Some(v) = self.smooth(p, &own, beta) {
                 values.insert(p, v);
             }
             for k in 0..6 {
@@ -126,7 +130,7 @@ impl Level {
                 if values.contains_key(&mid) {
                     continue;
                 }
-                let terms = [(p, q(3, 8)), (a, q(3, 8)), (b, q(1, 8)), (c, q(1, 8))];
+                let terms = [(p, w.clone()), (a, w.clone()), (b, opposite.clone()), (c, opposite.clone())];
                 if let Some(v) = self.combine(&terms) {
                     values.insert(mid, v);
                 }
@@ -160,9 +164,10 @@ impl Level {
     }
 }
 
-/// The fine values of one round of `scheme` on the coarse lattice points of
-/// hexagonal radius `radius` (fine coordinates: coarse point `o` at `s·o`).
-fn one_round(scheme: LatticeScheme, radius: i64) -> HashMap<Axial, Comb> {
+/// The fine values of one round of `scheme` (the box-spline with Loop's
+/// weights `(w, β)`) on the coarse lattice points of hexagonal radius
+/// `radius` (fine coordinates: coarse point `o` at `s·o`).
+fn one_round(scheme: LatticeScheme, loop_weights: &(BigRational, BigRational), radius: i64) -> HashMap<Axial, Comb> {
     let s = scheme.scale();
     let mut values = HashMap::new();
     for i in -radius..=radius {
@@ -174,7 +179,7 @@ fn one_round(scheme: LatticeScheme, radius: i64) -> HashMap<Axial, Comb> {
     }
     let level = Level { values, dirs: DIRECTIONS.map(|(x, y)| (s * x, s * y)) };
     match scheme {
-        LatticeScheme::BoxSpline => level.loop_step().values,
+        LatticeScheme::BoxSpline => level.loop_step(&loop_weights.0, &loop_weights.1).values,
         LatticeScheme::Sqrt3 => level.sqrt3_step().sqrt3_step().values,
     }
 }
@@ -217,8 +222,30 @@ pub struct NotClosed(pub i64);
 /// [`NotClosed`] when the control set keeps growing (sub-patches that leave
 /// the cell, or a contraction that is not one).
 pub fn lattice_ifs(scheme: LatticeScheme, parts: &[SubPatch], corners: &[Axial]) -> Result<LatticeIfs, NotClosed> {
+    lattice_ifs_weighted(scheme, &(q(3, 8), q(1, 16)), parts, corners)
+}
+
+/// The box-spline's six-map hexagon with Loop-like weights at valence 6:
+/// edge points `w (a + b) + (1/2 − w)(c + d)`, vertex points
+/// `(1 − 6β) v + β Σ neighbours` (Loop: `w = 3/8`, `β = 1/16`). Its joint
+/// spectral radius decides whether the regular parts of a triangle mesh
+/// converge under those weights.
+pub fn box_spline_hexagon(w: &BigRational, beta: &BigRational) -> LatticeIfs {
+    // Start from the whole two rings: zero weights must not shrink the control set.
+    let rings: Vec<Axial> =
+        (-2..=2).flat_map(|i| (-2..=2).map(move |j| (i, j))).filter(|&p| hex_norm(p) <= 2).collect();
+    lattice_ifs_weighted(LatticeScheme::BoxSpline, &(w.clone(), beta.clone()), &hexagon_parts(), &rings)
+        .expect("the hexagon's sub-patches close on the two rings for any weights")
+}
+
+fn lattice_ifs_weighted(
+    scheme: LatticeScheme,
+    loop_weights: &(BigRational, BigRational),
+    parts: &[SubPatch],
+    corners: &[Axial],
+) -> Result<LatticeIfs, NotClosed> {
     const WINDOW: i64 = 12;
-    let fine = one_round(scheme, WINDOW);
+    let fine = one_round(scheme, loop_weights, WINDOW);
     let image = |part: &SubPatch, o: Axial| (part.centre.0 + part.sign * o.0, part.centre.1 + part.sign * o.1);
     let mut control: BTreeSet<Axial> = corners.iter().copied().collect();
     loop {

@@ -21,8 +21,8 @@ mod topology;
 pub use catalog::{CatalogError, DEFAULT_OMEGA, IFS_NAMES, ifs_preset};
 pub use contour::{RowMap, segment_ifs, segment_ifs_as_printed};
 pub use lattice::{
-    Axial, LatticeIfs, LatticeScheme, NotClosed, SubPatch, hexagon_parts, lattice_ifs, lattice_triangles,
-    parallelogram_parts, ternary_triangle_parts,
+    Axial, LatticeIfs, LatticeScheme, NotClosed, SubPatch, box_spline_hexagon, hexagon_parts, lattice_ifs,
+    lattice_triangles, parallelogram_parts, ternary_triangle_parts,
 };
 pub use normal::{
     NormalDirection, NormalPreset, NormalScheme, NormalSchemeError, PRESET_NAMES, Point2, SignPattern, normal_preset,

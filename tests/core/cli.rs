@@ -409,6 +409,32 @@ fn surface_subdivides_a_users_mesh() {
             "has no parameters",
         ),
         (
+            vec![
+                "surface",
+                "tests/data/icosahedron.off",
+                "--scheme",
+                "loop",
+                "--param",
+                "sigma=5",
+                "-o",
+                &path("bad.png"),
+            ],
+            "loop weights w = 0.375, sigma = 5: at a vertex of valence 5",
+        ),
+        (
+            vec![
+                "surface",
+                "tests/data/icosahedron.off",
+                "--scheme",
+                "loop",
+                "--param",
+                "beta=0.1",
+                "-o",
+                &path("bad.png"),
+            ],
+            "`beta` is not a parameter of loop: the parameters are `w`, `sigma`",
+        ),
+        (
             vec!["surface", "tests/data/torus12.obj", "--scheme", "butterfly", "-o", &path("bad.png")],
             "unknown scheme `butterfly`",
         ),

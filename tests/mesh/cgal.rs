@@ -138,7 +138,7 @@ fn the_comparison_sees_a_difference() {
     let cube = crate::cube();
     let theirs = cgal(peer, &cube, Scheme::DooSabin, 1, "diff");
     let weights = bcifs::mesh::QuadWeights { alpha: 0.5, beta: 0.25, gamma: 0.125 };
-    let other = cube.subdivide_with(Scheme::DooSabin, 1, Some(weights), 1 << 30).unwrap();
+    let other = cube.subdivide_with(Scheme::DooSabin, 1, Some(weights.into()), 1 << 30).unwrap();
     let moved = std::panic::catch_unwind(|| assert_same_mesh(&other, &theirs, 1e-12, "other weights"));
     assert!(moved.is_err(), "other weights matched CGAL");
     let ours = cube.subdivide(Scheme::DooSabin, 1).unwrap();

@@ -291,6 +291,49 @@ fn doo_sabin_weights_are_checked() {
     assert!(e.contains("alpha = NaN"), "{e}");
 }
 
+/// Loop-like weights: Loop's are the family's `(3/8, 1)` (ring weight
+/// `nβ(n)` at every valence, limit mask `8nβ/3`); the icosahedron's textures
+/// converge by the box-spline hexagon's bounds; an expanding 1-ring is
+/// refused naming the parameter that puts the eigenvalue there.
+#[test]
+fn loop_weights_are_checked() {
+    use bcifs::mesh::{LoopWeights, WeightsVerdict, loop_beta};
+    for n in 3..=12 {
+        let ring = LoopWeights::CLASSIC.ring(n);
+        assert!((ring - n as f64 * loop_beta(n)).abs() < 1e-15, "valence {n}");
+    }
+    let ico = bcifs::mesh::PolyMesh::icosahedron();
+    assert_eq!(ico.interior_valences(), vec![5, 6]);
+    for w in LoopWeights::TEXTURES {
+        assert_eq!(w.check(&ico.interior_valences()).unwrap(), WeightsVerdict::Converges, "{w:?}");
+    }
+    let e = LoopWeights { w: 0.375, sigma: 5.0 }.check(&[5, 6]).unwrap_err().to_string();
+    assert!(e.contains("sigma = 5") && e.contains("`sigma`") && e.contains("diverges"), "{e}");
+    let e = LoopWeights { w: 0.9, sigma: 1.0 }.check(&[5, 6]).unwrap_err().to_string();
+    assert!(e.contains("w = 0.9") && e.contains("`w`"), "{e}");
+    assert!(LoopWeights { w: f64::NAN, sigma: 1.0 }.check(&[6]).is_err());
+}
+
+/// With weights other than Loop's, the limit mask `(w v + s Q)/(w + s)` is
+/// the left fixed vector of the step: the limit points of the net after k
+/// steps are those of the same vertices after k + 1 (vertex points come
+/// first), to 1e-12, on the icosahedron and on an open mesh's interior.
+#[test]
+fn loop_weights_limit_points_are_fixed_by_the_step() {
+    use bcifs::mesh::{LoopWeights, Scheme};
+    let ico = bcifs::mesh::PolyMesh::icosahedron();
+    for w in LoopWeights::TEXTURES {
+        let a = ico.limit_with(Scheme::Loop, 2, Some(w.into()), 1 << 30).unwrap();
+        let b = ico.limit_with(Scheme::Loop, 3, Some(w.into()), 1 << 30).unwrap();
+        let worst = (0..a.vertex_count())
+            .map(|v| (0..3).map(|k| (a.point(v)[k] - b.point(v)[k]).abs()).fold(0.0, f64::max))
+            .fold(0.0, f64::max);
+        assert!(worst < 1e-12, "{w:?}: {worst:e}");
+    }
+    // The icosahedron is the regular one, every face outward.
+    assert!(ico.signed_volume() > 0.0 && ico.is_closed() && ico.face_count() == 20);
+}
+
 /// Streamed output (the last step written as it is made) is the in-memory
 /// result, vertex for vertex and face for face, as OBJ and as OFF.
 #[test]
