@@ -86,6 +86,7 @@
 pub mod algebra;
 pub mod analysis;
 mod automaton;
+pub mod contour;
 pub mod design;
 pub mod eval;
 pub mod export;

@@ -3,6 +3,7 @@
 //! extension, the gallery, progress bars.
 
 mod analyze;
+mod contour;
 mod core;
 mod gallery;
 mod plot;
@@ -71,6 +72,11 @@ enum Command {
     Analyze {
         #[command(subcommand)]
         what: AnalyzeCommand,
+    },
+    /// Contours as Bézier fractals (seed 002): the maps of a segments file, or its automaton.
+    Contour {
+        #[command(subcommand)]
+        what: contour::ContourCommand,
     },
     /// Print a commented automaton file for a BC-IFS topology.
     New {
@@ -188,6 +194,7 @@ fn run(out: &mut String, cli: Cli) -> Result<u8> {
         Command::Surface(args) => surface::run(args),
         Command::Gallery { dir } => gallery::run(out, &dir),
         Command::Analyze { what } => analyze::run(out, what),
+        Command::Contour { what } => contour::run(out, what),
         Command::Scheme { scheme } => scheme::run(out, scheme),
         Command::New { topology } => core::run_new(out, topology),
         Command::List => core::run_list(out),

@@ -8,5 +8,6 @@ mod write;
 
 pub use builtin::BUILTIN_AUTOMATA;
 pub use error::FormatError;
+pub(crate) use error::Source;
 pub use parse::{ReadError, builtin_design, parse_design, read_design};
 pub use write::write_design;

@@ -6,7 +6,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// The library's top-level modules, bottom first.
-const LAYERS: [&[&str]; 12] = [
+const LAYERS: [&[&str]; 13] = [
     &["algebra", "names", "progress"],
     &["space"],
     &["automaton"],
@@ -14,6 +14,7 @@ const LAYERS: [&[&str]; 12] = [
     &["family"],
     &["format"],
     &["schemes"],
+    &["contour"],
     &["analysis"],
     &["geometry"],
     &["mesh"],

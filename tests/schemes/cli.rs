@@ -171,3 +171,38 @@ fn analyze_map_draws_the_verdicts() {
         bcifs(&["analyze", "map", "corner_cutting", "--x", "q=0:1", "--y", "b=-1:2", "-o", png.to_str().unwrap()]);
     assert_eq!(code, 2);
 }
+
+/// `bcifs contour ifs --json` lists the maps in segment order in the
+/// paper's convention (the heart: L1 as printed), `contour automaton`
+/// prints an automaton that `check` passes and `render --random` draws;
+/// a bad segments file exits 1 with its position.
+#[test]
+fn contour_commands() {
+    let file = temp("heart.toml");
+    std::fs::write(
+        &file,
+        "[[segment]]\npoints = [[-1, 0], [-1, 1], [0, 0]]\n[[segment]]\npoints = [[0, 0], [1, 1], [1, 0]]\n\
+         [[segment]]\npoints = [[-1, 0], [-1, -1], [0, -2]]\n[[segment]]\npoints = [[0, -2], [1, -1], [1, 0]]\n",
+    )
+    .unwrap();
+    let (code, out, err) = bcifs(&["contour", "ifs", file.to_str().unwrap(), "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let maps = v["maps"].as_array().unwrap();
+    assert_eq!(maps.len(), 8);
+    assert_eq!((maps[0]["segment"].as_u64(), maps[0]["name"].as_str()), (Some(0), Some("L")));
+    assert_eq!(maps[7]["name"].as_str(), Some("M"));
+    assert_eq!(maps[0]["matrix"], serde_json::json!([[0.25, 0.5, 0.0], [0.0, 0.5, 0.0], [-0.75, 0.5, 1.0]]));
+    let (code, automaton, err) = bcifs(&["contour", "automaton", file.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    let auto = temp("heart_automaton.toml");
+    std::fs::write(&auto, automaton).unwrap();
+    let (code, _, err) = bcifs(&["check", auto.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    let png = temp("heart.png");
+    let (code, _, err) = bcifs(&["render", auto.to_str().unwrap(), "--random", "4000", "-o", png.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    std::fs::write(&file, "[[segment]]\npoints = [[0, 0]]\n").unwrap();
+    let (code, _, err) = bcifs(&["contour", "ifs", file.to_str().unwrap()]);
+    assert!(code != 0 && err.contains("heart.toml:2:10"), "{code}: {err}");
+}

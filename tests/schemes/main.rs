@@ -2,6 +2,7 @@
 #![allow(clippy::needless_range_loop)] // index loops mirror the formulas they check
 
 mod cli;
+mod contour;
 mod errata;
 #[path = "../common/hausdorff.rs"]
 mod hausdorff;

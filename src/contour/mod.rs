@@ -1,0 +1,9 @@
+//! Contours as Bézier fractals (seed 002): segments files of quadratic
+//! Bézier arcs and line segments, their IFS in the paper's convention, and
+//! the automaton of a whole contour.
+
+mod automaton;
+mod segments;
+
+pub use automaton::{ContourError, chain, contour_design};
+pub use segments::{CASTELJAU_LEFT, CASTELJAU_RIGHT, Segment, arc_ifs, parse_segments, read_segments, write_segments};
