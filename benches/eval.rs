@@ -86,7 +86,7 @@ fn obj(c: &mut Criterion) {
         w.object("torus").expect("write");
         w.uvs(&shape.uvs).expect("write");
         w.vertices(shape.dim, &shape.positions, Some(&shape.normals)).expect("write");
-        w.faces(&quads, Some(&quad_uvs)).expect("write");
+        w.faces(&quads, (!quad_uvs.is_empty()).then_some(&quad_uvs[..])).expect("write");
         w.finish().expect("finish");
     };
     write_shape(&shape);
@@ -153,11 +153,41 @@ fn obj(c: &mut Criterion) {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// Issue 13: a 2000 × 2000 picture fitted in under 1 s (threshold, tracing,
+/// corners, fits): a star of 10 sides and a disc drawn side by side.
+fn contour_fit(c: &mut Criterion) {
+    let (w, h) = (2000usize, 2000usize);
+    let star: Vec<[f64; 2]> = (0..10)
+        .map(|k| {
+            let t = 0.2 + k as f64 * std::f64::consts::PI / 5.0;
+            let r = if k % 2 == 0 { 700.0 } else { 300.0 };
+            [800.0 + r * t.cos(), 1000.0 + r * t.sin()]
+        })
+        .collect();
+    let inside = |x: f64, y: f64| {
+        let mut inside = (x - 1650.0).hypot(y - 1000.0) <= 250.0;
+        for k in 0..star.len() {
+            let (a, b) = (star[k], star[(k + 1) % star.len()]);
+            if (a[1] > y) != (b[1] > y) && x < a[0] + (y - a[1]) / (b[1] - a[1]) * (b[0] - a[0]) {
+                inside = !inside;
+            }
+        }
+        inside
+    };
+    let grey: Vec<u8> = (0..w * h).map(|i| if inside((i % w) as f64, (i / w) as f64) { 0 } else { 255 }).collect();
+    let mut g = c.benchmark_group("contour");
+    g.sample_size(10);
+    g.bench_function("fit_2000x2000", |b| {
+        b.iter(|| bcifs::contour::fit_contour(std::hint::black_box(&grey), w, h, &Default::default()).expect("a shape"))
+    });
+    g.finish();
+}
+
 // Criterion's plots use plotters, whose `ab_glyph` fonts (enabled for the
 // command line's plots) are registered by bcifs only: no plots here.
 criterion_group! {
     name = benches;
     config = Criterion::default().without_plots();
-    targets = levy, chaos, doo_sabin, obj
+    targets = levy, chaos, doo_sabin, obj, contour_fit
 }
 criterion_main!(benches);

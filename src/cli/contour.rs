@@ -9,6 +9,33 @@ use clap::Subcommand;
 /// What to do with a contour.
 #[derive(Subcommand)]
 pub enum ContourCommand {
+    /// Fit the outer contour of the largest shape of a PNG or JPEG picture with line segments
+    /// and quadratic Bézier arcs (threshold, contour tracing, IPAN99 corners, least squares).
+    Fit {
+        /// The picture.
+        image: PathBuf,
+        /// The segments file to write (pixels: origin at the top-left corner, y down).
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Grey level 0-255 between shape and background (default: Otsu's).
+        #[arg(long)]
+        threshold: Option<u8>,
+        /// Largest distance in pixels from the traced contour to its fitted piece.
+        #[arg(long, default_value_t = 1.0)]
+        tolerance: f64,
+        /// IPAN99: shortest triangle side in pixels.
+        #[arg(long, default_value_t = 7.0)]
+        d_min: f64,
+        /// IPAN99: longest triangle side in pixels.
+        #[arg(long, default_value_t = 9.0)]
+        d_max: f64,
+        /// IPAN99: widest corner angle in degrees.
+        #[arg(long, default_value_t = 150.0)]
+        alpha_max: f64,
+        /// Print JSON: corners, segments and the largest distance from the contour to the fit.
+        #[arg(long)]
+        json: bool,
+    },
     /// Print the maps of every segment in the paper's convention (homogeneous row
     /// vectors, [x' y' 1] = [x y 1] F): L, M for arcs (eq. 10), F1, F2 for line segments (eqs. 12–14).
     Ifs {
@@ -29,6 +56,56 @@ pub enum ContourCommand {
 /// Runs a contour command.
 pub fn run(out: &mut String, command: ContourCommand) -> Result<u8> {
     match command {
+        ContourCommand::Fit { image, output, threshold, tolerance, d_min, d_max, alpha_max, json } => {
+            if !(tolerance > 0.0 && tolerance.is_finite()) {
+                anyhow::bail!("--tolerance {tolerance}: expected a positive number of pixels");
+            }
+            if !(d_min > 0.0 && d_min <= d_max && d_max.is_finite() && (0.0..=180.0).contains(&alpha_max)) {
+                anyhow::bail!("IPAN99 needs 0 < d_min ≤ d_max and 0 ≤ alpha_max ≤ 180");
+            }
+            let picture = image::open(&image)
+                .map_err(|e| anyhow::anyhow!("{}: not a readable PNG or JPEG picture: {e}", image.display()))?
+                .to_luma8();
+            let (w, h) = (picture.width() as usize, picture.height() as usize);
+            let settings = bcifs::contour::FitSettings {
+                threshold,
+                ipan: bcifs::contour::Ipan { d_min, d_max, alpha_max },
+                tolerance,
+            };
+            let fit = bcifs::contour::fit_contour(picture.as_raw(), w, h, &settings)
+                .map_err(|e| anyhow::anyhow!("{}: {e}", image.display()))?;
+            let text = bcifs::contour::write_segments(&fit.segments);
+            bcifs::export::write_atomic(&output, text.as_bytes())
+                .map_err(|e| anyhow::anyhow!("cannot write {}: {e}", output.display()))?;
+            let arcs = fit.segments.iter().filter(|s| s.is_arc()).count();
+            if json {
+                let segments: Vec<&Vec<[f64; 2]>> = fit.segments.iter().map(|s| &s.points).collect();
+                let value = serde_json::json!({
+                    "image": image.display().to_string(), "threshold": fit.threshold, "components": fit.components,
+                    "contour_points": fit.contour.len(), "corners": fit.corners, "segments": segments,
+                    "max_distance": fit.max_distance,
+                });
+                writeln!(out, "{}", serde_json::to_string_pretty(&value)?)?;
+            } else {
+                writeln!(
+                    out,
+                    "{}: threshold {}, {} contour points, {} corners → {} arcs and {} line segments \
+                     (within {:.3} px) → {}",
+                    image.display(),
+                    fit.threshold,
+                    fit.contour.len(),
+                    fit.corners.len(),
+                    arcs,
+                    fit.segments.len() - arcs,
+                    fit.max_distance,
+                    output.display()
+                )?;
+                if fit.components > 1 {
+                    writeln!(out, "  {} shapes: the largest is traced", fit.components)?;
+                }
+            }
+            Ok(0)
+        }
         ContourCommand::Ifs { segments, json } => {
             let pieces = bcifs::contour::read_segments(&segments)?;
             let mut maps = Vec::new();

@@ -3,7 +3,9 @@
 //! the automaton of a whole contour.
 
 mod automaton;
+mod fit;
 mod segments;
 
 pub use automaton::{ContourError, chain, contour_design};
+pub use fit::{Fit, FitError, FitSettings, Ipan, fit_contour, otsu};
 pub use segments::{CASTELJAU_LEFT, CASTELJAU_RIGHT, Segment, arc_ifs, parse_segments, read_segments, write_segments};

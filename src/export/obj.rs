@@ -205,6 +205,8 @@ impl Sink for ObjWriter {
     }
 
     fn faces(&mut self, quads: &[[usize; 4]], uvs: Option<&[[usize; 4]]>) -> io::Result<()> {
+        // Texture indices count only when there is one quad of them per face.
+        let uvs = uvs.filter(|t| t.len() == quads.len());
         let mut ints = std::mem::replace(&mut self.ints, itoa::Buffer::new());
         let normals = self.normals;
         let mut line = Vec::with_capacity(quads.len() * 64);

@@ -206,3 +206,49 @@ fn contour_commands() {
     let (code, _, err) = bcifs(&["contour", "ifs", file.to_str().unwrap()]);
     assert!(code != 0 && err.contains("heart.toml:2:10"), "{code}: {err}");
 }
+
+/// `bcifs contour fit`: a PNG of a rotated square (light on dark, to check
+/// the side choice) gives 4 line segments within the tolerance, as a
+/// segments file that `contour automaton` and `check` take; a file that is
+/// not a picture, or a blank one, exits 1 with a message and writes nothing.
+#[test]
+fn contour_fit_command() {
+    let (w, h) = (160u32, 120u32);
+    let corners: Vec<[f64; 2]> = (0..4)
+        .map(|k| {
+            let t = 0.3 + k as f64 * std::f64::consts::FRAC_PI_2;
+            [80.0 + 45.0 * t.cos(), 60.0 + 45.0 * t.sin()]
+        })
+        .collect();
+    let inside = |x: f64, y: f64| {
+        (0..4).all(|k| {
+            let (a, b) = (corners[k], corners[(k + 1) % 4]);
+            (b[0] - a[0]) * (y - a[1]) - (b[1] - a[1]) * (x - a[0]) >= 0.0
+        })
+    };
+    let img = image::GrayImage::from_fn(w, h, |x, y| image::Luma([if inside(x as f64, y as f64) { 230 } else { 20 }]));
+    let png = temp("square.png");
+    img.save(&png).unwrap();
+    let seg = temp("square.toml");
+    let (code, out, err) = bcifs(&["contour", "fit", png.to_str().unwrap(), "-o", seg.to_str().unwrap(), "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let segments = v["segments"].as_array().unwrap();
+    assert_eq!(segments.len(), 4, "{out}");
+    assert!(segments.iter().all(|s| s.as_array().unwrap().len() == 2), "{out}");
+    assert!(v["max_distance"].as_f64().unwrap() <= 1.0, "{out}");
+    let (code, automaton, err) = bcifs(&["contour", "automaton", seg.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    let auto = temp("square_automaton.toml");
+    std::fs::write(&auto, automaton).unwrap();
+    assert_eq!(bcifs(&["check", auto.to_str().unwrap()]).0, 0);
+    let not_png = temp("not.png");
+    std::fs::write(&not_png, "hello").unwrap();
+    let missing = temp("never.toml");
+    let (code, _, err) = bcifs(&["contour", "fit", not_png.to_str().unwrap(), "-o", missing.to_str().unwrap()]);
+    assert!(code != 0 && err.contains("not a readable PNG or JPEG"), "{err}");
+    image::GrayImage::from_pixel(20, 20, image::Luma([128])).save(&png).unwrap();
+    let (code, _, err) = bcifs(&["contour", "fit", png.to_str().unwrap(), "-o", missing.to_str().unwrap()]);
+    assert!(code != 0 && err.contains("nothing to trace"), "{err}");
+    assert!(!missing.exists());
+}

@@ -139,3 +139,131 @@ fn contour_automata_draw_their_pieces() {
         }
     }
 }
+
+/// A `w × h` grey picture: black where `inside(x, y)` holds at the pixel
+/// centre `(x, y)`, white elsewhere.
+fn picture(w: usize, h: usize, inside: impl Fn(f64, f64) -> bool) -> Vec<u8> {
+    (0..w * h).map(|i| if inside((i % w) as f64, (i / w) as f64) { 0 } else { 255 }).collect()
+}
+
+/// Whether `(x, y)` is inside the closed polygon `poly` (even-odd rule).
+fn in_polygon(poly: &[[f64; 2]], x: f64, y: f64) -> bool {
+    let mut inside = false;
+    for k in 0..poly.len() {
+        let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
+        if (a[1] > y) != (b[1] > y) && x < a[0] + (y - a[1]) / (b[1] - a[1]) * (b[0] - a[0]) {
+            inside = !inside;
+        }
+    }
+    inside
+}
+
+/// Points along the pieces, `per` per piece.
+fn samples(pieces: &[Segment], per: usize) -> Vec<[f64; 2]> {
+    pieces.iter().flat_map(|s| (0..per).map(move |k| s.at(k as f64 / per as f64))).collect()
+}
+
+/// The largest distance from a point of `a` to the polyline through `b` (closed).
+fn one_way(a: &[[f64; 2]], b: &[[f64; 2]]) -> f64 {
+    let seg = |p: [f64; 2], u: [f64; 2], v: [f64; 2]| {
+        let (vx, vy) = (v[0] - u[0], v[1] - u[1]);
+        let l = vx * vx + vy * vy;
+        let t = if l > 0.0 { (((p[0] - u[0]) * vx + (p[1] - u[1]) * vy) / l).clamp(0.0, 1.0) } else { 0.0 };
+        (p[0] - u[0] - t * vx).hypot(p[1] - u[1] - t * vy)
+    };
+    a.iter()
+        .map(|&p| (0..b.len()).map(|k| seg(p, b[k], b[(k + 1) % b.len()])).fold(f64::INFINITY, f64::min))
+        .fold(0.0, f64::max)
+}
+
+/// Synthetic silhouettes (issue 13): a rotated square gives 4 line
+/// segments, a five-pointed star its 10 sides, a disc only arcs, and the
+/// heart of seed 002 drawn 60 times larger is fitted; each fit is within
+/// 1.5 px of the true contour both ways (the contour runs through boundary
+/// pixel centres, within about half a pixel of the edge, plus the 1 px
+/// tolerance of the fit).
+#[test]
+fn silhouettes_are_fitted_within_a_pixel_and_a_half() {
+    use bcifs::contour::{FitSettings, fit_contour};
+    let (w, h) = (240, 240);
+    let square: Vec<[f64; 2]> = (0..4)
+        .map(|k| {
+            let t = 0.35 + k as f64 * std::f64::consts::FRAC_PI_2;
+            [120.0 + 85.0 * t.cos(), 120.0 + 85.0 * t.sin()]
+        })
+        .collect();
+    let star: Vec<[f64; 2]> = (0..10)
+        .map(|k| {
+            let t = 0.2 + k as f64 * std::f64::consts::PI / 5.0;
+            let r = if k % 2 == 0 { 110.0 } else { 50.0 };
+            [120.0 + r * t.cos(), 120.0 + r * t.sin()]
+        })
+        .collect();
+    let heart_arcs: Vec<Segment> = [
+        [[-1.0, 0.0], [-1.0, 1.0], [0.0, 0.0]],
+        [[0.0, 0.0], [1.0, 1.0], [1.0, 0.0]],
+        [[1.0, 0.0], [1.0, -1.0], [0.0, -2.0]],
+        [[0.0, -2.0], [-1.0, -1.0], [-1.0, 0.0]],
+    ]
+    .iter()
+    .map(|p| Segment { points: p.iter().map(|q| [120.0 + 90.0 * q[0], 60.0 - 90.0 * q[1]]).collect() })
+    .collect();
+    let heart = samples(&heart_arcs, 400);
+    let disc: Vec<[f64; 2]> = (0..2000)
+        .map(|k| {
+            let t = k as f64 / 2000.0 * std::f64::consts::TAU;
+            [120.0 + 90.0 * t.cos(), 120.0 + 90.0 * t.sin()]
+        })
+        .collect();
+    type Expect = fn(&[Segment]) -> bool;
+    let cases: [(&str, Vec<[f64; 2]>, Expect); 4] = [
+        ("square", square, |s| s.len() == 4 && s.iter().all(|p| !p.is_arc())),
+        ("star", star, |s| s.len() == 10 && s.iter().all(|p| !p.is_arc())),
+        ("disc", disc, |s| !s.is_empty() && s.iter().all(Segment::is_arc)),
+        ("heart", heart, |s| s.iter().any(Segment::is_arc)),
+    ];
+    for (name, outline, expect) in cases {
+        let grey = picture(w, h, |x, y| in_polygon(&outline, x, y));
+        let fit = fit_contour(&grey, w, h, &FitSettings::default()).unwrap();
+        let kinds: Vec<usize> = fit.segments.iter().map(|s| s.points.len()).collect();
+        assert!(expect(&fit.segments), "{name}: pieces {kinds:?}, corners {:?}", fit.corners);
+        let fitted = samples(&fit.segments, 50);
+        let (there, back) = (one_way(&outline, &fitted), one_way(&fitted, &outline));
+        assert!(there < 1.5 && back < 1.5, "{name}: {there:.3} px and {back:.3} px");
+        assert!(fit.max_distance <= 1.0 + 1e-9, "{name}: {}", fit.max_distance);
+    }
+}
+
+/// The automaton of a fitted contour draws the shape: its depth-6 points lie
+/// within 1.5 px of the true outline (a disc of radius 90 px), and its
+/// pieces chain into one closed curve. Bad pictures get errors, not panics:
+/// empty, blank (one grey level), and several shapes (the largest is fitted,
+/// the others counted); a shape touching the border is traced along it.
+#[test]
+fn fitted_contours_become_automata_and_bad_pictures_are_refused() {
+    use bcifs::contour::{FitError, FitSettings, fit_contour};
+    let (w, h) = (200, 200);
+    let disc = |x: f64, y: f64| (x - 100.0).hypot(y - 100.0) <= 90.0;
+    let fit = fit_contour(&picture(w, h, disc), w, h, &FitSettings::default()).unwrap();
+    let design = contour_design("disc", &fit.segments).unwrap();
+    let (_, closed) = chain(&fit.segments).unwrap();
+    assert!(closed);
+    let worst = super::evaluate(&design, 6)
+        .points()
+        .iter()
+        .map(|p| ((p[0] - 100.0).hypot(p[1] - 100.0) - 90.0).abs())
+        .fold(0.0, f64::max);
+    assert!(worst < 1.5, "{worst}");
+    assert_eq!(fit_contour(&[], 0, 0, &FitSettings::default()), Err(FitError::Empty));
+    assert!(matches!(fit_contour(&[255; 100], 10, 10, &FitSettings::default()), Err(FitError::Uniform(_))));
+    assert!(matches!(fit_contour(&[0; 100], 10, 10, &FitSettings::default()), Err(FitError::Uniform(_))));
+    // Two discs: the larger one is fitted.
+    let two = picture(w, h, |x, y| (x - 60.0).hypot(y - 60.0) <= 40.0 || (x - 150.0).hypot(y - 150.0) <= 20.0);
+    let fit = fit_contour(&two, w, h, &FitSettings::default()).unwrap();
+    assert_eq!(fit.components, 2);
+    assert!(fit.contour.iter().all(|p| (p[0] - 60.0).hypot(p[1] - 60.0) <= 41.0));
+    // A half-plane touching three sides of the picture: its contour runs along them.
+    let half = picture(w, h, |_, y| y >= 120.0);
+    let fit = fit_contour(&half, w, h, &FitSettings::default()).unwrap();
+    assert!(fit.segments.iter().all(|s| !s.is_arc()) && fit.max_distance <= 1.0, "{:?}", fit.segments);
+}
