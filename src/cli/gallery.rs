@@ -146,6 +146,69 @@ fn textures() -> Vec<(String, String, GallerySource)> {
     items
 }
 
+/// The silhouette the contour example fits (drawn by a test: `docs/silhouette.png`).
+const SILHOUETTE: &[u8] = include_bytes!("../../docs/silhouette.png");
+
+/// Seed 002's pipeline on the shipped silhouette: the fitted contour's
+/// automaton, the iterations 0, 3, 6, 9 of its maps from a rectangle (Figs.
+/// 5–6) and the chaos game after 10, 50, 300 points per map (Fig. 7), side
+/// by side. Pixel coordinates are turned y-up for the pictures.
+fn contour_example() -> Vec<(String, String, GallerySource)> {
+    use bcifs::geometry::Sink as _;
+    let Ok(picture) = image::load_from_memory(SILHOUETTE) else { return Vec::new() };
+    let grey = picture.to_luma8();
+    let (w, h) = (grey.width() as usize, grey.height() as usize);
+    let Ok(fit) = bcifs::contour::fit_contour(grey.as_raw(), w, h, &Default::default()) else { return Vec::new() };
+    let segments: Vec<bcifs::contour::Segment> = fit
+        .segments
+        .iter()
+        .map(|s| bcifs::contour::Segment { points: s.points.iter().map(|p| [p[0], -p[1]]).collect() })
+        .collect();
+    let mut items = Vec::new();
+    if let Ok(design) = bcifs::contour::contour_design("contour-fitted", &segments) {
+        let arcs = segments.iter().filter(|s| s.is_arc()).count();
+        let what = format!(
+            "a silhouette fitted by {arcs} quadratic Bézier arcs and {} line segments (seed 002 §6)",
+            segments.len() - arcs
+        );
+        items.push(("contour-fitted".to_string(), what, GallerySource::Design(Box::new(design), Some(8))));
+    }
+    let (x0, x1) = (0.0, w as f64);
+    let (y0, y1) = (-(h as f64), 0.0);
+    let rectangle = [[x0, y0], [x1, y0], [x1, y1], [x0, y1]];
+    let gap = 1.15 * w as f64;
+    let mut iterations = Shape::default();
+    for (panel, depth) in [0usize, 3, 6, 9].into_iter().enumerate() {
+        let _ = iterations.object(&format!("iteration {depth}"));
+        for poly in bcifs::contour::iterate_polygon(&segments, &rectangle, depth) {
+            let first = iterations.vertex_count();
+            let flat: Vec<f64> = poly.iter().flat_map(|p| [p[0] + panel as f64 * gap, p[1]]).collect();
+            let _ = iterations.vertices(2, &flat, None);
+            let _ = iterations.polyline(first, poly.len(), true);
+        }
+    }
+    items.push((
+        "contour-iterations".into(),
+        "iterations 0, 3, 6, 9 of the fitted contour's maps from a rectangle (seed 002 Figs. 5–6)".into(),
+        GallerySource::Shape(Box::new(iterations), 9),
+    ));
+    let mut chaos = Shape::default();
+    for (panel, per_map) in [10usize, 50, 300].into_iter().enumerate() {
+        let _ = chaos.object(&format!("{per_map} points per map"));
+        let flat: Vec<f64> = bcifs::contour::chaos_points(&segments, per_map, 7)
+            .iter()
+            .flat_map(|p| [p[0] + panel as f64 * gap, p[1]])
+            .collect();
+        let _ = chaos.vertices(2, &flat, None);
+    }
+    items.push((
+        "contour-chaos".into(),
+        "the chaos game of the fitted contour after 10, 50 and 300 points per map, p ∝ |det| (seed 002 Fig. 7)".into(),
+        GallerySource::Shape(Box::new(chaos), 1),
+    ));
+    items
+}
+
 /// What a gallery entry is made from.
 #[derive(Clone, Debug)]
 pub enum GallerySource {
@@ -180,6 +243,7 @@ pub fn gallery_items() -> Vec<(String, String, GallerySource)> {
         items.push((entry, description, source));
     }
     items.extend(textures());
+    items.extend(contour_example());
     for name in bcifs::schemes::IFS_NAMES {
         if let Ok(g) = bcifs::schemes::ifs_preset(name, None, None) {
             items.push((g.name().to_string(), g.description().to_string(), GallerySource::Design(Box::new(g), None)));

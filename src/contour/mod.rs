@@ -8,4 +8,7 @@ mod segments;
 
 pub use automaton::{ContourError, chain, contour_design};
 pub use fit::{Fit, FitError, FitSettings, Ipan, fit_contour, otsu};
-pub use segments::{CASTELJAU_LEFT, CASTELJAU_RIGHT, Segment, arc_ifs, parse_segments, read_segments, write_segments};
+pub use segments::{
+    CASTELJAU_LEFT, CASTELJAU_RIGHT, Segment, arc_ifs, chaos_points, iterate_polygon, parse_segments, read_segments,
+    write_segments,
+};

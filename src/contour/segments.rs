@@ -199,3 +199,44 @@ pub fn write_segments(segments: &[Segment]) -> String {
     }
     out
 }
+
+/// The images of the polygon `start` under every word of length `depth` of
+/// each piece's two maps (Figs. 5–6 of seed 002: iterations from a start
+/// set), piece by piece; pieces without maps of the plane (collinear arcs)
+/// are left out.
+pub fn iterate_polygon(segments: &[Segment], start: &[[f64; 2]], depth: usize) -> Vec<Vec<[f64; 2]>> {
+    let apply = |p: [f64; 2], f: &RowMap| [0, 1].map(|j| p[0] * f[0][j] + p[1] * f[1][j] + f[2][j]);
+    let mut out = Vec::new();
+    for s in segments {
+        let Ok([(_, a), (_, b)]) = s.maps() else { continue };
+        let mut level = vec![start.to_vec()];
+        for _ in 0..depth.min(16) {
+            level =
+                level.iter().flat_map(|poly| [a, b].map(|f| poly.iter().map(|&p| apply(p, &f)).collect())).collect();
+        }
+        out.extend(level);
+    }
+    out
+}
+
+/// The chaos game of each piece (Fig. 7 of seed 002): `per_map` points per
+/// map, each the image of the last by a map drawn with probability `∝ |det|`
+/// (seed 002 §2.2), from the piece's start point; a fixed seed.
+pub fn chaos_points(segments: &[Segment], per_map: usize, seed: u64) -> Vec<[f64; 2]> {
+    let apply = |p: [f64; 2], f: &RowMap| [0, 1].map(|j| p[0] * f[0][j] + p[1] * f[1][j] + f[2][j]);
+    let det = |f: &RowMap| (f[0][0] * f[1][1] - f[0][1] * f[1][0]).abs();
+    let mut state = seed.wrapping_mul(6364136223846793005).wrapping_add(1);
+    let mut out = Vec::new();
+    for s in segments {
+        let Ok([(_, a), (_, b)]) = s.maps() else { continue };
+        let pa = if det(&a) + det(&b) > 0.0 { det(&a) / (det(&a) + det(&b)) } else { 0.5 };
+        let mut p = s.start();
+        for _ in 0..2 * per_map {
+            state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            let u = (state >> 11) as f64 / (1u64 << 53) as f64;
+            p = apply(p, if u < pa { &a } else { &b });
+            out.push(p);
+        }
+    }
+    out
+}

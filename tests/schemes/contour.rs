@@ -267,3 +267,27 @@ fn fitted_contours_become_automata_and_bad_pictures_are_refused() {
     let fit = fit_contour(&half, w, h, &FitSettings::default()).unwrap();
     assert!(fit.segments.iter().all(|s| !s.is_arc()) && fit.max_distance <= 1.0, "{:?}", fit.segments);
 }
+
+/// The silhouette the gallery fits (a fish: an elliptic body and a
+/// triangular tail, 320 × 200, black on white), drawn here: the shipped
+/// `docs/silhouette.png` is exactly this picture (`BCIFS_DRAW=1` redraws it).
+#[test]
+fn the_shipped_silhouette_is_the_drawn_one() {
+    let (w, h) = (320usize, 200usize);
+    let tail = [[215.0, 100.0], [300.0, 35.0], [285.0, 100.0], [300.0, 165.0]];
+    let grey = picture(w, h, |x, y| {
+        let body = ((x - 130.0) / 100.0).powi(2) + ((y - 100.0) / 62.0).powi(2) <= 1.0;
+        body || in_polygon(&tail, x, y)
+    });
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/silhouette.png");
+    let drawn = image::GrayImage::from_raw(w as u32, h as u32, grey).unwrap();
+    if std::env::var_os("BCIFS_DRAW").is_some() {
+        drawn.save(&path).unwrap();
+    }
+    let shipped = image::open(&path).unwrap().to_luma8();
+    assert_eq!(shipped, drawn);
+    let fit = bcifs::contour::fit_contour(shipped.as_raw(), w, h, &Default::default()).unwrap();
+    // The tail's three corners and its notch, and arcs along the body.
+    assert!(fit.corners.len() >= 4 && fit.segments.iter().any(Segment::is_arc), "{:?}", fit.corners);
+    assert!(fit.max_distance <= 1.0);
+}
