@@ -337,16 +337,20 @@ fn best_line(points: &[[f64; 2]]) -> ([f64; 2], [f64; 2], f64) {
 /// points are straight within `tolerance` (their best line; the ends are
 /// moved onto it later), else the least-squares quadratic Bézier
 /// (chord-length parameters, refined by projection); its worst distance.
-fn fit_one(points: &[[f64; 2]], tolerance: f64) -> (Segment, f64) {
+/// `strict`: a line only when its chord is within the tolerance.
+fn fit_one(points: &[[f64; 2]], tolerance: f64, strict: bool) -> (Segment, f64) {
     let (a, b) = (points[0], points[points.len() - 1]);
     let line = Segment { points: vec![a, b] };
     let worst = |s: &Segment| points.iter().map(|&p| to_piece(p, s)).fold(0.0, f64::max);
     let (_, _, straight) = best_line(points);
-    if straight <= tolerance || points.len() < 4 {
+    let line_error = worst(&line);
+    if line_error <= tolerance || points.len() < 4 {
+        return (line, line_error);
+    }
+    if straight <= tolerance && !strict {
         // Straight: accepted by its best line's deviation (measured again once the ends move onto it).
         return (line, straight);
     }
-    let line_error = worst(&line);
     // Chord-length parameters.
     let mut t: Vec<f64> = Vec::with_capacity(points.len());
     let mut acc = 0.0;
@@ -408,33 +412,68 @@ fn fit_pieces(contour: &[[f64; 2]], corners: &[usize], tolerance: f64) -> (Vec<S
         let len = (to + n - from) % n;
         let len = if len == 0 { n } else { len };
         let run: Vec<[f64; 2]> = (0..=len).map(|j| contour[(from + j) % n]).collect();
-        fit_run(&run, tolerance, &mut pieces, 0);
+        fit_run(&run, tolerance, &mut pieces, 0, false);
     }
+    // Every joint between two line segments moves at once to where their best lines cross;
+    // a piece that ends up off by more than the tolerance (and worse than before) gets its
+    // joints back, until none does.
     let m = pieces.len();
-    for k in 0..m {
-        let next = (k + 1) % m;
-        if m < 2 || pieces[k].0.is_arc() || pieces[next].0.is_arc() {
-            continue;
+    let error = |s: &Segment, run: &[[f64; 2]]| run.iter().map(|&p| to_piece(p, s)).fold(0.0, f64::max);
+    let original: Vec<Segment> = pieces.iter().map(|(s, _)| s.clone()).collect();
+    let mut moved: Vec<Option<[f64; 2]>> = (0..m)
+        .map(|k| {
+            let next = (k + 1) % m;
+            if m < 2 || pieces[k].0.is_arc() || pieces[next].0.is_arc() {
+                return None;
+            }
+            let ((c1, d1, _), (c2, d2, _)) = (best_line(&pieces[k].1), best_line(&pieces[next].1));
+            let det = d1[0] * d2[1] - d1[1] * d2[0];
+            if det.abs() < 0.05 {
+                return None; // nearly parallel: keep the joint
+            }
+            let t = ((c2[0] - c1[0]) * d2[1] - (c2[1] - c1[1]) * d2[0]) / det;
+            let x = [c1[0] + t * d1[0], c1[1] + t * d1[1]];
+            let joint = pieces[k].0.end();
+            ((x[0] - joint[0]).hypot(x[1] - joint[1]) <= 3.0 * tolerance.max(1.0)).then_some(x)
+        })
+        .collect();
+    for _ in 0..m + 1 {
+        for k in 0..m {
+            let mut s = original[k].clone();
+            if let Some(x) = moved[(k + m - 1) % m].filter(|_| m > 1) {
+                s.points[0] = x;
+            }
+            if let Some(x) = moved[k] {
+                *s.points.last_mut().expect("a piece has points") = x;
+            }
+            pieces[k].0 = s;
         }
-        let ((c1, d1, _), (c2, d2, _)) = (best_line(&pieces[k].1), best_line(&pieces[next].1));
-        let det = d1[0] * d2[1] - d1[1] * d2[0];
-        if det.abs() < 0.05 {
-            continue; // nearly parallel: keep the joint
+        let bad: Vec<usize> = (0..m).filter(|&k| error(&pieces[k].0, &pieces[k].1) > tolerance).collect();
+        if bad.iter().all(|&k| moved[k].is_none() && moved[(k + m - 1) % m].is_none()) {
+            break;
         }
-        let t = ((c2[0] - c1[0]) * d2[1] - (c2[1] - c1[1]) * d2[0]) / det;
-        let x = [c1[0] + t * d1[0], c1[1] + t * d1[1]];
-        let joint = pieces[k].0.end();
-        if (x[0] - joint[0]).hypot(x[1] - joint[1]) <= 3.0 * tolerance.max(1.0) {
-            *pieces[k].0.points.last_mut().expect("a piece has points") = x;
-            pieces[next].0.points[0] = x;
+        for k in bad {
+            moved[k] = None;
+            moved[(k + m - 1) % m] = None;
         }
     }
+    // A line accepted for its straightness whose chord (between corner pixels) is still off:
+    // fitted again with the chord as the measure, which may split it.
+    let mut out: Vec<(Segment, Vec<[f64; 2]>)> = Vec::with_capacity(pieces.len());
+    for (s, run) in pieces {
+        if error(&s, &run) > tolerance && !s.is_arc() {
+            fit_run(&run, tolerance, &mut out, 0, true);
+        } else {
+            out.push((s, run));
+        }
+    }
+    let pieces = out;
     let worst = pieces.iter().flat_map(|(s, run)| run.iter().map(move |&p| to_piece(p, s))).fold(0.0, f64::max);
     (pieces.into_iter().map(|(s, _)| s).collect(), worst)
 }
 
-fn fit_run(run: &[[f64; 2]], tolerance: f64, out: &mut Vec<(Segment, Vec<[f64; 2]>)>, depth: usize) {
-    let (piece, error) = fit_one(run, tolerance);
+fn fit_run(run: &[[f64; 2]], tolerance: f64, out: &mut Vec<(Segment, Vec<[f64; 2]>)>, depth: usize, strict: bool) {
+    let (piece, error) = fit_one(run, tolerance, strict);
     if error <= tolerance || run.len() < 5 || depth > 30 {
         out.push((piece, run.to_vec()));
         return;
@@ -443,6 +482,6 @@ fn fit_run(run: &[[f64; 2]], tolerance: f64, out: &mut Vec<(Segment, Vec<[f64; 2
     let (a, b) = (run[0], run[run.len() - 1]);
     let far = (1..run.len() - 1).max_by(|&i, &j| to_segment(run[i], a, b).total_cmp(&to_segment(run[j], a, b)));
     let mid = far.filter(|&i| i >= 2 && i + 2 < run.len()).unwrap_or(run.len() / 2);
-    fit_run(&run[..=mid], tolerance, out, depth + 1);
-    fit_run(&run[mid..], tolerance, out, depth + 1);
+    fit_run(&run[..=mid], tolerance, out, depth + 1, strict);
+    fit_run(&run[mid..], tolerance, out, depth + 1, strict);
 }

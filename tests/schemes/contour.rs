@@ -209,6 +209,12 @@ fn silhouettes_are_fitted_within_a_pixel_and_a_half() {
     .map(|p| Segment { points: p.iter().map(|q| [120.0 + 90.0 * q[0], 60.0 - 90.0 * q[1]]).collect() })
     .collect();
     let heart = samples(&heart_arcs, 400);
+    let leaf_arcs: Vec<Segment> =
+        [[[30.0, 150.0], [120.0, -20.0], [210.0, 90.0]], [[210.0, 90.0], [120.0, 230.0], [30.0, 150.0]]]
+            .iter()
+            .map(|p| Segment { points: p.to_vec() })
+            .collect();
+    let leaf = samples(&leaf_arcs, 800);
     let disc: Vec<[f64; 2]> = (0..2000)
         .map(|k| {
             let t = k as f64 / 2000.0 * std::f64::consts::TAU;
@@ -216,11 +222,12 @@ fn silhouettes_are_fitted_within_a_pixel_and_a_half() {
         })
         .collect();
     type Expect = fn(&[Segment]) -> bool;
-    let cases: [(&str, Vec<[f64; 2]>, Expect); 4] = [
+    let cases: [(&str, Vec<[f64; 2]>, Expect); 5] = [
         ("square", square, |s| s.len() == 4 && s.iter().all(|p| !p.is_arc())),
         ("star", star, |s| s.len() == 10 && s.iter().all(|p| !p.is_arc())),
         ("disc", disc, |s| !s.is_empty() && s.iter().all(Segment::is_arc)),
         ("heart", heart, |s| s.iter().any(Segment::is_arc)),
+        ("leaf", leaf, |s| s.iter().any(Segment::is_arc)),
     ];
     for (name, outline, expect) in cases {
         let grey = picture(w, h, |x, y| in_polygon(&outline, x, y));
@@ -231,6 +238,14 @@ fn silhouettes_are_fitted_within_a_pixel_and_a_half() {
         let (there, back) = (one_way(&outline, &fitted), one_way(&fitted, &outline));
         assert!(there < 1.5 && back < 1.5, "{name}: {there:.3} px and {back:.3} px");
         assert!(fit.max_distance <= 1.0 + 1e-9, "{name}: {}", fit.max_distance);
+        // The automaton's attractor, drawn at depth 6, is as close to the outline.
+        let drawn: Vec<[f64; 2]> = super::evaluate(&contour_design(name, &fit.segments).unwrap(), 6)
+            .points()
+            .iter()
+            .map(|p| [p[0], p[1]])
+            .collect();
+        let attractor = one_way(&drawn, &outline);
+        assert!(attractor < 1.5, "{name}: the attractor is {attractor:.3} px off");
     }
 }
 
