@@ -77,6 +77,32 @@ pub(super) fn mul_into(c: &[f64], d: usize, n: usize, m: &[f64], cols: usize, ou
 
 /// Points `C · λ_j` for barycentric `λ_j` (`n` each, packed) into `out` (`d` each, packed).
 #[inline]
+/// A union of curves end to end (each piece starts where the previous one
+/// ends, to rounding) is drawn as one polyline, closed when the last piece
+/// ends where the first starts: a contour of Bézier arcs and segments.
+fn join_union_curves(plan: &Plan, pieces: &mut Pieces) {
+    let d = pieces.dim;
+    let mut ends = Vec::with_capacity(pieces.pieces.len());
+    for piece in &pieces.pieces {
+        let sp = plan.state(piece.state);
+        let (Some(start), Some(end)) = (sp.samples.first(), sp.end.as_ref()) else { return };
+        if sp.kind != CellKind::Edge {
+            return;
+        }
+        let (mut a, mut b) = (vec![0.0; d], vec![0.0; d]);
+        project_into(&piece.control, d, sp.dim, start, &mut a);
+        project_into(&piece.control, d, sp.dim, end, &mut b);
+        ends.push((a, b));
+    }
+    let scale = pieces.pieces.iter().flat_map(|p| p.control.iter()).fold(1.0f64, |m, x| m.max(x.abs()));
+    let same = |p: &[f64], q: &[f64]| p.iter().zip(q).all(|(x, y)| (x - y).abs() <= 1e-9 * scale);
+    if ends.len() < 2 || !ends.windows(2).all(|w| same(&w[0].1, &w[1].0)) {
+        return;
+    }
+    pieces.connected = true;
+    pieces.closed = same(&ends[ends.len() - 1].1, &ends[0].0);
+}
+
 pub(super) fn project_into(c: &[f64], d: usize, n: usize, lambdas: &[f64], out: &mut [f64]) {
     match (d, n) {
         (2, 3) => {
@@ -139,7 +165,10 @@ impl Evaluator {
                 return Err(EvalError::UnknownArrow(name.clone()));
             }
         }
-        let pieces = pieces(automaton, model)?;
+        let mut pieces = pieces(automaton, model)?;
+        if model.layout == crate::design::Layout::Union {
+            join_union_curves(&plan, &mut pieces);
+        }
         let kinds: Vec<CellKind> = pieces.pieces.iter().map(|p| plan.state(p.state).kind).collect();
         if kinds.contains(&CellKind::Face) && !settings.dropped.is_empty() {
             return Err(EvalError::Unsupported(

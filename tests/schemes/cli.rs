@@ -202,6 +202,13 @@ fn contour_commands() {
     let png = temp("heart.png");
     let (code, _, err) = bcifs(&["render", auto.to_str().unwrap(), "--random", "4000", "-o", png.to_str().unwrap()]);
     assert_eq!(code, 0, "{err}");
+    // One closed polyline: the pieces share their ends (64 vertices and 64 edges at depth 4, not 4 × 17).
+    let obj = temp("heart.obj");
+    let (code, _, err) = bcifs(&["render", auto.to_str().unwrap(), "--depth", "4", "-o", obj.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    let text = std::fs::read_to_string(&obj).unwrap();
+    let count = |tag: &str| text.lines().filter(|l| l.starts_with(tag)).count();
+    assert_eq!((count("v "), count("l ")), (64, 64), "{text}");
     std::fs::write(&file, "[[segment]]\npoints = [[0, 0]]\n").unwrap();
     let (code, _, err) = bcifs(&["contour", "ifs", file.to_str().unwrap()]);
     assert!(code != 0 && err.contains("heart.toml:2:10"), "{code}: {err}");
