@@ -28,6 +28,8 @@ pub struct RenderOptions {
     pub max_output: u128,
     /// Drop exact duplicate points of a point cloud.
     pub dedup: bool,
+    /// Tone mapping of chaos-game pictures (density images).
+    pub tone: bcifs::export::Tone,
 }
 
 /// Why rendering failed.
@@ -122,6 +124,15 @@ pub struct RenderArgs {
     /// curve, the control grid of a surface as quads), to show next to the attractor.
     #[arg(long)]
     pub control: bool,
+    /// Chaos game to PNG: log-density brightness b, v = (ln(1 + b·count) / ln(1 + b·max))^(1/gamma).
+    #[arg(long, default_value_t = 1.0)]
+    pub brightness: f64,
+    /// Chaos game to PNG: the gamma of the tone mapping.
+    #[arg(long, default_value_t = 2.2)]
+    pub gamma: f64,
+    /// Chaos game to PNG: cells per pixel side, averaged (1 to 8).
+    #[arg(long, default_value_t = 1)]
+    pub supersample: u32,
 }
 
 /// `bcifs render`: evaluates a design with its model and writes the file.
@@ -146,7 +157,18 @@ pub fn run(args: RenderArgs) -> anyhow::Result<u8> {
         max_output_gib,
         dedup,
         control,
+        brightness,
+        gamma,
+        supersample,
     } = args;
+    if !(brightness > 0.0
+        && brightness.is_finite()
+        && gamma > 0.0
+        && gamma.is_finite()
+        && (1..=8).contains(&supersample))
+    {
+        bail!("--brightness and --gamma must be positive numbers, --supersample 1 to 8");
+    }
     let design = load(&file)?;
     if control {
         let model = model_of(&design)?;
@@ -197,6 +219,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<u8> {
     let (w, h) = parse_size(&size)?;
     let (yaw, pitch) = parse_view(&view)?;
     options.raster = options.raster.with_size(w, h).with_view(yaw, pitch).with_memory_limit(options.eval.memory_limit);
+    options.tone = bcifs::export::Tone { brightness, gamma, supersample };
     let started = std::time::Instant::now();
     let summary = render(&design, &options, &output)?;
     summary.report(design.name(), &output, started);
@@ -338,6 +361,18 @@ pub fn render(design: &Design, options: &RenderOptions, out: &Path) -> Result<Re
             let summary = RenderSummary { vertices: counter.vertices, quads: counter.quads, duplicates: None };
             writer.finish().map_err(io)?;
             Ok(summary)
+        }
+        "png" if options.random.is_some() && !options.dedup => {
+            // A density picture: the samples are counted per pixel, never stored.
+            let random = options.random.as_ref().expect("checked");
+            let model = model_of(design)?;
+            let instance = instantiate(design, &options.params)?;
+            // The game holds no points here: its own memory check is for a batch.
+            let batch = random.clone().with_points(random.points.min(bcifs::eval::BATCH));
+            let game = bcifs::eval::ChaosGame::new(&instance.automaton, &model, &batch)?;
+            let img = bcifs::export::density_image(&game, random.points, &options.raster, &options.tone)?;
+            write_png(out, &img).map_err(io)?;
+            Ok(RenderSummary { vertices: random.points, quads: 0, duplicates: None })
         }
         "svg" | "png" => {
             let mut shape = evaluate_design(design, options)?;

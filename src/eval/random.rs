@@ -302,6 +302,15 @@ impl ChaosGame {
         self.pieces.dim
     }
 
+    /// Chain number `k` of the seed: its points into `slot` (after its burn-in).
+    fn chain_into(&self, k: u64, slot: &mut [f64]) {
+        let mut rng = Rng::new(self.settings.seed.wrapping_mul(0x2545_F491_4F6C_DD1D).wrapping_add(k));
+        if self.single && self.pieces.pieces.len() == 1 && self.affine_chain(&mut rng, slot) {
+            return;
+        }
+        self.general_chain(&mut rng, slot);
+    }
+
     /// Runs the walk, filling `out` (resized to `points · d`, reusing its allocation).
     pub fn run_into(&self, out: &mut Vec<f64>) {
         let d = self.pieces.dim;
@@ -309,18 +318,53 @@ impl ChaosGame {
         out.resize(s.points * d, 0.0);
         let chains = s.chains.max(1).min(s.points.max(1));
         let per = s.points.div_ceil(chains).max(1);
-        let chain = |(k, slot): (usize, &mut [f64])| {
-            let mut rng = Rng::new(s.seed.wrapping_mul(0x2545_F491_4F6C_DD1D).wrapping_add(k as u64));
-            if self.single && self.pieces.pieces.len() == 1 && self.affine_chain(&mut rng, slot) {
-                return;
-            }
-            self.general_chain(&mut rng, slot);
-        };
+        let chain = |(k, slot): (usize, &mut [f64])| self.chain_into(k as u64, slot);
         if self.pool.current_num_threads() == 1 {
             out.chunks_mut(per * d).enumerate().for_each(chain);
         } else {
             self.pool.install(|| out.par_chunks_mut(per * d).enumerate().for_each(chain));
         }
+    }
+}
+
+/// Points per batch of [`ChaosGame::fold`]: a chain of its own.
+pub const BATCH: usize = 1 << 16;
+
+impl ChaosGame {
+    /// Folds `points` points of the walk without holding them: chains of
+    /// [`BATCH`] points (chain `k` seeded by the seed and `k`, so the points
+    /// do not depend on the threads) are handed to `visit` as `d`
+    /// coordinates each, into one accumulator per thread made by `init`,
+    /// and the accumulators are merged by `merge` (which must not depend on
+    /// the order, like a sum of counts). Memory: one batch and one
+    /// accumulator per thread.
+    pub fn fold<T: Send>(
+        &self,
+        points: usize,
+        init: impl Fn() -> T + Sync + Send,
+        visit: impl Fn(&mut T, &[f64]) + Sync + Send,
+        merge: impl Fn(T, T) -> T + Sync + Send,
+    ) -> T {
+        let d = self.pieces.dim;
+        let batches = points.div_ceil(BATCH);
+        // Chains after the ones `run_into` uses.
+        let first = self.settings.chains.max(1) as u64;
+        let work = || {
+            (0..batches)
+                .into_par_iter()
+                .fold(
+                    || (init(), vec![0.0; BATCH * d]),
+                    |(mut acc, mut buf), k| {
+                        let n = BATCH.min(points - k * BATCH);
+                        self.chain_into(first + k as u64, &mut buf[..n * d]);
+                        visit(&mut acc, &buf[..n * d]);
+                        (acc, buf)
+                    },
+                )
+                .map(|(acc, _)| acc)
+                .reduce(&init, &merge)
+        };
+        self.pool.install(work)
     }
 }
 

@@ -7,5 +7,7 @@ mod svg;
 
 pub use atomic::{AtomicFile, remove_temporary_files, write_atomic};
 pub use obj::{ObjWriter, Up, write_obj};
-pub use png::{RasterSettings, RasterTooLarge, View, ascii, raster, raster_bytes, write_png};
+pub use png::{
+    Density, RasterSettings, RasterTooLarge, Tone, View, ascii, density, density_image, raster, raster_bytes, write_png,
+};
 pub use svg::svg;

@@ -148,6 +148,153 @@ impl Canvas {
     }
 }
 
+/// Tone mapping of a density picture, as flame renderers do it: the count
+/// `c` of a pixel becomes `v = (ln(1 + b c) / ln(1 + b max))^(1/γ)`, the
+/// ink's share of the pixel; `supersample` draws `s × s` cells per pixel
+/// and averages their counts.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Tone {
+    /// `b`: larger shows sparse regions brighter (default 1).
+    pub brightness: f64,
+    /// `γ` (default 2.2).
+    pub gamma: f64,
+    /// Cells per pixel side (default 1).
+    pub supersample: u32,
+}
+
+impl Default for Tone {
+    fn default() -> Tone {
+        Tone { brightness: 1.0, gamma: 2.2, supersample: 1 }
+    }
+}
+
+/// Samples of a chaos game counted per cell: `width · s × height · s` cells
+/// for a `width × height` picture with `s × s` cells per pixel.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Density {
+    /// Picture width in pixels.
+    pub width: usize,
+    /// Picture height in pixels.
+    pub height: usize,
+    /// Cells per pixel side.
+    pub supersample: usize,
+    /// Counts, row by row over the cells.
+    pub counts: Vec<u32>,
+}
+
+impl Density {
+    /// The tone-mapped picture: each pixel's cells averaged, then
+    /// `v = (ln(1 + b c) / ln(1 + b max))^(1/γ)` of ink.
+    pub fn image(&self, tone: &Tone) -> RgbImage {
+        let (w, h, s) = (self.width, self.height, self.supersample);
+        let sw = w * s;
+        let mut pixel = vec![0f64; w * h];
+        for (i, c) in self.counts.iter().enumerate() {
+            pixel[(i / sw / s) * w + (i % sw) / s] += f64::from(*c) / (s * s) as f64;
+        }
+        let max = pixel.iter().copied().fold(0.0, f64::max);
+        let b = tone.brightness.max(1e-9);
+        let norm = (1.0 + b * max).ln().max(1e-300);
+        let gamma = tone.gamma.max(1e-3);
+        let mut img = RgbImage::from_pixel(w as u32, h as u32, Rgb([255, 255, 255]));
+        for (px, c) in img.pixels_mut().zip(&pixel) {
+            let v = ((1.0 + b * c).ln() / norm).powf(1.0 / gamma);
+            *px = mix(PAPER, INK, v.clamp(0.0, 1.0));
+        }
+        img
+    }
+}
+
+/// The chaos game of `game` as a density picture: [`density`], tone-mapped.
+///
+/// # Errors
+/// [`RasterTooLarge`] when the count buffers would not fit `settings.memory_limit`.
+pub fn density_image(
+    game: &crate::eval::ChaosGame,
+    points: usize,
+    settings: &RasterSettings,
+    tone: &Tone,
+) -> Result<RgbImage, RasterTooLarge> {
+    Ok(density(game, points, settings, tone.supersample)?.image(tone))
+}
+
+/// `points` samples of the chaos game of `game` counted per cell, one count
+/// buffer per thread merged by summing (so the same seed gives the same
+/// counts with any number of threads), never stored: memory is
+/// `4 · pixels · s²` bytes per thread and a batch of points, whatever
+/// `points`. The frame is fitted on the first batch of points (with a
+/// margin of 3%); samples outside it are left out.
+///
+/// # Errors
+/// [`RasterTooLarge`] when the count buffers would not fit `settings.memory_limit`.
+pub fn density(
+    game: &crate::eval::ChaosGame,
+    points: usize,
+    settings: &RasterSettings,
+    supersample: u32,
+) -> Result<Density, RasterTooLarge> {
+    let s = supersample.clamp(1, 8) as usize;
+    let (w, h) = (settings.width.max(1) as usize, settings.height.max(1) as usize);
+    let (sw, sh) = (w * s, h * s);
+    let threads = rayon::current_num_threads().max(2) as u128;
+    let needed = (sw * sh) as u128 * 4 * threads + (w * h * 11) as u128 + crate::eval::BATCH as u128 * 24 * threads;
+    if needed > settings.memory_limit as u128 {
+        return Err(RasterTooLarge {
+            width: settings.width,
+            height: settings.height,
+            vertices: points,
+            needed,
+            limit: settings.memory_limit,
+        });
+    }
+    let d = game.dim();
+    let turn = DMat3::from_rotation_x(settings.view.pitch.to_radians())
+        * DMat3::from_rotation_z(settings.view.yaw.to_radians());
+    let screen = move |p: &[f64]| -> [f64; 3] {
+        if d < 3 {
+            return [p[0], p[1], 0.0];
+        }
+        let q = turn * DVec3::new(p[0], p[1], p[2]);
+        [q.x, q.z, q.y]
+    };
+    // The frame: the first batch's extent, centred, 3% wider.
+    let first: Vec<[f64; 3]> = game.fold(
+        crate::eval::BATCH.min(points.max(1)),
+        Vec::new,
+        |acc: &mut Vec<[f64; 3]>, batch| acc.extend(batch.chunks_exact(d).map(screen)),
+        |mut a, b| {
+            a.extend(b);
+            a
+        },
+    );
+    let finite: Vec<[f64; 3]> = first.into_iter().filter(|p| p.iter().all(|x| x.is_finite())).collect();
+    let mut canvas = Canvas::fit(&finite, sw as u32, sh as u32);
+    let (lo, hi) = finite.iter().fold(([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]), |(lo, hi), p| {
+        ([lo[0].min(p[0]), lo[1].min(p[1])], [hi[0].max(p[0]), hi[1].max(p[1])])
+    });
+    canvas.scale *= 0.97 / 0.94;
+    let mid = [(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0];
+    canvas.off = [sw as f64 / 2.0 - mid[0] * canvas.scale, sh as f64 / 2.0 - mid[1] * canvas.scale];
+    let counts = game.fold(
+        points,
+        || vec![0u32; sw * sh],
+        |acc, batch| {
+            for p in batch.chunks_exact(d) {
+                let (x, y) = canvas.px(screen(p));
+                if x >= 0.0 && y >= 0.0 && (x as usize) < sw && (y as usize) < sh {
+                    let cell = &mut acc[y as usize * sw + x as usize];
+                    *cell = cell.saturating_add(1);
+                }
+            }
+        },
+        |mut a, b| {
+            a.iter_mut().zip(&b).for_each(|(x, y)| *x = x.saturating_add(*y));
+            a
+        },
+    );
+    Ok(Density { width: w, height: h, supersample: s, counts })
+}
+
 /// Xiaolin Wu's anti-aliased line into a coverage buffer.
 fn wu_line(cov: &mut [f32], w: usize, h: usize, (mut x0, mut y0): (f64, f64), (mut x1, mut y1): (f64, f64)) {
     let mut plot = |x: i64, y: i64, c: f64| {

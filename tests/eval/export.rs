@@ -235,3 +235,35 @@ fn stale_temporary_files_are_swept() {
     assert!(other.exists(), "another target's file stays");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Density pictures of the chaos game (issue 11): the same seed gives the
+/// same counts with 1 and 2 threads; the counts add up to the samples (the
+/// frame, fitted on the first batch, holds at least 99.9% of them); a
+/// picture over the memory limit is refused with what it needs.
+#[test]
+fn density_pictures_count_every_sample_once() {
+    use bcifs::eval::{ChaosGame, RandomSettings};
+    use bcifs::export::{RasterSettings, density};
+    let design = bcifs::builtin_design("fern").unwrap();
+    let inst = bcifs::instantiate(&design, &[]).unwrap();
+    let model = design.model().unwrap().clone();
+    let points = 3_000_000;
+    let raster = RasterSettings::default().with_size(200, 300);
+    let counts = |threads: usize| {
+        let mut settings = RandomSettings::default().with_points(1000).with_seed(5);
+        settings.threads = Some(threads);
+        let game = ChaosGame::new(&inst.automaton, &model, &settings).unwrap();
+        density(&game, points, &raster, 2).unwrap()
+    };
+    let (one, two) = (counts(1), counts(2));
+    assert_eq!(one, two, "the same picture with any number of threads");
+    let total: u64 = one.counts.iter().map(|&c| u64::from(c)).sum();
+    assert!(total as f64 >= 0.999 * points as f64 && total <= points as u64, "{total}");
+    assert_eq!((one.width, one.height, one.supersample, one.counts.len()), (200, 300, 2, 400 * 600));
+    let inked = one.counts.iter().filter(|&&c| c > 0).count();
+    assert!(inked > 10_000, "the fern covers many cells: {inked}");
+    let game = ChaosGame::new(&inst.automaton, &model, &RandomSettings::default().with_points(1000)).unwrap();
+    let small = RasterSettings::default().with_size(4000, 4000).with_memory_limit(1 << 20);
+    let e = density(&game, points, &small, 1).unwrap_err().to_string();
+    assert!(e.contains("4000×4000"), "{e}");
+}
