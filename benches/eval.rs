@@ -47,6 +47,16 @@ fn chaos(c: &mut Criterion) {
         game.run_into(&mut buf);
         g.bench_function(BenchmarkId::new("one_chain", name), |b| b.iter(|| game.run_into(black_box(&mut buf))));
     }
+    // Issue 11: samples counted into a 1024² density picture, never stored (one thread, then two).
+    let (a, model) = setup("fern");
+    let raster = bcifs::export::RasterSettings::default().with_size(1024, 1024);
+    for threads in [1, 2] {
+        let game = ChaosGame::new(&a, &model, &RandomSettings::default().with_points(1 << 16).with_threads(threads))
+            .expect("ok");
+        g.bench_function(BenchmarkId::new("density_1024_fern_threads", threads), |b| {
+            b.iter(|| bcifs::export::density(&game, n, &raster, 1).expect("fits"))
+        });
+    }
     g.finish();
 }
 
