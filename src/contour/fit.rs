@@ -141,6 +141,9 @@ pub fn fit_contour(grey: &[u8], width: usize, height: usize, settings: &FitSetti
     let contour = trace(&mask, width, height, largest.iter().copied().min().unwrap_or(0));
     let corner_index = corners(&contour, &settings.ipan);
     let (segments, max_distance) = fit_pieces(&contour, &corner_index, settings.tolerance);
+    if segments.is_empty() {
+        return Err(FitError::TooSmall(largest.len()));
+    }
     Ok(Fit {
         threshold,
         components,
@@ -468,13 +471,16 @@ fn fit_pieces(contour: &[[f64; 2]], corners: &[usize], tolerance: f64) -> (Vec<S
         }
     }
     let pieces = out;
+    // A piece of no length (a one-pixel spur) is left out: its neighbours meet there already.
+    let pieces: Vec<(Segment, Vec<[f64; 2]>)> =
+        pieces.into_iter().filter(|(s, _)| s.is_arc() || s.start() != s.end()).collect();
     let worst = pieces.iter().flat_map(|(s, run)| run.iter().map(move |&p| to_piece(p, s))).fold(0.0, f64::max);
     (pieces.into_iter().map(|(s, _)| s).collect(), worst)
 }
 
 fn fit_run(run: &[[f64; 2]], tolerance: f64, out: &mut Vec<(Segment, Vec<[f64; 2]>)>, depth: usize, strict: bool) {
     let (piece, error) = fit_one(run, tolerance, strict);
-    if error <= tolerance || run.len() < 5 || depth > 30 {
+    if error <= tolerance || run.len() < 3 || depth > 30 {
         out.push((piece, run.to_vec()));
         return;
     }

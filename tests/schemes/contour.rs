@@ -306,3 +306,36 @@ fn the_shipped_silhouette_is_the_drawn_one() {
     assert!(fit.corners.len() >= 4 && fit.segments.iter().any(Segment::is_arc), "{:?}", fit.corners);
     assert!(fit.max_distance <= 1.0);
 }
+
+/// Every 3 × 3 black-and-white picture, and a thousand random 6 × 5 ones,
+/// are fitted or refused with an error: no panic, and every fit is closed,
+/// within the tolerance of its traced contour, reads back as a segments
+/// file and makes an automaton.
+#[test]
+fn tiny_pictures_never_panic() {
+    use bcifs::contour::{FitSettings, fit_contour};
+    let check = |grey: &[u8], w: usize, h: usize| {
+        if let Ok(fit) = fit_contour(grey, w, h, &FitSettings::default()) {
+            assert!(!fit.segments.is_empty() && fit.max_distance <= 1.0 + 1e-9, "{grey:?}: {fit:?}");
+            let (first, last) = (fit.segments[0].start(), fit.segments[fit.segments.len() - 1].end());
+            assert_eq!(first, last, "{grey:?}: the contour closes");
+            let again = parse_segments(&write_segments(&fit.segments), "fit.toml");
+            assert!(again.is_ok(), "{grey:?}: the segments file reads back: {again:?}");
+            assert!(contour_design("fit", &fit.segments).is_ok(), "{grey:?}: an automaton");
+        }
+    };
+    for bits in 0u32..512 {
+        let grey: Vec<u8> = (0..9).map(|i| if bits >> i & 1 == 1 { 0 } else { 255 }).collect();
+        check(&grey, 3, 3);
+    }
+    let mut s = 17u64;
+    for _ in 0..1000 {
+        let grey: Vec<u8> = (0..30)
+            .map(|_| {
+                s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+                if s >> 62 == 0 { 0 } else { 255 }
+            })
+            .collect();
+        check(&grey, 6, 5);
+    }
+}
