@@ -179,26 +179,32 @@ pub fn curve_query(t0: &DMatrix<f64>, t1: &DMatrix<f64>) -> CurveReport {
         return report;
     }
     let inner = |v: &DVector<f64>| v.iter().any(|x| x.abs() < 1e-12 * v.norm());
-    let (inner0, inner1) = (inner(&start), inner(&end_back));
-    report.region = Some(match (inner0, inner1) {
-        (true, true) => {
-            if report.c1_necessary && report.junction_angle_deg.is_some_and(|a| a < 90.0) {
-                "1"
-            } else if alpha < 0.0 {
-                "2"
-            } else {
-                "2'"
-            }
-        }
-        (true, false) => "3",
-        (false, true) => "3'",
-        (false, false) => {
-            // The sign of the smallest eigenvalue in modulus (1 − a − b for the corner cutting).
-            let smallest = l0.iter().filter(|x| (*x - 1.0).abs() > 1e-9).min_by(|a, b| a.abs().total_cmp(&b.abs()));
-            if smallest.is_some_and(|s| *s < 0.0) { "5" } else { "4" }
-        }
-    });
+    // The sign of the smallest eigenvalue in modulus (1 − a − b for the corner cutting).
+    let smallest = l0.iter().filter(|x| (*x - 1.0).abs() > 1e-9).min_by(|a, b| a.abs().total_cmp(&b.abs()));
+    report.region = Some(region(
+        [inner(&start), inner(&end_back)],
+        report.c1_necessary && report.junction_angle_deg.is_some_and(|a| a < 90.0),
+        alpha < 0.0,
+        smallest.is_some_and(|s| *s < 0.0),
+    ));
     report
+}
+
+/// The region of §4.3 (see the module docs): `inner` says which half-tangents
+/// depend on two control points only (at `F(0)`, at `F(1)`); `tangent`: the
+/// junction is a tangent (collinear half-tangents, angle below 90°);
+/// `alpha_negative`: `α_L < 0`; `smallest_negative`: the smallest eigenvalue
+/// of `T0` in modulus is negative.
+pub(crate) fn region(inner: [bool; 2], tangent: bool, alpha_negative: bool, smallest_negative: bool) -> &'static str {
+    match inner {
+        [true, true] if tangent => "1",
+        [true, true] if alpha_negative => "2",
+        [true, true] => "2'",
+        [true, false] => "3",
+        [false, true] => "3'",
+        [false, false] if smallest_negative => "5",
+        [false, false] => "4",
+    }
 }
 
 /// The blending functions of a curve (seed 004 §5, Fig. 9).

@@ -309,26 +309,13 @@ pub fn curve_query_exact(t0: &[Vec<BigRational>], t1: &[Vec<BigRational>]) -> Op
         return Some(report);
     }
     let inner = |v: &[Q2; 3]| v.iter().any(Q2::is_zero);
-    report.region = Some(match (inner(&start), inner(&end_back)) {
-        (true, true) => {
-            if report.c1_necessary && report.junction_angle_deg.is_some_and(|a| a < 90.0) {
-                "1"
-            } else if g0.sign(&alpha) == Ordering::Less {
-                "2"
-            } else {
-                "2'"
-            }
-        }
-        (true, false) => "3",
-        (false, true) => "3'",
-        (false, false) => {
-            let smallest = e0
-                .values
-                .iter()
-                .filter(|l| !(l.b.is_zero() && l.a.is_one()))
-                .min_by(|x, y| g0.cmp(&g0.abs(x), &g0.abs(y)));
-            if smallest.is_some_and(|s| g0.sign(s) == Ordering::Less) { "5" } else { "4" }
-        }
-    });
+    let smallest =
+        e0.values.iter().filter(|l| !(l.b.is_zero() && l.a.is_one())).min_by(|x, y| g0.cmp(&g0.abs(x), &g0.abs(y)));
+    report.region = Some(super::curve::region(
+        [inner(&start), inner(&end_back)],
+        report.c1_necessary && report.junction_angle_deg.is_some_and(|a| a < 90.0),
+        g0.sign(&alpha) == Ordering::Less,
+        smallest.is_some_and(|s| g0.sign(s) == Ordering::Less),
+    ));
     Some(report)
 }

@@ -55,30 +55,26 @@ pub fn rule_weights(scheme: Scheme, params: &[(String, f64)]) -> anyhow::Result<
     if params.is_empty() {
         return Ok(None);
     }
+    // Each `NAME=VALUE` sets the named weight; another name is refused with the list.
+    let set = |slots: &mut [(&str, &mut f64)]| -> anyhow::Result<()> {
+        for (name, value) in params {
+            let Some((_, slot)) = slots.iter_mut().find(|(n, _)| n == name) else {
+                let names: Vec<String> = slots.iter().map(|(n, _)| format!("`{n}`")).collect();
+                bail!("`{name}` is not a parameter of {}: the parameters are {}", scheme.name(), names.join(", "));
+            };
+            **slot = *value;
+        }
+        Ok(())
+    };
     match scheme {
         Scheme::DooSabin => {
             let mut w = QuadWeights::CLASSIC;
-            for (name, value) in params {
-                match name.as_str() {
-                    "alpha" => w.alpha = *value,
-                    "beta" => w.beta = *value,
-                    "gamma" => w.gamma = *value,
-                    other => {
-                        bail!("`{other}` is not a parameter of doo-sabin: the parameters are `alpha`, `beta`, `gamma`")
-                    }
-                }
-            }
+            set(&mut [("alpha", &mut w.alpha), ("beta", &mut w.beta), ("gamma", &mut w.gamma)])?;
             Ok(Some(w.into()))
         }
         Scheme::Loop => {
             let mut w = LoopWeights::CLASSIC;
-            for (name, value) in params {
-                match name.as_str() {
-                    "w" => w.w = *value,
-                    "sigma" => w.sigma = *value,
-                    other => bail!("`{other}` is not a parameter of loop: the parameters are `w`, `sigma`"),
-                }
-            }
+            set(&mut [("w", &mut w.w), ("sigma", &mut w.sigma)])?;
             Ok(Some(w.into()))
         }
         _ => bail!("{} has no parameters (the weights are the classic rules)", scheme.name()),

@@ -128,6 +128,11 @@ struct Canvas {
 
 impl Canvas {
     fn fit(points: &[[f64; 3]], w: u32, h: u32) -> Canvas {
+        Canvas::fill(points, w, h, 0.94)
+    }
+
+    /// The points' extent centred, filling the share `fill` of the picture.
+    fn fill(points: &[[f64; 3]], w: u32, h: u32, fill: f64) -> Canvas {
         let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
         for p in points {
             for a in 0..2 {
@@ -137,7 +142,7 @@ impl Canvas {
         }
         let (w, h) = (w as usize, h as usize);
         let span = [(hi[0] - lo[0]).max(1e-12), (hi[1] - lo[1]).max(1e-12)];
-        let scale = 0.94 * (w as f64 / span[0]).min(h as f64 / span[1]);
+        let scale = fill * (w as f64 / span[0]).min(h as f64 / span[1]);
         let off =
             [(w as f64 - span[0] * scale) / 2.0 - lo[0] * scale, (h as f64 - span[1] * scale) / 2.0 - lo[1] * scale];
         Canvas { w, h, scale, off }
@@ -268,13 +273,7 @@ pub fn density(
         },
     );
     let finite: Vec<[f64; 3]> = first.into_iter().filter(|p| p.iter().all(|x| x.is_finite())).collect();
-    let mut canvas = Canvas::fit(&finite, sw as u32, sh as u32);
-    let (lo, hi) = finite.iter().fold(([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]), |(lo, hi), p| {
-        ([lo[0].min(p[0]), lo[1].min(p[1])], [hi[0].max(p[0]), hi[1].max(p[1])])
-    });
-    canvas.scale *= 0.97 / 0.94;
-    let mid = [(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0];
-    canvas.off = [sw as f64 / 2.0 - mid[0] * canvas.scale, sh as f64 / 2.0 - mid[1] * canvas.scale];
+    let canvas = Canvas::fill(&finite, sw as u32, sh as u32, 0.97);
     let counts = game.fold(
         points,
         || vec![0u32; sw * sh],
