@@ -47,15 +47,19 @@ fn chaos(c: &mut Criterion) {
         game.run_into(&mut buf);
         g.bench_function(BenchmarkId::new("one_chain", name), |b| b.iter(|| game.run_into(black_box(&mut buf))));
     }
-    // Issue 11: samples counted into a 1024² density picture, never stored (one thread, then two).
-    let (a, model) = setup("fern");
+    // Issue 11: samples counted into a 1024² density picture, never stored (one thread,
+    // then two): the fern in ink, the gasket coloured by its maps (flam3's benchmark).
     let raster = bcifs::export::RasterSettings::default().with_size(1024, 1024);
-    for threads in [1, 2] {
-        let game = ChaosGame::new(&a, &model, &RandomSettings::default().with_points(1 << 16).with_threads(threads))
-            .expect("ok");
-        g.bench_function(BenchmarkId::new("density_1024_fern_threads", threads), |b| {
-            b.iter(|| bcifs::export::density(&game, n, &raster, 1).expect("fits"))
-        });
+    let fire = bcifs::export::Palette::named("fire");
+    for (name, palette) in [("fern", None), ("gasket_colour", fire.as_ref())] {
+        let (a, model) = setup(name.trim_end_matches("_colour"));
+        for threads in [1, 2] {
+            let settings = RandomSettings::default().with_points(1 << 16).with_threads(threads);
+            let game = ChaosGame::new(&a, &model, &settings).expect("ok");
+            g.bench_function(BenchmarkId::new(format!("density_1024_{name}_threads"), threads), |b| {
+                b.iter(|| bcifs::export::density(&game, n, &raster, 1, palette).expect("fits"))
+            });
+        }
     }
     g.finish();
 }

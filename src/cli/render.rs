@@ -30,6 +30,8 @@ pub struct RenderOptions {
     pub dedup: bool,
     /// Tone mapping of chaos-game pictures (density images).
     pub tone: bcifs::export::Tone,
+    /// Colour chaos-game pictures by the arrows applied, with this palette.
+    pub palette: Option<bcifs::export::Palette>,
 }
 
 /// Why rendering failed.
@@ -133,6 +135,32 @@ pub struct RenderArgs {
     /// Chaos game to PNG: cells per pixel side, averaged (1 to 8).
     #[arg(long, default_value_t = 1)]
     pub supersample: u32,
+    /// Chaos game to PNG: colour by the arrows applied, with this palette: fire, ocean, rainbow,
+    /// viridis, sunset, or a picture file (its middle row, left to right).
+    #[arg(long)]
+    pub palette: Option<String>,
+    /// Chaos game with --palette: the colour coordinate of an arrow, ARROW=C with C in [0, 1]
+    /// (repeatable; the others are spread evenly in arrow order).
+    #[arg(long = "color", value_name = "ARROW=C")]
+    pub colours: Vec<String>,
+    /// Chaos game with --palette: each step moves the colour coordinate this far towards the
+    /// arrow's colour, c ← (1 − s) c + s c_arrow (flam3's colour speed).
+    #[arg(long = "color-speed", default_value_t = 0.5)]
+    pub colour_speed: f64,
+    /// Chaos game with --palette: 1 keeps the hues as the density fades, 0 tone-maps each channel.
+    #[arg(long, default_value_t = 1.0)]
+    pub vibrancy: f64,
+    /// Chaos game to PNG: density-estimation blur, the largest radius in pixels (sparse cells
+    /// spread over radius/count^curve, dense ones stay sharp; 0: off).
+    #[arg(long, default_value_t = 0.0)]
+    pub blur: f64,
+    /// Chaos game to PNG: how fast the blur radius shrinks with the count.
+    #[arg(long = "blur-curve", default_value_t = 0.4)]
+    pub blur_curve: f64,
+    /// Chaos game to PNG: the background, RRGGBB in hexadecimal, white or black (default: white,
+    /// black with --palette).
+    #[arg(long)]
+    pub background: Option<String>,
 }
 
 /// `bcifs render`: evaluates a design with its model and writes the file.
@@ -160,6 +188,13 @@ pub fn run(args: RenderArgs) -> anyhow::Result<u8> {
         brightness,
         gamma,
         supersample,
+        palette,
+        colours,
+        colour_speed,
+        vibrancy,
+        blur,
+        blur_curve,
+        background,
     } = args;
     if !(brightness > 0.0
         && brightness.is_finite()
@@ -169,6 +204,14 @@ pub fn run(args: RenderArgs) -> anyhow::Result<u8> {
     {
         bail!("--brightness and --gamma must be positive numbers, --supersample 1 to 8");
     }
+    if !((0.0..=1.0).contains(&vibrancy) && (0.0..=1.0).contains(&colour_speed)) {
+        bail!("--vibrancy and --color-speed are between 0 and 1");
+    }
+    if !(blur.is_finite() && (0.0..=64.0).contains(&blur) && blur_curve.is_finite() && blur_curve >= 0.0) {
+        bail!("--blur is a radius from 0 to 64 pixels, --blur-curve a number from 0 up");
+    }
+    let palette = palette.map(|p| bcifs::export::Palette::parse(&p)).transpose().map_err(anyhow::Error::msg)?;
+    let background = background.map(|b| parse_colour(&b)).transpose()?;
     let design = load(&file)?;
     if control {
         let model = model_of(&design)?;
@@ -214,12 +257,15 @@ pub fn run(args: RenderArgs) -> anyhow::Result<u8> {
         r.probabilities = parse_params(&probs)?;
         r.force = force;
         r.memory_limit = memory_mib.saturating_mul(1 << 20);
+        r.colours = parse_params(&colours)?;
+        r.colour_speed = colour_speed;
         options.random = Some(r);
     }
     let (w, h) = parse_size(&size)?;
     let (yaw, pitch) = parse_view(&view)?;
     options.raster = options.raster.with_size(w, h).with_view(yaw, pitch).with_memory_limit(options.eval.memory_limit);
-    options.tone = bcifs::export::Tone { brightness, gamma, supersample };
+    options.tone = bcifs::export::Tone { brightness, gamma, vibrancy, supersample, blur, blur_curve, background };
+    options.palette = palette;
     let started = std::time::Instant::now();
     let summary = render(&design, &options, &output)?;
     summary.report(design.name(), &output, started);
@@ -227,6 +273,21 @@ pub fn run(args: RenderArgs) -> anyhow::Result<u8> {
         eprintln!("warning: the output is empty (every arrow dropped, or nothing to draw)");
     }
     Ok(0)
+}
+
+/// A colour: `RRGGBB` in hexadecimal (an optional `#`), `white` or `black`.
+fn parse_colour(text: &str) -> anyhow::Result<[u8; 3]> {
+    match text {
+        "white" => return Ok([255; 3]),
+        "black" => return Ok([0; 3]),
+        _ => {}
+    }
+    let hex = text.trim_start_matches('#');
+    let channel = |k: usize| hex.get(2 * k..2 * k + 2).and_then(|h| u8::from_str_radix(h, 16).ok());
+    match (hex.len(), channel(0), channel(1), channel(2)) {
+        (6, Some(r), Some(g), Some(b)) => Ok([r, g, b]),
+        _ => bail!("--background {text}: expected RRGGBB in hexadecimal, white or black"),
+    }
 }
 
 /// Refuses an OBJ output whose estimated size is over `max` (0: no limit)
@@ -337,6 +398,16 @@ pub fn render(design: &Design, options: &RenderOptions, out: &Path) -> Result<Re
             let model = model_of(design)?;
             let instance = instantiate(design, &options.params)?;
             let mut writer = ObjWriter::create(out).map_err(io)?.with_up(options.up);
+            if let (Some(random), false) = (&options.random, options.dedup) {
+                // The chaos game streamed, a few chains at a time.
+                let batch = random.clone().with_points(random.points.min(bcifs::eval::BATCH));
+                let game = bcifs::eval::ChaosGame::new(&instance.automaton, &model, &batch)?;
+                check_disk(out, random.points as u128 * (3 + 22 * game.dim() as u128), options.max_output)?;
+                writer.object(design.name()).map_err(io)?;
+                game.stream(random.points, |xs| writer.vertices(game.dim(), xs, None)).map_err(io)?;
+                writer.finish().map_err(io)?;
+                return Ok(RenderSummary { vertices: random.points, quads: 0, duplicates: None });
+            }
             if options.random.is_some() || options.dedup {
                 // In memory: the chaos game's points, or a cloud to deduplicate.
                 let mut shape = evaluate_design(design, options)?;
@@ -370,9 +441,50 @@ pub fn render(design: &Design, options: &RenderOptions, out: &Path) -> Result<Re
             // The game holds no points here: its own memory check is for a batch.
             let batch = random.clone().with_points(random.points.min(bcifs::eval::BATCH));
             let game = bcifs::eval::ChaosGame::new(&instance.automaton, &model, &batch)?;
-            let img = bcifs::export::density_image(&game, random.points, &options.raster, &options.tone)?;
+            let palette = options.palette.as_ref();
+            let img = bcifs::export::density_image(&game, random.points, &options.raster, &options.tone, palette)?;
             write_png(out, &img).map_err(io)?;
             Ok(RenderSummary { vertices: random.points, quads: 0, duplicates: None })
+        }
+        "png" if options.random.is_none() && !options.dedup => {
+            // Curves and points are drawn while they are evaluated (twice streamed: the
+            // frame, then the drawing); surfaces are drawn from memory.
+            let model = model_of(design)?;
+            let instance = instantiate(design, &options.params)?;
+            let ev = evaluator(&instance.automaton, &model, options.eval.clone())?;
+            let needed = bcifs::export::picture_bytes(&options.raster);
+            if ev.polylines().is_some() && needed > options.raster.memory_limit as u128 {
+                let vertices = match options.eval.depth {
+                    bcifs::eval::Depth::Fixed(k) => {
+                        (0..ev.pieces().pieces.len()).fold(0usize, |a, p| a.saturating_add(ev.sample_count(p, k)))
+                    }
+                    bcifs::eval::Depth::Tolerance(_) => 0,
+                };
+                let (width, height, limit) = (options.raster.width, options.raster.height, options.raster.memory_limit);
+                return Err(bcifs::export::RasterTooLarge { width, height, vertices, needed, limit }.into());
+            }
+            if let Some((img, vertices)) = bcifs::export::picture(&ev, &options.raster)? {
+                write_png(out, &img).map_err(io)?;
+                return Ok(RenderSummary { vertices, quads: 0, duplicates: None });
+            }
+            // A surface: drawn at the depth whose quads are already below a pixel.
+            if let bcifs::eval::Depth::Fixed(k) = options.eval.depth {
+                let enough = bcifs::export::picture_depth(&ev, &options.raster, k);
+                if enough < k {
+                    eprintln!(
+                        "note: the picture is drawn at depth {enough}, whose {} quads outnumber the {}×{} pixels (deeper quads are smaller than a pixel); OBJ output keeps depth {k}",
+                        ev.quads_at(enough).unwrap_or(0),
+                        options.raster.width,
+                        options.raster.height
+                    );
+                    let mut eval = options.eval.clone();
+                    eval.depth = bcifs::eval::Depth::Fixed(enough);
+                    let shallow = evaluator(&instance.automaton, &model, eval)?;
+                    return write_shape(&shallow.evaluate()?, design.name(), &options.raster, out);
+                }
+            }
+            let shape = ev.evaluate()?;
+            write_shape(&shape, design.name(), &options.raster, out)
         }
         "svg" | "png" => {
             let mut shape = evaluate_design(design, options)?;

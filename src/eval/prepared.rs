@@ -355,6 +355,17 @@ impl Evaluator {
         (self.estimate_bytes(depth) / per_memory_cell.max(1)).saturating_mul(per_cell)
     }
 
+    /// Quads of the mesh at depth `k` (saturating), or `None` when the
+    /// output is not a mesh.
+    pub fn quads_at(&self, k: usize) -> Option<u128> {
+        if !self.meshes() {
+            return None;
+        }
+        let split = self.plan.state(self.pieces.pieces[0].state).split.max(2) as u128;
+        let side = split.saturating_pow(k.min(120) as u32);
+        Some((self.pieces.pieces.len() as u128).saturating_mul(side.saturating_mul(side)))
+    }
+
     /// Number of leaf samples of piece `piece` at depth `k` (points it fills).
     pub fn sample_count(&self, piece: usize, k: usize) -> usize {
         self.count(self.pieces.pieces[piece].state, k).min(usize::MAX as u128) as usize
@@ -387,6 +398,26 @@ impl Evaluator {
         } else {
             self.pool
                 .install(|| tasks.par_iter().zip(slices).for_each(|((s, c, r), slot)| self.fill(*s, c, d, *r, slot)));
+        }
+    }
+
+    /// What the output is made of, when it is one thing: `Some(true)` when
+    /// every object is one polyline through all its vertices (curves: edge
+    /// pieces, no dropped arrows), `Some(false)` when it is points only,
+    /// `None` for a mesh or a mix.
+    pub fn polylines(&self) -> Option<bool> {
+        if self.meshes() {
+            return None;
+        }
+        let line = |p: &super::pieces::Piece| {
+            let sp = self.plan.state(p.state);
+            sp.kind == CellKind::Edge && sp.end.is_some() && self.settings.dropped.is_empty()
+        };
+        let lines = self.pieces.pieces.iter().filter(|p| line(p)).count();
+        match lines {
+            0 => Some(false),
+            n if n == self.pieces.pieces.len() => Some(true),
+            _ => None,
         }
     }
 

@@ -45,6 +45,12 @@ pub struct RandomSettings {
     pub force: bool,
     /// The points are held in memory: more than this many bytes is refused.
     pub memory_limit: usize,
+    /// Explicit colour coordinates in `[0, 1]` by arrow name; the others are
+    /// spread evenly over `[0, 1]` in arrow order (as flame editors do).
+    pub colours: Vec<(String, f64)>,
+    /// How far each step moves the colour coordinate towards the colour of
+    /// the arrow it applies: `c ← (1 − s) c + s c_arrow` (flam3's colour speed, default 1/2).
+    pub colour_speed: f64,
 }
 
 impl Default for RandomSettings {
@@ -58,6 +64,8 @@ impl Default for RandomSettings {
             chains: 8,
             force: false,
             memory_limit: super::settings::DEFAULT_MEMORY_LIMIT,
+            colours: Vec::new(),
+            colour_speed: 0.5,
         }
     }
 }
@@ -176,6 +184,8 @@ struct Incoming {
     /// Per state: source states, matrices (row-major n_src × n_state), alias table.
     arrows: Vec<Vec<(usize, Vec<f64>)>>,
     alias: Vec<Option<Alias>>,
+    /// Per state, per incoming arrow: `s · c_arrow` (the colour step's constant term).
+    colour: Vec<Vec<f64>>,
 }
 
 /// A chaos game prepared for an automaton and model: probabilities, alias
@@ -205,19 +215,38 @@ impl ChaosGame {
             return Err(EvalError::TooLarge { estimate: bytes, limit: settings.memory_limit });
         }
         let size = plan.states.len();
-        let mut inc = Incoming { arrows: vec![Vec::new(); size], alias: vec![None; size] };
+        let mut inc =
+            Incoming { arrows: vec![Vec::new(); size], alias: vec![None; size], colour: vec![Vec::new(); size] };
         let mut mats: Vec<Vec<&nalgebra::DMatrix<f64>>> = vec![Vec::new(); size];
         let mut names: Vec<Vec<&str>> = vec![Vec::new(); size];
-        for (id, arrow) in automaton.arrows() {
-            if arrow.kind != ArrowKind::Subdivision {
-                continue;
-            }
-            let (from, to) = automaton.arrow_ends(id);
+        let subdivision: Vec<_> = automaton.arrows().filter(|(_, a)| a.kind == ArrowKind::Subdivision).collect();
+        let speed = settings.colour_speed;
+        if !(0.0..=1.0).contains(&speed) {
+            return Err(EvalError::Probability(format!("the colour speed is {speed}: it is between 0 and 1")));
+        }
+        for (k, (id, arrow)) in subdivision.iter().enumerate() {
+            let (from, to) = automaton.arrow_ends(*id);
             let m = &arrow.matrix;
             let row_major = (0..m.nrows()).flat_map(|i| (0..m.ncols()).map(move |j| m[(i, j)])).collect();
             inc.arrows[to.index()].push((from.index(), row_major));
             mats[to.index()].push(m);
             names[to.index()].push(&arrow.name);
+            let even = if subdivision.len() > 1 { k as f64 / (subdivision.len() - 1) as f64 } else { 0.5 };
+            let c = settings.colours.iter().find(|(n, _)| *n == arrow.name).map_or(even, |(_, c)| *c);
+            inc.colour[to.index()].push(speed * c);
+        }
+        for (name, c) in &settings.colours {
+            if !subdivision.iter().any(|(_, a)| a.name == *name) {
+                let help = crate::names::suggest(name, subdivision.iter().map(|(_, a)| a.name.as_str()))
+                    .map(|h| format!(" (did you mean `{h}`?)"))
+                    .unwrap_or_default();
+                return Err(EvalError::Probability(format!("no subdivision arrow named `{name}` to colour{help}")));
+            }
+            if !(0.0..=1.0).contains(c) {
+                return Err(EvalError::Probability(format!(
+                    "the colour of `{name}` is {c}: colour coordinates are between 0 and 1"
+                )));
+            }
         }
         for (name, p) in &settings.probabilities {
             if !names.iter().flatten().any(|n| n == name) {
@@ -283,9 +312,9 @@ impl ChaosGame {
         for (s, keep) in feeding.iter().enumerate() {
             if !keep {
                 inc.arrows[s].clear();
+                inc.colour[s].clear();
                 inc.alias[s] = None;
             }
-            inc.arrows[s].retain(|(src, _)| feeding[*src]);
         }
         let single =
             inc.arrows[root].iter().all(|(src, _)| *src == root) && feeding.iter().filter(|f| **f).count() == 1;
@@ -302,13 +331,24 @@ impl ChaosGame {
         self.pieces.dim
     }
 
-    /// Chain number `k` of the seed: its points into `slot` (after its burn-in).
-    fn chain_into(&self, k: u64, slot: &mut [f64]) {
+    /// Chain number `k` of the seed: `n` points after its burn-in, handed
+    /// to `emit` in chunks of at most [`CHUNK`] points (`d` coordinates
+    /// each) with their colour coordinates when `COLOUR` (else no colours).
+    fn chain<const COLOUR: bool>(&self, k: u64, n: usize, emit: &mut dyn FnMut(&[f64], &[f32])) {
         let mut rng = Rng::new(self.settings.seed.wrapping_mul(0x2545_F491_4F6C_DD1D).wrapping_add(k));
-        if self.single && self.pieces.pieces.len() == 1 && self.affine_chain(&mut rng, slot) {
+        if self.single && self.pieces.pieces.len() == 1 && self.affine_chain::<COLOUR>(&mut rng, n, emit) {
             return;
         }
-        self.general_chain(&mut rng, slot);
+        self.general_chain::<COLOUR>(&mut rng, n, emit);
+    }
+
+    /// Chain `k`'s points into `slot` (`slot.len() / d` of them).
+    fn chain_into(&self, k: u64, slot: &mut [f64]) {
+        let mut at = 0;
+        self.chain::<false>(k, slot.len() / self.pieces.dim, &mut |xs, _| {
+            slot[at..at + xs.len()].copy_from_slice(xs);
+            at += xs.len();
+        });
     }
 
     /// Runs the walk, filling `out` (resized to `points · d`, reusing its allocation).
@@ -329,42 +369,75 @@ impl ChaosGame {
 
 /// Points per batch of [`ChaosGame::fold`]: a chain of its own.
 pub const BATCH: usize = 1 << 16;
+/// Points per chunk handed to a visitor: few enough to stay in the first-level cache.
+pub const CHUNK: usize = 512;
 
 impl ChaosGame {
     /// Folds `points` points of the walk without holding them: chains of
     /// [`BATCH`] points (chain `k` seeded by the seed and `k`, so the points
-    /// do not depend on the threads) are handed to `visit` as `d`
-    /// coordinates each, into one accumulator per thread made by `init`,
-    /// and the accumulators are merged by `merge` (which must not depend on
-    /// the order, like a sum of counts). Memory: one batch and one
-    /// accumulator per thread.
+    /// do not depend on the threads) are handed to `visit` in chunks of at
+    /// most [`CHUNK`] points, `d` coordinates each, with their colour
+    /// coordinates in `[0, 1]` when `colour` (else an empty slice), into one
+    /// accumulator per thread made by `init`; the accumulators are merged
+    /// by `merge` (which must not depend on the order, like a sum of
+    /// counts). Memory: a chunk and an accumulator per thread.
     pub fn fold<T: Send>(
         &self,
         points: usize,
+        colour: bool,
         init: impl Fn() -> T + Sync + Send,
-        visit: impl Fn(&mut T, &[f64]) + Sync + Send,
+        visit: impl Fn(&mut T, &[f64], &[f32]) + Sync + Send,
         merge: impl Fn(T, T) -> T + Sync + Send,
     ) -> T {
-        let d = self.pieces.dim;
         let batches = points.div_ceil(BATCH);
         // Chains after the ones `run_into` uses.
         let first = self.settings.chains.max(1) as u64;
-        let work = || {
-            (0..batches)
-                .into_par_iter()
-                .fold(
-                    || (init(), vec![0.0; BATCH * d]),
-                    |(mut acc, mut buf), k| {
-                        let n = BATCH.min(points - k * BATCH);
-                        self.chain_into(first + k as u64, &mut buf[..n * d]);
-                        visit(&mut acc, &buf[..n * d]);
-                        (acc, buf)
-                    },
-                )
-                .map(|(acc, _)| acc)
-                .reduce(&init, &merge)
-        };
-        self.pool.install(work)
+        // One accumulator per thread; the threads take the next batch as they finish one.
+        let next = std::sync::atomic::AtomicUsize::new(0);
+        let partial = self.pool.broadcast(|_| {
+            let mut acc = init();
+            loop {
+                let k = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                if k >= batches {
+                    return acc;
+                }
+                let n = BATCH.min(points - k * BATCH);
+                let mut emit = |xs: &[f64], cs: &[f32]| visit(&mut acc, xs, cs);
+                if colour {
+                    self.chain::<true>(first + k as u64, n, &mut emit);
+                } else {
+                    self.chain::<false>(first + k as u64, n, &mut emit);
+                }
+            }
+        });
+        partial.into_iter().reduce(merge).unwrap_or_else(init)
+    }
+
+    /// The chains of `points` points in order, chain by chain (the points of
+    /// [`ChaosGame::fold`]), handed to `write` in chunks; chains are made in
+    /// parallel a few at a time, so memory is a few chains whatever `points`.
+    ///
+    /// # Errors
+    /// The first error of `write`, which stops the walk.
+    pub fn stream<E: Send>(&self, points: usize, mut write: impl FnMut(&[f64]) -> Result<(), E>) -> Result<(), E> {
+        let d = self.pieces.dim;
+        let first = self.settings.chains.max(1) as u64;
+        let batches = points.div_ceil(BATCH);
+        let group = self.pool.current_num_threads().max(1) * 2;
+        let mut bufs: Vec<Vec<f64>> = vec![Vec::new(); group];
+        for start in (0..batches).step_by(group) {
+            let ks: Vec<usize> = (start..batches.min(start + group)).collect();
+            self.pool.install(|| {
+                bufs.par_iter_mut().zip(ks.par_iter()).for_each(|(buf, &k)| {
+                    buf.resize(BATCH.min(points - k * BATCH) * d, 0.0);
+                    self.chain_into(first + k as u64, buf);
+                })
+            });
+            for buf in &bufs[..ks.len()] {
+                write(buf)?;
+            }
+        }
+        Ok(())
     }
 }
 
@@ -386,7 +459,12 @@ impl ChaosGame {
     /// Single-state IFS with `n = d + 1` and affinely independent control points:
     /// iterate the projected affine maps `x ← A x + t` in modelling space.
     /// `false` when the control points do not allow it (then the general walk runs).
-    fn affine_chain(&self, rng: &mut Rng, out: &mut [f64]) -> bool {
+    fn affine_chain<const COLOUR: bool>(
+        &self,
+        rng: &mut Rng,
+        total: usize,
+        emit: &mut dyn FnMut(&[f64], &[f32]),
+    ) -> bool {
         let (inc, root, burn_in) = (&self.inc, self.root, self.settings.burn_in);
         let (control, d, n) = (&self.pieces.pieces[0].control, self.pieces.dim, self.plan.state(root).dim);
         if n != d + 1 {
@@ -415,38 +493,57 @@ impl ChaosGame {
             })
             .collect();
         let Some(alias) = inc.alias[root].as_ref() else { return false };
+        let (keep, tint) = (1.0 - self.settings.colour_speed, &inc.colour[root]);
+        let mut xs = [0.0; CHUNK * 4];
+        let mut cs = [0f32; CHUNK];
+        let mut c = 0.5;
+        let mut left = total;
         match d {
             2 => {
-                let maps: Vec<[f64; 6]> = maps.iter().map(|m| [m[0], m[1], m[2], m[3], m[4], m[5]]).collect();
-                let (mut x, mut y) = (0.0, 0.0);
-                let k = maps.len();
-                for _ in 0..burn_in {
-                    let m = &maps[alias.pick(rng.next_u64()) % k];
-                    (x, y) = (m[0] * x + m[1] * y + m[2], m[3] * x + m[4] * y + m[5]);
+                let maps: Vec<[f64; 7]> =
+                    maps.iter().zip(tint).map(|(m, t)| [m[0], m[1], m[2], m[3], m[4], m[5], *t]).collect();
+                let mut at = [0.0, 0.0, c];
+                let mut settle = burn_in;
+                while settle > 0 {
+                    let here = settle.min(CHUNK);
+                    at = walk_plane::<COLOUR>(&maps, alias, rng, keep, at, &mut xs[..2 * here], &mut cs[..here]);
+                    settle -= here;
                 }
-                for p in out.chunks_exact_mut(2) {
-                    let m = &maps[alias.pick(rng.next_u64()) % k];
-                    (x, y) = (m[0] * x + m[1] * y + m[2], m[3] * x + m[4] * y + m[5]);
-                    p[0] = x;
-                    p[1] = y;
+                while left > 0 {
+                    let here = left.min(CHUNK);
+                    at = walk_plane::<COLOUR>(&maps, alias, rng, keep, at, &mut xs[..2 * here], &mut cs[..here]);
+                    emit(&xs[..2 * here], if COLOUR { &cs[..here] } else { &[] });
+                    left -= here;
                 }
             }
             _ => {
                 let mut x = vec![0.0; d];
                 let mut next = vec![0.0; d];
                 let mut step = |x: &mut Vec<f64>, rng: &mut Rng| {
-                    let m = &maps[alias.pick(rng.next_u64())];
+                    let i = alias.pick(rng.next_u64());
+                    let m = &maps[i];
                     for a in 0..d {
                         next[a] = m[a * n + d] + (0..d).map(|j| m[a * n + j] * x[j]).sum::<f64>();
                     }
                     x.copy_from_slice(&next);
+                    i
                 };
+                let per = (xs.len() / d).min(CHUNK);
                 for _ in 0..burn_in {
-                    step(&mut x, rng);
+                    c = keep * c + tint[step(&mut x, rng)];
                 }
-                for p in out.chunks_exact_mut(d) {
-                    step(&mut x, rng);
-                    p.copy_from_slice(&x);
+                while left > 0 {
+                    let here = left.min(per);
+                    for (p, cp) in xs[..d * here].chunks_exact_mut(d).zip(cs.iter_mut()) {
+                        let i = step(&mut x, rng);
+                        p.copy_from_slice(&x);
+                        if COLOUR {
+                            c = keep * c + tint[i];
+                            *cp = c as f32;
+                        }
+                    }
+                    emit(&xs[..d * here], if COLOUR { &cs[..here] } else { &[] });
+                    left -= here;
                 }
             }
         }
@@ -456,9 +553,10 @@ impl ChaosGame {
     /// Any automaton: a walk along the incoming arrows of the states that feed
     /// the roots, restarting in a random state now and then unless the walk is
     /// strongly connected.
-    fn general_chain(&self, rng: &mut Rng, out: &mut [f64]) {
+    fn general_chain<const COLOUR: bool>(&self, rng: &mut Rng, total: usize, emit: &mut dyn FnMut(&[f64], &[f32])) {
         let (inc, plan, root, pieces) = (&self.inc, &self.plan, self.root, &self.pieces);
         let (d, burn_in, strongly_connected) = (self.pieces.dim, self.settings.burn_in, self.single);
+        let keep = 1.0 - self.settings.colour_speed;
         let size = plan.states.len();
         // Last point seen in each state; at first, the centroid of its simplex.
         let mut last: Vec<Vec<f64>> = (0..size)
@@ -466,6 +564,8 @@ impl ChaosGame {
             .collect();
         let mut state = root;
         let mut lambda = last[root].clone();
+        let mut next = Vec::with_capacity(lambda.len());
+        let mut c = 0.5;
         let restart = if strongly_connected { 0 } else { u64::MAX / 32 };
         // The pieces drawn from the attractor of each state.
         let mut pieces_of: Vec<Vec<usize>> = vec![Vec::new(); size];
@@ -473,12 +573,14 @@ impl ChaosGame {
             pieces_of[p.state].push(i);
         }
         let live: Vec<usize> = (0..size).filter(|&s| !inc.arrows[s].is_empty()).collect();
-        let mut emitted = 0;
+        let per = CHUNK;
+        let mut xs = vec![0.0; per * d];
+        let mut cs = vec![0f32; per];
+        let (mut emitted, mut filled) = (0, 0);
         // Steps left before emitting: the burn-in, again after a restart from a
         // state whose last point is not yet on its attractor.
         let mut settle = burn_in;
         let mut converged = vec![false; size];
-        let total = out.len() / d;
         while emitted < total {
             if settle == 0 && rng.next_u64() < restart {
                 state = live[(rng.next_u64() % live.len() as u64) as usize];
@@ -492,9 +594,15 @@ impl ChaosGame {
                 lambda = last[root].clone();
                 continue;
             };
-            let (src, m) = &inc.arrows[state][alias.pick(rng.next_u64())];
+            let i = alias.pick(rng.next_u64());
+            let (src, m) = &inc.arrows[state][i];
+            c = keep * c + inc.colour[state][i];
             let (rows, cols) = (plan.state(*src).dim, lambda.len());
-            lambda = (0..rows).map(|i| (0..cols).map(|j| m[i * cols + j] * lambda[j]).sum()).collect();
+            next.clear();
+            next.extend(
+                m.chunks_exact(cols).take(rows).map(|row| row.iter().zip(&lambda).map(|(a, b)| a * b).sum::<f64>()),
+            );
+            std::mem::swap(&mut lambda, &mut next);
             state = *src;
             last[state].clone_from(&lambda);
             if settle > 0 {
@@ -507,12 +615,46 @@ impl ChaosGame {
                 let piece = &pieces.pieces[here[(rng.next_u64() % here.len() as u64) as usize]];
                 let n = lambda.len();
                 for a in 0..d {
-                    out[emitted * d + a] = (0..n).map(|i| piece.control[a * n + i] * lambda[i]).sum();
+                    xs[filled * d + a] = (0..n).map(|i| piece.control[a * n + i] * lambda[i]).sum();
                 }
+                cs[filled] = c as f32;
+                filled += 1;
                 emitted += 1;
+                if filled == per || emitted == total {
+                    emit(&xs[..filled * d], if COLOUR { &cs[..filled] } else { &[] });
+                    filled = 0;
+                }
             }
         }
     }
+}
+
+/// The affine walk in the plane for `xs.len() / 2` steps from `(x, y, c)`,
+/// into `xs` (and `cs` when `COLOUR`): a function of its own so that the
+/// point, the colour and the generator stay in registers.
+#[inline(never)]
+fn walk_plane<const COLOUR: bool>(
+    maps: &[[f64; 7]],
+    alias: &Alias,
+    rng: &mut Rng,
+    keep: f64,
+    [mut x, mut y, mut c]: [f64; 3],
+    xs: &mut [f64],
+    cs: &mut [f32],
+) -> [f64; 3] {
+    let mut r = rng.clone();
+    for (p, cp) in xs.chunks_exact_mut(2).zip(cs.iter_mut()) {
+        let m = &maps[alias.pick(r.next_u64())];
+        (x, y) = (m[0] * x + m[1] * y + m[2], m[3] * x + m[4] * y + m[5]);
+        p[0] = x;
+        p[1] = y;
+        if COLOUR {
+            c = keep * c + m[6];
+            *cp = c as f32;
+        }
+    }
+    *rng = r;
+    [x, y, c]
 }
 
 #[cfg(test)]

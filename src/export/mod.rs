@@ -1,13 +1,15 @@
 //! Writers: streaming OBJ, SVG, PNG pictures; files are replaced atomically.
 
 mod atomic;
+mod density;
+mod draw;
 mod obj;
 mod png;
 mod svg;
 
 pub use atomic::{AtomicFile, remove_temporary_files, write_atomic};
+pub use density::{Density, Palette, Tone, density, density_bytes, density_image};
+pub use draw::{picture, picture_bytes, picture_depth};
 pub use obj::{ObjWriter, Up, write_obj};
-pub use png::{
-    Density, RasterSettings, RasterTooLarge, Tone, View, ascii, density, density_image, raster, raster_bytes, write_png,
-};
+pub use png::{RasterSettings, RasterTooLarge, View, ascii, raster, raster_bytes, write_png};
 pub use svg::svg;

@@ -99,8 +99,8 @@ impl RasterSettings {
     }
 }
 
-const INK: [f64; 3] = [27.0, 58.0, 107.0];
-const PAPER: [f64; 3] = [255.0, 255.0, 255.0];
+pub(super) const INK: [f64; 3] = [27.0, 58.0, 107.0];
+pub(super) const PAPER: [f64; 3] = [255.0, 255.0, 255.0];
 
 /// Projects shape vertices to `(screen x, screen y up, depth)`: rotate
 /// about z by the yaw, then tilt about x by the pitch, so x stays right, z
@@ -119,20 +119,20 @@ fn project(shape: &Shape, view: View) -> Vec<[f64; 3]> {
         .collect()
 }
 
-struct Canvas {
-    w: usize,
-    h: usize,
-    scale: f64,
-    off: [f64; 2],
+pub(super) struct Canvas {
+    pub(super) w: usize,
+    pub(super) h: usize,
+    pub(super) scale: f64,
+    pub(super) off: [f64; 2],
 }
 
 impl Canvas {
-    fn fit(points: &[[f64; 3]], w: u32, h: u32) -> Canvas {
+    pub(super) fn fit(points: &[[f64; 3]], w: u32, h: u32) -> Canvas {
         Canvas::fill(points, w, h, 0.94)
     }
 
     /// The points' extent centred, filling the share `fill` of the picture.
-    fn fill(points: &[[f64; 3]], w: u32, h: u32, fill: f64) -> Canvas {
+    pub(super) fn fill(points: &[[f64; 3]], w: u32, h: u32, fill: f64) -> Canvas {
         let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
         for p in points {
             for a in 0..2 {
@@ -148,154 +148,37 @@ impl Canvas {
         Canvas { w, h, scale, off }
     }
     /// Pixel coordinates (x right, y down).
-    fn px(&self, p: [f64; 3]) -> (f64, f64) {
+    pub(super) fn px(&self, p: [f64; 3]) -> (f64, f64) {
         (p[0] * self.scale + self.off[0], self.h as f64 - (p[1] * self.scale + self.off[1]))
     }
 }
 
-/// Tone mapping of a density picture, as flame renderers do it: the count
-/// `c` of a pixel becomes `v = (ln(1 + b c) / ln(1 + b max))^(1/γ)`, the
-/// ink's share of the pixel; `supersample` draws `s × s` cells per pixel
-/// and averages their counts.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Tone {
-    /// `b`: larger shows sparse regions brighter (default 1).
-    pub brightness: f64,
-    /// `γ` (default 2.2).
-    pub gamma: f64,
-    /// Cells per pixel side (default 1).
-    pub supersample: u32,
+/// `x.floor()` for `|x| < 2^62`, without a call into libm (the baseline
+/// x86-64 target has no rounding instruction); saturates beyond.
+#[inline(always)]
+fn floor_i64(x: f64) -> i64 {
+    let i = x as i64;
+    if (i as f64) > x { i - 1 } else { i }
 }
 
-impl Default for Tone {
-    fn default() -> Tone {
-        Tone { brightness: 1.0, gamma: 2.2, supersample: 1 }
+/// `x.round()` (half away from zero), as [`floor_i64`].
+#[inline(always)]
+fn round_i64(x: f64) -> i64 {
+    let i = x as i64;
+    let frac = x - i as f64;
+    if frac >= 0.5 {
+        i + 1
+    } else if frac <= -0.5 {
+        i - 1
+    } else {
+        i
     }
 }
 
-/// Samples of a chaos game counted per cell: `width · s × height · s` cells
-/// for a `width × height` picture with `s × s` cells per pixel.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Density {
-    /// Picture width in pixels.
-    pub width: usize,
-    /// Picture height in pixels.
-    pub height: usize,
-    /// Cells per pixel side.
-    pub supersample: usize,
-    /// Counts, row by row over the cells.
-    pub counts: Vec<u32>,
-}
-
-impl Density {
-    /// The tone-mapped picture: each pixel's cells averaged, then
-    /// `v = (ln(1 + b c) / ln(1 + b max))^(1/γ)` of ink.
-    pub fn image(&self, tone: &Tone) -> RgbImage {
-        let (w, h, s) = (self.width, self.height, self.supersample);
-        let sw = w * s;
-        let mut pixel = vec![0f64; w * h];
-        for (i, c) in self.counts.iter().enumerate() {
-            pixel[(i / sw / s) * w + (i % sw) / s] += f64::from(*c) / (s * s) as f64;
-        }
-        let max = pixel.iter().copied().fold(0.0, f64::max);
-        let b = tone.brightness.max(1e-9);
-        let norm = (1.0 + b * max).ln().max(1e-300);
-        let gamma = tone.gamma.max(1e-3);
-        let mut img = RgbImage::from_pixel(w as u32, h as u32, Rgb([255, 255, 255]));
-        for (px, c) in img.pixels_mut().zip(&pixel) {
-            let v = ((1.0 + b * c).ln() / norm).powf(1.0 / gamma);
-            *px = mix(PAPER, INK, v.clamp(0.0, 1.0));
-        }
-        img
-    }
-}
-
-/// The chaos game of `game` as a density picture: [`density`], tone-mapped.
-///
-/// # Errors
-/// [`RasterTooLarge`] when the count buffers would not fit `settings.memory_limit`.
-pub fn density_image(
-    game: &crate::eval::ChaosGame,
-    points: usize,
-    settings: &RasterSettings,
-    tone: &Tone,
-) -> Result<RgbImage, RasterTooLarge> {
-    Ok(density(game, points, settings, tone.supersample)?.image(tone))
-}
-
-/// `points` samples of the chaos game of `game` counted per cell, one count
-/// buffer per thread merged by summing (so the same seed gives the same
-/// counts with any number of threads), never stored: memory is
-/// `4 · pixels · s²` bytes per thread and a batch of points, whatever
-/// `points`. The frame is fitted on the first batch of points (with a
-/// margin of 3%); samples outside it are left out.
-///
-/// # Errors
-/// [`RasterTooLarge`] when the count buffers would not fit `settings.memory_limit`.
-pub fn density(
-    game: &crate::eval::ChaosGame,
-    points: usize,
-    settings: &RasterSettings,
-    supersample: u32,
-) -> Result<Density, RasterTooLarge> {
-    let s = supersample.clamp(1, 8) as usize;
-    let (w, h) = (settings.width.max(1) as usize, settings.height.max(1) as usize);
-    let (sw, sh) = (w * s, h * s);
-    let threads = rayon::current_num_threads().max(2) as u128;
-    let needed = (sw * sh) as u128 * 4 * threads + (w * h * 11) as u128 + crate::eval::BATCH as u128 * 24 * threads;
-    if needed > settings.memory_limit as u128 {
-        return Err(RasterTooLarge {
-            width: settings.width,
-            height: settings.height,
-            vertices: points,
-            needed,
-            limit: settings.memory_limit,
-        });
-    }
-    let d = game.dim();
-    let turn = DMat3::from_rotation_x(settings.view.pitch.to_radians())
-        * DMat3::from_rotation_z(settings.view.yaw.to_radians());
-    let screen = move |p: &[f64]| -> [f64; 3] {
-        if d < 3 {
-            return [p[0], p[1], 0.0];
-        }
-        let q = turn * DVec3::new(p[0], p[1], p[2]);
-        [q.x, q.z, q.y]
-    };
-    // The frame: the first batch's extent, centred, 3% wider.
-    let first: Vec<[f64; 3]> = game.fold(
-        crate::eval::BATCH.min(points.max(1)),
-        Vec::new,
-        |acc: &mut Vec<[f64; 3]>, batch| acc.extend(batch.chunks_exact(d).map(screen)),
-        |mut a, b| {
-            a.extend(b);
-            a
-        },
-    );
-    let finite: Vec<[f64; 3]> = first.into_iter().filter(|p| p.iter().all(|x| x.is_finite())).collect();
-    let canvas = Canvas::fill(&finite, sw as u32, sh as u32, 0.97);
-    let counts = game.fold(
-        points,
-        || vec![0u32; sw * sh],
-        |acc, batch| {
-            for p in batch.chunks_exact(d) {
-                let (x, y) = canvas.px(screen(p));
-                if x >= 0.0 && y >= 0.0 && (x as usize) < sw && (y as usize) < sh {
-                    let cell = &mut acc[y as usize * sw + x as usize];
-                    *cell = cell.saturating_add(1);
-                }
-            }
-        },
-        |mut a, b| {
-            a.iter_mut().zip(&b).for_each(|(x, y)| *x = x.saturating_add(*y));
-            a
-        },
-    );
-    Ok(Density { width: w, height: h, supersample: s, counts })
-}
-
-/// Xiaolin Wu's anti-aliased line into a coverage buffer.
-fn wu_line(cov: &mut [f32], w: usize, h: usize, (mut x0, mut y0): (f64, f64), (mut x1, mut y1): (f64, f64)) {
+/// Xiaolin Wu's anti-aliased line into a coverage buffer (the part of it
+/// on the picture: a line far off the picture costs nothing).
+#[inline(always)]
+pub(super) fn wu_line(cov: &mut [f32], w: usize, h: usize, (mut x0, mut y0): (f64, f64), (mut x1, mut y1): (f64, f64)) {
     let mut plot = |x: i64, y: i64, c: f64| {
         if x >= 0 && y >= 0 && (x as usize) < w && (y as usize) < h {
             let cell = &mut cov[y as usize * w + x as usize];
@@ -313,22 +196,24 @@ fn wu_line(cov: &mut [f32], w: usize, h: usize, (mut x0, mut y0): (f64, f64), (m
     }
     let dx = x1 - x0;
     let gradient = if dx.abs() < 1e-12 { 1.0 } else { (y1 - y0) / dx };
-    let (xs, xe) = (x0.round() as i64, x1.round() as i64);
+    let span = if steep { h } else { w } as i64;
+    let (xs, xe) = (round_i64(x0).max(-1), round_i64(x1).min(span));
     let mut y = y0 + gradient * (xs as f64 - x0);
     for x in xs..=xe {
-        let (fl, fr) = (y.floor(), y - y.floor());
+        let fl = floor_i64(y);
+        let fr = y - fl as f64;
         if steep {
-            plot(fl as i64, x, 1.0 - fr);
-            plot(fl as i64 + 1, x, fr);
+            plot(fl, x, 1.0 - fr);
+            plot(fl + 1, x, fr);
         } else {
-            plot(x, fl as i64, 1.0 - fr);
-            plot(x, fl as i64 + 1, fr);
+            plot(x, fl, 1.0 - fr);
+            plot(x, fl + 1, fr);
         }
         y += gradient;
     }
 }
 
-fn mix(a: [f64; 3], b: [f64; 3], t: f64) -> Rgb<u8> {
+pub(super) fn mix(a: [f64; 3], b: [f64; 3], t: f64) -> Rgb<u8> {
     let t = t.clamp(0.0, 1.0);
     Rgb([0, 1, 2].map(|k| (a[k] + (b[k] - a[k]) * t).round() as u8))
 }
@@ -386,6 +271,13 @@ fn draw(shape: &Shape, settings: &RasterSettings) -> RgbImage {
             }
         }
     }
+    finish_picture(w, h, &cov, &density)
+}
+
+/// The picture of line coverage `cov` and point counts `density` (one per
+/// pixel): ink by the coverage, or by the log density of the points.
+pub(super) fn finish_picture(w: u32, h: u32, cov: &[f32], density: &[u32]) -> RgbImage {
+    let mut img = RgbImage::from_pixel(w, h, Rgb([255, 255, 255]));
     let max = density.iter().copied().max().unwrap_or(0);
     let norm = (1.0 + f64::from(max)).ln().max(1e-12);
     for (i, px) in img.pixels_mut().enumerate() {

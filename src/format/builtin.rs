@@ -8,6 +8,7 @@ pub const BUILTIN_AUTOMATA: &[(&str, &str)] = &[
     ("doo_sabin_torus", include_str!("../../automata/doo_sabin_torus.toml")),
     ("fern", include_str!("../../automata/fern.toml")),
     ("fern_sierpinski", include_str!("../../automata/fern_sierpinski.toml")),
+    ("gasket", include_str!("../../automata/gasket.toml")),
     ("koch", include_str!("../../automata/koch.toml")),
     ("levy", include_str!("../../automata/levy.toml")),
 ];

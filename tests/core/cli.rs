@@ -118,6 +118,23 @@ fn new_prints_files_that_solve() {
     assert!(err.contains("1 ≤ vertex < points"), "{err}");
 }
 
+/// A coloured, blurred density picture from the command line: written,
+/// black where no sample fell, and in more than the palette's darkest colour.
+#[test]
+fn coloured_density_pictures_from_the_command_line() {
+    let png = std::env::temp_dir().join(format!("bcifs-flame-{}.png", std::process::id()));
+    let out = png.to_str().unwrap();
+    let args = ["render", "gasket", "--random", "200000", "--palette", "rainbow", "--blur", "2", "--size", "120x100"];
+    let (code, _, err) = bcifs(&[&args[..], &["--color", "T0=0.1", "--vibrancy", "0.7", "-o", out]].concat());
+    assert_eq!(code, 0, "{err}");
+    let img = image::open(&png).unwrap().to_rgb8();
+    assert_eq!((img.width(), img.height()), (120, 100));
+    assert_eq!(img.get_pixel(0, 0).0, [0, 0, 0], "a black background with a palette");
+    let hues: std::collections::HashSet<[u8; 3]> = img.pixels().map(|p| p.0).collect();
+    assert!(hues.len() > 50, "{} colours", hues.len());
+    std::fs::remove_file(&png).unwrap();
+}
+
 /// Options that make no sense get a clear error (exit 2), not a broken picture.
 #[test]
 fn nonsense_options_are_refused() {
@@ -134,6 +151,15 @@ fn nonsense_options_are_refused() {
         (vec!["render", "fern", "--random", "100", "--prob", "T0=-1", "-o", out], "at least 0"),
         (vec!["render", "fern", "--random", "100", "--prob", "TX=0.5", "-o", out], "to give a probability"),
         (vec!["render", "levy", "--random", "100", "--prob", "T0=0", "--prob", "T1=0", "-o", out], "probability 0"),
+        (vec!["render", "gasket", "--random", "100", "--palette", "firre", "-o", out], "fire, ocean, rainbow"),
+        (vec!["render", "gasket", "--random", "100", "--palette", "fire", "--color", "T9=0.5", "-o", out], "to colour"),
+        (
+            vec!["render", "gasket", "--random", "100", "--palette", "fire", "--color", "T1=2", "-o", out],
+            "between 0 and 1",
+        ),
+        (vec!["render", "gasket", "--random", "100", "--background", "12345", "-o", out], "RRGGBB"),
+        (vec!["render", "gasket", "--random", "100", "--blur", "100", "-o", out], "--blur"),
+        (vec!["render", "gasket", "--random", "100", "--vibrancy", "2", "-o", out], "--vibrancy"),
         (vec!["check", "corner_cutting", "--param", "zzz=1"], "the free parameters are `a`, `b`"),
         (vec!["check", "corner_cutting", "--param", "a=1e400"], "finite"),
     ] {

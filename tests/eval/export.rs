@@ -253,7 +253,7 @@ fn density_pictures_count_every_sample_once() {
         let mut settings = RandomSettings::default().with_points(1000).with_seed(5);
         settings.threads = Some(threads);
         let game = ChaosGame::new(&inst.automaton, &model, &settings).unwrap();
-        density(&game, points, &raster, 2).unwrap()
+        density(&game, points, &raster, 2, None).unwrap()
     };
     let (one, two) = (counts(1), counts(2));
     assert_eq!(one, two, "the same picture with any number of threads");
@@ -264,6 +264,167 @@ fn density_pictures_count_every_sample_once() {
     assert!(inked > 10_000, "the fern covers many cells: {inked}");
     let game = ChaosGame::new(&inst.automaton, &model, &RandomSettings::default().with_points(1000)).unwrap();
     let small = RasterSettings::default().with_size(4000, 4000).with_memory_limit(1 << 20);
-    let e = density(&game, points, &small, 1).unwrap_err().to_string();
+    let e = density(&game, points, &small, 1, None).unwrap_err().to_string();
     assert!(e.contains("4000×4000"), "{e}");
+}
+
+/// Colour by the last map (issue 11), checked where the answer is known:
+/// with colour speed 1 a sample's colour coordinate is that of the last
+/// arrow applied, and the gasket's part towards corner `i` is the image of
+/// map `T_i`, so every cell there has exactly `T_i`'s palette colour. The
+/// same seed gives the same colour sums with 1 and 2 threads.
+#[test]
+fn density_colours_follow_the_last_map() {
+    use bcifs::eval::{ChaosGame, RandomSettings};
+    use bcifs::export::{Palette, RasterSettings, density};
+    let design = bcifs::builtin_design("gasket").unwrap();
+    let inst = bcifs::instantiate(&design, &[]).unwrap();
+    let model = design.model().unwrap().clone();
+    let palette = Palette::named("rainbow").unwrap();
+    let raster = RasterSettings::default().with_size(240, 240);
+    let run = |threads: usize, speed: f64| {
+        let mut settings = RandomSettings::default().with_points(1000).with_seed(3).with_threads(threads);
+        settings.colour_speed = speed;
+        settings.colours = vec![("T0".into(), 0.0), ("T1".into(), 0.5), ("T2".into(), 1.0)];
+        let game = ChaosGame::new(&inst.automaton, &model, &settings).unwrap();
+        density(&game, 2_000_000, &raster, 1, Some(&palette)).unwrap()
+    };
+    let (one, two) = (run(1, 1.0), run(2, 1.0));
+    assert_eq!(one, two, "the same colours with any number of threads");
+    assert_eq!(one.shift, 0);
+    let colour_of = |c: f32| palette.at(c).map(u32::from);
+    let (mut checked, w) = (0, one.width);
+    for (i, (&n, sum)) in one.counts.iter().zip(&one.colours).enumerate() {
+        if n == 0 {
+            continue;
+        }
+        // Pixel (x, y), y down: the lower left sixth belongs to T0's part, the
+        // lower right to T1's, the top to T2's (the frame is the triangle's box).
+        let (x, y) = ((i % w) as f64 / w as f64, (i / w) as f64 / w as f64);
+        let expected = match (x, y) {
+            (x, y) if y > 0.62 && x < 0.4 => Some(colour_of(0.0)),
+            (x, y) if y > 0.62 && x > 0.6 => Some(colour_of(0.5)),
+            (x, y) if y < 0.38 && (0.38..0.62).contains(&x) => Some(colour_of(1.0)),
+            _ => None,
+        };
+        if let Some(e) = expected {
+            assert_eq!(*sum, e.map(|c| c * n), "cell {i} ({x:.2}, {y:.2}) of {n} samples");
+            checked += 1;
+        }
+    }
+    assert!(checked > 3000, "{checked} cells checked");
+    // At speed 1/2 the colours blend: most cells are not one map's colour.
+    let blended = run(1, 0.5);
+    let pure = [0.0, 0.5, 1.0].map(colour_of);
+    let mixed = blended
+        .counts
+        .iter()
+        .zip(&blended.colours)
+        .filter(|(n, s)| **n > 0 && !pure.iter().any(|p| p.map(|c| c * **n) == **s));
+    assert!(mixed.count() > blended.counts.iter().filter(|n| **n > 0).count() / 2);
+}
+
+/// Tone mapping with a palette (issue 11): vibrancy 1 keeps each pixel's
+/// hue (its channels in the ratios of its mean colour over a black
+/// background), the density-estimation blur keeps the samples' mass and
+/// spreads sparse ones (more pixels inked, the dense core unchanged in
+/// total), and the settings that change the picture change it.
+#[test]
+fn density_tone_mapping_keeps_hues_and_mass() {
+    use bcifs::eval::{ChaosGame, RandomSettings};
+    use bcifs::export::{Palette, RasterSettings, Tone, density};
+    let design = bcifs::builtin_design("fern").unwrap();
+    let inst = bcifs::instantiate(&design, &[]).unwrap();
+    let model = design.model().unwrap().clone();
+    let game = ChaosGame::new(&inst.automaton, &model, &RandomSettings::default().with_points(1000)).unwrap();
+    let palette = Palette::named("sunset").unwrap();
+    let dens = density(&game, 20_000, &RasterSettings::default().with_size(200, 200), 1, Some(&palette)).unwrap();
+    let tone = Tone::default();
+    let img = dens.image(&tone);
+    let mut checked = 0;
+    for (i, px) in img.pixels().enumerate() {
+        let n = dens.counts[i];
+        if n < 3 {
+            continue;
+        }
+        let mean = dens.colours[i].map(|c| f64::from(c) / f64::from(n));
+        let v = f64::from(px[0].max(px[1]).max(px[2])) / mean.iter().copied().fold(0.0, f64::max);
+        for k in 0..3 {
+            // Each channel is 255 · mean · v rounded: within 1 of the hue's ratio.
+            assert!((f64::from(px[k]) - mean[k] * v).abs() <= 1.5, "pixel {i}: {px:?} vs mean {mean:?}");
+        }
+        checked += 1;
+    }
+    assert!(checked > 100, "{checked}");
+    let inked = |img: &image::RgbImage| img.pixels().filter(|p| p.0 != [0, 0, 0]).count();
+    let blurred = dens.image(&Tone { blur: 4.0, ..tone });
+    assert!(inked(&blurred) > inked(&img) * 3 / 2, "{} vs {}", inked(&blurred), inked(&img));
+    let flat = dens.image(&Tone { vibrancy: 0.0, ..tone });
+    assert_ne!(flat, img, "vibrancy changes the picture");
+    let white = dens.image(&Tone { background: Some([255; 3]), ..tone });
+    assert_eq!(white.get_pixel(0, 0).0, [255; 3]);
+}
+
+/// Palettes by name (256 colours through their stops), from a picture's
+/// middle row, and a clear error for neither.
+#[test]
+fn palettes_from_names_and_pictures() {
+    use bcifs::export::Palette;
+    for name in Palette::names() {
+        let p = Palette::named(name).unwrap();
+        assert_eq!(p.0.len(), 256, "{name}");
+    }
+    let fire = Palette::named("fire").unwrap();
+    assert_eq!((fire.0[0], fire.0[255]), ([110, 0, 0], [255, 240, 150]));
+    let dir = std::env::temp_dir().join(format!("bcifs-palette-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let strip =
+        image::RgbImage::from_fn(64, 3, |x, y| image::Rgb(if y == 1 { [x as u8 * 4, 0, 255] } else { [9, 9, 9] }));
+    let path = dir.join("strip.png");
+    strip.save(&path).unwrap();
+    let p = Palette::parse(path.to_str().unwrap()).unwrap();
+    assert_eq!((p.0[0], p.0[4], p.0[255]), ([0, 0, 255], [4, 0, 255], [252, 0, 255]));
+    let e = Palette::parse("no-such-palette").unwrap_err();
+    assert!(e.contains("fire") && e.contains("no-such-palette"), "{e}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Deterministic pictures drawn while evaluating (issue 11): for curves
+/// (open, closed, a union), and for point sets, the streamed picture is
+/// the picture of the evaluated shape, pixel for pixel; a surface is left
+/// to the in-memory path, at the depth whose quads outnumber the pixels.
+#[test]
+fn streamed_pictures_equal_the_in_memory_ones() {
+    use bcifs::eval::{Depth, EvalSettings, Evaluator};
+    use bcifs::export::{RasterSettings, picture, picture_depth, raster};
+    let raster_settings = RasterSettings::default().with_size(300, 200).with_view(20.0, 30.0);
+    let cases =
+        [("levy", 12, true), ("koch", 5, true), ("snowflake", 4, true), ("bezier-union", 5, true), ("fern", 7, false)];
+    for (name, depth, lines) in cases {
+        let design = match name {
+            "snowflake" => bcifs::schemes::normal_preset(name).unwrap().design().unwrap(),
+            "bezier-union" => bcifs::schemes::ifs_preset(name, None, None).unwrap(),
+            _ => bcifs::builtin_design(name).unwrap(),
+        };
+        let inst = bcifs::instantiate(&design, &[]).unwrap();
+        let model = design.model().unwrap().clone();
+        let mut settings = EvalSettings::default();
+        settings.depth = Depth::Fixed(depth);
+        let ev = Evaluator::new(&inst.automaton, &model, settings).unwrap();
+        assert_eq!(ev.polylines(), Some(lines), "{name}");
+        let shape = ev.evaluate().unwrap();
+        let (streamed, vertices) = picture(&ev, &raster_settings).unwrap().expect("curves and points stream");
+        assert_eq!(vertices, shape.vertex_count(), "{name}");
+        let in_memory = raster(&shape, &raster_settings).unwrap();
+        assert!(streamed == in_memory, "{name}: the streamed picture differs");
+        let inked = streamed.pixels().filter(|p| p.0 != [255; 3]).count();
+        assert!(inked > 200, "{name}: {inked} pixels inked");
+    }
+    let design = bcifs::builtin_design("doo_sabin_torus").unwrap();
+    let inst = bcifs::instantiate(&design, &[]).unwrap();
+    let ev = Evaluator::new(&inst.automaton, design.model().unwrap(), EvalSettings::default()).unwrap();
+    assert!(picture(&ev, &raster_settings).unwrap().is_none(), "surfaces are drawn from memory");
+    // 64 patches: 4^5 · 64 = 65536 quads ≥ 300 · 200 pixels > 4^4 · 64.
+    assert_eq!(picture_depth(&ev, &raster_settings, 12), 5);
+    assert_eq!(picture_depth(&ev, &raster_settings, 3), 3);
 }

@@ -1,0 +1,181 @@
+//! Pictures of deterministic curves and point sets drawn while they are
+//! evaluated: the evaluation is streamed twice (once for the frame, once to
+//! draw), so memory is the picture's buffers whatever the depth.
+
+use std::io;
+
+use glam::{DMat3, DVec3};
+use image::RgbImage;
+
+use super::png::{Canvas, RasterSettings, finish_picture, wu_line};
+use crate::eval::{EvalError, Evaluator};
+use crate::geometry::Sink;
+
+/// The screen position `(x, y up, depth)` of a point of `dim` coordinates,
+/// as [`super::raster`] projects it.
+#[derive(Clone, Copy)]
+struct Projection {
+    turn: DMat3,
+}
+
+impl Projection {
+    fn new(settings: &RasterSettings) -> Projection {
+        let v = settings.view;
+        Projection { turn: DMat3::from_rotation_x(v.pitch.to_radians()) * DMat3::from_rotation_z(v.yaw.to_radians()) }
+    }
+    #[inline]
+    fn screen(&self, p: &[f64]) -> [f64; 3] {
+        if p.len() < 3 {
+            return [p[0], p.get(1).copied().unwrap_or(0.0), 0.0];
+        }
+        let q = self.turn * DVec3::new(p[0], p[1], p[2]);
+        [q.x, q.z, q.y]
+    }
+}
+
+/// The first pass: the extent of the projected points.
+struct Extent {
+    projection: Projection,
+    lo: [f64; 2],
+    hi: [f64; 2],
+    vertices: usize,
+}
+
+/// The second pass: lines between consecutive vertices of each object
+/// (curves), or counts per pixel (points).
+struct Drawing {
+    projection: Projection,
+    canvas: Canvas,
+    lines: bool,
+    cov: Vec<f32>,
+    density: Vec<u32>,
+    first: Option<(f64, f64)>,
+    last: Option<(f64, f64)>,
+}
+
+fn unsupported() -> io::Error {
+    io::Error::other("a streamed picture draws curves and points, not faces")
+}
+
+impl Sink for Extent {
+    fn object(&mut self, _: &str) -> io::Result<()> {
+        Ok(())
+    }
+    fn vertices(&mut self, dim: usize, positions: &[f64], _: Option<&[f64]>) -> io::Result<()> {
+        for p in positions.chunks_exact(dim) {
+            let s = self.projection.screen(p);
+            for ((lo, hi), x) in self.lo.iter_mut().zip(&mut self.hi).zip(s) {
+                *lo = lo.min(x);
+                *hi = hi.max(x);
+            }
+        }
+        self.vertices += positions.len() / dim.max(1);
+        Ok(())
+    }
+    fn uvs(&mut self, _: &[f64]) -> io::Result<()> {
+        Ok(())
+    }
+    fn polyline(&mut self, _: usize, _: usize, _: bool) -> io::Result<()> {
+        Ok(())
+    }
+    fn faces(&mut self, _: &[[usize; 4]], _: Option<&[[usize; 4]]>) -> io::Result<()> {
+        Err(unsupported())
+    }
+    fn triangles(&mut self, _: &[[usize; 3]]) -> io::Result<()> {
+        Err(unsupported())
+    }
+}
+
+impl Sink for Drawing {
+    fn object(&mut self, _: &str) -> io::Result<()> {
+        (self.first, self.last) = (None, None);
+        Ok(())
+    }
+    fn vertices(&mut self, dim: usize, positions: &[f64], _: Option<&[f64]>) -> io::Result<()> {
+        let (w, h) = (self.canvas.w, self.canvas.h);
+        for p in positions.chunks_exact(dim) {
+            let at = self.canvas.px(self.projection.screen(p));
+            if self.lines {
+                match self.last {
+                    Some(from) => wu_line(&mut self.cov, w, h, from, at),
+                    None => self.first = Some(at),
+                }
+                self.last = Some(at);
+            } else if at.0 >= 0.0 && at.1 >= 0.0 && (at.0 as usize) < w && (at.1 as usize) < h {
+                self.density[at.1 as usize * w + at.0 as usize] += 1;
+            }
+        }
+        Ok(())
+    }
+    fn uvs(&mut self, _: &[f64]) -> io::Result<()> {
+        Ok(())
+    }
+    fn polyline(&mut self, _: usize, count: usize, closed: bool) -> io::Result<()> {
+        if let (true, true, Some(first), Some(last)) = (self.lines, closed && count > 1, self.first, self.last) {
+            wu_line(&mut self.cov, self.canvas.w, self.canvas.h, last, first);
+        }
+        (self.first, self.last) = (None, None);
+        Ok(())
+    }
+    fn faces(&mut self, _: &[[usize; 4]], _: Option<&[[usize; 4]]>) -> io::Result<()> {
+        Err(unsupported())
+    }
+    fn triangles(&mut self, _: &[[usize; 3]]) -> io::Result<()> {
+        Err(unsupported())
+    }
+}
+
+/// Bytes [`picture`] allocates: a coverage and a count per pixel, and the picture.
+pub fn picture_bytes(settings: &RasterSettings) -> u128 {
+    u128::from(settings.width.max(1)) * u128::from(settings.height.max(1)) * 11
+}
+
+/// Draws the curves or points of `ev` while they are evaluated, twice
+/// streamed (the frame, then the drawing): the same picture as
+/// [`super::raster`] of the evaluated shape, in the memory of the picture
+/// alone, and the number of vertices drawn. `None` when the output is a surface or mixes curves and points
+/// (those are drawn from memory).
+///
+/// # Errors
+/// An evaluation error, or [`EvalError::TooLarge`] for a picture whose
+/// buffers would not fit the memory limit.
+pub fn picture(ev: &Evaluator, settings: &RasterSettings) -> Result<Option<(RgbImage, usize)>, EvalError> {
+    let Some(lines) = ev.polylines() else { return Ok(None) };
+    let needed = picture_bytes(settings);
+    if needed > settings.memory_limit as u128 {
+        return Err(EvalError::TooLarge { estimate: needed, limit: settings.memory_limit });
+    }
+    let projection = Projection::new(settings);
+    let mut extent = Extent { projection, lo: [f64::INFINITY; 2], hi: [f64::NEG_INFINITY; 2], vertices: 0 };
+    ev.stream(&mut extent)?;
+    let (w, h) = (settings.width.max(1), settings.height.max(1));
+    if extent.vertices == 0 {
+        return Ok(Some((RgbImage::from_pixel(w, h, image::Rgb([255, 255, 255])), 0)));
+    }
+    let corners = [[extent.lo[0], extent.lo[1], 0.0], [extent.hi[0], extent.hi[1], 0.0]];
+    let canvas = Canvas::fit(&corners, w, h);
+    let pixels = w as usize * h as usize;
+    let mut drawing = Drawing {
+        projection,
+        canvas,
+        lines,
+        cov: vec![0.0; if lines { pixels } else { 0 }],
+        density: vec![0; if lines { 0 } else { pixels }],
+        first: None,
+        last: None,
+    };
+    ev.stream(&mut drawing)?;
+    let Drawing { mut cov, mut density, .. } = drawing;
+    cov.resize(pixels, 0.0);
+    density.resize(pixels, 0);
+    Ok(Some((finish_picture(w, h, &cov, &density), extent.vertices)))
+}
+
+/// The depth a picture of a surface needs: the first one whose quads
+/// outnumber the pixels (deeper, a quad is smaller than a pixel and the
+/// picture changes only by sub-pixel shading), at most
+/// `depth`; `depth` for curves and points, which [`picture`] streams.
+pub fn picture_depth(ev: &Evaluator, settings: &RasterSettings, depth: usize) -> usize {
+    let pixels = u128::from(settings.width.max(1)) * u128::from(settings.height.max(1));
+    (0..depth).find(|&k| ev.quads_at(k).is_some_and(|q| q >= pixels)).unwrap_or(depth)
+}
