@@ -315,6 +315,7 @@ pub fn gallery(dir: &Path, progress: Option<&Progress>) -> Result<Vec<GalleryEnt
         };
         entries.push(GalleryEntry { name, description, depth, files, summary });
     }
+    entries.push(density_page(dir)?);
     if let Some(p) = progress {
         p.report(total, total);
     }
@@ -326,8 +327,12 @@ pub fn gallery(dir: &Path, progress: Option<&Progress>) -> Result<Vec<GalleryEnt
         for f in e.files.iter().filter(|f| f.ends_with(".png")) {
             let _ = write!(html, "<img src=\"{f}\" alt=\"{}\">", e.name);
         }
-        let obj: Vec<String> =
-            e.files.iter().filter(|f| f.ends_with(".obj")).map(|f| format!("<a href=\"{f}\">{f}</a>")).collect();
+        let obj: Vec<String> = e
+            .files
+            .iter()
+            .filter(|f| f.ends_with(".obj") || f.ends_with(".html"))
+            .map(|f| format!("<a href=\"{f}\">{f}</a>"))
+            .collect();
         let _ = writeln!(
             html,
             "<figcaption><b>{}</b> — {}<br>{}, {} vertices{}; {}</figcaption></figure>",
@@ -342,6 +347,70 @@ pub fn gallery(dir: &Path, progress: Option<&Progress>) -> Result<Vec<GalleryEnt
     html.push_str("</body></html>\n");
     write_atomic(&dir.join("index.html"), html.as_bytes()).map_err(|e| RenderError::Io(dir.join("index.html"), e))?;
     Ok(entries)
+}
+
+/// Sample counts of the density page.
+pub const DENSITY_SAMPLES: [usize; 3] = [100_000, 1_000_000, 100_000_000];
+
+/// The density page (issue 11): the fern, the gasket and the fern with a
+/// Sierpinski branch by the chaos game, as dots (a pixel inked by any
+/// sample) and as density images (log-density ink), at 1e5, 1e6 and 1e8
+/// samples, and coloured by their maps at 1e8 (the fire palette, a light
+/// blur): `density-NAME-KIND-N.png` tiles, `density.png` (all of them, a
+/// row per shape) and `density.html`.
+fn density_page(dir: &Path) -> Result<GalleryEntry, RenderError> {
+    use bcifs::export::{Palette, Tone, density, write_png};
+    let tile = 240u32;
+    let raster = RasterSettings::default().with_size(tile, tile);
+    let shapes = ["fern", "gasket", "fern_sierpinski"];
+    let columns = DENSITY_SAMPLES.len() * 2 + 1;
+    let mut sheet = image::RgbImage::from_pixel(tile * columns as u32, tile * shapes.len() as u32, image::Rgb([255; 3]));
+    let files = vec!["density.png".to_string(), "density.html".to_string()];
+    let mut rows = String::new();
+    let io = |p: &Path, e| RenderError::Io(p.to_path_buf(), e);
+    let fire = Palette::named("fire").expect("shipped palette");
+    for (row, name) in shapes.iter().enumerate() {
+        let design = bcifs::builtin_design(name).expect("shipped automaton");
+        let instance = instantiate(&design, &[])?;
+        let model = model_of(&design)?;
+        let game = bcifs::eval::ChaosGame::new(&instance.automaton, &model, &RandomSettings::default().with_points(1))?;
+        let mut tiles = Vec::new();
+        let mut dots = Vec::new();
+        for &n in &DENSITY_SAMPLES {
+            let counts = density(&game, n, &raster, 1, None)?;
+            dots.push((format!("dots-{n}"), counts.dots()));
+            tiles.push((format!("density-{n}"), counts.image(&Tone::default())));
+        }
+        let n = DENSITY_SAMPLES[DENSITY_SAMPLES.len() - 1];
+        let flame = density(&game, n, &raster, 1, Some(&fire))?.image(&Tone { blur: 2.0, ..Tone::default() });
+        let all: Vec<(String, image::RgbImage)> =
+            dots.into_iter().chain(tiles).chain([(format!("colour-{n}"), flame)]).collect();
+        let _ = write!(rows, "<tr><th>{name}</th>");
+        for (col, (kind, img)) in all.iter().enumerate() {
+            let file = format!("density-{name}-{kind}.png");
+            write_png(&dir.join(&file), img).map_err(|e| io(&dir.join(&file), e))?;
+            image::imageops::replace(&mut sheet, img, i64::from(tile) * col as i64, i64::from(tile) * row as i64);
+            let _ = write!(rows, "<td><img src=\"{file}\" alt=\"{name} {kind}\"></td>");
+        }
+        rows.push_str("</tr>\n");
+    }
+    write_png(&dir.join("density.png"), &sheet).map_err(|e| io(&dir.join("density.png"), e))?;
+    let head: String = ["dots", "density"]
+        .iter()
+        .flat_map(|k| DENSITY_SAMPLES.iter().map(move |n| format!("<th>{k}, {n:.0e} samples</th>")))
+        .chain([format!("<th>coloured by the maps, {:.0e}</th>", DENSITY_SAMPLES[2])])
+        .collect();
+    let html = format!(
+        "<!doctype html>\n<html><head><meta charset=\"utf-8\"><title>bcifs: dots and density</title></head><body>\n<h1>The chaos game as dots and as density images</h1>\n<p>Dots ink a pixel hit by any sample: past a million samples the attractor is a solid silhouette. Density images ink by the log of the count (flame renderers' tone mapping), so they keep improving with the samples; the last column colours each sample by the maps it went through.</p>\n<table><tr><th></th>{head}</tr>\n{rows}</table></body></html>\n"
+    );
+    write_atomic(&dir.join("density.html"), html.as_bytes()).map_err(|e| io(&dir.join("density.html"), e))?;
+    Ok(GalleryEntry {
+        name: "density".into(),
+        description: "the fern, the gasket and fern∘Sierpinski by the chaos game: dots and density images at 1e5, 1e6 and 1e8 samples, coloured by the maps at 1e8".into(),
+        depth: Depth::Fixed(0),
+        files,
+        summary: RenderSummary { vertices: 0, quads: 0, duplicates: None },
+    })
 }
 
 /// `bcifs gallery DIR`: renders the gallery and lists what it wrote.

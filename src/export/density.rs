@@ -233,6 +233,18 @@ impl Density {
         img
     }
 
+    /// The samples as dots, as a scatter plot draws them: a pixel is ink
+    /// when any sample fell in it, whatever their number.
+    pub fn dots(&self) -> RgbImage {
+        let (w, h, s) = (self.width, self.height, self.supersample);
+        let mut img = RgbImage::from_pixel(w as u32, h as u32, mix(PAPER, INK, 0.0));
+        for (i, _) in self.counts.iter().enumerate().filter(|(_, c)| **c > 0) {
+            let (x, y) = ((i % (w * s)) / s, i / (w * s) / s);
+            img.put_pixel(x as u32, y as u32, mix(PAPER, INK, 1.0));
+        }
+        img
+    }
+
     /// The cells spread by the density-estimation kernel: counts and
     /// colour sums as floats (colour sums in the units of `colours`).
     fn blurred(&self, radius: f64, curve: f64) -> (Vec<f32>, Vec<[f32; 3]>) {
