@@ -364,7 +364,8 @@ fn density_page(dir: &Path) -> Result<GalleryEntry, RenderError> {
     let raster = RasterSettings::default().with_size(tile, tile);
     let shapes = ["fern", "gasket", "fern_sierpinski"];
     let columns = DENSITY_SAMPLES.len() * 2 + 1;
-    let mut sheet = image::RgbImage::from_pixel(tile * columns as u32, tile * shapes.len() as u32, image::Rgb([255; 3]));
+    let mut sheet =
+        image::RgbImage::from_pixel(tile * columns as u32, tile * shapes.len() as u32, image::Rgb([255; 3]));
     let files = vec!["density.png".to_string(), "density.html".to_string()];
     let mut rows = String::new();
     let io = |p: &Path, e| RenderError::Io(p.to_path_buf(), e);

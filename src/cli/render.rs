@@ -28,6 +28,8 @@ pub struct RenderOptions {
     pub max_output: u128,
     /// Drop exact duplicate points of a point cloud.
     pub dedup: bool,
+    /// Significant digits of OBJ coordinates (`None`: shortest round-trip).
+    pub precision: Option<u32>,
     /// Tone mapping of chaos-game pictures (density images).
     pub tone: bcifs::export::Tone,
     /// Colour chaos-game pictures by the arrows applied, with this palette.
@@ -135,6 +137,10 @@ pub struct RenderArgs {
     /// Chaos game to PNG: cells per pixel side, averaged (1 to 8).
     #[arg(long, default_value_t = 1)]
     pub supersample: u32,
+    /// OBJ coordinates with this many significant digits (1 to 15): smaller files, written faster
+    /// (default: the shortest text that reads back to the same number, up to 17 digits).
+    #[arg(long)]
+    pub precision: Option<u32>,
     /// Chaos game to PNG: colour by the arrows applied, with this palette: fire, ocean, rainbow,
     /// viridis, sunset, or a picture file (its middle row, left to right).
     #[arg(long)]
@@ -195,7 +201,11 @@ pub fn run(args: RenderArgs) -> anyhow::Result<u8> {
         blur,
         blur_curve,
         background,
+        precision,
     } = args;
+    if precision.is_some_and(|p| !(1..=15).contains(&p)) {
+        bail!("--precision is a number of significant digits, 1 to 15 (the default is exact)");
+    }
     if !(brightness > 0.0
         && brightness.is_finite()
         && gamma > 0.0
@@ -266,6 +276,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<u8> {
     options.raster = options.raster.with_size(w, h).with_view(yaw, pitch).with_memory_limit(options.eval.memory_limit);
     options.tone = bcifs::export::Tone { brightness, gamma, vibrancy, supersample, blur, blur_curve, background };
     options.palette = palette;
+    options.precision = precision;
     let started = std::time::Instant::now();
     let summary = render(&design, &options, &output)?;
     summary.report(design.name(), &output, started);
@@ -397,7 +408,13 @@ pub fn render(design: &Design, options: &RenderOptions, out: &Path) -> Result<Re
         "obj" => {
             let model = model_of(design)?;
             let instance = instantiate(design, &options.params)?;
-            let mut writer = ObjWriter::create(out).map_err(io)?.with_up(options.up);
+            let threads =
+                options.eval.threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+            let mut writer = ObjWriter::create(out)
+                .and_then(|w| w.with_threads(threads))
+                .map_err(io)?
+                .with_up(options.up)
+                .with_precision(options.precision);
             if let (Some(random), false) = (&options.random, options.dedup) {
                 // The chaos game streamed, a few chains at a time.
                 let batch = random.clone().with_points(random.points.min(bcifs::eval::BATCH));
