@@ -210,7 +210,7 @@ fn push_digits(line: &mut Vec<u8>, x: f64, n: u32) -> bool {
         return false;
     }
     let mut m = (a * POW10[shift as usize] + 0.5) as u64;
-    while shift > 0 && m % 10 == 0 {
+    while shift > 0 && m.is_multiple_of(10) {
         m /= 10;
         shift -= 1;
     }
