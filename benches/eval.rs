@@ -95,20 +95,24 @@ fn obj(c: &mut Criterion) {
     // The streaming writer takes usize indices; widen once, outside the timings.
     let wide = |v: &[bcifs::geometry::Quad]| v.iter().map(|q| q.map(|i| i as usize)).collect::<Vec<_>>();
     let (quads, quad_uvs) = (wide(&shape.quads), wide(&shape.quad_uvs));
-    let write_shape = |shape: &bcifs::geometry::Shape| {
-        let mut w = ObjWriter::create(&path).expect("create");
+    let write_with = |shape: &bcifs::geometry::Shape, threads: usize, digits: Option<u32>| {
+        let mut w = ObjWriter::create(&path).expect("create").with_threads(threads).expect("threads").with_precision(digits);
         w.object("torus").expect("write");
         w.uvs(&shape.uvs).expect("write");
         w.vertices(shape.dim, &shape.positions, Some(&shape.normals)).expect("write");
         w.faces(&quads, (!quad_uvs.is_empty()).then_some(&quad_uvs[..])).expect("write");
         w.finish().expect("finish");
     };
+    let write_shape = |shape: &bcifs::geometry::Shape| write_with(shape, 1, None);
     write_shape(&shape);
     let bytes = std::fs::metadata(&path).expect("written").len();
     let mut g = c.benchmark_group("obj");
     g.sample_size(10);
     g.throughput(Throughput::Bytes(bytes));
     g.bench_function("write_only/torus_depth6", |b| b.iter(|| write_shape(&shape)));
+    // Issue 11: formatting in parallel chunks, and 6 significant digits (throughput: the exact file's bytes).
+    g.bench_function("write_only_2_threads/torus_depth6", |b| b.iter(|| write_with(&shape, 2, None)));
+    g.bench_function("write_only_precision6/torus_depth6", |b| b.iter(|| write_with(&shape, 1, Some(6))));
     g.bench_function("evaluate_and_stream/torus_depth6", |b| {
         b.iter(|| {
             let mut w = ObjWriter::create(&path).expect("create");

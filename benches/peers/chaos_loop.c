@@ -3,26 +3,27 @@
  *   chaos_loop fern|gasket N      (prints the mean point, so nothing is optimised away)
  *
  * The maps are the affine maps of automata/fern.toml and automata/gasket.toml
- * (x' = a x + b y + e, y' = c x + d y + f), picked with the same probabilities
- * bcifs gives them by default (|det| with a floor of 1% of the mean: the fern's
- * stem gets 0.0031) by a cumulative table; the generator is wyrand, as in bcifs. */
+ * (x' = a x + b y + e, y' = c x + d y + f), picked with the probabilities bcifs
+ * gives them by default (|det|, with a floor of 1% of the mean for the fern's
+ * singular stem) by a cumulative table; the generator is wyrand, as in bcifs. */
+#include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-typedef struct { double a, b, c, d, e, f, p; } Map;
+typedef struct { double a, b, c, d, e, f; } Map;
 
 static const Map FERN[] = {
-    {0.85, 0.04, -0.04, 0.85, 0.0, 1.6, 0.7511},
-    {-0.15, 0.28, 0.26, 0.24, 0.0, 0.44, 0.1203},
-    {0.20, -0.26, 0.23, 0.22, 0.0, 1.6, 0.1255},
-    {0.0, 0.0, 0.0, 0.16, 0.0, 0.0, 0.0031},
+    {0.85, 0.04, -0.04, 0.85, 0.0, 1.6},
+    {-0.15, 0.28, 0.26, 0.24, 0.0, 0.44},
+    {0.20, -0.26, 0.23, 0.22, 0.0, 1.6},
+    {0.0, 0.0, 0.0, 0.16, 0.0, 0.0},
 };
 static const Map GASKET[] = {
-    {0.5, 0.0, 0.0, 0.5, 0.0, 0.0, 1.0 / 3},
-    {0.5, 0.0, 0.0, 0.5, 0.5, 0.0, 1.0 / 3},
-    {0.5, 0.0, 0.0, 0.5, 0.25, 0.4330127018922193, 1.0 / 3},
+    {0.5, 0.0, 0.0, 0.5, 0.0, 0.0},
+    {0.5, 0.0, 0.0, 0.5, 0.5, 0.0},
+    {0.5, 0.0, 0.0, 0.5, 0.25, 0.4330127018922193},
 };
 
 static uint64_t state = 0x9E3779B97F4A7C15ull;
@@ -41,11 +42,18 @@ int main(int argc, char **argv) {
     int k = strcmp(argv[1], "fern") == 0 ? 4 : 3;
     long long n = atoll(argv[2]);
     uint64_t cumulative[4];
-    double total = 0;
-    for (int i = 0; i < k; i++) total += maps[i].p;
+    double p[4], mean = 0, total = 0;
+    for (int i = 0; i < k; i++) {
+        p[i] = fabs(maps[i].a * maps[i].d - maps[i].b * maps[i].c);
+        mean += p[i] / k;
+    }
+    for (int i = 0; i < k; i++) {
+        if (p[i] < 0.01 * mean) p[i] = 0.01 * mean;
+        total += p[i];
+    }
     double run = 0;
     for (int i = 0; i < k; i++) {
-        run += maps[i].p / total;
+        run += p[i] / total;
         cumulative[i] = i == k - 1 ? UINT64_MAX : (uint64_t)(run * 18446744073709551615.0);
     }
     double x = 0, y = 0, sx = 0, sy = 0;

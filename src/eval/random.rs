@@ -502,8 +502,10 @@ impl ChaosGame {
             2 => {
                 let maps: Vec<[f64; 7]> =
                     maps.iter().zip(tint).map(|(m, t)| [m[0], m[1], m[2], m[3], m[4], m[5], *t]).collect();
-                let mut at = [0.0, 0.0, c];
-                let mut settle = burn_in;
+                // Two walks interleaved (their points alternate): the steps of one
+                // overlap the other's, each a chain of dependent multiplications.
+                let mut at = [[0.0, 0.0, c]; 2];
+                let mut settle = 2 * burn_in;
                 while settle > 0 {
                     let here = settle.min(CHUNK);
                     at = walk_plane::<COLOUR>(&maps, alias, rng, keep, at, &mut xs[..2 * here], &mut cs[..here]);
@@ -629,32 +631,50 @@ impl ChaosGame {
     }
 }
 
-/// The affine walk in the plane for `xs.len() / 2` steps from `(x, y, c)`,
-/// into `xs` (and `cs` when `COLOUR`): a function of its own so that the
-/// point, the colour and the generator stay in registers.
+/// Two affine walks in the plane, interleaved, for `xs.len() / 2` points
+/// in all (walk 0 gives the even ones) from `at`, into `xs` (and `cs` when
+/// `COLOUR`): a function of its own so that the points, the colours and the
+/// generator stay in registers. The steps of the two walks are independent,
+/// so each one's multiplications overlap the other's.
 #[inline(never)]
 fn walk_plane<const COLOUR: bool>(
     maps: &[[f64; 7]],
     alias: &Alias,
     rng: &mut Rng,
     keep: f64,
-    [mut x, mut y, mut c]: [f64; 3],
+    at: [[f64; 3]; 2],
     xs: &mut [f64],
     cs: &mut [f32],
-) -> [f64; 3] {
+) -> [[f64; 3]; 2] {
     let mut r = rng.clone();
-    for (p, cp) in xs.chunks_exact_mut(2).zip(cs.iter_mut()) {
-        let m = &maps[alias.pick(r.next_u64())];
-        (x, y) = (m[0] * x + m[1] * y + m[2], m[3] * x + m[4] * y + m[5]);
-        p[0] = x;
-        p[1] = y;
+    let [[mut x0, mut y0, mut c0], [mut x1, mut y1, mut c1]] = at;
+    let n = xs.len() / 2;
+    let mut pairs = xs.chunks_exact_mut(4);
+    let mut colours = cs.chunks_exact_mut(2);
+    for (p, cp) in (&mut pairs).zip(&mut colours) {
+        let (a, b) = (alias.pick(r.next_u64()), alias.pick(r.next_u64()));
+        let (m, k) = (&maps[a], &maps[b]);
+        (x0, y0) = (m[0] * x0 + m[1] * y0 + m[2], m[3] * x0 + m[4] * y0 + m[5]);
+        (x1, y1) = (k[0] * x1 + k[1] * y1 + k[2], k[3] * x1 + k[4] * y1 + k[5]);
+        p.copy_from_slice(&[x0, y0, x1, y1]);
         if COLOUR {
-            c = keep * c + m[6];
-            *cp = c as f32;
+            c0 = keep * c0 + m[6];
+            c1 = keep * c1 + k[6];
+            cp.copy_from_slice(&[c0 as f32, c1 as f32]);
+        }
+    }
+    if n % 2 == 1 {
+        // The odd point out: walk 0's.
+        let m = &maps[alias.pick(r.next_u64())];
+        (x0, y0) = (m[0] * x0 + m[1] * y0 + m[2], m[3] * x0 + m[4] * y0 + m[5]);
+        xs[2 * n - 2..].copy_from_slice(&[x0, y0]);
+        if COLOUR {
+            c0 = keep * c0 + m[6];
+            cs[n - 1] = c0 as f32;
         }
     }
     *rng = r;
-    [x, y, c]
+    [[x0, y0, c0], [x1, y1, c1]]
 }
 
 #[cfg(test)]
