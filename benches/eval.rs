@@ -96,7 +96,8 @@ fn obj(c: &mut Criterion) {
     let wide = |v: &[bcifs::geometry::Quad]| v.iter().map(|q| q.map(|i| i as usize)).collect::<Vec<_>>();
     let (quads, quad_uvs) = (wide(&shape.quads), wide(&shape.quad_uvs));
     let write_with = |shape: &bcifs::geometry::Shape, threads: usize, digits: Option<u32>| {
-        let mut w = ObjWriter::create(&path).expect("create").with_threads(threads).expect("threads").with_precision(digits);
+        let mut w =
+            ObjWriter::create(&path).expect("create").with_threads(threads).expect("threads").with_precision(digits);
         w.object("torus").expect("write");
         w.uvs(&shape.uvs).expect("write");
         w.vertices(shape.dim, &shape.positions, Some(&shape.normals)).expect("write");

@@ -135,6 +135,25 @@ fn coloured_density_pictures_from_the_command_line() {
     std::fs::remove_file(&png).unwrap();
 }
 
+/// The chaos game to OBJ is streamed a few chains at a time: every point
+/// is written, the same file with one thread or two.
+#[test]
+fn chaos_game_points_stream_to_obj() {
+    let dir = std::env::temp_dir().join(format!("bcifs-chaos-obj-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let write = |threads: &str| {
+        let out = dir.join(format!("fern-{threads}.obj"));
+        let args = ["render", "fern", "--random", "300001", "--threads", threads, "-o", out.to_str().unwrap()];
+        let (code, _, err) = bcifs(&args);
+        assert_eq!(code, 0, "{err}");
+        std::fs::read_to_string(&out).unwrap()
+    };
+    let (one, two) = (write("1"), write("2"));
+    assert_eq!(one.lines().filter(|l| l.starts_with("v ")).count(), 300_001);
+    assert!(one == two, "the same points with any number of threads");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// Options that make no sense get a clear error (exit 2), not a broken picture.
 #[test]
 fn nonsense_options_are_refused() {
