@@ -217,13 +217,19 @@ impl Density {
         let level = |c: f64| ((1.0 + b * c).ln() / norm).clamp(0.0, 1.0).powf(gamma);
         let paper = tone.background.map_or(if colour { [0.0; 3] } else { PAPER }, |c| c.map(f64::from));
         let mut img = RgbImage::new(w as u32, h as u32);
+        let empty = Rgb(paper.map(|c| c.round() as u8));
         for (i, px) in img.pixels_mut().enumerate() {
             let c = f64::from(count[i]);
+            if c <= 0.0 {
+                *px = empty;
+                continue;
+            }
             let v = level(c);
             *px = if colour {
-                let mean = paint[i].map(|p| if c > 0.0 { f64::from(p) / c } else { 0.0 });
+                let mean = paint[i].map(|p| f64::from(p) / c);
                 Rgb([0, 1, 2].map(|k| {
-                    let ink = vib * mean[k] * v + (1.0 - vib) * level(c * mean[k]);
+                    let flat = if vib < 1.0 { (1.0 - vib) * level(c * mean[k]) } else { 0.0 };
+                    let ink = vib * mean[k] * v + flat;
                     (paper[k] * (1.0 - v) + 255.0 * ink).round().clamp(0.0, 255.0) as u8
                 }))
             } else {
@@ -426,11 +432,14 @@ pub fn density(
     let lane = |c: u8| u64::from(c >> shift);
     let table: Vec<u64> =
         palette.0.iter().map(|c| 1 | lane(c[0]) << 16 | lane(c[1]) << 32 | lane(c[2]) << 48).collect();
-    let cells = game.fold(
+    // One accumulator per thread, kept apart: they are summed once, cell by
+    // cell, straight into the counts and colour sums.
+    let partials = game.fold(
         points,
         true,
-        || (vec![0u64; trash + 1], vec![[0u32; 4]; trash + 1]),
-        |(acc, spill), xs, cs| {
+        || vec![(vec![0u64; trash + 1], vec![[0u32; 4]; trash + 1])],
+        |parts, xs, cs| {
+            let (acc, spill) = &mut parts[0];
             let mut cells = [0u32; crate::eval::CHUNK];
             frame.cells(xs, &mut cells);
             for (&i, c) in cells.iter().zip(cs) {
@@ -443,12 +452,32 @@ pub fn density(
                 }
             }
         },
-        |a, b| (Vec::new(), add_sums(spilled(a), &spilled(b))),
+        |mut a, b| {
+            a.extend(b);
+            a
+        },
     );
-    let mut cells = spilled(cells);
-    cells.pop();
-    let counts = cells.iter().map(|c| c[0]).collect();
-    let colours = cells.iter().map(|c| [c[1], c[2], c[3]]).collect();
+    let sum = |i: usize| -> [u32; 4] {
+        let mut t = [0u32; 4];
+        for (cells, spill) in &partials {
+            (0..4).for_each(|k| {
+                t[k] = t[k].saturating_add(spill[i][k]).saturating_add((cells[i] >> (16 * k)) as u32 & 0xffff)
+            });
+        }
+        t
+    };
+    let mut counts = vec![0u32; trash];
+    let mut colours = vec![[0u32; 3]; trash];
+    {
+        use rayon::prelude::*;
+        let rows = sw.max(1) * 64;
+        counts.par_chunks_mut(rows).zip(colours.par_chunks_mut(rows)).enumerate().for_each(|(r, (n, c))| {
+            for (j, (n, c)) in n.iter_mut().zip(c.iter_mut()).enumerate() {
+                let t = sum(r * rows + j);
+                (*n, *c) = (t[0], [t[1], t[2], t[3]]);
+            }
+        });
+    }
     Ok(Density { width: w, height: h, supersample: s, counts, colours, shift })
 }
 
@@ -495,19 +524,6 @@ impl Frame {
             }
         }
     }
-}
-
-/// The 32-bit sums of a colour accumulator, its 16-bit cells added in.
-fn spilled((cells, mut spill): (Vec<u64>, Vec<[u32; 4]>)) -> Vec<[u32; 4]> {
-    for (s, c) in spill.iter_mut().zip(&cells) {
-        (0..4).for_each(|k| s[k] = s[k].saturating_add((c >> (16 * k)) as u32 & 0xffff));
-    }
-    spill
-}
-
-fn add_sums(mut a: Vec<[u32; 4]>, b: &[[u32; 4]]) -> Vec<[u32; 4]> {
-    a.iter_mut().zip(b).for_each(|(x, y)| (0..4).for_each(|k| x[k] = x[k].saturating_add(y[k])));
-    a
 }
 
 fn add_counts(mut a: Vec<u32>, b: Vec<u32>) -> Vec<u32> {
