@@ -441,12 +441,12 @@ pub fn render(design: &Design, options: &RenderOptions, out: &Path) -> Result<Re
             if let bcifs::eval::Depth::Fixed(k) = eval.depth {
                 check_disk(out, ev.estimate_obj_bytes(k), options.max_output)?;
             }
-            let mut counter = Counter { inner: &mut writer, vertices: 0, quads: 0 };
-            ev.stream(&mut counter).map_err(|e| match e {
+            // Vertices, then elements: two streamed passes, no side file of elements.
+            let (vertices, quads) = bcifs::export::write_evaluation(&ev, &mut writer).map_err(|e| match e {
                 EvalError::Io(e) => io(e),
                 other => other.into(),
             })?;
-            let summary = RenderSummary { vertices: counter.vertices, quads: counter.quads, duplicates: None };
+            let summary = RenderSummary { vertices, quads, duplicates: None };
             writer.finish().map_err(io)?;
             Ok(summary)
         }
@@ -600,36 +600,6 @@ pub fn write_shape(
         other => return Err(RenderError::Format(other.to_string())),
     }
     Ok(summary)
-}
-
-/// Counts what passes through to another sink.
-struct Counter<'a> {
-    inner: &'a mut dyn Sink,
-    vertices: usize,
-    quads: usize,
-}
-
-impl Sink for Counter<'_> {
-    fn object(&mut self, name: &str) -> std::io::Result<()> {
-        self.inner.object(name)
-    }
-    fn vertices(&mut self, dim: usize, positions: &[f64], normals: Option<&[f64]>) -> std::io::Result<()> {
-        self.vertices += positions.len() / dim.max(1);
-        self.inner.vertices(dim, positions, normals)
-    }
-    fn uvs(&mut self, uvs: &[f64]) -> std::io::Result<()> {
-        self.inner.uvs(uvs)
-    }
-    fn polyline(&mut self, first: usize, count: usize, closed: bool) -> std::io::Result<()> {
-        self.inner.polyline(first, count, closed)
-    }
-    fn faces(&mut self, quads: &[[usize; 4]], uvs: Option<&[[usize; 4]]>) -> std::io::Result<()> {
-        self.quads += quads.len();
-        self.inner.faces(quads, uvs)
-    }
-    fn triangles(&mut self, triangles: &[[usize; 3]]) -> std::io::Result<()> {
-        self.inner.triangles(triangles)
-    }
 }
 
 /// Which form of a scheme to evaluate.

@@ -35,6 +35,8 @@ pub struct ObjWriter {
     normals: bool,
     bytes: u64,
     ints: itoa::Buffer,
+    /// Elements go straight to the file (every vertex is already written).
+    direct: bool,
     /// Text buffers, reused call after call (one per chunk formatted in parallel).
     texts: Vec<Vec<u8>>,
     /// Threads formatting large calls in parallel (`None`: one).
@@ -84,6 +86,7 @@ impl ObjWriter {
             normals: false,
             bytes: 0,
             ints: itoa::Buffer::new(),
+            direct: false,
             texts: vec![Vec::new()],
             pool: None,
             precision: None,
@@ -142,7 +145,73 @@ impl ObjWriter {
     }
 
     fn spool(&mut self) -> &mut BufWriter<File> {
+        if self.direct {
+            return self.main();
+        }
         self.spool.as_mut().expect("not finished")
+    }
+}
+
+/// Writes the output of `ev` into `writer` in two streamed passes, the
+/// vertices and then the elements (faces, lines) straight after them: the
+/// same file as [`Evaluator::stream`] into the writer, without holding the
+/// elements in a side file (the evaluation runs twice, the text is written
+/// once). Returns the numbers of vertices and of faces (quads and triangles).
+///
+/// # Errors
+/// A write or evaluation error.
+pub fn write_evaluation(
+    ev: &crate::eval::Evaluator,
+    writer: &mut ObjWriter,
+) -> Result<(usize, usize), crate::eval::EvalError> {
+    let mut pass = Pass { writer, elements: false, vertices: 0, faces: 0 };
+    ev.stream(&mut pass)?;
+    pass.writer.direct = true;
+    pass.elements = true;
+    let result = ev.stream(&mut pass);
+    pass.writer.direct = false;
+    result?;
+    Ok((pass.vertices, pass.faces))
+}
+
+/// One pass of [`write_evaluation`]: the vertices, or the elements.
+struct Pass<'w> {
+    writer: &'w mut ObjWriter,
+    elements: bool,
+    vertices: usize,
+    faces: usize,
+}
+
+impl Sink for Pass<'_> {
+    fn object(&mut self, name: &str) -> io::Result<()> {
+        if self.elements { self.writer.object(name) } else { Ok(()) }
+    }
+    fn vertices(&mut self, dim: usize, positions: &[f64], normals: Option<&[f64]>) -> io::Result<()> {
+        if self.elements {
+            return Ok(());
+        }
+        self.vertices += positions.len() / dim.max(1);
+        self.writer.vertices(dim, positions, normals)
+    }
+    fn uvs(&mut self, uvs: &[f64]) -> io::Result<()> {
+        if self.elements { Ok(()) } else { self.writer.uvs(uvs) }
+    }
+    fn polyline(&mut self, first: usize, count: usize, closed: bool) -> io::Result<()> {
+        if self.elements { self.writer.polyline(first, count, closed) } else { Ok(()) }
+    }
+    fn faces(&mut self, quads: &[[usize; 4]], uvs: Option<&[[usize; 4]]>) -> io::Result<()> {
+        if !self.elements {
+            return Ok(());
+        }
+        self.faces += quads.len();
+        self.writer.faces(quads, uvs)
+    }
+    fn triangles(&mut self, triangles: &[[usize; 3]]) -> io::Result<()> {
+        if !self.elements {
+            return Ok(());
+        }
+        self.faces += triangles.len();
+        self.writer.triangles(triangles)
     }
 }
 
