@@ -485,7 +485,12 @@ pub fn render(design: &Design, options: &RenderOptions, out: &Path) -> Result<Re
                 return Ok(RenderSummary { vertices, quads: 0, duplicates: None });
             }
             // A surface: drawn at the depth whose quads are already below a pixel.
-            if let bcifs::eval::Depth::Fixed(k) = options.eval.depth {
+            let depth = match options.eval.depth {
+                bcifs::eval::Depth::Fixed(k) => Some(k),
+                bcifs::eval::Depth::Tolerance(eps) if ev.quads_at(0).is_some() => Some(ev.depth_for_tolerance(eps)?),
+                bcifs::eval::Depth::Tolerance(_) => None,
+            };
+            if let Some(k) = depth {
                 let enough = bcifs::export::picture_depth(&ev, &options.raster, k);
                 if enough < k {
                     eprintln!(

@@ -429,30 +429,45 @@ impl Evaluator {
             .any(|p| self.plan.state(p.state).kind == CellKind::Face && !self.uses_start_set(p.state))
     }
 
-    /// The smallest uniform depth at which every cell of every piece is below `eps`.
-    pub(super) fn depth_for_tolerance(&self, eps: f64) -> Result<usize, EvalError> {
+    /// The smallest uniform depth at which every cell of every piece is
+    /// below `eps`: each cell is followed, depth first, until its control
+    /// points are within `eps` (the sub-cells of a cell whose matrices are
+    /// stochastic and non-negative lie in its hull, so they stay below), in
+    /// memory for one path of cells.
+    ///
+    /// # Errors
+    /// A cell still larger than `eps` at depth 12.
+    pub fn depth_for_tolerance(&self, eps: f64) -> Result<usize, EvalError> {
+        const MAX: usize = 12;
         let d = self.pieces.dim;
-        let mut level: Vec<(usize, Vec<f64>)> =
-            self.pieces.pieces.iter().map(|p| (p.state, p.control.clone())).collect();
-        for k in 0..=12 {
-            if level.iter().all(|(s, c)| diameter(c, d, self.plan.state(*s).dim) < eps) {
-                return Ok(k);
+        // Depth needed below a cell, at most `MAX - level` (MAX + 1: not fine enough).
+        fn needed(ev: &Evaluator, state: usize, c: &[f64], d: usize, eps: f64, budget: usize) -> usize {
+            let sp = ev.plan.state(state);
+            if diameter(c, d, sp.dim) < eps {
+                return 0;
             }
-            let mut next = Vec::new();
-            for (s, c) in &level {
-                let sp = self.plan.state(*s);
-                for (_, t, m) in &sp.children {
-                    let nt = self.plan.state(*t).dim;
-                    let mut child = vec![0.0; d * nt];
-                    mul_into(c, d, sp.dim, m, nt, &mut child);
-                    next.push((*t, child));
+            if budget == 0 {
+                return MAX + 1;
+            }
+            let mut worst = 0;
+            for (_, t, m) in &sp.children {
+                let nt = ev.plan.state(*t).dim;
+                let mut child = vec![0.0; d * nt];
+                mul_into(c, d, sp.dim, m, nt, &mut child);
+                worst = worst.max(1 + needed(ev, *t, &child, d, eps, budget - 1));
+                if worst > MAX {
+                    break;
                 }
             }
-            level = next;
+            worst
         }
-        Err(EvalError::Unsupported(format!(
-            "surface cells are still larger than {eps} at depth 12: raise the tolerance or give a depth"
-        )))
+        let k = self.pieces.pieces.iter().map(|p| needed(self, p.state, &p.control, d, eps, MAX)).max().unwrap_or(0);
+        if k > MAX {
+            return Err(EvalError::Unsupported(format!(
+                "surface cells are still larger than {eps} at depth {MAX}: raise the tolerance or give a depth"
+            )));
+        }
+        Ok(k)
     }
 
     pub(super) fn plan(&self) -> &Plan {

@@ -171,6 +171,8 @@ fn nonsense_options_are_refused() {
         (vec!["render", "fern", "--random", "100", "--prob", "TX=0.5", "-o", out], "to give a probability"),
         (vec!["render", "levy", "--random", "100", "--prob", "T0=0", "--prob", "T1=0", "-o", out], "probability 0"),
         (vec!["render", "gasket", "--random", "100", "--palette", "firre", "-o", out], "fire, ocean, rainbow"),
+        // A surface tolerance no depth reaches: refused at once (it used to expand every cell).
+        (vec!["render", "doo_sabin_torus", "--tolerance", "1e-9", "-o", out], "still larger than 0.000000001"),
         (vec!["render", "gasket", "--random", "100", "--palette", "fire", "--color", "T9=0.5", "-o", out], "to colour"),
         (
             vec!["render", "gasket", "--random", "100", "--palette", "fire", "--color", "T1=2", "-o", out],

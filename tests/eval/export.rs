@@ -490,3 +490,27 @@ fn two_pass_obj_equals_the_spooled_one() {
         assert_eq!((vertices, faces), (shape.vertex_count(), shape.quads.len()), "{name}");
     }
 }
+
+/// A 3D chaos game seen from a view (issue 11): every sample lands in the
+/// frame fitted on the first batch (but a few), the same counts with one
+/// thread or two, and the picture turns with the view.
+#[test]
+fn density_of_a_surface_patch_in_3d() {
+    use bcifs::eval::{ChaosGame, RandomSettings};
+    use bcifs::export::{RasterSettings, density};
+    let design = bcifs::schemes::ifs_preset("box-spline", None, None).unwrap();
+    let inst = bcifs::instantiate(&design, &[]).unwrap();
+    let model = design.model().unwrap().clone();
+    assert_eq!(model.points[0].len(), 3);
+    let run = |threads: usize, yaw: f64| {
+        let game =
+            ChaosGame::new(&inst.automaton, &model, &RandomSettings::default().with_points(1000).with_threads(threads))
+                .unwrap();
+        density(&game, 500_000, &RasterSettings::default().with_size(160, 120).with_view(yaw, 35.0), 1, None).unwrap()
+    };
+    let (one, two) = (run(1, 30.0), run(2, 30.0));
+    assert_eq!(one, two);
+    let total: u64 = one.counts.iter().map(|&c| u64::from(c)).sum();
+    assert!(total as f64 >= 0.999 * 500_000.0, "{total}");
+    assert_ne!(run(1, 75.0).counts, one.counts, "another view, another picture");
+}
