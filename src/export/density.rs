@@ -162,9 +162,10 @@ pub struct Density {
     pub shift: u32,
 }
 
-/// Bytes per cell of one thread's accumulator.
+/// Bytes per cell of one thread's accumulator: a count, or with colours a
+/// word of 16-bit lanes and (touched only where cells spill) 32-bit sums.
 fn cell_bytes(colour: bool) -> u128 {
-    if colour { 16 } else { 4 }
+    if colour { 24 } else { 4 }
 }
 
 /// What [`density`] and [`Density::image`] allocate for a picture.
@@ -340,7 +341,8 @@ fn too_large(settings: &RasterSettings, points: usize, needed: u128) -> RasterTo
 /// colour coordinate, see [`crate::eval::RandomSettings::colours`]), one
 /// buffer per thread merged by summing integers (so the same seed gives
 /// the same picture with any number of threads), never stored: memory is
-/// `4 · pixels · s²` bytes per thread (16 with a palette), whatever
+/// `4 · pixels · s²` bytes per thread (8 with a palette, and up to 16 more
+/// where cells pass 255 samples), whatever
 /// `points`. The frame is fitted on the first batch of points (with a
 /// margin of 3%); samples outside it are left out.
 ///

@@ -154,7 +154,7 @@ impl ObjWriter {
 
 /// Writes the output of `ev` into `writer` in two streamed passes, the
 /// vertices and then the elements (faces, lines) straight after them: the
-/// same file as [`Evaluator::stream`] into the writer, without holding the
+/// same file as [`crate::eval::Evaluator::stream`] into the writer, without holding the
 /// elements in a side file (the evaluation runs twice, the text is written
 /// once). Returns the numbers of vertices and of faces (quads and triangles).
 ///
