@@ -346,6 +346,20 @@ fn too_large(settings: &RasterSettings, points: usize, needed: u128) -> RasterTo
 /// `points`. The frame is fitted on the first batch of points (with a
 /// margin of 3%); samples outside it are left out.
 ///
+/// ```
+/// use bcifs::eval::{ChaosGame, RandomSettings};
+/// use bcifs::export::{Palette, RasterSettings, Tone, density};
+/// let design = bcifs::builtin_design("gasket").unwrap();
+/// let inst = bcifs::instantiate(&design, &[]).unwrap();
+/// let game = ChaosGame::new(&inst.automaton, design.model().unwrap(), &RandomSettings::default()).unwrap();
+/// let fire = Palette::named("fire").unwrap();
+/// let raster = RasterSettings::default().with_size(64, 64);
+/// let cells = density(&game, 100_000, &raster, 1, Some(&fire)).unwrap();
+/// assert!(cells.counts.iter().map(|&c| c as usize).sum::<usize>() > 99_900);
+/// let picture = cells.image(&Tone { blur: 1.0, ..Tone::default() });
+/// assert_eq!(picture.dimensions(), (64, 64));
+/// ```
+///
 /// # Errors
 /// [`RasterTooLarge`] when the buffers would not fit `settings.memory_limit`.
 pub fn density(

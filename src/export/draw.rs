@@ -136,6 +136,17 @@ pub fn picture_bytes(settings: &RasterSettings) -> u128 {
 /// alone, and the number of vertices drawn. `None` when the output is a surface or mixes curves and points
 /// (those are drawn from memory).
 ///
+/// ```
+/// use bcifs::eval::{EvalSettings, Evaluator};
+/// let design = bcifs::builtin_design("levy").unwrap();
+/// let inst = bcifs::instantiate(&design, &[]).unwrap();
+/// let settings = EvalSettings::default().with_depth(12);
+/// let ev = Evaluator::new(&inst.automaton, design.model().unwrap(), settings).unwrap();
+/// let raster = bcifs::export::RasterSettings::default().with_size(200, 100);
+/// let (picture, vertices) = bcifs::export::picture(&ev, &raster).unwrap().expect("a curve");
+/// assert_eq!((picture.dimensions(), vertices), ((200, 100), (1 << 12) + 1));
+/// ```
+///
 /// # Errors
 /// An evaluation error, or [`EvalError::TooLarge`] for a picture whose
 /// buffers would not fit the memory limit.
