@@ -269,6 +269,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<u8> {
         r.memory_limit = memory_mib.saturating_mul(1 << 20);
         r.colours = parse_params(&colours)?;
         r.colour_speed = colour_speed;
+        r.progress = options.eval.progress.clone();
         options.random = Some(r);
     }
     let (w, h) = parse_size(&size)?;

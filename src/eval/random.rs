@@ -51,6 +51,9 @@ pub struct RandomSettings {
     /// How far each step moves the colour coordinate towards the colour of
     /// the arrow it applies: `c ← (1 − s) c + s c_arrow` (flam3's colour speed, default 1/2).
     pub colour_speed: f64,
+    /// Told the chains done of all, as [`ChaosGame::fold`] and
+    /// [`ChaosGame::stream`] go.
+    pub progress: Option<crate::progress::Progress>,
 }
 
 impl Default for RandomSettings {
@@ -66,6 +69,7 @@ impl Default for RandomSettings {
             memory_limit: super::settings::DEFAULT_MEMORY_LIMIT,
             colours: Vec::new(),
             colour_speed: 0.5,
+            progress: None,
         }
     }
 }
@@ -394,6 +398,7 @@ impl ChaosGame {
         let first = self.settings.chains.max(1) as u64;
         // One accumulator per thread; the threads take the next batch as they finish one.
         let next = std::sync::atomic::AtomicUsize::new(0);
+        let done = std::sync::atomic::AtomicUsize::new(0);
         let partial = self.pool.broadcast(|_| {
             let mut acc = init();
             loop {
@@ -407,6 +412,9 @@ impl ChaosGame {
                     self.chain::<true>(first + k as u64, n, &mut emit);
                 } else {
                     self.chain::<false>(first + k as u64, n, &mut emit);
+                }
+                if let Some(p) = &self.settings.progress {
+                    p.report(done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) as u64 + 1, batches as u64);
                 }
             }
         });
@@ -435,6 +443,9 @@ impl ChaosGame {
             });
             for buf in &bufs[..ks.len()] {
                 write(buf)?;
+            }
+            if let Some(p) = &self.settings.progress {
+                p.report((start + ks.len()) as u64, batches as u64);
             }
         }
         Ok(())
