@@ -235,6 +235,12 @@ pub fn run(args: RenderArgs) -> anyhow::Result<u8> {
     if random.is_some() && (depth.is_some() || tolerance.is_some()) {
         bail!("--random draws points by the chaos game: --depth and --tolerance do not apply to it");
     }
+    let flame = palette.is_some() || !colours.is_empty() || blur > 0.0 || vibrancy != 1.0 || background.is_some();
+    if flame && random.is_none() {
+        eprintln!(
+            "warning: --palette, --color, --blur, --vibrancy and --background shape chaos-game pictures (--random N); this render ignores them"
+        );
+    }
     let threads = check_threads(threads)?;
     // A fully known automaton whose constraints fail is not what its file says.
     if let Err(bcifs::SolveError::Inconsistent { conflicts }) = bcifs::solve(&design)
