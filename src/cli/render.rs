@@ -390,6 +390,17 @@ fn dedup(shape: &mut Shape, options: &RenderOptions) -> Option<usize> {
     dropped
 }
 
+/// A chaos game whose points are streamed or counted, never held: its
+/// memory check is for one batch.
+fn streaming_game(
+    automaton: &bcifs::Automaton<f64>,
+    model: &Model,
+    random: &bcifs::eval::RandomSettings,
+) -> Result<bcifs::eval::ChaosGame, RenderError> {
+    let batch = random.clone().with_points(random.points.min(bcifs::eval::BATCH));
+    Ok(bcifs::eval::ChaosGame::new(automaton, model, &batch)?)
+}
+
 /// An evaluator, its warnings (undecided convergence) told on stderr.
 fn evaluator(
     automaton: &bcifs::Automaton<f64>,
@@ -424,8 +435,7 @@ pub fn render(design: &Design, options: &RenderOptions, out: &Path) -> Result<Re
                 .with_precision(options.precision);
             if let (Some(random), false) = (&options.random, options.dedup) {
                 // The chaos game streamed, a few chains at a time.
-                let batch = random.clone().with_points(random.points.min(bcifs::eval::BATCH));
-                let game = bcifs::eval::ChaosGame::new(&instance.automaton, &model, &batch)?;
+                let game = streaming_game(&instance.automaton, &model, random)?;
                 check_disk(out, random.points as u128 * (3 + 22 * game.dim() as u128), options.max_output)?;
                 writer.object(design.name()).map_err(io)?;
                 game.stream(random.points, |xs| writer.vertices(game.dim(), xs, None)).map_err(io)?;
@@ -462,9 +472,7 @@ pub fn render(design: &Design, options: &RenderOptions, out: &Path) -> Result<Re
             let random = options.random.as_ref().expect("checked");
             let model = model_of(design)?;
             let instance = instantiate(design, &options.params)?;
-            // The game holds no points here: its own memory check is for a batch.
-            let batch = random.clone().with_points(random.points.min(bcifs::eval::BATCH));
-            let game = bcifs::eval::ChaosGame::new(&instance.automaton, &model, &batch)?;
+            let game = streaming_game(&instance.automaton, &model, random)?;
             let palette = options.palette.as_ref();
             let img = bcifs::export::density_image(&game, random.points, &options.raster, &options.tone, palette)?;
             write_png(out, &img).map_err(io)?;

@@ -6,10 +6,9 @@
 use std::io;
 use std::path::Path;
 
-use glam::{DMat3, DVec3};
 use image::{Rgb, RgbImage};
 
-use super::png::{Canvas, INK, PAPER, RasterSettings, RasterTooLarge, mix};
+use super::png::{Canvas, INK, PAPER, RasterSettings, RasterTooLarge, mix, screen};
 use crate::eval::{BATCH, ChaosGame};
 
 /// Colours indexed by the colour coordinate `c ∈ [0, 1]` (256 entries), as
@@ -377,23 +376,15 @@ pub fn density(
         return Err(too_large(settings, points, needed));
     }
     let d = game.dim();
-    let turn = DMat3::from_rotation_x(settings.view.pitch.to_radians())
-        * DMat3::from_rotation_z(settings.view.yaw.to_radians());
-    let screen = move |p: &[f64]| -> [f64; 2] {
-        if d < 3 {
-            return [p[0], p[1]];
-        }
-        let q = turn * DVec3::new(p[0], p[1], p[2]);
-        [q.x, q.z]
-    };
+    let turn = settings.view.turn();
     // The frame: the first batch's extent, centred, 3% wider.
     let first: Vec<[f64; 3]> = game.fold(
         BATCH.min(points.max(1)),
         false,
         Vec::new,
         |acc: &mut Vec<[f64; 3]>, xs, _| {
-            let finite = |p: &[f64; 2]| p.iter().all(|x| x.is_finite());
-            acc.extend(xs.chunks_exact(d).map(screen).filter(finite).map(|p| [p[0], p[1], 0.0]))
+            let finite = |p: &[f64; 3]| p.iter().all(|x| x.is_finite());
+            acc.extend(xs.chunks_exact(d).map(|p| screen(&turn, p)).filter(finite))
         },
         |mut a, b| {
             a.extend(b);

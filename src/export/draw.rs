@@ -4,15 +4,14 @@
 
 use std::io;
 
-use glam::{DMat3, DVec3};
+use glam::DMat3;
 use image::RgbImage;
 
-use super::png::{Canvas, RasterSettings, finish_picture, wu_line};
+use super::png::{Canvas, RasterSettings, finish_picture, screen, wu_line};
 use crate::eval::{EvalError, Evaluator};
 use crate::geometry::Sink;
 
-/// The screen position `(x, y up, depth)` of a point of `dim` coordinates,
-/// as [`super::raster`] projects it.
+/// The screen position of a point under the view (see [`screen`]).
 #[derive(Clone, Copy)]
 struct Projection {
     turn: DMat3,
@@ -20,16 +19,11 @@ struct Projection {
 
 impl Projection {
     fn new(settings: &RasterSettings) -> Projection {
-        let v = settings.view;
-        Projection { turn: DMat3::from_rotation_x(v.pitch.to_radians()) * DMat3::from_rotation_z(v.yaw.to_radians()) }
+        Projection { turn: settings.view.turn() }
     }
     #[inline]
     fn screen(&self, p: &[f64]) -> [f64; 3] {
-        if p.len() < 3 {
-            return [p[0], p.get(1).copied().unwrap_or(0.0), 0.0];
-        }
-        let q = self.turn * DVec3::new(p[0], p[1], p[2]);
-        [q.x, q.z, q.y]
+        screen(&self.turn, p)
     }
 }
 

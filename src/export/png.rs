@@ -102,21 +102,29 @@ impl RasterSettings {
 pub(super) const INK: [f64; 3] = [27.0, 58.0, 107.0];
 pub(super) const PAPER: [f64; 3] = [255.0, 255.0, 255.0];
 
-/// Projects shape vertices to `(screen x, screen y up, depth)`: rotate
-/// about z by the yaw, then tilt about x by the pitch, so x stays right, z
-/// goes up the screen and y into it.
+impl View {
+    /// The view's rotation: about z by the yaw, then about x by the pitch.
+    pub(super) fn turn(self) -> DMat3 {
+        DMat3::from_rotation_x(self.pitch.to_radians()) * DMat3::from_rotation_z(self.yaw.to_radians())
+    }
+}
+
+/// Where a point of 2 or 3 coordinates lands, `(screen x, screen y up,
+/// depth)`, under the rotation `turn` of a [`View`]: x stays right, z goes
+/// up the screen and y into it; 2D points are seen as they are.
+#[inline]
+pub(super) fn screen(turn: &DMat3, p: &[f64]) -> [f64; 3] {
+    if p.len() < 3 {
+        return [p[0], p.get(1).copied().unwrap_or(0.0), 0.0];
+    }
+    let q = *turn * DVec3::new(p[0], p[1], p[2]);
+    [q.x, q.z, q.y]
+}
+
+/// Projects shape vertices with [`screen`].
 fn project(shape: &Shape, view: View) -> Vec<[f64; 3]> {
-    let turn = DMat3::from_rotation_x(view.pitch.to_radians()) * DMat3::from_rotation_z(view.yaw.to_radians());
-    (0..shape.vertex_count())
-        .map(|i| {
-            let p = shape.point(i);
-            if shape.dim < 3 {
-                return [p[0], p[1], 0.0];
-            }
-            let q = turn * DVec3::from(p);
-            [q.x, q.z, q.y]
-        })
-        .collect()
+    let turn = view.turn();
+    (0..shape.vertex_count()).map(|i| screen(&turn, &shape.point(i)[..shape.dim.clamp(2, 3)])).collect()
 }
 
 pub(super) struct Canvas {
