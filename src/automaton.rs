@@ -352,6 +352,26 @@ impl<E: Entry> Automaton<E> {
         self.graph.edge_indices().map(|i| (i, &self.graph[i]))
     }
 
+    /// Whether subdivision arrow `id` can occur more than once on a path: it
+    /// lies on a cycle of subdivision arrows. Only those are iterated, so
+    /// only their spectra matter for convergence (an arrow out of a root that
+    /// nothing enters, like a mesh's patch selections, is applied once).
+    pub fn on_cycle(&self, id: EdgeIndex) -> bool {
+        let (from, to) = self.arrow_ends(id);
+        let mut seen = vec![false; self.graph.node_count()];
+        let mut stack = vec![to];
+        while let Some(s) = stack.pop() {
+            if s == from {
+                return true;
+            }
+            if std::mem::replace(&mut seen[s.index()], true) {
+                continue;
+            }
+            stack.extend(self.graph.edges(s).filter(|e| e.weight().kind == ArrowKind::Subdivision).map(|e| e.target()));
+        }
+        false
+    }
+
     /// The arrows leaving `state` of the given kind, in insertion order.
     pub fn outgoing(&self, state: NodeIndex, kind: ArrowKind) -> Vec<EdgeIndex> {
         let mut out: Vec<EdgeIndex> =

@@ -75,11 +75,11 @@ pub fn check(automaton: &Automaton<f64>, values: &HashMap<String, f64>, tol: f64
     let mut max_column_sum_error: f64 = 0.0;
     let mut spectra = Vec::new();
     let mut contractive = true;
-    for (_, arrow) in automaton.arrows() {
+    for (id, arrow) in automaton.arrows() {
         for j in 0..arrow.matrix.ncols() {
             max_column_sum_error = max_column_sum_error.max((arrow.matrix.column(j).sum() - 1.0).abs());
         }
-        if arrow.kind == ArrowKind::Subdivision && arrow.matrix.is_square() {
+        if arrow.kind == ArrowKind::Subdivision && arrow.matrix.is_square() && automaton.on_cycle(id) {
             let eig = eigenvalues(&arrow.matrix).unwrap_or_default();
             contractive &= !eig.is_empty() && contractive_spectrum(&eig, tol);
             spectra.push((arrow.name.clone(), eig));

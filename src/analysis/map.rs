@@ -21,9 +21,10 @@ pub struct MapCell {
 /// The per-matrix condition of seed 004 §3: every square subdivision arrow
 /// has one eigenvalue 1 and all others of modulus below 1.
 pub fn per_matrix_condition(automaton: &Automaton<f64>) -> bool {
-    automaton.arrows().all(|(_, a)| {
+    automaton.arrows().all(|(id, a)| {
         a.kind != ArrowKind::Subdivision
             || !a.matrix.is_square()
+            || !automaton.on_cycle(id)
             || eigenvalues(&a.matrix).is_some_and(|e| contractive_spectrum(&e, 1e-9))
     })
 }

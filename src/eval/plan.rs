@@ -173,14 +173,14 @@ impl Plan {
 /// Every column of every arrow sums to 1, and every square subdivision
 /// arrow has one eigenvalue 1 and all others of modulus < 1.
 fn check_arrows(automaton: &Automaton<f64>) -> Result<(), PlanError> {
-    for (_, arrow) in automaton.arrows() {
+    for (id, arrow) in automaton.arrows() {
         for (j, col) in arrow.matrix.column_iter().enumerate() {
             let sum = col.sum();
             if (sum - 1.0).abs() > 1e-9 {
                 return Err(PlanError::NotStochastic { arrow: arrow.name.clone(), column: j, sum });
             }
         }
-        if arrow.kind == ArrowKind::Subdivision && arrow.matrix.is_square() {
+        if arrow.kind == ArrowKind::Subdivision && arrow.matrix.is_square() && automaton.on_cycle(id) {
             let eig =
                 crate::algebra::eigenvalues(&arrow.matrix).ok_or_else(|| PlanError::Spectrum(arrow.name.clone()))?;
             if !crate::algebra::contractive_spectrum(&eig, 1e-9) {

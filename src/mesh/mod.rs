@@ -22,6 +22,7 @@
 //! assert!(limit.quads.len() > 0);
 //! ```
 
+mod automaton;
 mod limit;
 mod polymesh;
 mod read;

@@ -168,6 +168,9 @@ pub enum MeshError {
         /// Its degree.
         degree: usize,
     },
+    /// The mesh cannot be made an automaton (see [`PolyMesh::automaton`]).
+    #[error("{0}")]
+    Automaton(String),
     /// Writing the output failed.
     #[error("cannot write the mesh: {0}")]
     Write(std::io::Error),

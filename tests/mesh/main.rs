@@ -1,6 +1,9 @@
 //! Polygon meshes: reading, checks, subdivision against CGAL, limit surfaces.
 
+mod automaton;
 mod cgal;
+#[path = "../common/hausdorff.rs"]
+mod hausdorff;
 mod meshes;
 
 use bcifs::mesh::PolyMesh;

@@ -1,0 +1,191 @@
+//! A mesh as a generated BC-IFS automaton: its constraints hold identically
+//! in the weights, the file round-trips, extraordinary patches subdivide
+//! into themselves and regular ones, and the attractor is the scheme's limit
+//! surface (the mesh code's exact limit points, to rounding).
+
+use bcifs::analysis::{DEFAULT_CHECK_TOLERANCE, check};
+use bcifs::mesh::{LoopWeights, PolyMesh, QuadWeights, RuleWeights, Scheme};
+use bcifs::nalgebra::{DMatrix, DVector};
+use bcifs::petgraph::stable_graph::NodeIndex;
+use bcifs::{ArrowKind, Automaton, Design};
+
+use crate::hausdorff::hausdorff;
+
+/// The test meshes with the schemes that are generated (not √3).
+fn cases() -> Vec<(String, PolyMesh, Scheme)> {
+    crate::cases().into_iter().filter(|c| c.2 != Scheme::Sqrt3).collect()
+}
+
+/// The barycentric limit point of a vertex state: the fixed vector of its
+/// rule, or of the rule its one child leads to.
+fn vertex_point(a: &Automaton<f64>, s: NodeIndex) -> DVector<f64> {
+    let out = a.outgoing(s, ArrowKind::Subdivision);
+    assert_eq!(out.len(), 1, "a vertex has one child");
+    let e = out[0];
+    let m = &a.arrow(e).matrix;
+    let to = a.arrow_ends(e).1;
+    if to != s {
+        return m * vertex_point(a, to);
+    }
+    // Power iteration: the other eigenvalues are at most 0.8 in modulus here.
+    let mut x = DVector::from_element(m.ncols(), 1.0 / m.ncols() as f64);
+    for _ in 0..400 {
+        x = m * &x;
+    }
+    x
+}
+
+/// The corners of the face cells at `depth` below the root patches, in
+/// modelling space: side `j`'s start vertex, for every side (the other
+/// boundary arrows of an edge renumber it for a neighbour).
+fn attractor_corners(design: &Design, values: &[(String, f64)], depth: usize) -> Vec<[f64; 3]> {
+    let instance = bcifs::instantiate(design, values).unwrap();
+    let a = &instance.automaton;
+    let model = design.model().unwrap();
+    let p = DMatrix::from_fn(3, model.points.len(), |r, c| model.points[c][r]);
+    let corners = |face: NodeIndex| -> Vec<DVector<f64>> {
+        a.outgoing(face, ArrowKind::Boundary)
+            .into_iter()
+            .map(|b| {
+                let edge = a.arrow_ends(b).1;
+                let start = a
+                    .outgoing(edge, ArrowKind::Boundary)
+                    .into_iter()
+                    .find(|e| a.arrow(*e).name.ends_with("_start"))
+                    .unwrap();
+                &a.arrow(b).matrix * &a.arrow(start).matrix * vertex_point(a, a.arrow_ends(start).1)
+            })
+            .collect()
+    };
+    let mut out = Vec::new();
+    let root = a.state_id("mesh").unwrap();
+    let mut stack: Vec<(NodeIndex, DMatrix<f64>, usize)> = a
+        .outgoing(root, ArrowKind::Subdivision)
+        .into_iter()
+        .map(|e| (a.arrow_ends(e).1, &p * &a.arrow(e).matrix, 0))
+        .collect();
+    while let Some((s, c, d)) = stack.pop() {
+        if d == depth {
+            out.extend(corners(s).iter().map(|x| {
+                let y = &c * x;
+                [y[0], y[1], y[2]]
+            }));
+            continue;
+        }
+        for e in a.outgoing(s, ArrowKind::Subdivision) {
+            stack.push((a.arrow_ends(e).1, &c * &a.arrow(e).matrix, d + 1));
+        }
+    }
+    out
+}
+
+/// The points of the mesh code's limit surface that its faces use.
+fn limit_points(mesh: &PolyMesh, scheme: Scheme, depth: usize, weights: Option<RuleWeights>) -> Vec<[f64; 3]> {
+    let shape = mesh.limit_with(scheme, depth, weights, 1 << 30).unwrap();
+    let mut used = vec![false; shape.vertex_count()];
+    shape.quads.iter().flat_map(|q| q.iter().map(|&i| i as usize)).for_each(|i| used[i] = true);
+    shape.triangles.iter().flatten().for_each(|&i| used[i] = true);
+    (0..used.len()).filter(|&i| used[i]).map(|i| shape.point(i)).collect()
+}
+
+/// Every constraint of every generated automaton has a residual of exactly
+/// zero (the two sides select the same exact points), the exact solver
+/// keeps every weight free (the constraints hold identically in them), and
+/// the printed file reads back to the same family.
+#[test]
+fn constraints_hold_identically_in_the_weights() {
+    for (name, mesh, scheme) in cases() {
+        let design = mesh.automaton(scheme, None).unwrap();
+        let instance = bcifs::instantiate(&design, &[]).unwrap();
+        let report = check(&instance.automaton, &instance.values, DEFAULT_CHECK_TOLERANCE).unwrap();
+        assert!(report.ok && report.constraints.len() > 10, "{name} {scheme:?}: {:?}", report.constraints);
+        assert!(report.constraints.iter().all(|(_, r)| *r == 0.0), "{name} {scheme:?}");
+        assert!(report.contractive, "{name} {scheme:?}: a rule is not contractive");
+        let family = bcifs::solve(&design).unwrap();
+        let weights = design.declared().len();
+        assert_eq!(family.dof(), weights, "{name} {scheme:?}: {:?}", family.parameter_names());
+        let text = bcifs::write_design(&design);
+        let again = bcifs::parse_design(&text, "generated.toml", "x").unwrap();
+        assert_eq!(bcifs::solve(&again).unwrap().dof(), weights, "{name} {scheme:?}: the file does not read back");
+    }
+}
+
+/// The attractor is the limit surface: the corners of the cells `k` levels
+/// below the patches are the mesh code's limit points at depth `k` (a
+/// Catmull-Clark or Loop net vertex's limit position, a Doo-Sabin face's
+/// centroid), on closed and open meshes with triangles, quads, pentagons
+/// and vertices of valence 2 to 5.
+#[test]
+fn the_attractor_is_the_limit_surface() {
+    for (name, mesh, scheme) in cases() {
+        let design = mesh.automaton(scheme, None).unwrap();
+        for depth in [1, 2] {
+            let ours = attractor_corners(&design, &[], depth);
+            let theirs = limit_points(&mesh, scheme, depth, None);
+            let h = hausdorff(&ours, &theirs);
+            assert!(h < 1e-9, "{name} {scheme:?} depth {depth}: Hausdorff distance {h}");
+        }
+    }
+}
+
+/// Other members of the family are other surfaces, still the mesh code's:
+/// Doo-Sabin's quad rule and Loop's (w, σ) given to the generator become the
+/// defaults of its weights; and instantiating the classic file with those
+/// values gives the same points.
+#[test]
+fn other_weights_give_the_same_surface_as_the_mesh_code() {
+    let cube = crate::cube();
+    let rough = QuadWeights { alpha: 0.6, beta: 0.15, gamma: 0.19 };
+    let design = cube.automaton(Scheme::DooSabin, Some(rough.into())).unwrap();
+    let theirs = limit_points(&cube, Scheme::DooSabin, 2, Some(rough.into()));
+    assert!(hausdorff(&attractor_corners(&design, &[], 2), &theirs) < 1e-9);
+    let classic = cube.automaton(Scheme::DooSabin, None).unwrap();
+    let values: Vec<(String, f64)> =
+        [("alpha", 0.6), ("beta", 0.15), ("gamma", 0.19)].iter().map(|(n, v)| (n.to_string(), *v)).collect();
+    assert!(hausdorff(&attractor_corners(&classic, &values, 2), &theirs) < 1e-9);
+    assert!(hausdorff(&attractor_corners(&classic, &[], 2), &theirs) > 1e-3, "the weights change the surface");
+
+    let ico = crate::icosahedron();
+    let w = LoopWeights { w: 0.3, sigma: 0.9 };
+    let design = ico.automaton(Scheme::Loop, Some(w.into())).unwrap();
+    let theirs = limit_points(&ico, Scheme::Loop, 2, Some(w.into()));
+    assert!(hausdorff(&attractor_corners(&design, &[], 2), &theirs) < 1e-9);
+}
+
+/// The self-similar structure of seed 001 §3: a patch next to an
+/// extraordinary vertex has a child of its own state (the smaller patch
+/// around the same vertex), and the regular patch (the bicubic 4 × 4, the
+/// box-spline's 12 points, the biquadratic 3 × 3) has all its children of its
+/// own state.
+#[test]
+fn extraordinary_patches_subdivide_into_themselves_and_regular_ones() {
+    for (mesh, scheme, regular, extraordinary) in [
+        (crate::cube(), Scheme::CatmullClark, 16, 2 * 3 + 8),
+        (crate::icosahedron(), Scheme::Loop, 12, 5 + 6),
+        (crate::cube(), Scheme::DooSabin, 9, 8),
+    ] {
+        let design = mesh.automaton(scheme, None).unwrap();
+        let a = design.automaton();
+        let loops = |dim: usize| {
+            a.states()
+                .filter(|(_, s)| s.kind == bcifs::CellKind::Face && s.dim == dim)
+                .map(|(id, _)| {
+                    a.outgoing(id, ArrowKind::Subdivision).iter().filter(|e| a.arrow_ends(**e).1 == id).count()
+                })
+                .max()
+                .unwrap_or(0)
+        };
+        // Four children of each split (Loop's four triangles, the quads' 2 × 2).
+        assert_eq!(loops(regular), 4, "{scheme:?}: the regular patch");
+        assert_eq!(loops(extraordinary), 1, "{scheme:?}: the extraordinary patch");
+    }
+}
+
+/// Bad requests are refused with what is wrong: √3, and a polygon for Loop.
+#[test]
+fn sqrt3_and_polygons_for_loop_are_refused() {
+    let e = crate::cube().automaton(Scheme::Sqrt3, None).unwrap_err().to_string();
+    assert!(e.contains("two steps"), "{e}");
+    let e = crate::cube().automaton(Scheme::Loop, None).unwrap_err().to_string();
+    assert!(e.contains("--triangulate"), "{e}");
+}
