@@ -5,9 +5,10 @@
 use std::path::PathBuf;
 
 use anyhow::bail;
-use bcifs::export::{AtomicFile, RasterSettings};
+use bcifs::export::{AtomicFile, RasterSettings, write_atomic};
 use bcifs::mesh::{
-    LoopWeights, MeshFormat, QuadWeights, RuleWeights, Scheme, Subdivision, WeightsVerdict, Written, read_mesh,
+    LoopWeights, MeshFormat, PolyMesh, QuadWeights, RuleWeights, Scheme, Subdivision, WeightsVerdict, Written,
+    read_mesh,
 };
 
 use super::render::write_shape;
@@ -35,9 +36,13 @@ pub struct SurfaceArgs {
     /// Write the control mesh after DEPTH steps (as CGAL's Subdivision_method_3 makes it) instead of the limit surface.
     #[arg(long)]
     pub net: bool,
-    /// Output file: .obj, .off or .png (in the input file's axes).
-    #[arg(short, long)]
-    pub output: PathBuf,
+    /// Write the mesh as a generated BC-IFS automaton (states, exact matrices in the weights, constraints)
+    /// to -o FILE.toml or to standard output; `bcifs solve` and `bcifs check` read it.
+    #[arg(long, conflicts_with = "net")]
+    pub print: bool,
+    /// Output file: .obj, .off or .png (in the input file's axes); with --print, .toml.
+    #[arg(short, long, required_unless_present = "print")]
+    pub output: Option<PathBuf>,
     /// In-memory limit in MiB.
     #[arg(long, default_value_t = 4096)]
     pub memory_mib: usize,
@@ -90,10 +95,6 @@ pub fn run(args: SurfaceArgs) -> anyhow::Result<u8> {
     let (yaw, pitch) = parse_view(&args.view)?;
     let memory = args.memory_mib.saturating_mul(1 << 20);
     let raster = RasterSettings::default().with_size(w, h).with_view(yaw, pitch).with_memory_limit(memory);
-    let ext = args.output.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
-    if !matches!(ext.as_str(), "obj" | "off" | "png") {
-        bail!("unknown output format `{ext}`: expected .obj, .off or .png");
-    }
     let mut mesh = read_mesh(&args.mesh)?;
     if args.triangulate {
         mesh = mesh.triangulated();
@@ -106,20 +107,28 @@ pub fn run(args: SurfaceArgs) -> anyhow::Result<u8> {
     if let Some(WeightsVerdict::Undecided(why)) = verdict {
         eprintln!("warning: {why}");
     }
+    if args.print {
+        return print_automaton(&args, &mesh, scheme, weights, started);
+    }
+    let Some(output) = args.output.clone() else { bail!("give the output file with -o") };
+    let ext = output.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
+    if !matches!(ext.as_str(), "obj" | "off" | "png") {
+        bail!("unknown output format `{ext}`: expected .obj, .off or .png");
+    }
     let name = args.mesh.file_stem().map_or("mesh".into(), |s| s.to_string_lossy().to_string());
-    let io = |e: std::io::Error| anyhow::anyhow!("cannot write {}: {e}", args.output.display());
+    let io = |e: std::io::Error| anyhow::anyhow!("cannot write {}: {e}", output.display());
     let summary = if ext == "png" {
         let shape = if args.net {
             mesh.subdivide_with(scheme, args.depth, weights, memory)?.to_shape(&name)
         } else {
             mesh.limit_with(scheme, args.depth, weights, memory)?
         };
-        write_shape(&shape, &name, &raster, &args.output)?;
+        write_shape(&shape, &name, &raster, &output)?;
         Written { vertices: shape.vertex_count(), faces: shape.quads.len() + shape.triangles.len() }
     } else {
         // Streamed through a temporary file renamed at the end, in the input file's axes.
         let format = if ext == "obj" { MeshFormat::Obj(&name) } else { MeshFormat::Off };
-        let mut file = AtomicFile::create(&args.output).map_err(io)?;
+        let mut file = AtomicFile::create(&output).map_err(io)?;
         let job = Subdivision { scheme, depth: args.depth, weights, memory_limit: memory };
         let written = mesh.write_subdivided(&job, !args.net, format, file.writer())?;
         file.commit().map_err(io)?;
@@ -130,7 +139,39 @@ pub fn run(args: SurfaceArgs) -> anyhow::Result<u8> {
         "{label}: {} vertices, {} faces → {} ({:.2} s)",
         summary.vertices,
         summary.faces,
-        args.output.display(),
+        output.display(),
+        started.elapsed().as_secs_f64()
+    );
+    Ok(0)
+}
+
+/// `--print`: the mesh as a generated automaton, to `-o FILE.toml` or standard output.
+fn print_automaton(
+    args: &SurfaceArgs,
+    mesh: &PolyMesh,
+    scheme: Scheme,
+    weights: Option<RuleWeights>,
+    started: std::time::Instant,
+) -> anyhow::Result<u8> {
+    let design = mesh.automaton(scheme, weights)?;
+    let text = bcifs::write_design(&design);
+    let Some(output) = &args.output else {
+        print!("{text}");
+        return Ok(0);
+    };
+    let ext = output.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
+    if ext != "toml" {
+        bail!("--print writes an automaton file: give -o FILE.toml (or no -o for standard output), not .{ext}");
+    }
+    write_atomic(output, text.as_bytes()).map_err(|e| anyhow::anyhow!("cannot write {}: {e}", output.display()))?;
+    eprintln!(
+        "{}: {} states, {} arrows, {} constraints, {} weights → {} ({:.2} s)",
+        design.name(),
+        design.automaton().states().count(),
+        design.automaton().arrows().count(),
+        design.automaton().constraints().len(),
+        design.declared().len(),
+        output.display(),
         started.elapsed().as_secs_f64()
     );
     Ok(0)

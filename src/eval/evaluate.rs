@@ -57,6 +57,17 @@ impl Evaluator {
     }
 
     fn run(&self, out: Output<'_>) -> Result<(), EvalError> {
+        if self.polygon_faces() {
+            let depth = match self.settings.depth {
+                Depth::Fixed(k) => k,
+                Depth::Tolerance(eps) => self.depth_for_tolerance(eps)?,
+            };
+            let sink: &mut dyn Sink = match out {
+                Output::Memory(shape) => shape,
+                Output::Stream(sink) => sink,
+            };
+            return self.polygons(depth, sink);
+        }
         if self.meshes() {
             let depth = match self.settings.depth {
                 Depth::Fixed(k) => k,

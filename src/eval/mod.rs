@@ -5,6 +5,7 @@
 //! `plan` and `pieces` (per-state preparation, the model cut into root
 //! cells), `prepared` (the `Evaluator`: plan, pieces, tabulated levels,
 //! thread pool), `curve` and `surface` (curves and points; welded meshes),
+//! `polygons` (faces of several states: a mesh's generated automaton),
 //! `evaluate` (into memory or streamed), `random` (the chaos game).
 
 mod ball;
@@ -12,6 +13,7 @@ mod curve;
 mod evaluate;
 mod pieces;
 mod plan;
+mod polygons;
 mod prepared;
 mod random;
 mod settings;

@@ -35,8 +35,10 @@ pub enum PlanError {
         "the eigenvalues of arrow `{0}` could not be computed (the Schur iteration stalled): contractivity is unknown"
     )]
     Spectrum(String),
-    /// A vertex state without a subdivision arrow to itself.
-    #[error("vertex state `{0}` needs a subdivision arrow to itself (its fixed point is the vertex)")]
+    /// A vertex state without a subdivision arrow to itself (or one rule to another vertex state).
+    #[error(
+        "vertex state `{0}` needs a subdivision arrow to itself (its fixed point is the vertex), or one arrow to a vertex state that has one"
+    )]
     NoVertexRule(String),
     /// An edge state without two boundary arrows to vertices.
     #[error("edge state `{0}` needs two boundary arrows to vertex states (its start and its end)")]
@@ -194,18 +196,37 @@ fn check_arrows(automaton: &Automaton<f64>) -> Result<(), PlanError> {
     Ok(())
 }
 
-/// The fixed point of each vertex state's own rule (indexed by state), `None` for other states.
+/// The fixed point of each vertex state's own rule (indexed by state), `None`
+/// for other states. A vertex state whose one rule leads to another vertex
+/// state (a mesh vertex whose faces become quads after a step) has the image
+/// of that state's point.
 fn vertex_points(automaton: &Automaton<f64>) -> Result<Vec<Option<Vec<f64>>>, PlanError> {
     let size = automaton.states().map(|(i, _)| i.index() + 1).max().unwrap_or(0);
     let mut vertex_point: Vec<Option<Vec<f64>>> = vec![None; size];
+    let mut chained = Vec::new();
     for (id, s) in automaton.states() {
         if s.kind == CellKind::Vertex {
-            let rule = automaton
-                .outgoing(id, ArrowKind::Subdivision)
-                .into_iter()
-                .find(|e| automaton.arrow_ends(*e).1 == id)
-                .ok_or_else(|| PlanError::NoVertexRule(s.name.clone()))?;
-            vertex_point[id.index()] = fixed_point(&automaton.arrow(rule).matrix);
+            let rules = automaton.outgoing(id, ArrowKind::Subdivision);
+            match rules.iter().find(|e| automaton.arrow_ends(**e).1 == id) {
+                Some(rule) => vertex_point[id.index()] = fixed_point(&automaton.arrow(*rule).matrix),
+                None if rules.len() == 1 => chained.push((id, rules[0])),
+                None => return Err(PlanError::NoVertexRule(s.name.clone())),
+            }
+        }
+    }
+    // Follow the chains (each pass settles at least one state, or none can be).
+    while !chained.is_empty() {
+        let before = chained.len();
+        chained.retain(|&(id, e)| {
+            let to = automaton.arrow_ends(e).1;
+            let Some(v) = vertex_point[to.index()].clone() else { return true };
+            let m = &automaton.arrow(e).matrix;
+            vertex_point[id.index()] =
+                Some((0..m.nrows()).map(|i| (0..m.ncols()).map(|j| m[(i, j)] * v[j]).sum()).collect());
+            false
+        });
+        if chained.len() == before {
+            return Err(PlanError::NoVertexRule(automaton.state(chained[0].0).name.clone()));
         }
     }
     Ok(vertex_point)
@@ -269,11 +290,19 @@ fn face_plan(
             None => return Err(bad("its boundary edges do not close into a cycle of corners")),
         }
     }
-    if cycle.len() != 4 || cycle.len() != corners.len() {
-        return Err(bad(&format!("expected 4 corners joined by 4 edges, found {} corners", corners.len())));
+    if cycle.len() < 3 || cycle.len() != corners.len() {
+        return Err(bad(&format!("its {} corners do not make one polygon", corners.len())));
     }
     plan.samples = cycle.iter().map(|&i| corners[i].clone()).collect();
-    place_sub_faces(id, plan)
+    // A 2 × 2 (p × p) split of one state is meshed as a lattice; other faces
+    // (several states, triangles, n-gons: a mesh's generated automaton) as
+    // their corner polygons (`split` 0).
+    if cycle.len() == 4 && place_sub_faces(id, plan).is_ok() {
+        return Ok(());
+    }
+    plan.quadrants.clear();
+    plan.split = 0;
+    Ok(())
 }
 
 /// Places the sub-faces of a face as a `p × p` grid keeping its orientation

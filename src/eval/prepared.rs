@@ -215,8 +215,12 @@ impl Evaluator {
                     continue;
                 }
                 let r = self.tails[i].len();
-                let total: u128 =
-                    s.children.iter().map(|(_, t, _)| self.counts[*t].get(r - 1).copied().unwrap_or(u128::MAX)).sum();
+                // Faces have no table: a state with face children saturates.
+                let total: u128 = s
+                    .children
+                    .iter()
+                    .map(|(_, t, _)| self.counts[*t].get(r - 1).copied().unwrap_or(u128::MAX))
+                    .fold(0, u128::saturating_add);
                 if r > MAX_TAIL_LEVEL
                     || total as usize > TAIL_POINTS
                     || s.children.iter().any(|(_, t, _)| self.tails[*t].len() < r)
@@ -406,7 +410,7 @@ impl Evaluator {
     /// pieces, no dropped arrows), `Some(false)` when it is points only,
     /// `None` for a mesh or a mix.
     pub fn polylines(&self) -> Option<bool> {
-        if self.meshes() {
+        if self.meshes() || self.polygon_faces() {
             return None;
         }
         let line = |p: &super::pieces::Piece| {

@@ -828,3 +828,37 @@ fn control_nets_are_written() {
     assert!(mesh.signed_volume() > 0.0, "outwards");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `bcifs surface --print`: a Blender export as a generated automaton that
+/// `solve` and `check` read unchanged (Doo-Sabin's quad weights free, every
+/// constraint at zero), that `render` evaluates to the closed, outward limit
+/// surface, and that `--print` refuses to write as a mesh.
+#[test]
+fn a_users_mesh_prints_as_an_automaton_that_solves_checks_and_renders() {
+    let dir = std::env::temp_dir().join(format!("bcifs-surface-print-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = |f: &str| dir.join(f).to_str().unwrap().to_string();
+    let args = ["surface", "tests/data/torus12.obj", "--scheme", "doo-sabin", "--print", "-o"];
+    let (code, _, err) = bcifs(&[&args[..], &[&path("torus.toml")]].concat());
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("constraints"), "{err}");
+    let (code, out, err) = bcifs(&["solve", &path("torus.toml")]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("3 free parameter(s): alpha, beta, gamma"), "{}", &out[..out.len().min(300)]);
+    let (code, out, err) = bcifs(&["check", &path("torus.toml"), "--param", "alpha=0.6"]);
+    assert_eq!(code, 0, "{err}{out}");
+    assert!(out.trim_end().ends_with("ok") && !out.contains("FAIL"), "{out}");
+    let (code, _, err) = bcifs(&["render", &path("torus.toml"), "--depth", "2", "-o", &path("torus.obj")]);
+    assert_eq!(code, 0, "{err}");
+    let limit = bcifs::mesh::read_mesh(&dir.join("torus.obj")).unwrap();
+    assert!(limit.is_closed(), "the welded limit surface is closed (read back: manifold, consistently oriented)");
+    assert!(limit.signed_volume() > 0.0, "and faces outwards");
+    // Without -o the automaton goes to standard output; a mesh extension is refused.
+    let (code, out, _) = bcifs(&["surface", "tests/data/cube.off", "--scheme", "loop", "--triangulate", "--print"]);
+    assert_eq!(code, 0);
+    assert!(out.contains("name = \"mesh_loop\"") && out.contains("[constraints]"));
+    let (code, _, err) = bcifs(&[&args[..], &[&path("torus.obj")]].concat());
+    assert_ne!(code, 0);
+    assert!(err.contains("-o FILE.toml"), "{err}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -189,3 +189,34 @@ fn sqrt3_and_polygons_for_loop_are_refused() {
     let e = crate::cube().automaton(Scheme::Loop, None).unwrap_err().to_string();
     assert!(e.contains("--triangulate"), "{e}");
 }
+
+/// The evaluator meshes a generated automaton (faces of several states,
+/// triangles, n-gons) as its corner polygons, welded: a closed mesh gives a
+/// closed, outward surface of Euler characteristic 2 (genus 0), whose
+/// vertices are the limit points; an open one keeps its boundary.
+#[test]
+fn the_evaluator_welds_the_generated_patches_into_the_limit_surface() {
+    use bcifs::eval::{EvalSettings, Evaluator};
+    for (name, mesh, scheme) in cases() {
+        let design = mesh.automaton(scheme, None).unwrap();
+        let instance = bcifs::instantiate(&design, &[]).unwrap();
+        let ev = Evaluator::new(&instance.automaton, design.model().unwrap(), EvalSettings::default().with_depth(2))
+            .unwrap();
+        let shape = ev.evaluate().unwrap();
+        let mut faces: Vec<Vec<usize>> = shape.quads.iter().map(|q| q.iter().map(|&i| i as usize).collect()).collect();
+        faces.extend(shape.triangles.iter().map(|t| t.to_vec()));
+        let positions: Vec<[f64; 3]> = (0..shape.vertex_count()).map(|i| shape.point(i)).collect();
+        let surface = PolyMesh::new(positions.clone(), faces).unwrap_or_else(|e| panic!("{name} {scheme:?}: {e}"));
+        let h = hausdorff(&positions, &limit_points(&mesh, scheme, 2, None));
+        assert!(h < 1e-9, "{name} {scheme:?}: {h}");
+        if mesh.is_closed() {
+            assert!(surface.is_closed(), "{name} {scheme:?}");
+            assert!(surface.signed_volume() > 0.0, "{name} {scheme:?}: faces inwards");
+            let edges: usize = surface.faces().map(<[usize]>::len).sum::<usize>() / 2;
+            let euler = surface.positions.len() as i64 - edges as i64 + surface.face_count() as i64;
+            assert_eq!(euler, 2, "{name} {scheme:?}");
+        } else {
+            assert!(!surface.is_closed(), "{name} {scheme:?}");
+        }
+    }
+}

@@ -1,0 +1,111 @@
+//! Faces that are not a `p × p` split of one state — the patches of a
+//! mesh's generated automaton: several states, triangles, n-gons, each
+//! subdividing in its own orientation. Every face cell at depth `k` gives
+//! its corner polygon; corners that neighbouring cells share (computed along
+//! different paths, equal to rounding) are welded by position.
+
+use std::collections::HashMap;
+
+use super::prepared::Evaluator;
+use super::settings::EvalError;
+use crate::geometry::Sink;
+use crate::space::CellKind;
+
+impl Evaluator {
+    /// Whether a piece leads to a face that is not meshed as a lattice.
+    pub(super) fn polygon_faces(&self) -> bool {
+        let mut seen = vec![false; self.plan.states.len()];
+        let mut stack: Vec<usize> = self.pieces.pieces.iter().map(|p| p.state).collect();
+        while let Some(s) = stack.pop() {
+            if std::mem::replace(&mut seen[s], true) {
+                continue;
+            }
+            let sp = self.plan.state(s);
+            if sp.kind == CellKind::Face && sp.split == 0 && !self.uses_start_set(s) {
+                return true;
+            }
+            stack.extend(sp.children.iter().map(|c| c.1));
+        }
+        false
+    }
+
+    /// The corner polygons of the face cells `k` subdivisions below the
+    /// pieces (a root that is not a face, like a mesh's selection of its
+    /// patches, does not count as a subdivision), welded.
+    pub(super) fn polygons(&self, k: usize, sink: &mut dyn Sink) -> Result<(), EvalError> {
+        let d = self.pieces.dim;
+        let mut first = 0usize;
+        for piece in &self.pieces.pieces {
+            let scale = piece.control.iter().fold(1.0f64, |m, x| m.max(x.abs()));
+            let mut weld = Weld { q: 1e-9 * scale, d, index: HashMap::new(), positions: Vec::new() };
+            let (mut quads, mut triangles) = (Vec::new(), Vec::new());
+            let mut stack = vec![(piece.state, piece.control.clone(), k)];
+            while let Some((s, c, r)) = stack.pop() {
+                let sp = self.plan.state(s);
+                if sp.kind == CellKind::Face && r == 0 {
+                    let n = sp.dim;
+                    let corners: Vec<usize> = sp
+                        .samples
+                        .iter()
+                        .map(|b| {
+                            let p: Vec<f64> = (0..d).map(|a| (0..n).map(|i| c[a * n + i] * b[i]).sum()).collect();
+                            first + weld.index(&p)
+                        })
+                        .collect();
+                    match corners.len() {
+                        3 => triangles.push([corners[0], corners[1], corners[2]]),
+                        4 => quads.push([corners[0], corners[1], corners[2], corners[3]]),
+                        _ => triangles.extend((1..corners.len() - 1).map(|i| [corners[0], corners[i], corners[i + 1]])),
+                    }
+                    continue;
+                }
+                let step = usize::from(sp.kind == CellKind::Face || sp.children.iter().any(|ch| ch.1 == s));
+                if r < step {
+                    continue;
+                }
+                for (_, t, m) in &sp.children {
+                    let nt = self.plan.state(*t).dim;
+                    let mut child = vec![0.0; d * nt];
+                    super::prepared::mul_into(&c, d, sp.dim, m, nt, &mut child);
+                    stack.push((*t, child, r - step));
+                }
+            }
+            sink.object(&piece.name)?;
+            sink.vertices(d, &weld.positions, None)?;
+            sink.faces(&quads, None)?;
+            sink.triangles(&triangles)?;
+            first += weld.positions.len() / d;
+        }
+        Ok(())
+    }
+}
+
+/// Points numbered once each: equal up to `q` (a grid of cells of side `q`,
+/// searched with its neighbours).
+struct Weld {
+    q: f64,
+    d: usize,
+    index: HashMap<Vec<i64>, usize>,
+    positions: Vec<f64>,
+}
+
+impl Weld {
+    fn index(&mut self, p: &[f64]) -> usize {
+        let key: Vec<i64> = p.iter().map(|x| (x / self.q).round() as i64).collect();
+        for offset in 0..3usize.pow(self.d as u32) {
+            let mut k = key.clone();
+            let mut o = offset;
+            for x in &mut k {
+                *x += (o % 3) as i64 - 1;
+                o /= 3;
+            }
+            if let Some(&i) = self.index.get(&k) {
+                return i;
+            }
+        }
+        let i = self.positions.len() / self.d;
+        self.index.insert(key, i);
+        self.positions.extend_from_slice(p);
+        i
+    }
+}
