@@ -31,6 +31,49 @@ pub fn sqrt3_alpha(n: usize) -> f64 {
     (4.0 - 2.0 * (2.0 * PI / n as f64).cos()) / 9.0
 }
 
+/// The points of a step, its faces dropped.
+struct Points(Vec<[f64; 3]>);
+
+impl MeshOut for Points {
+    fn vertex(&mut self, p: [f64; 3]) -> io::Result<()> {
+        self.0.push(p);
+        Ok(())
+    }
+    fn face(&mut self, _: &mut dyn Iterator<Item = usize>) -> io::Result<()> {
+        Ok(())
+    }
+}
+
+/// Loop's interior vertex point of `p` of valence `n` whose neighbours sum to `r`.
+fn loop_vertex(p: [f64; 3], r: [f64; 3], n: usize, custom: Option<LoopWeights>) -> [f64; 3] {
+    let mut q = [0.0; 3];
+    if let Some(l) = custom {
+        let ring = l.ring(n);
+        add(&mut q, p, 1.0 - ring);
+        add(&mut q, r, ring / n as f64);
+    } else if n == 6 {
+        add(&mut q, p, 10.0 / 16.0);
+        add(&mut q, r, 1.0 / 16.0);
+    } else {
+        // CGAL's arithmetic: (Sw v + R) / W with Cn = nβ, Sw = n(1 − Cn)/Cn, W = n/Cn.
+        let cn = loop_beta(n) * n as f64;
+        let (sw, w) = (n as f64 * (1.0 - cn) / cn, n as f64 / cn);
+        add(&mut q, p, sw / w);
+        add(&mut q, r, 1.0 / w);
+    }
+    q
+}
+
+/// Loop's interior edge point of the edge `[a, b]` with the opposite vertices `[c, d]`: `[a, b, c, d]`.
+fn loop_edge(points: [[f64; 3]; 4], custom: Option<LoopWeights>) -> [f64; 3] {
+    let (end, opposite) = custom.map_or((3.0 / 8.0, 1.0 / 8.0), |l| (l.w, 0.5 - l.w));
+    let mut e = [0.0; 3];
+    for (q, w) in points.into_iter().zip([end, end, opposite, opposite]) {
+        add(&mut e, q, w);
+    }
+    e
+}
+
 /// The ring of interior vertex `v` (first corner `c0`): its neighbours in rotation order.
 fn ring<'a>(mesh: &'a PolyMesh, t: &'a Topology, c0: usize) -> impl Iterator<Item = usize> + 'a {
     let mut at = Some(c0);
@@ -57,42 +100,23 @@ impl PolyMesh {
         for v in 0..nv {
             let p = self.positions[v];
             let c0 = t.first(v);
-            let mut q = [0.0; 3];
-            if c0 == BORDER {
-                q = p;
+            let q = if c0 == BORDER {
+                p
             } else if t.on_border(v) {
-                q = border_curve_point(self, t, c0);
+                border_curve_point(self, t, c0)
             } else {
                 let (mut r, mut n) = ([0.0; 3], 0usize);
                 for u in ring(self, t, c0) {
                     add(&mut r, self.positions[u], 1.0);
                     n += 1;
                 }
-                if let Some(l) = custom {
-                    let ring = l.ring(n);
-                    add(&mut q, p, 1.0 - ring);
-                    add(&mut q, r, ring / n as f64);
-                } else if n == 6 {
-                    add(&mut q, p, 10.0 / 16.0);
-                    add(&mut q, r, 1.0 / 16.0);
-                } else {
-                    // CGAL's arithmetic: (Sw v + R) / W with Cn = nβ, Sw = n(1 − Cn)/Cn, W = n/Cn.
-                    let cn = loop_beta(n) * n as f64;
-                    let (sw, w) = (n as f64 * (1.0 - cn) / cn, n as f64 / cn);
-                    add(&mut q, p, sw / w);
-                    add(&mut q, r, 1.0 / w);
-                }
-            }
+                loop_vertex(p, r, n, custom)
+            };
             out.vertex(q)?;
         }
         let (edge_of, _) = self.edge_points(t, out, |c, tw| {
             let p = |c: usize| self.positions[self.indices[c]];
-            let mut e = [0.0; 3];
-            let (end, opposite) = custom.map_or((3.0 / 8.0, 1.0 / 8.0), |l| (l.w, 0.5 - l.w));
-            for (q, w) in [(p(c), end), (p(tw), end), (p(t.prev(self, c)), opposite), (p(t.prev(self, tw)), opposite)] {
-                add(&mut e, q, w);
-            }
-            e
+            loop_edge([p(c), p(tw), p(t.prev(self, c)), p(t.prev(self, tw))], custom)
         })?;
         for f in 0..self.face_count() {
             let s = self.starts[f];
@@ -102,6 +126,124 @@ impl PolyMesh {
             out.face(&mut [v[1], e[1], e[0]].into_iter())?;
             out.face(&mut [v[2], e[2], e[1]].into_iter())?;
             out.face(&mut [e[0], e[1], e[2]].into_iter())?;
+        }
+        Ok(())
+    }
+
+    /// Two Loop steps into `out` without the net between them, which would
+    /// take four times this net's memory: that net's points are made by
+    /// [`PolyMesh::loop_into`] (vertex points, then edge points in edge
+    /// order) and its connectivity is read off this net's corners (child `k`
+    /// of a face is `[v_k, m(e_k), m(e_{k−1})]`, the middle one
+    /// `[m(e_0), m(e_1), m(e_2)]`). The output has the same points and faces,
+    /// in the same face order, as two steps in memory; its vertices are that
+    /// net's vertex points, then two per edge of this net (its halves, from
+    /// the edge's numbering corner) and three per face (the middle
+    /// triangle's edges).
+    pub(crate) fn loop_twice_into(
+        &self,
+        t: &Topology,
+        weights: Option<LoopWeights>,
+        out: &mut dyn MeshOut,
+    ) -> io::Result<()> {
+        let custom = weights.filter(|w| *w != LoopWeights::CLASSIC);
+        let (nv, nf) = (self.positions.len(), self.face_count());
+        let mut mid = Points(Vec::new());
+        self.loop_into(t, weights, &mut mid)?;
+        let mid = mid.0;
+        let (edge_of, edges) = self.edge_points(t, &mut Points(Vec::new()), |_, _| [0.0; 3])?;
+        let m = |c: usize| nv + edge_of[c] as usize;
+        let canonical = |c: usize| t.twin(c) == BORDER || c < t.twin(c);
+        let sum = |ids: &[usize]| {
+            let mut r = [0.0; 3];
+            ids.iter().for_each(|&i| add(&mut r, mid[i], 1.0));
+            r
+        };
+        let border = |u: usize, v: usize, w: usize| {
+            let mut q = [0.0; 3];
+            add(&mut q, mid[u], 1.0 / 8.0);
+            add(&mut q, mid[v], 6.0 / 8.0);
+            add(&mut q, mid[w], 1.0 / 8.0);
+            q
+        };
+        let half = |a: usize, b: usize| {
+            let mut q = [0.0; 3];
+            add(&mut q, mid[a], 0.5);
+            add(&mut q, mid[b], 0.5);
+            q
+        };
+        // The middle net's vertex points: its old vertices, then its edge points.
+        for v in 0..nv {
+            let c0 = t.first(v);
+            let q = if c0 == BORDER {
+                mid[v]
+            } else if t.on_border(v) {
+                let mut last = c0;
+                while t.rotate(self, last) != BORDER {
+                    last = t.rotate(self, last);
+                }
+                border(m(t.prev(self, last)), v, m(c0))
+            } else {
+                let mut ring = vec![m(c0)];
+                let mut c = t.rotate(self, c0);
+                while c != c0 {
+                    ring.push(m(c));
+                    c = t.rotate(self, c);
+                }
+                loop_vertex(mid[v], sum(&ring), ring.len(), custom)
+            };
+            out.vertex(q)?;
+        }
+        let numbering: Vec<usize> = (0..self.corner_count()).filter(|&c| canonical(c)).collect();
+        for &c in &numbering {
+            let (tw, a, b) = (t.twin(c), self.indices[c], self.indices[t.next(self, c)]);
+            let q = if tw == BORDER {
+                border(a, m(c), b)
+            } else {
+                let ring = [a, b, m(t.next(self, c)), m(t.prev(self, c)), m(t.next(self, tw)), m(t.prev(self, tw))];
+                loop_vertex(mid[m(c)], sum(&ring), 6, custom)
+            };
+            out.vertex(q)?;
+        }
+        // The middle net's edge points: the halves of this net's edges, the middle triangles' edges.
+        for &c in &numbering {
+            let (tw, a, b) = (t.twin(c), self.indices[c], self.indices[t.next(self, c)]);
+            if tw == BORDER {
+                out.vertex(half(a, m(c)))?;
+                out.vertex(half(m(c), b))?;
+            } else {
+                let (p, n) = (m(t.prev(self, c)), m(t.next(self, c)));
+                let (tp, tn) = (m(t.prev(self, tw)), m(t.next(self, tw)));
+                out.vertex(loop_edge([mid[a], mid[m(c)], mid[p], mid[tn]], custom))?;
+                out.vertex(loop_edge([mid[m(c)], mid[b], mid[n], mid[tp]], custom))?;
+            }
+        }
+        for f in 0..nf {
+            let s = self.starts[f];
+            for k in 0..3 {
+                let (k1, k2) = (s + (k + 1) % 3, s + (k + 2) % 3);
+                let e = [mid[m(s + k)], mid[m(k1)], mid[self.indices[k1]], mid[m(k2)]];
+                out.vertex(loop_edge(e, custom))?;
+            }
+        }
+        // Sixteen triangles per face: each child [A, B, C] split as one step splits it.
+        let base = nv + edges;
+        let start_half = |c: usize| base + 2 * edge_of[c] as usize + usize::from(!canonical(c));
+        let end_half = |c: usize| base + 2 * edge_of[c] as usize + usize::from(canonical(c));
+        let inner = |f: usize, k: usize| base + 2 * edges + 3 * f + k;
+        for f in 0..nf {
+            let s = self.starts[f];
+            let mut split = |[a, b, c]: [usize; 3], [ab, bc, ca]: [usize; 3]| -> io::Result<()> {
+                out.face(&mut [a, ab, ca].into_iter())?;
+                out.face(&mut [b, bc, ab].into_iter())?;
+                out.face(&mut [c, ca, bc].into_iter())?;
+                out.face(&mut [ab, bc, ca].into_iter())
+            };
+            for k in 0..3 {
+                let p = (k + 2) % 3;
+                split([self.indices[s + k], m(s + k), m(s + p)], [start_half(s + k), inner(f, p), end_half(s + p)])?;
+            }
+            split([m(s), m(s + 1), m(s + 2)], [inner(f, 0), inner(f, 1), inner(f, 2)])?;
         }
         Ok(())
     }
