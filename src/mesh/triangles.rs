@@ -173,10 +173,10 @@ impl PolyMesh {
             q
         };
         // The middle net's vertex points: its old vertices, then its edge points.
-        for v in 0..nv {
+        for (v, &p) in mid.iter().enumerate().take(nv) {
             let c0 = t.first(v);
             let q = if c0 == BORDER {
-                mid[v]
+                p
             } else if t.on_border(v) {
                 let mut last = c0;
                 while t.rotate(self, last) != BORDER {
@@ -190,7 +190,7 @@ impl PolyMesh {
                     ring.push(m(c));
                     c = t.rotate(self, c);
                 }
-                loop_vertex(mid[v], sum(&ring), ring.len(), custom)
+                loop_vertex(p, sum(&ring), ring.len(), custom)
             };
             out.vertex(q)?;
         }
