@@ -186,9 +186,12 @@ fn check_arrows(automaton: &Automaton<f64>) -> Result<(), PlanError> {
             let eig =
                 crate::algebra::eigenvalues(&arrow.matrix).ok_or_else(|| PlanError::Spectrum(arrow.name.clone()))?;
             if !crate::algebra::contractive_spectrum(&eig, 1e-9) {
-                let mut moduli: Vec<f64> = eig.iter().map(|l| l.norm()).collect();
-                moduli.sort_by(f64::total_cmp);
-                let modulus = if moduli.len() > 1 { moduli[moduli.len() - 2] } else { moduli[0] };
+                // The largest modulus once the eigenvalue nearest 1 is set aside.
+                let one = (0..eig.len()).min_by(|&a, &b| (eig[a] - 1.0).norm().total_cmp(&(eig[b] - 1.0).norm()));
+                let modulus = (0..eig.len())
+                    .filter(|&i| Some(i) != one || eig.len() == 1)
+                    .map(|i| eig[i].norm())
+                    .fold(0.0, f64::max);
                 return Err(PlanError::NotContractive { arrow: arrow.name.clone(), modulus });
             }
         }

@@ -33,6 +33,11 @@
 //! the weights: `bcifs solve` keeps every weight free, and `bcifs check`
 //! finds residuals of zero.
 //!
+//! The weights are the rotationally symmetric rules on each scheme's
+//! stencils: Doo-Sabin `alpha, beta, gamma` on quads and `a{n}_{k}` (corner
+//! `i + k`'s share) on other n-gons; Loop `w` and `beta{n}` per valence;
+//! Catmull-Clark `edge_faces` and, per valence, `ring{n}` and `faces{n}`.
+//!
 //! The root state `mesh` has the input mesh's vertices as control points
 //! and one selection arrow per patch: the model is the user's mesh itself.
 //! √3 is not generated: its two half steps rotate the faces, so a triangle
@@ -344,22 +349,31 @@ fn add_sym(s: &mut Sym, o: &Sym, k: &BigRational) {
     }
 }
 
+/// `s += k · w · o` for a point `o` of constant weights.
+fn add_scaled_points(s: &mut Sym, o: &Sym, w: &Lin, k: &BigRational) {
+    for (v, c) in o {
+        let mut share = Lin::default();
+        share.add_scaled(w, &(&c.c * k));
+        add_point(s, *v, &share);
+    }
+}
+
 /// The weights of a scheme as named parameters of the automaton, with defaults.
 struct Weights {
     scheme: Scheme,
     names: Vec<String>,
-    defaults: Vec<f64>,
+    defaults: Vec<Value>,
     quad: QuadWeights,
     triangle: LoopWeights,
 }
 
 impl Weights {
-    fn param(&mut self, name: String, default: f64) -> usize {
+    fn param(&mut self, name: String, default: impl Into<Value>) -> usize {
         if let Some(i) = self.names.iter().position(|n| *n == name) {
             return i;
         }
         self.names.push(name);
-        self.defaults.push(default);
+        self.defaults.push(default.into());
         self.names.len() - 1
     }
 
@@ -398,6 +412,15 @@ impl Weights {
         }
         out[rest] = last;
         out
+    }
+
+    /// Catmull-Clark's vertex rule at valence `n`: the shares of the
+    /// neighbours' average (`ring{n}`) and of the face points' average
+    /// (`faces{n}`), both `1/n` in the classic rule `(Q + 2R + (n − 3)v)/n`.
+    fn catmull_clark_vertex(&mut self, n: usize) -> (Lin, Lin) {
+        let ring = self.param(format!("ring{n}"), format!("1/{n}"));
+        let faces = self.param(format!("faces{n}"), format!("1/{n}"));
+        (Lin::param(ring), Lin::param(faces))
     }
 
     /// Loop's ring weight `β` at valence `n` (each neighbour; the vertex keeps `1 − nβ`).
@@ -473,16 +496,20 @@ fn primal_step(m: &Local, w: &mut Weights) -> Step {
                 add_point(&mut s, v, &keep);
                 out.iter().for_each(|&h| add_point(&mut s, m.head(h), &beta));
             } else {
-                // (Q + 2R + (n − 3)v)/n: Q the mean face point, R the mean edge midpoint.
-                let nf = n as i64;
-                for &(f, _) in out {
-                    add_sym(&mut s, &face_point[f], &rat(1, nf * nf));
-                }
+                // (1 − r − f) v + r · (mean neighbour) + f · (mean face point);
+                // r = f = 1/n is (Q + 2R + (n − 3)v)/n.
+                let (r, f) = w.catmull_clark_vertex(n);
+                let mut keep = one.clone();
+                keep.add_scaled(&r, &-BigRational::one());
+                keep.add_scaled(&f, &-BigRational::one());
+                add_point(&mut s, v, &keep);
+                let each = rat(1, n as i64);
                 for &h in out {
-                    add_sym(&mut s, &unit(v), &rat(1, nf * nf));
-                    add_sym(&mut s, &unit(m.head(h)), &rat(1, nf * nf));
+                    let mut share = Lin::default();
+                    share.add_scaled(&r, &each);
+                    add_point(&mut s, m.head(h), &share);
+                    add_scaled_points(&mut s, &face_point[h.0], &f, &each);
                 }
-                add_sym(&mut s, &unit(v), &rat(nf - 3, nf));
             }
             Some(s)
         };
@@ -509,9 +536,14 @@ fn primal_step(m: &Local, w: &mut Weights) -> Step {
                         add_point(&mut s, m.at(m.prev(h)), &opposite);
                         add_point(&mut s, m.at(m.prev(t)), &opposite);
                     } else {
-                        for x in [unit(a), unit(b), face_point[f].clone(), face_point[t.0].clone()] {
-                            add_sym(&mut s, &x, &rat(1, 4));
-                        }
+                        // (1 − c)/2 (a + b) + c/2 (f + g): c = 1/2 is (a + b + f + g)/4.
+                        let c = Lin::param(w.param("edge_faces".into(), "1/2"));
+                        let mut end = Lin::konst(rat(1, 2));
+                        end.add_scaled(&c, &rat(-1, 2));
+                        add_point(&mut s, a, &end);
+                        add_point(&mut s, b, &end);
+                        add_scaled_points(&mut s, &face_point[f], &c, &rat(1, 2));
+                        add_scaled_points(&mut s, &face_point[t.0], &c, &rat(1, 2));
                     }
                     Some(s)
                 }
@@ -865,7 +897,9 @@ impl PolyMesh {
     /// use bcifs::mesh::{PolyMesh, Scheme};
     /// let design = PolyMesh::cube().automaton(Scheme::CatmullClark, None).unwrap();
     /// let family = bcifs::solve(&design).unwrap();
-    /// assert_eq!(family.dof(), 0); // Catmull-Clark has no weights to choose
+    /// // The constraints hold for every weight: the edge rule's and, at the
+    /// // cube's valence 3 and the new vertices' 4, the vertex rule's two.
+    /// assert_eq!(family.parameter_names(), ["ring3", "faces3", "edge_faces", "ring4", "faces4"]);
     /// ```
     ///
     /// # Errors
@@ -972,7 +1006,7 @@ impl Generator {
         }
         for (n, d) in self.weights.names.iter().zip(&self.weights.defaults) {
             b.parameter(n.clone());
-            b.default_value(n, *d);
+            b.default_value(n, d.clone());
         }
         let points = mesh.positions.iter().map(|p| p.to_vec()).collect();
         b.model(
