@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::bail;
 use bcifs::eval::{EvalError, EvalSettings, Evaluator, chaos_game};
-use bcifs::export::{ObjWriter, RasterSettings, raster, svg, write_atomic, write_obj, write_png};
+use bcifs::export::{ObjWriter, RasterSettings, raster, svg, svg_surface, write_atomic, write_obj, write_png};
 use bcifs::geometry::{Shape, Sink};
 use bcifs::{Design, DesignInstantiateError, Model, instantiate};
 
@@ -610,6 +610,9 @@ pub fn write_shape(
     let summary = RenderSummary { vertices: shape.vertex_count(), quads: shape.quads.len(), duplicates: None };
     match ext.as_str() {
         "obj" => write_obj(shape, name, out).map_err(io)?,
+        "svg" if !shape.quads.is_empty() || !shape.triangles.is_empty() => {
+            write_atomic(out, svg_surface(shape, raster_settings).as_bytes()).map_err(io)?;
+        }
         "svg" => {
             if shape.dim > 2 {
                 return Err(RenderError::NotPlanar);

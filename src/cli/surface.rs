@@ -40,7 +40,7 @@ pub struct SurfaceArgs {
     /// to -o FILE.toml or to standard output; `bcifs solve` and `bcifs check` read it.
     #[arg(long, conflicts_with = "net")]
     pub print: bool,
-    /// Output file: .obj, .off or .png (in the input file's axes); with --print, .toml.
+    /// Output file: .obj, .off, .png or .svg (in the input file's axes; pictures seen from --view); with --print, .toml.
     #[arg(short, long, required_unless_present = "print")]
     pub output: Option<PathBuf>,
     /// In-memory limit in MiB.
@@ -112,12 +112,12 @@ pub fn run(args: SurfaceArgs) -> anyhow::Result<u8> {
     }
     let Some(output) = args.output.clone() else { bail!("give the output file with -o") };
     let ext = output.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
-    if !matches!(ext.as_str(), "obj" | "off" | "png") {
-        bail!("unknown output format `{ext}`: expected .obj, .off or .png");
+    if !matches!(ext.as_str(), "obj" | "off" | "png" | "svg") {
+        bail!("unknown output format `{ext}`: expected .obj, .off, .png or .svg");
     }
     let name = args.mesh.file_stem().map_or("mesh".into(), |s| s.to_string_lossy().to_string());
     let io = |e: std::io::Error| anyhow::anyhow!("cannot write {}: {e}", output.display());
-    let summary = if ext == "png" {
+    let summary = if ext == "png" || ext == "svg" {
         let shape = if args.net {
             mesh.subdivide_with(scheme, args.depth, weights, memory)?.to_shape(&name)
         } else {

@@ -12,4 +12,4 @@ pub use density::{Density, Palette, Tone, density, density_bytes, density_image}
 pub use draw::{picture, picture_bytes, picture_depth};
 pub use obj::{ObjWriter, Up, write_evaluation, write_obj};
 pub use png::{RasterSettings, RasterTooLarge, View, ascii, raster, raster_bytes, write_png};
-pub use svg::svg;
+pub use svg::{svg, svg_surface};

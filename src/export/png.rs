@@ -122,7 +122,7 @@ pub(super) fn screen(turn: &DMat3, p: &[f64]) -> [f64; 3] {
 }
 
 /// Projects shape vertices with [`screen`].
-fn project(shape: &Shape, view: View) -> Vec<[f64; 3]> {
+pub(super) fn project(shape: &Shape, view: View) -> Vec<[f64; 3]> {
     let turn = view.turn();
     (0..shape.vertex_count()).map(|i| screen(&turn, &shape.point(i)[..shape.dim.clamp(2, 3)])).collect()
 }
@@ -295,19 +295,24 @@ pub(super) fn finish_picture(w: u32, h: u32, cov: &[f32], density: &[u32]) -> Rg
     img
 }
 
+/// The flat shade of a triangle of projected points (screen x right, y up,
+/// depth into the screen; light from the viewer's upper left, both sides
+/// lit); `None` when degenerate.
+pub(super) fn face_colour(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> Option<Rgb<u8>> {
+    let light = DVec3::new(-0.4, 0.6, -0.7).normalize();
+    let (va, vb, vc) = (DVec3::from(a), DVec3::from(b), DVec3::from(c));
+    let n = (vb - va).cross(vc - va).try_normalize()?;
+    Some(mix([40.0, 52.0, 80.0], [214.0, 226.0, 245.0], 0.15 + 0.85 * n.dot(light).abs()))
+}
+
 fn shade(shape: &Shape, pts: &[[f64; 3]], canvas: &Canvas, img: &mut RgbImage) {
     let (w, h) = (canvas.w, canvas.h);
     let mut depth = vec![f64::INFINITY; w * h];
-    // Screen: x right, y up, depth into the screen: light from the viewer's upper left.
-    let light = DVec3::new(-0.4, 0.6, -0.7).normalize();
     let split =
         shape.quads.iter().flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]].map(|t| t.map(|i| i as usize)));
     for tri in split.chain(shape.triangles.iter().copied()) {
         let [a, b, c] = tri.map(|i| pts[i]);
-        let (va, vb, vc) = (DVec3::from(a), DVec3::from(b), DVec3::from(c));
-        let Some(n) = (vb - va).cross(vc - va).try_normalize() else { continue };
-        let lambert = n.dot(light).abs();
-        let colour = mix([40.0, 52.0, 80.0], [214.0, 226.0, 245.0], 0.15 + 0.85 * lambert);
+        let Some(colour) = face_colour(a, b, c) else { continue };
         let s = [a, b, c].map(|p| canvas.px(p));
         let (x0, x1) = (
             s.iter().map(|p| p.0).fold(f64::INFINITY, f64::min),

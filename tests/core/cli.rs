@@ -862,3 +862,33 @@ fn a_users_mesh_prints_as_an_automaton_that_solves_checks_and_renders() {
     assert!(err.contains("-o FILE.toml"), "{err}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `bcifs surface … -o X.svg`: the limit surface as a vector picture, one
+/// shaded polygon per face, painted far to near.
+#[test]
+fn surface_pictures_as_svg() {
+    let dir = std::env::temp_dir().join(format!("bcifs-surface-svg-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("cube.svg");
+    let (code, _, err) = bcifs(&[
+        "surface",
+        "tests/data/cube.off",
+        "--scheme",
+        "catmull-clark",
+        "--depth",
+        "2",
+        "--size",
+        "300x200",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(text.starts_with("<svg") && text.contains("width=\"300\" height=\"200\""));
+    // The cube after two steps: 6 × 16 quads, each a polygon of four points.
+    assert_eq!(text.matches("<polygon").count(), 96);
+    let shades: std::collections::HashSet<&str> =
+        text.match_indices("fill=\"#").map(|(i, _)| &text[i + 6..i + 13]).collect();
+    assert!(shades.len() > 3, "faces turned differently are shaded differently: {shades:?}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
