@@ -127,6 +127,8 @@ pub enum Field {
     Start(usize),
     /// The model's control net.
     Net,
+    /// The model's patches.
+    Patches,
 }
 
 /// Where an error is, by the order items were given to the builder (the
@@ -1001,7 +1003,7 @@ impl<'a> Compiler<'a> {
             })?;
             dims.push(a.state(id).dim);
         }
-        if m.layout != Layout::Union
+        if !matches!(m.layout, Layout::Union | Layout::Patches)
             && let Some(k) = dims.iter().position(|&n| n != dims[0])
         {
             return Err(Self::model_error(
@@ -1066,6 +1068,31 @@ impl<'a> Compiler<'a> {
                     ));
                 }
                 total
+            }
+            Layout::Patches => {
+                if m.patches.is_empty() {
+                    return Err(Self::model_error(Field::Whole, "a patches layout needs patches = [[I, J, ...], ...]"));
+                }
+                for (i, patch) in m.patches.iter().enumerate() {
+                    let want = dims[i % dims.len()];
+                    if patch.len() != want {
+                        return Err(Self::model_error(
+                            Field::Patches,
+                            format!(
+                                "patch {i} lists {} control points; its root `{}` has dim {want}",
+                                patch.len(),
+                                m.roots[i % m.roots.len()]
+                            ),
+                        ));
+                    }
+                    if let Some(&bad) = patch.iter().find(|&&p| p >= m.points.len()) {
+                        return Err(Self::model_error(
+                            Field::Patches,
+                            format!("patch {i} uses control point {bad}; there are {}", m.points.len()),
+                        ));
+                    }
+                }
+                0
             }
             Layout::Grid | Layout::Torus => {
                 let (r, c) =

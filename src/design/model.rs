@@ -52,11 +52,16 @@ pub enum Layout {
     /// Separate pieces: piece `i` takes the next `dim(root_i)` control points
     /// (a union of attractors, seed 001 §2.2); nothing is shared or joined.
     Union,
+    /// Pieces cut by explicit lists of control points (`Model::patches`):
+    /// piece `i` is a cell of `roots[i % roots.len()]` on the points
+    /// `patches[i]`; pieces share the points they both list and are welded
+    /// (a mesh's patches over its vertices).
+    Patches,
 }
 
 impl Layout {
     /// All layouts.
-    pub const ALL: [Layout; 8] = [
+    pub const ALL: [Layout; 9] = [
         Layout::Single,
         Layout::Open,
         Layout::Closed,
@@ -65,6 +70,7 @@ impl Layout {
         Layout::Frames,
         Layout::ClosedFrames,
         Layout::Union,
+        Layout::Patches,
     ];
 
     /// The keyword used in automaton files.
@@ -78,6 +84,7 @@ impl Layout {
             Layout::Frames => "frames",
             Layout::ClosedFrames => "closed-frames",
             Layout::Union => "union",
+            Layout::Patches => "patches",
         }
     }
 }
@@ -104,6 +111,8 @@ pub struct Model {
     /// for drawing it (`bcifs render --control`); empty: the net follows
     /// from the layout (a polygon, or the grid's quads).
     pub net: Vec<Vec<usize>>,
+    /// Layout `patches`: the control points of each piece, as indices into `points`.
+    pub patches: Vec<Vec<usize>>,
 }
 
 impl Model {
@@ -123,6 +132,7 @@ impl Model {
             grid: None,
             start: Vec::new(),
             net: Vec::new(),
+            patches: Vec::new(),
         }
     }
 
@@ -153,6 +163,15 @@ impl Model {
     /// The same model with a `rows × cols` control grid (grid layouts).
     pub fn with_grid(mut self, rows: usize, cols: usize) -> Model {
         self.grid = Some((rows, cols));
+        self
+    }
+
+    /// The same model cut into explicit pieces (layout `patches`): piece `i`
+    /// is a cell of `roots[i]` on the control points `patches[i]`.
+    pub fn with_patches(mut self, roots: Vec<String>, patches: Vec<Vec<usize>>) -> Model {
+        self.layout = Layout::Patches;
+        self.roots = roots;
+        self.patches = patches;
         self
     }
 

@@ -38,6 +38,8 @@ pub struct Pieces {
     pub connected: bool,
     /// Surfaces: `(patch rows, patch columns, torus)`.
     pub grid: Option<(usize, usize, bool)>,
+    /// The pieces share control points (layout `patches`): their output is welded into one.
+    pub shared: bool,
 }
 
 fn control(points: &[Vec<f64>], indices: &[usize], d: usize) -> Vec<f64> {
@@ -65,7 +67,7 @@ pub fn pieces(automaton: &Automaton<f64>, model: &Model) -> Result<Pieces, Model
         return Err(ModelError::Layout("a model needs at least one root state".into()));
     };
     let n = automaton.state(root).dim;
-    if model.layout != Layout::Union
+    if !matches!(model.layout, Layout::Union | Layout::Patches)
         && let Some(other) = roots.iter().find(|r| automaton.state(**r).dim != n)
     {
         return Err(ModelError::Layout(format!(
@@ -86,7 +88,7 @@ pub fn pieces(automaton: &Automaton<f64>, model: &Model) -> Result<Pieces, Model
         d: model.points.first().map_or(2, Vec::len),
         boundary_dim,
     };
-    let mut out = Pieces { dim: cut.d, pieces: Vec::new(), closed: false, connected: false, grid: None };
+    let mut out = Pieces { dim: cut.d, pieces: Vec::new(), closed: false, connected: false, grid: None, shared: false };
     match model.layout {
         Layout::Single => {
             let len = model.points.len();
@@ -96,6 +98,15 @@ pub fn pieces(automaton: &Automaton<f64>, model: &Model) -> Result<Pieces, Model
             out.pieces.push(cut.piece(0, "piece 0".into(), (0..n).collect()));
         }
         Layout::Union => out.pieces = cut.union()?,
+        Layout::Patches => {
+            out.shared = true;
+            for (k, patch) in model.patches.iter().enumerate() {
+                if let Some(&bad) = patch.iter().find(|&&p| p >= model.points.len()) {
+                    return layout_error(format!("patch {k} uses control point {bad} of {}", model.points.len()));
+                }
+                out.pieces.push(cut.piece(k, format!("patch {k}"), patch.clone()));
+            }
+        }
         Layout::Open | Layout::Closed => {
             out.closed = model.layout == Layout::Closed;
             out.pieces = cut.windows(out.closed)?;

@@ -30,16 +30,20 @@ impl Evaluator {
     }
 
     /// The corner polygons of the face cells `k` subdivisions below the
-    /// pieces (a root that is not a face, like a mesh's selection of its
-    /// patches, does not count as a subdivision), welded.
+    /// pieces (a root that is not a face does not count as a subdivision),
+    /// welded: each piece on its own, or all together when they share
+    /// control points (a mesh's patches).
     pub(super) fn polygons(&self, k: usize, sink: &mut dyn Sink) -> Result<(), EvalError> {
         let d = self.pieces.dim;
         let mut first = 0usize;
-        for piece in &self.pieces.pieces {
-            let scale = piece.control.iter().fold(1.0f64, |m, x| m.max(x.abs()));
+        let groups: Vec<&[super::pieces::Piece]> =
+            if self.pieces.shared { vec![&self.pieces.pieces[..]] } else { self.pieces.pieces.chunks(1).collect() };
+        for group in groups {
+            let scale = group.iter().flat_map(|p| &p.control).fold(1.0f64, |m, x| m.max(x.abs()));
             let mut weld = Weld { q: 1e-9 * scale, d, index: HashMap::new(), positions: Vec::new() };
             let (mut quads, mut triangles) = (Vec::new(), Vec::new());
-            let mut stack = vec![(piece.state, piece.control.clone(), k)];
+            let mut stack: Vec<(usize, Vec<f64>, usize)> =
+                group.iter().rev().map(|p| (p.state, p.control.clone(), k)).collect();
             while let Some((s, c, r)) = stack.pop() {
                 let sp = self.plan.state(s);
                 if sp.kind == CellKind::Face && r == 0 {
@@ -70,7 +74,7 @@ impl Evaluator {
                     stack.push((*t, child, r - step));
                 }
             }
-            sink.object(&piece.name)?;
+            sink.object(if self.pieces.shared { "surface" } else { &group[0].name })?;
             sink.vertices(d, &weld.positions, None)?;
             sink.faces(&quads, None)?;
             sink.triangles(&triangles)?;

@@ -70,6 +70,7 @@ struct ModelSpec {
     step: Option<Spanned<i64>>,
     grid: Option<Spanned<Vec<i64>>>,
     net: Option<Spanned<Vec<Vec<i64>>>>,
+    patches: Option<Spanned<Vec<Vec<i64>>>>,
     #[serde(default)]
     start: IndexMap<String, Spanned<Vec<Vec<Spanned<EntrySpec>>>>>,
 }
@@ -274,6 +275,7 @@ struct ModelSpans {
     step: Option<Range<usize>>,
     grid: Option<Range<usize>>,
     net: Option<Range<usize>>,
+    patches: Option<Range<usize>>,
     starts: Vec<Range<usize>>,
 }
 
@@ -313,6 +315,7 @@ impl Spans {
                     Field::Grid => m.grid.clone().unwrap_or(m.whole.clone()),
                     Field::Start(k) => m.starts.get(k).cloned().unwrap_or(m.whole.clone()),
                     Field::Net => m.net.clone().unwrap_or(m.whole.clone()),
+                    Field::Patches => m.patches.clone().unwrap_or(m.whole.clone()),
                     _ => m.whole.clone(),
                 };
                 (span, false)
@@ -624,6 +627,15 @@ impl Reader<'_> {
                 model.net.push(face.iter().map(|&i| usize::try_from(i).map_err(|_| bad())).collect::<Result<_, _>>()?);
             }
         }
+        if let Some(patches) = &spec.patches {
+            let bad =
+                || src.at(&patches.span(), "expected patches = [[I, J, ...], ...]: control point indices per piece");
+            for patch in patches.get_ref() {
+                model
+                    .patches
+                    .push(patch.iter().map(|&i| usize::try_from(i).map_err(|_| bad())).collect::<Result<_, _>>()?);
+            }
+        }
         let mut starts = Vec::new();
         for (state, pts) in &spec.start {
             let mut set = Vec::new();
@@ -640,6 +652,7 @@ impl Reader<'_> {
             step: spec.step.as_ref().map(Spanned::span),
             grid: spec.grid.as_ref().map(Spanned::span),
             net: spec.net.as_ref().map(Spanned::span),
+            patches: spec.patches.as_ref().map(Spanned::span),
             starts,
         };
         Ok(model)

@@ -65,6 +65,10 @@ pub fn write_design(design: &Design) -> String {
             let faces: Vec<String> = m.net.iter().map(|f| format!("{f:?}")).collect();
             let _ = writeln!(extra, "net = [{}]", faces.join(", "));
         }
+        if !m.patches.is_empty() {
+            let lists: Vec<String> = m.patches.iter().map(|f| format!("  {f:?},")).collect();
+            let _ = writeln!(extra, "patches = [\n{}\n]", lists.join("\n"));
+        }
         let roots: Vec<&str> = m.roots.iter().map(String::as_str).collect();
         w.model(&roots, &m.points, m.layout.keyword(), extra.trim_end(), &docs.model);
         if !m.start.is_empty() {

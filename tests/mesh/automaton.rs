@@ -58,11 +58,11 @@ fn attractor_corners(design: &Design, values: &[(String, f64)], depth: usize) ->
             .collect()
     };
     let mut out = Vec::new();
-    let root = a.state_id("mesh").unwrap();
-    let mut stack: Vec<(NodeIndex, DMatrix<f64>, usize)> = a
-        .outgoing(root, ArrowKind::Subdivision)
-        .into_iter()
-        .map(|e| (a.arrow_ends(e).1, &p * &a.arrow(e).matrix, 0))
+    let mut stack: Vec<(NodeIndex, DMatrix<f64>, usize)> = model
+        .patches
+        .iter()
+        .zip(&model.roots)
+        .map(|(patch, root)| (a.state_id(root).unwrap(), p.select_columns(patch), 0))
         .collect();
     while let Some((s, c, d)) = stack.pop() {
         if d == depth {
