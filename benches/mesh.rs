@@ -1,6 +1,7 @@
 //! Polygon-mesh subdivision throughput: the cube at depth 8 (393k faces),
 //! Doo-Sabin and Catmull-Clark, the net and the limit surface written as
-//! OBJ text to a sink (no disk), and the in-memory net alone. The peers
+//! OBJ text to a sink (no disk), and the in-memory net alone; Loop on the
+//! icosahedron at depth 8, written two steps at once. The peers
 //! (CGAL, OpenSubdiv) are measured side by side, end to end, by
 //! `benches/peers/compare.sh`.
 
@@ -32,9 +33,28 @@ fn subdivision(c: &mut Criterion) {
     g.finish();
 }
 
+/// Loop on the icosahedron at depth 8 (1.3M triangles) as OBJ text to a
+/// sink: written two steps from depth 6 (the streamed path of large nets)
+/// against the in-memory net of depth 8 alone.
+fn loop_two_steps(c: &mut Criterion) {
+    let ico = PolyMesh::icosahedron();
+    let mut g = c.benchmark_group("icosahedron_depth8");
+    g.sample_size(10);
+    g.throughput(Throughput::Elements(20 * 4u64.pow(8)));
+    g.bench_function("loop_net_in_memory", |b| b.iter(|| black_box(ico.subdivide(Scheme::Loop, 8).expect("fits"))));
+    let job = Subdivision { scheme: Scheme::Loop, depth: 8, weights: None, memory_limit: 1 << 30 };
+    g.bench_function("loop_net_obj_two_steps", |b| {
+        b.iter(|| {
+            let mut sink = std::io::sink();
+            black_box(ico.write_subdivided(&job, false, MeshFormat::Obj("ico"), &mut sink).expect("writes"))
+        })
+    });
+    g.finish();
+}
+
 criterion_group! {
     name = benches;
     config = Criterion::default().without_plots();
-    targets = subdivision
+    targets = subdivision, loop_two_steps
 }
 criterion_main!(benches);

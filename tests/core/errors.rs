@@ -226,6 +226,30 @@ mod hostile {
         }
     }
 
+    /// A patches layout names each piece's points; a patch with an index past
+    /// the points, a negative one, or as many points as its root's dimension
+    /// not, is refused at the `patches` line. It round-trips.
+    #[test]
+    fn patches_round_trip_and_bad_patches_are_positioned() {
+        let base = "[[state]]\nname = \"x\"\ndim = 3\n[[arrow]]\nname = \"T\"\nfrom = \"x\"\nto = \"x\"\n\
+            matrix = [[1, 0.5, 0.5], [0, 0.5, 0], [0, 0, 0.5]]\n[model]\nroot = [\"x\", \"x\"]\nlayout = \"patches\"\n\
+            points = [[0, 0], [1, 0], [0, 1], [1, 1]]\n";
+        let d = parse_design(&format!("{base}patches = [[0, 1, 2], [1, 3, 2]]\n"), "p.toml", "p").unwrap();
+        assert_eq!(d.model().unwrap().patches, vec![vec![0, 1, 2], vec![1, 3, 2]]);
+        let again = parse_design(&bcifs::write_design(&d), "p.toml", "p").unwrap();
+        assert_eq!(again.model().unwrap().patches, d.model().unwrap().patches);
+        for (bad, at, says) in [
+            ("patches = [[0, 1, 4], [1, 3, 2]]", "f.toml:13:", "uses control point 4"),
+            ("patches = [[0, 1], [1, 3, 2]]", "f.toml:13:", "lists 2 control points"),
+            ("patches = [[0, -1, 2]]", "f.toml:13:", "indices"),
+            ("", "f.toml:9:", "needs patches"),
+        ] {
+            let e = error_of(&format!("{base}{bad}\n"));
+            assert!(e.starts_with(at), "{bad}: {e}");
+            assert!(e.contains(says), "{bad}: {e}");
+        }
+    }
+
     #[test]
     fn absurd_depths_are_refused_at_once() {
         let d = bcifs::builtin_design("levy").unwrap();
