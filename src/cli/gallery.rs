@@ -146,6 +146,19 @@ fn textures() -> Vec<(String, String, GallerySource)> {
     items
 }
 
+/// The cube as its generated Doo-Sabin automaton (`surface --print`), with
+/// a weight the mesh code does not have: the rule of the triangles the
+/// cube's corners become (`a3_0 = a3_2 = 0.45`: a twist at every corner).
+fn mesh_automata() -> Vec<(String, String, GallerySource)> {
+    use bcifs::mesh::{PolyMesh, Scheme};
+    let Ok(design) = PolyMesh::cube().automaton(Scheme::DooSabin, None) else { return Vec::new() };
+    let mut b = design.to_builder();
+    b.default_value("a3_0", 0.45).default_value("a3_2", 0.45);
+    let Ok(design) = b.build() else { return Vec::new() };
+    let what = "the cube as a generated Doo-Sabin automaton, its corner triangles' rule a3 = (0.45, 0.1, 0.45): twisted corners";
+    vec![("cube-corners".into(), what.into(), GallerySource::Design(Box::new(design), Some(CUBE_DEPTH)))]
+}
+
 /// The silhouette the contour example fits (drawn by a test: `docs/silhouette.png`).
 const SILHOUETTE: &[u8] = include_bytes!("../../docs/silhouette.png");
 
@@ -243,6 +256,7 @@ pub fn gallery_items() -> Vec<(String, String, GallerySource)> {
         items.push((entry, description, source));
     }
     items.extend(textures());
+    items.extend(mesh_automata());
     items.extend(contour_example());
     for name in bcifs::schemes::IFS_NAMES {
         if let Ok(g) = bcifs::schemes::ifs_preset(name, None, None) {
