@@ -63,7 +63,11 @@ pub fn write_design(design: &Design) -> String {
         }
         if !m.net.is_empty() {
             let faces: Vec<String> = m.net.iter().map(|f| format!("{f:?}")).collect();
-            let _ = writeln!(extra, "net = [{}]", faces.join(", "));
+            let _ = writeln!(
+                extra,
+                "net = {}",
+                if faces.len() <= 8 { format!("[{}]", faces.join(", ")) } else { lines(&faces, 8) }
+            );
         }
         if !m.patches.is_empty() {
             let lists: Vec<String> = m.patches.iter().map(|f| format!("  {f:?},")).collect();
@@ -80,6 +84,12 @@ pub fn write_design(design: &Design) -> String {
         }
     }
     w.finish()
+}
+
+/// A TOML array of `items` over several lines, `per_line` to a line.
+fn lines(items: &[String], per_line: usize) -> String {
+    let rows: Vec<String> = items.chunks(per_line).map(|c| format!("  {},", c.join(", "))).collect();
+    format!("[\n{}\n]", rows.join("\n"))
 }
 
 fn floats(p: &[f64]) -> String {
@@ -238,7 +248,8 @@ impl TomlWriter {
         self.blank().comment(comment);
         let root = match roots {
             [one] => quote(one),
-            many => format!("[{}]", many.iter().map(|r| quote(r)).collect::<Vec<_>>().join(", ")),
+            few if few.len() <= 8 => format!("[{}]", few.iter().map(|r| quote(r)).collect::<Vec<_>>().join(", ")),
+            many => lines(&many.iter().map(|r| quote(r)).collect::<Vec<_>>(), 8),
         };
         let _ = writeln!(self.out, "[model]\nroot = {root}\nlayout = {}", quote(layout));
         if !extra.is_empty() {
