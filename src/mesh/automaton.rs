@@ -41,8 +41,15 @@
 //! The model is the user's mesh itself: its vertices are the control
 //! points, and the `patches` layout lists each patch's root state and
 //! control points (pieces that share points are welded).
-//! √3 is not generated: its two half steps rotate the faces, so a triangle
-//! is only nested in its parent after two steps.
+//!
+//! √3 rotates the triangles, so a triangle is nested in its parent only
+//! after two steps: an arrow of the √3 automaton is two steps (a ternary
+//! split into nine), its cells reach one ring further (the faces around
+//! the faces around a cell's vertices: 27 points for the regular patch),
+//! and its weights are the classic `(4 − 2cos(2π/n))/9` (exact where they
+//! are rational, the float's decimal otherwise): two steps would multiply
+//! weights, and the constraints would no longer be linear in them. Closed
+//! meshes only: its border rule changes from one step to the next.
 
 use std::collections::{BTreeMap, HashMap, VecDeque};
 
@@ -139,6 +146,19 @@ impl Local {
         local
     }
 
+    /// A mesh whose sides without a face across are cut (a neighbourhood's edge).
+    fn cut_at_the_edges(faces: Vec<Vec<usize>>, vertices: usize) -> Local {
+        let mut local = Local::new(faces, Vec::new(), vertices);
+        local.sides = (0..local.faces.len())
+            .map(|f| {
+                (0..local.faces[f].len())
+                    .map(|i| if local.twin_of((f, i)).is_some() { Side::Inner } else { Side::Cut })
+                    .collect()
+            })
+            .collect();
+        local
+    }
+
     fn deg(&self, f: usize) -> usize {
         self.faces[f].len()
     }
@@ -200,7 +220,14 @@ struct Walk {
 /// The faces a cell's limit depends on (sorted).
 fn neighbourhood(scheme: Scheme, role: Role, m: &Local, h: Half) -> Vec<usize> {
     let faces_at = |v: usize| m.around[v].iter().map(|&(f, _)| f);
+    // √3's stencils reach further in two steps: the faces around the faces' vertices.
+    let widen = |faces: Vec<usize>| -> Vec<usize> {
+        faces.iter().flat_map(|&f| m.faces[f].iter().flat_map(|&v| faces_at(v))).collect()
+    };
     let mut set: Vec<usize> = match (scheme, role) {
+        (Scheme::Sqrt3, Role::Face) => widen(m.faces[h.0].iter().flat_map(|&v| faces_at(v)).collect()),
+        (Scheme::Sqrt3, Role::Edge) => widen(faces_at(m.at(h)).chain(faces_at(m.head(h))).collect()),
+        (Scheme::Sqrt3, Role::Vertex) => widen(faces_at(m.at(h)).collect()),
         (Scheme::DooSabin, Role::Face) => faces_at(m.at(h)).collect(),
         (Scheme::DooSabin, Role::Edge) => std::iter::once(h.0).chain(m.twin_of(h).map(|t| t.0)).collect(),
         (Scheme::DooSabin, Role::Vertex) => vec![h.0],
@@ -442,12 +469,115 @@ struct Step {
     middle: Vec<usize>,
     /// Doo-Sabin: the edge face of a half-edge, and the corner of its copy of this half-edge's start.
     edge_face: HashMap<Half, (usize, usize)>,
+    /// √3: the mesh after the first of the two steps an arrow makes.
+    halfway: Option<Local>,
 }
 
 fn step(m: &Local, w: &mut Weights) -> Step {
     match w.scheme {
         Scheme::DooSabin => doo_sabin_step(m, w),
+        Scheme::Sqrt3 => sqrt3_step(m),
         _ => primal_step(m, w),
+    }
+}
+
+/// An exact rational for a weight: small fractions where the weight is
+/// one, the float's shortest decimal otherwise.
+fn exact_weight(x: f64) -> BigRational {
+    for q in 1..=36i64 {
+        let p = (x * q as f64).round();
+        if (p / q as f64 - x).abs() < 1e-15 {
+            return rat(p as i64, q);
+        }
+    }
+    let text = format!("{x:?}");
+    let (int, frac) = text.split_once('.').unwrap_or((&text, ""));
+    let digits: BigInt = format!("{int}{frac}").parse().unwrap_or_default();
+    BigRational::new(digits, BigInt::from(10u32).pow(frac.len() as u32))
+}
+
+/// One √3 step of a closed neighbourhood: vertex points `(1 − a) v + a/n Σ`
+/// (`a = (4 − 2cos(2π/n))/9`), a centroid per face numbered after the
+/// vertices, and every edge flipped into `[c_g, b, c_f]`, `[c_f, a, c_g]`.
+fn sqrt3_once(m: &Local) -> (Local, Vec<Option<Sym>>) {
+    let nv = m.vertices;
+    let mut points: Vec<Option<Sym>> = (0..nv)
+        .map(|v| {
+            if !m.closed_at(v) {
+                return None;
+            }
+            let n = m.around[v].len();
+            let a = exact_weight(super::triangles::sqrt3_alpha(n));
+            let mut s = Sym::new();
+            add_point(&mut s, v, &Lin::konst(BigRational::one() - &a));
+            let each = Lin::konst(a / BigInt::from(n));
+            m.around[v].iter().for_each(|&h| add_point(&mut s, m.head(h), &each));
+            Some(s)
+        })
+        .collect();
+    for face in &m.faces {
+        let mut s = Sym::new();
+        face.iter().for_each(|&v| add_point(&mut s, v, &Lin::konst(rat(1, face.len() as i64))));
+        points.push(Some(s));
+    }
+    let mut faces = Vec::new();
+    for (f, face) in m.faces.iter().enumerate() {
+        for i in 0..face.len() {
+            let Some(t) = m.twin_of((f, i)).filter(|&t| (f, i) < t && m.sides[f][i] == Side::Inner) else { continue };
+            let (a, b, cf, cg) = (m.at((f, i)), m.head((f, i)), nv + f, nv + t.0);
+            faces.push(vec![cg, b, cf]);
+            faces.push(vec![cf, a, cg]);
+        }
+    }
+    let count = points.len();
+    (Local::cut_at_the_edges(faces, count), points)
+}
+
+/// Two √3 steps (an arrow): a triangle's nine children lie in it (a ternary split).
+fn sqrt3_step(m: &Local) -> Step {
+    let (halfway, first) = sqrt3_once(m);
+    let (mesh, second) = sqrt3_once(&halfway);
+    let points = second
+        .iter()
+        .map(|s| {
+            let mut out = Sym::new();
+            for (j, w) in s.as_ref()? {
+                add_sym(&mut out, first[*j].as_ref()?, &w.c);
+            }
+            Some(out)
+        })
+        .collect();
+    Step { mesh, points, child: Vec::new(), middle: Vec::new(), edge_face: HashMap::new(), halfway: Some(halfway) }
+}
+
+/// √3's children, found by their vertices: the corner `a` of a face `f`,
+/// its centroid `c_f` halfway, and the centroids `c_Q`, `c_P` (second step)
+/// of the two triangles `Q = [c_f, a, c_g]`, `P = [c_g, b, c_f]` its edge
+/// `a → b` became halfway. A face has nine children: one at each corner
+/// (`a → c_Q`), six around `c_f` (`c_f → c_Q`, `c_f → c_P` of the previous
+/// edge); an edge three (`a → c_Q → c_P → b`); a vertex one (`a → c_Q`).
+fn sqrt3_children(role: Role, m: &Local, s: &Step, h: Half) -> Vec<Half> {
+    const MISSING: Half = (usize::MAX, 0);
+    let Some(mid) = &s.halfway else { return Vec::new() };
+    let (nv, n1) = (m.vertices, mid.vertices);
+    let at = |x: usize, y: usize| s.mesh.twin.get(&(x, y)).copied().unwrap_or(MISSING);
+    let face_of = |x: usize, y: usize| mid.twin.get(&(x, y)).map_or(usize::MAX, |h| n1 + h.0);
+    let (f, i) = h;
+    let corner = |c: usize| m.faces[f][c % 3];
+    let cf = nv + f;
+    let q = |c: usize| face_of(cf, corner(c));
+    let p = |c: usize| face_of(corner(c + 1), cf);
+    match role {
+        Role::Face => {
+            let mut out: Vec<Half> = (i..i + 3).map(|c| at(corner(c), q(c))).collect();
+            for c in i..i + 3 {
+                out.push(at(cf, p(c + 2)));
+                out.push(at(cf, q(c)));
+            }
+            out
+        }
+        Role::Edge => vec![at(corner(i), q(i)), at(q(i), p(i)), at(p(i), corner(i + 1))],
+        Role::Vertex => vec![at(corner(i), q(i))],
     }
 }
 
@@ -597,7 +727,7 @@ fn primal_step(m: &Local, w: &mut Weights) -> Step {
         child.push(here);
     }
     let count = points.len();
-    Step { mesh: Local::new(faces, sides, count), points, child, middle, edge_face: HashMap::new() }
+    Step { mesh: Local::new(faces, sides, count), points, child, middle, edge_face: HashMap::new(), halfway: None }
 }
 
 /// Doo-Sabin: a point per corner, faces for the faces, the inner edges and the closed vertices.
@@ -664,13 +794,14 @@ fn doo_sabin_step(m: &Local, w: &mut Weights) -> Step {
         }
     }
     let count = points.len();
-    Step { mesh: Local::new(faces, sides, count), points, child, middle: Vec::new(), edge_face }
+    Step { mesh: Local::new(faces, sides, count), points, child, middle: Vec::new(), edge_face, halfway: None }
 }
 
 /// The children of a cell anchored at `h`, anchored in the subdivided mesh.
 fn children_of(scheme: Scheme, role: Role, m: &Local, s: &Step, h: Half) -> Vec<Half> {
     let (f, i) = h;
     match (scheme, role) {
+        (Scheme::Sqrt3, _) => sqrt3_children(role, m, s, h),
         (Scheme::DooSabin, Role::Face) => m.fan(h).into_iter().map(|(g, j)| (s.child[g][0], j)).collect(),
         (Scheme::DooSabin, Role::Edge) => {
             let (e, c) = s.edge_face.get(&h).copied().unwrap_or((usize::MAX, 0));
@@ -904,12 +1035,13 @@ impl PolyMesh {
     /// ```
     ///
     /// # Errors
-    /// √3 (not nested after one step); a triangle scheme on a face that is
-    /// not a triangle; a neighbourhood that is not one piece of surface.
+    /// √3 on an open mesh (its border rule alternates); a triangle scheme on
+    /// a face that is not a triangle; a neighbourhood that is not one piece
+    /// of surface.
     pub fn automaton(&self, scheme: Scheme, weights: Option<RuleWeights>) -> Result<Design, MeshError> {
-        if scheme == Scheme::Sqrt3 {
+        if scheme == Scheme::Sqrt3 && !self.is_closed() {
             return Err(MeshError::Automaton(
-                "√3 is not generated as an automaton: a triangle is nested in its parent only after two steps".into(),
+                "√3 is generated as an automaton on closed meshes only: its border rule changes from one step to the next, so a border triangle's children are not a ternary split".into(),
             ));
         }
         if scheme.triangles_only()

@@ -11,9 +11,9 @@ use bcifs::{ArrowKind, Automaton, Design};
 
 use crate::hausdorff::hausdorff;
 
-/// The test meshes with the schemes that are generated (not √3).
+/// The test meshes with the schemes that are generated (√3 on closed meshes only).
 fn cases() -> Vec<(String, PolyMesh, Scheme)> {
-    crate::cases().into_iter().filter(|c| c.2 != Scheme::Sqrt3).collect()
+    crate::cases().into_iter().filter(|c| c.2 != Scheme::Sqrt3 || c.1.is_closed()).collect()
 }
 
 /// The barycentric limit point of a vertex state: the fixed vector of its
@@ -119,9 +119,11 @@ fn constraints_hold_identically_in_the_weights() {
 fn the_attractor_is_the_limit_surface() {
     for (name, mesh, scheme) in cases() {
         let design = mesh.automaton(scheme, None).unwrap();
+        // A √3 arrow is two of its steps.
+        let steps = if scheme == Scheme::Sqrt3 { 2 } else { 1 };
         for depth in [1, 2] {
             let ours = attractor_corners(&design, &[], depth);
-            let theirs = limit_points(&mesh, scheme, depth, None);
+            let theirs = limit_points(&mesh, scheme, steps * depth, None);
             let h = hausdorff(&ours, &theirs);
             assert!(h < 1e-9, "{name} {scheme:?} depth {depth}: Hausdorff distance {h}");
         }
@@ -155,14 +157,15 @@ fn other_weights_give_the_same_surface_as_the_mesh_code() {
 /// The self-similar structure of seed 001 §3: a patch next to an
 /// extraordinary vertex has a child of its own state (the smaller patch
 /// around the same vertex), and the regular patch (the bicubic 4 × 4, the
-/// box-spline's 12 points, the biquadratic 3 × 3) has all its children of its
-/// own state.
+/// box-spline's 12 points, the biquadratic 3 × 3, √3's 27-point 2-ring split
+/// in nine) has all its children of its own state.
 #[test]
 fn extraordinary_patches_subdivide_into_themselves_and_regular_ones() {
-    for (mesh, scheme, regular, extraordinary) in [
-        (crate::cube(), Scheme::CatmullClark, 16, 2 * 3 + 8),
-        (crate::icosahedron(), Scheme::Loop, 12, 5 + 6),
-        (crate::cube(), Scheme::DooSabin, 9, 8),
+    for (mesh, scheme, regular, extraordinary, split) in [
+        (crate::cube(), Scheme::CatmullClark, 16, 2 * 3 + 8, 4),
+        (crate::icosahedron(), Scheme::Loop, 12, 5 + 6, 4),
+        (crate::cube(), Scheme::DooSabin, 9, 8, 4),
+        (crate::icosahedron(), Scheme::Sqrt3, 27, 24, 9),
     ] {
         let design = mesh.automaton(scheme, None).unwrap();
         let a = design.automaton();
@@ -175,17 +178,19 @@ fn extraordinary_patches_subdivide_into_themselves_and_regular_ones() {
                 .max()
                 .unwrap_or(0)
         };
-        // Four children of each split (Loop's four triangles, the quads' 2 × 2).
-        assert_eq!(loops(regular), 4, "{scheme:?}: the regular patch");
+        // Every child of the split (Loop's four triangles, the quads' 2 × 2, √3's nine).
+        assert_eq!(loops(regular), split, "{scheme:?}: the regular patch");
         assert_eq!(loops(extraordinary), 1, "{scheme:?}: the extraordinary patch");
     }
 }
 
-/// Bad requests are refused with what is wrong: √3, and a polygon for Loop.
+/// Bad requests are refused with what is wrong: √3 on an open mesh, and a
+/// polygon for Loop.
 #[test]
-fn sqrt3_and_polygons_for_loop_are_refused() {
-    let e = crate::cube().automaton(Scheme::Sqrt3, None).unwrap_err().to_string();
-    assert!(e.contains("two steps"), "{e}");
+fn sqrt3_on_open_meshes_and_polygons_for_loop_are_refused() {
+    let open = crate::cases().into_iter().find(|c| c.2 == Scheme::Sqrt3 && !c.1.is_closed()).unwrap().1;
+    let e = open.automaton(Scheme::Sqrt3, None).unwrap_err().to_string();
+    assert!(e.contains("closed meshes only"), "{e}");
     let e = crate::cube().automaton(Scheme::Loop, None).unwrap_err().to_string();
     assert!(e.contains("--triangulate"), "{e}");
 }
@@ -207,7 +212,8 @@ fn the_evaluator_welds_the_generated_patches_into_the_limit_surface() {
         faces.extend(shape.triangles.iter().map(|t| t.to_vec()));
         let positions: Vec<[f64; 3]> = (0..shape.vertex_count()).map(|i| shape.point(i)).collect();
         let surface = PolyMesh::new(positions.clone(), faces).unwrap_or_else(|e| panic!("{name} {scheme:?}: {e}"));
-        let h = hausdorff(&positions, &limit_points(&mesh, scheme, 2, None));
+        let steps = if scheme == Scheme::Sqrt3 { 2 } else { 1 };
+        let h = hausdorff(&positions, &limit_points(&mesh, scheme, 2 * steps, None));
         assert!(h < 1e-9, "{name} {scheme:?}: {h}");
         if mesh.is_closed() {
             assert!(surface.is_closed(), "{name} {scheme:?}");
