@@ -550,12 +550,12 @@ fn sqrt3_step(m: &Local) -> Step {
     Step { mesh, points, child: Vec::new(), middle: Vec::new(), edge_face: HashMap::new(), halfway: Some(halfway) }
 }
 
-/// √3's children, found by their vertices: the corner `a` of a face `f`,
-/// its centroid `c_f` halfway, and the centroids `c_Q`, `c_P` (second step)
-/// of the two triangles `Q = [c_f, a, c_g]`, `P = [c_g, b, c_f]` its edge
-/// `a → b` became halfway. A face has nine children: one at each corner
-/// (`a → c_Q`), six around `c_f` (`c_f → c_Q`, `c_f → c_P` of the previous
-/// edge); an edge three (`a → c_Q → c_P → b`); a vertex one (`a → c_Q`).
+/// √3's children, found by their vertices: the corners `a_i` of a face
+/// `f`, its centroid `c_f` halfway, and the centroids `c_Q`, `c_P` (second
+/// step) of the two triangles `Q_i = [c_f, a_i, c_g]`, `P_i = [c_g, a_{i+1}, c_f]`
+/// its edge `i` became halfway (`c_Q_i`, `c_P_i` are the thirds of that
+/// edge). A face has nine children (one at each corner, six around `c_f`),
+/// an edge three (`a → c_Q → c_P → b`), a vertex one (`a → c_Q`).
 fn sqrt3_children(role: Role, m: &Local, s: &Step, h: Half) -> Vec<Half> {
     const MISSING: Half = (usize::MAX, 0);
     let Some(mid) = &s.halfway else { return Vec::new() };
@@ -568,14 +568,19 @@ fn sqrt3_children(role: Role, m: &Local, s: &Step, h: Half) -> Vec<Half> {
     let q = |c: usize| face_of(cf, corner(c));
     let p = |c: usize| face_of(corner(c + 1), cf);
     match role {
-        Role::Face => {
-            let mut out: Vec<Half> = (i..i + 3).map(|c| at(corner(c), q(c))).collect();
-            for c in i..i + 3 {
-                out.push(at(cf, p(c + 2)));
-                out.push(at(cf, q(c)));
-            }
-            out
-        }
+        // Anchored as the ternary split's copies keep the parent's orientation: three
+        // translated corner triangles, three translated and three half-turned around c_f.
+        Role::Face => vec![
+            at(corner(i), q(i)),
+            at(p(i), corner(i + 1)),
+            at(q(i + 2), p(i + 1)),
+            at(q(i), p(i)),
+            at(p(i + 2), cf),
+            at(cf, q(i + 1)),
+            at(cf, p(i + 2)),
+            at(q(i + 1), cf),
+            at(p(i + 1), q(i + 2)),
+        ],
         Role::Edge => vec![at(corner(i), q(i)), at(q(i), p(i)), at(p(i), corner(i + 1))],
         Role::Vertex => vec![at(corner(i), q(i))],
     }
@@ -802,7 +807,16 @@ fn children_of(scheme: Scheme, role: Role, m: &Local, s: &Step, h: Half) -> Vec<
     let (f, i) = h;
     match (scheme, role) {
         (Scheme::Sqrt3, _) => sqrt3_children(role, m, s, h),
-        (Scheme::DooSabin, Role::Face) => m.fan(h).into_iter().map(|(g, j)| (s.child[g][0], j)).collect(),
+        (Scheme::DooSabin, Role::Face) => m
+            .fan(h)
+            .into_iter()
+            .enumerate()
+            .map(|(k, (g, j))| {
+                // The k-th face around turned back by k quarter turns: the child keeps the parent's orientation.
+                let fan = s.mesh.fan((s.child[g][0], j));
+                fan[(4 - k % 4) % 4 % fan.len()]
+            })
+            .collect(),
         (Scheme::DooSabin, Role::Edge) => {
             let (e, c) = s.edge_face.get(&h).copied().unwrap_or((usize::MAX, 0));
             // a_f → b_f in the face's face; then the edge face's side shared with the twin's face.
@@ -810,10 +824,19 @@ fn children_of(scheme: Scheme, role: Role, m: &Local, s: &Step, h: Half) -> Vec<
         }
         (Scheme::DooSabin, Role::Vertex) => vec![(s.child[f][0], i)],
         (_, Role::Face) => {
+            // Translated copies: the child at corner i + k is anchored at its corner
+            // that the translation takes the parent's anchor to; Loop's middle
+            // triangle is a half-turned copy.
             let d = m.deg(f);
-            let mut out: Vec<Half> = (0..d).map(|k| (s.child[f][(i + k) % d], 0)).collect();
+            let mut out: Vec<Half> = (0..d)
+                .map(|k| {
+                    let child = s.child[f][(i + k) % d];
+                    let n = s.mesh.deg(child);
+                    (child, (n - k % n) % n)
+                })
+                .collect();
             if scheme == Scheme::Loop {
-                out.push((s.middle[f], i));
+                out.push((s.middle[f], (i + 1) % 3));
             }
             out
         }

@@ -226,3 +226,66 @@ fn the_evaluator_welds_the_generated_patches_into_the_limit_surface() {
         }
     }
 }
+
+/// The spectra of the maps of the regular patch of `dim` control points
+/// (the face state whose every child is itself), sorted: equal spectra map
+/// for map mean the same maps up to the order of the control points.
+fn regular_spectra(design: &Design, dim: usize) -> Vec<Vec<(i64, i64)>> {
+    let instance = bcifs::instantiate(design, &[]).unwrap();
+    let a = &instance.automaton;
+    let (state, _) = a
+        .states()
+        .find(|(id, s)| {
+            s.kind == bcifs::CellKind::Face
+                && s.dim == dim
+                && a.outgoing(*id, ArrowKind::Subdivision).iter().all(|e| a.arrow_ends(*e).1 == *id)
+        })
+        .expect("a regular patch");
+    let mut out: Vec<_> =
+        a.outgoing(state, ArrowKind::Subdivision).iter().map(|e| spectrum(&a.arrow(*e).matrix)).collect();
+    out.sort();
+    out
+}
+
+fn spectrum(m: &DMatrix<f64>) -> Vec<(i64, i64)> {
+    let mut e: Vec<(i64, i64)> = bcifs::algebra::eigenvalues(m)
+        .unwrap()
+        .iter()
+        .map(|l| ((l.re * 1e6).round() as i64, (l.im.abs() * 1e6).round() as i64))
+        .collect();
+    e.sort_unstable();
+    e
+}
+
+/// Regular patches use the seed's patch maps, the children keeping the
+/// parent's orientation (translated copies, Loop's middle and √3's down
+/// triangles half-turned): the regular Loop state's four maps are the
+/// box-spline's split of its 12-point patch and the regular √3 state's nine
+/// are √3's ternary split of its 27 points, as `schemes::lattice_ifs`
+/// derives them (seed 001 §3.2–3.3); the regular Catmull-Clark state's four
+/// are the bicubic patch's (§3.1), the regular Doo-Sabin state's four are
+/// `doo_sabin_quad`'s with the classic weights (seed 004) — the same spectra,
+/// map for map, up to the order of the maps and of the control points.
+#[test]
+fn regular_patches_use_the_seed_patch_maps() {
+    use bcifs::schemes::{LatticeScheme, SubPatch, ifs_preset, lattice_ifs, ternary_triangle_parts, to_f64};
+    let quarter = [(0, 0), (1, 0), (0, 1)].map(|centre| SubPatch { centre, sign: 1 });
+    let loop_parts: Vec<SubPatch> = quarter.into_iter().chain([SubPatch { centre: (1, 1), sign: -1 }]).collect();
+    for (scheme, lattice, parts, regular) in [
+        (Scheme::Loop, LatticeScheme::BoxSpline, loop_parts, 12),
+        (Scheme::Sqrt3, LatticeScheme::Sqrt3, ternary_triangle_parts(), 27),
+    ] {
+        let ifs = lattice_ifs(lattice, &parts, &[(0, 0), (1, 0), (0, 1)]).unwrap();
+        assert_eq!(ifs.control.len(), regular);
+        let mut theirs: Vec<_> = ifs.blocks.iter().map(|b| spectrum(&to_f64(b))).collect();
+        theirs.sort();
+        let design = crate::icosahedron().subdivide(scheme, 1).unwrap().automaton(scheme, None).unwrap();
+        assert_eq!(regular_spectra(&design, regular), theirs, "{scheme:?}");
+    }
+    let bicubic = ifs_preset("bicubic", None, None).unwrap();
+    let quad = bcifs::builtin_design("doo_sabin_quad").unwrap();
+    for (scheme, seed, regular) in [(Scheme::CatmullClark, bicubic, 16), (Scheme::DooSabin, quad, 9)] {
+        let design = crate::cube().subdivide(scheme, 2).unwrap().automaton(scheme, None).unwrap();
+        assert_eq!(regular_spectra(&design, regular), regular_spectra(&seed, regular), "{scheme:?}");
+    }
+}
