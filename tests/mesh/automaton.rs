@@ -289,3 +289,23 @@ fn regular_patches_use_the_seed_patch_maps() {
         assert_eq!(regular_spectra(&design, regular), regular_spectra(&seed, regular), "{scheme:?}");
     }
 }
+
+/// A depth whose welded output would not fit memory is refused at once with
+/// the estimate (6 · 4^14 patches of the cube), before anything is made.
+#[test]
+fn a_generated_automaton_too_deep_for_memory_is_refused() {
+    use bcifs::eval::{EvalError, EvalSettings, Evaluator};
+    let design = crate::cube().automaton(Scheme::DooSabin, None).unwrap();
+    let instance = bcifs::instantiate(&design, &[]).unwrap();
+    let settings = EvalSettings::default().with_depth(14).with_memory_limit(1 << 30);
+    let ev = Evaluator::new(&instance.automaton, design.model().unwrap(), settings).unwrap();
+    let started = std::time::Instant::now();
+    match ev.evaluate() {
+        Err(EvalError::TooLarge { estimate, limit }) => {
+            assert_eq!(limit, 1 << 30);
+            assert!(estimate > 8 * 6 * 4u128.pow(14), "{estimate}");
+        }
+        other => panic!("expected a refusal, got {:?}", other.map(|s| s.vertex_count())),
+    }
+    assert!(started.elapsed().as_secs() < 5);
+}
