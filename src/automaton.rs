@@ -22,6 +22,9 @@ pub trait Entry: nalgebra::Scalar + ExprValue {
     fn one() -> Self;
     /// Whether this entry is (exactly) zero, to skip work in products.
     fn is_zero_entry(&self) -> bool;
+    /// Whether this entry is (exactly) one: a product by it is a copy
+    /// (selection matrices, the common factor of constraint paths).
+    fn is_one_entry(&self) -> bool;
 }
 
 impl Entry for f64 {
@@ -34,6 +37,9 @@ impl Entry for f64 {
     fn is_zero_entry(&self) -> bool {
         *self == 0.0
     }
+    fn is_one_entry(&self) -> bool {
+        *self == 1.0
+    }
 }
 
 impl Entry for Affine {
@@ -45,6 +51,9 @@ impl Entry for Affine {
     }
     fn is_zero_entry(&self) -> bool {
         self.is_zero()
+    }
+    fn is_one_entry(&self) -> bool {
+        self.is_one()
     }
 }
 
@@ -64,9 +73,11 @@ pub fn mat_mul<E: Entry>(a: &DMatrix<E>, b: &DMatrix<E>) -> Result<DMatrix<E>, E
             }
             for j in 0..b.ncols() {
                 let bkj = &b[(k, j)];
-                if !bkj.is_zero_entry() {
-                    out[(i, j)] = out[(i, j)].plus(&aik.times(bkj)?);
+                if bkj.is_zero_entry() {
+                    continue;
                 }
+                let term = if bkj.is_one_entry() { aik.clone() } else { aik.times(bkj)? };
+                out[(i, j)] = if out[(i, j)].is_zero_entry() { term } else { out[(i, j)].plus(&term) };
             }
         }
     }

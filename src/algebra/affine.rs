@@ -61,6 +61,11 @@ impl Affine {
         self.terms.is_empty() && self.constant.is_zero()
     }
 
+    /// Whether the form is the constant one.
+    pub fn is_one(&self) -> bool {
+        self.terms.is_empty() && self.constant.is_one()
+    }
+
     /// `self + other`.
     pub fn add(&self, other: &Affine) -> Affine {
         self.add_scaled(other, &Num::one())
