@@ -71,6 +71,8 @@ pub struct StatePlan {
     pub quadrants: Vec<(usize, usize)>,
     /// Faces: sub-faces per side (2 for a 2×2 split, 3 for a ternary scheme's 3×3).
     pub split: usize,
+    /// Whether the state lies on a cycle of subdivision arrows (its cells are iterated).
+    pub cyclic: bool,
 }
 
 /// The evaluation plan of an automaton.
@@ -146,6 +148,7 @@ impl Plan {
                 end: None,
                 quadrants: Vec::new(),
                 split: 0,
+                cyclic: automaton.outgoing(id, ArrowKind::Subdivision).into_iter().any(|e| automaton.on_cycle(e)),
             };
             match s.kind {
                 CellKind::Vertex => plan.samples = vertex_point[id.index()].iter().cloned().collect(),

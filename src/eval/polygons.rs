@@ -40,9 +40,7 @@ impl Evaluator {
     pub(super) fn polygons(&self, k: usize, sink: &mut dyn Sink) -> Result<(), EvalError> {
         let d = self.pieces.dim;
         // Welding holds every corner: refuse what would not fit, with the estimate.
-        let cyclic = self.cyclic();
-        let cells =
-            self.pieces.pieces.iter().fold(0u128, |n, p| n.saturating_add(self.face_cells(p.state, k, &cyclic)));
+        let cells = self.pieces.pieces.iter().fold(0u128, |n, p| n.saturating_add(self.face_cells(p.state, k)));
         let estimate = cells.saturating_mul(4 * (8 * d as u128 + 64));
         if estimate > self.settings.memory_limit as u128 {
             return Err(EvalError::TooLarge { estimate, limit: self.settings.memory_limit });
@@ -75,7 +73,7 @@ impl Evaluator {
                     }
                     continue;
                 }
-                let step = self.step_of(s, &cyclic);
+                let step = self.step_of(s);
                 if r < step {
                     continue;
                 }
@@ -98,12 +96,12 @@ impl Evaluator {
 
 impl Evaluator {
     /// Face cells `k` subdivisions below a cell of `state` (as [`Evaluator::polygons`] counts them), saturating.
-    fn face_cells(&self, state: usize, k: usize, cyclic: &[bool]) -> u128 {
+    fn face_cells(&self, state: usize, k: usize) -> u128 {
         let mut memo: Vec<Vec<Option<u128>>> = vec![vec![None; k + 1]; self.plan.states.len()];
-        self.count_cells(state, k, &mut memo, cyclic)
+        self.count_cells(state, k, &mut memo)
     }
 
-    fn count_cells(&self, s: usize, r: usize, memo: &mut Vec<Vec<Option<u128>>>, cyclic: &[bool]) -> u128 {
+    fn count_cells(&self, s: usize, r: usize, memo: &mut Vec<Vec<Option<u128>>>) -> u128 {
         if let Some(n) = memo[s][r] {
             return n;
         }
@@ -111,44 +109,21 @@ impl Evaluator {
         if sp.kind == CellKind::Face && r == 0 {
             return 1;
         }
-        let step = self.step_of(s, cyclic);
+        let step = self.step_of(s);
         if r < step {
             return 0;
         }
-        let n = sp
-            .children
-            .iter()
-            .map(|(_, t, _)| self.count_cells(*t, r - step, memo, cyclic))
-            .fold(0u128, u128::saturating_add);
+        let n =
+            sp.children.iter().map(|(_, t, _)| self.count_cells(*t, r - step, memo)).fold(0u128, u128::saturating_add);
         memo[s][r] = Some(n);
         n
     }
 
     /// Whether a cell of `s` counts as a subdivision: faces do, and states on
     /// a cycle (a root that selects its patches, taken once, does not).
-    fn step_of(&self, s: usize, cyclic: &[bool]) -> usize {
-        usize::from(self.plan.state(s).kind == CellKind::Face || cyclic[s])
-    }
-
-    /// Which states lie on a cycle of subdivision arrows.
-    fn cyclic(&self) -> Vec<bool> {
-        let n = self.plan.states.len();
-        (0..n)
-            .map(|s| {
-                let mut seen = vec![false; n];
-                let mut stack: Vec<usize> =
-                    self.plan.states[s].iter().flat_map(|p| p.children.iter().map(|c| c.1)).collect();
-                while let Some(t) = stack.pop() {
-                    if t == s {
-                        return true;
-                    }
-                    if !std::mem::replace(&mut seen[t], true) {
-                        stack.extend(self.plan.states[t].iter().flat_map(|p| p.children.iter().map(|c| c.1)));
-                    }
-                }
-                false
-            })
-            .collect()
+    fn step_of(&self, s: usize) -> usize {
+        let sp = self.plan.state(s);
+        usize::from(sp.kind == CellKind::Face || sp.cyclic)
     }
 }
 

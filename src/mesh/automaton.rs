@@ -133,30 +133,22 @@ impl Local {
         Local { faces, sides, vertices, twin, around }
     }
 
-    fn of_mesh(mesh: &PolyMesh) -> Local {
-        let faces: Vec<Vec<usize>> = mesh.faces().map(<[usize]>::to_vec).collect();
-        let mut local = Local::new(faces, Vec::new(), mesh.positions.len());
+    /// A mesh whose sides without a face across are all `open`: the
+    /// border of a whole mesh, or the cut edge of a neighbourhood.
+    fn with_open_sides(faces: Vec<Vec<usize>>, vertices: usize, open: Side) -> Local {
+        let mut local = Local::new(faces, Vec::new(), vertices);
         local.sides = (0..local.faces.len())
             .map(|f| {
                 (0..local.faces[f].len())
-                    .map(|i| if local.twin_of((f, i)).is_some() { Side::Inner } else { Side::Border })
+                    .map(|i| if local.twin_of((f, i)).is_some() { Side::Inner } else { open })
                     .collect()
             })
             .collect();
         local
     }
 
-    /// A mesh whose sides without a face across are cut (a neighbourhood's edge).
-    fn cut_at_the_edges(faces: Vec<Vec<usize>>, vertices: usize) -> Local {
-        let mut local = Local::new(faces, Vec::new(), vertices);
-        local.sides = (0..local.faces.len())
-            .map(|f| {
-                (0..local.faces[f].len())
-                    .map(|i| if local.twin_of((f, i)).is_some() { Side::Inner } else { Side::Cut })
-                    .collect()
-            })
-            .collect();
-        local
+    fn of_mesh(mesh: &PolyMesh) -> Local {
+        Local::with_open_sides(mesh.faces().map(<[usize]>::to_vec).collect(), mesh.positions.len(), Side::Border)
     }
 
     fn deg(&self, f: usize) -> usize {
@@ -490,10 +482,7 @@ fn exact_weight(x: f64) -> BigRational {
             return rat(p as i64, q);
         }
     }
-    let text = format!("{x:?}");
-    let (int, frac) = text.split_once('.').unwrap_or((&text, ""));
-    let digits: BigInt = format!("{int}{frac}").parse().unwrap_or_default();
-    BigRational::new(digits, BigInt::from(10u32).pow(frac.len() as u32))
+    Num::from_f64(x).as_rational().cloned().unwrap_or_default()
 }
 
 /// One √3 step of a closed neighbourhood: vertex points `(1 − a) v + a/n Σ`
@@ -530,7 +519,7 @@ fn sqrt3_once(m: &Local) -> (Local, Vec<Option<Sym>>) {
         }
     }
     let count = points.len();
-    (Local::cut_at_the_edges(faces, count), points)
+    (Local::with_open_sides(faces, count, Side::Cut), points)
 }
 
 /// Two √3 steps (an arrow): a triangle's nine children lie in it (a ternary split).
@@ -967,9 +956,11 @@ impl Generator {
         // Sides.
         let sides = sides_of(scheme, role, &m, anchor);
         let side_role = role.side();
+        let mut side_states = Vec::with_capacity(sides.len());
         for (j, &h) in sides.iter().enumerate() {
             let (to, order) = self.state_at(side_role, &m, h)?;
             self.selects.push((side_name(&name, role, j), k, to, order));
+            side_states.push(to);
         }
         // Constraints: each side of each child lies on a side of the cell or on another child's side.
         let parent_parts: Vec<(usize, usize, Half)> = sides
@@ -988,7 +979,7 @@ impl Generator {
             let here = cell(scheme, side_role, &s.mesh, y);
             let lhs = format!("{name}_{c} {}", side_name(&self.names[child_states[c]], role, q));
             if let Some(&(j, t, z)) = parent_parts.iter().find(|p| cell(scheme, side_role, &s.mesh, p.2) == here) {
-                let (side_state, _) = self.state_at(side_role, &m, sides[j])?;
+                let side_state = side_states[j];
                 let turn = self.renumber(side_role, &s.mesh, y, z)?;
                 let rhs = format!("{} {}_{t}", side_name(&name, role, j), self.names[side_state]);
                 self.incidence.push(format!("{lhs} = {rhs}{}", turn.map(|t| format!(" {t}")).unwrap_or_default()));
