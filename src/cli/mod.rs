@@ -191,7 +191,7 @@ fn run(out: &mut String, cli: Cli) -> Result<u8> {
         Command::Solve { file, json } => core::run_solve(out, &file, json),
         Command::Check { file, params, json } => core::run_check(out, &file, &params, json),
         Command::Render(args) => render::run(args),
-        Command::Surface(args) => surface::run(args),
+        Command::Surface(args) => surface::run(out, args),
         Command::Gallery { dir } => gallery::run(out, &dir),
         Command::Analyze { what } => analyze::run(out, what),
         Command::Contour { what } => contour::run(out, what),

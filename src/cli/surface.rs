@@ -87,7 +87,7 @@ pub fn rule_weights(scheme: Scheme, params: &[(String, f64)]) -> anyhow::Result<
 }
 
 /// `bcifs surface`.
-pub fn run(args: SurfaceArgs) -> anyhow::Result<u8> {
+pub fn run(out: &mut String, args: SurfaceArgs) -> anyhow::Result<u8> {
     let started = std::time::Instant::now();
     let scheme = keyword("scheme", &args.scheme, &Scheme::ALL.map(|s| (s.name(), s)))?;
     let weights = rule_weights(scheme, &parse_params(&args.params)?)?;
@@ -108,7 +108,7 @@ pub fn run(args: SurfaceArgs) -> anyhow::Result<u8> {
         eprintln!("warning: {why}");
     }
     if args.print {
-        return print_automaton(&args, &mesh, scheme, weights, started);
+        return print_automaton(out, &args, &mesh, scheme, weights, started);
     }
     let Some(output) = args.output.clone() else { bail!("give the output file with -o") };
     let ext = output.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
@@ -145,8 +145,10 @@ pub fn run(args: SurfaceArgs) -> anyhow::Result<u8> {
     Ok(0)
 }
 
-/// `--print`: the mesh as a generated automaton, to `-o FILE.toml` or standard output.
+/// `--print`: the mesh as a generated automaton, to `-o FILE.toml` or
+/// standard output (`out`, written by the caller, which takes a closed pipe calmly).
 fn print_automaton(
+    out: &mut String,
     args: &SurfaceArgs,
     mesh: &PolyMesh,
     scheme: Scheme,
@@ -156,7 +158,7 @@ fn print_automaton(
     let design = mesh.automaton(scheme, weights)?;
     let text = bcifs::write_design(&design);
     let Some(output) = &args.output else {
-        print!("{text}");
+        out.push_str(&text);
         return Ok(0);
     };
     let ext = output.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
