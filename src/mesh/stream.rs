@@ -53,6 +53,8 @@ struct Text<'w> {
     obj: bool,
     ryu: ryu::Buffer,
     written: Written,
+    /// The face being written.
+    corners: Vec<usize>,
 }
 
 impl Text<'_> {
@@ -89,20 +91,23 @@ impl MeshOut for Text<'_> {
     }
 
     fn face(&mut self, vertices: &mut dyn Iterator<Item = usize>) -> io::Result<()> {
+        self.corners.clear();
+        self.corners.extend(vertices);
+        if self.corners.len() < 3 {
+            // A digon (Doo-Sabin's face of a valence-2 vertex) is a doubled edge: no client takes it,
+            // and the surface is closed without it (its two sides are one edge of the file).
+            return Ok(());
+        }
         let mut ints = itoa::Buffer::new();
         if self.obj {
             self.buf.push(b'f');
-            for v in vertices {
-                self.buf.push(b' ');
-                self.buf.extend_from_slice(ints.format(v + 1).as_bytes());
-            }
         } else {
-            let list: Vec<usize> = vertices.collect();
-            self.buf.extend_from_slice(ints.format(list.len()).as_bytes());
-            for v in list {
-                self.buf.push(b' ');
-                self.buf.extend_from_slice(ints.format(v).as_bytes());
-            }
+            self.buf.extend_from_slice(ints.format(self.corners.len()).as_bytes());
+        }
+        let base = usize::from(self.obj);
+        for &v in &self.corners {
+            self.buf.push(b' ');
+            self.buf.extend_from_slice(ints.format(v + base).as_bytes());
         }
         self.buf.push(b'\n');
         self.written.faces += 1;
@@ -133,6 +138,7 @@ impl PolyMesh {
             obj,
             ryu: ryu::Buffer::new(),
             written: Written { vertices: 0, faces: 0 },
+            corners: Vec::new(),
         };
         let io = MeshError::Write;
         if let MeshFormat::Obj(name) = format {
@@ -209,7 +215,14 @@ impl PolyMesh {
         let interior_vertices = (0..self.positions.len()).filter(|&v| t.first(v) != BORDER && !t.on_border(v)).count();
         let nf = self.face_count();
         match (scheme, limit) {
-            (Scheme::DooSabin, false) => (corners, nf + interior_edges + interior_vertices),
+            (Scheme::DooSabin, false) => {
+                // Digons (faces of interior vertices of valence 2, and what they become) are not written.
+                let digons = self.faces().filter(|f| f.len() < 3).count()
+                    + (0..self.positions.len())
+                        .filter(|&v| t.first(v) != BORDER && !t.on_border(v) && t.valence(self, v) == 2)
+                        .count();
+                (corners, nf + interior_edges + interior_vertices - digons)
+            }
             (Scheme::DooSabin, true) => {
                 let quads = (0..corners).filter(|&c| {
                     let v = self.indices[c];

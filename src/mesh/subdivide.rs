@@ -522,7 +522,8 @@ impl Weights {
         let largest = mesh.faces().map(<[usize]>::len).max().unwrap_or(0);
         let by_degree = (0..=largest)
             .map(|n| match (n, quad) {
-                (0..=2, _) => Vec::new(),
+                // A digon (the face of an interior vertex of valence 2) has corners too: (7/8, 1/8).
+                (0..=1, _) => Vec::new(),
                 (4, Some(q)) => vec![q.alpha, q.beta, q.delta(), q.gamma],
                 _ => doo_sabin_weights(n),
             })

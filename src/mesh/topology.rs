@@ -30,6 +30,28 @@ fn wide(x: u32) -> usize {
     if x == NONE { BORDER } else { x as usize }
 }
 
+/// Pairs the half-edges `forth` (a → b) with `back` (b → a) when the pair
+/// of vertices carries more than one edge. That happens only in meshes made
+/// by subdivision: Doo-Sabin turns an interior vertex of valence 2 into a
+/// two-sided face (a digon, as CGAL does), whose two sides join the two
+/// faces beside it. A face is never its own neighbour: the half-edges of a
+/// face that runs both ways (the digon) are paired first, each with one of
+/// another face, then the rest in order.
+fn pair_multi_edge(twin: &mut [u32], face: &[u32], mut forth: Vec<usize>, mut back: Vec<usize>) {
+    forth.retain(|&c| twin[c] == NONE);
+    back.retain(|&c| twin[c] == NONE);
+    let both = |c: usize, other: &[usize]| other.iter().any(|&d| face[d] == face[c]);
+    // Half-edges of faces that run both ways first.
+    forth.sort_by_key(|&c| !both(c, &back));
+    for c in forth {
+        let pick = back.iter().position(|&d| face[d] != face[c]);
+        if let Some(i) = pick {
+            let d = back.remove(i);
+            (twin[c], twin[d]) = (d as u32, c as u32);
+        }
+    }
+}
+
 impl Topology {
     /// The half-edges of `mesh`, checked: no edge in three faces, faces
     /// consistently oriented, every vertex a single fan.
@@ -117,8 +139,14 @@ impl Topology {
                     });
                 }
             }
-            if let Some(t) = ends(b, a).next() {
-                twin[c] = t as u32;
+            if twin[c] != NONE {
+                continue;
+            }
+            let mut back = ends(b, a).filter(|&d| twin[d] == NONE && d != c);
+            match (back.next(), back.next()) {
+                (None, _) => {}
+                (Some(d), None) if ends(a, b).nth(1).is_none() => (twin[c], twin[d]) = (d as u32, c as u32),
+                _ => pair_multi_edge(&mut twin, &face, ends(a, b).collect(), ends(b, a).collect()),
             }
         }
         let mut topology = Topology { face, twin, first: vec![NONE; nv], on_border: vec![false; nv] };
@@ -216,6 +244,21 @@ impl Topology {
             last = self.rotate(mesh, last);
         }
         (mesh.indices[self.prev(mesh, last)], w)
+    }
+
+    /// The number of faces around the interior vertex `v` (its outgoing
+    /// corners, walked by the rotation); for a border vertex, those of its fan.
+    pub fn valence(&self, mesh: &PolyMesh, v: usize) -> usize {
+        let first = self.first(v);
+        let (mut c, mut n) = (first, 0);
+        while c != BORDER {
+            n += 1;
+            c = self.rotate(mesh, c);
+            if c == first {
+                break;
+            }
+        }
+        n
     }
 
     /// Number of border half-edges.

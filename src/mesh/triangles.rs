@@ -389,13 +389,29 @@ impl PolyMesh {
             .collect()
     }
 
-    /// The mesh with every face of more than three vertices split into a fan of triangles.
+    /// The mesh with every face of more than three vertices split into a fan
+    /// of triangles. The fan's apex is the first corner (of the first few
+    /// tried) whose diagonals are neither edges of the mesh nor diagonals
+    /// of another face: two faces that share two vertices not joined by an
+    /// edge (beside a vertex of valence 2) would otherwise both draw that
+    /// diagonal, an edge in four triangles.
     pub fn triangulated(&self) -> PolyMesh {
+        /// Apexes tried per face: a face of n corners costs O(n) whatever n.
+        const TRIES: usize = 8;
+        let key = |a: usize, b: usize| (a.min(b), a.max(b));
+        let mut edges: std::collections::HashSet<(usize, usize)> = std::collections::HashSet::new();
+        for f in self.faces() {
+            edges.extend((0..f.len()).map(|i| key(f[i], f[(i + 1) % f.len()])));
+        }
         let mut starts = vec![0];
         let mut indices = Vec::with_capacity(3 * self.corner_count());
         for f in self.faces() {
-            for i in 1..f.len() - 1 {
-                indices.extend([f[0], f[i], f[i + 1]]);
+            let n = f.len();
+            let diagonals = |r: usize| (2..n - 1).map(move |i| key(f[r], f[(r + i) % n]));
+            let apex = (0..n.min(TRIES)).find(|&r| diagonals(r).all(|d| !edges.contains(&d))).unwrap_or(0);
+            edges.extend(diagonals(apex));
+            for i in 1..n - 1 {
+                indices.extend([f[apex], f[(apex + i) % n], f[(apex + i + 1) % n]]);
                 starts.push(indices.len());
             }
         }

@@ -12,10 +12,17 @@ fn coordinate(out: &mut String, x: f64) {
 }
 
 impl PolyMesh {
+    /// The faces a file gets: all but digons (Doo-Sabin's faces of interior
+    /// vertices of valence 2), which are doubled edges that no client takes;
+    /// the surface is closed without them.
+    pub fn written_faces(&self) -> impl Iterator<Item = &[usize]> {
+        self.faces().filter(|f| f.len() >= 3)
+    }
+
     /// The mesh as an OFF file.
     pub fn to_off(&self) -> String {
         let mut out = String::with_capacity(32 * (self.positions.len() + self.face_count()));
-        let _ = writeln!(out, "OFF\n{} {} 0", self.positions.len(), self.face_count());
+        let _ = writeln!(out, "OFF\n{} {} 0", self.positions.len(), self.written_faces().count());
         for p in &self.positions {
             for (a, x) in p.iter().enumerate() {
                 if a > 0 {
@@ -25,7 +32,7 @@ impl PolyMesh {
             }
             out.push('\n');
         }
-        for face in self.faces() {
+        for face in self.written_faces() {
             let _ = write!(out, "{}", face.len());
             for v in face {
                 let _ = write!(out, " {v}");
@@ -49,7 +56,7 @@ impl PolyMesh {
             }
             out.push('\n');
         }
-        for face in self.faces() {
+        for face in self.written_faces() {
             out.push('f');
             for v in face {
                 let _ = write!(out, " {}", v + 1);

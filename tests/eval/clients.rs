@@ -316,3 +316,70 @@ fn generated_mesh_automata_load_in_the_clients() {
         std::fs::remove_file(&path).unwrap();
     }
 }
+
+/// Issue 23, item 1: Doo-Sabin beside an interior vertex of valence 2 (the
+/// cube with a vertex inserted in an edge; Suzanne has one) writes no face
+/// with an index past the vertices, a repeated vertex or fewer than three
+/// corners (the digon is a doubled edge, left out). The nets and limits of
+/// depth 2 and 3 load in trimesh (the split cube watertight and outward),
+/// MeshLab (two-manifold, every vertex) and Blender 3.4, which crashed on
+/// the depth-3 net.
+#[test]
+fn doo_sabin_beside_a_valence_2_vertex_loads_in_the_clients() {
+    use bcifs::mesh::{MeshFormat, Scheme, Subdivision, read_mesh};
+    let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    for input in ["split_cube.obj", "suzanne.obj"] {
+        let mesh = read_mesh(&data.join(input)).unwrap();
+        let closed = mesh.is_closed();
+        for (depth, limit) in [(2, false), (2, true), (3, false), (3, true)] {
+            let path =
+                std::env::temp_dir().join(format!("bcifs-client-{}-ds-{depth}-{limit}-{input}", std::process::id()));
+            let job = Subdivision { scheme: Scheme::DooSabin, depth, weights: None, memory_limit: 1 << 30 };
+            let mut out = std::io::BufWriter::new(std::fs::File::create(&path).unwrap());
+            let written = mesh.write_subdivided(&job, limit, MeshFormat::Obj("mesh"), &mut out).unwrap();
+            drop(out);
+            let what = format!("{input} depth {depth} limit {limit}");
+            // Our own reader checks every face (indices in range, three distinct corners, manifold).
+            let back = read_mesh(&path).unwrap_or_else(|e| panic!("{what}: bcifs refuses its own file: {e}"));
+            assert_eq!((back.positions.len(), back.face_count()), (written.vertices, written.faces), "{what}");
+            assert_eq!(back.is_closed(), closed, "{what}: closed as the input");
+            let p = path.display();
+            if let Some(out) = python(
+                "trimesh",
+                &format!(
+                    "import trimesh\nm = trimesh.load('{p}', process=False)\n\
+                     print(len(m.vertices), int(m.faces.max()) < len(m.vertices), m.is_watertight, m.volume > 0)"
+                ),
+            ) {
+                let expected = if closed { "True True" } else { "False" };
+                assert!(
+                    out.starts_with(&format!("{} True", written.vertices)) && out.contains(expected),
+                    "{what} in trimesh: {out}"
+                );
+            }
+            if let Some(out) = python(
+                "pymeshlab",
+                &format!(
+                    "import pymeshlab\nms = pymeshlab.MeshSet()\nms.load_new_mesh('{p}')\n\
+                     t = ms.get_topological_measures()\n\
+                     print(ms.current_mesh().vertex_number(), t['is_mesh_two_manifold'], t['boundary_edges'] == 0)"
+                ),
+            ) {
+                assert_eq!(
+                    out,
+                    format!("{} True {}", written.vertices, if closed { "True" } else { "False" }),
+                    "{what} in MeshLab"
+                );
+            }
+            if let Some(lines) = blender(&blender_import(&path)) {
+                let f: Vec<&str> = lines[0].split(' ').collect();
+                assert_eq!(f[0], written.vertices.to_string(), "{what} in Blender: vertices");
+                assert_eq!(f[2], written.faces.to_string(), "{what} in Blender: faces");
+                if closed {
+                    assert_eq!(f[4], "True", "{what} in Blender: every edge between two faces");
+                }
+            }
+            std::fs::remove_file(&path).unwrap();
+        }
+    }
+}

@@ -55,8 +55,25 @@ pub fn shapes() -> Vec<(&'static str, PolyMesh)> {
         vec![vec![0, 1, 5, 4], vec![1, 2, 6, 5], vec![2, 3, 7, 6], vec![4, 5, 9, 8], vec![5, 6, 10, 9], vec![6, 7, 10]],
     )
     .unwrap();
+    // The cube with a vertex inserted in an edge: two pentagons, an interior vertex of valence 2
+    // (Doo-Sabin makes a digon of it, as CGAL does; Suzanne has one too).
+    let mut positions = cube.positions.clone();
+    positions.push([0.0, -1.0, -1.0]);
+    let split_edge = PolyMesh::new(
+        positions,
+        vec![
+            vec![0, 3, 2, 1, 8],
+            vec![4, 5, 6, 7],
+            vec![0, 8, 1, 5, 4],
+            vec![1, 2, 6, 5],
+            vec![2, 3, 7, 6],
+            vec![3, 0, 4, 7],
+        ],
+    )
+    .unwrap();
     vec![
         ("cube", cube),
+        ("split_edge", split_edge),
         ("pyramid", pyramid),
         ("prism", prism),
         ("icosahedron", icosahedron),
