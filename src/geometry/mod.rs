@@ -41,6 +41,9 @@ pub struct Object {
     pub polylines: Vec<(usize, usize, bool)>,
     /// Faces pushed while this object was current.
     pub faces: Range<usize>,
+    /// Triangles pushed while this object was current (the last object also
+    /// owns triangles stored without a [`Sink`] call, after its range).
+    pub triangles: Range<usize>,
 }
 
 /// Evaluation output held in memory.
@@ -210,8 +213,10 @@ impl Shape {
                 let uvs = (!self.quad_uvs.is_empty()).then(|| wide(&self.quad_uvs[f.clone()]));
                 sink.faces(&wide(&self.quads[f]), uvs.as_deref())?;
             }
-            if k + 1 == self.objects.len() && !self.triangles.is_empty() {
-                sink.triangles(&self.triangles)?;
+            let end = if k + 1 == self.objects.len() { self.triangles.len() } else { o.triangles.end };
+            let t = &self.triangles[o.triangles.start.min(end)..end];
+            if !t.is_empty() {
+                sink.triangles(t)?;
             }
         }
         Ok(())
@@ -224,7 +229,7 @@ impl Shape {
         self.dim = dim;
         self.triangles.clear();
         self.objects.clear();
-        self.objects.push(Object { name: name.to_string(), vertices: 0..0, polylines: Vec::new(), faces: 0..0 });
+        self.objects.push(Object { name: name.to_string(), ..Object::default() });
     }
 
     /// Ends a mesh started by [`Shape::reuse_as_mesh`]: its object holds every vertex and quad.
@@ -245,8 +250,14 @@ impl Shape {
 
 impl Sink for Shape {
     fn object(&mut self, name: &str) -> io::Result<()> {
-        let (v, f) = (self.vertex_count(), self.quads.len());
-        self.objects.push(Object { name: name.to_string(), vertices: v..v, polylines: Vec::new(), faces: f..f });
+        let (v, f, t) = (self.vertex_count(), self.quads.len(), self.triangles.len());
+        self.objects.push(Object {
+            name: name.to_string(),
+            vertices: v..v,
+            polylines: Vec::new(),
+            faces: f..f,
+            triangles: t..t,
+        });
         Ok(())
     }
 
@@ -301,6 +312,8 @@ impl Sink for Shape {
 
     fn triangles(&mut self, triangles: &[[usize; 3]]) -> io::Result<()> {
         self.triangles.extend_from_slice(triangles);
+        let end = self.triangles.len();
+        self.current().triangles.end = end;
         Ok(())
     }
 }

@@ -514,3 +514,36 @@ fn density_of_a_surface_patch_in_3d() {
     assert!(total as f64 >= 0.999 * 500_000.0, "{total}");
     assert_ne!(run(1, 75.0).counts, one.counts, "another view, another picture");
 }
+
+/// Issue 23, item 2: a shape of several triangle meshes (the gallery's
+/// icosahedron textures) writes each object's faces after its own `o` line,
+/// so an importer makes one object per mesh, each with its own faces.
+#[test]
+fn each_object_keeps_its_triangles() {
+    use bcifs::geometry::{Shape, Sink};
+    let ico = bcifs::mesh::PolyMesh::icosahedron();
+    let one = ico.limit(bcifs::mesh::Scheme::Loop, 1).unwrap();
+    let mut all = Shape::default();
+    for k in 0..3 {
+        let first = all.vertex_count();
+        let moved: Vec<f64> = one.positions.chunks_exact(3).flat_map(|p| [p[0] + 3.0 * k as f64, p[1], p[2]]).collect();
+        let triangles: Vec<[usize; 3]> = one.triangles.iter().map(|t| t.map(|v| first + v)).collect();
+        all.object(&format!("piece{k}")).unwrap();
+        all.vertices(3, &moved, None).unwrap();
+        all.triangles(&triangles).unwrap();
+    }
+    let path = temp("pieces.obj");
+    let mut w = ObjWriter::create(&path).unwrap();
+    all.replay(&mut w).unwrap();
+    w.finish().unwrap();
+    let (models, _) = tobj::load_obj(&path, &tobj::LoadOptions::default()).unwrap();
+    assert_eq!(models.len(), 3, "one model per object");
+    for (k, m) in models.iter().enumerate() {
+        assert_eq!(m.name, format!("piece{k}"));
+        assert_eq!(m.mesh.indices.len(), 3 * one.triangles.len(), "{}: its own triangles", m.name);
+        // Every vertex of the piece lies in its own slot along x.
+        let xs = m.mesh.positions.chunks_exact(3).map(|p| p[0] - 3.0 * k as f64);
+        assert!(xs.into_iter().all(|x| x.abs() < 1.5), "{}: faces of another piece", m.name);
+    }
+    std::fs::remove_file(&path).unwrap();
+}
