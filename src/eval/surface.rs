@@ -108,26 +108,52 @@ fn quad_area(a: &[f64], b: &[f64], c: &[f64], e: &[f64]) -> DVec3 {
     0.5 * (c - a).cross(e - b)
 }
 
-/// The unit normal of a vertex from the area vectors of its faces: their
-/// sum (area weighting), unless on a rough surface that points against one
-/// of them; then the centre of the smallest cap of the sphere holding the
-/// unit face normals (spanned by one, two or three of them), which agrees
-/// with every face whenever any direction does. `+z` when all faces are
-/// degenerate.
-fn agreeing_normal(faces: &[DVec3; 4]) -> DVec3 {
-    let sum: DVec3 = faces.iter().sum();
-    // The common case: the sum agrees with every (non-degenerate) face.
-    if faces.iter().all(|f| f.dot(sum) > 0.0 || *f == DVec3::ZERO)
+/// The normals of the triangles that hold corner `k` of the quad `q`
+/// (lattice order, counter-clockwise) in either of its two splits into
+/// triangles: the corner's own triangle and the two along the diagonal from
+/// it. A client that splits the quad (trimesh, a renderer) shades with one
+/// of them.
+fn corner_triangles(q: &[DVec3; 4], k: usize) -> [DVec3; 3] {
+    let at = |i: usize| q[(k + i) % 4];
+    let tri = |a: DVec3, b: DVec3, c: DVec3| (b - a).cross(c - a);
+    [tri(at(3), at(0), at(1)), tri(at(0), at(1), at(2)), tri(at(0), at(2), at(3))]
+}
+
+/// The unit normal of a vertex from the quads around it (`faces`: each
+/// quad's corners and which of them is the vertex; `None` where there is
+/// no quad): the sum of their area vectors (area weighting), unless on a
+/// rough surface that points against one of the triangles a client may
+/// split a quad into; then the centre of the smallest cap of the sphere
+/// holding the unit normals of those triangles (spanned by one, two or three
+/// of them), which agrees with every one whenever any direction does. `+z`
+/// when all faces are degenerate.
+fn agreeing_normal(faces: &[Option<([DVec3; 4], usize)>; 4]) -> DVec3 {
+    let sum: DVec3 = faces.iter().flatten().map(|(q, _)| 0.5 * (q[2] - q[0]).cross(q[3] - q[1])).sum();
+    let triangles = || faces.iter().flatten().flat_map(|(q, k)| corner_triangles(q, *k));
+    // The common case: the sum agrees with every (non-degenerate) triangle.
+    if triangles().all(|f| f.dot(sum) > 0.0 || f.try_normalize().is_none())
         && let Some(n) = sum.try_normalize()
     {
         return n;
     }
-    let units: Vec<DVec3> = faces.iter().filter_map(|f| f.try_normalize()).collect();
-    let worst = |n: DVec3| units.iter().map(|u| u.dot(n)).fold(f64::INFINITY, f64::min);
-    let mut candidates = units.clone();
+    let units: Vec<DVec3> = triangles().filter_map(|f| f.try_normalize()).collect();
+    let worst = |n: &DVec3| units.iter().map(|u| u.dot(*n)).fold(f64::INFINITY, f64::min);
+    let best = |c: Vec<DVec3>| c.into_iter().map(|n| (worst(&n), n)).max_by(|a, b| a.0.total_cmp(&b.0));
+    // Caps spanned by one or two normals first: cheap, and enough almost always.
+    let mut candidates: Vec<DVec3> = units.clone();
+    candidates.extend(sum.try_normalize());
+    for (a, u) in units.iter().enumerate() {
+        candidates.extend(units[a + 1..].iter().filter_map(|v| (*u + *v).try_normalize()));
+    }
+    let two = best(candidates);
+    if let Some((w, n)) = two
+        && w > 0.0
+    {
+        return n;
+    }
+    let mut candidates = Vec::new();
     for (a, u) in units.iter().enumerate() {
         for (b, v) in units.iter().enumerate().skip(a + 1) {
-            candidates.extend((*u + *v).try_normalize());
             for w in &units[b + 1..] {
                 // Equidistant from u, v, w: n·u = n·v = n·w.
                 let m = glam::DMat3::from_cols(*u, *v, *w).transpose();
@@ -138,7 +164,18 @@ fn agreeing_normal(faces: &[DVec3; 4]) -> DVec3 {
             }
         }
     }
-    candidates.into_iter().max_by(|a, b| worst(*a).total_cmp(&worst(*b))).unwrap_or(DVec3::Z)
+    let three = best(candidates);
+    match (two, three) {
+        (Some(a), Some(b)) => {
+            if b.0 > a.0 {
+                b.1
+            } else {
+                a.1
+            }
+        }
+        (Some((_, n)), None) | (None, Some((_, n))) => n,
+        (None, None) => DVec3::Z,
+    }
 }
 
 /// Everything a block needs, prepared once per evaluation.
@@ -307,15 +344,21 @@ impl<'a> Mesher<'a> {
     }
 
     /// The unit normal at point `(i, j)` (both ≥ 1) of a ringed block, from
-    /// the area vectors of the (up to four) quads around it: see
+    /// the (up to four) quads around it (`areas` says which exist): see
     /// [`agreeing_normal`]; `+z` for planar sheets and degenerate points.
-    fn area_normal(&self, areas: &[DVec3], i: usize, j: usize) -> [f64; 3] {
+    fn area_normal(&self, pts: &[f64], areas: &[DVec3], i: usize, j: usize) -> [f64; 3] {
         if self.d < 3 {
             return [0.0, 0.0, 1.0];
         }
-        let q = self.lat.b + 1;
-        let face = |i: usize, j: usize| if i < q && j < q { areas[j * q + i] } else { DVec3::ZERO };
-        let n = agreeing_normal(&[face(i - 1, j - 1), face(i, j - 1), face(i - 1, j), face(i, j)]).to_array();
+        let (q, wide, d) = (self.lat.b + 1, self.lat.b + 2, self.d);
+        let at = |i: usize, j: usize| DVec3::from_slice(&pts[(j * wide + i) * d..(j * wide + i) * d + 3]);
+        // Quad (qi, qj) and the corner of it that is point (i, j).
+        let face = |qi: usize, qj: usize, k: usize| {
+            (qi < q && qj < q && areas[qj * q + qi] != DVec3::ZERO)
+                .then(|| ([at(qi, qj), at(qi + 1, qj), at(qi + 1, qj + 1), at(qi, qj + 1)], k))
+        };
+        let n = agreeing_normal(&[face(i - 1, j - 1, 2), face(i, j - 1, 3), face(i - 1, j, 1), face(i, j, 0)]);
+        let n = n.to_array();
         if self.flip { n.map(|x| -x) } else { n }
     }
 
@@ -339,7 +382,7 @@ impl<'a> Mesher<'a> {
                 if !kept {
                     continue;
                 }
-                let n = self.area_normal(&areas, u + 1, v + 1);
+                let n = self.area_normal(&pts, &areas, u + 1, v + 1);
                 let q = &pts[at(u, v)..at(u, v) + d];
                 if owned {
                     let o = v * lat.b + u;
