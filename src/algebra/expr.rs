@@ -214,7 +214,7 @@ impl<V> Env<V> for NoNames {
 impl Expr {
     /// Parses `text`.
     pub fn parse(text: &str) -> Result<Expr, ExprSyntaxError> {
-        let mut p = Parser { text, pos: 0, depth: 0 };
+        let mut p = Parser { text, pos: 0, depth: 0, operations: 0 };
         let e = p.expr()?;
         p.skip_ws();
         if p.pos < text.len() {
@@ -308,10 +308,17 @@ struct Parser<'a> {
     pos: usize,
     /// Open parentheses, square roots and signs around the current position.
     depth: usize,
+    /// Binary operations read so far.
+    operations: usize,
 }
 
 /// Deepest nesting of parentheses, square roots and signs an expression may have.
 pub const MAX_NESTING: usize = 200;
+
+/// Most binary operations (`+ - * /`) an expression may have: each adds a
+/// level to the tree that evaluation walks recursively, so a long flat sum
+/// is bounded like deep nesting (a generated automaton's entries have tens).
+pub const MAX_OPERATIONS: usize = 1000;
 
 impl Parser<'_> {
     fn error(&self, expected: &str) -> ExprSyntaxError {
@@ -338,12 +345,26 @@ impl Parser<'_> {
         }
     }
 
+    /// Counts one more binary operation, refusing more than [`MAX_OPERATIONS`].
+    fn operation(&mut self) -> Result<(), ExprSyntaxError> {
+        self.operations += 1;
+        if self.operations > MAX_OPERATIONS {
+            return Err(ExprSyntaxError {
+                offset: self.pos,
+                message: format!("the expression has more than {MAX_OPERATIONS} operations (+ - * /)"),
+            });
+        }
+        Ok(())
+    }
+
     fn expr(&mut self) -> Result<Expr, ExprSyntaxError> {
         let mut left = self.term()?;
         loop {
             if self.eat('+') {
+                self.operation()?;
                 left = Expr::Add(Box::new(left), Box::new(self.term()?));
             } else if self.eat('-') {
+                self.operation()?;
                 left = Expr::Sub(Box::new(left), Box::new(self.term()?));
             } else {
                 return Ok(left);
@@ -355,8 +376,10 @@ impl Parser<'_> {
         let mut left = self.unary()?;
         loop {
             if self.eat('*') || self.eat('·') {
+                self.operation()?;
                 left = Expr::Mul(Box::new(left), Box::new(self.unary()?));
             } else if self.eat('/') {
+                self.operation()?;
                 left = Expr::Div(Box::new(left), Box::new(self.unary()?));
             } else {
                 return Ok(left);

@@ -28,6 +28,15 @@ fn syntax(file: &str, line: usize, column: usize, message: impl Into<String>) ->
     MeshError::Syntax { file: file.to_string(), line, column, message: message.into() }
 }
 
+/// A coordinate: a finite number (NaN and infinities are named where they stand).
+fn coordinate(tok: &str, file: &str, line: usize, column: usize) -> Result<f64, MeshError> {
+    match tok.parse::<f64>() {
+        Ok(x) if x.is_finite() => Ok(x),
+        Ok(_) => Err(syntax(file, line, column, format!("expected a finite coordinate, found `{tok}`"))),
+        Err(_) => Err(syntax(file, line, column, format!("expected a number, found `{tok}`"))),
+    }
+}
+
 /// Checks the parsed mesh, naming faces by their lines.
 fn finish(
     positions: Vec<[f64; 3]>,
@@ -78,9 +87,7 @@ pub fn read_obj(text: &str, file: &str) -> Result<PolyMesh, MeshError> {
                 for x in &mut p {
                     let (col, tok) =
                         tokens.next().ok_or_else(|| syntax(file, start_line, last + 1, "expected a coordinate"))?;
-                    *x = tok
-                        .parse()
-                        .map_err(|_| syntax(file, start_line, col, format!("expected a number, found `{tok}`")))?;
+                    *x = coordinate(tok, file, start_line, col)?;
                     last = col + tok.len();
                 }
                 positions.push(p);
@@ -162,7 +169,7 @@ pub fn read_off(text: &str, file: &str) -> Result<PolyMesh, MeshError> {
         }
         let mut p = [0.0; 3];
         for (x, (c, tok)) in p.iter_mut().zip(t) {
-            *x = tok.parse().map_err(|_| syntax(file, *l, *c, format!("expected a number, found `{tok}`")))?;
+            *x = coordinate(tok, file, *l, *c)?;
         }
         positions.push(p);
     }
@@ -173,7 +180,8 @@ pub fn read_off(text: &str, file: &str) -> Result<PolyMesh, MeshError> {
         let (c, tok) = t[0];
         let n: usize =
             tok.parse().map_err(|_| syntax(file, *l, c, format!("expected a vertex count, found `{tok}`")))?;
-        if t.len() < n + 1 {
+        // `n` may be any number the file says (2^64 - 1): compared without adding to it.
+        if t.len() - 1 < n {
             return Err(syntax(file, *l, t[t.len() - 1].0, format!("expected {n} vertex indices")));
         }
         let mut face = Vec::with_capacity(n);

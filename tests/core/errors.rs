@@ -173,6 +173,28 @@ mod hostile {
         assert!(error_of(&one_state(&signs)).contains("nested"));
     }
 
+    /// Issue 23, item 5: a long flat expression (20,000 terms in a file,
+    /// 12,000 in `--param`) is refused with its position, no stack overflow.
+    #[test]
+    fn long_flat_expressions_are_refused() {
+        let flat = format!("1{}", "-1".repeat(20_000));
+        let e = error_of(&one_state(&flat));
+        assert!(e.starts_with("f.toml:8:") && e.contains("more than 1000 operations"), "{e}");
+        let products = format!("1{}", "*1".repeat(20_000));
+        assert!(error_of(&one_state(&products)).contains("more than 1000 operations"));
+        // Just under the limit parses and evaluates (1 − 1 − … = 1 − 999).
+        let ok = format!("1{}", "-1".repeat(999));
+        assert_eq!(bcifs::algebra::Expr::parse(&ok).unwrap().eval_constant().unwrap(), bcifs::Num::from_f64(-998.0));
+        let param = format!("a=({})", vec!["1"; 12_000].join("-"));
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_bcifs"))
+            .args(["check", "corner_cutting", "--param", &param, "--param", "b=1/4"])
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{stderr}");
+        assert!(stderr.contains("more than 1000 operations"), "{stderr}");
+    }
+
     #[test]
     fn huge_exponents_are_refused_at_once() {
         let started = std::time::Instant::now();

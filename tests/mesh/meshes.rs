@@ -61,6 +61,9 @@ fn bad_meshes_are_refused_with_their_place() {
         (format!("{quad}f 1 2 3\nf 1 3 4\nf 1 3 2\n"), "edge 0–2 is in 3 faces"),
         (format!("{quad}f 1 2 3\nf 1 4 3\n"), "t.obj:6: face 1: edge 2→0 runs the same way in t.obj:5: face 0"),
         (quad.to_string(), "the mesh has no face"),
+        // Issue 23, item 15: a coordinate that is not finite, at its place.
+        (format!("{quad}v 1 NaN 0\nf 1 2 3\n"), "t.obj:5:5: expected a finite coordinate, found `NaN`"),
+        (format!("v 0 0 0\nv inf 0 0\nv 0 1 0\nf 1 2 3\n"), "t.obj:2:3: expected a finite coordinate, found `inf`"),
         (
             "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv -1 0 0\nf 1 2 3\nf 1 4 5\n".to_string(),
             "vertex 0 is not a manifold vertex",
@@ -76,6 +79,13 @@ fn bad_meshes_are_refused_with_their_place() {
         ("OFF\n3 1\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n", "b.off:6: face 0: vertex index 3 is out of range"),
         ("OFF\n3 1\n0 0 0\n1 nan? 0\n0 1 0\n3 0 1 2\n", "b.off:4:3: expected a number, found `nan?`"),
         ("OFF\nthree 1\n", "b.off:2:1: expected the number of vertices, found `three`"),
+        // Issue 23, item 4: a face of 2^64 − 1 vertices is an error, not a capacity overflow.
+        (
+            "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n18446744073709551615 0 1 2\n",
+            "b.off:6:26: expected 18446744073709551615 vertex indices",
+        ),
+        ("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n99999999999999999999 0 1 2\n", "b.off:6:1: expected a vertex count"),
+        ("OFF\n3 1 0\n0 0 0\n1 0 -inf\n0 1 0\n3 0 1 2\n", "b.off:4:5: expected a finite coordinate, found `-inf`"),
     ] {
         let e = read_off(text, "b.off").unwrap_err().to_string();
         assert!(e.contains(expected), "{text:?}: {e}");
