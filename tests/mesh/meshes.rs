@@ -63,7 +63,7 @@ fn bad_meshes_are_refused_with_their_place() {
         (quad.to_string(), "the mesh has no face"),
         // Issue 23, item 15: a coordinate that is not finite, at its place.
         (format!("{quad}v 1 NaN 0\nf 1 2 3\n"), "t.obj:5:5: expected a finite coordinate, found `NaN`"),
-        (format!("v 0 0 0\nv inf 0 0\nv 0 1 0\nf 1 2 3\n"), "t.obj:2:3: expected a finite coordinate, found `inf`"),
+        ("v 0 0 0\nv inf 0 0\nv 0 1 0\nf 1 2 3\n".to_string(), "t.obj:2:3: expected a finite coordinate, found `inf`"),
         (
             "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv -1 0 0\nf 1 2 3\nf 1 4 5\n".to_string(),
             "vertex 0 is not a manifold vertex",
