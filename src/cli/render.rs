@@ -397,6 +397,7 @@ fn streaming_game(
     model: &Model,
     random: &bcifs::eval::RandomSettings,
 ) -> Result<bcifs::eval::ChaosGame, RenderError> {
+    bcifs::eval::check_samples(random.points)?;
     let batch = random.clone().with_points(random.points.min(bcifs::eval::BATCH));
     Ok(bcifs::eval::ChaosGame::new(automaton, model, &batch)?)
 }
@@ -494,6 +495,22 @@ pub fn render(design: &Design, options: &RenderOptions, out: &Path) -> Result<Re
                 };
                 let (width, height, limit) = (options.raster.width, options.raster.height, options.raster.memory_limit);
                 return Err(bcifs::export::RasterTooLarge { width, height, vertices, needed, limit }.into());
+            }
+            if let (Some(true), bcifs::eval::Depth::Fixed(k)) = (ev.polylines(), options.eval.depth) {
+                // A curve: subdivided until its segments are below a pixel, not beyond.
+                let at = |d: usize| Evaluator::new(&instance.automaton, &model, options.eval.clone().with_depth(d));
+                let enough = bcifs::export::curve_picture_depth(&at, &options.raster, k)?;
+                if enough < k {
+                    eprintln!(
+                        "note: the picture is drawn at depth {enough}, whose segments are below a pixel of the {}×{} picture (deeper ones only move the curve within its pixels); OBJ and SVG output keep depth {k}",
+                        options.raster.width, options.raster.height
+                    );
+                    let ev = at(enough)?;
+                    if let Some((img, vertices)) = bcifs::export::picture(&ev, &options.raster)? {
+                        write_png(out, &img).map_err(io)?;
+                        return Ok(RenderSummary { vertices, quads: 0, duplicates: None });
+                    }
+                }
             }
             if let Some((img, vertices)) = bcifs::export::picture(&ev, &options.raster)? {
                 write_png(out, &img).map_err(io)?;

@@ -115,6 +115,22 @@ impl Rng {
     }
 }
 
+/// The most samples a chaos game may draw: 2^40, about three hours on one
+/// core at 100 million samples a second. A count that cannot finish is
+/// refused at once, with the time it would take.
+pub const MAX_SAMPLES: usize = 1 << 40;
+
+/// Refuses a sample count over [`MAX_SAMPLES`].
+///
+/// # Errors
+/// [`EvalError::TooManySamples`], with the estimate.
+pub fn check_samples(samples: usize) -> Result<(), EvalError> {
+    if samples > MAX_SAMPLES {
+        return Err(EvalError::TooManySamples { samples: samples as u128, max: MAX_SAMPLES as u128 });
+    }
+    Ok(())
+}
+
 /// Vose's alias table: one random word picks an index with given weights.
 #[derive(Clone, Debug)]
 pub struct Alias {
@@ -211,6 +227,7 @@ impl ChaosGame {
     /// A non-stochastic or non-contractive automaton, a model that does not
     /// fit, an unknown arrow in the probabilities, or a root no arrow leads into.
     pub fn new(automaton: &Automaton<f64>, model: &Model, settings: &RandomSettings) -> Result<ChaosGame, EvalError> {
+        check_samples(settings.points)?;
         let plan = Plan::new(automaton, &[])?;
         super::prepared::convergence_warnings(automaton, settings.force)?;
         let pieces = pieces(automaton, model)?;

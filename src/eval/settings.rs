@@ -154,4 +154,23 @@ pub enum EvalError {
     /// Faces mixed with other root kinds, or a face evaluated adaptively past the limit.
     #[error("{0}")]
     Unsupported(String),
+    /// A chaos game of more samples than can finish.
+    #[error(
+        "{samples} samples would take about {} at 100 million samples a second per core: at most {max} (2^40, about 3 hours on one core)",
+        duration(*samples as f64 / 1e8)
+    )]
+    TooManySamples {
+        /// Samples asked for.
+        samples: u128,
+        /// The most allowed, [`crate::eval::MAX_SAMPLES`].
+        max: u128,
+    },
+}
+
+/// A duration in seconds, in the largest unit that keeps it above 1.
+fn duration(seconds: f64) -> String {
+    const UNITS: [(&str, f64); 5] =
+        [("years", 365.25 * 86400.0), ("days", 86400.0), ("hours", 3600.0), ("minutes", 60.0), ("seconds", 1.0)];
+    let (name, size) = UNITS.iter().find(|(_, size)| seconds >= *size).copied().unwrap_or(("seconds", 1.0));
+    format!("{:.1} {name}", seconds / size)
 }

@@ -27,12 +27,21 @@ impl Projection {
     }
 }
 
-/// The first pass: the extent of the projected points.
+/// The first pass: the extent of the projected points, and the longest
+/// step between consecutive vertices of an object (a segment of a curve).
 struct Extent {
     projection: Projection,
     lo: [f64; 2],
     hi: [f64; 2],
     vertices: usize,
+    longest: f64,
+    last: Option<[f64; 2]>,
+}
+
+impl Extent {
+    fn new(projection: Projection) -> Extent {
+        Extent { projection, lo: [f64::INFINITY; 2], hi: [f64::NEG_INFINITY; 2], vertices: 0, longest: 0.0, last: None }
+    }
 }
 
 /// The second pass: lines between consecutive vertices of each object
@@ -53,6 +62,7 @@ fn unsupported() -> io::Error {
 
 impl Sink for Extent {
     fn object(&mut self, _: &str) -> io::Result<()> {
+        self.last = None;
         Ok(())
     }
     fn vertices(&mut self, dim: usize, positions: &[f64], _: Option<&[f64]>) -> io::Result<()> {
@@ -62,6 +72,10 @@ impl Sink for Extent {
                 *lo = lo.min(x);
                 *hi = hi.max(x);
             }
+            if let Some([x, y]) = self.last {
+                self.longest = self.longest.max((s[0] - x).hypot(s[1] - y));
+            }
+            self.last = Some([s[0], s[1]]);
         }
         self.vertices += positions.len() / dim.max(1);
         Ok(())
@@ -70,6 +84,7 @@ impl Sink for Extent {
         Ok(())
     }
     fn polyline(&mut self, _: usize, _: usize, _: bool) -> io::Result<()> {
+        self.last = None;
         Ok(())
     }
     fn faces(&mut self, _: &[[usize; 4]], _: Option<&[[usize; 4]]>) -> io::Result<()> {
@@ -151,7 +166,7 @@ pub fn picture(ev: &Evaluator, settings: &RasterSettings) -> Result<Option<(RgbI
         return Err(EvalError::TooLarge { estimate: needed, limit: settings.memory_limit });
     }
     let projection = Projection::new(settings);
-    let mut extent = Extent { projection, lo: [f64::INFINITY; 2], hi: [f64::NEG_INFINITY; 2], vertices: 0 };
+    let mut extent = Extent::new(projection);
     ev.stream(&mut extent)?;
     let (w, h) = (settings.width.max(1), settings.height.max(1));
     if extent.vertices == 0 {
@@ -174,6 +189,46 @@ pub fn picture(ev: &Evaluator, settings: &RasterSettings) -> Result<Option<(RgbI
     cov.resize(pixels, 0.0);
     density.resize(pixels, 0);
     Ok(Some((finish_picture(w, h, &cov, &density), extent.vertices)))
+}
+
+/// Segments per pixel beyond which a curve picture stops subdividing even
+/// if some segment is still longer than a pixel (a curve that does not
+/// contract, drawn with `--force`).
+pub const SEGMENTS_PER_PIXEL: u128 = 64;
+
+/// The depth a picture of a curve needs, at most `depth`: the first whose
+/// segments are all shorter than a pixel (deeper ones only move the curve
+/// within the pixels it covers), or whose segments outnumber the pixels
+/// [`SEGMENTS_PER_PIXEL`] times. `evaluator(k)` makes the evaluator of
+/// depth `k`; each probe streams the curve once (the depths before the
+/// answer cost less than the answer's picture). `depth` for points.
+///
+/// # Errors
+/// An evaluation error.
+pub fn curve_picture_depth(
+    evaluator: &dyn Fn(usize) -> Result<Evaluator, EvalError>,
+    settings: &RasterSettings,
+    depth: usize,
+) -> Result<usize, EvalError> {
+    let (w, h) = (settings.width.max(1), settings.height.max(1));
+    let pixels = u128::from(w) * u128::from(h);
+    for k in 0..depth {
+        let ev = evaluator(k)?;
+        if ev.polylines() != Some(true) {
+            return Ok(depth);
+        }
+        let mut extent = Extent::new(Projection::new(settings));
+        ev.stream(&mut extent)?;
+        if extent.vertices == 0 {
+            return Ok(k);
+        }
+        let corners = [[extent.lo[0], extent.lo[1], 0.0], [extent.hi[0], extent.hi[1], 0.0]];
+        let canvas = Canvas::fit(&corners, w, h);
+        if extent.longest * canvas.scale < 1.0 || extent.vertices as u128 >= SEGMENTS_PER_PIXEL * pixels {
+            return Ok(k);
+        }
+    }
+    Ok(depth)
 }
 
 /// The depth a picture of a surface needs: the first one whose quads

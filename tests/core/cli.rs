@@ -913,3 +913,45 @@ fn printed_automata_survive_a_closed_pipe() {
     assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(!String::from_utf8_lossy(&out.stderr).contains("panicked"));
 }
+
+/// Issue 23, item 6: a curve picture stops subdividing where its segments
+/// are below a pixel (and says so): depths 60 and 1000 finish at once with
+/// the picture of that depth; a sample count that cannot finish is refused
+/// with the time it would take, before any work.
+#[test]
+fn pictures_that_cannot_finish_are_bounded() {
+    let dir = std::env::temp_dir().join(format!("bcifs-bounded-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = |name: &str| dir.join(name).display().to_string();
+    let started = std::time::Instant::now();
+    let (code, _, err) = bcifs(&["render", "levy", "--depth", "60", "-o", &file("deep.png")]);
+    assert_eq!(code, 0, "{err}");
+    let enough: usize = err
+        .split("drawn at depth ")
+        .nth(1)
+        .and_then(|t| t.split(',').next())
+        .and_then(|k| k.parse().ok())
+        .unwrap_or_else(|| panic!("the picture's depth is said: {err}"));
+    // 800 px over a curve of 2^(k/2) segment lengths: below a pixel from depth ~18.
+    assert!((14..=22).contains(&enough), "{enough}");
+    let (code, _, err) = bcifs(&["render", "levy", "--depth", "1000", "-o", &file("deeper.png")]);
+    assert_eq!(code, 0, "{err}");
+    let (code, _, err) = bcifs(&["render", "levy", "--depth", &enough.to_string(), "-o", &file("enough.png")]);
+    assert_eq!(code, 0, "{err}");
+    assert!(!err.contains("drawn at depth"), "the depth asked is enough: {err}");
+    let read = |n: &str| std::fs::read(dir.join(n)).unwrap();
+    assert_eq!(read("deep.png"), read("enough.png"));
+    assert_eq!(read("deeper.png"), read("enough.png"));
+    // One level shallower, some segment is still longer than a pixel: another picture.
+    let (code, _, _) = bcifs(&["render", "levy", "--depth", &(enough - 1).to_string(), "-o", &file("short.png")]);
+    assert_eq!(code, 0);
+    assert_ne!(read("short.png"), read("enough.png"));
+    for out in ["y.png", "y.obj", "y.svg"] {
+        let (code, _, err) = bcifs(&["render", "fern", "--random", "18446744073709551615", "-o", &file(out)]);
+        assert_eq!(code, 2, "{out}: {err}");
+        assert!(err.contains("years at 100 million samples a second"), "{out}: {err}");
+        assert!(!dir.join(out).exists());
+    }
+    assert!(started.elapsed().as_secs() < 60, "bounded work");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
