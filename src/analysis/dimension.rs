@@ -179,3 +179,208 @@ pub fn similarity_dimension(automaton: &Automaton<f64>, root: NodeIndex, control
     }
     Some((lo + hi) / 2.0)
 }
+
+/// What is known of Moran's open set condition for the attractor whose
+/// similarity dimension is `s` (see [`similarity_dimension`]), and why.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OpenSet {
+    /// `Some(true)`: it holds (the Hausdorff dimension is `s`); `Some(false)`:
+    /// it fails; `None`: not known. Unless it holds, `s` is only an upper
+    /// bound of the Hausdorff dimension.
+    pub holds: Option<bool>,
+    /// The reason, in a sentence.
+    pub reason: String,
+}
+
+/// Relative tolerance of the geometric tests of [`open_set_condition`].
+const TOUCH: f64 = 1e-9;
+
+/// Moran's open set condition for the attractor of `root` with control
+/// points `control` (`d` rows, row-major), whose similarity dimension is `s`:
+///
+/// - it **fails** when two arrows from a state are the same map (the images
+///   coincide), or when `s` exceeds the dimension `k` of the affine span of
+///   the control points (with the condition the Hausdorff dimension is `s`,
+///   and the attractor lies in that span, so `s ≤ k`): three maps of ratio
+///   1/2 on a segment have `s = log 3 / log 2 > 1`;
+/// - it **holds** for one state whose control points are a simplex of
+///   their span (`k + 1` of them) with non-negative matrices (each image of
+///   the simplex lies in it) whose images meet only on their boundaries
+///   (a separating hyperplane for every pair): the open set is the
+///   simplex's interior (the gasket, the Cantor set, the Koch curve);
+/// - otherwise it is not known.
+pub fn open_set_condition(automaton: &Automaton<f64>, root: NodeIndex, control: &[f64], d: usize, s: f64) -> OpenSet {
+    let n = automaton.state(root).dim;
+    let unknown = |reason: &str| OpenSet { holds: None, reason: reason.to_string() };
+    if d == 0 || control.len() != d * n {
+        return unknown("the model does not fit the root state");
+    }
+    let point = |j: usize| (0..d).map(|a| control[a * n + j]).collect::<Vec<f64>>();
+    let (basis, scale) = span(&(0..n).map(point).collect::<Vec<_>>());
+    let k = basis.len();
+    for state in reachable(automaton, root) {
+        let arrows = automaton.outgoing(state, ArrowKind::Subdivision);
+        for (i, &e) in arrows.iter().enumerate() {
+            for &f in &arrows[i + 1..] {
+                let (a, b) = (automaton.arrow(e), automaton.arrow(f));
+                if automaton.arrow_ends(e).1 == automaton.arrow_ends(f).1
+                    && (&a.matrix - &b.matrix).amax() <= TOUCH * a.matrix.amax().max(1.0)
+                {
+                    return OpenSet {
+                        holds: Some(false),
+                        reason: format!("arrows {} and {} are the same map", a.name, b.name),
+                    };
+                }
+            }
+        }
+    }
+    if s > k as f64 + 1e-9 {
+        return OpenSet {
+            holds: Some(false),
+            reason: format!(
+                "the similarity dimension {s:.6} exceeds {k}, the dimension of the span of the control points: the images overlap"
+            ),
+        };
+    }
+    let states = reachable(automaton, root);
+    if states.len() != 1 {
+        return unknown("a graph-directed system: no test of the condition is known here");
+    }
+    if n != k + 1 {
+        return unknown("the control points are not a simplex of their span");
+    }
+    let arrows = automaton.outgoing(root, ArrowKind::Subdivision);
+    if arrows.iter().any(|&e| automaton.arrow(e).matrix.iter().any(|x| *x < -TOUCH)) {
+        return unknown("a matrix has negative entries: an image may leave the control simplex");
+    }
+    // The images of the simplex, in coordinates of the span.
+    let origin = point(0);
+    let local = |p: &[f64]| -> Vec<f64> {
+        basis.iter().map(|u| u.iter().zip(p).zip(&origin).map(|((u, p), o)| u * (p - o)).sum()).collect()
+    };
+    let images: Vec<Vec<Vec<f64>>> = arrows
+        .iter()
+        .map(|&e| {
+            let m = &automaton.arrow(e).matrix;
+            (0..n)
+                .map(|j| {
+                    let p: Vec<f64> = (0..d).map(|a| (0..n).map(|i| control[a * n + i] * m[(i, j)]).sum()).collect();
+                    local(&p)
+                })
+                .collect()
+        })
+        .collect();
+    for (i, a) in images.iter().enumerate() {
+        for (j, b) in images.iter().enumerate().skip(i + 1) {
+            if !separated(a, b, scale) {
+                let name = |x: usize| automaton.arrow(arrows[x]).name.clone();
+                return unknown(&format!(
+                    "the images of the control simplex by {} and {} overlap: another open set may exist",
+                    name(i),
+                    name(j)
+                ));
+            }
+        }
+    }
+    OpenSet {
+        holds: Some(true),
+        reason: "the images of the control simplex meet only on their boundaries (the open set is its interior)"
+            .to_string(),
+    }
+}
+
+/// The states reachable from `root` by subdivision arrows, `root` first.
+fn reachable(automaton: &Automaton<f64>, root: NodeIndex) -> Vec<NodeIndex> {
+    let mut out = vec![root];
+    let mut at = 0;
+    while at < out.len() {
+        for e in automaton.outgoing(out[at], ArrowKind::Subdivision) {
+            let t = automaton.arrow_ends(e).1;
+            if !out.contains(&t) {
+                out.push(t);
+            }
+        }
+        at += 1;
+    }
+    out
+}
+
+/// An orthonormal basis of the affine span of `points` (Gram–Schmidt on
+/// the differences from the first, dropping those within [`TOUCH`] of the
+/// span so far), and the largest difference's length.
+fn span(points: &[Vec<f64>]) -> (Vec<Vec<f64>>, f64) {
+    let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+    let diffs: Vec<Vec<f64>> =
+        points.iter().skip(1).map(|p| p.iter().zip(&points[0]).map(|(x, o)| x - o).collect()).collect();
+    let scale = diffs.iter().map(|v| dot(v, v).sqrt()).fold(0.0, f64::max);
+    let mut basis: Vec<Vec<f64>> = Vec::new();
+    for v in diffs {
+        let mut w = v.clone();
+        for u in &basis {
+            let c = dot(&w, u);
+            w.iter_mut().zip(u).for_each(|(x, y)| *x -= c * y);
+        }
+        let len = dot(&w, &w).sqrt();
+        if len > TOUCH * scale.max(f64::MIN_POSITIVE) {
+            basis.push(w.iter().map(|x| x / len).collect());
+        }
+    }
+    (basis, scale)
+}
+
+/// Whether two simplices of dimension `k` in `R^k` (`k ≤ 3`; vertices as
+/// rows) have disjoint interiors: a separating axis among the normals of
+/// their facets (and, in 3D, the cross products of their edges), touching
+/// within [`TOUCH`] of `scale` allowed.
+fn separated(a: &[Vec<f64>], b: &[Vec<f64>], scale: f64) -> bool {
+    let k = a[0].len();
+    let mut axes: Vec<Vec<f64>> = Vec::new();
+    let edges = |s: &[Vec<f64>]| -> Vec<Vec<f64>> {
+        let mut out = Vec::new();
+        for i in 0..s.len() {
+            for j in i + 1..s.len() {
+                out.push(s[j].iter().zip(&s[i]).map(|(x, y)| x - y).collect());
+            }
+        }
+        out
+    };
+    let cross =
+        |u: &[f64], v: &[f64]| vec![u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
+    match k {
+        1 => axes.push(vec![1.0]),
+        2 => {
+            for e in edges(a).into_iter().chain(edges(b)) {
+                axes.push(vec![-e[1], e[0]]);
+            }
+        }
+        3 => {
+            let (ea, eb) = (edges(a), edges(b));
+            for set in [&ea, &eb] {
+                for (i, u) in set.iter().enumerate() {
+                    for v in &set[i + 1..] {
+                        axes.push(cross(u, v));
+                    }
+                }
+            }
+            for u in &ea {
+                for v in &eb {
+                    axes.push(cross(u, v));
+                }
+            }
+        }
+        _ => return false,
+    }
+    axes.iter().any(|axis| {
+        let len = axis.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if len <= TOUCH * scale * scale {
+            return false;
+        }
+        let project = |s: &[Vec<f64>]| {
+            s.iter()
+                .map(|p| p.iter().zip(axis).map(|(x, y)| x * y).sum::<f64>() / len)
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| (lo.min(x), hi.max(x)))
+        };
+        let ((alo, ahi), (blo, bhi)) = (project(a), project(b));
+        ahi <= blo + TOUCH * scale || bhi <= alo + TOUCH * scale
+    })
+}

@@ -11,7 +11,7 @@ pub mod ternary;
 
 pub use check::{CheckReport, DEFAULT_CHECK_TOLERANCE, check};
 pub use curve::{Blending, CurveReport, blending, curve_query};
-pub use dimension::{BoxCount, box_dimension, similarity_dimension};
+pub use dimension::{BoxCount, OpenSet, box_dimension, open_set_condition, similarity_dimension};
 pub use exact::{ExactCurveReport, curve_query_exact};
 pub use jsr::{Jsr, JsrError, JsrSettings, ROUNDING, Verdict, jsr, jsr_verdict};
 pub use map::{CurveCell, MapCell, ParameterPlane, curve_map, per_matrix_condition, verdict_map};

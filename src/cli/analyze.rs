@@ -368,10 +368,13 @@ fn run_dimension(out: &mut String, file: &str, params: &[String], as_json: bool)
     // The extent from a coarse evaluation, then points within 1/1024 of it.
     let coarse_ev = Evaluator::new(&instance.automaton, &model, EvalSettings::default().with_depth(4))?;
     let pieces = coarse_ev.pieces();
-    let similarity = pieces.pieces.first().and_then(|p| {
-        let root = bcifs::petgraph::graph::NodeIndex::new(p.state);
-        bcifs::analysis::similarity_dimension(&instance.automaton, root, &p.control, pieces.dim)
-    });
+    let first = pieces.pieces.first();
+    let root = |p: &bcifs::eval::Piece| bcifs::petgraph::graph::NodeIndex::new(p.state);
+    let similarity =
+        first.and_then(|p| bcifs::analysis::similarity_dimension(&instance.automaton, root(p), &p.control, pieces.dim));
+    let open_set = first
+        .zip(similarity)
+        .map(|(p, s)| bcifs::analysis::open_set_condition(&instance.automaton, root(p), &p.control, pieces.dim, s));
     let coarse = coarse_ev.evaluate()?;
     let (lo, hi) = coarse.bounds().context("the attractor is empty")?;
     let extent = (0..3).map(|a| hi[a] - lo[a]).fold(0.0, f64::max);
@@ -398,6 +401,9 @@ fn run_dimension(out: &mut String, file: &str, params: &[String], as_json: bool)
             "automaton": design.name(), "parameters": params,
             "box_dimension": fit.as_ref().map(|f| f.dimension), "fit": fit_json,
             "similarity_dimension": similarity, "points": shape.vertex_count(),
+            "open_set_condition": open_set.as_ref().and_then(|o| o.holds),
+            "open_set_reason": open_set.as_ref().map(|o| o.reason.clone()),
+            "similarity_dimension_is": open_set.as_ref().map(|o| if o.holds == Some(true) { "the Hausdorff dimension" } else { "an upper bound of the Hausdorff dimension" }),
         });
         writeln!(out, "{}", serde_json::to_string_pretty(&value)?)?;
         return Ok(0);
@@ -415,9 +421,17 @@ fn run_dimension(out: &mut String, file: &str, params: &[String], as_json: bool)
         )?,
         None => writeln!(out, "  box-counting dimension: not enough scales")?,
     }
-    match similarity {
-        Some(s) => writeln!(out, "  similarity dimension {s:.6}")?,
-        None => writeln!(out, "  similarity dimension: none (a map is not a similarity of modelling space)")?,
+    match (similarity, &open_set) {
+        (Some(s), Some(o)) if o.holds == Some(true) => {
+            writeln!(out, "  similarity dimension {s:.6}: the Hausdorff dimension (open set condition: {})", o.reason)?;
+        }
+        (Some(s), Some(o)) => {
+            let status = if o.holds == Some(false) { "fails" } else { "not known to hold" };
+            writeln!(out, "  similarity dimension {s:.6}: only an upper bound of the Hausdorff dimension")?;
+            writeln!(out, "  open set condition {status}: {}", o.reason)?;
+        }
+        (Some(s), None) => writeln!(out, "  similarity dimension {s:.6}")?,
+        (None, _) => writeln!(out, "  similarity dimension: none (a map is not a similarity of modelling space)")?,
     }
     Ok(0)
 }

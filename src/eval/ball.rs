@@ -78,6 +78,10 @@ impl Balls {
     /// Euclidean contractions of `d + 1` affinely independent points.
     pub fn of(plan: &Plan, root: usize, control: &[f64], d: usize) -> Option<Balls> {
         let n = d + 1;
+        // Fewer (or more) control points than d + 1 (a Cantor set on a segment of the plane): no affine frame.
+        if control.len() != d * n {
+            return None;
+        }
         let inv = differences(control, d).try_inverse()?;
         if !inv.iter().all(|x| x.is_finite()) {
             return None;

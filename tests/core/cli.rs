@@ -955,3 +955,59 @@ fn pictures_that_cannot_finish_are_bounded() {
     assert!(started.elapsed().as_secs() < 60, "bounded work");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Issue 23, item 11: the similarity dimension says whether it is the
+/// Hausdorff dimension. Three maps of ratio 1/2 onto a segment (the
+/// attractor is the segment, dimension 1) have similarity dimension log₂ 3
+/// exceeding 1: the open set condition fails and the figure is an upper bound; the
+/// Cantor set and the gasket satisfy it (their images of the control
+/// simplex meet only on boundaries); the Lévy curve's test is not known.
+#[test]
+fn open_set_condition_is_stated() {
+    let dir = std::env::temp_dir().join(format!("bcifs-osc-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let system = |name: &str, maps: &[&str]| {
+        let mut text = format!("name = \"{name}\"\n[[state]]\nname = \"s\"\ndim = 2\nkind = \"free\"\n");
+        for (i, m) in maps.iter().enumerate() {
+            text += &format!("[[arrow]]\nname = \"T{i}\"\nfrom = \"s\"\nto = \"s\"\nmatrix = {m}\n");
+        }
+        text += "[model]\nroot = \"s\"\npoints = [[0, 0], [1, 0]]\n";
+        let path = dir.join(format!("{name}.toml"));
+        std::fs::write(&path, text).unwrap();
+        path.display().to_string()
+    };
+    let overlap = system(
+        "overlap",
+        &[r#"[["1", "1/2"], [0, "1/2"]]"#, r#"[["1/2", 0], ["1/2", "1"]]"#, r#"[["3/4", "1/4"], ["1/4", "3/4"]]"#],
+    );
+    let cantor = system("cantor", &[r#"[["1", "2/3"], [0, "1/3"]]"#, r#"[["1/3", 0], ["2/3", "1"]]"#]);
+    for (file, holds, dimension) in [
+        (overlap.as_str(), Some(false), 3f64.log2()),
+        (cantor.as_str(), Some(true), 2f64.ln() / 3f64.ln()),
+        ("gasket", Some(true), 3f64.log2()),
+        ("levy", None, 2.0),
+    ] {
+        let (code, out, err) = bcifs(&["analyze", "dimension", file, "--json"]);
+        assert_eq!(code, 0, "{file}: {err}");
+        let v = json(&out);
+        assert!((v["similarity_dimension"].as_f64().unwrap() - dimension).abs() < 1e-9, "{file}");
+        assert_eq!(v["open_set_condition"].as_bool(), holds, "{file}: {}", v["open_set_reason"]);
+        let (_, text, _) = bcifs(&["analyze", "dimension", file]);
+        let bound = text.contains("only an upper bound of the Hausdorff dimension");
+        assert_eq!(bound, holds != Some(true), "{file}: {text}");
+    }
+    // Issue 23, item 8: two control points in 3D (the ball of an IFS needs d + 1): no panic.
+    let cantor3 = dir.join("cantor3.toml");
+    std::fs::write(
+        &cantor3,
+        std::fs::read_to_string(&cantor).unwrap().replace("[[0, 0], [1, 0]]", "[[0, 0, 0], [1, 0, 1]]"),
+    )
+    .unwrap();
+    let (code, out, err) = bcifs(&["analyze", "dimension", &cantor3.display().to_string(), "--json"]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(json(&out)["open_set_condition"], true);
+    // The overlapping system's attractor is the segment: box counting sees 1, not 1.585.
+    let (_, out, _) = bcifs(&["analyze", "dimension", &overlap, "--json"]);
+    assert!((json(&out)["box_dimension"].as_f64().unwrap() - 1.0).abs() < 0.03);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
