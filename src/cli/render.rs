@@ -276,6 +276,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<u8> {
         r.colours = parse_params(&colours)?;
         r.colour_speed = colour_speed;
         r.progress = options.eval.progress.clone();
+        r.dropped = options.eval.dropped.clone();
         options.random = Some(r);
     }
     let (w, h) = parse_size(&size)?;

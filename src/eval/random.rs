@@ -54,6 +54,9 @@ pub struct RandomSettings {
     /// Told the chains done of all, as [`ChaosGame::fold`] and
     /// [`ChaosGame::stream`] go.
     pub progress: Option<crate::progress::Progress>,
+    /// Subdivision arrows left out of the walk (a subset of the attractor,
+    /// as [`super::EvalSettings::dropped`] does for the deterministic evaluation).
+    pub dropped: Vec<String>,
 }
 
 impl Default for RandomSettings {
@@ -70,6 +73,7 @@ impl Default for RandomSettings {
             colours: Vec::new(),
             colour_speed: 0.5,
             progress: None,
+            dropped: Vec::new(),
         }
     }
 }
@@ -93,6 +97,11 @@ impl RandomSettings {
     /// With threads.
     pub fn with_threads(mut self, threads: usize) -> Self {
         self.threads = Some(threads);
+        self
+    }
+    /// Without the subdivision arrows named `names`.
+    pub fn with_dropped(mut self, names: Vec<String>) -> Self {
+        self.dropped = names;
         self
     }
 }
@@ -241,11 +250,18 @@ impl ChaosGame {
         let mut mats: Vec<Vec<&nalgebra::DMatrix<f64>>> = vec![Vec::new(); size];
         let mut names: Vec<Vec<&str>> = vec![Vec::new(); size];
         let subdivision: Vec<_> = automaton.arrows().filter(|(_, a)| a.kind == ArrowKind::Subdivision).collect();
+        if let Some(name) = settings.dropped.iter().find(|n| !subdivision.iter().any(|(_, a)| a.name == **n)) {
+            return Err(EvalError::UnknownArrow(name.clone()));
+        }
         let speed = settings.colour_speed;
         if !(0.0..=1.0).contains(&speed) {
             return Err(EvalError::Probability(format!("the colour speed is {speed}: it is between 0 and 1")));
         }
         for (k, (id, arrow)) in subdivision.iter().enumerate() {
+            if settings.dropped.contains(&arrow.name) {
+                // Not walked; the others keep their colours.
+                continue;
+            }
             let (from, to) = automaton.arrow_ends(*id);
             let m = &arrow.matrix;
             let row_major = (0..m.nrows()).flat_map(|i| (0..m.ncols()).map(move |j| m[(i, j)])).collect();

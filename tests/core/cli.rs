@@ -1011,3 +1011,30 @@ fn open_set_condition_is_stated() {
     assert!((json(&out)["box_dimension"].as_f64().unwrap() - 1.0).abs() < 0.03);
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Issue 23, item 9: `--drop` holds for the chaos game too. The gasket
+/// without T0 is the IFS of the two maps halving towards corners 1 and 2:
+/// its attractor is the side between them, where every sample lies; an
+/// arrow that does not exist is refused.
+#[test]
+fn the_chaos_game_drops_arrows() {
+    let path = std::env::temp_dir().join(format!("bcifs-drop-{}.obj", std::process::id()));
+    let p = path.display().to_string();
+    let (code, _, err) = bcifs(&["render", "gasket", "--random", "10000", "--drop", "T0", "--up", "z", "-o", &p]);
+    assert_eq!(code, 0, "{err}");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let points: Vec<Vec<f64>> = text
+        .lines()
+        .filter_map(|l| l.strip_prefix("v "))
+        .map(|l| l.split_whitespace().map(|x| x.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(points.len(), 10_000);
+    // The side from (1, 0) to (1/2, √3/2): x + y/√3 = 1.
+    for q in &points {
+        assert!((q[0] + q[1] / 3f64.sqrt() - 1.0).abs() < 1e-9, "{q:?} is off the side");
+    }
+    let (code, _, err) = bcifs(&["render", "gasket", "--random", "10000", "--drop", "T7", "-o", &p]);
+    assert_eq!(code, 2);
+    assert!(err.contains("no subdivision arrow named `T7`"), "{err}");
+    std::fs::remove_file(&path).unwrap();
+}
