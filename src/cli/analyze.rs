@@ -299,6 +299,14 @@ growth: the measured polygon length ratio per step after 10 steps (shown, no ver
 
 /// Runs a `bcifs analyze` command.
 pub fn run(out: &mut String, what: AnalyzeCommand) -> Result<u8> {
+    match &what {
+        AnalyzeCommand::Ternary5 { output, .. } | AnalyzeCommand::Blend { output, .. } => {
+            super::check_output(output, &["png"])?;
+        }
+        AnalyzeCommand::Map { output, .. } => super::check_output(output, &["png"])?,
+        AnalyzeCommand::Curve { output: Some(output), .. } => super::check_output(output, &["png", "csv"])?,
+        _ => {}
+    }
     match what {
         AnalyzeCommand::Ternary5 { omega_range, steps, output, json } => {
             run_ternary5(out, (omega_range[0], omega_range[1]), steps, &output, json)

@@ -57,6 +57,8 @@ pub enum ContourCommand {
 pub fn run(out: &mut String, command: ContourCommand) -> Result<u8> {
     match command {
         ContourCommand::Fit { image, output, threshold, tolerance, d_min, d_max, alpha_max, json } => {
+            // The fit is a segments file (TOML): a picture's extension would hold text.
+            super::check_output(&output, &["toml"])?;
             if !(tolerance > 0.0 && tolerance.is_finite()) {
                 anyhow::bail!("--tolerance {tolerance}: expected a positive number of pixels");
             }

@@ -273,6 +273,17 @@ pub fn gallery_items() -> Vec<(String, String, GallerySource)> {
 /// The first entry that fails, or an I/O error.
 pub fn gallery(dir: &Path, progress: Option<&Progress>) -> Result<Vec<GalleryEntry>, RenderError> {
     std::fs::create_dir_all(dir).map_err(|e| RenderError::Io(dir.to_path_buf(), e))?;
+    // Before any work: no output of the gallery may land on a directory.
+    let entries = std::fs::read_dir(dir).map_err(|e| RenderError::Io(dir.to_path_buf(), e))?;
+    for entry in entries.flatten() {
+        let path = entry.path();
+        let ext = path.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
+        if path.is_dir() && ["png", "obj", "html"].contains(&ext.as_str()) {
+            let why =
+                std::io::Error::new(std::io::ErrorKind::IsADirectory, "a directory where the gallery writes a file");
+            return Err(RenderError::Io(path, why));
+        }
+    }
     let mut entries = Vec::new();
     let items = gallery_items();
     let total = items.len() as u64;

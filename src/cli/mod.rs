@@ -122,6 +122,18 @@ fn parse_view(view: &str) -> Result<(f64, f64)> {
     Ok((yaw, pitch))
 }
 
+/// Checks, before any work, that an output path can be written (not a
+/// directory, in a directory that exists) and has one of the `extensions`.
+fn check_output(path: &std::path::Path, extensions: &[&str]) -> Result<()> {
+    bcifs::export::check_target(path).map_err(|e| anyhow::anyhow!("cannot write {}: {e}", path.display()))?;
+    let ext = path.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
+    if !extensions.is_empty() && !extensions.contains(&ext.as_str()) {
+        let list: Vec<String> = extensions.iter().map(|e| format!(".{e}")).collect();
+        bail!("{}: unknown output format `{ext}`: expected {}", path.display(), list.join(", "));
+    }
+    Ok(())
+}
+
 /// Worker threads: at least 1, at most 64 times the cores (more only waits).
 fn check_threads(threads: Option<usize>) -> Result<Option<usize>> {
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
@@ -205,12 +217,18 @@ fn run(out: &mut String, cli: Cli) -> Result<u8> {
 /// Runs the command line and returns its exit code.
 pub fn main() -> ExitCode {
     // Interrupted (SIGINT, SIGTERM, SIGHUP): remove the temporary files of the
-    // writes in progress, so no `.partial`/`.elements` file is left behind.
-    let _ = ctrlc::set_handler(|| {
-        bcifs::export::remove_temporary_files();
-        eprintln!("\ninterrupted: the output files keep their old content");
-        std::process::exit(130);
-    });
+    // writes in progress, so no `.partial`/`.elements` file is left behind, and
+    // exit with 128 + the signal's number, as shells do (130, 143, 129).
+    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
+    if let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP]) {
+        std::thread::spawn(move || {
+            if let Some(signal) = signals.forever().next() {
+                bcifs::export::remove_temporary_files();
+                eprintln!("\ninterrupted: the output files keep their old content");
+                std::process::exit(128 + signal);
+            }
+        });
+    }
     let cli = Cli::parse();
     let mut out = String::new();
     let code = match run(&mut out, cli) {

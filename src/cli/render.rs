@@ -203,6 +203,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<u8> {
         background,
         precision,
     } = args;
+    super::check_output(&output, &["obj", "svg", "png"])?;
     if precision.is_some_and(|p| !(1..=15).contains(&p)) {
         bail!("--precision is a number of significant digits, 1 to 15 (the default is exact)");
     }

@@ -85,6 +85,7 @@ fn run_ifs(out: &mut String, args: IfsArgs) -> Result<u8> {
         return Ok(0);
     }
     let output = args.out.output.context("give -o OUT.{png,svg,obj}")?;
+    super::check_output(&output, &["png", "svg", "obj"])?;
     let (w, h) = parse_size(&args.out.size)?;
     let mut options = RenderOptions::default();
     options.eval.depth = bcifs::eval::Depth::Fixed(args.depth);
@@ -210,6 +211,7 @@ fn run_normal(out: &mut String, args: NormalArgs) -> Result<u8> {
     )?;
     let depth = args.depth.unwrap_or(preset.depth);
     let output = args.out.output.context("give -o OUT.{png,svg,obj}")?;
+    super::check_output(&output, &["png", "svg", "obj"])?;
     let (w, h) = parse_size(&args.out.size)?;
     let started = std::time::Instant::now();
     let shape = normal_shape(&preset, depth, form, bcifs::eval::DEFAULT_MEMORY_LIMIT)?;

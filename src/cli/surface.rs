@@ -111,6 +111,7 @@ pub fn run(out: &mut String, args: SurfaceArgs) -> anyhow::Result<u8> {
         return print_automaton(out, &args, &mesh, scheme, weights, started);
     }
     let Some(output) = args.output.clone() else { bail!("give the output file with -o") };
+    super::check_output(&output, &[])?;
     let ext = output.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
     if !matches!(ext.as_str(), "obj" | "off" | "png" | "svg") {
         bail!("unknown output format `{ext}`: expected .obj, .off, .png or .svg");

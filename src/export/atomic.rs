@@ -28,18 +28,26 @@ pub(crate) fn forget(path: &Path) {
     live().retain(|p| p != path);
 }
 
-/// Removes the temporary files of `target` left by processes that no longer
-/// run (`.NAME.TAG.PID.N.tmp` with a dead PID): an earlier interrupted run.
+/// The directory a target is written in (`.` for a bare file name).
+fn directory_of(target: &Path) -> &Path {
+    match target.parent() {
+        Some(dir) if !dir.as_os_str().is_empty() => dir,
+        _ => Path::new("."),
+    }
+}
+
+/// Removes the temporary files left in the directory of `target` by
+/// processes that no longer run (`.NAME.TAG.PID.N.tmp` with a dead PID,
+/// whatever `NAME`): an earlier run killed by SIGKILL or SIGXFSZ, which
+/// no handler could clean up.
 fn sweep_stale(target: &Path) {
-    let (Some(dir), Some(name)) = (target.parent(), target.file_name()) else { return };
-    let dir = if dir.as_os_str().is_empty() { Path::new(".") } else { dir };
-    let prefix = format!(".{}.", name.to_string_lossy());
-    let Ok(entries) = std::fs::read_dir(dir) else { return };
+    let Ok(entries) = std::fs::read_dir(directory_of(target)) else { return };
     for entry in entries.flatten() {
         let file = entry.file_name().to_string_lossy().into_owned();
-        let Some(rest) = file.strip_prefix(&prefix).and_then(|r| r.strip_suffix(".tmp")) else { continue };
-        let parts: Vec<&str> = rest.split('.').collect();
-        let [tag, pid, n] = parts[..] else { continue };
+        let Some(rest) = file.strip_prefix('.').and_then(|r| r.strip_suffix(".tmp")) else { continue };
+        let parts: Vec<&str> = rest.rsplitn(4, '.').collect();
+        // Reversed: N, PID, TAG, NAME.
+        let [n, pid, tag, _name] = parts[..] else { continue };
         if !matches!(tag, "partial" | "elements") || n.parse::<u64>().is_err() {
             continue;
         }
@@ -70,12 +78,40 @@ pub(crate) fn temp_path(target: &Path, tag: &str) -> PathBuf {
     path
 }
 
+/// Checks, before any work, that `target` can be written: not a
+/// directory, in a directory that exists. Nothing is created.
+///
+/// # Errors
+/// An [`io::Error`] that says which of these fails.
+pub fn check_target(target: &Path) -> io::Result<()> {
+    let fail = |what: String| Err(io::Error::new(io::ErrorKind::InvalidInput, what));
+    if target.as_os_str().is_empty() {
+        return fail("the output path is empty".into());
+    }
+    if target.is_dir() {
+        return fail(format!(
+            "{} is a directory: give a file name (for example {}/out.png)",
+            target.display(),
+            target.display()
+        ));
+    }
+    let dir = directory_of(target);
+    if !dir.is_dir() {
+        return fail(format!("the directory {} does not exist", dir.display()));
+    }
+    if std::fs::metadata(dir).is_ok_and(|m| m.permissions().readonly()) {
+        return fail(format!("the directory {} is not writable", dir.display()));
+    }
+    Ok(())
+}
+
 impl AtomicFile {
     /// Starts writing `target`.
     ///
     /// # Errors
     /// The temporary file cannot be created (e.g. missing directory).
     pub fn create(target: &Path) -> io::Result<AtomicFile> {
+        check_target(target)?;
         sweep_stale(target);
         let temp = temp_path(target, "partial");
         let file = File::create(&temp)?;
@@ -97,6 +133,10 @@ impl AtomicFile {
         w.get_ref().sync_all()?;
         drop(w);
         let renamed = std::fs::rename(&self.temp, &self.target);
+        if renamed.is_err() {
+            // Nothing half-written stays: the temporary goes with the failed rename.
+            let _ = std::fs::remove_file(&self.temp);
+        }
         forget(&self.temp);
         renamed
     }

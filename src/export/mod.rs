@@ -7,7 +7,7 @@ mod obj;
 mod png;
 mod svg;
 
-pub use atomic::{AtomicFile, remove_temporary_files, write_atomic};
+pub use atomic::{AtomicFile, check_target, remove_temporary_files, write_atomic};
 pub use density::{Density, Palette, Tone, density, density_bytes, density_image};
 pub use draw::{SEGMENTS_PER_PIXEL, curve_picture_depth, picture, picture_bytes, picture_depth};
 pub use obj::{ObjWriter, Up, write_evaluation, write_obj};

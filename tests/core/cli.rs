@@ -275,44 +275,124 @@ fn obj_files_are_y_up_unless_asked() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-/// SIGTERM (and SIGINT, SIGHUP) during a streamed write removes its
-/// temporary files; the target keeps its old content.
+/// SIGTERM, SIGINT and SIGHUP during a streamed write remove its temporary
+/// files and exit with 128 + the signal's number (143, 130, 129, as shells
+/// do); the target keeps its old content.
 #[test]
 fn an_interrupted_write_leaves_nothing_behind() {
     let dir = std::env::temp_dir().join(format!("bcifs-signal-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let target = dir.join("big.obj");
     std::fs::write(&target, b"old content").unwrap();
-    let mut child = Command::new(env!("CARGO_BIN_EXE_bcifs"))
-        .args(["render", "doo_sabin_torus", "--depth", "8", "-o", target.to_str().unwrap()])
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
     let temporary = || {
         std::fs::read_dir(&dir).unwrap().flatten().filter(|e| e.file_name().to_string_lossy().ends_with(".tmp")).count()
     };
-    let started = std::time::Instant::now();
-    while temporary() == 0 && started.elapsed().as_secs() < 20 {
-        if let Some(status) = child.try_wait().unwrap() {
-            let mut err = String::new();
-            std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut err).unwrap();
-            assert!(err.contains("free"), "the render ended early ({status}): {err}");
-            println!("skipped: not enough free disk for the write ({err})");
-            std::fs::remove_dir_all(&dir).unwrap();
-            return;
+    for (signal, code) in [("TERM", 143), ("INT", 130), ("HUP", 129)] {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_bcifs"))
+            .args(["render", "doo_sabin_torus", "--depth", "8", "-o", target.to_str().unwrap()])
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        let started = std::time::Instant::now();
+        while temporary() == 0 && started.elapsed().as_secs() < 20 {
+            if let Some(status) = child.try_wait().unwrap() {
+                let mut err = String::new();
+                std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut err).unwrap();
+                assert!(err.contains("free"), "the render ended early ({status}): {err}");
+                println!("skipped: not enough free disk for the write ({err})");
+                std::fs::remove_dir_all(&dir).unwrap();
+                return;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(5));
         }
-        std::thread::sleep(std::time::Duration::from_millis(5));
+        if temporary() == 0 {
+            let _ = child.kill();
+            panic!("the write did not start");
+        }
+        let killed = Command::new("kill").args([&format!("-{signal}"), &child.id().to_string()]).status().unwrap();
+        assert!(killed.success());
+        let status = child.wait().unwrap();
+        assert_eq!(status.code(), Some(code), "SIG{signal}");
+        assert_eq!(temporary(), 0, "SIG{signal}: no temporary file left");
+        assert_eq!(std::fs::read(&target).unwrap(), b"old content");
     }
-    if temporary() == 0 {
-        let _ = child.kill();
-        panic!("the write did not start");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Issue 23, items 10 and 16: an output path that cannot be written (a
+/// directory, a missing directory, a picture's extension for text) is
+/// refused before any work, in every command that writes, with nothing
+/// left behind; the gallery refuses a directory where it writes a file;
+/// temporary files of dead processes (SIGKILL) are swept by any write in
+/// their directory.
+#[test]
+fn unwritable_outputs_are_refused_before_any_work() {
+    let dir = std::env::temp_dir().join(format!("bcifs-unwritable-{}", std::process::id()));
+    let taken = dir.join("taken");
+    std::fs::create_dir_all(&taken).unwrap();
+    for ext in ["png", "obj", "svg", "off"] {
+        std::fs::create_dir_all(dir.join(format!("x.{ext}"))).unwrap();
     }
-    let killed = Command::new("kill").args(["-TERM", &child.id().to_string()]).status().unwrap();
-    assert!(killed.success());
-    let status = child.wait().unwrap();
-    assert_eq!(status.code(), Some(130));
-    assert_eq!(temporary(), 0, "no temporary file left");
-    assert_eq!(std::fs::read(&target).unwrap(), b"old content");
+    let at = |name: &str| dir.join(name).display().to_string();
+    let commands: Vec<Vec<String>> = vec![
+        vec!["render".into(), "doo_sabin_torus".into(), "--depth".into(), "9".into(), "-o".into(), at("x.obj")],
+        vec!["render".into(), "levy".into(), "--depth".into(), "30".into(), "-o".into(), at("x.png")],
+        vec!["render".into(), "fern".into(), "--random".into(), "100000000".into(), "-o".into(), at("x.png")],
+        vec!["render".into(), "levy".into(), "-o".into(), at("x.svg")],
+        vec!["render".into(), "levy".into(), "-o".into(), at("missing/x.png")],
+        vec![
+            "surface".into(),
+            "tests/data/suzanne.obj".into(),
+            "--scheme".into(),
+            "loop".into(),
+            "--triangulate".into(),
+            "--depth".into(),
+            "5".into(),
+            "-o".into(),
+            at("x.off"),
+        ],
+        vec!["scheme".into(), "ifs".into(), "koch-control".into(), "-o".into(), at("x.png")],
+        vec!["analyze".into(), "ternary5".into(), "-o".into(), at("x.png")],
+        vec![
+            "analyze".into(),
+            "map".into(),
+            "corner_cutting".into(),
+            "--x".into(),
+            "a=0:1".into(),
+            "--y".into(),
+            "b=0:1".into(),
+            "-o".into(),
+            at("x.png"),
+        ],
+        vec!["contour".into(), "fit".into(), "tests/data/none.png".into(), "-o".into(), at("fit.png")],
+    ];
+    for args in &commands {
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let started = std::time::Instant::now();
+        let (code, _, err) = bcifs(&args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(
+            err.contains("is a directory") || err.contains("does not exist") || err.contains("expected .toml"),
+            "{args:?}: {err}"
+        );
+        assert!(started.elapsed().as_secs() < 5, "{args:?}: refused at once");
+    }
+    let left: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .flatten()
+        .filter(|e| e.file_name().to_string_lossy().ends_with(".tmp"))
+        .collect();
+    assert!(left.is_empty(), "{left:?}");
+    std::fs::create_dir_all(taken.join("fern.png")).unwrap();
+    let (code, _, err) = bcifs(&["gallery", &taken.display().to_string()]);
+    assert_eq!(code, 2);
+    assert!(err.contains("fern.png") && err.contains("directory"), "{err}");
+    // A dead process's temporary (PID 2^22 + 1 is beyond Linux's largest) is swept by a write beside it.
+    let stale = dir.join(".other.obj.partial.4194305.0.tmp");
+    std::fs::write(&stale, b"half").unwrap();
+    let (code, _, err) = bcifs(&["render", "levy", "--depth", "8", "-o", &at("levy.png")]);
+    assert_eq!(code, 0, "{err}");
+    assert!(!stale.exists(), "the stale temporary is swept");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
