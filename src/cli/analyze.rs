@@ -123,6 +123,15 @@ fn axis(text: &str) -> Result<(String, f64, f64)> {
     Ok((name.trim().to_string(), from, to))
 }
 
+/// The parameter plane of two axes `NAME=FROM:TO` (two different names) and `size` pixels a side.
+fn plane((x, y): (&str, &str), size: usize) -> Result<bcifs::analysis::ParameterPlane> {
+    let (x, y) = (axis(x)?, axis(y)?);
+    if x.0 == y.0 {
+        bail!("--x and --y both vary `{}`: a map needs two different parameters", x.0);
+    }
+    Ok(bcifs::analysis::ParameterPlane { x, y, size: (size, size) })
+}
+
 /// `bcifs analyze map`: the verdict map as a picture, and its counts.
 fn run_map(
     out: &mut String,
@@ -132,13 +141,13 @@ fn run_map(
     thorough: bool,
     output: &std::path::Path,
 ) -> Result<u8> {
-    use bcifs::analysis::{JsrSettings, ParameterPlane, Verdict, verdict_map};
+    use bcifs::analysis::{JsrSettings, Verdict, verdict_map};
     if size == 0 || size > 4096 {
         bail!("--size must be between 1 and 4096");
     }
     let design = super::load(file)?;
     let family = bcifs::solve(&design).map_err(|e| anyhow::anyhow!("{}: {e}", design.name()))?;
-    let plane = ParameterPlane { x: axis(x)?, y: axis(y)?, size: (size, size) };
+    let plane = plane((x, y), size)?;
     let settings = if thorough { JsrSettings::default() } else { JsrSettings::quick() };
     let started = std::time::Instant::now();
     let map = verdict_map(&family, &plane, &settings)?;
@@ -498,11 +507,17 @@ fn run_curve(out: &mut String, file: &str, params: &[String], as_json: bool) -> 
     writeln!(out, "{}: {}", design.name(), p.join(", "))?;
     writeln!(out, "  converges: {}", converges.map_or("undecided".to_string(), |c| c.to_string()))?;
     for (k, name) in names.iter().enumerate() {
-        writeln!(out, "  {name}: eigenvalues {:?}, sub-dominant {:?}", report.eigenvalues[k], report.subdominant[k])?;
+        let eigenvalues = match &report.eigenvalues[k] {
+            Some(values) => values.iter().map(|x| format!("{x:.6}")).collect::<Vec<_>>().join(", "),
+            None => "not computed (complex, or no basis of eigenvectors)".to_string(),
+        };
+        let subdominant = report.subdominant[k].map_or("none".to_string(), |x| format!("{x:.6}"));
+        writeln!(out, "  {name}: eigenvalues {eigenvalues}; sub-dominant {subdominant}")?;
     }
     match (&report.half_tangents, report.junction_angle_deg) {
         (Some([s, e]), Some(angle)) => {
-            writeln!(out, "  half-tangents: start {s:?}, end {e:?}; junction angle {angle:.4}°")?
+            let v = |x: &[f64]| format!("({})", x.iter().map(|c| format!("{c:.6}")).collect::<Vec<_>>().join(", "));
+            writeln!(out, "  half-tangents: start {}, end {}; junction angle {angle:.4}°", v(s), v(e))?
         }
         _ => writeln!(out, "  no half-tangents (a leading eigenvalue is negative or tied)")?,
     }
@@ -514,7 +529,10 @@ fn run_curve(out: &mut String, file: &str, params: &[String], as_json: bool) -> 
             }
             writeln!(out, "  (regions, ties and collinearity decided in exact arithmetic)")?;
         }
-        None => writeln!(out, "  (floating point: the matrices are not rational 3×3 with real eigenvalues)")?,
+        None => writeln!(
+            out,
+            "  (floating point: the exact analysis needs 3×3 matrices with the eigenvalue 1 and two more real ones, at rational parameters)"
+        )?,
     }
     Ok(0)
 }
@@ -586,7 +604,7 @@ fn run_curve_map(
     (size, threshold, marker): (usize, f64, &[(String, f64)]),
     output: &std::path::Path,
 ) -> Result<u8> {
-    use bcifs::analysis::{JsrSettings, ParameterPlane, Verdict, curve_map};
+    use bcifs::analysis::{JsrSettings, Verdict, curve_map};
     if size == 0 || size > 4096 {
         bail!("--size must be between 1 and 4096");
     }
@@ -599,7 +617,7 @@ fn run_curve_map(
     let design = super::load(file)?;
     let root = design.model().map(|m| m.root(0).to_string()).context("the design has no [model] naming its root")?;
     let family = bcifs::solve(&design).map_err(|e| anyhow::anyhow!("{}: {e}", design.name()))?;
-    let plane = ParameterPlane { x: axis(x)?, y: axis(y)?, size: (size, size) };
+    let plane = plane((x, y), size)?;
     let started = std::time::Instant::now();
     let cells = curve_map(&family, &plane, &JsrSettings::quick(), &root)?;
     // A region only where the bounds prove convergence; outside the per-matrix domain grey.

@@ -136,10 +136,11 @@ pub fn run_check(out: &mut String, file: &str, params: &[String], as_json: bool)
             Some(j) => writeln!(out, "  {j}")?,
             None => writeln!(out, "  JSR: not defined (a subdivision matrix is not column-stochastic)")?,
         }
-        let verdict = match report.converges {
-            Some(true) => "converges (the upper bound is below 1)",
-            Some(false) => "DIVERGES (the lower bound is at least 1)",
-            None => "undecided (the bounds straddle 1)",
+        let verdict = match (report.converges, &report.jsr) {
+            (Some(true), _) => "converges (the upper bound is below 1)",
+            (Some(false), _) => "DIVERGES (the lower bound is at least 1)",
+            (None, Some(_)) => "undecided (the bounds straddle 1)",
+            (None, None) => "not decided (no JSR bounds without column-stochastic matrices)",
         };
         writeln!(out, "  convergence: {verdict}")?;
         writeln!(out, "{}", if report.ok { "ok" } else { "FAILED: some constraints do not hold" })?;

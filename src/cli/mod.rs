@@ -168,14 +168,17 @@ fn load(file: &str) -> Result<Design> {
 }
 
 fn parse_params(params: &[String]) -> Result<Vec<(String, f64)>> {
-    params
-        .iter()
-        .map(|p| {
-            let (name, value) = p.split_once('=').with_context(|| format!("`{p}`: expected NAME=VALUE"))?;
-            let value = value.trim().parse::<bcifs::Num>().map_err(|e| anyhow::anyhow!("`{p}`: {e}"))?.to_f64();
-            Ok((name.trim().to_string(), value))
-        })
-        .collect()
+    let mut out: Vec<(String, f64)> = Vec::with_capacity(params.len());
+    for p in params {
+        let (name, value) = p.split_once('=').with_context(|| format!("`{p}`: expected NAME=VALUE"))?;
+        let value = value.trim().parse::<bcifs::Num>().map_err(|e| anyhow::anyhow!("`{p}`: {e}"))?.to_f64();
+        let name = name.trim().to_string();
+        if out.iter().any(|(n, _)| *n == name) {
+            bail!("`{name}` is given twice: one value per name");
+        }
+        out.push((name, value));
+    }
+    Ok(out)
 }
 
 /// A progress bar on stderr when it is a terminal, fed by the library's callback.

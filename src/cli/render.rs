@@ -237,10 +237,21 @@ pub fn run(args: RenderArgs) -> anyhow::Result<u8> {
         bail!("--random draws points by the chaos game: --depth and --tolerance do not apply to it");
     }
     let flame = palette.is_some() || !colours.is_empty() || blur > 0.0 || vibrancy != 1.0 || background.is_some();
+    let ext = output.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
     if flame && random.is_none() {
         eprintln!(
             "warning: --palette, --color, --blur, --vibrancy and --background shape chaos-game pictures (--random N); this render ignores them"
         );
+    } else if flame && ext != "png" {
+        eprintln!(
+            "warning: --palette, --color, --blur, --vibrancy and --background shape density pictures (.png); the .{ext} file ignores them"
+        );
+    }
+    if uv && ext != "obj" {
+        eprintln!("warning: --uv writes texture coordinates into OBJ files; the .{ext} output ignores it");
+    }
+    if precision.is_some() && ext != "obj" {
+        eprintln!("warning: --precision sets the digits of OBJ coordinates; the .{ext} output ignores it");
     }
     let threads = check_threads(threads)?;
     // A fully known automaton whose constraints fail is not what its file says.
@@ -458,6 +469,9 @@ pub fn render(design: &Design, options: &RenderOptions, out: &Path) -> Result<Re
             }
             let eval = options.eval.clone();
             let ev = evaluator(&instance.automaton, &model, eval.clone())?;
+            if eval.uv && ev.polylines().is_some() {
+                eprintln!("warning: --uv gives texture coordinates to surfaces; this curve or point set has none");
+            }
             if let bcifs::eval::Depth::Fixed(k) = eval.depth {
                 check_disk(out, ev.estimate_obj_bytes(k), options.max_output)?;
             }

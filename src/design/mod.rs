@@ -5,5 +5,5 @@
 mod builder;
 mod model;
 
-pub use builder::{BuildError, Design, DesignBuilder, Field, Locus, Matrix, Value};
+pub use builder::{BuildError, Design, DesignBuilder, Field, Locus, MAX_UNKNOWNS, Matrix, Value};
 pub use model::{Docs, Layout, Model, Origin, Variable};

@@ -53,6 +53,10 @@ fn control(points: &[Vec<f64>], indices: &[usize], d: usize) -> Vec<f64> {
     c
 }
 
+/// The largest control point coordinate: its square, summed over three
+/// axes and a few points, stays finite.
+pub const MAX_COORDINATE: f64 = 1e150;
+
 /// Cuts the model into pieces.
 ///
 /// # Errors
@@ -66,6 +70,18 @@ pub fn pieces(automaton: &Automaton<f64>, model: &Model) -> Result<Pieces, Model
     let Some(&root) = roots.first() else {
         return Err(ModelError::Layout("a model needs at least one root state".into()));
     };
+    // Distances square the coordinates: beyond 1e150 they overflow to infinity (and then NaN).
+    if let Some((i, x)) = model
+        .points
+        .iter()
+        .enumerate()
+        .flat_map(|(i, p)| p.iter().map(move |x| (i, *x)))
+        .find(|(_, x)| !(x.abs() <= MAX_COORDINATE))
+    {
+        return Err(ModelError::Layout(format!(
+            "control point {i} has the coordinate {x:e}: coordinates must be finite and at most {MAX_COORDINATE:e} in size (distances square them); scale the model"
+        )));
+    }
     let n = automaton.state(root).dim;
     if !matches!(model.layout, Layout::Union | Layout::Patches)
         && let Some(other) = roots.iter().find(|r| automaton.state(**r).dim != n)

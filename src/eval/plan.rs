@@ -20,6 +20,20 @@ pub enum PlanError {
         /// Its sum.
         sum: f64,
     },
+    /// A column whose entries are so large (or not finite) that floating
+    /// point cannot tell whether it sums to 1: the rounding of entries of
+    /// `magnitude` is larger than 1.
+    #[error(
+        "arrow `{arrow}` cannot be evaluated in floating point: column {column} has entries of magnitude {magnitude:e}, whose sum of 1 is lost to rounding (such parameters make no contractive system)"
+    )]
+    Unrepresentable {
+        /// Arrow name.
+        arrow: String,
+        /// Column.
+        column: usize,
+        /// The largest absolute entry (infinite or NaN when one is not finite).
+        magnitude: f64,
+    },
     /// A subdivision arrow has an eigenvalue of modulus ≥ 1 besides the eigenvalue 1.
     #[error(
         "arrow `{arrow}` is not contractive: eigenvalue of modulus {modulus:.6} besides the eigenvalue 1 (the attractor would not exist)"
@@ -182,6 +196,11 @@ fn check_arrows(automaton: &Automaton<f64>) -> Result<(), PlanError> {
         for (j, col) in arrow.matrix.column_iter().enumerate() {
             let sum = col.sum();
             if (sum - 1.0).abs() > 1e-9 {
+                let magnitude = col.iter().map(|x| if x.is_nan() { f64::NAN } else { x.abs() }).fold(0.0, f64::max);
+                // A sum of n entries of this size is only known to within n ε magnitude.
+                if !magnitude.is_finite() || magnitude * col.len() as f64 * f64::EPSILON > 1e-9 {
+                    return Err(PlanError::Unrepresentable { arrow: arrow.name.clone(), column: j, magnitude });
+                }
                 return Err(PlanError::NotStochastic { arrow: arrow.name.clone(), column: j, sum });
             }
         }

@@ -373,10 +373,19 @@ fn extend(
             let there =
                 std::fs::canonicalize(&path).map_or_else(|_| path.display().to_string(), |p| p.display().to_string());
             chain.push(here);
-            if chain.contains(&there) || chain.len() > MAX_EXTENDS {
+            if chain.contains(&there) {
                 let mut names: Vec<String> = chain.clone();
                 names.push(there);
                 return Err(src.at(&base.span(), format!("`extends` goes round in a cycle: {}", names.join(" → "))));
+            }
+            if chain.len() > MAX_EXTENDS {
+                return Err(src.at(
+                    &base.span(),
+                    format!(
+                        "`extends` chains through more than {MAX_EXTENDS} files (from {}): merge some of them",
+                        chain[0]
+                    ),
+                ));
             }
             let text = std::fs::read_to_string(&path).map_err(|e| {
                 let mut err = src.at(&base.span(), format!("cannot read `{}`: {e}", path.display()));

@@ -1058,6 +1058,9 @@ impl PolyMesh {
                 "√3 is generated as an automaton on closed meshes only: its border rule changes from one step to the next, so a border triangle's children are not a ternary split".into(),
             ));
         }
+        if scheme == Scheme::DooSabin && !self.has_interior_vertex() {
+            return Err(MeshError::NoInteriorVertex);
+        }
         if scheme.triangles_only()
             && let Some(f) = (0..self.face_count()).find(|&f| self.face(f).len() != 3)
         {

@@ -39,6 +39,9 @@ impl PolyMesh {
     ) -> Result<Shape, MeshError> {
         let (points, quads) = match scheme {
             Scheme::DooSabin => {
+                if !self.has_interior_vertex() {
+                    return Err(MeshError::NoInteriorVertex);
+                }
                 let net = self.subdivide_with(scheme, depth.max(1) - 1, weights, memory_limit)?;
                 let t = Topology::trusted(&net);
                 let mut out = Builder::with_capacity(net.face_count() * 3, 4 * net.corner_count());

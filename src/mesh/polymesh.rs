@@ -108,6 +108,12 @@ pub enum MeshError {
     /// No face.
     #[error("the mesh has no face")]
     Empty,
+    /// Doo-Sabin's limit surface (or its generated automaton) of a mesh
+    /// whose vertices are all on its border: empty.
+    #[error(
+        "every vertex of the mesh is on its border, and Doo-Sabin's limit surface has a patch around each interior vertex only: it is empty (write the net with --net)"
+    )]
+    NoInteriorVertex,
     /// A vertex index past the last vertex.
     #[error("{place}: vertex index {index} is out of range (the mesh has {count} vertices)")]
     IndexOutOfRange {

@@ -131,6 +131,9 @@ impl PolyMesh {
     ) -> Result<Written, MeshError> {
         let Subdivision { scheme, depth, weights, memory_limit } = *job;
         let depth = if limit { depth.max(1) } else { depth };
+        if limit && scheme == Scheme::DooSabin && !self.has_interior_vertex() {
+            return Err(MeshError::NoInteriorVertex);
+        }
         let obj = matches!(format, MeshFormat::Obj(_));
         let mut text = Text {
             out,

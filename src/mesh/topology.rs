@@ -326,6 +326,12 @@ impl PolyMesh {
         out
     }
 
+    /// Whether some vertex is inside the mesh (not on its border).
+    pub fn has_interior_vertex(&self) -> bool {
+        let t = Topology::trusted(self);
+        (0..self.positions.len()).any(|v| t.first(v) != BORDER && !t.on_border(v))
+    }
+
     /// Whether every edge is in two faces.
     pub fn is_closed(&self) -> bool {
         Topology::trusted(self).boundary_edges() == 0

@@ -24,6 +24,20 @@ pub enum TopologyError {
         /// Number of sub-edges.
         arity: usize,
     },
+    /// A curve whose unknown matrices exceed what the exact solver takes.
+    #[error(
+        "a curve of {points} control points and arity {arity} has {unknowns} unknown entries (arity × points² + vertex²): the exact solver takes at most {max}; use fewer control points"
+    )]
+    TooLarge {
+        /// Control points of the edge.
+        points: usize,
+        /// Number of sub-edges.
+        arity: usize,
+        /// Unknown entries.
+        unknowns: u128,
+        /// The limit, [`crate::design::MAX_UNKNOWNS`].
+        max: usize,
+    },
     /// The generated automaton does not build or solve: a bug.
     #[error("internal error in a topology generator (please report): {0}")]
     Internal(String),
@@ -113,6 +127,11 @@ fn name_free_entries(structure: &DesignBuilder) -> Result<Vec<(String, String, u
 pub fn curve(points: usize, vertex: usize, arity: usize) -> Result<Design, TopologyError> {
     if points < 2 || vertex == 0 || vertex >= points || arity < 2 {
         return Err(TopologyError::Curve { points, vertex, arity });
+    }
+    let unknowns = (arity as u128) * (points as u128).pow(2) + (vertex as u128).pow(2);
+    let max = crate::design::MAX_UNKNOWNS;
+    if unknowns > max as u128 {
+        return Err(TopologyError::TooLarge { points, arity, unknowns, max });
     }
     let mut b = Design::builder(format!("curve_{points}_{vertex}_{arity}"));
     b.description(format!("curve, {points} control points, vertex support {vertex}, {arity}-ary")).doc(format!(

@@ -1118,3 +1118,66 @@ fn the_chaos_game_drops_arrows() {
     assert!(err.contains("no subdivision arrow named `T7`"), "{err}");
     std::fs::remove_file(&path).unwrap();
 }
+
+/// Issue 23, item 14: an option that does nothing for the output asked says
+/// so; a parameter given twice, or varied on both axes of a map, is refused.
+#[test]
+fn options_that_do_nothing_say_so() {
+    let dir = std::env::temp_dir().join(format!("bcifs-idle-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let at = |name: &str| dir.join(name).display().to_string();
+    for (args, warning) in [
+        (
+            vec!["render", "fern", "--random", "1000", "--palette", "fire", "-o", &at("a.obj")],
+            "the .obj file ignores them",
+        ),
+        (vec!["render", "fern", "--random", "1000", "--blur", "2", "-o", &at("b.obj")], "the .obj file ignores them"),
+        (vec!["render", "levy", "--depth", "6", "--uv", "-o", &at("c.obj")], "this curve or point set has none"),
+        (vec!["render", "levy", "--depth", "6", "--precision", "6", "-o", &at("d.png")], "the .png output ignores it"),
+    ] {
+        let (code, _, err) = bcifs(&args);
+        assert_eq!(code, 0, "{args:?}: {err}");
+        assert!(err.contains(warning), "{args:?}: {err}");
+    }
+    let (code, _, err) = bcifs(&["check", "corner_cutting", "--param", "a=0.1", "--param", "a=0.2"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("`a` is given twice"), "{err}");
+    let (code, _, err) =
+        bcifs(&["analyze", "map", "corner_cutting", "--x", "a=0:1", "--y", "a=0:1", "--size", "8", "-o", &at("m.png")]);
+    assert_eq!(code, 2);
+    assert!(err.contains("both vary `a`"), "{err}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Issue 23, item 15: messages that say what is true. Parameters of 1e308
+/// leave no JSR bounds, and the verdict says so rather than "undecided";
+/// `analyze curve` prints numbers, not Rust debug values; 1e308 control
+/// points are refused with their coordinate; a curve too large for the
+/// solver is not an internal error.
+#[test]
+fn messages_say_what_is_true() {
+    let (_, out, _) = bcifs(&["check", "corner_cutting", "--param", "a=1e308", "--param", "b=1e308"]);
+    assert!(out.contains("JSR: not defined") && out.contains("convergence: not decided (no JSR bounds"), "{out}");
+    assert!(!out.contains("straddle"), "{out}");
+    let (code, out, err) = bcifs(&["analyze", "curve", "corner_cutting", "--param", "a=0", "--param", "b=0"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(!out.contains("None") && !out.contains("Some(") && !out.contains("not rational"), "{out}");
+    let (_, out, _) = bcifs(&["analyze", "curve", "corner_cutting", "--param", "a=0.2", "--param", "b=0.3"]);
+    assert!(out.contains("T0: eigenvalues 1.000000, 0.500000, 0.200000; sub-dominant 0.500000"), "{out}");
+    let (code, _, err) = bcifs(&["new", "curve", "--points", "100000"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("at most 20000") && !err.contains("internal"), "{err}");
+    let dir = std::env::temp_dir().join(format!("bcifs-huge-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let huge = dir.join("huge.toml");
+    let (_, text, _) = bcifs(&["show", "corner_cutting"]);
+    let model = text.find("points = ").map(|i| &text[i..]).unwrap();
+    let line = &model[..model.find('\n').unwrap()];
+    std::fs::write(&huge, text.replace(line, "points = [[0, 0], [1e308, 0], [2, 1]]")).unwrap();
+    let (code, _, err) =
+        bcifs(&["render", &huge.display().to_string(), "-o", &dir.join("h.png").display().to_string()]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("coordinate 1e308"), "{err}");
+    assert!(!dir.join("h.png").exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}

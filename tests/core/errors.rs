@@ -217,7 +217,30 @@ mod hostile {
         assert!(e.contains("cycle") && e.contains("a.toml") && e.contains("b.toml"), "{e}");
         std::fs::write(dir.join("c.toml"), "extends = \"c.toml\"\n").unwrap();
         assert!(bcifs::read_design(&dir.join("c.toml")).unwrap_err().to_string().contains("cycle"));
+        // Issue 23, item 15: a chain of 17 files is too long, not a cycle.
+        for i in 0..17 {
+            std::fs::write(dir.join(format!("l{i}.toml")), format!("extends = \"l{}.toml\"\n", i + 1)).unwrap();
+        }
+        std::fs::write(dir.join("l17.toml"), "extends = \"corner_cutting\"\n").unwrap();
+        let e = bcifs::read_design(&dir.join("l0.toml")).unwrap_err().to_string();
+        assert!(e.contains("more than 16 files") && !e.contains("cycle"), "{e}");
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// Issue 23, item 15: sizes over the solver's limit are said as such, not
+    /// as an internal error; parameters so large that a column's sum is lost
+    /// to rounding are said as such, not as a column that sums to 0.
+    #[test]
+    fn limits_are_not_internal_errors() {
+        let e = bcifs::schemes::curve(100_000, 3, 2).unwrap_err().to_string();
+        assert!(e.contains("at most 20000") && !e.contains("internal"), "{e}");
+        assert!(bcifs::schemes::curve(20, 3, 2).is_ok());
+        let design = bcifs::builtin_design("corner_cutting").unwrap();
+        let inst = bcifs::instantiate(&design, &[("a".into(), 1e300), ("b".into(), 1e300)]).unwrap();
+        let settings = bcifs::eval::EvalSettings::default().with_force();
+        let e =
+            bcifs::eval::Evaluator::new(&inst.automaton, design.model().unwrap(), settings).err().unwrap().to_string();
+        assert!(e.contains("lost to rounding") && e.contains("1e300"), "{e}");
     }
 
     #[test]

@@ -215,7 +215,7 @@ proptest::proptest! {
 }
 
 /// Temporary files of a dead process (an interrupted earlier run) are swept
-/// when the same target is written again; live ones are left alone.
+/// when any file of their directory is written; live ones are left alone.
 #[test]
 fn stale_temporary_files_are_swept() {
     let dir = std::env::temp_dir().join(format!("bcifs-stale-{}", std::process::id()));
@@ -232,7 +232,8 @@ fn stale_temporary_files_are_swept() {
     w.finish().unwrap();
     assert!(!stale.exists() && !stale_elements.exists(), "swept");
     assert!(mine.exists(), "a live process's file stays");
-    assert!(other.exists(), "another target's file stays");
+    // Issue 23, item 16: a dead process's file of another target in the same directory goes too.
+    assert!(!other.exists(), "another target's stale file is swept");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

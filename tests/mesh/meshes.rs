@@ -390,3 +390,20 @@ fn streamed_output_is_the_in_memory_mesh() {
         }
     }
 }
+
+/// Issue 23, item 15: Doo-Sabin's limit of a mesh without an interior
+/// vertex (one triangle) is empty: refused with the reason (streamed, in
+/// memory and as an automaton), where it wrote an empty file with exit 0.
+#[test]
+fn an_empty_doo_sabin_limit_is_refused() {
+    let tri = PolyMesh::new(vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], vec![vec![0, 1, 2]]).unwrap();
+    assert!(matches!(tri.limit(Scheme::DooSabin, 3), Err(MeshError::NoInteriorVertex)));
+    assert!(matches!(tri.automaton(Scheme::DooSabin, None), Err(MeshError::NoInteriorVertex)));
+    let job = bcifs::mesh::Subdivision { scheme: Scheme::DooSabin, depth: 3, weights: None, memory_limit: 1 << 30 };
+    let mut out = Vec::new();
+    let e = tri.write_subdivided(&job, true, bcifs::mesh::MeshFormat::Off, &mut out).unwrap_err();
+    assert!(e.to_string().contains("every vertex of the mesh is on its border"), "{e}");
+    assert!(out.is_empty());
+    // The net is not empty: a triangle stays a triangle.
+    assert_eq!(tri.subdivide(Scheme::DooSabin, 3).unwrap().face_count(), 1);
+}
