@@ -76,7 +76,7 @@ pub fn pieces(automaton: &Automaton<f64>, model: &Model) -> Result<Pieces, Model
         .iter()
         .enumerate()
         .flat_map(|(i, p)| p.iter().map(move |x| (i, *x)))
-        .find(|(_, x)| !(x.abs() <= MAX_COORDINATE))
+        .find(|(_, x)| !x.is_finite() || x.abs() > MAX_COORDINATE)
     {
         return Err(ModelError::Layout(format!(
             "control point {i} has the coordinate {x:e}: coordinates must be finite and at most {MAX_COORDINATE:e} in size (distances square them); scale the model"
