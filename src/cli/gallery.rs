@@ -365,7 +365,7 @@ pub fn gallery(dir: &Path, progress: Option<&Progress>) -> Result<Vec<GalleryEnt
             e.description,
             describe(e.depth),
             e.summary.vertices,
-            if e.summary.quads > 0 { format!(", {} quads", e.summary.quads) } else { String::new() },
+            if e.summary.faces > 0 { format!(", {} faces", e.summary.faces) } else { String::new() },
             obj.join(" ")
         );
     }
@@ -435,7 +435,7 @@ fn density_page(dir: &Path) -> Result<GalleryEntry, RenderError> {
         description: "the fern, the gasket and fern∘Sierpinski by the chaos game: dots and density images at 1e5, 1e6 and 1e8 samples, coloured by the maps at 1e8".into(),
         depth: Depth::Fixed(0),
         files,
-        summary: RenderSummary { vertices: 0, quads: 0, duplicates: None },
+        summary: RenderSummary { vertices: 0, faces: 0, duplicates: None },
     })
 }
 

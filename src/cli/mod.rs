@@ -68,7 +68,7 @@ enum Command {
         #[command(subcommand)]
         scheme: SchemeCommand,
     },
-    /// Analyse a scheme over a parameter range: continuity and fractal ranges.
+    /// Analyse a design or a family: a curve's tangents (curve, blend), dimension, convergence maps (map, curve --map), the ternary 5-point scheme.
     Analyze {
         #[command(subcommand)]
         what: AnalyzeCommand,

@@ -324,7 +324,7 @@ fn parse_colour(text: &str) -> anyhow::Result<[u8; 3]> {
 /// Refuses an OBJ output whose estimated size is over `max` (0: no limit)
 /// or over the free space of the target's disk (with the temporary side
 /// file, a streamed OBJ peaks at about 1.5 times its size).
-fn check_disk(out: &Path, estimate: u128, max: u128) -> Result<(), RenderError> {
+pub(crate) fn check_disk(out: &Path, estimate: u128, max: u128) -> Result<(), RenderError> {
     let gib = |b: u128| b as f64 / (1u64 << 30) as f64;
     if max > 0 && estimate > max {
         return Err(RenderError::TooBig(format!(
@@ -352,19 +352,19 @@ fn check_disk(out: &Path, estimate: u128, max: u128) -> Result<(), RenderError> 
 pub struct RenderSummary {
     /// Vertices written.
     pub vertices: usize,
-    /// Quads written.
-    pub quads: usize,
+    /// Faces written (quads and triangles).
+    pub faces: usize,
     /// Exact duplicate points dropped (`--dedup`), `None` when not asked or not a point cloud.
     pub duplicates: Option<usize>,
 }
 
 impl RenderSummary {
-    /// Tells stderr what went where: `label: N vertices, M quads → OUT (T s)`.
+    /// Tells stderr what went where: `label: N vertices, M faces → OUT (T s)`.
     pub fn report(&self, label: &str, output: &Path, started: std::time::Instant) {
         eprintln!(
             "{label}: {} vertices{}{} → {} ({:.2} s)",
             self.vertices,
-            if self.quads > 0 { format!(", {} quads", self.quads) } else { String::new() },
+            if self.faces > 0 { format!(", {} faces", self.faces) } else { String::new() },
             self.duplicates.map_or(String::new(), |n| format!(" ({n} exact duplicates dropped)")),
             output.display(),
             started.elapsed().as_secs_f64()
@@ -454,7 +454,7 @@ pub fn render(design: &Design, options: &RenderOptions, out: &Path) -> Result<Re
                 writer.object(design.name()).map_err(io)?;
                 game.stream(random.points, |xs| writer.vertices(game.dim(), xs, None)).map_err(io)?;
                 writer.finish().map_err(io)?;
-                return Ok(RenderSummary { vertices: random.points, quads: 0, duplicates: None });
+                return Ok(RenderSummary { vertices: random.points, faces: 0, duplicates: None });
             }
             if options.random.is_some() || options.dedup {
                 // In memory: the chaos game's points, or a cloud to deduplicate.
@@ -465,7 +465,11 @@ pub fn render(design: &Design, options: &RenderOptions, out: &Path) -> Result<Re
                 }
                 shape.replay(&mut writer).map_err(io)?;
                 writer.finish().map_err(io)?;
-                return Ok(RenderSummary { vertices: shape.vertex_count(), quads: shape.quads.len(), duplicates });
+                return Ok(RenderSummary {
+                    vertices: shape.vertex_count(),
+                    faces: shape.quads.len() + shape.triangles.len(),
+                    duplicates,
+                });
             }
             let eval = options.eval.clone();
             let ev = evaluator(&instance.automaton, &model, eval.clone())?;
@@ -480,7 +484,7 @@ pub fn render(design: &Design, options: &RenderOptions, out: &Path) -> Result<Re
                 EvalError::Io(e) => io(e),
                 other => other.into(),
             })?;
-            let summary = RenderSummary { vertices, quads, duplicates: None };
+            let summary = RenderSummary { vertices, faces: quads, duplicates: None };
             writer.finish().map_err(io)?;
             Ok(summary)
         }
@@ -493,7 +497,7 @@ pub fn render(design: &Design, options: &RenderOptions, out: &Path) -> Result<Re
             let palette = options.palette.as_ref();
             let img = bcifs::export::density_image(&game, random.points, &options.raster, &options.tone, palette)?;
             write_png(out, &img).map_err(io)?;
-            Ok(RenderSummary { vertices: random.points, quads: 0, duplicates: None })
+            Ok(RenderSummary { vertices: random.points, faces: 0, duplicates: None })
         }
         "png" if options.random.is_none() && !options.dedup => {
             // Curves and points are drawn while they are evaluated (twice streamed: the
@@ -524,13 +528,13 @@ pub fn render(design: &Design, options: &RenderOptions, out: &Path) -> Result<Re
                     let ev = at(enough)?;
                     if let Some((img, vertices)) = bcifs::export::picture(&ev, &options.raster)? {
                         write_png(out, &img).map_err(io)?;
-                        return Ok(RenderSummary { vertices, quads: 0, duplicates: None });
+                        return Ok(RenderSummary { vertices, faces: 0, duplicates: None });
                     }
                 }
             }
             if let Some((img, vertices)) = bcifs::export::picture(&ev, &options.raster)? {
                 write_png(out, &img).map_err(io)?;
-                return Ok(RenderSummary { vertices, quads: 0, duplicates: None });
+                return Ok(RenderSummary { vertices, faces: 0, duplicates: None });
             }
             // A surface: drawn at the depth whose quads are already below a pixel.
             let depth = match options.eval.depth {
@@ -640,7 +644,11 @@ pub fn write_shape(
 ) -> Result<RenderSummary, RenderError> {
     let ext = out.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
     let io = |e: std::io::Error| RenderError::Io(out.to_path_buf(), e);
-    let summary = RenderSummary { vertices: shape.vertex_count(), quads: shape.quads.len(), duplicates: None };
+    let summary = RenderSummary {
+        vertices: shape.vertex_count(),
+        faces: shape.quads.len() + shape.triangles.len(),
+        duplicates: None,
+    };
     match ext.as_str() {
         "obj" => write_obj(shape, name, out).map_err(io)?,
         "svg" if !shape.quads.is_empty() || !shape.triangles.is_empty() => {

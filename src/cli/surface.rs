@@ -52,6 +52,26 @@ pub struct SurfaceArgs {
     /// View of the picture: YAW,PITCH in degrees.
     #[arg(long, default_value = "30,35", allow_hyphen_values = true)]
     pub view: String,
+    /// Largest OBJ or OFF file to write, in GiB (the estimate is checked before writing; raise it on purpose).
+    #[arg(long, default_value_t = 4.0)]
+    pub max_output_gib: f64,
+}
+
+/// Bytes per face of a written mesh, for the size estimate: four indices and
+/// about one vertex of three shortest round-trip coordinates (an upper bound
+/// for quads, generous for triangles).
+const BYTES_PER_FACE: u128 = 4 * 9 + 3 * 22 + 8;
+
+/// A mesh read from an OBJ or OFF file is Y-up (the convention of Blender,
+/// MeshLab and CGAL's viewers); pictures are drawn Z-up: `(x, y, z) ↦ (x, −z, y)`,
+/// a rotation, for positions and normals.
+fn y_up_to_z_up(shape: &mut bcifs::geometry::Shape) {
+    if shape.dim != 3 {
+        return;
+    }
+    for v in shape.positions.chunks_exact_mut(3).chain(shape.normals.chunks_exact_mut(3)) {
+        (v[1], v[2]) = (-v[2], v[1]);
+    }
 }
 
 /// Rule weights from `--param` values (others: classic): `alpha`, `beta`,
@@ -118,17 +138,24 @@ pub fn run(out: &mut String, args: SurfaceArgs) -> anyhow::Result<u8> {
     }
     let name = args.mesh.file_stem().map_or("mesh".into(), |s| s.to_string_lossy().to_string());
     let io = |e: std::io::Error| anyhow::anyhow!("cannot write {}: {e}", output.display());
+    if !(args.max_output_gib.is_finite() && args.max_output_gib > 0.0) {
+        bail!("--max-output-gib {}: expected a positive number of GiB", args.max_output_gib);
+    }
     let summary = if ext == "png" || ext == "svg" {
-        let shape = if args.net {
+        let mut shape = if args.net {
             mesh.subdivide_with(scheme, args.depth, weights, memory)?.to_shape(&name)
         } else {
             mesh.limit_with(scheme, args.depth, weights, memory)?
         };
+        y_up_to_z_up(&mut shape);
         write_shape(&shape, &name, &raster, &output)?;
         Written { vertices: shape.vertex_count(), faces: shape.quads.len() + shape.triangles.len() }
     } else {
         // Streamed through a temporary file renamed at the end, in the input file's axes.
         let format = if ext == "obj" { MeshFormat::Obj(&name) } else { MeshFormat::Off };
+        let max = (args.max_output_gib * (1u64 << 30) as f64) as u128;
+        let faces = mesh.estimate(scheme, args.depth).0;
+        super::render::check_disk(&output, faces.saturating_mul(BYTES_PER_FACE), max)?;
         let mut file = AtomicFile::create(&output).map_err(io)?;
         let job = Subdivision { scheme, depth: args.depth, weights, memory_limit: memory };
         let written = mesh.write_subdivided(&job, !args.net, format, file.writer())?;

@@ -1181,3 +1181,56 @@ fn messages_say_what_is_true() {
     assert!(!dir.join("h.png").exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Issue 23, items 19 and 20: a mesh file is Y-up, so its picture stands on
+/// its feet: a box four times taller along the file's y than wide is drawn
+/// taller than wide; `surface` refuses a file over `--max-output-gib`; the
+/// summary counts faces (quads and triangles), not "quads".
+#[test]
+fn mesh_pictures_stand_up_and_sizes_are_checked() {
+    let dir = std::env::temp_dir().join(format!("bcifs-upright-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut obj = String::new();
+    for &(x, y, z) in &[(0, 0, 0), (1, 0, 0), (1, 0, 1), (0, 0, 1), (0, 4, 0), (1, 4, 0), (1, 4, 1), (0, 4, 1)] {
+        obj += &format!("v {x} {y} {z}\n");
+    }
+    // Outward faces of the box (counter-clockwise seen from outside).
+    obj += "f 1 2 3 4\nf 5 8 7 6\nf 1 5 6 2\nf 2 6 7 3\nf 3 7 8 4\nf 4 8 5 1\n";
+    let tall = dir.join("tall.obj");
+    std::fs::write(&tall, obj).unwrap();
+    let png = dir.join("tall.png");
+    let (code, _, err) = bcifs(&[
+        "surface",
+        &tall.display().to_string(),
+        "--scheme",
+        "catmull-clark",
+        "--depth",
+        "2",
+        "--net",
+        "-o",
+        &png.display().to_string(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("faces →"), "{err}");
+    let img = image::open(&png).unwrap().to_rgb8();
+    let ink: Vec<(u32, u32)> =
+        img.enumerate_pixels().filter(|(_, _, p)| p.0.iter().any(|&c| c < 250)).map(|(x, y, _)| (x, y)).collect();
+    let span = |f: &dyn Fn(&(u32, u32)) -> u32| ink.iter().map(f).max().unwrap() - ink.iter().map(f).min().unwrap();
+    let (w, h) = (span(&|p| p.0), span(&|p| p.1));
+    assert!(h > 2 * w, "the box stands: {w}×{h} pixels of ink");
+    let (code, _, err) = bcifs(&[
+        "surface",
+        &tall.display().to_string(),
+        "--scheme",
+        "catmull-clark",
+        "--depth",
+        "14",
+        "--max-output-gib",
+        "1",
+        "-o",
+        &dir.join("big.obj").display().to_string(),
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("over --max-output-gib 1.0"), "{err}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
