@@ -160,8 +160,25 @@ fn run_map(
     let img = image::RgbImage::from_fn(size as u32, size as u32, |i, j| {
         image::Rgb(colour(&map[j as usize * size + i as usize]))
     });
-    bcifs::export::write_png(output, &img).with_context(|| format!("cannot write {}", output.display()))?;
     let count = |f: &dyn Fn(&bcifs::analysis::MapCell) -> bool| map.iter().filter(|c| f(c)).count();
+    let legend = [
+        ([150, 205, 150], format!("converges ({})", count(&|c| c.verdict == Verdict::Converges))),
+        ([215, 60, 60], format!("diverges, JSR ≥ 1 ({})", count(&|c| c.verdict == Verdict::Diverges && c.per_matrix))),
+        (
+            [228, 228, 228],
+            format!("a matrix fails, §3 ({})", count(&|c| c.verdict == Verdict::Diverges && !c.per_matrix)),
+        ),
+        ([240, 200, 80], format!("undecided ({})", count(&|c| c.verdict == Verdict::Undecided))),
+    ];
+    let title = format!("{}: convergence verdicts (JSR bounds)", design.name());
+    let framed = super::plot::framed_map(
+        &title,
+        (&plane.x.0, plane.x.1, plane.x.2),
+        (&plane.y.0, plane.y.1, plane.y.2),
+        &img,
+        &legend,
+    )?;
+    bcifs::export::write_png(output, &framed).with_context(|| format!("cannot write {}", output.display()))?;
     writeln!(
         out,
         "{}: {} ∈ [{}, {}] (x) × {} ∈ [{}, {}] (y), {size}×{size} pixels in {:.2} s",

@@ -420,6 +420,14 @@ fn density_page(dir: &Path) -> Result<GalleryEntry, RenderError> {
         }
         rows.push_str("</tr>\n");
     }
+    let columns: Vec<String> = ["dots", "density"]
+        .iter()
+        .flat_map(|k| DENSITY_SAMPLES.iter().map(move |n| format!("{k}, {n:.0e} samples")))
+        .chain([format!("by the maps, {:.0e}", DENSITY_SAMPLES[2])])
+        .collect();
+    let names: Vec<String> = shapes.iter().map(|s| s.to_string()).collect();
+    let sheet = super::plot::labelled_sheet(&sheet, tile, &columns, &names)
+        .map_err(|e| io(&dir.join("density.png"), std::io::Error::other(e.to_string())))?;
     write_png(&dir.join("density.png"), &sheet).map_err(|e| io(&dir.join("density.png"), e))?;
     let head: String = ["dots", "density"]
         .iter()

@@ -195,3 +195,33 @@ pub fn framed_map(
     }
     RgbImage::from_raw(width, height, buf).ok_or_else(|| anyhow!("internal error: map buffer size (please report)"))
 }
+
+/// A sheet of equal tiles (`tiles`: rows of columns, `tile` pixels a side)
+/// with a header above each column and a name left of each row.
+///
+/// # Errors
+/// The font does not load, or plotters fails to draw.
+pub fn labelled_sheet(tiles: &RgbImage, tile: u32, columns: &[String], rows: &[String]) -> Result<RgbImage> {
+    register_font()?;
+    let (left, top) = (130u32, 44u32);
+    let (width, height) = (left + tiles.width(), top + tiles.height());
+    let mut buf = vec![255u8; width as usize * height as usize * 3];
+    let draw = |e| anyhow!("cannot draw the sheet: {e}");
+    {
+        let root = BitMapBackend::with_buffer(&mut buf, (width, height)).into_drawing_area();
+        root.fill(&WHITE).map_err(draw)?;
+        for (c, text) in columns.iter().enumerate() {
+            let x = (left + tile * c as u32 + 6) as i32;
+            root.draw(&Text::new(text.clone(), (x, 14), ("sans-serif", 15))).map_err(draw)?;
+        }
+        for (r, text) in rows.iter().enumerate() {
+            let y = (top + tile * r as u32 + tile / 2) as i32;
+            root.draw(&Text::new(text.clone(), (8, y), ("sans-serif", 16))).map_err(draw)?;
+        }
+        root.present().map_err(draw)?;
+    }
+    let mut sheet =
+        RgbImage::from_raw(width, height, buf).ok_or_else(|| anyhow!("internal error: sheet buffer size (please report)"))?;
+    image::imageops::replace(&mut sheet, tiles, i64::from(left), i64::from(top));
+    Ok(sheet)
+}

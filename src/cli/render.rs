@@ -386,7 +386,7 @@ pub fn evaluate_design(design: &Design, options: &RenderOptions) -> Result<Shape
     let eval = options.eval.clone();
     Ok(match &options.random {
         Some(r) => chaos_game(&instance.automaton, &model, r)?,
-        None => evaluator(&instance.automaton, &model, eval)?.evaluate()?,
+        None => evaluator(&instance.automaton, &model, eval, design.name())?.evaluate()?,
     })
 }
 
@@ -420,10 +420,12 @@ fn evaluator(
     automaton: &bcifs::Automaton<f64>,
     model: &Model,
     settings: EvalSettings,
+    name: &str,
 ) -> Result<Evaluator, RenderError> {
     let ev = Evaluator::new(automaton, model, settings)?;
     for w in ev.warnings() {
-        eprintln!("warning: {w}");
+        // Named: the gallery renders many designs in one run.
+        eprintln!("warning: {name}: {w}");
     }
     Ok(ev)
 }
@@ -472,7 +474,7 @@ pub fn render(design: &Design, options: &RenderOptions, out: &Path) -> Result<Re
                 });
             }
             let eval = options.eval.clone();
-            let ev = evaluator(&instance.automaton, &model, eval.clone())?;
+            let ev = evaluator(&instance.automaton, &model, eval.clone(), design.name())?;
             if eval.uv && ev.polylines().is_some() {
                 eprintln!("warning: --uv gives texture coordinates to surfaces; this curve or point set has none");
             }
@@ -504,7 +506,7 @@ pub fn render(design: &Design, options: &RenderOptions, out: &Path) -> Result<Re
             // frame, then the drawing); surfaces are drawn from memory.
             let model = model_of(design)?;
             let instance = instantiate(design, &options.params)?;
-            let ev = evaluator(&instance.automaton, &model, options.eval.clone())?;
+            let ev = evaluator(&instance.automaton, &model, options.eval.clone(), design.name())?;
             let needed = bcifs::export::picture_bytes(&options.raster);
             if ev.polylines().is_some() && needed > options.raster.memory_limit as u128 {
                 let vertices = match options.eval.depth {
@@ -553,7 +555,7 @@ pub fn render(design: &Design, options: &RenderOptions, out: &Path) -> Result<Re
                     );
                     let mut eval = options.eval.clone();
                     eval.depth = bcifs::eval::Depth::Fixed(enough);
-                    let shallow = evaluator(&instance.automaton, &model, eval)?;
+                    let shallow = evaluator(&instance.automaton, &model, eval, design.name())?;
                     return write_shape(&shallow.evaluate()?, design.name(), &options.raster, out);
                 }
             }
