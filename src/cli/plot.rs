@@ -220,8 +220,8 @@ pub fn labelled_sheet(tiles: &RgbImage, tile: u32, columns: &[String], rows: &[S
         }
         root.present().map_err(draw)?;
     }
-    let mut sheet =
-        RgbImage::from_raw(width, height, buf).ok_or_else(|| anyhow!("internal error: sheet buffer size (please report)"))?;
+    let mut sheet = RgbImage::from_raw(width, height, buf)
+        .ok_or_else(|| anyhow!("internal error: sheet buffer size (please report)"))?;
     image::imageops::replace(&mut sheet, tiles, i64::from(left), i64::from(top));
     Ok(sheet)
 }

@@ -8,3 +8,4 @@ mod families;
 mod fuzzed;
 mod layers;
 mod properties;
+mod readme;
