@@ -240,6 +240,41 @@ fn spectral_norm(m: &DMatrix<f64>) -> f64 {
     m.clone().svd(false, false).singular_values.iter().copied().fold(0.0, f64::max)
 }
 
+/// The ∞-norm (largest absolute row sum): an operator norm, cheap.
+fn infinity_norm(m: &DMatrix<f64>) -> f64 {
+    m.row_iter().map(|r| r.iter().map(|x| x.abs()).sum::<f64>()).fold(0.0, f64::max)
+}
+
+/// The 1-norm (largest absolute column sum).
+fn one_norm(m: &DMatrix<f64>) -> f64 {
+    m.column_iter().map(|c| c.iter().map(|x| x.abs()).sum::<f64>()).fold(0.0, f64::max)
+}
+
+/// A norm of the restricted matrices, with the matrices written in the
+/// coordinates it is measured in.
+struct Basis {
+    matrices: Vec<DMatrix<f64>>,
+    norm: fn(&DMatrix<f64>) -> f64,
+    /// The norm needs a decomposition (the spectral norm), not a sum of entries.
+    decomposes: bool,
+}
+
+/// From the orthonormal difference coordinates of [`difference_basis`] to
+/// the coordinates of the differences of neighbours `e_i − e_{i+1}`, in
+/// which the restricted matrices are the difference scheme's (the classic
+/// convergence test bounds their ∞-norms): `(T, T⁻¹)`, `T = P B` with `P`
+/// the partial sums (the left inverse of `D = [e_i − e_{i+1}]`), `T⁻¹ = Bᵀ D`.
+fn to_neighbour_differences(n: usize) -> (DMatrix<f64>, DMatrix<f64>) {
+    let b = difference_basis(n);
+    let partial = DMatrix::from_fn(n - 1, n, |i, j| if j <= i { 1.0 } else { 0.0 });
+    let d = DMatrix::from_fn(n, n - 1, |i, k| match i {
+        _ if i == k => 1.0,
+        _ if i == k + 1 => -1.0,
+        _ => 0.0,
+    });
+    (partial * &b, b.transpose() * d)
+}
+
 /// Bounds on the JSR of the subdivision arrows of `automaton` restricted to
 /// the difference subspaces, over the paths of each strongly connected part
 /// (the largest over the parts).
@@ -290,9 +325,9 @@ pub fn jsr_verdict(automaton: &Automaton<f64>, settings: &JsrSettings) -> Result
             continue;
         }
         let mut work = Work(settings.norm_work);
-        let matrices = part.adapted(&mut work);
-        let norms: Vec<f64> = matrices.iter().map(spectral_norm).collect();
-        if norms.iter().all(|&n| n < 1.0) {
+        let bases = part.bases(&mut work);
+        let norms: Vec<Vec<f64>> = bases.iter().map(|b| b.matrices.iter().map(b.norm).collect()).collect();
+        if norms.iter().any(|n| n.iter().all(|&x| x < 1.0)) {
             continue;
         }
         let (lower, _) = part.lower_bound(settings, true);
@@ -300,7 +335,10 @@ pub fn jsr_verdict(automaton: &Automaton<f64>, settings: &JsrSettings) -> Result
             return Ok(Verdict::Diverges);
         }
         let gamma = 1.0 - 1e-9;
-        if !(gamma > lower && part.closes(&matrices, &norms, gamma, &mut work)) {
+        let share = work.0 / bases.len() as f64;
+        let closed =
+            gamma > lower && bases.iter().zip(&norms).any(|(basis, n)| part.closes(basis, n, gamma, &mut Work(share)));
+        if !closed {
             verdict = Verdict::Undecided;
         }
     }
@@ -443,38 +481,65 @@ impl Part {
         self.adapted(&mut Work(settings.norm_work)).iter().map(spectral_norm).fold(0.0, f64::max)
     }
 
+    /// The norms the branch and bound tries: the adapted ellipsoidal norm
+    /// (spectral norms), and the ∞- and 1-norms of the neighbour
+    /// differences (a difference scheme contracting in the ∞-norm, as the
+    /// classic test of a curve scheme, is decided there when the ellipsoid
+    /// needs long products).
+    fn bases(&self, work: &mut Work) -> Vec<Basis> {
+        let adapted = self.adapted(work);
+        let change: Vec<(DMatrix<f64>, DMatrix<f64>)> =
+            self.dims.iter().map(|&n| to_neighbour_differences(n)).collect();
+        let neighbours: Vec<DMatrix<f64>> =
+            self.edges.iter().map(|e| &change[e.from].0 * &e.matrix * &change[e.to].1).collect();
+        vec![
+            Basis { matrices: adapted, norm: spectral_norm, decomposes: true },
+            Basis { matrices: neighbours.clone(), norm: infinity_norm, decomposes: false },
+            Basis { matrices: neighbours, norm: one_norm, decomposes: false },
+        ]
+    }
+
     /// The smallest target `γ` above `lower` whose branch and bound closes
-    /// within the budget, or the adapted norm bound.
+    /// within the budget in one of the [`Part::bases`], or the smallest of
+    /// their largest matrix norms.
     fn upper_bound(&self, lower: f64, settings: &JsrSettings) -> f64 {
         let mut work = Work(settings.norm_work);
-        let matrices = self.adapted(&mut work);
-        let norms: Vec<f64> = matrices.iter().map(spectral_norm).collect();
-        let single = norms.iter().copied().fold(0.0, f64::max);
+        let bases = self.bases(&mut work);
+        let norms: Vec<Vec<f64>> = bases.iter().map(|b| b.matrices.iter().map(b.norm).collect()).collect();
+        let single = norms.iter().map(|n| n.iter().copied().fold(0.0, f64::max)).fold(f64::INFINITY, f64::min);
         if single <= lower * (1.0 + 1e-9) {
             return single;
         }
-        for t in [1e-4, 1e-3, 1e-2, 0.03, 0.1, 0.2, 0.35, 0.5, 0.7, 0.85, 0.95, 0.99] {
+        // The loosest target first (it decides convergence, and smaller ones need
+        // longer products), then tighter ones while they close.
+        let mut best = single;
+        for t in [0.99, 0.9, 0.7, 0.5, 0.3, 0.1, 0.03, 1e-2, 1e-3, 1e-4] {
             let gamma = lower + (single.min(1.0).max(lower) - lower) * t;
-            if gamma >= single {
+            if gamma >= best || gamma <= lower {
+                continue;
+            }
+            // Each target gets half of what is left, shared by the norms.
+            let budget = work.0 / 2.0;
+            let mut closed = false;
+            for (basis, n) in bases.iter().zip(&norms) {
+                let mut share = Work(budget / bases.len() as f64);
+                closed = self.closes(basis, n, gamma, &mut share);
+                work.0 -= budget / bases.len() as f64 - share.0.max(0.0);
+                if closed {
+                    break;
+                }
+            }
+            if !closed || work.0 <= 0.0 {
                 break;
             }
-            // Each target gets a quarter of what is left.
-            let mut share = Work(work.0 / 4.0);
-            let closed = gamma > lower && self.closes(&matrices, &norms, gamma, &mut share);
-            work.0 -= work.0 / 4.0 - share.0.max(0.0);
-            if closed {
-                return gamma;
-            }
-            if work.0 <= 0.0 {
-                break;
-            }
+            best = gamma;
         }
-        single
+        best
     }
 
-    /// Whether every path from every state reaches, within `max_nodes`
-    /// expansions, a prefix whose norm bound is at most `γ^length`.
-    fn closes(&self, matrices: &[DMatrix<f64>], norms: &[f64], gamma: f64, work: &mut Work) -> bool {
+    /// Whether every path from every state reaches, within the budget, a
+    /// prefix whose norm bound (in `basis`) is at most `γ^length`.
+    fn closes(&self, basis: &Basis, norms: &[f64], gamma: f64, work: &mut Work) -> bool {
         // (end state, product, length, bound on its norm)
         let mut open: Vec<(usize, DMatrix<f64>, i32, f64)> = Vec::new();
         for (s, d) in self.dims.iter().enumerate() {
@@ -482,11 +547,12 @@ impl Part {
         }
         while let Some((at, product, len, bound)) = open.pop() {
             for (k, e) in self.edges.iter().enumerate().filter(|(_, e)| e.from == at) {
-                let p = &product * &matrices[k];
-                if !work.spend(product_ops(&product, &matrices[k]) + decomposition_ops(&p)) {
+                let p = &product * &basis.matrices[k];
+                let ops = if basis.decomposes { decomposition_ops(&p) } else { (p.nrows() * p.ncols()) as f64 };
+                if !work.spend(product_ops(&product, &basis.matrices[k]) + ops) {
                     return false;
                 }
-                let b = (bound * norms[k]).min(spectral_norm(&p));
+                let b = (bound * norms[k]).min((basis.norm)(&p));
                 if b <= gamma.powi(len + 1) {
                     continue;
                 }

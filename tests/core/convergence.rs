@@ -191,3 +191,31 @@ fn verdict_maps_agree_with_the_per_matrix_domain() {
     let bad = ParameterPlane { x: ("q".into(), 0.0, 1.0), ..plane };
     assert!(verdict_map(&family, &bad, &JsrSettings::quick()).is_err());
 }
+
+/// Issue 23, item 13: `check` decides what a plain norm bound decides. The
+/// four-point scheme with tension w = −0.45 (mask −w, 1/2 + w: its
+/// difference scheme's ∞-norms of long products fall below 1) and the
+/// ternary 5-point scheme at tensions where `analyze ternary5` proves C0
+/// (∞-norms of the difference mask's powers) converge, with an upper bound
+/// below 1, where the ellipsoidal norm alone left them undecided (upper
+/// bounds 1.3 to 1.5); the two commands agree.
+#[test]
+fn norm_bounds_decide_what_the_ellipsoid_leaves() {
+    let four = bcifs::schemes::ifs_preset("four-point", None, None).unwrap();
+    let text = bcifs::write_design(&four).replace("\"-1/16\"", "\"0.45\"").replace("\"9/16\"", "\"0.05\"");
+    let tense = bcifs::parse_design(&text, "four.toml", "four").unwrap();
+    let a = instantiate(&tense, &[]).unwrap().automaton;
+    let j = jsr(&a, &JsrSettings::default()).unwrap();
+    assert!(j.upper < 1.0 && j.lower > 0.96, "w = −0.45: {j}");
+    assert_eq!(j.verdict(), Verdict::Converges);
+    for omega in ["-17/225", "-29/450", "-54/625", "2/25", "0.0853", "1/20"] {
+        let w = bcifs::Surd::parse(omega).unwrap();
+        let design = bcifs::schemes::ifs_preset("ternary5", None, Some(&w)).unwrap();
+        let a = instantiate(&design, &[]).unwrap().automaton;
+        let j = jsr(&a, &JsrSettings::default()).unwrap();
+        let row = bcifs::analysis::ternary::ternary5_analysis(w.to_f64());
+        assert!(row.converges(), "ω = {omega}: analyze ternary5 proves C0");
+        assert_eq!(j.verdict(), Verdict::Converges, "ω = {omega}: {j}");
+        assert!(j.lower <= j.upper && j.upper < 1.0, "ω = {omega}: {j}");
+    }
+}
