@@ -308,15 +308,30 @@ impl PolyMesh {
         }
     }
 
-    /// The new position of corner `c` of face `f` (Doo-Sabin).
+    /// The new position of corner `i` of face `f` (Doo-Sabin): a sum over
+    /// the face's corners for small faces, O(1) from the face's Fourier
+    /// coefficients for large ones (see [`Weights`]).
     #[inline]
-    fn corner_point(&self, f: usize, i: usize, weights: &[f64]) -> [f64; 3] {
+    fn corner_point(&self, f: usize, i: usize, weights: &Weights) -> [f64; 3] {
         let face = self.face(f);
         let n = face.len();
-        let mut p = [0.0; 3];
-        for (k, wk) in weights.iter().enumerate() {
-            add(&mut p, self.positions[face[(i + k) % n]], *wk);
+        if let Some(w) = weights.by_degree.get(n) {
+            let mut p = [0.0; 3];
+            for (k, wk) in w.iter().enumerate() {
+                add(&mut p, self.positions[face[(i + k) % n]], *wk);
+            }
+            return p;
         }
+        // α_k = 3/(4n) + cos(2πk/n)/(2n), plus 1/4 on the corner itself:
+        // q_i = p_i/4 + 3/(4n) Σp + Re(e^{−2πi·i/n} C)/(2n), C = Σ_j e^{2πi·j/n} p_j.
+        let (sum, re, im) = weights.large[&f];
+        let nf = n as f64;
+        let (sin, cos) = (2.0 * PI * i as f64 / nf).sin_cos();
+        let mut p = [0.0; 3];
+        add(&mut p, self.positions[face[i]], 0.25);
+        add(&mut p, sum, 3.0 / (4.0 * nf));
+        add(&mut p, re, cos / (2.0 * nf));
+        add(&mut p, im, sin / (2.0 * nf));
         p
     }
 
@@ -331,10 +346,8 @@ impl PolyMesh {
     ) -> io::Result<()> {
         let weights = Weights::new(self, quad);
         for f in 0..self.face_count() {
-            let n = self.face(f).len();
-            let w = weights.of(n);
-            for i in 0..n {
-                out.vertex(self.corner_point(f, i, w))?;
+            for i in 0..self.face(f).len() {
+                out.vertex(self.corner_point(f, i, &weights))?;
             }
         }
         for f in 0..self.face_count() {
@@ -370,7 +383,7 @@ impl PolyMesh {
         let weights = Weights::new(self, quad);
         let point = |c: usize| {
             let f = t.face(c);
-            self.corner_point(f, c - self.starts[f], weights.of(self.face(f).len()))
+            self.corner_point(f, c - self.starts[f], &weights)
         };
         let nf = self.face_count();
         for f in 0..nf {
@@ -512,14 +525,23 @@ impl PolyMesh {
     }
 }
 
-/// The weights of the Doo-Sabin corner rule for every face degree of a mesh, computed once.
+/// Faces of more corners than this get Doo-Sabin's corner points from
+/// their Fourier coefficients (O(n) a face instead of O(n²)); smaller ones
+/// from the weights, as CGAL spells them.
+const DIRECT_MAX: usize = 64;
+
+/// The weights of the Doo-Sabin corner rule, computed once: per face degree
+/// up to [`DIRECT_MAX`] (and no further, so a face of a million corners
+/// costs no table of a million rows), and for each larger face the sum of
+/// its corners and the real and imaginary parts of `Σ_j e^{2πi·j/n} p_j`.
 struct Weights {
     by_degree: Vec<Vec<f64>>,
+    large: std::collections::HashMap<usize, ([f64; 3], [f64; 3], [f64; 3])>,
 }
 
 impl Weights {
     fn new(mesh: &PolyMesh, quad: Option<QuadWeights>) -> Weights {
-        let largest = mesh.faces().map(<[usize]>::len).max().unwrap_or(0);
+        let largest = mesh.faces().map(<[usize]>::len).max().unwrap_or(0).min(DIRECT_MAX);
         let by_degree = (0..=largest)
             .map(|n| match (n, quad) {
                 // A digon (the face of an interior vertex of valence 2) has corners too: (7/8, 1/8).
@@ -528,11 +550,19 @@ impl Weights {
                 _ => doo_sabin_weights(n),
             })
             .collect();
-        Weights { by_degree }
-    }
-
-    fn of(&self, n: usize) -> &[f64] {
-        &self.by_degree[n]
+        let mut large = std::collections::HashMap::new();
+        for (f, face) in mesh.faces().enumerate().filter(|(_, face)| face.len() > DIRECT_MAX) {
+            let (mut sum, mut re, mut im) = ([0.0; 3], [0.0; 3], [0.0; 3]);
+            let n = face.len() as f64;
+            for (j, &v) in face.iter().enumerate() {
+                let (sin, cos) = (2.0 * PI * j as f64 / n).sin_cos();
+                add(&mut sum, mesh.positions[v], 1.0);
+                add(&mut re, mesh.positions[v], cos);
+                add(&mut im, mesh.positions[v], sin);
+            }
+            large.insert(f, (sum, re, im));
+        }
+        Weights { by_degree, large }
     }
 }
 

@@ -96,23 +96,39 @@ impl Topology {
             let f = face[c] as usize;
             if c + 1 == mesh.starts[f + 1] { mesh.starts[f] } else { c + 1 }
         };
-        // Outgoing corners per vertex (a counting sort), to find each half-edge's twin among few.
-        let mut out_start = vec![0u32; nv + 1];
-        mesh.indices.iter().for_each(|&v| out_start[v + 1] += 1);
-        for v in 0..nv {
-            out_start[v + 1] += out_start[v];
-        }
-        let mut out = vec![0u32; corners];
-        {
-            let mut fill: Vec<u32> = out_start[..nv].to_vec();
+        // Outgoing and incoming half-edges per vertex (counting sorts): a half-edge's
+        // twin is found among the fewer of its end's outgoing or its start's incoming
+        // ones, so a vertex of valence n (a fan's apex) costs O(n), not O(n²).
+        let by_vertex = |key: &dyn Fn(usize) -> usize| {
+            let mut start = vec![0u32; nv + 1];
+            (0..corners).for_each(|c| start[key(c) + 1] += 1);
+            for v in 0..nv {
+                start[v + 1] += start[v];
+            }
+            let mut list = vec![0u32; corners];
+            let mut fill: Vec<u32> = start[..nv].to_vec();
             for c in 0..corners {
-                let v = mesh.indices[c];
-                out[fill[v] as usize] = c as u32;
+                let v = key(c);
+                list[fill[v] as usize] = c as u32;
                 fill[v] += 1;
             }
-        }
+            (start, list)
+        };
+        let (out_start, out) = by_vertex(&|c| mesh.indices[c]);
+        let (in_start, incoming) = by_vertex(&|c| mesh.indices[next(c)]);
         let outgoing = |a: usize| out[out_start[a] as usize..out_start[a + 1] as usize].iter().map(|&d| d as usize);
-        let ends = |a: usize, b: usize| outgoing(a).filter(move |&d| mesh.indices[next(d)] == b);
+        // The half-edges a → b.
+        let ends = |a: usize, b: usize| {
+            let (from_a, into_b) = (
+                &out[out_start[a] as usize..out_start[a + 1] as usize],
+                &incoming[in_start[b] as usize..in_start[b + 1] as usize],
+            );
+            let by_start = from_a.len() <= into_b.len();
+            let list = if by_start { from_a } else { into_b };
+            list.iter()
+                .map(|&d| d as usize)
+                .filter(move |&d| if by_start { mesh.indices[next(d)] == b } else { mesh.indices[d] == a })
+        };
         let mut twin = vec![NONE; corners];
         for c in 0..corners {
             let (a, b) = (mesh.indices[c], mesh.indices[next(c)]);
@@ -162,22 +178,23 @@ impl Topology {
         }
         if check.is_some() {
             // One fan per vertex: walks of the rotation, from the border corners first, cover its corners.
-            let mut seen: Vec<usize> = Vec::new();
+            // Corners already walked (marked, then unmarked vertex by vertex: linear in all).
+            let mut seen = vec![false; corners];
             for v in 0..nv {
-                seen.clear();
                 let mut fans = 0;
                 let starts = outgoing(v).filter(|&c| topology.twin[c] == NONE).chain(outgoing(v));
                 for c0 in starts {
-                    if seen.contains(&c0) {
+                    if seen[c0] {
                         continue;
                     }
                     fans += 1;
                     let mut c = c0;
-                    while c != BORDER && !seen.contains(&c) {
-                        seen.push(c);
+                    while c != BORDER && !seen[c] {
+                        seen[c] = true;
                         c = topology.rotate(mesh, c);
                     }
                 }
+                outgoing(v).for_each(|c| seen[c] = false);
                 if fans > 1 {
                     return Err(MeshError::NonManifoldVertex(v, fans));
                 }

@@ -407,3 +407,49 @@ fn an_empty_doo_sabin_limit_is_refused() {
     // The net is not empty: a triangle stays a triangle.
     assert_eq!(tri.subdivide(Scheme::DooSabin, 3).unwrap().face_count(), 1);
 }
+
+/// Issue 23, item 7: a face of many corners costs O(n). Doo-Sabin's corner
+/// points of a 1000-gon (from the face's Fourier coefficients) equal the
+/// direct sums `Σ α_k p_{i+k}` of CGAL's mask to 1e-12; Catmull-Clark, Loop
+/// and √3 on the fan-triangulated prism keep every face (the fan's apex has
+/// valence 1000) and the net closed.
+#[test]
+fn large_faces_are_subdivided_by_their_mask() {
+    let n = 1000;
+    let mut positions = Vec::new();
+    for z in [0.0, 1.0] {
+        for k in 0..n {
+            let a = 2.0 * std::f64::consts::PI * k as f64 / n as f64;
+            positions.push([a.cos() * (1.0 + 0.1 * (3.0 * a).sin()), a.sin(), z + 0.05 * (5.0 * a).cos()]);
+        }
+    }
+    let mut faces = vec![(0..n).rev().collect::<Vec<usize>>(), (n..2 * n).collect()];
+    faces.extend((0..n).map(|k| vec![k, (k + 1) % n, n + (k + 1) % n, n + k]));
+    let prism = PolyMesh::new(positions, faces).unwrap();
+    let once = prism.subdivide(Scheme::DooSabin, 1).unwrap();
+    // The corners of face 0 (the bottom n-gon) are the first n points, in order.
+    let face: Vec<usize> = prism.faces().next().unwrap().to_vec();
+    for i in [0, 1, 17, 499, 999] {
+        let mut q = [0.0; 3];
+        for k in 0..n {
+            let alpha = if k == 0 {
+                0.25 + 5.0 / (4.0 * n as f64)
+            } else {
+                (3.0 + 2.0 * (2.0 * std::f64::consts::PI * k as f64 / n as f64).cos()) / (4.0 * n as f64)
+            };
+            let p = prism.positions[face[(i + k) % n]];
+            (0..3).for_each(|a| q[a] += alpha * p[a]);
+        }
+        let ours = once.positions[i];
+        let far = (0..3).map(|a| (ours[a] - q[a]).abs()).fold(0.0, f64::max);
+        assert!(far < 1e-12, "corner {i}: {ours:?} against {q:?}");
+    }
+    assert!(once.is_closed());
+    let triangles = prism.triangulated();
+    for scheme in Scheme::ALL {
+        let mesh = if scheme.triangles_only() { &triangles } else { &prism };
+        let net = mesh.subdivide(scheme, 2).unwrap();
+        assert!(net.is_closed(), "{scheme:?}");
+        assert!(net.written_faces().all(|f| f.len() >= 3), "{scheme:?}");
+    }
+}

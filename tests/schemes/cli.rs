@@ -161,8 +161,12 @@ fn analyze_map_draws_the_verdicts() {
         (count("converges"), count("each matrix passes"), count("a matrix fails"), count("undecided"));
     assert_eq!(green + red + grey + yellow, 48 * 48);
     assert!(green > 100 && red > 0, "{out}");
-    let img = image::open(&png).unwrap();
-    assert_eq!((img.width(), img.height()), (48, 48));
+    // Framed (issue 23, item 18): title, axes and a legend beside the 48 × 48 map, in its colours.
+    let img = image::open(&png).unwrap().to_rgb8();
+    assert_eq!((img.width(), img.height()), (980, 720));
+    for colour in [[150, 205, 150], [215, 60, 60], [228, 228, 228]] {
+        assert!(img.pixels().filter(|p| p.0 == colour).count() > 1000, "{colour:?} is drawn");
+    }
     let (code, _, err) =
         bcifs(&["analyze", "map", "corner_cutting", "--x", "a=2:-1", "--y", "b=-1:2", "-o", png.to_str().unwrap()]);
     assert_eq!(code, 2);
