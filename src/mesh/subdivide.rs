@@ -536,8 +536,11 @@ const DIRECT_MAX: usize = 64;
 /// its corners and the real and imaginary parts of `Σ_j e^{2πi·j/n} p_j`.
 struct Weights {
     by_degree: Vec<Vec<f64>>,
-    large: std::collections::HashMap<usize, ([f64; 3], [f64; 3], [f64; 3])>,
+    large: std::collections::HashMap<usize, Fourier>,
 }
+
+/// A large face's corner sum and the real and imaginary parts of `Σ_j e^{2πi·j/n} p_j`.
+type Fourier = ([f64; 3], [f64; 3], [f64; 3]);
 
 impl Weights {
     fn new(mesh: &PolyMesh, quad: Option<QuadWeights>) -> Weights {
