@@ -40,7 +40,8 @@ pub struct FitSettings {
     pub threshold: Option<u8>,
     /// The corner detector.
     pub ipan: Ipan,
-    /// Largest distance, pixels, from a traced contour point to its piece.
+    /// Largest Hausdorff distance, pixels, between the traced contour and
+    /// the fitted one (piece by piece, both ways).
     pub tolerance: f64,
 }
 
@@ -63,7 +64,9 @@ pub struct Fit {
     pub corners: Vec<[f64; 2]>,
     /// The fitted pieces, in contour order, end to end, closed.
     pub segments: Vec<Segment>,
-    /// The largest distance from a contour point to its piece.
+    /// The largest Hausdorff distance between a piece and the run of the
+    /// traced contour it stands for (both ways: every traced point near the
+    /// piece, every point of the piece near the traced contour).
     pub max_distance: f64,
 }
 
@@ -318,6 +321,39 @@ fn to_piece(p: [f64; 2], s: &Segment) -> f64 {
         .fold(best, f64::min)
 }
 
+/// Whether a distance is within the tolerance, allowing the rounding of
+/// distances computed from pixel centres (a chord one pixel off computes as
+/// 1.0000000000000284).
+fn within(distance: f64, tolerance: f64) -> bool {
+    distance <= tolerance * (1.0 + 1e-12) + 1e-12
+}
+
+/// Distance from `p` to the polyline through `run`.
+fn to_polyline(p: [f64; 2], run: &[[f64; 2]]) -> f64 {
+    match run {
+        [] => f64::INFINITY,
+        [a] => (p[0] - a[0]).hypot(p[1] - a[1]),
+        _ => run.windows(2).map(|w| to_segment(p, w[0], w[1])).fold(f64::INFINITY, f64::min),
+    }
+}
+
+/// Points of a piece every quarter pixel or closer (at least 16): what the
+/// piece draws, measured against the traced contour.
+fn samples(s: &Segment) -> impl Iterator<Item = [f64; 2]> + '_ {
+    let length = s.points.windows(2).map(|w| (w[1][0] - w[0][0]).hypot(w[1][1] - w[0][1])).sum::<f64>();
+    let k = ((4.0 * length).ceil() as usize).clamp(16, 1 << 16);
+    (0..=k).map(move |j| s.at(j as f64 / k as f64))
+}
+
+/// The Hausdorff distance between a piece and the traced run it stands for:
+/// every traced point is within it of the piece, and every point of the
+/// piece within it of the traced polyline (an arc that overshoots is as
+/// wrong as one that falls short).
+fn hausdorff(s: &Segment, run: &[[f64; 2]]) -> f64 {
+    let to = run.iter().map(|&p| to_piece(p, s)).fold(0.0, f64::max);
+    samples(s).map(|q| to_polyline(q, run)).fold(to, f64::max)
+}
+
 /// The total-least-squares line of `points`: a point on it, its unit
 /// direction, and the largest distance of a point from it.
 fn best_line(points: &[[f64; 2]]) -> ([f64; 2], [f64; 2], f64) {
@@ -344,15 +380,20 @@ fn best_line(points: &[[f64; 2]]) -> ([f64; 2], [f64; 2], f64) {
 fn fit_one(points: &[[f64; 2]], tolerance: f64, strict: bool) -> (Segment, f64) {
     let (a, b) = (points[0], points[points.len() - 1]);
     let line = Segment { points: vec![a, b] };
-    let worst = |s: &Segment| points.iter().map(|&p| to_piece(p, s)).fold(0.0, f64::max);
-    let (_, _, straight) = best_line(points);
+    let worst = |s: &Segment| hausdorff(s, points);
+    // Straightness by the best line, also without the corner pixel at either end (it lies
+    // inside a sharp corner, off both edges; the joints move to where best lines cross).
+    let n = points.len();
+    let trims: &[(usize, usize)] = if n >= 6 { &[(0, 0), (1, 0), (0, 1), (1, 1)] } else { &[(0, 0)] };
+    let straight = trims.iter().map(|&(a, b)| best_line(&points[a..n - b]).2).fold(f64::INFINITY, f64::min);
     let line_error = worst(&line);
-    if line_error <= tolerance || points.len() < 4 {
+    if within(line_error, tolerance) || points.len() < 4 {
         return (line, line_error);
     }
-    if straight <= tolerance && !strict {
-        // Straight: accepted by its best line's deviation (measured again once the ends move onto it).
-        return (line, straight);
+    if within(straight, tolerance) {
+        // Straight: accepted by its best line's deviation (measured again once the ends move onto
+        // it); when that chord is still off (`strict`), a straight run is split into lines, not bent.
+        return (line, if strict { line_error } else { straight });
     }
     // Chord-length parameters.
     let mut t: Vec<f64> = Vec::with_capacity(points.len());
@@ -421,7 +462,7 @@ fn fit_pieces(contour: &[[f64; 2]], corners: &[usize], tolerance: f64) -> (Vec<S
     // a piece that ends up off by more than the tolerance (and worse than before) gets its
     // joints back, until none does.
     let m = pieces.len();
-    let error = |s: &Segment, run: &[[f64; 2]]| run.iter().map(|&p| to_piece(p, s)).fold(0.0, f64::max);
+    let error = |s: &Segment, run: &[[f64; 2]]| hausdorff(s, run);
     let original: Vec<Segment> = pieces.iter().map(|(s, _)| s.clone()).collect();
     let mut moved: Vec<Option<[f64; 2]>> = (0..m)
         .map(|k| {
@@ -451,7 +492,7 @@ fn fit_pieces(contour: &[[f64; 2]], corners: &[usize], tolerance: f64) -> (Vec<S
             }
             pieces[k].0 = s;
         }
-        let bad: Vec<usize> = (0..m).filter(|&k| error(&pieces[k].0, &pieces[k].1) > tolerance).collect();
+        let bad: Vec<usize> = (0..m).filter(|&k| !within(error(&pieces[k].0, &pieces[k].1), tolerance)).collect();
         if bad.iter().all(|&k| moved[k].is_none() && moved[(k + m - 1) % m].is_none()) {
             break;
         }
@@ -464,7 +505,7 @@ fn fit_pieces(contour: &[[f64; 2]], corners: &[usize], tolerance: f64) -> (Vec<S
     // fitted again with the chord as the measure, which may split it.
     let mut out: Vec<(Segment, Vec<[f64; 2]>)> = Vec::with_capacity(pieces.len());
     for (s, run) in pieces {
-        if error(&s, &run) > tolerance && !s.is_arc() {
+        if !within(error(&s, &run), tolerance) && !s.is_arc() {
             fit_run(&run, tolerance, &mut out, 0, true);
         } else {
             out.push((s, run));
@@ -474,20 +515,37 @@ fn fit_pieces(contour: &[[f64; 2]], corners: &[usize], tolerance: f64) -> (Vec<S
     // A piece of no length (a one-pixel spur) is left out: its neighbours meet there already.
     let pieces: Vec<(Segment, Vec<[f64; 2]>)> =
         pieces.into_iter().filter(|(s, _)| s.is_arc() || s.start() != s.end()).collect();
-    let worst = pieces.iter().flat_map(|(s, run)| run.iter().map(move |&p| to_piece(p, s))).fold(0.0, f64::max);
+    let worst = pieces.iter().map(|(s, run)| hausdorff(s, run)).fold(0.0, f64::max);
     (pieces.into_iter().map(|(s, _)| s).collect(), worst)
 }
 
+/// Smallest turn, degrees, between two straight halves of a run for them to
+/// be a corner the detector missed rather than a gentle arc.
+const MISSED_CORNER_DEG: f64 = 20.0;
+
 fn fit_run(run: &[[f64; 2]], tolerance: f64, out: &mut Vec<(Segment, Vec<[f64; 2]>)>, depth: usize, strict: bool) {
     let (piece, error) = fit_one(run, tolerance, strict);
-    if error <= tolerance || run.len() < 3 || depth > 30 {
-        out.push((piece, run.to_vec()));
-        return;
-    }
     // Split at the point farthest from the chord (a natural knot), or the middle.
     let (a, b) = (run[0], run[run.len() - 1]);
     let far = (1..run.len() - 1).max_by(|&i, &j| to_segment(run[i], a, b).total_cmp(&to_segment(run[j], a, b)));
     let mid = far.filter(|&i| i >= 2 && i + 2 < run.len()).unwrap_or(run.len() / 2);
+    if within(error, tolerance) && piece.is_arc() && run.len() >= 8 {
+        // An arc over a corner the detector missed (or placed a pixel or two off, leaving a
+        // hook at an end): two straight parts that turn there are its edges.
+        let knee = far.unwrap_or(mid);
+        let (left, right) = (&run[..=knee], &run[knee..]);
+        let ((_, d1, s1), (_, d2, s2)) = (best_line(left), best_line(right));
+        let turn = (d1[0] * d2[1] - d1[1] * d2[0]).abs().asin().to_degrees();
+        if s1 <= tolerance && s2 <= tolerance && turn >= MISSED_CORNER_DEG {
+            fit_run(left, tolerance, out, depth + 1, strict);
+            fit_run(right, tolerance, out, depth + 1, strict);
+            return;
+        }
+    }
+    if within(error, tolerance) || run.len() < 3 || depth > 30 {
+        out.push((piece, run.to_vec()));
+        return;
+    }
     fit_run(&run[..=mid], tolerance, out, depth + 1, strict);
     fit_run(&run[mid..], tolerance, out, depth + 1, strict);
 }
