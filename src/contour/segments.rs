@@ -18,7 +18,7 @@ use std::path::Path;
 use serde::Deserialize;
 use toml::Spanned;
 
-use crate::format::{FormatError, Source};
+use crate::format::{FormatError, ReadError, Source};
 use crate::schemes::{RowMap, segment_ifs};
 
 /// A piece of a contour: a line segment (2 points) or a quadratic Bézier
@@ -176,17 +176,12 @@ pub fn parse_segments(text: &str, file: &str) -> Result<Vec<Segment>, FormatErro
 /// Reads a segments file.
 ///
 /// # Errors
-/// An unreadable file, or as [`parse_segments`].
-pub fn read_segments(path: &Path) -> Result<Vec<Segment>, FormatError> {
+/// An unreadable file (named, with the system's reason: no line or column
+/// to point at), or as [`parse_segments`].
+pub fn read_segments(path: &Path) -> Result<Vec<Segment>, ReadError> {
     let file = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| FormatError {
-        file: file.clone(),
-        line: 0,
-        column: 0,
-        message: format!("cannot read: {e}"),
-        help: None,
-    })?;
-    parse_segments(&text, &file)
+    let text = std::fs::read_to_string(path).map_err(|error| ReadError::Io { path: file.clone(), error })?;
+    Ok(parse_segments(&text, &file)?)
 }
 
 /// The segments file of `segments` (shortest round-trip numbers).

@@ -416,3 +416,13 @@ fn fits_are_within_the_tolerance_both_ways() {
         }
     }
 }
+
+/// Issue 23, item 15: an unreadable segments file is named with the
+/// system's reason, not placed at a line and column 0:0.
+#[test]
+fn unreadable_segments_files_are_named() {
+    for path in ["/nonexistent/heart.toml", "/"] {
+        let e = bcifs::contour::read_segments(std::path::Path::new(path)).unwrap_err().to_string();
+        assert!(e.starts_with(path) && !e.contains(":0:0"), "{e}");
+    }
+}
