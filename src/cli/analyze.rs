@@ -132,6 +132,19 @@ fn plane((x, y): (&str, &str), size: usize) -> Result<bcifs::analysis::Parameter
     Ok(bcifs::analysis::ParameterPlane { x, y, size: (size, size) })
 }
 
+/// Writes a map of `plane` framed with its title, axes and legend.
+fn write_framed_map(
+    output: &std::path::Path,
+    title: &str,
+    plane: &bcifs::analysis::ParameterPlane,
+    img: &image::RgbImage,
+    legend: &[([u8; 3], String)],
+) -> Result<()> {
+    let (x, y) = (&plane.x, &plane.y);
+    let framed = super::plot::framed_map(title, (&x.0, x.1, x.2), (&y.0, y.1, y.2), img, legend)?;
+    bcifs::export::write_png(output, &framed).with_context(|| format!("cannot write {}", output.display()))
+}
+
 /// `bcifs analyze map`: the verdict map as a picture, and its counts.
 fn run_map(
     out: &mut String,
@@ -171,14 +184,7 @@ fn run_map(
         ([240, 200, 80], format!("undecided ({})", count(&|c| c.verdict == Verdict::Undecided))),
     ];
     let title = format!("{}: convergence verdicts (JSR bounds)", design.name());
-    let framed = super::plot::framed_map(
-        &title,
-        (&plane.x.0, plane.x.1, plane.x.2),
-        (&plane.y.0, plane.y.1, plane.y.2),
-        &img,
-        &legend,
-    )?;
-    bcifs::export::write_png(output, &framed).with_context(|| format!("cannot write {}", output.display()))?;
+    write_framed_map(output, &title, &plane, &img, &legend)?;
     writeln!(
         out,
         "{}: {} ∈ [{}, {}] (x) × {} ∈ [{}, {}] (y), {size}×{size} pixels in {:.2} s",
@@ -729,15 +735,7 @@ fn run_curve_map(
             ([245, 230, 120], "undecided".to_string()),
             ([228, 228, 228], "a matrix fails (§3)".to_string()),
         ]);
-        let title = format!("{}: {kind}", design.name());
-        let framed = super::plot::framed_map(
-            &title,
-            (&plane.x.0, plane.x.1, plane.x.2),
-            (&plane.y.0, plane.y.1, plane.y.2),
-            &img,
-            &legend,
-        )?;
-        bcifs::export::write_png(output, &framed).with_context(|| format!("cannot write {}", output.display()))?;
+        write_framed_map(output, &format!("{}: {kind}", design.name()), &plane, &img, &legend)?;
     }
     let mut counts: std::collections::BTreeMap<&str, usize> = std::collections::BTreeMap::new();
     for c in &cells {

@@ -15,6 +15,13 @@ fn bcifs(args: &[&str]) -> (i32, String, String) {
     )
 }
 
+/// A fresh scratch directory for one test (removed by the test at its end).
+fn scratch(tag: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("bcifs-{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
 fn json(text: &str) -> serde_json::Value {
     serde_json::from_str(text).expect("valid JSON")
 }
@@ -78,8 +85,7 @@ fn check_json_contract_and_exit_codes() {
 
 #[test]
 fn failing_constraints_exit_1() {
-    let dir = std::env::temp_dir().join(format!("bcifs-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("cli");
     // Koch with a broken tip: T1's end no longer meets T2's start.
     let text = include_str!("../../automata/koch.toml")
         .replacen("[0, \"sqrt(3)/6\", \"1/6\"]", "[0, \"sqrt(3)/5\", \"1/6\"]", 1)
@@ -139,8 +145,7 @@ fn coloured_density_pictures_from_the_command_line() {
 /// is written, the same file with one thread or two.
 #[test]
 fn chaos_game_points_stream_to_obj() {
-    let dir = std::env::temp_dir().join(format!("bcifs-chaos-obj-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("chaos-obj");
     let write = |threads: &str| {
         let out = dir.join(format!("fern-{threads}.obj"));
         let args = ["render", "fern", "--random", "300001", "--threads", threads, "-o", out.to_str().unwrap()];
@@ -195,8 +200,7 @@ fn nonsense_options_are_refused() {
 /// `render` refuses it too unless `--force`.
 #[test]
 fn render_refuses_a_file_whose_constraints_fail() {
-    let dir = std::env::temp_dir().join(format!("bcifs-bad-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("bad");
     let file = dir.join("bad.toml");
     std::fs::write(
         &file,
@@ -251,8 +255,7 @@ fn list_show_and_suggestions() {
 /// upright); `--up z` keeps the model's axes; 2D curves stay in the xy plane.
 #[test]
 fn obj_files_are_y_up_unless_asked() {
-    let dir = std::env::temp_dir().join(format!("bcifs-up-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("up");
     let first_vertex = |args: &[&str], file: &str| -> Vec<f64> {
         let path = dir.join(file);
         let mut all = args.to_vec();
@@ -280,8 +283,7 @@ fn obj_files_are_y_up_unless_asked() {
 /// do); the target keeps its old content.
 #[test]
 fn an_interrupted_write_leaves_nothing_behind() {
-    let dir = std::env::temp_dir().join(format!("bcifs-signal-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("signal");
     let target = dir.join("big.obj");
     std::fs::write(&target, b"old content").unwrap();
     let temporary = || {
@@ -417,8 +419,7 @@ fn oversized_outputs_are_refused_with_the_estimate() {
 /// The file holds distinct points only, as many as reported.
 #[test]
 fn dedup_drops_and_counts_exact_duplicates() {
-    let dir = std::env::temp_dir().join(format!("bcifs-dedup-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("dedup");
     let vertex_lines = |file: &str| -> Vec<String> {
         let text = std::fs::read_to_string(dir.join(file)).unwrap();
         text.lines().filter(|l| l.starts_with("v ")).map(str::to_string).collect()
@@ -447,8 +448,7 @@ fn dedup_drops_and_counts_exact_duplicates() {
 /// place and no file.
 #[test]
 fn surface_subdivides_a_users_mesh() {
-    let dir = std::env::temp_dir().join(format!("bcifs-surface-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("surface");
     let path = |f: &str| dir.join(f).to_str().unwrap().to_string();
     let (code, _, err) = bcifs(&[
         "surface",
@@ -590,8 +590,7 @@ fn surface_subdivides_a_users_mesh() {
 /// dimension 1.93): only its bound is checked.
 #[test]
 fn dimensions_of_shipped_attractors() {
-    let dir = std::env::temp_dir().join(format!("bcifs-dim-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("dim");
     let (_, gasket, _) = bcifs(&["show", "sierpinski-control"]);
     let gasket_file = dir.join("gasket.toml");
     std::fs::write(&gasket_file, gasket).unwrap();
@@ -733,8 +732,7 @@ fn curve_query_matches_the_closed_forms() {
 /// query's, and the PNG maps are written.
 #[test]
 fn curve_maps_cover_the_regions() {
-    let dir = std::env::temp_dir().join(format!("bcifs-cmap-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("cmap");
     let csv = dir.join("r.csv");
     let (code, _, err) = bcifs(&[
         "analyze",
@@ -889,8 +887,7 @@ fn blending_functions_and_the_non_singular_parameterization() {
 /// torus grid as a closed quad mesh facing outwards.
 #[test]
 fn control_nets_are_written() {
-    let dir = std::env::temp_dir().join(format!("bcifs-control-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("control");
     let curve = dir.join("c.obj");
     let (code, _, err) = bcifs(&["render", "corner_cutting", "--control", "-o", curve.to_str().unwrap()]);
     assert_eq!(code, 0, "{err}");
@@ -915,8 +912,7 @@ fn control_nets_are_written() {
 /// surface, and that `--print` refuses to write as a mesh.
 #[test]
 fn a_users_mesh_prints_as_an_automaton_that_solves_checks_and_renders() {
-    let dir = std::env::temp_dir().join(format!("bcifs-surface-print-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("surface-print");
     let path = |f: &str| dir.join(f).to_str().unwrap().to_string();
     let args = ["surface", "tests/data/torus12.obj", "--scheme", "doo-sabin", "--print", "-o"];
     let (code, _, err) = bcifs(&[&args[..], &[&path("torus.toml")]].concat());
@@ -947,8 +943,7 @@ fn a_users_mesh_prints_as_an_automaton_that_solves_checks_and_renders() {
 /// shaded polygon per face, painted far to near.
 #[test]
 fn surface_pictures_as_svg() {
-    let dir = std::env::temp_dir().join(format!("bcifs-surface-svg-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("surface-svg");
     let out = dir.join("cube.svg");
     let (code, _, err) = bcifs(&[
         "surface",
@@ -1000,8 +995,7 @@ fn printed_automata_survive_a_closed_pipe() {
 /// with the time it would take, before any work.
 #[test]
 fn pictures_that_cannot_finish_are_bounded() {
-    let dir = std::env::temp_dir().join(format!("bcifs-bounded-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("bounded");
     let file = |name: &str| dir.join(name).display().to_string();
     let started = std::time::Instant::now();
     let (code, _, err) = bcifs(&["render", "levy", "--depth", "60", "-o", &file("deep.png")]);
@@ -1044,8 +1038,7 @@ fn pictures_that_cannot_finish_are_bounded() {
 /// simplex meet only on boundaries); the Lévy curve's test is not known.
 #[test]
 fn open_set_condition_is_stated() {
-    let dir = std::env::temp_dir().join(format!("bcifs-osc-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("osc");
     let system = |name: &str, maps: &[&str]| {
         let mut text = format!("name = \"{name}\"\n[[state]]\nname = \"s\"\ndim = 2\nkind = \"free\"\n");
         for (i, m) in maps.iter().enumerate() {
@@ -1123,8 +1116,7 @@ fn the_chaos_game_drops_arrows() {
 /// so; a parameter given twice, or varied on both axes of a map, is refused.
 #[test]
 fn options_that_do_nothing_say_so() {
-    let dir = std::env::temp_dir().join(format!("bcifs-idle-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("idle");
     let at = |name: &str| dir.join(name).display().to_string();
     for (args, warning) in [
         (
@@ -1167,8 +1159,7 @@ fn messages_say_what_is_true() {
     let (code, _, err) = bcifs(&["new", "curve", "--points", "100000"]);
     assert_eq!(code, 2);
     assert!(err.contains("at most 20000") && !err.contains("internal"), "{err}");
-    let dir = std::env::temp_dir().join(format!("bcifs-huge-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("huge");
     let huge = dir.join("huge.toml");
     let (_, text, _) = bcifs(&["show", "corner_cutting"]);
     let model = text.find("points = ").map(|i| &text[i..]).unwrap();
@@ -1188,8 +1179,7 @@ fn messages_say_what_is_true() {
 /// summary counts faces (quads and triangles), not "quads".
 #[test]
 fn mesh_pictures_stand_up_and_sizes_are_checked() {
-    let dir = std::env::temp_dir().join(format!("bcifs-upright-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("upright");
     let mut obj = String::new();
     for &(x, y, z) in &[(0, 0, 0), (1, 0, 0), (1, 0, 1), (0, 0, 1), (0, 4, 0), (1, 4, 0), (1, 4, 1), (0, 4, 1)] {
         obj += &format!("v {x} {y} {z}\n");
