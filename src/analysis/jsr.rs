@@ -186,6 +186,8 @@ struct Edge {
     from: usize,
     to: usize,
     matrix: DMatrix<f64>,
+    /// The arrow's matrix itself (for the Kronecker test).
+    full: DMatrix<f64>,
 }
 
 /// The state of the cycle enumeration: where cycles start, the current
@@ -275,6 +277,75 @@ fn to_neighbour_differences(n: usize) -> (DMatrix<f64>, DMatrix<f64>) {
     (partial * &b, b.transpose() * d)
 }
 
+/// `M = A ⊗ B` with `A` `p × p` and `B` `q × q` (`p q` = the size of `M`),
+/// both column-stochastic, when `M` is one (to `1e-12` of its largest
+/// entry): the rank-one rearrangement of Van Loan and Pitsianis.
+fn kronecker_factors(m: &DMatrix<f64>, p: usize, q: usize) -> Option<(DMatrix<f64>, DMatrix<f64>)> {
+    if m.nrows() != p * q || m.ncols() != p * q {
+        return None;
+    }
+    // R[(i1, j1), (i2, j2)] = M[i1 q + i2, j1 q + j2] = A[i1, j1] B[i2, j2].
+    let r = |a: usize, b: usize| m[((a / p) * q + b / q, (a % p) * q + b % q)];
+    let (mut best, mut at) = (0.0f64, (0, 0));
+    for a in 0..p * p {
+        for b in 0..q * q {
+            if r(a, b).abs() > best {
+                (best, at) = (r(a, b).abs(), (a, b));
+            }
+        }
+    }
+    if best == 0.0 {
+        return None;
+    }
+    let pivot = r(at.0, at.1);
+    let a = DMatrix::from_fn(p, p, |i, j| r(i * p + j, at.1));
+    let b = DMatrix::from_fn(q, q, |i, j| r(at.0, i * q + j) / pivot);
+    for x in 0..p * p {
+        for y in 0..q * q {
+            if (r(x, y) - a[(x / p, x % p)] * b[(y / q, y % q)]).abs() > 1e-12 * best {
+                return None;
+            }
+        }
+    }
+    // Scaled so that A's columns sum to 1 (then B's do, M being column-stochastic).
+    let sum = a.column(0).sum();
+    if !(sum.abs() > 1e-300) {
+        return None;
+    }
+    let (a, b) = (a / sum, b * sum);
+    let stochastic = |x: &DMatrix<f64>| x.column_iter().all(|c| (c.sum() - 1.0).abs() < 1e-9);
+    (stochastic(&a) && stochastic(&b)).then_some((a, b))
+}
+
+/// One state's part of single maps `A ⊗ B` (tensor-product surfaces): the
+/// part of the `A`s and the part of the `B`s, each a one-state system.
+fn kronecker_parts(part: &Part) -> Option<(Part, Part)> {
+    let [n] = part.dims[..] else { return None };
+    let factorizations = (2..n).filter(|p| n % p == 0 && n / p >= 2);
+    for p in factorizations {
+        let q = n / p;
+        let factors: Option<Vec<(DMatrix<f64>, DMatrix<f64>)>> =
+            part.edges.iter().map(|e| kronecker_factors(&e.full, p, q)).collect();
+        let Some(factors) = factors else { continue };
+        // Each factor's distinct matrices (T_i ⊗ T_j over all pairs repeats every T_i).
+        let side = |k: usize, which: fn(&(DMatrix<f64>, DMatrix<f64>)) -> &DMatrix<f64>| {
+            let b = difference_basis(k);
+            let mut edges: Vec<Edge> = Vec::new();
+            for (e, f) in part.edges.iter().zip(&factors) {
+                let m = which(f);
+                if edges.iter().any(|d| (&d.full - m).amax() <= 1e-14 * m.amax().max(1.0)) {
+                    continue;
+                }
+                let matrix = b.transpose() * m * &b;
+                edges.push(Edge { name: e.name.clone(), from: 0, to: 0, matrix, full: m.clone() });
+            }
+            Part { dims: vec![k], edges }
+        };
+        return Some((side(p, |f| &f.0), side(q, |f| &f.1)));
+    }
+    None
+}
+
 /// Bounds on the JSR of the subdivision arrows of `automaton` restricted to
 /// the difference subspaces, over the paths of each strongly connected part
 /// (the largest over the parts).
@@ -302,7 +373,11 @@ pub fn jsr(automaton: &Automaton<f64>, settings: &JsrSettings) -> Result<Jsr, Js
             out.lower = out.lower.max(lower);
             out.witness = witness;
         }
-        let upper = if lower >= 1.0 - ROUNDING { part.norm_bound(settings) } else { part.upper_bound(lower, settings) };
+        let upper = if lower >= 1.0 - ROUNDING {
+            part.norm_bound(settings)
+        } else {
+            part.upper_bound(lower, settings).min(part.kronecker_bound(settings))
+        };
         out.upper = out.upper.max(upper.max(lower));
     }
     Ok(out)
@@ -322,6 +397,9 @@ pub fn jsr_verdict(automaton: &Automaton<f64>, settings: &JsrSettings) -> Result
     for part in &parts(automaton)? {
         // Contracting in the Euclidean norm already settles it, without adapting the norm.
         if part.edges.iter().all(|e| spectral_norm(&e.matrix) < 1.0) {
+            continue;
+        }
+        if part.kronecker_bound(settings) < 1.0 {
             continue;
         }
         let mut work = Work(settings.norm_work);
@@ -377,7 +455,7 @@ fn parts(automaton: &Automaton<f64>) -> Result<Vec<Part>, JsrError> {
             if let (Some(from), Some(to)) = (index(a), index(b)) {
                 let (name, m) = &arrows[graph[e]];
                 let matrix = difference_basis(dims[from]).transpose() * *m * difference_basis(dims[to]);
-                edges.push(Edge { name: name.clone(), from, to, matrix });
+                edges.push(Edge { name: name.clone(), from, to, matrix, full: (*m).clone() });
             }
         }
         if !edges.is_empty() && dims.iter().all(|d| *d >= 2) {
@@ -474,6 +552,23 @@ impl Part {
                 _ => e.matrix.clone(),
             })
             .collect()
+    }
+
+    /// For maps `A_e ⊗ B_e` of one state (a tensor-product surface): the
+    /// differences of the product space are `S_p ⊗ R^q + R^p ⊗ S_q` (`S`:
+    /// the differences of a factor), two invariant subspaces, so the JSR on
+    /// them is at most `max(ρ_A ρ⁺_B, ρ⁺_A ρ_B)`, with `ρ` the factors' JSR
+    /// on differences and `ρ⁺ = max(1, ρ)` on the whole space (column-
+    /// stochastic: the quotient by the differences is 1). Infinite when the
+    /// maps are not such products.
+    fn kronecker_bound(&self, settings: &JsrSettings) -> f64 {
+        let Some((a, b)) = kronecker_parts(self) else { return f64::INFINITY };
+        let bound = |part: &Part| {
+            let (lower, _) = part.lower_bound(settings, false);
+            part.upper_bound(lower, settings).max(lower)
+        };
+        let (ra, rb) = (bound(&a), bound(&b));
+        (ra * rb.max(1.0)).max(ra.max(1.0) * rb)
     }
 
     /// The largest matrix norm in the adapted norms: an upper bound by itself.

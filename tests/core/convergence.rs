@@ -218,4 +218,17 @@ fn norm_bounds_decide_what_the_ellipsoid_leaves() {
         assert_eq!(j.verdict(), Verdict::Converges, "ω = {omega}: {j}");
         assert!(j.lower <= j.upper && j.upper < 1.0, "ω = {omega}: {j}");
     }
+    // The tensor-product surfaces (maps T_i ⊗ T_j): bounded through their factors, so the
+    // torus at ω = 1/20 (README) converges as its curve does, with no warning; ω = 1/10 diverges.
+    for (omega, converges) in [("1/20", true), ("3/50", true), ("1/12", true), ("-2/25", true), ("1/10", false)] {
+        let w = bcifs::Surd::parse(omega).unwrap();
+        for name in ["ternary5-surface", "ternary5-torus"] {
+            let design = bcifs::schemes::ifs_preset(name, None, Some(&w)).unwrap();
+            let a = instantiate(&design, &[]).unwrap().automaton;
+            let j = jsr(&a, &JsrSettings::default()).unwrap();
+            let expected = if converges { Verdict::Converges } else { Verdict::Diverges };
+            assert_eq!(j.verdict(), expected, "{name} at ω = {omega}: {j}");
+            assert_eq!(bcifs::analysis::jsr_verdict(&a, &JsrSettings::quick()).unwrap(), expected, "{name} {omega}");
+        }
+    }
 }
