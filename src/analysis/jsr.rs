@@ -280,7 +280,7 @@ fn to_neighbour_differences(n: usize) -> (DMatrix<f64>, DMatrix<f64>) {
 /// `M = A ⊗ B` with `A` `p × p` and `B` `q × q` (`p q` = the size of `M`),
 /// both column-stochastic, when `M` is one (to `1e-12` of its largest
 /// entry): the rank-one rearrangement of Van Loan and Pitsianis.
-fn kronecker_factors(m: &DMatrix<f64>, p: usize, q: usize) -> Option<(DMatrix<f64>, DMatrix<f64>)> {
+fn kronecker_factors(m: &DMatrix<f64>, p: usize, q: usize) -> Option<Factors> {
     if m.nrows() != p * q || m.ncols() != p * q {
         return None;
     }
@@ -309,13 +309,16 @@ fn kronecker_factors(m: &DMatrix<f64>, p: usize, q: usize) -> Option<(DMatrix<f6
     }
     // Scaled so that A's columns sum to 1 (then B's do, M being column-stochastic).
     let sum = a.column(0).sum();
-    if !(sum.abs() > 1e-300) {
+    if sum.abs() <= 1e-300 || sum.is_nan() {
         return None;
     }
     let (a, b) = (a / sum, b * sum);
     let stochastic = |x: &DMatrix<f64>| x.column_iter().all(|c| (c.sum() - 1.0).abs() < 1e-9);
     (stochastic(&a) && stochastic(&b)).then_some((a, b))
 }
+
+/// The factors `(A, B)` of a map `A ⊗ B`.
+type Factors = (DMatrix<f64>, DMatrix<f64>);
 
 /// One state's part of single maps `A ⊗ B` (tensor-product surfaces): the
 /// part of the `A`s and the part of the `B`s, each a one-state system.
@@ -324,11 +327,10 @@ fn kronecker_parts(part: &Part) -> Option<(Part, Part)> {
     let factorizations = (2..n).filter(|p| n % p == 0 && n / p >= 2);
     for p in factorizations {
         let q = n / p;
-        let factors: Option<Vec<(DMatrix<f64>, DMatrix<f64>)>> =
-            part.edges.iter().map(|e| kronecker_factors(&e.full, p, q)).collect();
+        let factors: Option<Vec<Factors>> = part.edges.iter().map(|e| kronecker_factors(&e.full, p, q)).collect();
         let Some(factors) = factors else { continue };
         // Each factor's distinct matrices (T_i ⊗ T_j over all pairs repeats every T_i).
-        let side = |k: usize, which: fn(&(DMatrix<f64>, DMatrix<f64>)) -> &DMatrix<f64>| {
+        let side = |k: usize, which: fn(&Factors) -> &DMatrix<f64>| {
             let b = difference_basis(k);
             let mut edges: Vec<Edge> = Vec::new();
             for (e, f) in part.edges.iter().zip(&factors) {
