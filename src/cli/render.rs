@@ -437,6 +437,9 @@ fn evaluator(
 /// See [`RenderError`]; nothing is left half-written.
 pub fn render(design: &Design, options: &RenderOptions, out: &Path) -> Result<RenderSummary, RenderError> {
     let ext = out.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
+    // A model in a mesh file's (Y-up) axes is drawn standing and written without a turn.
+    let y_up = design.model().is_some_and(|m| m.y_up);
+    let options = &RenderOptions { raster: options.raster.with_y_up(y_up), ..options.clone() };
     let io = |e: std::io::Error| RenderError::Io(out.to_path_buf(), e);
     match ext.as_str() {
         "obj" => {
@@ -448,6 +451,7 @@ pub fn render(design: &Design, options: &RenderOptions, out: &Path) -> Result<Re
                 .and_then(|w| w.with_threads(threads))
                 .map_err(io)?
                 .with_up(options.up)
+                .with_y_up_input(y_up)
                 .with_precision(options.precision);
             if let (Some(random), false) = (&options.random, options.dedup) {
                 // The chaos game streamed, a few chains at a time.

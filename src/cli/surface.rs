@@ -62,18 +62,6 @@ pub struct SurfaceArgs {
 /// for quads, generous for triangles).
 const BYTES_PER_FACE: u128 = 4 * 9 + 3 * 22 + 8;
 
-/// A mesh read from an OBJ or OFF file is Y-up (the convention of Blender,
-/// MeshLab and CGAL's viewers); pictures are drawn Z-up: `(x, y, z) ↦ (x, −z, y)`,
-/// a rotation, for positions and normals.
-fn y_up_to_z_up(shape: &mut bcifs::geometry::Shape) {
-    if shape.dim != 3 {
-        return;
-    }
-    for v in shape.positions.chunks_exact_mut(3).chain(shape.normals.chunks_exact_mut(3)) {
-        (v[1], v[2]) = (-v[2], v[1]);
-    }
-}
-
 /// Rule weights from `--param` values (others: classic): `alpha`, `beta`,
 /// `gamma` for Doo-Sabin, `w`, `sigma` for Loop.
 pub fn rule_weights(scheme: Scheme, params: &[(String, f64)]) -> anyhow::Result<Option<RuleWeights>> {
@@ -114,7 +102,9 @@ pub fn run(out: &mut String, args: SurfaceArgs) -> anyhow::Result<u8> {
     let (w, h) = parse_size(&args.size)?;
     let (yaw, pitch) = parse_view(&args.view)?;
     let memory = args.memory_mib.saturating_mul(1 << 20);
-    let raster = RasterSettings::default().with_size(w, h).with_view(yaw, pitch).with_memory_limit(memory);
+    // A mesh file is Y-up (Blender's, MeshLab's and CGAL's viewers' convention): pictures stand on it.
+    let raster =
+        RasterSettings::default().with_size(w, h).with_view(yaw, pitch).with_memory_limit(memory).with_y_up(true);
     let mut mesh = read_mesh(&args.mesh)?;
     if args.triangulate {
         mesh = mesh.triangulated();
@@ -142,12 +132,11 @@ pub fn run(out: &mut String, args: SurfaceArgs) -> anyhow::Result<u8> {
         bail!("--max-output-gib {}: expected a positive number of GiB", args.max_output_gib);
     }
     let summary = if ext == "png" || ext == "svg" {
-        let mut shape = if args.net {
+        let shape = if args.net {
             mesh.subdivide_with(scheme, args.depth, weights, memory)?.to_shape(&name)
         } else {
             mesh.limit_with(scheme, args.depth, weights, memory)?
         };
-        y_up_to_z_up(&mut shape);
         write_shape(&shape, &name, &raster, &output)?;
         Written { vertices: shape.vertex_count(), faces: shape.quads.len() + shape.triangles.len() }
     } else {

@@ -113,6 +113,10 @@ pub struct Model {
     pub net: Vec<Vec<usize>>,
     /// Layout `patches`: the control points of each piece, as indices into `points`.
     pub patches: Vec<Vec<usize>>,
+    /// The points are Y-up (a mesh read from an OBJ or OFF file, whose
+    /// generated automaton keeps the file's axes: `up = "y"` in the file);
+    /// otherwise Z-up, modelling space's convention (the default).
+    pub y_up: bool,
 }
 
 impl Model {
@@ -133,7 +137,14 @@ impl Model {
             start: Vec::new(),
             net: Vec::new(),
             patches: Vec::new(),
+            y_up: false,
         }
+    }
+
+    /// The same model, its points Y-up (`true`) or Z-up (`false`).
+    pub fn with_y_up(mut self, y_up: bool) -> Model {
+        self.y_up = y_up;
+        self
     }
 
     /// The same model with several roots, taken in turn by the pieces.

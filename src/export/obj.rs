@@ -28,6 +28,8 @@ pub fn write_obj(shape: &Shape, name: &str, path: &Path) -> io::Result<()> {
 /// only when [`ObjWriter::finish`] succeeds.
 pub struct ObjWriter {
     up: Up,
+    /// The shapes' coordinates are already Y-up (a mesh file's axes).
+    y_up_input: bool,
     main: Option<AtomicFile>,
     spool_path: PathBuf,
     spool: Option<BufWriter<File>>,
@@ -68,6 +70,15 @@ impl ObjWriter {
         self
     }
 
+    /// The same writer, for shapes whose coordinates are already Y-up
+    /// (`true`: a mesh file's axes, [`crate::Model::y_up`]): the file's up
+    /// axis is still the one [`ObjWriter::with_up`] asks, so they are written
+    /// as they are for [`Up::Y`] and turned back for [`Up::Z`].
+    pub fn with_y_up_input(mut self, y_up: bool) -> ObjWriter {
+        self.y_up_input = y_up;
+        self
+    }
+
     /// Starts writing `path`.
     ///
     /// # Errors
@@ -79,6 +90,7 @@ impl ObjWriter {
         let spool = BufWriter::with_capacity(1 << 20, File::create(&spool_path)?);
         Ok(ObjWriter {
             up: Up::Y,
+            y_up_input: false,
             main: Some(main),
             spool_path,
             spool: Some(spool),
@@ -329,16 +341,30 @@ fn round_significant(x: f64, n: u32) -> f64 {
 }
 
 /// The OBJ text of vertices (and normals): `v` lines (and `vn`), axes as `turn` says.
+/// How coordinates are turned on their way to the file (rotations about x).
+#[derive(Clone, Copy)]
+enum Turn {
+    None,
+    /// Model z becomes the file's y: `(x, y, z) ↦ (x, z, −y)`.
+    ZToY,
+    /// A Y-up shape written Z-up: `(x, y, z) ↦ (x, −z, y)`.
+    YToZ,
+}
+
 fn format_vertices(
     line: &mut Vec<u8>,
     dim: usize,
     positions: &[f64],
     normals: Option<&[f64]>,
-    turn: bool,
+    turn: Turn,
     digits: Option<u32>,
 ) {
     let mut ryu = ryu::Buffer::new();
-    let axes = |v: [f64; 3]| if turn { [v[0], v[2], -v[1]] } else { v };
+    let axes = |v: [f64; 3]| match turn {
+        Turn::None => v,
+        Turn::ZToY => [v[0], v[2], -v[1]],
+        Turn::YToZ => [v[0], -v[2], v[1]],
+    };
     for (i, p) in positions.chunks_exact(dim).enumerate() {
         line.extend_from_slice(b"v");
         let v = [p[0], p.get(1).copied().unwrap_or(0.0), p.get(2).copied().unwrap_or(0.0)];
@@ -438,7 +464,12 @@ impl Sink for ObjWriter {
     fn vertices(&mut self, dim: usize, positions: &[f64], normals: Option<&[f64]>) -> io::Result<()> {
         let dim = dim.max(1);
         let count = positions.len() / dim;
-        let (turn, digits) = (dim == 3 && self.up == Up::Y, self.precision);
+        let turn = match (dim == 3, self.y_up_input, self.up) {
+            (true, false, Up::Y) => Turn::ZToY,
+            (true, true, Up::Z) => Turn::YToZ,
+            _ => Turn::None,
+        };
+        let digits = self.precision;
         let chunks = self.format_chunks(count, |text, r| {
             let n = normals.map(|n| &n[r.start * 3..r.end * 3]);
             format_vertices(text, dim, &positions[r.start * dim..r.end * dim], n, turn, digits);

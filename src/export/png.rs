@@ -18,11 +18,14 @@ pub struct View {
     pub yaw: f64,
     /// Elevation, degrees.
     pub pitch: f64,
+    /// The shape's coordinates are Y-up (a mesh read from an OBJ or OFF
+    /// file): turned Z-up, `(x, y, z) ↦ (x, −z, y)`, before the view.
+    pub y_up: bool,
 }
 
 impl Default for View {
     fn default() -> View {
-        View { yaw: 30.0, pitch: 35.0 }
+        View { yaw: 30.0, pitch: 35.0, y_up: false }
     }
 }
 
@@ -89,7 +92,12 @@ impl RasterSettings {
     }
     /// With a view.
     pub fn with_view(mut self, yaw: f64, pitch: f64) -> Self {
-        self.view = View { yaw, pitch };
+        self.view = View { yaw, pitch, ..self.view };
+        self
+    }
+    /// For shapes whose coordinates are Y-up (`true`) or Z-up (`false`, the default).
+    pub fn with_y_up(mut self, y_up: bool) -> Self {
+        self.view.y_up = y_up;
         self
     }
     /// With a memory limit in bytes.
@@ -105,7 +113,8 @@ pub(super) const PAPER: [f64; 3] = [255.0, 255.0, 255.0];
 impl View {
     /// The view's rotation: about z by the yaw, then about x by the pitch.
     pub(super) fn turn(self) -> DMat3 {
-        DMat3::from_rotation_x(self.pitch.to_radians()) * DMat3::from_rotation_z(self.yaw.to_radians())
+        let view = DMat3::from_rotation_x(self.pitch.to_radians()) * DMat3::from_rotation_z(self.yaw.to_radians());
+        if self.y_up { view * DMat3::from_rotation_x(std::f64::consts::FRAC_PI_2) } else { view }
     }
 }
 

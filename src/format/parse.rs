@@ -67,6 +67,7 @@ struct ModelSpec {
     root: Spanned<RootSpec>,
     points: Spanned<Vec<Vec<Spanned<EntrySpec>>>>,
     layout: Option<Spanned<String>>,
+    up: Option<Spanned<String>>,
     step: Option<Spanned<i64>>,
     grid: Option<Spanned<Vec<i64>>>,
     net: Option<Spanned<Vec<Vec<i64>>>>,
@@ -621,6 +622,9 @@ impl Reader<'_> {
             Some(l) => keyword(src, l, "layout", &Layout::ALL.map(|x| (x.keyword(), x)))?,
         };
         let mut model = Model::new("", points).with_roots(spec.root.get_ref().0.clone()).with_layout(layout);
+        if let Some(up) = &spec.up {
+            model.y_up = keyword(src, up, "up axis", &[("z", false), ("y", true)])?;
+        }
         if let Some(s) = &spec.step {
             model.step =
                 Some(usize::try_from(*s.get_ref()).map_err(|_| src.at(&s.span(), "the step must be at least 1"))?);

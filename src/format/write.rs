@@ -61,6 +61,9 @@ pub fn write_design(design: &Design) -> String {
         if let Some(s) = m.step {
             let _ = writeln!(extra, "step = {s}");
         }
+        if m.y_up {
+            let _ = writeln!(extra, "up = \"y\"  # the points are Y-up (a mesh file's axes)");
+        }
         if !m.net.is_empty() {
             let faces: Vec<String> = m.net.iter().map(|f| format!("{f:?}")).collect();
             let _ = writeln!(

@@ -1160,7 +1160,9 @@ impl Generator {
         b.model(
             Model::new("", points)
                 .with_patches(states, patches)
-                .with_net(mesh.faces().map(<[usize]>::to_vec).collect()),
+                .with_net(mesh.faces().map(<[usize]>::to_vec).collect())
+                // The mesh file's axes: Y-up, so that rendering it writes the same file as subdividing it.
+                .with_y_up(true),
         );
         b.build().map_err(|e| MeshError::Automaton(format!("the generated automaton is not well formed: {e}")))
     }

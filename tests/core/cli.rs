@@ -1224,3 +1224,54 @@ fn mesh_pictures_stand_up_and_sizes_are_checked() {
     assert!(err.contains("over --max-output-gib 1.0"), "{err}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Issue 24, item 4: a mesh's generated automaton keeps the file's Y-up
+/// axes (`up = "y"` in its model), so rendering it writes the surface in
+/// the same axes as subdividing the mesh (Suzanne lay on her back); the
+/// vertices of both files are the same points.
+#[test]
+fn a_mesh_automaton_renders_in_the_mesh_files_axes() {
+    let dir = scratch("mesh-axes");
+    let at = |name: &str| dir.join(name).display().to_string();
+    let (code, _, err) =
+        bcifs(&["surface", "tests/data/suzanne.obj", "--scheme", "catmull-clark", "--print", "-o", &at("s.toml")]);
+    assert_eq!(code, 0, "{err}");
+    assert!(std::fs::read_to_string(dir.join("s.toml")).unwrap().contains("up = \"y\""));
+    let (code, _, err) = bcifs(&["render", &at("s.toml"), "--depth", "2", "-o", &at("rendered.obj")]);
+    assert_eq!(code, 0, "{err}");
+    let (code, _, err) = bcifs(&[
+        "surface",
+        "tests/data/suzanne.obj",
+        "--scheme",
+        "catmull-clark",
+        "--depth",
+        "2",
+        "-o",
+        &at("mesh.obj"),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let points = |name: &str| -> Vec<[f64; 3]> {
+        let mut v: Vec<[f64; 3]> = std::fs::read_to_string(dir.join(name))
+            .unwrap()
+            .lines()
+            .filter_map(|l| l.strip_prefix("v "))
+            .map(|l| {
+                let x: Vec<f64> = l.split_whitespace().map(|t| t.parse().unwrap()).collect();
+                [x[0], x[1], x[2]]
+            })
+            .collect();
+        v.sort_by(|a, b| a[0].total_cmp(&b[0]));
+        v
+    };
+    let (rendered, mesh) = (points("rendered.obj"), points("mesh.obj"));
+    assert!(!mesh.is_empty());
+    // Every point of one file is within 1e-9 of a point of the other (welding may count them differently).
+    let near = |p: &[f64; 3], set: &[[f64; 3]]| {
+        let from = set.partition_point(|q| q[0] < p[0] - 1e-9);
+        set[from..].iter().take_while(|q| q[0] <= p[0] + 1e-9).any(|q| (0..3).all(|k| (q[k] - p[k]).abs() <= 1e-9))
+    };
+    let lost =
+        rendered.iter().filter(|p| !near(p, &mesh)).count() + mesh.iter().filter(|p| !near(p, &rendered)).count();
+    assert_eq!(lost, 0, "points of one file missing from the other (the same surface in the same axes)");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
