@@ -1,7 +1,8 @@
 //! Polygon-mesh subdivision throughput: the cube at depth 8 (393k faces),
 //! Doo-Sabin and Catmull-Clark, the net and the limit surface written as
 //! OBJ text to a sink (no disk), and the in-memory net alone; Loop on the
-//! icosahedron at depth 8, written two steps at once. The peers
+//! icosahedron at depth 8, written two steps at once; faces of 3,000 and
+//! 30,000 corners (linear in a face's size). The peers
 //! (CGAL, OpenSubdiv) are measured side by side, end to end, by
 //! `benches/peers/compare.sh`.
 
@@ -52,9 +53,43 @@ fn loop_two_steps(c: &mut Criterion) {
     g.finish();
 }
 
+/// A prism over an `n`-gon: two `n`-gon faces and `n` quads.
+fn prism(n: usize) -> PolyMesh {
+    let mut positions = Vec::with_capacity(2 * n);
+    for z in [0.0, 1.0] {
+        for k in 0..n {
+            let a = std::f64::consts::TAU * k as f64 / n as f64;
+            positions.push([a.cos(), a.sin(), z]);
+        }
+    }
+    let mut faces = vec![(0..n).rev().collect::<Vec<usize>>(), (n..2 * n).collect()];
+    faces.extend((0..n).map(|k| vec![k, (k + 1) % n, n + (k + 1) % n, n + k]));
+    PolyMesh::new(positions, faces).expect("a closed prism")
+}
+
+/// Issue 23, item 7: a face of n corners costs O(n). Prisms over a 3,000-
+/// and a 30,000-gon, two steps of each scheme in memory (Loop and √3 on
+/// the fan-triangulated prism, whose apex has valence n): per element the
+/// times are alike at both sizes (they were 10× apart, quadratic).
+fn large_faces(c: &mut Criterion) {
+    let mut g = c.benchmark_group("large_face_depth2");
+    g.sample_size(10);
+    for n in [3_000, 30_000] {
+        let (mesh, triangles) = (prism(n), prism(n).triangulated());
+        for scheme in Scheme::ALL {
+            let input = if scheme.triangles_only() { &triangles } else { &mesh };
+            g.throughput(Throughput::Elements(input.corner_count() as u64));
+            g.bench_function(BenchmarkId::new(scheme.name(), n), |b| {
+                b.iter(|| black_box(input.subdivide(scheme, 2).expect("fits")))
+            });
+        }
+    }
+    g.finish();
+}
+
 criterion_group! {
     name = benches;
     config = Criterion::default().without_plots();
-    targets = subdivision, loop_two_steps
+    targets = subdivision, loop_two_steps, large_faces
 }
 criterion_main!(benches);
