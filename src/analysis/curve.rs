@@ -36,8 +36,14 @@
 
 use nalgebra::{DMatrix, DVector};
 
-/// Two eigenvalues closer than this are taken as equal.
+/// Two eigenvalues closer than this are taken as equal, and a value this small as zero.
 const TIE: f64 = 1e-12;
+
+/// What the floating-point eigen-decomposition resolves: an eigenvalue
+/// within this of 1 is the eigenvalue 1 of a column-stochastic matrix, an
+/// imaginary part below it (relative) is rounding, a cosine within it of ±1
+/// is parallel.
+const ACCURACY: f64 = 1e-9;
 
 /// What [`curve_query`] finds.
 #[derive(Clone, Debug, PartialEq)]
@@ -61,7 +67,7 @@ pub struct CurveReport {
 fn eigen(m: &DMatrix<f64>) -> Option<(Vec<f64>, DMatrix<f64>)> {
     let n = m.nrows();
     let values = m.complex_eigenvalues();
-    if values.iter().any(|z| z.im.abs() > 1e-9 * (1.0 + z.re.abs())) {
+    if values.iter().any(|z| z.im.abs() > ACCURACY * (1.0 + z.re.abs())) {
         return None;
     }
     let mut lambdas: Vec<f64> = values.iter().map(|z| z.re).collect();
@@ -71,7 +77,7 @@ fn eigen(m: &DMatrix<f64>) -> Option<(Vec<f64>, DMatrix<f64>)> {
         let shifted = m - DMatrix::identity(n, n) * l;
         let mut v = null_vector(&shifted)?;
         // Sign: the first coordinate that is not 0 is positive (the paper's (1, −1, 0), (0, 1, −1)).
-        if v.iter().find(|x| x.abs() > 1e-12).is_some_and(|x| *x < 0.0) {
+        if v.iter().find(|x| x.abs() > TIE).is_some_and(|x| *x < 0.0) {
             v = -v;
         }
         vectors.set_column(k, &v);
@@ -105,10 +111,10 @@ fn null_vector(a: &DMatrix<f64>) -> Option<DVector<f64>> {
 
 /// The fixed point (barycentric, summing to 1) of a column-stochastic matrix.
 fn fixed_point(lambdas: &[f64], vectors: &DMatrix<f64>) -> Option<DVector<f64>> {
-    let k = lambdas.iter().position(|l| (l - 1.0).abs() < 1e-9)?;
+    let k = lambdas.iter().position(|l| (l - 1.0).abs() < ACCURACY)?;
     let v = vectors.column(k).into_owned();
     let s = v.sum();
-    (s.abs() > 1e-12).then(|| v / s)
+    (s.abs() > TIE).then(|| v / s)
 }
 
 /// The direction of `d` along the eigenvector of largest modulus below 1
@@ -118,7 +124,7 @@ fn leading_component(lambdas: &[f64], vectors: &DMatrix<f64>, d: &DVector<f64>) 
     let scale = d.norm().max(1e-300);
     let mut best: Option<usize> = None;
     for (i, l) in lambdas.iter().enumerate() {
-        if (l - 1.0).abs() < 1e-9 || coefficients[i].abs() * vectors.column(i).norm() < 1e-9 * scale {
+        if (l - 1.0).abs() < ACCURACY || coefficients[i].abs() * vectors.column(i).norm() < ACCURACY * scale {
             continue;
         }
         match best {
@@ -140,7 +146,7 @@ pub fn curve_query(t0: &DMatrix<f64>, t1: &DMatrix<f64>) -> CurveReport {
     let (e0, e1) = (eigen(t0), eigen(t1));
     let subdominant = |e: &Option<(Vec<f64>, DMatrix<f64>)>| {
         e.as_ref().and_then(|(l, _)| {
-            l.iter().copied().filter(|x| (x - 1.0).abs() > 1e-9).max_by(|a, b| a.abs().total_cmp(&b.abs()))
+            l.iter().copied().filter(|x| (x - 1.0).abs() > ACCURACY).max_by(|a, b| a.abs().total_cmp(&b.abs()))
         })
     };
     let mut report = CurveReport {
@@ -152,7 +158,7 @@ pub fn curve_query(t0: &DMatrix<f64>, t1: &DMatrix<f64>) -> CurveReport {
         region: None,
     };
     let (Some((l0, v0)), Some((l1, v1))) = (e0, e1) else { return report };
-    let degenerate = l0.iter().chain(&l1).any(|l| l.abs() < 1e-12);
+    let degenerate = l0.iter().chain(&l1).any(|l| l.abs() < TIE);
     let (Some(f0), Some(f1)) = (fixed_point(&l0, &v0), fixed_point(&l1, &v1)) else { return report };
     let d = &f1 - &f0;
     let (Some((start, lambda_l, alpha)), Some((end_back, lambda_r, _))) =
@@ -172,15 +178,15 @@ pub fn curve_query(t0: &DMatrix<f64>, t1: &DMatrix<f64>) -> CurveReport {
         let cos = d_in.dot(&d_out) / (d_in.norm() * d_out.norm());
         if cos.is_finite() {
             report.junction_angle_deg = Some(cos.clamp(-1.0, 1.0).acos().to_degrees());
-            report.c1_necessary = 1.0 - cos.abs() < 1e-9;
+            report.c1_necessary = 1.0 - cos.abs() < ACCURACY;
         }
     }
     if degenerate || t0.nrows() != 3 {
         return report;
     }
-    let inner = |v: &DVector<f64>| v.iter().any(|x| x.abs() < 1e-12 * v.norm());
+    let inner = |v: &DVector<f64>| v.iter().any(|x| x.abs() < TIE * v.norm());
     // The sign of the smallest eigenvalue in modulus (1 − a − b for the corner cutting).
-    let smallest = l0.iter().filter(|x| (*x - 1.0).abs() > 1e-9).min_by(|a, b| a.abs().total_cmp(&b.abs()));
+    let smallest = l0.iter().filter(|x| (*x - 1.0).abs() > ACCURACY).min_by(|a, b| a.abs().total_cmp(&b.abs()));
     report.region = Some(region(
         [inner(&start), inner(&end_back)],
         report.c1_necessary && report.junction_angle_deg.is_some_and(|a| a < 90.0),
