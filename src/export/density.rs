@@ -8,7 +8,8 @@ use std::path::Path;
 
 use image::{Rgb, RgbImage};
 
-use super::png::{Canvas, INK, PAPER, RasterSettings, RasterTooLarge, mix, screen};
+use super::png::{INK, PAPER, mix};
+use super::view::{Canvas, RasterSettings, RasterTooLarge, screen};
 use crate::eval::{BATCH, ChaosGame};
 
 /// Colours indexed by the colour coordinate `c ∈ [0, 1]` (256 entries), as

@@ -7,7 +7,8 @@ use std::io;
 use glam::DMat3;
 use image::RgbImage;
 
-use super::png::{Canvas, RasterSettings, finish_picture, screen, wu_line};
+use super::png::{finish_picture, wu_line};
+use super::view::{Canvas, RasterSettings, screen};
 use crate::eval::{EvalError, Evaluator};
 use crate::geometry::Sink;
 

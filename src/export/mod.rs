@@ -6,10 +6,12 @@ mod draw;
 mod obj;
 mod png;
 mod svg;
+mod view;
 
 pub use atomic::{AtomicFile, check_target, remove_temporary_files, write_atomic};
 pub use density::{Density, Palette, Tone, density, density_bytes, density_image};
 pub use draw::{SEGMENTS_PER_PIXEL, curve_picture_depth, picture, picture_bytes, picture_depth};
 pub use obj::{ObjWriter, Up, write_evaluation, write_obj};
-pub use png::{RasterSettings, RasterTooLarge, View, ascii, raster, raster_bytes, write_png};
+pub use png::{ascii, raster, write_png};
 pub use svg::{svg, svg_surface};
+pub use view::{RasterSettings, RasterTooLarge, View, raster_bytes};

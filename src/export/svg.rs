@@ -4,7 +4,8 @@
 
 use std::fmt::Write as _;
 
-use super::png::{Canvas, RasterSettings, face_colour, project};
+use super::png::face_colour;
+use super::view::{Canvas, RasterSettings, project};
 use crate::geometry::Shape;
 
 /// The faces of a surface (2D or 3D) as an SVG picture of the settings'
