@@ -510,7 +510,7 @@ pub fn render(design: &Design, options: &RenderOptions, out: &Path) -> Result<Re
             // frame, then the drawing); surfaces are drawn from memory.
             let model = model_of(design)?;
             let instance = instantiate(design, &options.params)?;
-            let ev = evaluator(&instance.automaton, &model, options.eval.clone(), design.name())?;
+            let mut ev = evaluator(&instance.automaton, &model, options.eval.clone(), design.name())?;
             let needed = bcifs::export::picture_bytes(&options.raster);
             if ev.polylines().is_some() && needed > options.raster.memory_limit as u128 {
                 let vertices = match options.eval.depth {
@@ -524,18 +524,12 @@ pub fn render(design: &Design, options: &RenderOptions, out: &Path) -> Result<Re
             }
             if let (Some(true), bcifs::eval::Depth::Fixed(k)) = (ev.polylines(), options.eval.depth) {
                 // A curve: subdivided until its segments are below a pixel, not beyond.
-                let at = |d: usize| Evaluator::new(&instance.automaton, &model, options.eval.clone().with_depth(d));
-                let enough = bcifs::export::curve_picture_depth(&at, &options.raster, k)?;
+                let enough = bcifs::export::curve_picture_depth(&mut ev, &options.raster, k)?;
                 if enough < k {
                     eprintln!(
                         "note: the picture is drawn at depth {enough}, whose segments are below a pixel of the {}×{} picture (deeper ones only move the curve within its pixels); OBJ and SVG output keep depth {k}",
                         options.raster.width, options.raster.height
                     );
-                    let ev = at(enough)?;
-                    if let Some((img, vertices)) = bcifs::export::picture(&ev, &options.raster)? {
-                        write_png(out, &img).map_err(io)?;
-                        return Ok(RenderSummary { vertices, faces: 0, duplicates: None });
-                    }
                 }
             }
             if let Some((img, vertices)) = bcifs::export::picture(&ev, &options.raster)? {
@@ -557,10 +551,7 @@ pub fn render(design: &Design, options: &RenderOptions, out: &Path) -> Result<Re
                         options.raster.width,
                         options.raster.height
                     );
-                    let mut eval = options.eval.clone();
-                    eval.depth = bcifs::eval::Depth::Fixed(enough);
-                    let shallow = evaluator(&instance.automaton, &model, eval, design.name())?;
-                    return write_shape(&shallow.evaluate()?, design.name(), &options.raster, out);
+                    ev.set_depth(bcifs::eval::Depth::Fixed(enough))?;
                 }
             }
             let shape = ev.evaluate()?;

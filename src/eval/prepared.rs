@@ -40,6 +40,16 @@ pub struct Evaluator {
     pub(super) settings: EvalSettings,
 }
 
+/// Refuses a fixed depth over [`MAX_DEPTH`].
+fn check_depth(depth: Depth) -> Result<(), EvalError> {
+    match depth {
+        Depth::Fixed(k) if k > MAX_DEPTH => Err(EvalError::Unsupported(format!(
+            "depth {k} is beyond any evaluation (at most {MAX_DEPTH}: two maps already give 2^{MAX_DEPTH} cells)"
+        ))),
+        _ => Ok(()),
+    }
+}
+
 /// Refuses a system whose joint spectral radius bounds prove divergence
 /// (unless `force`); a warning when they leave it undecided.
 pub(super) fn convergence_warnings(automaton: &Automaton<f64>, force: bool) -> Result<Vec<String>, EvalError> {
@@ -145,13 +155,7 @@ impl Evaluator {
         let mut start: Vec<(String, Vec<Vec<f64>>)> =
             model.start.iter().filter(|(s, _)| !settings.start.iter().any(|(t, _)| t == s)).cloned().collect();
         start.extend(settings.start.iter().cloned());
-        if let Depth::Fixed(k) = settings.depth
-            && k > MAX_DEPTH
-        {
-            return Err(EvalError::Unsupported(format!(
-                "depth {k} is beyond any evaluation (at most {MAX_DEPTH}: two maps already give 2^{MAX_DEPTH} cells)"
-            )));
-        }
+        check_depth(settings.depth)?;
         let mut plan = Plan::new(automaton, &start)?;
         let warnings = convergence_warnings(automaton, settings.force)?;
         for name in &settings.dropped {
@@ -183,6 +187,18 @@ impl Evaluator {
         let mut ev = Evaluator { warnings, plan, pieces, tails: Vec::new(), counts: Vec::new(), pool, settings };
         ev.tabulate();
         Ok(ev)
+    }
+
+    /// The same prepared evaluation at another depth (its plan, tables and
+    /// verdict do not depend on the depth): what a picture that needs less
+    /// than the depth asked for evaluates.
+    ///
+    /// # Errors
+    /// A fixed depth beyond any evaluation.
+    pub fn set_depth(&mut self, depth: Depth) -> Result<(), EvalError> {
+        check_depth(depth)?;
+        self.settings.depth = depth;
+        Ok(())
     }
 
     /// Warnings about the input: the joint spectral radius bounds left

@@ -9,7 +9,7 @@ use image::RgbImage;
 
 use super::png::{finish_picture, wu_line};
 use super::view::{Canvas, RasterSettings, screen};
-use crate::eval::{EvalError, Evaluator};
+use crate::eval::{Depth, EvalError, Evaluator};
 use crate::geometry::Sink;
 
 /// The screen position of a point under the view (see [`screen`]).
@@ -200,35 +200,31 @@ pub const SEGMENTS_PER_PIXEL: u128 = 64;
 /// The depth a picture of a curve needs, at most `depth`: the first whose
 /// segments are all shorter than a pixel (deeper ones only move the curve
 /// within the pixels it covers), or whose segments outnumber the pixels
-/// [`SEGMENTS_PER_PIXEL`] times. `evaluator(k)` makes the evaluator of
-/// depth `k`; each probe streams the curve once (the depths before the
-/// answer cost less than the answer's picture). `depth` for points.
+/// [`SEGMENTS_PER_PIXEL`] times. Each probe streams `ev` once at a
+/// shallower depth (the depths before the answer cost less than the
+/// answer's picture); `ev` is left at the depth returned. `depth` for points.
 ///
 /// # Errors
 /// An evaluation error.
-pub fn curve_picture_depth(
-    evaluator: &dyn Fn(usize) -> Result<Evaluator, EvalError>,
-    settings: &RasterSettings,
-    depth: usize,
-) -> Result<usize, EvalError> {
+pub fn curve_picture_depth(ev: &mut Evaluator, settings: &RasterSettings, depth: usize) -> Result<usize, EvalError> {
     let (w, h) = (settings.width.max(1), settings.height.max(1));
     let pixels = u128::from(w) * u128::from(h);
-    for k in 0..depth {
-        let ev = evaluator(k)?;
-        if ev.polylines() != Some(true) {
-            return Ok(depth);
-        }
-        let mut extent = Extent::new(Projection::new(settings));
-        ev.stream(&mut extent)?;
-        if extent.vertices == 0 {
-            return Ok(k);
-        }
-        let corners = [[extent.lo[0], extent.lo[1], 0.0], [extent.hi[0], extent.hi[1], 0.0]];
-        let canvas = Canvas::fit(&corners, w, h);
-        if extent.longest * canvas.scale < 1.0 || extent.vertices as u128 >= SEGMENTS_PER_PIXEL * pixels {
-            return Ok(k);
+    if ev.polylines() == Some(true) {
+        for k in 0..depth {
+            ev.set_depth(Depth::Fixed(k))?;
+            let mut extent = Extent::new(Projection::new(settings));
+            ev.stream(&mut extent)?;
+            if extent.vertices == 0 {
+                return Ok(k);
+            }
+            let corners = [[extent.lo[0], extent.lo[1], 0.0], [extent.hi[0], extent.hi[1], 0.0]];
+            let canvas = Canvas::fit(&corners, w, h);
+            if extent.longest * canvas.scale < 1.0 || extent.vertices as u128 >= SEGMENTS_PER_PIXEL * pixels {
+                return Ok(k);
+            }
         }
     }
+    ev.set_depth(Depth::Fixed(depth))?;
     Ok(depth)
 }
 
