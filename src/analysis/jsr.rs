@@ -378,7 +378,10 @@ pub fn jsr(automaton: &Automaton<f64>, settings: &JsrSettings) -> Result<Jsr, Js
         let upper = if lower >= 1.0 - ROUNDING {
             part.norm_bound(settings)
         } else {
-            part.upper_bound(lower, settings).min(part.kronecker_bound(settings))
+            // A tensor-product part is bounded by its factors' small systems first; the branch
+            // and bound over its large matrices runs only when that does not prove convergence.
+            let factors = part.kronecker_bound(settings);
+            if factors < 1.0 { factors } else { part.upper_bound(lower, settings).min(factors) }
         };
         out.upper = out.upper.max(upper.max(lower));
     }
