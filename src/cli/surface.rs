@@ -121,11 +121,8 @@ pub fn run(out: &mut String, args: SurfaceArgs) -> anyhow::Result<u8> {
         return print_automaton(out, &args, &mesh, scheme, weights, started);
     }
     let Some(output) = args.output.clone() else { bail!("give the output file with -o") };
-    super::check_output(&output, &[])?;
+    super::check_output(&output, &["obj", "off", "png", "svg"])?;
     let ext = output.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
-    if !matches!(ext.as_str(), "obj" | "off" | "png" | "svg") {
-        bail!("unknown output format `{ext}`: expected .obj, .off, .png or .svg");
-    }
     let name = args.mesh.file_stem().map_or("mesh".into(), |s| s.to_string_lossy().to_string());
     let io = |e: std::io::Error| anyhow::anyhow!("cannot write {}: {e}", output.display());
     if !(args.max_output_gib.is_finite() && args.max_output_gib > 0.0) {
