@@ -1,6 +1,7 @@
 //! Polygon-mesh subdivision throughput: the cube at depth 8 (393k faces),
 //! Doo-Sabin and Catmull-Clark, the net and the limit surface written as
-//! OBJ text to a sink (no disk), and the in-memory net alone; Loop on the
+//! OBJ files through the render API (what `bcifs surface` does), and the
+//! in-memory net alone; Loop on the
 //! icosahedron at depth 8, written two steps at once; faces of 3,000 and
 //! 30,000 corners (linear in a face's size). The peers
 //! (CGAL, OpenSubdiv) are measured side by side, end to end, by
@@ -8,7 +9,13 @@
 
 use std::hint::black_box;
 
-use bcifs::mesh::{MeshFormat, PolyMesh, Scheme, Subdivision};
+use bcifs::mesh::{PolyMesh, Scheme};
+use bcifs::render::{MeshJob, Options, render_mesh};
+
+/// A scratch OBJ file for this run.
+fn scratch(name: &str) -> std::path::PathBuf {
+    std::env::temp_dir().join(format!("bcifs-bench-{}-{name}.obj", std::process::id()))
+}
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 
 fn subdivision(c: &mut Criterion) {
@@ -21,21 +28,20 @@ fn subdivision(c: &mut Criterion) {
         g.bench_function(BenchmarkId::new("net_in_memory", scheme.name()), |b| {
             b.iter(|| black_box(cube.subdivide(scheme, 8).expect("fits")))
         });
-        let job = Subdivision { scheme, depth: 8, weights: None, memory_limit: 1 << 30 };
-        for (what, limit) in [("net_obj", false), ("limit_obj", true)] {
+        for (what, net) in [("net_obj", true), ("limit_obj", false)] {
+            let job = MeshJob { net, ..MeshJob::new(scheme, 8) };
+            let path = scratch(what);
             g.bench_function(BenchmarkId::new(what, scheme.name()), |b| {
-                b.iter(|| {
-                    let mut sink = std::io::sink();
-                    black_box(cube.write_subdivided(&job, limit, MeshFormat::Obj("cube"), &mut sink).expect("writes"))
-                })
+                b.iter(|| black_box(render_mesh(&cube, &job, &Options::default(), &path).expect("writes")))
             });
+            let _ = std::fs::remove_file(&path);
         }
     }
     g.finish();
 }
 
-/// Loop on the icosahedron at depth 8 (1.3M triangles) as OBJ text to a
-/// sink: written two steps from depth 6 (the streamed path of large nets)
+/// Loop on the icosahedron at depth 8 (1.3M triangles) as an OBJ file:
+/// written two steps from depth 6 (the streamed path of large nets)
 /// against the in-memory net of depth 8 alone.
 fn loop_two_steps(c: &mut Criterion) {
     let ico = PolyMesh::icosahedron();
@@ -43,13 +49,12 @@ fn loop_two_steps(c: &mut Criterion) {
     g.sample_size(10);
     g.throughput(Throughput::Elements(20 * 4u64.pow(8)));
     g.bench_function("loop_net_in_memory", |b| b.iter(|| black_box(ico.subdivide(Scheme::Loop, 8).expect("fits"))));
-    let job = Subdivision { scheme: Scheme::Loop, depth: 8, weights: None, memory_limit: 1 << 30 };
+    let job = MeshJob { net: true, ..MeshJob::new(Scheme::Loop, 8) };
+    let path = scratch("loop");
     g.bench_function("loop_net_obj_two_steps", |b| {
-        b.iter(|| {
-            let mut sink = std::io::sink();
-            black_box(ico.write_subdivided(&job, false, MeshFormat::Obj("ico"), &mut sink).expect("writes"))
-        })
+        b.iter(|| black_box(render_mesh(&ico, &job, &Options::default(), &path).expect("writes")))
     });
+    let _ = std::fs::remove_file(&path);
     g.finish();
 }
 

@@ -96,6 +96,7 @@ pub mod geometry;
 pub mod mesh;
 mod names;
 mod progress;
+pub mod render;
 pub mod schemes;
 mod space;
 
@@ -109,5 +110,5 @@ pub use nalgebra;
 pub use names::suggest;
 /// Re-exported: its indices appear in bcifs signatures.
 pub use petgraph;
-pub use progress::Progress;
+pub use progress::{Cancel, Progress};
 pub use space::{CellKind, State};

@@ -73,3 +73,36 @@ impl Drop for Steps<'_> {
         }
     }
 }
+
+/// A flag that stops a long computation: a web server sets it when its
+/// request goes away, the command line when it gets Ctrl-C. Cheap to clone
+/// (the clones share the flag); the library checks it between phases and
+/// at every batch it writes, then stops with a "cancelled" error, leaving
+/// no file half-written.
+///
+/// ```
+/// let cancel = bcifs::Cancel::new();
+/// let handle = cancel.clone();
+/// assert!(!cancel.is_cancelled());
+/// handle.cancel();
+/// assert!(cancel.is_cancelled());
+/// ```
+#[derive(Clone, Debug, Default)]
+pub struct Cancel(Arc<std::sync::atomic::AtomicBool>);
+
+impl Cancel {
+    /// A flag not set.
+    pub fn new() -> Cancel {
+        Cancel::default()
+    }
+
+    /// Asks the computations that hold a clone to stop.
+    pub fn cancel(&self) {
+        self.0.store(true, std::sync::atomic::Ordering::Relaxed);
+    }
+
+    /// Whether [`Cancel::cancel`] was called on this flag or a clone.
+    pub fn is_cancelled(&self) -> bool {
+        self.0.load(std::sync::atomic::Ordering::Relaxed)
+    }
+}

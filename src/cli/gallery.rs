@@ -7,12 +7,19 @@ use std::path::Path;
 use bcifs::eval::{Depth, EvalSettings, Evaluator, RandomSettings};
 use bcifs::export::{RasterSettings, write_atomic};
 use bcifs::geometry::Shape;
+use bcifs::schemes::mesh_automaton;
 use bcifs::{CellKind, Design, Layout, Progress, instantiate};
 
 use super::progress_bar;
-use super::render::{
-    RenderError, RenderOptions, RenderSummary, SchemeForm, model_of, normal_shape, render, write_shape,
-};
+use super::render::{SchemeForm, normal_shape, warn};
+use bcifs::render::{Options as RenderOptions, RenderError, Report as RenderSummary, model_of, write_shape};
+
+/// Renders with the library, its warnings and notes told on stderr.
+fn render(design: &Design, options: &RenderOptions, out: &Path) -> Result<RenderSummary, RenderError> {
+    let report = bcifs::render::render(design, options, out)?;
+    warn(&report);
+    Ok(report)
+}
 
 /// In-memory output budget of a gallery picture.
 pub const GALLERY_BUDGET_BYTES: u128 = 12 << 20;
@@ -151,7 +158,7 @@ fn textures() -> Vec<(String, String, GallerySource)> {
 /// cube's corners become (`a3_0 = a3_2 = 0.45`: a twist at every corner).
 fn mesh_automata() -> Vec<(String, String, GallerySource)> {
     use bcifs::mesh::{PolyMesh, Scheme};
-    let Ok(design) = PolyMesh::cube().automaton(Scheme::DooSabin, None) else { return Vec::new() };
+    let Ok(design) = mesh_automaton(&PolyMesh::cube(), Scheme::DooSabin, None) else { return Vec::new() };
     let mut b = design.to_builder();
     b.default_value("a3_0", 0.45).default_value("a3_2", 0.45);
     let Ok(design) = b.build() else { return Vec::new() };
@@ -443,7 +450,7 @@ fn density_page(dir: &Path) -> Result<GalleryEntry, RenderError> {
         description: "the fern, the gasket and fern∘Sierpinski by the chaos game: dots and density images at 1e5, 1e6 and 1e8 samples, coloured by the maps at 1e8".into(),
         depth: Depth::Fixed(0),
         files,
-        summary: RenderSummary { vertices: 0, faces: 0, duplicates: None },
+        summary: RenderSummary::default(),
     })
 }
 

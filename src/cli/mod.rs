@@ -181,6 +181,15 @@ fn parse_params(params: &[String]) -> Result<Vec<(String, f64)>> {
     Ok(out)
 }
 
+/// The signal that interrupted the run (0: none).
+static SIGNAL: std::sync::atomic::AtomicI32 = std::sync::atomic::AtomicI32::new(0);
+
+/// The flag every render of this run is cancelled by: Ctrl-C sets it.
+pub fn interrupt() -> &'static bcifs::Cancel {
+    static FLAG: std::sync::OnceLock<bcifs::Cancel> = std::sync::OnceLock::new();
+    FLAG.get_or_init(bcifs::Cancel::new)
+}
+
 /// A progress bar on stderr when it is a terminal, fed by the library's callback.
 pub fn progress_bar() -> Option<Progress> {
     if !std::io::IsTerminal::is_terminal(&std::io::stderr()) {
@@ -219,13 +228,18 @@ fn run(out: &mut String, cli: Cli) -> Result<u8> {
 
 /// Runs the command line and returns its exit code.
 pub fn main() -> ExitCode {
-    // Interrupted (SIGINT, SIGTERM, SIGHUP): remove the temporary files of the
-    // writes in progress, so no `.partial`/`.elements` file is left behind, and
-    // exit with 128 + the signal's number, as shells do (130, 143, 129).
+    // Interrupted (SIGINT, SIGTERM, SIGHUP): the render in progress is cancelled through the
+    // library's flag and stops at its next batch, removing its temporary files; whatever does not
+    // stop within two seconds is ended here, its temporary files removed. Either way no
+    // `.partial`/`.elements` file is left, and the exit code is 128 + the signal's number, as
+    // shells do (130, 143, 129).
     use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
     if let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP]) {
         std::thread::spawn(move || {
             if let Some(signal) = signals.forever().next() {
+                SIGNAL.store(signal, std::sync::atomic::Ordering::SeqCst);
+                interrupt().cancel();
+                std::thread::sleep(std::time::Duration::from_secs(2));
                 bcifs::export::remove_temporary_files();
                 eprintln!("\ninterrupted: the output files keep their old content");
                 std::process::exit(128 + signal);
@@ -236,6 +250,10 @@ pub fn main() -> ExitCode {
     let mut out = String::new();
     let code = match run(&mut out, cli) {
         Ok(code) => code,
+        Err(_) if interrupt().is_cancelled() => {
+            eprintln!("\ninterrupted: the output files keep their old content");
+            (128 + SIGNAL.load(std::sync::atomic::Ordering::SeqCst)) as u8
+        }
         Err(e) => {
             eprintln!("error: {e:#}");
             2

@@ -5,8 +5,9 @@ use std::path::PathBuf;
 use anyhow::{Context, Result, bail};
 use clap::Subcommand;
 
-use super::render::{RenderOptions, SchemeForm, normal_shape, render, write_shape};
+use super::render::{SchemeForm, normal_shape, print_report};
 use super::{keyword, parse_size, progress_bar};
+use bcifs::render::{Options as RenderOptions, render, write_shape};
 
 #[derive(Subcommand)]
 pub enum SchemeCommand {
@@ -93,7 +94,7 @@ fn run_ifs(out: &mut String, args: IfsArgs) -> Result<u8> {
     options.eval.progress = progress_bar();
     options.raster = options.raster.with_size(w, h);
     let started = std::time::Instant::now();
-    render(&design, &options, &output)?.report(design.description(), &output, started);
+    print_report(&render(&design, &options, &output)?, design.description(), &output, started);
     Ok(0)
 }
 
@@ -217,7 +218,7 @@ fn run_normal(out: &mut String, args: NormalArgs) -> Result<u8> {
     let shape = normal_shape(&preset, depth, form, bcifs::eval::DEFAULT_MEMORY_LIMIT)?;
     let raster = bcifs::export::RasterSettings::default().with_size(w, h);
     let label = format!("{} ({}), depth {depth}", preset.name, preset.scheme);
-    write_shape(&shape, preset.name, &raster, &output)?.report(&label, &output, started);
+    print_report(&write_shape(&shape, preset.name, &raster, &output)?, &label, &output, started);
     Ok(0)
 }
 

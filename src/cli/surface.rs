@@ -5,13 +5,12 @@
 use std::path::PathBuf;
 
 use anyhow::bail;
-use bcifs::export::{AtomicFile, RasterSettings, write_atomic};
-use bcifs::mesh::{
-    LoopWeights, MeshFormat, PolyMesh, QuadWeights, RuleWeights, Scheme, Subdivision, WeightsVerdict, Written,
-    read_mesh,
-};
+use bcifs::export::{RasterSettings, write_atomic};
+use bcifs::mesh::{PolyMesh, Scheme, read_mesh};
+use bcifs::render::{MeshJob, Options, render_mesh, rule_weights};
+use bcifs::schemes::mesh_automaton;
 
-use super::render::write_shape;
+use super::render::print_report;
 use super::{keyword, parse_params, parse_size, parse_view};
 
 /// The arguments of `bcifs surface`.
@@ -57,105 +56,37 @@ pub struct SurfaceArgs {
     pub max_output_gib: f64,
 }
 
-/// Bytes per face of a written mesh, for the size estimate: four indices and
-/// about one vertex of three shortest round-trip coordinates (an upper bound
-/// for quads, generous for triangles).
-const BYTES_PER_FACE: u128 = 4 * 9 + 3 * 22 + 8;
-
-/// Rule weights from `--param` values (others: classic): `alpha`, `beta`,
-/// `gamma` for Doo-Sabin, `w`, `sigma` for Loop.
-pub fn rule_weights(scheme: Scheme, params: &[(String, f64)]) -> anyhow::Result<Option<RuleWeights>> {
-    if params.is_empty() {
-        return Ok(None);
-    }
-    // Each `NAME=VALUE` sets the named weight; another name is refused with the list.
-    let set = |slots: &mut [(&str, &mut f64)]| -> anyhow::Result<()> {
-        for (name, value) in params {
-            let Some((_, slot)) = slots.iter_mut().find(|(n, _)| n == name) else {
-                let names: Vec<String> = slots.iter().map(|(n, _)| format!("`{n}`")).collect();
-                bail!("`{name}` is not a parameter of {}: the parameters are {}", scheme.name(), names.join(", "));
-            };
-            **slot = *value;
-        }
-        Ok(())
-    };
-    match scheme {
-        Scheme::DooSabin => {
-            let mut w = QuadWeights::CLASSIC;
-            set(&mut [("alpha", &mut w.alpha), ("beta", &mut w.beta), ("gamma", &mut w.gamma)])?;
-            Ok(Some(w.into()))
-        }
-        Scheme::Loop => {
-            let mut w = LoopWeights::CLASSIC;
-            set(&mut [("w", &mut w.w), ("sigma", &mut w.sigma)])?;
-            Ok(Some(w.into()))
-        }
-        _ => bail!("{} has no parameters (the weights are the classic rules)", scheme.name()),
-    }
-}
-
 /// `bcifs surface`.
 pub fn run(out: &mut String, args: SurfaceArgs) -> anyhow::Result<u8> {
     let started = std::time::Instant::now();
     let scheme = keyword("scheme", &args.scheme, &Scheme::ALL.map(|s| (s.name(), s)))?;
     let weights = rule_weights(scheme, &parse_params(&args.params)?)?;
-    let (w, h) = parse_size(&args.size)?;
-    let (yaw, pitch) = parse_view(&args.view)?;
-    let memory = args.memory_mib.saturating_mul(1 << 20);
-    // A mesh file is Y-up (Blender's, MeshLab's and CGAL's viewers' convention): pictures stand on it.
-    let raster =
-        RasterSettings::default().with_size(w, h).with_view(yaw, pitch).with_memory_limit(memory).with_y_up(true);
     let mut mesh = read_mesh(&args.mesh)?;
     if args.triangulate {
         mesh = mesh.triangulated();
     }
-    let verdict = match weights {
-        Some(RuleWeights::Quad(w)) => Some(w.check()?),
-        Some(RuleWeights::Loop(w)) => Some(w.check(&mesh.interior_valences())?),
-        None => None,
-    };
-    if let Some(WeightsVerdict::Undecided(why)) = verdict {
-        eprintln!("warning: {why}");
-    }
+    let name = args.mesh.file_stem().map_or("mesh".into(), |s| s.to_string_lossy().to_string());
+    let job = MeshJob { scheme, depth: args.depth, weights, net: args.net, name };
     if args.print {
-        return print_automaton(out, &args, &mesh, scheme, weights, started);
+        return print_automaton(out, &args, &mesh, &job, started);
     }
     let Some(output) = args.output.clone() else { bail!("give the output file with -o") };
     super::check_output(&output, &["obj", "off", "png", "svg"])?;
-    let ext = output.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
-    let name = args.mesh.file_stem().map_or("mesh".into(), |s| s.to_string_lossy().to_string());
-    let io = |e: std::io::Error| anyhow::anyhow!("cannot write {}: {e}", output.display());
     if !(args.max_output_gib.is_finite() && args.max_output_gib > 0.0) {
         bail!("--max-output-gib {}: expected a positive number of GiB", args.max_output_gib);
     }
-    let summary = if ext == "png" || ext == "svg" {
-        let shape = if args.net {
-            mesh.subdivide_with(scheme, args.depth, weights, memory)?.to_shape(&name)
-        } else {
-            mesh.limit_with(scheme, args.depth, weights, memory)?
-        };
-        write_shape(&shape, &name, &raster, &output)?;
-        Written { vertices: shape.vertex_count(), faces: shape.quads.len() + shape.triangles.len() }
-    } else {
-        // Streamed through a temporary file renamed at the end, in the input file's axes.
-        let format = if ext == "obj" { MeshFormat::Obj(&name) } else { MeshFormat::Off };
-        let max = (args.max_output_gib * (1u64 << 30) as f64) as u128;
-        let faces = mesh.estimate(scheme, args.depth).0;
-        super::render::check_disk(&output, faces.saturating_mul(BYTES_PER_FACE), max)?;
-        let mut file = AtomicFile::create(&output).map_err(io)?;
-        let job = Subdivision { scheme, depth: args.depth, weights, memory_limit: memory };
-        let written = mesh.write_subdivided(&job, !args.net, format, file.writer())?;
-        file.commit().map_err(io)?;
-        written
-    };
-    let label = format!("{name} ({}, depth {}{})", scheme.name(), args.depth, if args.net { ", net" } else { "" });
-    eprintln!(
-        "{label}: {} vertices, {} faces → {} ({:.2} s)",
-        summary.vertices,
-        summary.faces,
-        output.display(),
-        started.elapsed().as_secs_f64()
-    );
+    let (w, h) = parse_size(&args.size)?;
+    let (yaw, pitch) = parse_view(&args.view)?;
+    let memory = args.memory_mib.saturating_mul(1 << 20);
+    let mut options = Options::default();
+    options.eval.memory_limit = memory;
+    options.raster = RasterSettings::default().with_size(w, h).with_view(yaw, pitch).with_memory_limit(memory);
+    options.max_output = (args.max_output_gib * (1u64 << 30) as f64) as u128;
+    options.cancel = super::interrupt().clone();
+    let report = render_mesh(&mesh, &job, &options, &output)?;
+    let label =
+        format!("{} ({}, depth {}{})", job.name, scheme.name(), args.depth, if args.net { ", net" } else { "" });
+    print_report(&report, &label, &output, started);
     Ok(0)
 }
 
@@ -165,11 +96,13 @@ fn print_automaton(
     out: &mut String,
     args: &SurfaceArgs,
     mesh: &PolyMesh,
-    scheme: Scheme,
-    weights: Option<RuleWeights>,
+    job: &MeshJob,
     started: std::time::Instant,
 ) -> anyhow::Result<u8> {
-    let design = mesh.automaton(scheme, weights)?;
+    if let Some(why) = bcifs::render::check_weights(mesh, job.weights)? {
+        eprintln!("warning: {why}");
+    }
+    let design = mesh_automaton(mesh, job.scheme, job.weights)?;
     let text = bcifs::write_design(&design);
     let Some(output) = &args.output else {
         out.push_str(&text);

@@ -48,7 +48,7 @@ fn sweep_stale(target: &Path) {
         let parts: Vec<&str> = rest.rsplitn(4, '.').collect();
         // Reversed: N, PID, TAG, NAME.
         let [n, pid, tag, _name] = parts[..] else { continue };
-        if !matches!(tag, "partial" | "elements") || n.parse::<u64>().is_err() {
+        if !matches!(tag, "partial" | "elements" | "vertices") || n.parse::<u64>().is_err() {
             continue;
         }
         let Ok(pid) = pid.parse::<u32>() else { continue };
@@ -148,6 +148,55 @@ impl Drop for AtomicFile {
             let _ = std::fs::remove_file(&self.temp);
             forget(&self.temp);
         }
+    }
+}
+
+/// A temporary side file beside a target: the part of a file that must
+/// come after something known only at the end (an OBJ's elements after all
+/// vertices, an OFF's vertices after the counts of its header). It is
+/// appended to the target by [`Spool::append_to`] and removed whatever happens.
+pub(crate) struct Spool {
+    path: PathBuf,
+    writer: Option<BufWriter<File>>,
+}
+
+impl Spool {
+    /// A new side file of `target`, tagged `tag`.
+    pub(crate) fn create(target: &Path, tag: &str) -> io::Result<Spool> {
+        let path = temp_path(target, tag);
+        let writer = match File::create(&path) {
+            Ok(file) => BufWriter::with_capacity(1 << 20, file),
+            Err(e) => {
+                forget(&path);
+                return Err(e);
+            }
+        };
+        Ok(Spool { path, writer: Some(writer) })
+    }
+
+    /// The writer.
+    pub(crate) fn writer(&mut self) -> &mut BufWriter<File> {
+        self.writer.as_mut().expect("not appended")
+    }
+
+    /// Appends the side file to `out` (file to file: the kernel copies) and removes it.
+    pub(crate) fn append_to(mut self, out: &mut AtomicFile) -> io::Result<()> {
+        let mut w = self.writer.take().expect("append once");
+        w.flush()?;
+        drop(w);
+        let mut reader = File::open(&self.path)?;
+        let main = out.writer();
+        main.flush()?;
+        io::copy(&mut reader, main.get_mut())?;
+        Ok(())
+    }
+}
+
+impl Drop for Spool {
+    fn drop(&mut self) {
+        self.writer.take();
+        let _ = std::fs::remove_file(&self.path);
+        forget(&self.path);
     }
 }
 

@@ -25,6 +25,40 @@ pub trait Sink {
     fn faces(&mut self, quads: &[[usize; 4]], uvs: Option<&[[usize; 4]]>) -> io::Result<()>;
     /// Triangles (vertex indices counter-clockwise).
     fn triangles(&mut self, triangles: &[[usize; 3]]) -> io::Result<()>;
+
+    /// Faces of any degree, counter-clockwise: face `k` has the corners
+    /// `corners[starts[k]..starts[k + 1]]` (`starts` holds one more entry
+    /// than there are faces). A face of fewer than three corners (the digon
+    /// Doo-Sabin makes at a vertex of valence 2) is a doubled edge that no
+    /// file holds: writers leave it out.
+    ///
+    /// The default hands quads to [`Sink::faces`] and triangles, and larger
+    /// faces as fans of triangles, to [`Sink::triangles`]; writers whose
+    /// format has faces of any degree write them whole.
+    fn polygons(&mut self, starts: &[usize], corners: &[usize]) -> io::Result<()> {
+        let (mut quads, mut triangles) = (Vec::new(), Vec::new());
+        for w in starts.windows(2) {
+            match &corners[w[0]..w[1]] {
+                &[a, b, c, d] => quads.push([a, b, c, d]),
+                f if f.len() >= 3 => triangles.extend((1..f.len() - 1).map(|i| [f[0], f[i], f[i + 1]])),
+                _ => {}
+            }
+        }
+        if !quads.is_empty() {
+            self.faces(&quads, None)?;
+        }
+        if !triangles.is_empty() {
+            self.triangles(&triangles)?;
+        }
+        Ok(())
+    }
+
+    /// Colours (RGB) of the vertices of the next [`Sink::vertices`] call,
+    /// one per vertex. Formats without colours ignore them (the default).
+    fn colours(&mut self, rgb: &[[u8; 3]]) -> io::Result<()> {
+        let _ = rgb;
+        Ok(())
+    }
 }
 
 /// A quad of an in-memory mesh: four vertex (or texture) indices, counter-clockwise.

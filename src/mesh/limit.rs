@@ -10,8 +10,9 @@
 //! opposite corners `f_j` of its quads), `(u + 4v + w)/6` on the border (the
 //! cubic B-spline of the boundary polygon); the quads are the net's.
 
+use super::emit::Emit;
 use super::polymesh::{MeshError, PolyMesh, Scheme};
-use super::subdivide::{Builder, RuleWeights};
+use super::subdivide::RuleWeights;
 use super::topology::{BORDER, Topology};
 use crate::geometry::{Shape, Sink};
 
@@ -44,7 +45,7 @@ impl PolyMesh {
                 }
                 let net = self.subdivide_with(scheme, depth.max(1) - 1, weights, memory_limit)?;
                 let t = Topology::trusted(&net);
-                let mut out = Builder::with_capacity(net.face_count() * 3, 4 * net.corner_count());
+                let mut out = Emit::memory(net.face_count() * 3, 4 * net.corner_count());
                 // Writing into memory cannot fail.
                 let _ = net.doo_sabin_limit_into(&t, weights.and_then(RuleWeights::quad), &mut out);
                 let dual = out.finish();

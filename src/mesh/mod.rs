@@ -22,7 +22,7 @@
 //! assert!(limit.quads.len() > 0);
 //! ```
 
-mod automaton;
+mod emit;
 mod limit;
 mod polymesh;
 mod read;
@@ -32,9 +32,10 @@ mod topology;
 mod triangles;
 mod write;
 
+pub use emit::Written;
 pub use polymesh::{DEFAULT_MESH_MEMORY, MeshError, Place, PolyMesh, Scheme};
 pub use read::{read_mesh, read_obj, read_off};
-pub use stream::{MeshFormat, Subdivision, Written};
-pub use subdivide::{LoopWeights, QuadWeights, RuleWeights, WeightsVerdict};
+pub use stream::Subdivision;
+pub use subdivide::{LoopWeights, QuadWeights, RuleWeights};
 pub use topology::{BORDER, Topology};
 pub use triangles::{loop_beta, sqrt3_alpha};

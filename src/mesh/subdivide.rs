@@ -14,6 +14,7 @@
 use std::f64::consts::PI;
 use std::io;
 
+use super::emit::Emit;
 use super::polymesh::{MeshError, PolyMesh, Scheme};
 use super::topology::{BORDER, Topology};
 
@@ -95,75 +96,13 @@ impl LoopWeights {
     ];
 
     /// `λ₁(n) = w + (1 − 2w) cos(2π/n)`.
-    fn lambda1(&self, n: usize) -> f64 {
+    pub fn lambda1(&self, n: usize) -> f64 {
         self.w + (1.0 - 2.0 * self.w) * (2.0 * PI / n as f64).cos()
     }
 
     /// The ring weight `nβ(n)`.
     pub fn ring(&self, n: usize) -> f64 {
         1.0 - self.w - self.sigma * self.lambda1(n).powi(2)
-    }
-
-    /// Checks the weights before subdividing a mesh whose interior vertices
-    /// have the valences `valences`: finite; at each valence the 1-ring's
-    /// eigenvalues on the differences below 1 in modulus (necessary); the
-    /// joint spectral radius bounds of the regular box-spline hexagon with
-    /// these weights (seed 001 §3.2's six-map IFS; sufficient for the
-    /// regular parts when they decide).
-    ///
-    /// # Errors
-    /// [`MeshError::Weights`] naming the weights and what fails.
-    pub fn check(&self, valences: &[usize]) -> Result<WeightsVerdict, MeshError> {
-        for (name, x) in [("w", self.w), ("sigma", self.sigma)] {
-            if !x.is_finite() {
-                return Err(MeshError::Weights(format!("loop weight {name} = {x} is not a finite number")));
-            }
-        }
-        let named = format!("loop weights w = {}, sigma = {}", self.w, self.sigma);
-        for &n in valences.iter().filter(|&&n| n >= 3) {
-            let average = self.sigma * self.lambda1(n).powi(2);
-            let worst = (1..n).map(|k| (self.w + (1.0 - 2.0 * self.w) * (2.0 * PI * k as f64 / n as f64).cos()).abs());
-            let worst = worst.fold(average.abs(), f64::max);
-            if worst >= 1.0 {
-                let culprit = if average.abs() >= 1.0 { "sigma" } else { "w" };
-                return Err(MeshError::Weights(format!(
-                    "{named}: at a vertex of valence {n} the 1-ring rule has an eigenvalue of modulus {worst:.6} \
-                     on the differences (`{culprit}` puts it there); the subdivision diverges"
-                )));
-            }
-        }
-        // The regular hexagon's IFS, exact from the decimals given.
-        let exact = |x: f64| crate::algebra::Num::from_f64(x).as_rational().cloned();
-        let (Some(w), Some(ring6)) = (exact(self.w), exact(self.ring(6))) else {
-            return Ok(WeightsVerdict::Undecided(format!("{named}: not a decimal")));
-        };
-        let beta = ring6 / num_rational::BigRational::from_integer(6.into());
-        let ifs = crate::schemes::box_spline_hexagon(&w, &beta);
-        let mut automaton = crate::automaton::Automaton::new("box_spline");
-        let n = ifs.control.len();
-        let state = automaton
-            .add_state(crate::space::State::new("hexagon", n, crate::space::CellKind::Free))
-            .map_err(|e| MeshError::Weights(e.to_string()))?;
-        for (k, block) in ifs.blocks.iter().enumerate() {
-            let matrix = crate::schemes::to_f64(block).transpose();
-            let arrow = crate::automaton::Arrow {
-                name: format!("T{k}"),
-                kind: crate::automaton::ArrowKind::Subdivision,
-                matrix,
-            };
-            automaton.add_arrow(state, state, arrow).map_err(|e| MeshError::Weights(e.to_string()))?;
-        }
-        match crate::analysis::jsr_verdict(&automaton, &crate::analysis::JsrSettings::default()) {
-            Ok(crate::analysis::Verdict::Converges) => Ok(WeightsVerdict::Converges),
-            Ok(crate::analysis::Verdict::Diverges) => Err(MeshError::Weights(format!(
-                "{named}: the regular box-spline patch with these weights diverges (a product of its six maps \
-                 does not contract): choose `w` and `sigma` inside the convergence domain"
-            ))),
-            Ok(crate::analysis::Verdict::Undecided) => Ok(WeightsVerdict::Undecided(format!(
-                "{named}: the convergence of the regular patch is undecided within the budget"
-            ))),
-            Err(e) => Ok(WeightsVerdict::Undecided(format!("{named}: {e}"))),
-        }
     }
 }
 
@@ -285,7 +224,7 @@ impl PolyMesh {
 
     /// Step number `step` (from 0) of `scheme` in memory.
     fn step(&self, scheme: Scheme, step: usize, t: &Topology, weights: Option<RuleWeights>) -> PolyMesh {
-        let mut out = Builder::with_capacity(self.positions.len() + self.corner_count(), 4 * self.corner_count());
+        let mut out = Emit::memory(self.positions.len() + self.corner_count(), 4 * self.corner_count());
         // Writing into memory cannot fail.
         let _ = self.step_into(scheme, step, t, weights, &mut out);
         out.finish()
@@ -298,7 +237,7 @@ impl PolyMesh {
         step: usize,
         t: &Topology,
         weights: Option<RuleWeights>,
-        out: &mut dyn MeshOut,
+        out: &mut Emit<'_>,
     ) -> io::Result<()> {
         match scheme {
             Scheme::DooSabin => self.doo_sabin_into(t, weights.and_then(RuleWeights::quad), out),
@@ -338,12 +277,7 @@ impl PolyMesh {
     /// One Doo-Sabin step into `out`: the corners' points face by face (so
     /// the vertices are numbered as the corners), then the faces of the
     /// faces, of the interior edges and of the interior vertices.
-    pub(crate) fn doo_sabin_into(
-        &self,
-        t: &Topology,
-        quad: Option<QuadWeights>,
-        out: &mut dyn MeshOut,
-    ) -> io::Result<()> {
+    pub(crate) fn doo_sabin_into(&self, t: &Topology, quad: Option<QuadWeights>, out: &mut Emit<'_>) -> io::Result<()> {
         let weights = Weights::new(self, quad);
         for f in 0..self.face_count() {
             for i in 0..self.face(f).len() {
@@ -356,7 +290,7 @@ impl PolyMesh {
         for c in 0..self.corner_count() {
             let tw = t.twin(c);
             if tw != BORDER && c < tw {
-                out.face(&mut [t.next(self, c), c, t.next(self, tw), tw].into_iter())?;
+                out.face([t.next(self, c), c, t.next(self, tw), tw])?;
             }
         }
         for v in 0..self.positions.len() {
@@ -378,7 +312,7 @@ impl PolyMesh {
         &self,
         t: &Topology,
         quad: Option<QuadWeights>,
-        out: &mut dyn MeshOut,
+        out: &mut Emit<'_>,
     ) -> io::Result<()> {
         let weights = Weights::new(self, quad);
         let point = |c: usize| {
@@ -423,7 +357,7 @@ impl PolyMesh {
             if vertex[v] != u32::MAX {
                 let p = t.prev(self, c);
                 let quad = [t.face(c), e0 + edge[p] as usize, v0 + vertex[v] as usize, e0 + edge[c] as usize];
-                out.face(&mut quad.into_iter())?;
+                out.face(quad)?;
             }
         }
         Ok(())
@@ -431,7 +365,7 @@ impl PolyMesh {
 
     /// One Catmull-Clark step into `out`: vertex points, edge points (in
     /// corner order), face points; a quad per corner.
-    pub(crate) fn catmull_clark_into(&self, t: &Topology, out: &mut dyn MeshOut) -> io::Result<()> {
+    pub(crate) fn catmull_clark_into(&self, t: &Topology, out: &mut Emit<'_>) -> io::Result<()> {
         let (nv, nf, corners) = (self.positions.len(), self.face_count(), self.corner_count());
         let face_points: Vec<[f64; 3]> = (0..nf).map(|f| self.centroid(f)).collect();
         for v in 0..nv {
@@ -474,7 +408,7 @@ impl PolyMesh {
         for c in 0..corners {
             let quad =
                 [self.indices[c], e0 + edge_of[c] as usize, f0 + t.face(c), e0 + edge_of[t.prev(self, c)] as usize];
-            out.face(&mut quad.into_iter())?;
+            out.face(quad)?;
         }
         Ok(())
     }
@@ -498,7 +432,7 @@ impl PolyMesh {
     pub(crate) fn edge_points(
         &self,
         t: &Topology,
-        out: &mut dyn MeshOut,
+        out: &mut Emit<'_>,
         interior: impl Fn(usize, usize) -> [f64; 3],
     ) -> io::Result<(Vec<u32>, usize)> {
         let mut edge_of = vec![0u32; self.corner_count()];
@@ -585,110 +519,5 @@ impl Iterator for Rotation<'_> {
         let r = self.t.rotate(self.mesh, c);
         self.at = (r != BORDER && r != self.first).then_some(r);
         Some(c)
-    }
-}
-
-/// Where a subdivision step writes its mesh: vertices (numbered from 0 in
-/// order), then faces of those numbers.
-pub(crate) trait MeshOut {
-    /// A vertex.
-    fn vertex(&mut self, p: [f64; 3]) -> io::Result<()>;
-    /// A face, its vertices counter-clockwise.
-    fn face(&mut self, vertices: &mut dyn Iterator<Item = usize>) -> io::Result<()>;
-}
-
-/// A mesh built in memory.
-pub(crate) struct Builder {
-    positions: Vec<[f64; 3]>,
-    starts: Vec<usize>,
-    indices: Vec<usize>,
-}
-
-impl Builder {
-    pub(crate) fn with_capacity(vertices: usize, corners: usize) -> Builder {
-        let mut starts = Vec::with_capacity(corners / 3 + 2);
-        starts.push(0);
-        Builder { positions: Vec::with_capacity(vertices), starts, indices: Vec::with_capacity(corners) }
-    }
-
-    pub(crate) fn finish(self) -> PolyMesh {
-        PolyMesh::from_flat(self.positions, self.starts, self.indices)
-    }
-}
-
-impl MeshOut for Builder {
-    fn vertex(&mut self, p: [f64; 3]) -> io::Result<()> {
-        self.positions.push(p);
-        Ok(())
-    }
-    fn face(&mut self, vertices: &mut dyn Iterator<Item = usize>) -> io::Result<()> {
-        self.indices.extend(vertices);
-        self.starts.push(self.indices.len());
-        Ok(())
-    }
-}
-
-/// What the convergence check of quad weights found.
-#[derive(Clone, Debug, PartialEq)]
-pub enum WeightsVerdict {
-    /// The joint spectral radius bounds of the regular quad patch prove convergence.
-    Converges,
-    /// Not decided; why.
-    Undecided(String),
-}
-
-impl QuadWeights {
-    /// Checks the weights before subdividing: finite, the face rule's
-    /// eigenvalues on the differences below 1 in modulus (necessary), and for
-    /// mirror-symmetric weights (`β = γ`) the joint spectral radius bounds of
-    /// the shipped regular patch `doo_sabin_quad` (sufficient when they decide).
-    ///
-    /// # Errors
-    /// [`MeshError::Weights`] naming the weights and what fails.
-    pub fn check(&self) -> Result<WeightsVerdict, MeshError> {
-        for (name, x) in [("alpha", self.alpha), ("beta", self.beta), ("gamma", self.gamma)] {
-            if !x.is_finite() {
-                return Err(MeshError::Weights(format!("doo-sabin weight {name} = {x} is not a finite number")));
-            }
-        }
-        let named = format!(
-            "doo-sabin weights alpha = {}, beta = {}, gamma = {} (opposite corner {})",
-            self.alpha,
-            self.beta,
-            self.gamma,
-            self.delta()
-        );
-        let [l1, l2, _] = self.face_eigenvalues();
-        if l1 >= 1.0 || l2 >= 1.0 {
-            return Err(MeshError::Weights(format!(
-                "{named}: the face rule has eigenvalues of modulus {l1:.6} (twice) and {l2:.6} on the differences; \
-                 one is not below 1, so faces do not shrink to points: the subdivision diverges"
-            )));
-        }
-        if self.beta != self.gamma {
-            return Ok(WeightsVerdict::Undecided(format!(
-                "{named}: beta ≠ gamma makes the quad rule chiral; its convergence is not decided beyond the face rule's eigenvalues"
-            )));
-        }
-        let Some(design) = crate::format::builtin_design("doo_sabin_quad") else {
-            return Ok(WeightsVerdict::Undecided("the regular patch is not available".into()));
-        };
-        let values =
-            [("alpha", self.alpha), ("beta", self.beta), ("gamma", self.gamma)].map(|(n, v)| (n.to_string(), v));
-        let instance =
-            crate::family::instantiate(&design, &values).map_err(|e| MeshError::Weights(format!("{named}: {e}")))?;
-        match crate::analysis::jsr(&instance.automaton, &crate::analysis::JsrSettings::quick()) {
-            Ok(bounds) => match bounds.verdict() {
-                crate::analysis::Verdict::Converges => Ok(WeightsVerdict::Converges),
-                crate::analysis::Verdict::Diverges => Err(MeshError::Weights(format!(
-                    "{named}: the regular patch diverges ({}): choose weights inside the convergence domain",
-                    bounds.witness_text()
-                ))),
-                crate::analysis::Verdict::Undecided => {
-                    Ok(WeightsVerdict::Undecided(format!("{named}: convergence is undecided ({bounds})")))
-                }
-            },
-            Err(e) => Ok(WeightsVerdict::Undecided(format!("{named}: {e}"))),
-        }
     }
 }

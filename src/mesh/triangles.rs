@@ -16,8 +16,9 @@
 use std::f64::consts::PI;
 use std::io;
 
+use super::emit::Emit;
 use super::polymesh::PolyMesh;
-use super::subdivide::{LoopWeights, MeshOut, add, border_curve_point};
+use super::subdivide::{LoopWeights, add, border_curve_point};
 use super::topology::{BORDER, Topology};
 
 /// Loop's vertex weight `β` at valence `n`.
@@ -29,19 +30,6 @@ pub fn loop_beta(n: usize) -> f64 {
 /// √3's vertex weight `a` at valence `n`.
 pub fn sqrt3_alpha(n: usize) -> f64 {
     (4.0 - 2.0 * (2.0 * PI / n as f64).cos()) / 9.0
-}
-
-/// The points of a step, its faces dropped.
-struct Points(Vec<[f64; 3]>);
-
-impl MeshOut for Points {
-    fn vertex(&mut self, p: [f64; 3]) -> io::Result<()> {
-        self.0.push(p);
-        Ok(())
-    }
-    fn face(&mut self, _: &mut dyn Iterator<Item = usize>) -> io::Result<()> {
-        Ok(())
-    }
 }
 
 /// Loop's interior vertex point of `p` of valence `n` whose neighbours sum to `r`.
@@ -89,12 +77,7 @@ impl PolyMesh {
     /// One Loop step into `out`: vertex points, edge points (in corner
     /// order), four triangles per triangle.
     /// With weights other than Loop's, the general rules of [`LoopWeights`].
-    pub(crate) fn loop_into(
-        &self,
-        t: &Topology,
-        weights: Option<LoopWeights>,
-        out: &mut dyn MeshOut,
-    ) -> io::Result<()> {
+    pub(crate) fn loop_into(&self, t: &Topology, weights: Option<LoopWeights>, out: &mut Emit<'_>) -> io::Result<()> {
         let custom = weights.filter(|w| *w != LoopWeights::CLASSIC);
         let nv = self.positions.len();
         for v in 0..nv {
@@ -122,10 +105,10 @@ impl PolyMesh {
             let s = self.starts[f];
             let (v, e) = ([0, 1, 2].map(|i| self.indices[s + i]), [0, 1, 2].map(|i| nv + edge_of[s + i] as usize));
             // Corners a, b, c with edges e0 = ab, e1 = bc, e2 = ca.
-            out.face(&mut [v[0], e[0], e[2]].into_iter())?;
-            out.face(&mut [v[1], e[1], e[0]].into_iter())?;
-            out.face(&mut [v[2], e[2], e[1]].into_iter())?;
-            out.face(&mut [e[0], e[1], e[2]].into_iter())?;
+            out.face([v[0], e[0], e[2]])?;
+            out.face([v[1], e[1], e[0]])?;
+            out.face([v[2], e[2], e[1]])?;
+            out.face([e[0], e[1], e[2]])?;
         }
         Ok(())
     }
@@ -144,14 +127,14 @@ impl PolyMesh {
         &self,
         t: &Topology,
         weights: Option<LoopWeights>,
-        out: &mut dyn MeshOut,
+        out: &mut Emit<'_>,
     ) -> io::Result<()> {
         let custom = weights.filter(|w| *w != LoopWeights::CLASSIC);
         let (nv, nf) = (self.positions.len(), self.face_count());
-        let mut mid = Points(Vec::new());
+        let mut mid = Emit::points();
         self.loop_into(t, weights, &mut mid)?;
-        let mid = mid.0;
-        let (edge_of, edges) = self.edge_points(t, &mut Points(Vec::new()), |_, _| [0.0; 3])?;
+        let mid = mid.into_points();
+        let (edge_of, edges) = self.edge_points(t, &mut Emit::points(), |_, _| [0.0; 3])?;
         let m = |c: usize| nv + edge_of[c] as usize;
         let canonical = |c: usize| t.twin(c) == BORDER || c < t.twin(c);
         let sum = |ids: &[usize]| {
@@ -234,10 +217,10 @@ impl PolyMesh {
         for f in 0..nf {
             let s = self.starts[f];
             let mut split = |[a, b, c]: [usize; 3], [ab, bc, ca]: [usize; 3]| -> io::Result<()> {
-                out.face(&mut [a, ab, ca].into_iter())?;
-                out.face(&mut [b, bc, ab].into_iter())?;
-                out.face(&mut [c, ca, bc].into_iter())?;
-                out.face(&mut [ab, bc, ca].into_iter())
+                out.face([a, ab, ca])?;
+                out.face([b, bc, ab])?;
+                out.face([c, ca, bc])?;
+                out.face([ab, bc, ca])
             };
             for k in 0..3 {
                 let p = (k + 2) % 3;
@@ -255,7 +238,7 @@ impl PolyMesh {
     /// and `(10a + 16b + b')/27`, and border vertices move to
     /// `(4u + 19v + 4w)/27`; otherwise border vertices and edges stay.
     #[allow(clippy::needless_range_loop)] // a face indexes the mesh and the new numbering
-    pub(crate) fn sqrt3_into(&self, t: &Topology, refine_border: bool, out: &mut dyn MeshOut) -> io::Result<()> {
+    pub(crate) fn sqrt3_into(&self, t: &Topology, refine_border: bool, out: &mut Emit<'_>) -> io::Result<()> {
         let (nv, nf) = (self.positions.len(), self.face_count());
         for v in 0..nv {
             let p = self.positions[v];
@@ -329,15 +312,15 @@ impl PolyMesh {
             if tw == BORDER {
                 let f = t.face(c);
                 if split[f] == BORDER {
-                    out.face(&mut [a, b, opposite(c)].into_iter())?;
+                    out.face([a, b, opposite(c)])?;
                 } else {
                     let w = self.indices[t.prev(self, c)];
-                    out.face(&mut [first[f] as usize, first[f] as usize + 1, w].into_iter())?;
+                    out.face([first[f] as usize, first[f] as usize + 1, w])?;
                 }
             } else if c < tw {
                 let (cf, cg) = (opposite(c), opposite(tw));
-                out.face(&mut [cg, b, cf].into_iter())?;
-                out.face(&mut [cf, a, cg].into_iter())?;
+                out.face([cg, b, cf])?;
+                out.face([cf, a, cg])?;
             }
         }
         Ok(())

@@ -1,15 +1,8 @@
-//! Polygon meshes as text: OFF (what CGAL and MeshLab read) and OBJ (faces
-//! of any degree, 1-based), coordinates printed so that they read back
-//! exactly.
+//! Polygon meshes pushed into a sink (a file writer, a shape for pictures).
 
-use std::fmt::Write as _;
-
+use super::emit::Written;
 use super::polymesh::PolyMesh;
-
-fn coordinate(out: &mut String, x: f64) {
-    let mut b = ryu::Buffer::new();
-    out.push_str(b.format_finite(if x == 0.0 { 0.0 } else { x }));
-}
+use crate::geometry::Sink;
 
 impl PolyMesh {
     /// The faces a file gets: all but digons (Doo-Sabin's faces of interior
@@ -19,51 +12,16 @@ impl PolyMesh {
         self.faces().filter(|f| f.len() >= 3)
     }
 
-    /// The mesh as an OFF file.
-    pub fn to_off(&self) -> String {
-        let mut out = String::with_capacity(32 * (self.positions.len() + self.face_count()));
-        let _ = writeln!(out, "OFF\n{} {} 0", self.positions.len(), self.written_faces().count());
-        for p in &self.positions {
-            for (a, x) in p.iter().enumerate() {
-                if a > 0 {
-                    out.push(' ');
-                }
-                coordinate(&mut out, *x);
-            }
-            out.push('\n');
-        }
-        for face in self.written_faces() {
-            let _ = write!(out, "{}", face.len());
-            for v in face {
-                let _ = write!(out, " {v}");
-            }
-            out.push('\n');
-        }
-        out
-    }
-
-    /// The mesh as an OBJ file (one object `name`; `y_up` writes the model's
-    /// z as the file's y, as [`crate::export::Up::Y`] does for evaluated shapes).
-    pub fn to_obj(&self, name: &str, y_up: bool) -> String {
-        let mut out = String::with_capacity(32 * (self.positions.len() + self.face_count()));
-        let _ = writeln!(out, "# bcifs polygon mesh\no {name}");
-        for p in &self.positions {
-            let q = if y_up { [p[0], p[2], -p[1]] } else { *p };
-            out.push('v');
-            for x in q {
-                out.push(' ');
-                coordinate(&mut out, x);
-            }
-            out.push('\n');
-        }
-        for face in self.written_faces() {
-            out.push('f');
-            for v in face {
-                let _ = write!(out, " {}", v + 1);
-            }
-            out.push('\n');
-        }
-        out
+    /// Pushes the mesh into `sink` as it is: its vertices, then its faces
+    /// of any degree ([`Sink::polygons`]; digons are left out by files).
+    /// Returns what was written.
+    ///
+    /// # Errors
+    /// The sink's error.
+    pub fn push_into(&self, sink: &mut dyn Sink) -> std::io::Result<Written> {
+        sink.vertices(3, self.positions.as_flattened(), None)?;
+        sink.polygons(&self.starts, &self.indices)?;
+        Ok(Written { vertices: self.positions.len(), faces: self.written_faces().count() })
     }
 }
 
@@ -71,7 +29,6 @@ impl PolyMesh {
     /// The mesh as a shape (quads and triangles as they are, larger faces
     /// fanned into triangles), for pictures.
     pub fn to_shape(&self, name: &str) -> crate::geometry::Shape {
-        use crate::geometry::Sink;
         let mut shape = crate::geometry::Shape::default();
         let flat: Vec<f64> = self.positions.iter().flatten().copied().collect();
         let (mut quads, mut triangles) = (Vec::new(), Vec::new());

@@ -13,6 +13,7 @@
 mod catalog;
 mod contour;
 mod lattice;
+mod mesh;
 mod normal;
 mod stationary;
 mod ternary;
@@ -24,6 +25,7 @@ pub use lattice::{
     Axial, LatticeIfs, LatticeScheme, NotClosed, SubPatch, box_spline_hexagon, hexagon_parts, lattice_ifs,
     lattice_triangles, parallelogram_parts, ternary_triangle_parts,
 };
+pub use mesh::mesh_automaton;
 pub use normal::{
     NormalDirection, NormalPreset, NormalScheme, NormalSchemeError, PRESET_NAMES, Point2, SignPattern, normal_preset,
     unit_segment, unit_square, unit_triangle,

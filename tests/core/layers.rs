@@ -6,20 +6,21 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// The library's top-level modules, bottom first.
-const LAYERS: [&[&str]; 13] = [
+const LAYERS: [&[&str]; 14] = [
     &["algebra", "names", "progress"],
     &["space"],
     &["automaton"],
     &["design"],
+    &["geometry"],
+    &["mesh"],
     &["family"],
     &["format"],
     &["schemes"],
     &["contour"],
     &["analysis"],
-    &["geometry"],
-    &["mesh"],
     &["eval"],
     &["export"],
+    &["render"],
 ];
 
 fn rank(top: &str) -> usize {

@@ -9,3 +9,4 @@ mod fuzzed;
 mod layers;
 mod properties;
 mod readme;
+mod render_api;

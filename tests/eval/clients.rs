@@ -203,15 +203,14 @@ fn curves_and_surfaces_load_whole_and_upright_in_blender() {
 /// Doo-Sabin net (n-gon faces, open) keeps every face in MeshLab.
 #[test]
 fn subdivided_meshes_load_in_the_clients() {
-    use bcifs::mesh::{MeshFormat, Scheme, Subdivision, read_mesh};
+    use bcifs::mesh::{Scheme, read_mesh};
+    use bcifs::render::{MeshJob, Options, render_mesh};
     let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
-    let write = |input: &str, scheme, depth, limit, file: &str| {
+    let write = |input: &str, scheme, depth, limit: bool, file: &str| {
         let mesh = read_mesh(&data.join(input)).unwrap();
         let path = std::env::temp_dir().join(format!("bcifs-client-{}-{file}", std::process::id()));
-        let job = Subdivision { scheme, depth, weights: None, memory_limit: 1 << 30 };
-        let mut out = std::io::BufWriter::new(std::fs::File::create(&path).unwrap());
-        let written = mesh.write_subdivided(&job, limit, MeshFormat::Obj("mesh"), &mut out).unwrap();
-        drop(out);
+        let job = MeshJob { net: !limit, ..MeshJob::new(scheme, depth) };
+        let written = render_mesh(&mesh, &job, &Options::default(), &path).unwrap();
         (path, written)
     };
     let (torus, w) = write("torus12.obj", Scheme::CatmullClark, 2, true, "torus-limit.obj");
@@ -268,7 +267,7 @@ fn rounded_parallel_and_streamed_obj_files_load_in_the_clients() {
     let vertices = ev.evaluate().unwrap().vertex_count();
     let path = std::env::temp_dir().join(format!("bcifs-client-{}-rounded.obj", std::process::id()));
     let mut w = ObjWriter::create(&path).unwrap().with_threads(2).unwrap().with_precision(Some(6));
-    bcifs::export::write_evaluation(&ev, &mut w).unwrap();
+    bcifs::export::write_evaluation(&ev, &mut w, None).unwrap();
     w.finish().unwrap();
     watertight_in_clients(&path, vertices, 0, "rounded torus");
     std::fs::remove_file(&path).unwrap();
@@ -304,7 +303,7 @@ fn generated_mesh_automata_load_in_the_clients() {
         ("torus-automaton", torus, Scheme::DooSabin, 0),
         ("icosahedron-automaton", PolyMesh::icosahedron(), Scheme::Loop, 2),
     ] {
-        let design = mesh.automaton(scheme, None).unwrap();
+        let design = bcifs::schemes::mesh_automaton(&mesh, scheme, None).unwrap();
         let automaton = bcifs::instantiate(&design, &[]).unwrap().automaton;
         let ev = Evaluator::new(&automaton, design.model().unwrap(), EvalSettings::default().with_depth(3)).unwrap();
         let vertices = ev.evaluate().unwrap().vertex_count();
@@ -326,7 +325,8 @@ fn generated_mesh_automata_load_in_the_clients() {
 /// the depth-3 net.
 #[test]
 fn doo_sabin_beside_a_valence_2_vertex_loads_in_the_clients() {
-    use bcifs::mesh::{MeshFormat, Scheme, Subdivision, read_mesh};
+    use bcifs::mesh::{Scheme, read_mesh};
+    use bcifs::render::{MeshJob, Options, render_mesh};
     let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
     for input in ["split_cube.obj", "suzanne.obj"] {
         let mesh = read_mesh(&data.join(input)).unwrap();
@@ -334,10 +334,8 @@ fn doo_sabin_beside_a_valence_2_vertex_loads_in_the_clients() {
         for (depth, limit) in [(2, false), (2, true), (3, false), (3, true)] {
             let path =
                 std::env::temp_dir().join(format!("bcifs-client-{}-ds-{depth}-{limit}-{input}", std::process::id()));
-            let job = Subdivision { scheme: Scheme::DooSabin, depth, weights: None, memory_limit: 1 << 30 };
-            let mut out = std::io::BufWriter::new(std::fs::File::create(&path).unwrap());
-            let written = mesh.write_subdivided(&job, limit, MeshFormat::Obj("mesh"), &mut out).unwrap();
-            drop(out);
+            let job = MeshJob { net: !limit, ..MeshJob::new(Scheme::DooSabin, depth) };
+            let written = render_mesh(&mesh, &job, &Options::default(), &path).unwrap();
             let what = format!("{input} depth {depth} limit {limit}");
             // Our own reader checks every face (indices in range, three distinct corners, manifold).
             let back = read_mesh(&path).unwrap_or_else(|e| panic!("{what}: bcifs refuses its own file: {e}"));

@@ -484,7 +484,7 @@ fn two_pass_obj_equals_the_spooled_one() {
         ev.stream(&mut w).unwrap();
         w.finish().unwrap();
         let mut w = ObjWriter::create(&two).unwrap();
-        let (vertices, faces) = bcifs::export::write_evaluation(&ev, &mut w).unwrap();
+        let (vertices, faces) = bcifs::export::write_evaluation(&ev, &mut w, None).unwrap();
         w.finish().unwrap();
         assert!(std::fs::read(&one).unwrap() == std::fs::read(&two).unwrap(), "{name}");
         let shape = ev.evaluate().unwrap();

@@ -7,6 +7,7 @@ use bcifs::analysis::{DEFAULT_CHECK_TOLERANCE, check};
 use bcifs::mesh::{LoopWeights, PolyMesh, QuadWeights, RuleWeights, Scheme};
 use bcifs::nalgebra::{DMatrix, DVector};
 use bcifs::petgraph::stable_graph::NodeIndex;
+use bcifs::schemes::mesh_automaton;
 use bcifs::{ArrowKind, Automaton, Design};
 
 use crate::hausdorff::hausdorff;
@@ -27,7 +28,7 @@ fn cases() -> Vec<(String, PolyMesh, Scheme)> {
 #[test]
 fn a_digon_is_refused_with_a_reason() {
     let (_, mesh, _) = crate::cases().into_iter().find(|c| c.0 == "split_edge" && c.2 == Scheme::DooSabin).unwrap();
-    let err = mesh.automaton(Scheme::DooSabin, None).unwrap_err().to_string();
+    let err = mesh_automaton(&mesh, Scheme::DooSabin, None).unwrap_err().to_string();
     assert!(err.contains("not one piece of surface"), "{err}");
 }
 
@@ -110,7 +111,7 @@ fn limit_points(mesh: &PolyMesh, scheme: Scheme, depth: usize, weights: Option<R
 #[test]
 fn constraints_hold_identically_in_the_weights() {
     for (name, mesh, scheme) in cases() {
-        let design = mesh.automaton(scheme, None).unwrap();
+        let design = mesh_automaton(&mesh, scheme, None).unwrap();
         let instance = bcifs::instantiate(&design, &[]).unwrap();
         let report = check(&instance.automaton, &instance.values, DEFAULT_CHECK_TOLERANCE).unwrap();
         assert!(report.ok && report.constraints.len() > 10, "{name} {scheme:?}: {:?}", report.constraints);
@@ -133,7 +134,7 @@ fn constraints_hold_identically_in_the_weights() {
 #[test]
 fn the_attractor_is_the_limit_surface() {
     for (name, mesh, scheme) in cases() {
-        let design = mesh.automaton(scheme, None).unwrap();
+        let design = mesh_automaton(&mesh, scheme, None).unwrap();
         // A √3 arrow is two of its steps.
         let steps = if scheme == Scheme::Sqrt3 { 2 } else { 1 };
         for depth in [1, 2] {
@@ -153,10 +154,10 @@ fn the_attractor_is_the_limit_surface() {
 fn other_weights_give_the_same_surface_as_the_mesh_code() {
     let cube = crate::cube();
     let rough = QuadWeights { alpha: 0.6, beta: 0.15, gamma: 0.19 };
-    let design = cube.automaton(Scheme::DooSabin, Some(rough.into())).unwrap();
+    let design = mesh_automaton(&cube, Scheme::DooSabin, Some(rough.into())).unwrap();
     let theirs = limit_points(&cube, Scheme::DooSabin, 2, Some(rough.into()));
     assert!(hausdorff(&attractor_corners(&design, &[], 2), &theirs) < 1e-9);
-    let classic = cube.automaton(Scheme::DooSabin, None).unwrap();
+    let classic = mesh_automaton(&cube, Scheme::DooSabin, None).unwrap();
     let values: Vec<(String, f64)> =
         [("alpha", 0.6), ("beta", 0.15), ("gamma", 0.19)].iter().map(|(n, v)| (n.to_string(), *v)).collect();
     assert!(hausdorff(&attractor_corners(&classic, &values, 2), &theirs) < 1e-9);
@@ -164,7 +165,7 @@ fn other_weights_give_the_same_surface_as_the_mesh_code() {
 
     let ico = crate::icosahedron();
     let w = LoopWeights { w: 0.3, sigma: 0.9 };
-    let design = ico.automaton(Scheme::Loop, Some(w.into())).unwrap();
+    let design = mesh_automaton(&ico, Scheme::Loop, Some(w.into())).unwrap();
     let theirs = limit_points(&ico, Scheme::Loop, 2, Some(w.into()));
     assert!(hausdorff(&attractor_corners(&design, &[], 2), &theirs) < 1e-9);
 }
@@ -182,7 +183,7 @@ fn extraordinary_patches_subdivide_into_themselves_and_regular_ones() {
         (crate::cube(), Scheme::DooSabin, 9, 8, 4),
         (crate::icosahedron(), Scheme::Sqrt3, 27, 24, 9),
     ] {
-        let design = mesh.automaton(scheme, None).unwrap();
+        let design = mesh_automaton(&mesh, scheme, None).unwrap();
         let a = design.automaton();
         let loops = |dim: usize| {
             a.states()
@@ -204,9 +205,9 @@ fn extraordinary_patches_subdivide_into_themselves_and_regular_ones() {
 #[test]
 fn sqrt3_on_open_meshes_and_polygons_for_loop_are_refused() {
     let open = crate::cases().into_iter().find(|c| c.2 == Scheme::Sqrt3 && !c.1.is_closed()).unwrap().1;
-    let e = open.automaton(Scheme::Sqrt3, None).unwrap_err().to_string();
+    let e = mesh_automaton(&open, Scheme::Sqrt3, None).unwrap_err().to_string();
     assert!(e.contains("closed meshes only"), "{e}");
-    let e = crate::cube().automaton(Scheme::Loop, None).unwrap_err().to_string();
+    let e = mesh_automaton(&crate::cube(), Scheme::Loop, None).unwrap_err().to_string();
     assert!(e.contains("--triangulate"), "{e}");
 }
 
@@ -218,7 +219,7 @@ fn sqrt3_on_open_meshes_and_polygons_for_loop_are_refused() {
 fn the_evaluator_welds_the_generated_patches_into_the_limit_surface() {
     use bcifs::eval::{EvalSettings, Evaluator};
     for (name, mesh, scheme) in cases() {
-        let design = mesh.automaton(scheme, None).unwrap();
+        let design = mesh_automaton(&mesh, scheme, None).unwrap();
         let instance = bcifs::instantiate(&design, &[]).unwrap();
         let ev = Evaluator::new(&instance.automaton, design.model().unwrap(), EvalSettings::default().with_depth(2))
             .unwrap();
@@ -294,13 +295,13 @@ fn regular_patches_use_the_seed_patch_maps() {
         assert_eq!(ifs.control.len(), regular);
         let mut theirs: Vec<_> = ifs.blocks.iter().map(|b| spectrum(&to_f64(b))).collect();
         theirs.sort();
-        let design = crate::icosahedron().subdivide(scheme, 1).unwrap().automaton(scheme, None).unwrap();
+        let design = mesh_automaton(&crate::icosahedron().subdivide(scheme, 1).unwrap(), scheme, None).unwrap();
         assert_eq!(regular_spectra(&design, regular), theirs, "{scheme:?}");
     }
     let bicubic = ifs_preset("bicubic", None, None).unwrap();
     let quad = bcifs::builtin_design("doo_sabin_quad").unwrap();
     for (scheme, seed, regular) in [(Scheme::CatmullClark, bicubic, 16), (Scheme::DooSabin, quad, 9)] {
-        let design = crate::cube().subdivide(scheme, 2).unwrap().automaton(scheme, None).unwrap();
+        let design = mesh_automaton(&crate::cube().subdivide(scheme, 2).unwrap(), scheme, None).unwrap();
         assert_eq!(regular_spectra(&design, regular), regular_spectra(&seed, regular), "{scheme:?}");
     }
 }
@@ -310,7 +311,7 @@ fn regular_patches_use_the_seed_patch_maps() {
 #[test]
 fn a_generated_automaton_too_deep_for_memory_is_refused() {
     use bcifs::eval::{EvalError, EvalSettings, Evaluator};
-    let design = crate::cube().automaton(Scheme::DooSabin, None).unwrap();
+    let design = mesh_automaton(&crate::cube(), Scheme::DooSabin, None).unwrap();
     let instance = bcifs::instantiate(&design, &[]).unwrap();
     let settings = EvalSettings::default().with_depth(14).with_memory_limit(1 << 30);
     let ev = Evaluator::new(&instance.automaton, design.model().unwrap(), settings).unwrap();

@@ -82,7 +82,7 @@ pub fn cgal(peer: &Path, mesh: &PolyMesh, scheme: Scheme, depth: usize, tag: &st
         dir.join(format!("bcifs-cgal-{}-{tag}-in.off", std::process::id())),
         dir.join(format!("bcifs-cgal-{}-{tag}-out.off", std::process::id())),
     );
-    std::fs::write(&input, mesh.to_off()).unwrap();
+    std::fs::write(&input, crate::off_text(mesh, tag)).unwrap();
     let out = Command::new(peer).arg(scheme.name()).arg(depth.to_string()).arg(&input).arg(&output).output().unwrap();
     assert!(out.status.success(), "CGAL failed: {}", String::from_utf8_lossy(&out.stderr));
     let text = std::fs::read_to_string(&output).unwrap();

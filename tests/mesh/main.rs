@@ -165,3 +165,20 @@ pub fn icosahedron() -> PolyMesh {
     ];
     PolyMesh::new(positions, faces.iter().map(|f| f.to_vec()).collect()).unwrap()
 }
+
+/// A scratch file path for this test process, tagged `tag`.
+pub fn scratch(tag: &str) -> std::path::PathBuf {
+    std::env::temp_dir().join(format!("bcifs-mesh-{}-{tag}", std::process::id()))
+}
+
+/// A mesh written as OFF by the library's one OFF writer (in its own axes), as text.
+pub fn off_text(mesh: &PolyMesh, tag: &str) -> String {
+    let path = scratch(&format!("{tag}.off"));
+    let coordinates = bcifs::export::Coordinates { y_up_input: true, ..Default::default() };
+    let mut off = bcifs::export::OffWriter::create(&path).unwrap().with_coordinates(coordinates);
+    mesh.push_into(&mut off).unwrap();
+    off.finish().unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    std::fs::remove_file(&path).unwrap();
+    text
+}

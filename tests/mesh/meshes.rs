@@ -1,6 +1,7 @@
 //! Reading and checking meshes, and the limit surfaces.
 
 use bcifs::mesh::{MeshError, PolyMesh, Scheme, read_mesh, read_obj, read_off};
+use bcifs::schemes::mesh_automaton;
 
 fn data(name: &str) -> std::path::PathBuf {
     std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data").join(name)
@@ -44,7 +45,7 @@ fn off_with_comments_and_counts_on_the_header() {
     let text = "OFF 4 1 0 # a quad\n0 0 0\n1 0 0 # x\n1 1 0\n0 1 0 255 0 0\n4 0 1 2 3 0.5 0.5 0.5\n";
     let mesh = read_off(text, "q.off").unwrap();
     assert_eq!((mesh.positions.len(), mesh.face_count()), (4, 1));
-    assert_eq!(read_off(&mesh.to_off(), "again.off").unwrap(), mesh);
+    assert_eq!(read_off(&crate::off_text(&mesh, "again"), "again.off").unwrap(), mesh);
 }
 
 /// Bad meshes: an error that says where and what, never a panic.
@@ -289,9 +290,10 @@ fn directed(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
 /// weights whose face rule expands are refused, naming them.
 #[test]
 fn doo_sabin_weights_are_checked() {
-    use bcifs::mesh::{QuadWeights, WeightsVerdict};
+    use bcifs::analysis::{WeightsVerdict, check_quad_weights};
+    use bcifs::mesh::QuadWeights;
     for w in QuadWeights::TEXTURES {
-        let verdict = w.check().unwrap_or_else(|e| panic!("{w:?}: {e}"));
+        let verdict = check_quad_weights(&w).unwrap_or_else(|e| panic!("{w:?}: {e}"));
         if w.beta == w.gamma {
             assert_eq!(verdict, WeightsVerdict::Converges, "{w:?}");
         } else {
@@ -301,9 +303,9 @@ fn doo_sabin_weights_are_checked() {
     // Classic: the face rule's eigenvalues are 1/2 (twice) and 1/4.
     let [l1, l2, _] = QuadWeights::CLASSIC.face_eigenvalues();
     assert!((l1 - 0.5).abs() < 1e-15 && (l2 - 0.25).abs() < 1e-15);
-    let e = QuadWeights { alpha: 0.9, beta: 0.2, gamma: 0.2 }.check().unwrap_err().to_string();
+    let e = check_quad_weights(&QuadWeights { alpha: 0.9, beta: 0.2, gamma: 0.2 }).unwrap_err().to_string();
     assert!(e.contains("alpha = 0.9") && e.contains("diverges"), "{e}");
-    let e = QuadWeights { alpha: f64::NAN, beta: 0.2, gamma: 0.2 }.check().unwrap_err().to_string();
+    let e = check_quad_weights(&QuadWeights { alpha: f64::NAN, beta: 0.2, gamma: 0.2 }).unwrap_err().to_string();
     assert!(e.contains("alpha = NaN"), "{e}");
 }
 
@@ -313,7 +315,8 @@ fn doo_sabin_weights_are_checked() {
 /// refused naming the parameter that puts the eigenvalue there.
 #[test]
 fn loop_weights_are_checked() {
-    use bcifs::mesh::{LoopWeights, WeightsVerdict, loop_beta};
+    use bcifs::analysis::{WeightsVerdict, check_loop_weights};
+    use bcifs::mesh::{LoopWeights, loop_beta};
     for n in 3..=12 {
         let ring = LoopWeights::CLASSIC.ring(n);
         assert!((ring - n as f64 * loop_beta(n)).abs() < 1e-15, "valence {n}");
@@ -321,13 +324,13 @@ fn loop_weights_are_checked() {
     let ico = bcifs::mesh::PolyMesh::icosahedron();
     assert_eq!(ico.interior_valences(), vec![5, 6]);
     for w in LoopWeights::TEXTURES {
-        assert_eq!(w.check(&ico.interior_valences()).unwrap(), WeightsVerdict::Converges, "{w:?}");
+        assert_eq!(check_loop_weights(&w, &ico.interior_valences()).unwrap(), WeightsVerdict::Converges, "{w:?}");
     }
-    let e = LoopWeights { w: 0.375, sigma: 5.0 }.check(&[5, 6]).unwrap_err().to_string();
+    let e = check_loop_weights(&LoopWeights { w: 0.375, sigma: 5.0 }, &[5, 6]).unwrap_err().to_string();
     assert!(e.contains("sigma = 5") && e.contains("`sigma`") && e.contains("diverges"), "{e}");
-    let e = LoopWeights { w: 0.9, sigma: 1.0 }.check(&[5, 6]).unwrap_err().to_string();
+    let e = check_loop_weights(&LoopWeights { w: 0.9, sigma: 1.0 }, &[5, 6]).unwrap_err().to_string();
     assert!(e.contains("w = 0.9") && e.contains("`w`"), "{e}");
-    assert!(LoopWeights { w: f64::NAN, sigma: 1.0 }.check(&[6]).is_err());
+    assert!(check_loop_weights(&LoopWeights { w: f64::NAN, sigma: 1.0 }, &[6]).is_err());
 }
 
 /// With weights other than Loop's, the limit mask `(w v + s Q)/(w + s)` is
@@ -354,7 +357,8 @@ fn loop_weights_limit_points_are_fixed_by_the_step() {
 /// result, vertex for vertex and face for face, as OBJ and as OFF.
 #[test]
 fn streamed_output_is_the_in_memory_mesh() {
-    use bcifs::mesh::MeshFormat;
+    use bcifs::export::{Coordinates, ObjWriter, OffWriter};
+    let coordinates = Coordinates { y_up_input: true, ..Default::default() };
     for (name, mesh, scheme) in crate::cases() {
         {
             for depth in 0..=3 {
@@ -367,16 +371,24 @@ fn streamed_output_is_the_in_memory_mesh() {
                         PolyMesh::new(net.positions.clone(), net.written_faces().map(<[usize]>::to_vec).collect())
                             .unwrap()
                     };
-                    for format in [MeshFormat::Obj(&name), MeshFormat::Off] {
-                        let mut bytes = Vec::new();
+                    for format in ["obj", "off"] {
+                        let path = crate::scratch(&format!("streamed.{format}"));
                         let job = bcifs::mesh::Subdivision { scheme, depth, weights: None, memory_limit: 1 << 30 };
-                        let written = mesh.write_subdivided(&job, limit, format, &mut bytes).unwrap();
-                        let text = String::from_utf8(bytes).unwrap();
-                        let back = match format {
-                            MeshFormat::Obj(_) => read_obj(&text, "s.obj"),
-                            MeshFormat::Off => read_off(&text, "s.off"),
-                        }
-                        .unwrap();
+                        let written = if format == "obj" {
+                            let mut w = ObjWriter::create(&path).unwrap().with_coordinates(coordinates);
+                            let written = mesh.subdivide_into(&job, limit, &name, &mut w).unwrap();
+                            w.finish().unwrap();
+                            written
+                        } else {
+                            let mut w = OffWriter::create(&path).unwrap().with_coordinates(coordinates);
+                            let written = mesh.subdivide_into(&job, limit, &name, &mut w).unwrap();
+                            w.finish().unwrap();
+                            written
+                        };
+                        let text = std::fs::read_to_string(&path).unwrap();
+                        std::fs::remove_file(&path).unwrap();
+                        let back =
+                            if format == "obj" { read_obj(&text, "s.obj") } else { read_off(&text, "s.off") }.unwrap();
                         let what = format!("{name} {scheme:?} depth {depth} limit {limit} {format:?}");
                         assert_eq!(back, expected, "{what}");
                         assert_eq!(
@@ -398,12 +410,14 @@ fn streamed_output_is_the_in_memory_mesh() {
 fn an_empty_doo_sabin_limit_is_refused() {
     let tri = PolyMesh::new(vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], vec![vec![0, 1, 2]]).unwrap();
     assert!(matches!(tri.limit(Scheme::DooSabin, 3), Err(MeshError::NoInteriorVertex)));
-    assert!(matches!(tri.automaton(Scheme::DooSabin, None), Err(MeshError::NoInteriorVertex)));
+    assert!(matches!(mesh_automaton(&tri, Scheme::DooSabin, None), Err(MeshError::NoInteriorVertex)));
     let job = bcifs::mesh::Subdivision { scheme: Scheme::DooSabin, depth: 3, weights: None, memory_limit: 1 << 30 };
-    let mut out = Vec::new();
-    let e = tri.write_subdivided(&job, true, bcifs::mesh::MeshFormat::Off, &mut out).unwrap_err();
+    let path = crate::scratch("empty.off");
+    let mut out = bcifs::export::OffWriter::create(&path).unwrap();
+    let e = tri.subdivide_into(&job, true, "tri", &mut out).unwrap_err();
     assert!(e.to_string().contains("every vertex of the mesh is on its border"), "{e}");
-    assert!(out.is_empty());
+    drop(out);
+    assert!(!path.exists());
     // The net is not empty: a triangle stays a triangle.
     assert_eq!(tri.subdivide(Scheme::DooSabin, 3).unwrap().face_count(), 1);
 }

@@ -1,0 +1,130 @@
+//! The one output of every subdivision step: vertices then faces, held in
+//! memory or pushed into a [`Sink`].
+
+use std::io;
+
+use super::polymesh::PolyMesh;
+use crate::geometry::Sink;
+
+/// What was written.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Written {
+    /// Vertices.
+    pub vertices: usize,
+    /// Faces (digons, which files leave out, not counted).
+    pub faces: usize,
+}
+
+/// Where a subdivision step puts its mesh: vertices (numbered from 0 in
+/// order), then faces of those numbers. Held in memory (the net of the next
+/// step, or only the points), or pushed into a [`Sink`] in batches (the last
+/// step of a streamed subdivision): the one output of every step.
+pub(crate) struct Emit<'s> {
+    positions: Vec<[f64; 3]>,
+    starts: Vec<usize>,
+    indices: Vec<usize>,
+    /// Faces are kept (not for points only).
+    faces: bool,
+    sink: Option<&'s mut dyn Sink>,
+    written: Written,
+}
+
+/// Vertices (and faces) pushed into a sink at a time.
+const BATCH: usize = 1 << 14;
+
+impl<'s> Emit<'s> {
+    /// A mesh built in memory.
+    pub(crate) fn memory(vertices: usize, corners: usize) -> Emit<'static> {
+        let mut starts = Vec::with_capacity(corners / 3 + 2);
+        starts.push(0);
+        Emit {
+            positions: Vec::with_capacity(vertices),
+            starts,
+            indices: Vec::with_capacity(corners),
+            faces: true,
+            sink: None,
+            written: Written::default(),
+        }
+    }
+
+    /// The points of a step, its faces dropped.
+    pub(crate) fn points() -> Emit<'static> {
+        Emit { faces: false, ..Emit::memory(0, 0) }
+    }
+
+    /// Vertices and faces pushed into `sink` as they come, in batches.
+    pub(crate) fn into_sink(sink: &'s mut dyn Sink) -> Emit<'s> {
+        let mut starts = Vec::with_capacity(BATCH + 1);
+        starts.push(0);
+        Emit {
+            positions: Vec::with_capacity(BATCH),
+            starts,
+            indices: Vec::with_capacity(4 * BATCH),
+            faces: true,
+            sink: Some(sink),
+            written: Written::default(),
+        }
+    }
+
+    /// A vertex.
+    #[inline]
+    pub(crate) fn vertex(&mut self, p: [f64; 3]) -> io::Result<()> {
+        self.positions.push(p);
+        self.written.vertices += 1;
+        if self.sink.is_some() && self.positions.len() >= BATCH { self.push_vertices() } else { Ok(()) }
+    }
+
+    /// A face, its vertices counter-clockwise.
+    #[inline]
+    pub(crate) fn face(&mut self, vertices: impl IntoIterator<Item = usize>) -> io::Result<()> {
+        if !self.faces {
+            return Ok(());
+        }
+        let before = self.indices.len();
+        self.indices.extend(vertices);
+        self.starts.push(self.indices.len());
+        if self.indices.len() - before >= 3 {
+            self.written.faces += 1;
+        }
+        if self.sink.is_some() && self.starts.len() > BATCH { self.push_faces() } else { Ok(()) }
+    }
+
+    fn push_vertices(&mut self) -> io::Result<()> {
+        if let Some(sink) = self.sink.as_deref_mut()
+            && !self.positions.is_empty()
+        {
+            sink.vertices(3, self.positions.as_flattened(), None)?;
+            self.positions.clear();
+        }
+        Ok(())
+    }
+
+    /// Pushes the faces (after the vertices, so that every face's vertices came first).
+    fn push_faces(&mut self) -> io::Result<()> {
+        self.push_vertices()?;
+        if let Some(sink) = self.sink.as_deref_mut()
+            && self.starts.len() > 1
+        {
+            sink.polygons(&self.starts, &self.indices)?;
+            self.starts.truncate(1);
+            self.indices.clear();
+        }
+        Ok(())
+    }
+
+    /// Pushes what is left into the sink; what was written.
+    pub(crate) fn flush(mut self) -> io::Result<Written> {
+        self.push_faces()?;
+        Ok(self.written)
+    }
+
+    /// The mesh built in memory.
+    pub(crate) fn finish(self) -> PolyMesh {
+        PolyMesh::from_flat(self.positions, self.starts, self.indices)
+    }
+
+    /// The points built in memory.
+    pub(crate) fn into_points(self) -> Vec<[f64; 3]> {
+        self.positions
+    }
+}

@@ -1,0 +1,116 @@
+//! The files a render writes, by format, behind the cancellation flag.
+
+use std::io;
+use std::path::Path;
+
+use super::options::{Format, Options, RenderError};
+use crate::export::{Coordinates, ObjWriter, OffWriter};
+use crate::geometry::Sink;
+use crate::progress::Cancel;
+
+/// A streamed file being written: OBJ or OFF.
+pub(crate) enum FileWriter {
+    Obj(ObjWriter),
+    Off(OffWriter),
+}
+
+impl FileWriter {
+    /// Starts writing `out` in `format` (OBJ or OFF) on `threads` threads.
+    pub(crate) fn create(
+        out: &Path,
+        format: Format,
+        coordinates: Coordinates,
+        threads: usize,
+    ) -> Result<FileWriter, RenderError> {
+        let io = |e| RenderError::Io(out.to_path_buf(), e);
+        Ok(match format {
+            Format::Obj => FileWriter::Obj(
+                ObjWriter::create(out).and_then(|w| w.with_threads(threads)).map_err(io)?.with_coordinates(coordinates),
+            ),
+            Format::Off => FileWriter::Off(OffWriter::create(out).map_err(io)?.with_coordinates(coordinates)),
+            other => return Err(RenderError::Unsupported(format!("{other:?} is not a streamed format"))),
+        })
+    }
+
+    /// The sink, behind `cancel`.
+    pub(crate) fn checked<'a>(&'a mut self, cancel: &'a Cancel) -> Checked<'a> {
+        let sink: &mut dyn Sink = match self {
+            FileWriter::Obj(w) => w,
+            FileWriter::Off(w) => w,
+        };
+        Checked { sink, cancel, vertices: 0, faces: 0 }
+    }
+
+    /// Completes the file; its size in bytes.
+    pub(crate) fn finish(self, out: &Path) -> Result<u64, RenderError> {
+        match self {
+            FileWriter::Obj(w) => w.finish(),
+            FileWriter::Off(w) => w.finish(),
+        }
+        .map_err(|e| RenderError::Io(out.to_path_buf(), e))?;
+        Ok(std::fs::metadata(out).map_or(0, |m| m.len()))
+    }
+}
+
+/// A sink that stops with an [`io::ErrorKind::Interrupted`] error once the
+/// flag is set (streamed writes check it at every batch), and counts what
+/// goes through it.
+pub(crate) struct Checked<'a> {
+    sink: &'a mut dyn Sink,
+    cancel: &'a Cancel,
+    /// Vertices pushed.
+    pub(crate) vertices: usize,
+    /// Faces pushed (digons, which files leave out, not counted).
+    pub(crate) faces: usize,
+}
+
+impl Checked<'_> {
+    fn check(&self) -> io::Result<()> {
+        if self.cancel.is_cancelled() { Err(io::Error::new(io::ErrorKind::Interrupted, "cancelled")) } else { Ok(()) }
+    }
+}
+
+impl Sink for Checked<'_> {
+    fn object(&mut self, name: &str) -> io::Result<()> {
+        self.check()?;
+        self.sink.object(name)
+    }
+    fn vertices(&mut self, dim: usize, positions: &[f64], normals: Option<&[f64]>) -> io::Result<()> {
+        self.check()?;
+        self.vertices += positions.len() / dim.max(1);
+        self.sink.vertices(dim, positions, normals)
+    }
+    fn uvs(&mut self, uvs: &[f64]) -> io::Result<()> {
+        self.check()?;
+        self.sink.uvs(uvs)
+    }
+    fn polyline(&mut self, first: usize, count: usize, closed: bool) -> io::Result<()> {
+        self.check()?;
+        self.sink.polyline(first, count, closed)
+    }
+    fn faces(&mut self, quads: &[[usize; 4]], uvs: Option<&[[usize; 4]]>) -> io::Result<()> {
+        self.check()?;
+        self.faces += quads.len();
+        self.sink.faces(quads, uvs)
+    }
+    fn triangles(&mut self, triangles: &[[usize; 3]]) -> io::Result<()> {
+        self.check()?;
+        self.faces += triangles.len();
+        self.sink.triangles(triangles)
+    }
+    fn polygons(&mut self, starts: &[usize], corners: &[usize]) -> io::Result<()> {
+        self.check()?;
+        self.faces += starts.windows(2).filter(|w| w[1] - w[0] >= 3).count();
+        self.sink.polygons(starts, corners)
+    }
+    fn colours(&mut self, rgb: &[[u8; 3]]) -> io::Result<()> {
+        self.sink.colours(rgb)
+    }
+}
+
+/// The error of a write into `out`: [`RenderError::Cancelled`] when the
+/// flag stopped it, the I/O error otherwise.
+pub(crate) fn write_error(options: &Options, out: &Path) -> impl Fn(io::Error) -> RenderError {
+    let (cancelled, out) = (options.cancel.clone(), out.to_path_buf());
+    move |e| if cancelled.is_cancelled() { RenderError::Cancelled } else { RenderError::Io(out.clone(), e) }
+}

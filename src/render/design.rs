@@ -1,0 +1,289 @@
+//! A design rendered to a file: the route by format and options.
+
+use std::path::Path;
+
+use super::checked::{FileWriter, write_error};
+use super::options::{Format, Options, RenderError, Report, check_disk};
+use super::shape::write_shape;
+use crate::automaton::Automaton;
+use crate::design::{Design, Model};
+use crate::eval::{ChaosGame, Depth, EvalError, EvalSettings, Evaluator, RandomSettings, chaos_game};
+use crate::family::instantiate;
+use crate::geometry::{Shape, Sink};
+
+/// The model of a design.
+///
+/// # Errors
+/// [`RenderError::NoModel`] when it has none.
+pub fn model_of(design: &Design) -> Result<Model, RenderError> {
+    design.model().cloned().ok_or_else(|| RenderError::NoModel(design.name().to_string()))
+}
+
+/// Evaluates a design in memory (deterministic or random, as the options
+/// say); warnings (undecided convergence) go to `warnings`.
+///
+/// # Errors
+/// See [`RenderError`].
+pub fn evaluate_design(design: &Design, options: &Options, warnings: &mut Vec<String>) -> Result<Shape, RenderError> {
+    let model = model_of(design)?;
+    let instance = instantiate(design, &options.params)?;
+    Ok(match options.random_settings() {
+        Some(r) => chaos_game(&instance.automaton, &model, &r)?,
+        None => evaluator(&instance.automaton, &model, options.eval_settings(), design.name(), warnings)?.evaluate()?,
+    })
+}
+
+/// An evaluator; its warnings (undecided convergence) named after the design.
+fn evaluator(
+    automaton: &Automaton<f64>,
+    model: &Model,
+    settings: EvalSettings,
+    name: &str,
+    warnings: &mut Vec<String>,
+) -> Result<Evaluator, RenderError> {
+    let ev = Evaluator::new(automaton, model, settings)?;
+    warnings.extend(ev.warnings().iter().map(|w| format!("{name}: {w}")));
+    Ok(ev)
+}
+
+/// A chaos game whose points are streamed or counted, never held: its
+/// memory check is for one batch.
+fn streaming_game(
+    automaton: &Automaton<f64>,
+    model: &Model,
+    random: &RandomSettings,
+) -> Result<ChaosGame, RenderError> {
+    crate::eval::check_samples(random.points)?;
+    let batch = random.clone().with_points(random.points.min(crate::eval::BATCH));
+    Ok(ChaosGame::new(automaton, model, &batch)?)
+}
+
+/// Renders a design to `out`, the format chosen by its extension: `.obj`
+/// and `.off` are streamed (any depth, any number of points), `.png` is
+/// drawn while curves, points and chaos games are evaluated (surfaces from
+/// memory, at the depth whose quads are below a pixel), `.svg` from memory.
+///
+/// # Errors
+/// See [`RenderError`]; nothing is left half-written.
+pub fn render(design: &Design, options: &Options, out: &Path) -> Result<Report, RenderError> {
+    let format = Format::of(out)?;
+    options.check_cancel()?;
+    // A model in a mesh file's (Y-up) axes is drawn standing and written without a turn.
+    let y_up = design.model().is_some_and(|m| m.y_up);
+    let mut options = options.clone();
+    options.raster = options.raster.with_y_up(y_up);
+    options.coordinates.y_up_input = y_up;
+    let mut report = Report { format: Some(format), ..Report::default() };
+    warn_unused(&options, format, &mut report.warnings);
+    if let Err(crate::family::SolveError::Inconsistent { conflicts }) = crate::family::solve(design)
+        && !options.eval.force
+    {
+        return Err(RenderError::Inconsistent { name: design.name().to_string(), conflicts });
+    }
+    let options = &options;
+    match format {
+        Format::Obj | Format::Off => stream_file(design, options, format, out, &mut report)?,
+        Format::Png if !options.dedup => match options.random_settings() {
+            Some(random) => density_picture(design, options, &random, out, &mut report)?,
+            None => deterministic_picture(design, options, out, &mut report)?,
+        },
+        Format::Svg | Format::Png => {
+            let mut shape = evaluate_design(design, options, &mut report.warnings)?;
+            let duplicates = dedup(&mut shape, options, &mut report.warnings);
+            options.check_cancel()?;
+            let written = write_shape(&shape, design.name(), &options.raster, out)?;
+            report.vertices = written.vertices;
+            report.faces = written.faces;
+            report.bytes = written.bytes;
+            report.duplicates = duplicates;
+        }
+    }
+    if let (None, Depth::Fixed(k), None) = (&options.random, options.eval.depth, report.depth) {
+        report.depth = Some(k);
+    }
+    if report.vertices == 0 {
+        report.warnings.push("the output is empty (every arrow dropped, or nothing to draw)".into());
+    }
+    Ok(report)
+}
+
+/// Options given that this output does not use, as warnings.
+fn warn_unused(options: &Options, format: Format, warnings: &mut Vec<String>) {
+    let ext = format.extension();
+    let flame = options.palette.is_some()
+        || options.random.as_ref().is_some_and(|r| !r.colours.is_empty())
+        || options.tone.blur > 0.0
+        || options.tone.vibrancy != 1.0
+        || options.tone.background.is_some();
+    if flame && options.random.is_none() {
+        warnings.push("--palette, --color, --blur, --vibrancy and --background shape chaos-game pictures (--random N); this render ignores them".into());
+    } else if flame && format != Format::Png {
+        warnings.push(format!("--palette, --color, --blur, --vibrancy and --background shape density pictures (.png); the .{ext} file ignores them"));
+    }
+    if options.eval.uv && format != Format::Obj {
+        warnings.push(format!("--uv writes texture coordinates into OBJ files; the .{ext} output ignores it"));
+    }
+    if options.coordinates.precision.is_some() && !matches!(format, Format::Obj | Format::Off) {
+        warnings.push(format!("--precision sets the digits of file coordinates; the .{ext} output ignores it"));
+    }
+}
+
+/// Drops the exact duplicate points of `shape` when the options ask for
+/// it: how many, or `None` (not asked, or not a point cloud: a warning).
+fn dedup(shape: &mut Shape, options: &Options, warnings: &mut Vec<String>) -> Option<usize> {
+    if !options.dedup {
+        return None;
+    }
+    let dropped = shape.dedup_points();
+    if dropped.is_none() {
+        warnings.push("--dedup applies to point clouds; this output has lines or faces, kept as is".into());
+    }
+    dropped
+}
+
+/// OBJ or OFF, streamed: the chaos game a few chains at a time, a
+/// deterministic evaluation in two passes (vertices, then elements), or a
+/// cloud to deduplicate from memory.
+fn stream_file(
+    design: &Design,
+    options: &Options,
+    format: Format,
+    out: &Path,
+    report: &mut Report,
+) -> Result<(), RenderError> {
+    let model = model_of(design)?;
+    let instance = instantiate(design, &options.params)?;
+    let threads = options.eval.threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    let io = write_error(options, out);
+    let mut writer = FileWriter::create(out, format, options.coordinates, threads)?;
+    if let (Some(random), false) = (options.random_settings(), options.dedup) {
+        let game = streaming_game(&instance.automaton, &model, &random)?;
+        check_disk(out, random.points as u128 * (3 + 22 * game.dim() as u128), options.max_output)?;
+        let mut sink = writer.checked(&options.cancel);
+        sink.object(design.name()).map_err(&io)?;
+        game.stream(random.points, |xs| sink.vertices(game.dim(), xs, None)).map_err(&io)?;
+        report.vertices = random.points;
+    } else if options.random.is_some() || options.dedup {
+        let mut shape = evaluate_design(design, options, &mut report.warnings)?;
+        report.duplicates = dedup(&mut shape, options, &mut report.warnings);
+        let mut sink = writer.checked(&options.cancel);
+        if shape.objects.is_empty() {
+            sink.object(design.name()).map_err(&io)?;
+        }
+        shape.replay(&mut sink).map_err(&io)?;
+        report.vertices = shape.vertex_count();
+        report.faces = shape.quads.len() + shape.triangles.len();
+    } else {
+        let ev = evaluator(&instance.automaton, &model, options.eval_settings(), design.name(), &mut report.warnings)?;
+        if options.eval.uv && ev.polylines().is_some() {
+            report.warnings.push("--uv gives texture coordinates to surfaces; this curve or point set has none".into());
+        }
+        if let Depth::Fixed(k) = options.eval.depth {
+            check_disk(out, ev.estimate_obj_bytes(k), options.max_output)?;
+        }
+        let eval_error = |e: EvalError| match e {
+            EvalError::Io(e) => io(e),
+            other => other.into(),
+        };
+        (report.vertices, report.faces) = match &mut writer {
+            // Vertices, then elements: two streamed passes, no side file of elements.
+            FileWriter::Obj(w) => crate::export::write_evaluation(&ev, w, Some(&options.cancel)).map_err(eval_error)?,
+            FileWriter::Off(_) => {
+                let mut sink = writer.checked(&options.cancel);
+                ev.stream(&mut sink).map_err(eval_error)?;
+                (sink.vertices, sink.faces)
+            }
+        };
+    }
+    report.bytes = writer.finish(out)?;
+    Ok(())
+}
+
+/// A density picture of the chaos game: the samples are counted per pixel, never stored.
+fn density_picture(
+    design: &Design,
+    options: &Options,
+    random: &RandomSettings,
+    out: &Path,
+    report: &mut Report,
+) -> Result<(), RenderError> {
+    let model = model_of(design)?;
+    let instance = instantiate(design, &options.params)?;
+    let game = streaming_game(&instance.automaton, &model, random)?;
+    let palette = options.palette.as_ref();
+    let img = crate::export::density_image(&game, random.points, &options.raster, &options.tone, palette)?;
+    options.check_cancel()?;
+    crate::export::write_png(out, &img).map_err(write_error(options, out))?;
+    report.vertices = random.points;
+    report.bytes = std::fs::metadata(out).map_or(0, |m| m.len());
+    Ok(())
+}
+
+/// A picture of a deterministic evaluation: curves and points drawn while
+/// they are evaluated (twice streamed: the frame, then the drawing), at the
+/// depth whose segments are below a pixel; surfaces from memory, at the
+/// depth whose quads are below a pixel.
+fn deterministic_picture(
+    design: &Design,
+    options: &Options,
+    out: &Path,
+    report: &mut Report,
+) -> Result<(), RenderError> {
+    let model = model_of(design)?;
+    let instance = instantiate(design, &options.params)?;
+    let mut ev = evaluator(&instance.automaton, &model, options.eval_settings(), design.name(), &mut report.warnings)?;
+    let raster = &options.raster;
+    let needed = crate::export::picture_bytes(raster);
+    if ev.polylines().is_some() && needed > raster.memory_limit as u128 {
+        let vertices = match options.eval.depth {
+            Depth::Fixed(k) => {
+                (0..ev.pieces().pieces.len()).fold(0usize, |a, p| a.saturating_add(ev.sample_count(p, k)))
+            }
+            Depth::Tolerance(_) => 0,
+        };
+        let (width, height, limit) = (raster.width, raster.height, raster.memory_limit);
+        return Err(crate::export::RasterTooLarge { width, height, vertices, needed, limit }.into());
+    }
+    if let (Some(true), Depth::Fixed(k)) = (ev.polylines(), options.eval.depth) {
+        let enough = crate::export::curve_picture_depth(&mut ev, raster, k)?;
+        report.depth = Some(enough);
+        if enough < k {
+            report.notes.push(format!(
+                "the picture is drawn at depth {enough}, whose segments are below a pixel of the {}×{} picture (deeper ones only move the curve within its pixels); OBJ and SVG output keep depth {k}",
+                raster.width, raster.height
+            ));
+        }
+    }
+    options.check_cancel()?;
+    if let Some((img, vertices)) = crate::export::picture(&ev, raster)? {
+        crate::export::write_png(out, &img).map_err(write_error(options, out))?;
+        report.vertices = vertices;
+        report.bytes = std::fs::metadata(out).map_or(0, |m| m.len());
+        return Ok(());
+    }
+    let depth = match options.eval.depth {
+        Depth::Fixed(k) => Some(k),
+        Depth::Tolerance(eps) if ev.quads_at(0).is_some() => Some(ev.depth_for_tolerance(eps)?),
+        Depth::Tolerance(_) => None,
+    };
+    if let Some(k) = depth {
+        let enough = crate::export::picture_depth(&ev, raster, k);
+        report.depth = Some(enough);
+        if enough < k {
+            report.notes.push(format!(
+                "the picture is drawn at depth {enough}, whose {} quads outnumber the {}×{} pixels (deeper quads are smaller than a pixel); OBJ output keeps depth {k}",
+                ev.quads_at(enough).unwrap_or(0),
+                raster.width,
+                raster.height
+            ));
+            ev.set_depth(Depth::Fixed(enough))?;
+        }
+    }
+    let shape = ev.evaluate()?;
+    options.check_cancel()?;
+    let written = write_shape(&shape, design.name(), raster, out)?;
+    report.vertices = written.vertices;
+    report.faces = written.faces;
+    report.bytes = written.bytes;
+    Ok(())
+}

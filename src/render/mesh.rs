@@ -1,0 +1,144 @@
+//! A polygon mesh subdivided into a file: streamed (OBJ, OFF) or drawn
+//! (PNG, SVG), in the input file's axes (a mesh file is Y-up).
+
+use std::path::Path;
+
+use super::checked::{FileWriter, write_error};
+use super::options::{Format, Options, RenderError, Report, check_disk};
+use super::shape::write_shape;
+use crate::analysis::{WeightsVerdict, check_loop_weights, check_quad_weights};
+use crate::mesh::{LoopWeights, MeshError, PolyMesh, QuadWeights, RuleWeights, Scheme, Subdivision};
+
+/// A subdivision of a polygon mesh to render.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MeshJob {
+    /// The scheme.
+    pub scheme: Scheme,
+    /// Steps.
+    pub depth: usize,
+    /// Rule weights (`None`: the classic rules); see [`rule_weights`].
+    pub weights: Option<RuleWeights>,
+    /// The control net after `depth` steps instead of the limit surface.
+    pub net: bool,
+    /// The object's name in the file.
+    pub name: String,
+}
+
+impl MeshJob {
+    /// The limit surface of `scheme` after `depth` steps, classic weights, object `mesh`.
+    pub fn new(scheme: Scheme, depth: usize) -> MeshJob {
+        MeshJob { scheme, depth, weights: None, net: false, name: "mesh".into() }
+    }
+}
+
+/// Bytes per face of a written mesh, for the size estimate: four indices and
+/// about one vertex of three shortest round-trip coordinates (an upper bound
+/// for quads, generous for triangles).
+const BYTES_PER_FACE: u128 = 4 * 9 + 3 * 22 + 8;
+
+/// Rule weights from named values (others: classic): `alpha`, `beta`,
+/// `gamma` for Doo-Sabin's quad rule, `w`, `sigma` for Loop's; `None`
+/// when no value is given.
+///
+/// # Errors
+/// A name the scheme does not have (with the list), or a scheme without weights.
+pub fn rule_weights(scheme: Scheme, params: &[(String, f64)]) -> Result<Option<RuleWeights>, RenderError> {
+    if params.is_empty() {
+        return Ok(None);
+    }
+    let unknown = |name: &str, names: &[&str]| {
+        let list: Vec<String> = names.iter().map(|n| format!("`{n}`")).collect();
+        RenderError::Unsupported(format!(
+            "`{name}` is not a parameter of {}: the parameters are {}",
+            scheme.name(),
+            list.join(", ")
+        ))
+    };
+    let set = |slots: &mut [(&str, &mut f64)]| -> Result<(), RenderError> {
+        for (name, value) in params {
+            let names: Vec<&str> = slots.iter().map(|(n, _)| *n).collect();
+            let Some((_, slot)) = slots.iter_mut().find(|(n, _)| n == name) else {
+                return Err(unknown(name, &names));
+            };
+            **slot = *value;
+        }
+        Ok(())
+    };
+    match scheme {
+        Scheme::DooSabin => {
+            let mut w = QuadWeights::CLASSIC;
+            set(&mut [("alpha", &mut w.alpha), ("beta", &mut w.beta), ("gamma", &mut w.gamma)])?;
+            Ok(Some(w.into()))
+        }
+        Scheme::Loop => {
+            let mut w = LoopWeights::CLASSIC;
+            set(&mut [("w", &mut w.w), ("sigma", &mut w.sigma)])?;
+            Ok(Some(w.into()))
+        }
+        _ => Err(RenderError::Unsupported(format!(
+            "{} has no parameters (the weights are the classic rules)",
+            scheme.name()
+        ))),
+    }
+}
+
+/// Checks rule weights on `mesh` before subdividing: `Some(why)` when
+/// their convergence is undecided (a warning to show), `None` when proved
+/// or classic.
+///
+/// # Errors
+/// [`MeshError::Weights`] when they diverge or are not finite.
+pub fn check_weights(mesh: &PolyMesh, weights: Option<RuleWeights>) -> Result<Option<String>, MeshError> {
+    let verdict = match weights {
+        Some(RuleWeights::Quad(w)) => check_quad_weights(&w)?,
+        Some(RuleWeights::Loop(w)) => check_loop_weights(&w, &mesh.interior_valences())?,
+        None => return Ok(None),
+    };
+    Ok(match verdict {
+        WeightsVerdict::Undecided(why) => Some(why),
+        WeightsVerdict::Converges => None,
+    })
+}
+
+/// Subdivides `mesh` as `job` says and writes it to `out`, the format
+/// chosen by its extension: OBJ and OFF streamed (only the net before the
+/// last step in memory; the size estimate checked against
+/// [`Options::max_output`] and the disk first), PNG and SVG drawn from
+/// memory with [`Options::raster`]. Files keep the input's axes (a mesh
+/// file is Y-up, and so are the files written).
+///
+/// # Errors
+/// Diverging weights, a net over the memory limit, an output over the size
+/// limit, an I/O error or [`RenderError::Cancelled`]; nothing is left half-written.
+pub fn render_mesh(mesh: &PolyMesh, job: &MeshJob, options: &Options, out: &Path) -> Result<Report, RenderError> {
+    let format = Format::of(out)?;
+    options.check_cancel()?;
+    let mut report = Report { format: Some(format), depth: Some(job.depth), ..Report::default() };
+    report.warnings.extend(check_weights(mesh, job.weights)?);
+    let memory = options.eval.memory_limit;
+    let subdivision = Subdivision { scheme: job.scheme, depth: job.depth, weights: job.weights, memory_limit: memory };
+    if matches!(format, Format::Png | Format::Svg) {
+        let shape = if job.net {
+            mesh.subdivide_with(job.scheme, job.depth, job.weights, memory)?.to_shape(&job.name)
+        } else {
+            mesh.limit_with(job.scheme, job.depth, job.weights, memory)?
+        };
+        options.check_cancel()?;
+        let written = write_shape(&shape, &job.name, &options.raster.with_y_up(true), out)?;
+        return Ok(Report { warnings: report.warnings, depth: report.depth, ..written });
+    }
+    let faces = mesh.estimate(job.scheme, job.depth).0;
+    check_disk(out, faces.saturating_mul(BYTES_PER_FACE), options.max_output)?;
+    let coordinates = crate::export::Coordinates { y_up_input: true, ..options.coordinates };
+    let threads = options.eval.threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    let mut writer = FileWriter::create(out, format, coordinates, threads)?;
+    let mut sink = writer.checked(&options.cancel);
+    let written = mesh.subdivide_into(&subdivision, !job.net, &job.name, &mut sink).map_err(|e| match e {
+        MeshError::Write(e) => write_error(options, out)(e),
+        other => other.into(),
+    })?;
+    report.vertices = written.vertices;
+    report.faces = written.faces;
+    report.bytes = writer.finish(out)?;
+    Ok(report)
+}

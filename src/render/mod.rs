@@ -1,0 +1,33 @@
+//! The render API: one call renders a design, or a polygon mesh with a
+//! subdivision scheme, to a file whose format is chosen by its extension,
+//! and reports what it wrote. The route (streamed or in memory, chaos game
+//! or deterministic evaluation, the depth a picture needs, the size
+//! estimates and refusals) is decided here, once: the command line, the
+//! Python module and the explorer all call these functions.
+//!
+//! ```
+//! use bcifs::render::{Options, render};
+//! let design = bcifs::builtin_design("corner_cutting").expect("shipped");
+//! let dir = std::env::temp_dir().join(format!("bcifs-render-doc-{}", std::process::id()));
+//! std::fs::create_dir_all(&dir)?;
+//! let options = Options::default().with_depth(6).with_size(200, 200);
+//! let report = render(&design, &options, &dir.join("chaikin.obj"))?;
+//! assert!(report.vertices > 64);
+//! render(&design, &options, &dir.join("chaikin.png"))?;
+//! # std::fs::remove_dir_all(&dir)?;
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
+//! A new file format is a writer in [`crate::export`] and a line in
+//! [`Format`]; a new subdivision scheme is a rule in [`crate::mesh`].
+
+mod checked;
+mod design;
+mod mesh;
+mod options;
+mod shape;
+
+pub use design::{evaluate_design, model_of, render};
+pub use mesh::{MeshJob, check_weights, render_mesh, rule_weights};
+pub use options::{Format, Options, RenderError, Report, check_disk};
+pub use shape::{control_net, write_shape};

@@ -1,0 +1,125 @@
+//! Shapes held in memory written to files, and the control nets of models.
+
+use std::path::Path;
+
+use super::checked::{FileWriter, write_error};
+use super::options::{Format, Options, RenderError, Report};
+use crate::design::Model;
+use crate::export::{RasterSettings, raster, svg, svg_surface, write_atomic, write_png};
+use crate::geometry::{Shape, Sink};
+
+/// Writes a shape held in memory to `out`, the format chosen by its
+/// extension (OBJ and OFF Y-up, as [`crate::export::Coordinates::default`]
+/// says; SVG of 2D shapes or of surfaces as seen from the view; PNG with
+/// `raster_settings`).
+///
+/// # Errors
+/// An unknown extension, a 3D curve to SVG, curves to OFF, or an I/O
+/// error; nothing is left half-written.
+pub fn write_shape(
+    shape: &Shape,
+    name: &str,
+    raster_settings: &RasterSettings,
+    out: &Path,
+) -> Result<Report, RenderError> {
+    let format = Format::of(out)?;
+    let options = Options::default();
+    let io = write_error(&options, out);
+    let mut report = Report {
+        format: Some(format),
+        vertices: shape.vertex_count(),
+        faces: shape.quads.len() + shape.triangles.len(),
+        ..Report::default()
+    };
+    let coordinates = crate::export::Coordinates { y_up_input: raster_settings.view.y_up, ..Default::default() };
+    match format {
+        Format::Obj | Format::Off => {
+            if format == Format::Off && shape.polylines().next().is_some() {
+                return Err(RenderError::Unsupported(
+                    "an OFF file holds faces and points, not curves: write curves as .obj or .svg".into(),
+                ));
+            }
+            let mut writer = FileWriter::create(out, format, coordinates, 1)?;
+            let mut sink = writer.checked(&options.cancel);
+            if shape.objects.is_empty() {
+                sink.object(name).map_err(&io)?;
+            }
+            shape.replay(&mut sink).map_err(&io)?;
+            report.bytes = writer.finish(out)?;
+            return Ok(report);
+        }
+        Format::Svg if !shape.quads.is_empty() || !shape.triangles.is_empty() => {
+            write_atomic(out, svg_surface(shape, raster_settings).as_bytes()).map_err(io)?;
+        }
+        Format::Svg => {
+            if shape.dim > 2 {
+                return Err(RenderError::NotPlanar);
+            }
+            write_atomic(out, svg(shape, raster_settings.width).as_bytes()).map_err(io)?;
+        }
+        Format::Png => write_png(out, &raster(shape, raster_settings)?).map_err(io)?,
+    }
+    report.bytes = std::fs::metadata(out).map_or(0, |m| m.len());
+    Ok(report)
+}
+
+/// The control net of a model: the control polygon of a curve (closed for
+/// closed layouts), the control grid of a sheet or torus as quads, the
+/// points in order otherwise.
+pub fn control_net(model: &Model) -> Shape {
+    use crate::design::Layout;
+    let dim = model.points.first().map_or(2, Vec::len);
+    let flat: Vec<f64> = model.points.iter().flatten().copied().collect();
+    let closed = matches!(model.layout, Layout::Closed | Layout::ClosedFrames);
+    if !model.net.is_empty() {
+        let mut shape = Shape::default();
+        // Writing into memory cannot fail.
+        let _ = shape.object("control net");
+        let _ = shape.vertices(dim, &flat, None);
+        // Quads stay quads; other faces become fans of triangles.
+        let quads: Vec<[usize; 4]> =
+            model.net.iter().filter(|f| f.len() == 4).map(|f| [f[0], f[1], f[2], f[3]]).collect();
+        let fans: Vec<[usize; 3]> = model
+            .net
+            .iter()
+            .filter(|f| f.len() != 4)
+            .flat_map(|f| (1..f.len() - 1).map(move |k| [f[0], f[k], f[k + 1]]))
+            .collect();
+        let _ = shape.faces(&quads, None);
+        let _ = shape.triangles(&fans);
+        return shape;
+    }
+    match (model.layout, model.grid) {
+        (Layout::Grid | Layout::Torus, Some((rows, cols))) if rows * cols == model.points.len() => {
+            let wrap = model.layout == Layout::Torus;
+            let (r_end, c_end) = if wrap { (rows, cols) } else { (rows - 1, cols - 1) };
+            let mut quads: Vec<[usize; 4]> = (0..r_end)
+                .flat_map(|r| (0..c_end).map(move |c| (r, c)))
+                .map(|(r, c)| {
+                    let at = |r: usize, c: usize| (r % rows) * cols + c % cols;
+                    [at(r, c), at(r, c + 1), at(r + 1, c + 1), at(r + 1, c)]
+                })
+                .collect();
+            // A closed net faces outwards, like the surfaces evaluated from it.
+            if wrap && dim == 3 {
+                let p = |i: usize| [0, 1, 2].map(|a| model.points[i][a]);
+                let det = |a: [f64; 3], b: [f64; 3], c: [f64; 3]| {
+                    a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+                        + a[2] * (b[0] * c[1] - b[1] * c[0])
+                };
+                let volume: f64 =
+                    quads.iter().map(|q| det(p(q[0]), p(q[1]), p(q[2])) + det(p(q[0]), p(q[2]), p(q[3]))).sum();
+                if volume < 0.0 {
+                    quads.iter_mut().for_each(|q| q.reverse());
+                }
+            }
+            let mut shape = Shape::default();
+            // Writing into memory cannot fail.
+            let _ = shape.object("control net");
+            let _ = shape.vertices(dim, &flat, None);
+            let _ = shape.faces(&quads, None);
+            shape
+        }
+        _ => Shape::polyline("control polygon", dim, &flat, closed),
+    }
+}

@@ -1,0 +1,517 @@
+//! One exact subdivision step of a neighbourhood: the schemes' rules over
+//! rationals, with the weights as parameters (affine forms in them).
+
+use std::collections::{BTreeMap, HashMap};
+
+use num_bigint::BigInt;
+use num_rational::BigRational;
+use num_traits::{One, Signed, Zero};
+
+use super::local::{Half, Local, Role, Side};
+use crate::algebra::{Num, Surd};
+use crate::design::Value;
+use crate::mesh::{LoopWeights, QuadWeights, Scheme};
+
+/// An affine form in the weights: `c + Σ k_p · weight_p`, exact.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(super) struct Lin {
+    pub(super) c: BigRational,
+    pub(super) terms: BTreeMap<usize, BigRational>,
+}
+
+impl Lin {
+    pub(super) fn konst(c: BigRational) -> Lin {
+        Lin { c, terms: BTreeMap::new() }
+    }
+    pub(super) fn param(p: usize) -> Lin {
+        Lin { c: BigRational::zero(), terms: BTreeMap::from([(p, BigRational::one())]) }
+    }
+    pub(super) fn add_scaled(&mut self, o: &Lin, k: &BigRational) {
+        self.c += &o.c * k;
+        for (p, q) in &o.terms {
+            let e = self.terms.entry(*p).or_insert_with(BigRational::zero);
+            *e += q * k;
+            if e.is_zero() {
+                self.terms.remove(p);
+            }
+        }
+    }
+    pub(super) fn is_zero(&self) -> bool {
+        self.c.is_zero() && self.terms.is_empty()
+    }
+    pub(super) fn value(&self, names: &[String]) -> Value {
+        if self.terms.is_empty() {
+            return Value::Num(Num::Exact(Surd::rational(self.c.clone())));
+        }
+        let mut text = String::new();
+        let mut push = |q: &BigRational, name: Option<&str>| {
+            let neg = q.is_negative();
+            let a = q.abs();
+            text.push_str(match (text.is_empty(), neg) {
+                (true, false) => "",
+                (true, true) => "-",
+                (false, false) => " + ",
+                (false, true) => " - ",
+            });
+            match name {
+                Some(n) if a.is_one() => text.push_str(n),
+                Some(n) => text.push_str(&format!("{a}*{n}")),
+                None => text.push_str(&a.to_string()),
+            }
+        };
+        if !self.c.is_zero() {
+            push(&self.c, None);
+        }
+        for (p, q) in &self.terms {
+            push(q, Some(&names[*p]));
+        }
+        Value::Text(text)
+    }
+}
+
+pub(super) fn rat(p: i64, q: i64) -> BigRational {
+    BigRational::new(BigInt::from(p), BigInt::from(q))
+}
+
+/// A new point: old control point → weight.
+pub(super) type Sym = BTreeMap<usize, Lin>;
+
+pub(super) fn add_point(s: &mut Sym, v: usize, w: &Lin) {
+    let e = s.entry(v).or_default();
+    e.add_scaled(w, &BigRational::one());
+    if e.is_zero() {
+        s.remove(&v);
+    }
+}
+
+pub(super) fn add_sym(s: &mut Sym, o: &Sym, k: &BigRational) {
+    for (v, w) in o {
+        let e = s.entry(*v).or_default();
+        e.add_scaled(w, k);
+        if e.is_zero() {
+            s.remove(v);
+        }
+    }
+}
+
+/// `s += k · w · o` for a point `o` of constant weights.
+pub(super) fn add_scaled_points(s: &mut Sym, o: &Sym, w: &Lin, k: &BigRational) {
+    for (v, c) in o {
+        let mut share = Lin::default();
+        share.add_scaled(w, &(&c.c * k));
+        add_point(s, *v, &share);
+    }
+}
+
+/// The weights of a scheme as named parameters of the automaton, with defaults.
+pub(super) struct Weights {
+    pub(super) scheme: Scheme,
+    pub(super) names: Vec<String>,
+    pub(super) defaults: Vec<Value>,
+    pub(super) quad: QuadWeights,
+    pub(super) triangle: LoopWeights,
+}
+
+impl Weights {
+    pub(super) fn param(&mut self, name: String, default: impl Into<Value>) -> usize {
+        if let Some(i) = self.names.iter().position(|n| *n == name) {
+            return i;
+        }
+        self.names.push(name);
+        self.defaults.push(default.into());
+        self.names.len() - 1
+    }
+
+    /// Doo-Sabin's weights of an `n`-gon's corner: `α_k` on corner `i + k`.
+    /// Quads: `alpha`, `beta`, `gamma` and the rest on the opposite corner;
+    /// other `n`: `a{n}_{k}` with the rest on corner `⌊n/2⌋`.
+    pub(super) fn doo_sabin(&mut self, n: usize) -> Vec<Lin> {
+        let classic = |k: usize| {
+            let nf = n as f64;
+            if k == 0 {
+                0.25 + 1.25 / nf
+            } else {
+                (3.0 + 2.0 * (2.0 * std::f64::consts::PI * k as f64 / nf).cos()) / (4.0 * nf)
+            }
+        };
+        let rest = n / 2;
+        let mut out: Vec<Lin> = (0..n)
+            .map(|k| {
+                if k == rest {
+                    return Lin::default();
+                }
+                let (name, default) = match (n, k) {
+                    (4, 0) => ("alpha".to_string(), self.quad.alpha),
+                    (4, 1) => ("beta".to_string(), self.quad.beta),
+                    (4, 3) => ("gamma".to_string(), self.quad.gamma),
+                    _ => (format!("a{n}_{k}"), classic(k)),
+                };
+                Lin::param(self.param(name, default))
+            })
+            .collect();
+        let mut last = Lin::konst(BigRational::one());
+        for (k, w) in out.iter().enumerate() {
+            if k != rest {
+                last.add_scaled(w, &-BigRational::one());
+            }
+        }
+        out[rest] = last;
+        out
+    }
+
+    /// Catmull-Clark's vertex rule at valence `n`: the shares of the
+    /// neighbours' average (`ring{n}`) and of the face points' average
+    /// (`faces{n}`), both `1/n` in the classic rule `(Q + 2R + (n − 3)v)/n`.
+    pub(super) fn catmull_clark_vertex(&mut self, n: usize) -> (Lin, Lin) {
+        let ring = self.param(format!("ring{n}"), format!("1/{n}"));
+        let faces = self.param(format!("faces{n}"), format!("1/{n}"));
+        (Lin::param(ring), Lin::param(faces))
+    }
+
+    /// Loop's ring weight `β` at valence `n` (each neighbour; the vertex keeps `1 − nβ`).
+    pub(super) fn loop_ring(&mut self, n: usize) -> Lin {
+        let default = self.triangle.ring(n) / n as f64;
+        Lin::param(self.param(format!("beta{n}"), default))
+    }
+}
+
+/// One exact step of a local mesh, and where each old element went.
+pub(super) struct Step {
+    pub(super) mesh: Local,
+    /// The new points over the old control points (`None`: its stencil leaves the neighbourhood).
+    pub(super) points: Vec<Option<Sym>>,
+    /// Catmull-Clark, Loop: the child face of face `f` at corner `i`; Doo-Sabin: the face of `f`.
+    pub(super) child: Vec<Vec<usize>>,
+    /// Loop: the middle triangle of each face.
+    pub(super) middle: Vec<usize>,
+    /// Doo-Sabin: the edge face of a half-edge, and the corner of its copy of this half-edge's start.
+    pub(super) edge_face: HashMap<Half, (usize, usize)>,
+    /// √3: the mesh after the first of the two steps an arrow makes.
+    pub(super) halfway: Option<Local>,
+}
+
+pub(super) fn step(m: &Local, w: &mut Weights) -> Step {
+    match w.scheme {
+        Scheme::DooSabin => doo_sabin_step(m, w),
+        Scheme::Sqrt3 => sqrt3_step(m),
+        _ => primal_step(m, w),
+    }
+}
+
+/// An exact rational for a weight: small fractions where the weight is
+/// one, the float's shortest decimal otherwise.
+pub(super) fn exact_weight(x: f64) -> BigRational {
+    for q in 1..=36i64 {
+        let p = (x * q as f64).round();
+        if (p / q as f64 - x).abs() < 1e-15 {
+            return rat(p as i64, q);
+        }
+    }
+    Num::from_f64(x).as_rational().cloned().unwrap_or_default()
+}
+
+/// One √3 step of a closed neighbourhood: vertex points `(1 − a) v + a/n Σ`
+/// (`a = (4 − 2cos(2π/n))/9`), a centroid per face numbered after the
+/// vertices, and every edge flipped into `[c_g, b, c_f]`, `[c_f, a, c_g]`.
+pub(super) fn sqrt3_once(m: &Local) -> (Local, Vec<Option<Sym>>) {
+    let nv = m.vertices;
+    let mut points: Vec<Option<Sym>> = (0..nv)
+        .map(|v| {
+            if !m.closed_at(v) {
+                return None;
+            }
+            let n = m.around[v].len();
+            let a = exact_weight(crate::mesh::sqrt3_alpha(n));
+            let mut s = Sym::new();
+            add_point(&mut s, v, &Lin::konst(BigRational::one() - &a));
+            let each = Lin::konst(a / BigInt::from(n));
+            m.around[v].iter().for_each(|&h| add_point(&mut s, m.head(h), &each));
+            Some(s)
+        })
+        .collect();
+    for face in &m.faces {
+        let mut s = Sym::new();
+        face.iter().for_each(|&v| add_point(&mut s, v, &Lin::konst(rat(1, face.len() as i64))));
+        points.push(Some(s));
+    }
+    let mut faces = Vec::new();
+    for (f, face) in m.faces.iter().enumerate() {
+        for i in 0..face.len() {
+            let Some(t) = m.twin_of((f, i)).filter(|&t| (f, i) < t && m.sides[f][i] == Side::Inner) else { continue };
+            let (a, b, cf, cg) = (m.at((f, i)), m.head((f, i)), nv + f, nv + t.0);
+            faces.push(vec![cg, b, cf]);
+            faces.push(vec![cf, a, cg]);
+        }
+    }
+    let count = points.len();
+    (Local::with_open_sides(faces, count, Side::Cut), points)
+}
+
+/// Two √3 steps (an arrow): a triangle's nine children lie in it (a ternary split).
+pub(super) fn sqrt3_step(m: &Local) -> Step {
+    let (halfway, first) = sqrt3_once(m);
+    let (mesh, second) = sqrt3_once(&halfway);
+    let points = second
+        .iter()
+        .map(|s| {
+            let mut out = Sym::new();
+            for (j, w) in s.as_ref()? {
+                add_sym(&mut out, first[*j].as_ref()?, &w.c);
+            }
+            Some(out)
+        })
+        .collect();
+    Step { mesh, points, child: Vec::new(), middle: Vec::new(), edge_face: HashMap::new(), halfway: Some(halfway) }
+}
+
+/// √3's children, found by their vertices: the corners `a_i` of a face
+/// `f`, its centroid `c_f` halfway, and the centroids `c_Q`, `c_P` (second
+/// step) of the two triangles `Q_i = [c_f, a_i, c_g]`, `P_i = [c_g, a_{i+1}, c_f]`
+/// its edge `i` became halfway (`c_Q_i`, `c_P_i` are the thirds of that
+/// edge). A face has nine children (one at each corner, six around `c_f`),
+/// an edge three (`a → c_Q → c_P → b`), a vertex one (`a → c_Q`).
+pub(super) fn sqrt3_children(role: Role, m: &Local, s: &Step, h: Half) -> Vec<Half> {
+    const MISSING: Half = (usize::MAX, 0);
+    let Some(mid) = &s.halfway else { return Vec::new() };
+    let (nv, n1) = (m.vertices, mid.vertices);
+    let at = |x: usize, y: usize| s.mesh.twin.get(&(x, y)).copied().unwrap_or(MISSING);
+    let face_of = |x: usize, y: usize| mid.twin.get(&(x, y)).map_or(usize::MAX, |h| n1 + h.0);
+    let (f, i) = h;
+    let corner = |c: usize| m.faces[f][c % 3];
+    let cf = nv + f;
+    let q = |c: usize| face_of(cf, corner(c));
+    let p = |c: usize| face_of(corner(c + 1), cf);
+    match role {
+        // Anchored as the ternary split's copies keep the parent's orientation: three
+        // translated corner triangles, three translated and three half-turned around c_f.
+        Role::Face => vec![
+            at(corner(i), q(i)),
+            at(p(i), corner(i + 1)),
+            at(q(i + 2), p(i + 1)),
+            at(q(i), p(i)),
+            at(p(i + 2), cf),
+            at(cf, q(i + 1)),
+            at(cf, p(i + 2)),
+            at(q(i + 1), cf),
+            at(p(i + 1), q(i + 2)),
+        ],
+        Role::Edge => vec![at(corner(i), q(i)), at(q(i), p(i)), at(p(i), corner(i + 1))],
+        Role::Vertex => vec![at(corner(i), q(i))],
+    }
+}
+
+/// Catmull-Clark and Loop: vertex points, edge points, (face points), children per corner.
+pub(super) fn primal_step(m: &Local, w: &mut Weights) -> Step {
+    let loop_ = w.scheme == Scheme::Loop;
+    let one = Lin::konst(BigRational::one());
+    let unit = |v: usize| Sym::from([(v, one.clone())]);
+    let nv = m.vertices;
+    let mut points: Vec<Option<Sym>> = Vec::new();
+    // Face points (Catmull-Clark): centroids.
+    let face_point: Vec<Sym> = m
+        .faces
+        .iter()
+        .map(|f| {
+            let mut s = Sym::new();
+            f.iter().for_each(|&v| add_sym(&mut s, &unit(v), &rat(1, f.len() as i64)));
+            s
+        })
+        .collect();
+    // Vertex points.
+    for v in 0..nv {
+        let out = &m.around[v];
+        let border: Vec<Half> = out.iter().copied().filter(|h| m.sides[h.0][h.1] == Side::Border).collect();
+        let cut =
+            out.iter().any(|h| m.sides[h.0][h.1] == Side::Cut || m.sides[m.prev(*h).0][m.prev(*h).1] == Side::Cut);
+        let p = if out.is_empty() || cut {
+            None
+        } else if let Some(&b) = border.first() {
+            // (u + 6v + w)/8 with the border neighbours: the head of the outgoing
+            // border half-edge and the tail of the incoming one.
+            let incoming = out.iter().map(|&h| m.prev(h)).find(|g| m.sides[g.0][g.1] == Side::Border);
+            incoming.map(|g| {
+                let mut s = Sym::new();
+                add_sym(&mut s, &unit(m.head(b)), &rat(1, 8));
+                add_sym(&mut s, &unit(m.at(g)), &rat(1, 8));
+                add_sym(&mut s, &unit(v), &rat(6, 8));
+                s
+            })
+        } else {
+            let n = out.len();
+            let mut s = Sym::new();
+            if loop_ {
+                let beta = w.loop_ring(n);
+                let mut keep = one.clone();
+                keep.add_scaled(&beta, &rat(-(n as i64), 1));
+                add_point(&mut s, v, &keep);
+                out.iter().for_each(|&h| add_point(&mut s, m.head(h), &beta));
+            } else {
+                // (1 − r − f) v + r · (mean neighbour) + f · (mean face point);
+                // r = f = 1/n is (Q + 2R + (n − 3)v)/n.
+                let (r, f) = w.catmull_clark_vertex(n);
+                let mut keep = one.clone();
+                keep.add_scaled(&r, &-BigRational::one());
+                keep.add_scaled(&f, &-BigRational::one());
+                add_point(&mut s, v, &keep);
+                let each = rat(1, n as i64);
+                for &h in out {
+                    let mut share = Lin::default();
+                    share.add_scaled(&r, &each);
+                    add_point(&mut s, m.head(h), &share);
+                    add_scaled_points(&mut s, &face_point[h.0], &f, &each);
+                }
+            }
+            Some(s)
+        };
+        points.push(p);
+    }
+    // Edge points, one per edge, numbered after the vertices.
+    let mut edge_of: HashMap<(usize, usize), usize> = HashMap::new();
+    for (f, face) in m.faces.iter().enumerate() {
+        for i in 0..face.len() {
+            let h = (f, i);
+            let (a, b) = (m.at(h), m.head(h));
+            if edge_of.contains_key(&(a.min(b), a.max(b))) {
+                continue;
+            }
+            let p = match (m.sides[f][i], m.twin_of(h)) {
+                (Side::Inner, Some(t)) => {
+                    let mut s = Sym::new();
+                    if loop_ {
+                        let end = Lin::param(w.param("w".into(), w.triangle.w));
+                        let mut opposite = Lin::konst(rat(1, 2));
+                        opposite.add_scaled(&end, &-BigRational::one());
+                        add_point(&mut s, a, &end);
+                        add_point(&mut s, b, &end);
+                        add_point(&mut s, m.at(m.prev(h)), &opposite);
+                        add_point(&mut s, m.at(m.prev(t)), &opposite);
+                    } else {
+                        // (1 − c)/2 (a + b) + c/2 (f + g): c = 1/2 is (a + b + f + g)/4.
+                        let c = Lin::param(w.param("edge_faces".into(), "1/2"));
+                        let mut end = Lin::konst(rat(1, 2));
+                        end.add_scaled(&c, &rat(-1, 2));
+                        add_point(&mut s, a, &end);
+                        add_point(&mut s, b, &end);
+                        add_scaled_points(&mut s, &face_point[f], &c, &rat(1, 2));
+                        add_scaled_points(&mut s, &face_point[t.0], &c, &rat(1, 2));
+                    }
+                    Some(s)
+                }
+                (Side::Border, _) => {
+                    let mut s = Sym::new();
+                    add_sym(&mut s, &unit(a), &rat(1, 2));
+                    add_sym(&mut s, &unit(b), &rat(1, 2));
+                    Some(s)
+                }
+                _ => None,
+            };
+            edge_of.insert((a.min(b), a.max(b)), points.len());
+            points.push(p);
+        }
+    }
+    let edge = |h: Half| {
+        let (a, b) = (m.at(h), m.head(h));
+        edge_of[&(a.min(b), a.max(b))]
+    };
+    let (mut faces, mut sides, mut child, mut middle) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    for (f, face) in m.faces.iter().enumerate() {
+        let d = face.len();
+        let fp = if loop_ {
+            None
+        } else {
+            points.push(Some(face_point[f].clone()));
+            Some(points.len() - 1)
+        };
+        let mut here = Vec::with_capacity(d);
+        for (i, &corner) in face.iter().enumerate() {
+            let (h, g) = ((f, i), m.prev((f, i)));
+            here.push(faces.len());
+            let (outer_h, outer_g) = (m.sides[f][i], m.sides[g.0][g.1]);
+            match fp {
+                Some(c) => {
+                    faces.push(vec![corner, edge(h), c, edge(g)]);
+                    sides.push(vec![outer_h, Side::Inner, Side::Inner, outer_g]);
+                }
+                None => {
+                    faces.push(vec![corner, edge(h), edge(g)]);
+                    sides.push(vec![outer_h, Side::Inner, outer_g]);
+                }
+            }
+        }
+        if loop_ {
+            middle.push(faces.len());
+            faces.push((0..d).map(|i| edge((f, i))).collect());
+            sides.push(vec![Side::Inner; d]);
+        }
+        child.push(here);
+    }
+    let count = points.len();
+    Step { mesh: Local::new(faces, sides, count), points, child, middle, edge_face: HashMap::new(), halfway: None }
+}
+
+/// Doo-Sabin: a point per corner, faces for the faces, the inner edges and the closed vertices.
+pub(super) fn doo_sabin_step(m: &Local, w: &mut Weights) -> Step {
+    let mut points = Vec::new();
+    let mut corner = Vec::new();
+    for face in &m.faces {
+        let d = face.len();
+        let alpha = w.doo_sabin(d);
+        corner.push(points.len());
+        for i in 0..d {
+            let mut s = Sym::new();
+            for (k, a) in alpha.iter().enumerate() {
+                add_point(&mut s, face[(i + k) % d], a);
+            }
+            points.push(Some(s));
+        }
+    }
+    let new = |(f, i): Half| corner[f] + i;
+    let closed = |v: usize| m.closed_at(v);
+    let mut faces: Vec<Vec<usize>> = Vec::new();
+    let mut sides: Vec<Vec<Side>> = Vec::new();
+    let mut child = Vec::new();
+    for (f, face) in m.faces.iter().enumerate() {
+        child.push(vec![faces.len()]);
+        faces.push((0..face.len()).map(|i| new((f, i))).collect());
+        sides.push(m.sides[f].clone());
+    }
+    // Across a side of an edge face or a vertex face: the vertex face of `v` if it has one.
+    let vertex_side = |v: usize| {
+        if closed(v) {
+            Side::Inner
+        } else if m.around[v].iter().any(|h| m.sides[h.0][h.1] == Side::Cut) || m.around[v].is_empty() {
+            Side::Cut
+        } else {
+            let cut_in = m.around[v].iter().any(|&h| {
+                let g = m.prev(h);
+                m.sides[g.0][g.1] == Side::Cut
+            });
+            if cut_in { Side::Cut } else { Side::Border }
+        }
+    };
+    let mut edge_face = HashMap::new();
+    for (f, face) in m.faces.iter().enumerate() {
+        for i in 0..face.len() {
+            let h = (f, i);
+            let Some(t) = m.twin_of(h).filter(|_| m.sides[f][i] == Side::Inner) else { continue };
+            if edge_face.contains_key(&h) {
+                continue;
+            }
+            // [b_f, a_f, a_g, b_g] for h = a → b in f, its twin b → a in g.
+            let (bf, af, ag, bg) = (new(m.next(h)), new(h), new(m.next(t)), new(t));
+            edge_face.insert(h, (faces.len(), 1));
+            edge_face.insert(t, (faces.len(), 3));
+            faces.push(vec![bf, af, ag, bg]);
+            sides.push(vec![Side::Inner, vertex_side(m.at(h)), Side::Inner, vertex_side(m.at(t))]);
+        }
+    }
+    for v in 0..m.vertices {
+        if closed(v) {
+            let fan = m.fan(m.around[v][0]);
+            faces.push(fan.iter().map(|&h| new(h)).collect());
+            sides.push(vec![Side::Inner; fan.len()]);
+        }
+    }
+    let count = points.len();
+    Step { mesh: Local::new(faces, sides, count), points, child, middle: Vec::new(), edge_face, halfway: None }
+}
