@@ -16,4 +16,4 @@ pub use dimension::{BoxCount, OpenSet, box_dimension, open_set_condition, simila
 pub use exact::{ExactCurveReport, curve_query_exact};
 pub use jsr::{Jsr, JsrError, JsrSettings, ROUNDING, Verdict, jsr, jsr_verdict};
 pub use map::{CurveCell, MapCell, ParameterPlane, curve_map, per_matrix_condition, verdict_map};
-pub use weights::{WeightsVerdict, check_loop_weights, check_quad_weights};
+pub use weights::{WeightsError, WeightsVerdict, check_loop_weights, check_quad_weights};

@@ -6,7 +6,30 @@
 use std::f64::consts::PI;
 
 use super::jsr::{JsrSettings, Verdict, jsr, jsr_verdict};
-use crate::mesh::{LoopWeights, MeshError, QuadWeights};
+use crate::mesh::{LoopWeights, QuadWeights};
+
+/// Rule weights that make the subdivision diverge, or that are not numbers.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum WeightsError {
+    /// A weight that is not a finite number.
+    #[error("{scheme} weight {name} = {value} is not a finite number")]
+    NotFinite {
+        /// The scheme (`doo-sabin`, `loop`).
+        scheme: &'static str,
+        /// The weight's name.
+        name: &'static str,
+        /// Its value.
+        value: f64,
+    },
+    /// Weights for which the subdivision diverges.
+    #[error("{weights}: {why}")]
+    Diverges {
+        /// The weights, named with their values.
+        weights: String,
+        /// Which condition fails, with the numbers.
+        why: String,
+    },
+}
 
 /// What the convergence check of rule weights found.
 #[derive(Clone, Debug, PartialEq)]
@@ -23,11 +46,11 @@ pub enum WeightsVerdict {
 /// the shipped regular patch `doo_sabin_quad` (sufficient when they decide).
 ///
 /// # Errors
-/// [`MeshError::Weights`] naming the weights and what fails.
-pub fn check_quad_weights(weights: &QuadWeights) -> Result<WeightsVerdict, MeshError> {
+/// [`WeightsError`] naming the weights and what fails.
+pub fn check_quad_weights(weights: &QuadWeights) -> Result<WeightsVerdict, WeightsError> {
     for (name, x) in [("alpha", weights.alpha), ("beta", weights.beta), ("gamma", weights.gamma)] {
         if !x.is_finite() {
-            return Err(MeshError::Weights(format!("doo-sabin weight {name} = {x} is not a finite number")));
+            return Err(WeightsError::NotFinite { scheme: "doo-sabin", name, value: x });
         }
     }
     let named = format!(
@@ -39,10 +62,13 @@ pub fn check_quad_weights(weights: &QuadWeights) -> Result<WeightsVerdict, MeshE
     );
     let [l1, l2, _] = weights.face_eigenvalues();
     if l1 >= 1.0 || l2 >= 1.0 {
-        return Err(MeshError::Weights(format!(
-            "{named}: the face rule has eigenvalues of modulus {l1:.6} (twice) and {l2:.6} on the differences; \
+        return Err(WeightsError::Diverges {
+            weights: named.clone(),
+            why: format!(
+                "the face rule has eigenvalues of modulus {l1:.6} (twice) and {l2:.6} on the differences; \
              one is not below 1, so faces do not shrink to points: the subdivision diverges"
-        )));
+            ),
+        });
     }
     if weights.beta != weights.gamma {
         return Ok(WeightsVerdict::Undecided(format!(
@@ -54,15 +80,20 @@ pub fn check_quad_weights(weights: &QuadWeights) -> Result<WeightsVerdict, MeshE
     };
     let values =
         [("alpha", weights.alpha), ("beta", weights.beta), ("gamma", weights.gamma)].map(|(n, v)| (n.to_string(), v));
-    let instance =
-        crate::family::instantiate(&design, &values).map_err(|e| MeshError::Weights(format!("{named}: {e}")))?;
+    let instance = match crate::family::instantiate(&design, &values) {
+        Ok(instance) => instance,
+        Err(e) => return Ok(WeightsVerdict::Undecided(format!("{named}: {e}"))),
+    };
     match jsr(&instance.automaton, &JsrSettings::quick()) {
         Ok(bounds) => match bounds.verdict() {
             Verdict::Converges => Ok(WeightsVerdict::Converges),
-            Verdict::Diverges => Err(MeshError::Weights(format!(
-                "{named}: the regular patch diverges ({}): choose weights inside the convergence domain",
-                bounds.witness_text()
-            ))),
+            Verdict::Diverges => Err(WeightsError::Diverges {
+                weights: named.clone(),
+                why: format!(
+                    "the regular patch diverges ({}): choose weights inside the convergence domain",
+                    bounds.witness_text()
+                ),
+            }),
             Verdict::Undecided => {
                 Ok(WeightsVerdict::Undecided(format!("{named}: convergence is undecided ({bounds})")))
             }
@@ -79,11 +110,11 @@ pub fn check_quad_weights(weights: &QuadWeights) -> Result<WeightsVerdict, MeshE
 /// regular parts when they decide).
 ///
 /// # Errors
-/// [`MeshError::Weights`] naming the weights and what fails.
-pub fn check_loop_weights(weights: &LoopWeights, valences: &[usize]) -> Result<WeightsVerdict, MeshError> {
+/// [`WeightsError`] naming the weights and what fails.
+pub fn check_loop_weights(weights: &LoopWeights, valences: &[usize]) -> Result<WeightsVerdict, WeightsError> {
     for (name, x) in [("w", weights.w), ("sigma", weights.sigma)] {
         if !x.is_finite() {
-            return Err(MeshError::Weights(format!("loop weight {name} = {x} is not a finite number")));
+            return Err(WeightsError::NotFinite { scheme: "loop", name, value: x });
         }
     }
     let named = format!("loop weights w = {}, sigma = {}", weights.w, weights.sigma);
@@ -94,10 +125,13 @@ pub fn check_loop_weights(weights: &LoopWeights, valences: &[usize]) -> Result<W
         let worst = worst.fold(average.abs(), f64::max);
         if worst >= 1.0 {
             let culprit = if average.abs() >= 1.0 { "sigma" } else { "w" };
-            return Err(MeshError::Weights(format!(
-                "{named}: at a vertex of valence {n} the 1-ring rule has an eigenvalue of modulus {worst:.6} \
+            return Err(WeightsError::Diverges {
+                weights: named.clone(),
+                why: format!(
+                    "at a vertex of valence {n} the 1-ring rule has an eigenvalue of modulus {worst:.6} \
                  on the differences (`{culprit}` puts it there); the subdivision diverges"
-            )));
+                ),
+            });
         }
     }
     // The regular hexagon's IFS, exact from the decimals given.
@@ -109,21 +143,27 @@ pub fn check_loop_weights(weights: &LoopWeights, valences: &[usize]) -> Result<W
     let ifs = crate::schemes::box_spline_hexagon(&w, &beta);
     let mut automaton = crate::automaton::Automaton::new("box_spline");
     let n = ifs.control.len();
-    let state = automaton
-        .add_state(crate::space::State::new("hexagon", n, crate::space::CellKind::Free))
-        .map_err(|e| MeshError::Weights(e.to_string()))?;
+    let undecided = |e: crate::automaton::AutomatonError| WeightsVerdict::Undecided(format!("{named}: {e}"));
+    let state = match automaton.add_state(crate::space::State::new("hexagon", n, crate::space::CellKind::Free)) {
+        Ok(state) => state,
+        Err(e) => return Ok(undecided(e)),
+    };
     for (k, block) in ifs.blocks.iter().enumerate() {
         let matrix = crate::schemes::to_f64(block).transpose();
         let arrow =
             crate::automaton::Arrow { name: format!("T{k}"), kind: crate::automaton::ArrowKind::Subdivision, matrix };
-        automaton.add_arrow(state, state, arrow).map_err(|e| MeshError::Weights(e.to_string()))?;
+        if let Err(e) = automaton.add_arrow(state, state, arrow) {
+            return Ok(undecided(e));
+        }
     }
     match jsr_verdict(&automaton, &JsrSettings::default()) {
         Ok(Verdict::Converges) => Ok(WeightsVerdict::Converges),
-        Ok(Verdict::Diverges) => Err(MeshError::Weights(format!(
-            "{named}: the regular box-spline patch with these weights diverges (a product of its six maps \
-             does not contract): choose `w` and `sigma` inside the convergence domain"
-        ))),
+        Ok(Verdict::Diverges) => Err(WeightsError::Diverges {
+            weights: named.clone(),
+            why: "the regular box-spline patch with these weights diverges (a product of its six maps \
+                  does not contract): choose `w` and `sigma` inside the convergence domain"
+                .into(),
+        }),
         Ok(Verdict::Undecided) => Ok(WeightsVerdict::Undecided(format!(
             "{named}: the convergence of the regular patch is undecided within the budget"
         ))),

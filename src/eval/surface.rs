@@ -12,7 +12,16 @@
 //! its patch by the sub-face path given by the base-`p` digits of its block
 //! coordinates.
 
-use glam::DVec3;
+use nalgebra::Vector3;
+
+/// A point or direction in space.
+type DVec3 = Vector3<f64>;
+
+/// `v` scaled to length 1; `None` when its length is 0, infinite or not a number.
+fn unit(v: DVec3) -> Option<DVec3> {
+    let r = 1.0 / v.norm();
+    (r.is_finite() && r > 0.0).then(|| v * r)
+}
 use rayon::prelude::*;
 
 use super::prepared::{Evaluator, mul_into as mat_mul_into, project_into as project};
@@ -104,8 +113,28 @@ type Extra = (usize, Vec<f64>, [f64; 3]);
 /// The area vector of the quad `a, b, c, e` (lattice order (0,0), (1,0),
 /// (1,1), (0,1)): half the cross product of its diagonals, along `du × dv`.
 fn quad_area(a: &[f64], b: &[f64], c: &[f64], e: &[f64]) -> DVec3 {
-    let (a, b, c, e) = (DVec3::from_slice(a), DVec3::from_slice(b), DVec3::from_slice(c), DVec3::from_slice(e));
-    0.5 * (c - a).cross(e - b)
+    let v = |p: &[f64]| DVec3::new(p[0], p[1], p[2]);
+    let (a, b, c, e) = (v(a), v(b), v(c), v(e));
+    0.5 * (c - a).cross(&(e - b))
+}
+
+/// The direction `n` with `n·u = n·v = n·w = 1` for unit `u, v, w` (the
+/// rows of `M`, `n = M⁻¹ (1, 1, 1)`), or `None` when they are nearly
+/// coplanar (`|det M| ≤ 1e-12`). Cofactors over the determinant, in this
+/// order of operations.
+fn equidistant(u: &DVec3, v: &DVec3, w: &DVec3) -> Option<DVec3> {
+    // The columns of M.
+    let x = DVec3::new(u.x, v.x, w.x);
+    let y = DVec3::new(u.y, v.y, w.y);
+    let z = DVec3::new(u.z, v.z, w.z);
+    let rows = [y.cross(&z), z.cross(&x), x.cross(&y)];
+    let det = x.dot(&rows[0]);
+    if det.abs() <= 1e-12 {
+        return None;
+    }
+    let r = 1.0 / det;
+    let [a, b, c] = rows.map(|t| t.x * r + t.y * r + t.z * r);
+    Some(DVec3::new(a, b, c))
 }
 
 /// The normals of the triangles that hold corner `k` of the quad `q`
@@ -115,7 +144,7 @@ fn quad_area(a: &[f64], b: &[f64], c: &[f64], e: &[f64]) -> DVec3 {
 /// of them.
 fn corner_triangles(q: &[DVec3; 4], k: usize) -> [DVec3; 3] {
     let at = |i: usize| q[(k + i) % 4];
-    let tri = |a: DVec3, b: DVec3, c: DVec3| (b - a).cross(c - a);
+    let tri = |a: DVec3, b: DVec3, c: DVec3| (b - a).cross(&(c - a));
     [tri(at(3), at(0), at(1)), tri(at(0), at(1), at(2)), tri(at(0), at(2), at(3))]
 }
 
@@ -128,22 +157,22 @@ fn corner_triangles(q: &[DVec3; 4], k: usize) -> [DVec3; 3] {
 /// of them), which agrees with every one whenever any direction does. `+z`
 /// when all faces are degenerate.
 fn agreeing_normal(faces: &[Option<([DVec3; 4], usize)>; 4]) -> DVec3 {
-    let sum: DVec3 = faces.iter().flatten().map(|(q, _)| 0.5 * (q[2] - q[0]).cross(q[3] - q[1])).sum();
+    let sum: DVec3 = faces.iter().flatten().map(|(q, _)| 0.5 * (q[2] - q[0]).cross(&(q[3] - q[1]))).sum();
     let triangles = || faces.iter().flatten().flat_map(|(q, k)| corner_triangles(q, *k));
     // The common case: the sum agrees with every (non-degenerate) triangle.
-    if triangles().all(|f| f.dot(sum) > 0.0 || f.try_normalize().is_none())
-        && let Some(n) = sum.try_normalize()
+    if triangles().all(|f| f.dot(&sum) > 0.0 || unit(f).is_none())
+        && let Some(n) = unit(sum)
     {
         return n;
     }
-    let units: Vec<DVec3> = triangles().filter_map(|f| f.try_normalize()).collect();
-    let worst = |n: &DVec3| units.iter().map(|u| u.dot(*n)).fold(f64::INFINITY, f64::min);
+    let units: Vec<DVec3> = triangles().filter_map(unit).collect();
+    let worst = |n: &DVec3| units.iter().map(|u| u.dot(n)).fold(f64::INFINITY, f64::min);
     let best = |c: Vec<DVec3>| c.into_iter().map(|n| (worst(&n), n)).max_by(|a, b| a.0.total_cmp(&b.0));
     // Caps spanned by one or two normals first: cheap, and enough almost always.
     let mut candidates: Vec<DVec3> = units.clone();
-    candidates.extend(sum.try_normalize());
+    candidates.extend(unit(sum));
     for (a, u) in units.iter().enumerate() {
-        candidates.extend(units[a + 1..].iter().filter_map(|v| (*u + *v).try_normalize()));
+        candidates.extend(units[a + 1..].iter().filter_map(|v| unit(u + v)));
     }
     let two = best(candidates);
     if let Some((w, n)) = two
@@ -156,11 +185,7 @@ fn agreeing_normal(faces: &[Option<([DVec3; 4], usize)>; 4]) -> DVec3 {
         for (b, v) in units.iter().enumerate().skip(a + 1) {
             for w in &units[b + 1..] {
                 // Equidistant from u, v, w: n·u = n·v = n·w.
-                let m = glam::DMat3::from_cols(*u, *v, *w).transpose();
-                if m.determinant().abs() > 1e-12 {
-                    let c = m.inverse() * DVec3::ONE;
-                    candidates.extend(c.try_normalize());
-                }
+                candidates.extend(equidistant(u, v, w).and_then(unit));
             }
         }
     }
@@ -174,7 +199,7 @@ fn agreeing_normal(faces: &[Option<([DVec3; 4], usize)>; 4]) -> DVec3 {
             }
         }
         (Some((_, n)), None) | (None, Some((_, n))) => n,
-        (None, None) => DVec3::Z,
+        (None, None) => DVec3::z(),
     }
 }
 
@@ -328,7 +353,7 @@ impl<'a> Mesher<'a> {
     /// planar sheets.
     fn quad_areas(&self, pts: &[f64]) -> Vec<DVec3> {
         let (d, wide) = (self.d, self.lat.b + 2);
-        let mut areas = vec![DVec3::ZERO; (wide - 1) * (wide - 1)];
+        let mut areas = vec![DVec3::zeros(); (wide - 1) * (wide - 1)];
         if d < 3 {
             return areas;
         }
@@ -337,7 +362,7 @@ impl<'a> Mesher<'a> {
             for i in 0..wide - 1 {
                 // A NaN corner makes a NaN area: counted as no face.
                 let f = quad_area(at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
-                areas[j * (wide - 1) + i] = if f.is_finite() { f } else { DVec3::ZERO };
+                areas[j * (wide - 1) + i] = if f.iter().all(|x| x.is_finite()) { f } else { DVec3::zeros() };
             }
         }
         areas
@@ -351,14 +376,14 @@ impl<'a> Mesher<'a> {
             return [0.0, 0.0, 1.0];
         }
         let (q, wide, d) = (self.lat.b + 1, self.lat.b + 2, self.d);
-        let at = |i: usize, j: usize| DVec3::from_slice(&pts[(j * wide + i) * d..(j * wide + i) * d + 3]);
+        let at = |i: usize, j: usize| DVec3::from_column_slice(&pts[(j * wide + i) * d..(j * wide + i) * d + 3]);
         // Quad (qi, qj) and the corner of it that is point (i, j).
         let face = |qi: usize, qj: usize, k: usize| {
-            (qi < q && qj < q && areas[qj * q + qi] != DVec3::ZERO)
+            (qi < q && qj < q && areas[qj * q + qi] != DVec3::zeros())
                 .then(|| ([at(qi, qj), at(qi + 1, qj), at(qi + 1, qj + 1), at(qi, qj + 1)], k))
         };
         let n = agreeing_normal(&[face(i - 1, j - 1, 2), face(i, j - 1, 3), face(i - 1, j, 1), face(i, j, 0)]);
-        let n = n.to_array();
+        let n = [n.x, n.y, n.z];
         if self.flip { n.map(|x| -x) } else { n }
     }
 
@@ -601,7 +626,7 @@ fn signed_volume_of_corners(ev: &Evaluator, state: usize) -> f64 {
             DVec3::from(p)
         };
         let [a, b, c, e] = [0usize, 1, 3, 2].map(corner);
-        volume += (a.dot(b.cross(c)) + a.dot(c.cross(e))) / 6.0;
+        volume += (a.dot(&b.cross(&c)) + a.dot(&c.cross(&e))) / 6.0;
     }
     volume
 }

@@ -4,11 +4,10 @@
 
 use std::io;
 
-use glam::DMat3;
 use image::RgbImage;
 
 use super::png::{finish_picture, wu_line};
-use super::view::{Canvas, RasterSettings, screen};
+use super::view::{Canvas, DMat3, RasterSettings, screen};
 use crate::eval::{Depth, EvalError, Evaluator};
 use crate::geometry::Sink;
 

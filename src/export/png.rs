@@ -5,8 +5,8 @@
 use std::io;
 use std::path::Path;
 
-use glam::DVec3;
 use image::{ImageFormat, Rgb, RgbImage};
+use nalgebra::Vector3;
 
 use super::atomic::write_atomic;
 use super::view::{Canvas, RasterSettings, RasterTooLarge, project, raster_bytes};
@@ -153,10 +153,14 @@ pub(super) fn finish_picture(w: u32, h: u32, cov: &[f32], density: &[u32]) -> Rg
 /// depth into the screen; light from the viewer's upper left, both sides
 /// lit); `None` when degenerate.
 pub(super) fn face_colour(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> Option<Rgb<u8>> {
-    let light = DVec3::new(-0.4, 0.6, -0.7).normalize();
-    let (va, vb, vc) = (DVec3::from(a), DVec3::from(b), DVec3::from(c));
-    let n = (vb - va).cross(vc - va).try_normalize()?;
-    Some(mix([40.0, 52.0, 80.0], [214.0, 226.0, 245.0], 0.15 + 0.85 * n.dot(light).abs()))
+    let light = Vector3::new(-0.4, 0.6, -0.7).normalize();
+    let (va, vb, vc) = (Vector3::from(a), Vector3::from(b), Vector3::from(c));
+    let n = (vb - va).cross(&(vc - va));
+    let r = 1.0 / n.norm();
+    if !(r.is_finite() && r > 0.0) {
+        return None;
+    }
+    Some(mix([40.0, 52.0, 80.0], [214.0, 226.0, 245.0], 0.15 + 0.85 * (n * r).dot(&light).abs()))
 }
 
 fn shade(shape: &Shape, pts: &[[f64; 3]], canvas: &Canvas, img: &mut RgbImage) {

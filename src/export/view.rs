@@ -3,7 +3,10 @@
 //! fits the projected points in the picture. Shared by every picture: the
 //! PNG raster, the streamed curve pictures, the density images and SVG.
 
-use glam::{DMat3, DVec3};
+use nalgebra::{Matrix3, Vector3};
+
+/// A rotation of space.
+pub(super) type DMat3 = Matrix3<f64>;
 
 use crate::geometry::Shape;
 
@@ -107,8 +110,13 @@ impl RasterSettings {
 impl View {
     /// The view's rotation: about z by the yaw, then about x by the pitch.
     pub(super) fn turn(self) -> DMat3 {
-        let view = DMat3::from_rotation_x(self.pitch.to_radians()) * DMat3::from_rotation_z(self.yaw.to_radians());
-        if self.y_up { view * DMat3::from_rotation_x(std::f64::consts::FRAC_PI_2) } else { view }
+        let about_x = |a: f64| {
+            let (s, c) = a.sin_cos();
+            DMat3::new(1.0, 0.0, 0.0, 0.0, c, -s, 0.0, s, c)
+        };
+        let (s, c) = self.yaw.to_radians().sin_cos();
+        let view = about_x(self.pitch.to_radians()) * DMat3::new(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0);
+        if self.y_up { view * about_x(std::f64::consts::FRAC_PI_2) } else { view }
     }
 }
 
@@ -120,7 +128,7 @@ pub(super) fn screen(turn: &DMat3, p: &[f64]) -> [f64; 3] {
     if p.len() < 3 {
         return [p[0], p.get(1).copied().unwrap_or(0.0), 0.0];
     }
-    let q = *turn * DVec3::new(p[0], p[1], p[2]);
+    let q = turn * Vector3::new(p[0], p[1], p[2]);
     [q.x, q.z, q.y]
 }
 

@@ -11,7 +11,8 @@
 //! cubic B-spline of the boundary polygon); the quads are the net's.
 
 use super::emit::Emit;
-use super::polymesh::{MeshError, PolyMesh, Scheme};
+use super::error::SubdivideError;
+use super::polymesh::{PolyMesh, Scheme};
 use super::subdivide::RuleWeights;
 use super::topology::{BORDER, Topology};
 use crate::geometry::{Shape, Sink};
@@ -23,7 +24,7 @@ impl PolyMesh {
     ///
     /// # Errors
     /// An output over [`super::polymesh::DEFAULT_MESH_MEMORY`], with the estimate.
-    pub fn limit(&self, scheme: Scheme, depth: usize) -> Result<Shape, MeshError> {
+    pub fn limit(&self, scheme: Scheme, depth: usize) -> Result<Shape, SubdivideError> {
         self.limit_with(scheme, depth, None, super::polymesh::DEFAULT_MESH_MEMORY)
     }
 
@@ -37,11 +38,11 @@ impl PolyMesh {
         depth: usize,
         weights: Option<RuleWeights>,
         memory_limit: usize,
-    ) -> Result<Shape, MeshError> {
+    ) -> Result<Shape, SubdivideError> {
         let (points, quads) = match scheme {
             Scheme::DooSabin => {
                 if !self.has_interior_vertex() {
-                    return Err(MeshError::NoInteriorVertex);
+                    return Err(SubdivideError::NoInteriorVertex);
                 }
                 let net = self.subdivide_with(scheme, depth.max(1) - 1, weights, memory_limit)?;
                 let t = Topology::trusted(&net);

@@ -23,6 +23,7 @@
 //! ```
 
 mod emit;
+mod error;
 mod limit;
 mod polymesh;
 mod read;
@@ -33,7 +34,8 @@ mod triangles;
 mod write;
 
 pub use emit::Written;
-pub use polymesh::{DEFAULT_MESH_MEMORY, MeshError, Place, PolyMesh, Scheme};
+pub use error::{MeshCheckError, MeshReadError, SubdivideError};
+pub use polymesh::{DEFAULT_MESH_MEMORY, Place, PolyMesh, Scheme};
 pub use read::{read_mesh, read_obj, read_off};
 pub use stream::Subdivision;
 pub use subdivide::{LoopWeights, QuadWeights, RuleWeights};

@@ -7,29 +7,30 @@
 
 use std::path::Path;
 
-use super::polymesh::{MeshError, Place, PolyMesh};
+use super::error::{MeshCheckError, MeshReadError};
+use super::polymesh::{Place, PolyMesh};
 
 /// Reads a mesh, choosing the format by extension (`.obj`, `.off`).
 ///
 /// # Errors
 /// An unreadable or malformed file, or a mesh that fails the checks.
-pub fn read_mesh(path: &Path) -> Result<PolyMesh, MeshError> {
+pub fn read_mesh(path: &Path) -> Result<PolyMesh, MeshReadError> {
     let name = path.display().to_string();
     let ext = path.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
-    let text = || std::fs::read_to_string(path).map_err(|e| MeshError::Io(name.clone(), e));
+    let text = || std::fs::read_to_string(path).map_err(|e| MeshReadError::Io { file: name.clone(), source: e });
     match ext.as_str() {
         "obj" => read_obj(&text()?, &name),
         "off" => read_off(&text()?, &name),
-        other => Err(MeshError::Format(other.to_string())),
+        other => Err(MeshReadError::Format(other.to_string())),
     }
 }
 
-fn syntax(file: &str, line: usize, column: usize, message: impl Into<String>) -> MeshError {
-    MeshError::Syntax { file: file.to_string(), line, column, message: message.into() }
+fn syntax(file: &str, line: usize, column: usize, message: impl Into<String>) -> MeshReadError {
+    MeshReadError::Syntax { file: file.to_string(), line, column, message: message.into() }
 }
 
 /// A coordinate: a finite number (NaN and infinities are named where they stand).
-fn coordinate(tok: &str, file: &str, line: usize, column: usize) -> Result<f64, MeshError> {
+fn coordinate(tok: &str, file: &str, line: usize, column: usize) -> Result<f64, MeshReadError> {
     match tok.parse::<f64>() {
         Ok(x) if x.is_finite() => Ok(x),
         Ok(_) => Err(syntax(file, line, column, format!("expected a finite coordinate, found `{tok}`"))),
@@ -43,7 +44,7 @@ fn finish(
     faces: Vec<Vec<usize>>,
     lines: &[usize],
     file: &str,
-) -> Result<PolyMesh, MeshError> {
+) -> Result<PolyMesh, MeshReadError> {
     let mut starts = Vec::with_capacity(faces.len() + 1);
     starts.push(0);
     for f in &faces {
@@ -59,7 +60,7 @@ fn finish(
 /// # Errors
 /// A malformed `v` or `f` record (`file:line:column`), or a mesh that
 /// fails the checks.
-pub fn read_obj(text: &str, file: &str) -> Result<PolyMesh, MeshError> {
+pub fn read_obj(text: &str, file: &str) -> Result<PolyMesh, MeshReadError> {
     let mut positions: Vec<[f64; 3]> = Vec::new();
     let mut faces = Vec::new();
     let mut lines = Vec::new();
@@ -102,11 +103,12 @@ pub fn read_obj(text: &str, file: &str) -> Result<PolyMesh, MeshError> {
                     let n = positions.len() as i64;
                     let resolved = if k > 0 { k - 1 } else { n + k };
                     if k == 0 || resolved < 0 || resolved >= n {
-                        return Err(MeshError::IndexOutOfRange {
+                        return Err(MeshCheckError::IndexOutOfRange {
                             place: Place { file: Some(file.to_string()), line: Some(start_line), face: faces.len() },
                             index: k,
                             count: positions.len(),
-                        });
+                        }
+                        .into());
                     }
                     face.push(resolved as usize);
                 }
@@ -129,7 +131,7 @@ fn tokens(line: &str) -> impl Iterator<Item = (usize, &str)> {
 /// # Errors
 /// A malformed header, count, coordinate or face (`file:line:column`), or
 /// a mesh that fails the checks.
-pub fn read_off(text: &str, file: &str) -> Result<PolyMesh, MeshError> {
+pub fn read_off(text: &str, file: &str) -> Result<PolyMesh, MeshReadError> {
     // Tokens with positions, comments removed, grouped by line.
     let mut lines_of_tokens: Vec<(usize, Vec<(usize, &str)>)> = Vec::new();
     for (i, raw) in text.lines().enumerate() {
@@ -156,7 +158,7 @@ pub fn read_off(text: &str, file: &str) -> Result<PolyMesh, MeshError> {
         let (l, c, _) = counts.last().copied().unwrap_or((*line, 1, ""));
         return Err(syntax(file, l, c, "expected the counts: vertices faces [edges]"));
     }
-    let count = |(l, c, t): (usize, usize, &str), what: &str| -> Result<usize, MeshError> {
+    let count = |(l, c, t): (usize, usize, &str), what: &str| -> Result<usize, MeshReadError> {
         t.parse().map_err(|_| syntax(file, l, c, format!("expected the number of {what}, found `{t}`")))
     };
     let (nv, nf) = (count(counts[0], "vertices")?, count(counts[1], "faces")?);
@@ -189,11 +191,12 @@ pub fn read_off(text: &str, file: &str) -> Result<PolyMesh, MeshError> {
             let k: i64 =
                 tok.parse().map_err(|_| syntax(file, *l, *c, format!("expected a vertex index, found `{tok}`")))?;
             if k < 0 || k as usize >= positions.len() {
-                return Err(MeshError::IndexOutOfRange {
+                return Err(MeshCheckError::IndexOutOfRange {
                     place: Place { file: Some(file.to_string()), line: Some(*l), face: faces.len() },
                     index: k,
                     count: positions.len(),
-                });
+                }
+                .into());
             }
             face.push(k as usize);
         }

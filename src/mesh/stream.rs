@@ -4,7 +4,8 @@
 //! written to a file needs the memory of depth 9 only.
 
 use super::emit::{Emit, Written};
-use super::polymesh::{MeshError, PolyMesh, Scheme};
+use super::error::SubdivideError;
+use super::polymesh::{PolyMesh, Scheme};
 use super::subdivide::RuleWeights;
 use super::topology::Topology;
 use crate::geometry::Sink;
@@ -43,13 +44,13 @@ impl PolyMesh {
         limit: bool,
         name: &str,
         sink: &mut dyn Sink,
-    ) -> Result<Written, MeshError> {
+    ) -> Result<Written, SubdivideError> {
         let Subdivision { scheme, depth, weights, memory_limit } = *job;
         let depth = if limit { depth.max(1) } else { depth };
         if limit && scheme == Scheme::DooSabin && !self.has_interior_vertex() {
-            return Err(MeshError::NoInteriorVertex);
+            return Err(SubdivideError::NoInteriorVertex);
         }
-        let io = MeshError::Write;
+        let io = SubdivideError::Write;
         sink.object(name).map_err(io)?;
         if limit && scheme != Scheme::DooSabin {
             // Limit positions need the last net's neighbourhoods: in memory.

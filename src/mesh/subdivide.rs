@@ -15,7 +15,8 @@ use std::f64::consts::PI;
 use std::io;
 
 use super::emit::Emit;
-use super::polymesh::{MeshError, PolyMesh, Scheme};
+use super::error::SubdivideError;
+use super::polymesh::{PolyMesh, Scheme};
 use super::topology::{BORDER, Topology};
 
 /// Weights of the Doo-Sabin-like quad rule: the corner, the next corner,
@@ -171,7 +172,7 @@ impl PolyMesh {
     ///
     /// # Errors
     /// An output over [`super::polymesh::DEFAULT_MESH_MEMORY`], with the estimate.
-    pub fn subdivide(&self, scheme: Scheme, depth: usize) -> Result<PolyMesh, MeshError> {
+    pub fn subdivide(&self, scheme: Scheme, depth: usize) -> Result<PolyMesh, SubdivideError> {
         self.subdivide_with(scheme, depth, None, super::polymesh::DEFAULT_MESH_MEMORY)
     }
 
@@ -186,16 +187,22 @@ impl PolyMesh {
         depth: usize,
         weights: Option<RuleWeights>,
         memory_limit: usize,
-    ) -> Result<PolyMesh, MeshError> {
+    ) -> Result<PolyMesh, SubdivideError> {
         if scheme.triangles_only()
             && let Some((face, f)) = self.faces().enumerate().find(|(_, f)| f.len() != 3)
         {
-            return Err(MeshError::NotTriangles { scheme: scheme.name(), face, degree: f.len() });
+            return Err(SubdivideError::NotTriangles { scheme: scheme.name(), face, degree: f.len() });
         }
         let (faces, bytes) = self.estimate(scheme, depth);
         // Corners are numbered in 32 bits: a mesh with 2³² of them is refused whatever the memory.
         if bytes > memory_limit as u128 || faces.saturating_mul(4) >= u128::from(u32::MAX) {
-            return Err(MeshError::TooLarge { what: "the subdivided mesh", depth, faces, bytes, limit: memory_limit });
+            return Err(SubdivideError::TooLarge {
+                what: "the subdivided mesh",
+                depth,
+                faces,
+                bytes,
+                limit: memory_limit,
+            });
         }
         let mut mesh = self.clone();
         for step in 0..depth {

@@ -5,7 +5,8 @@
 //! has fewer than 2³² corners), so a deep net's structure costs 9 bytes a
 //! corner.
 
-use super::polymesh::{MeshError, Place, PolyMesh};
+use super::error::MeshCheckError;
+use super::polymesh::{Place, PolyMesh};
 
 /// The twin of a border half-edge, and the first corner of an unused vertex.
 pub const BORDER: usize = usize::MAX;
@@ -59,7 +60,7 @@ impl Topology {
     /// # Errors
     /// The first problem found, its face named by `place`; a mesh too large
     /// for 32-bit corner numbers.
-    pub fn new(mesh: &PolyMesh, place: &dyn Fn(usize) -> Place) -> Result<Topology, MeshError> {
+    pub fn new(mesh: &PolyMesh, place: &dyn Fn(usize) -> Place) -> Result<Topology, MeshCheckError> {
         Topology::build(mesh, Some(place))
     }
 
@@ -76,17 +77,11 @@ impl Topology {
     }
 
     #[allow(clippy::needless_range_loop)] // a corner indexes several arrays at once
-    fn build(mesh: &PolyMesh, check: Option<&dyn Fn(usize) -> Place>) -> Result<Topology, MeshError> {
+    fn build(mesh: &PolyMesh, check: Option<&dyn Fn(usize) -> Place>) -> Result<Topology, MeshCheckError> {
         let corners = mesh.corner_count();
         let nv = mesh.positions.len();
         if corners >= NONE as usize || nv >= NONE as usize {
-            return Err(MeshError::TooLarge {
-                what: "a mesh with 2^32 corners",
-                depth: 0,
-                faces: mesh.face_count() as u128,
-                bytes: corners as u128 * 9,
-                limit: 0,
-            });
+            return Err(MeshCheckError::TooLarge { corners, vertices: nv });
         }
         let mut face = vec![0u32; corners];
         for f in 0..mesh.face_count() {
@@ -137,7 +132,7 @@ impl Topology {
                 if same + back > 2 {
                     // Named at the face that comes last in the file: the one too many.
                     let last = ends(a, b).chain(ends(b, a)).map(|d| face[d] as usize).max().unwrap_or(0);
-                    return Err(MeshError::NonManifoldEdge {
+                    return Err(MeshCheckError::NonManifoldEdge {
                         place: place(last),
                         a: a.min(b),
                         b: a.max(b),
@@ -147,7 +142,7 @@ impl Topology {
                 if same > 1 {
                     let other = ends(a, b).find(|&d| d != c).unwrap_or(c);
                     let (first, second) = (c.min(other), c.max(other));
-                    return Err(MeshError::Orientation {
+                    return Err(MeshCheckError::Orientation {
                         place: place(face[second] as usize),
                         a,
                         b,
@@ -196,7 +191,7 @@ impl Topology {
                 }
                 outgoing(v).for_each(|c| seen[c] = false);
                 if fans > 1 {
-                    return Err(MeshError::NonManifoldVertex(v, fans));
+                    return Err(MeshCheckError::NonManifoldVertex(v, fans));
                 }
             }
         }
@@ -290,7 +285,7 @@ impl PolyMesh {
     /// # Errors
     /// Indices out of range, degenerate faces, non-finite coordinates,
     /// non-manifold edges or vertices, inconsistent orientation, no face.
-    pub fn new(positions: Vec<[f64; 3]>, faces: Vec<Vec<usize>>) -> Result<PolyMesh, MeshError> {
+    pub fn new(positions: Vec<[f64; 3]>, faces: Vec<Vec<usize>>) -> Result<PolyMesh, MeshCheckError> {
         let mut starts = Vec::with_capacity(faces.len() + 1);
         starts.push(0);
         for f in &faces {
@@ -302,16 +297,16 @@ impl PolyMesh {
     }
 
     /// Checks the mesh, naming faces with `place`.
-    pub(crate) fn check(&self, place: &dyn Fn(usize) -> Place) -> Result<(), MeshError> {
+    pub(crate) fn check(&self, place: &dyn Fn(usize) -> Place) -> Result<(), MeshCheckError> {
         if self.face_count() == 0 {
-            return Err(MeshError::Empty);
+            return Err(MeshCheckError::Empty);
         }
         if let Some(i) = self.positions.iter().position(|p| p.iter().any(|x| !x.is_finite())) {
-            return Err(MeshError::NotFinite(i));
+            return Err(MeshCheckError::NotFinite(i));
         }
         for (f, face) in self.faces().enumerate() {
             if let Some(&index) = face.iter().find(|&&v| v >= self.positions.len()) {
-                return Err(MeshError::IndexOutOfRange {
+                return Err(MeshCheckError::IndexOutOfRange {
                     place: place(f),
                     index: index as i64,
                     count: self.positions.len(),
@@ -321,7 +316,7 @@ impl PolyMesh {
             sorted.sort_unstable();
             sorted.dedup();
             if face.len() < 3 || sorted.len() != face.len() {
-                return Err(MeshError::Degenerate { place: place(f), vertices: face.to_vec() });
+                return Err(MeshCheckError::Degenerate { place: place(f), vertices: face.to_vec() });
             }
         }
         Topology::new(self, place).map(|_| ())

@@ -6,8 +6,8 @@ use std::path::Path;
 use super::checked::{FileWriter, write_error};
 use super::options::{Format, Options, RenderError, Report, check_disk};
 use super::shape::write_shape;
-use crate::analysis::{WeightsVerdict, check_loop_weights, check_quad_weights};
-use crate::mesh::{LoopWeights, MeshError, PolyMesh, QuadWeights, RuleWeights, Scheme, Subdivision};
+use crate::analysis::{WeightsError, WeightsVerdict, check_loop_weights, check_quad_weights};
+use crate::mesh::{LoopWeights, PolyMesh, QuadWeights, RuleWeights, Scheme, SubdivideError, Subdivision};
 
 /// A subdivision of a polygon mesh to render.
 #[derive(Clone, Debug, PartialEq)]
@@ -87,8 +87,8 @@ pub fn rule_weights(scheme: Scheme, params: &[(String, f64)]) -> Result<Option<R
 /// or classic.
 ///
 /// # Errors
-/// [`MeshError::Weights`] when they diverge or are not finite.
-pub fn check_weights(mesh: &PolyMesh, weights: Option<RuleWeights>) -> Result<Option<String>, MeshError> {
+/// [`WeightsError`] when they diverge or are not finite.
+pub fn check_weights(mesh: &PolyMesh, weights: Option<RuleWeights>) -> Result<Option<String>, WeightsError> {
     let verdict = match weights {
         Some(RuleWeights::Quad(w)) => check_quad_weights(&w)?,
         Some(RuleWeights::Loop(w)) => check_loop_weights(&w, &mesh.interior_valences())?,
@@ -134,7 +134,7 @@ pub fn render_mesh(mesh: &PolyMesh, job: &MeshJob, options: &Options, out: &Path
     let mut writer = FileWriter::create(out, format, coordinates, threads)?;
     let mut sink = writer.checked(&options.cancel);
     let written = mesh.subdivide_into(&subdivision, !job.net, &job.name, &mut sink).map_err(|e| match e {
-        MeshError::Write(e) => write_error(options, out)(e),
+        SubdivideError::Write(e) => write_error(options, out)(e),
         other => other.into(),
     })?;
     report.vertices = written.vertices;

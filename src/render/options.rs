@@ -162,9 +162,12 @@ pub enum RenderError {
     /// Evaluation.
     #[error(transparent)]
     Eval(#[from] EvalError),
-    /// A polygon mesh: its weights, its memory, its subdivision.
+    /// A polygon mesh that cannot be subdivided: memory, the scheme's faces.
     #[error(transparent)]
-    Mesh(#[from] crate::mesh::MeshError),
+    Mesh(#[from] crate::mesh::SubdivideError),
+    /// Rule weights that diverge.
+    #[error(transparent)]
+    Weights(#[from] crate::analysis::WeightsError),
     /// Output format not known.
     #[error("unknown output format `.{0}`: expected .obj, .off, .svg or .png")]
     Format(String),

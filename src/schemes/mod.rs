@@ -25,7 +25,7 @@ pub use lattice::{
     Axial, LatticeIfs, LatticeScheme, NotClosed, SubPatch, box_spline_hexagon, hexagon_parts, lattice_ifs,
     lattice_triangles, parallelogram_parts, ternary_triangle_parts,
 };
-pub use mesh::mesh_automaton;
+pub use mesh::{MeshAutomatonError, mesh_automaton};
 pub use normal::{
     NormalDirection, NormalPreset, NormalScheme, NormalSchemeError, PRESET_NAMES, Point2, SignPattern, normal_preset,
     unit_segment, unit_square, unit_triangle,

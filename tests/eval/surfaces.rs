@@ -153,18 +153,20 @@ fn evaluate_into_reuses_and_matches() {
 /// two triangles (as trimesh and renderers split it); degenerate triangles
 /// (no area) are not counted.
 fn flipped_corner_fraction(shape: &Shape) -> f64 {
-    let v = |i: u32| glam::DVec3::from(shape.point(i as usize));
-    let n = |i: u32| glam::DVec3::from_slice(&shape.normals[3 * i as usize..3 * i as usize + 3]);
+    let v = |i: u32| nalgebra::Vector3::from(shape.point(i as usize));
+    let n = |i: u32| nalgebra::Vector3::from_column_slice(&shape.normals[3 * i as usize..3 * i as usize + 3]);
     let (mut against, mut corners) = (0usize, 0usize);
     for q in &shape.quads {
-        let face = (v(q[2]) - v(q[0])).cross(v(q[3]) - v(q[1]));
+        let face = (v(q[2]) - v(q[0])).cross(&(v(q[3]) - v(q[1])));
         for k in 0..4 {
             let at = |i: usize| v(q[(k + i) % 4]);
-            let tri = |a: glam::DVec3, b: glam::DVec3, c: glam::DVec3| (b - a).cross(c - a);
+            let tri = |a: nalgebra::Vector3<f64>, b: nalgebra::Vector3<f64>, c: nalgebra::Vector3<f64>| {
+                (b - a).cross(&(c - a))
+            };
             let normals = [face, tri(at(3), at(0), at(1)), tri(at(0), at(1), at(2)), tri(at(0), at(2), at(3))];
-            for f in normals.into_iter().filter(|f| f.length() > 1e-14) {
+            for f in normals.into_iter().filter(|f| f.norm() > 1e-14) {
                 corners += 1;
-                against += (f.dot(n(q[k])) < 0.0) as usize;
+                against += (f.dot(&n(q[k])) < 0.0) as usize;
             }
         }
     }

@@ -1,6 +1,6 @@
 //! Reading and checking meshes, and the limit surfaces.
 
-use bcifs::mesh::{MeshError, PolyMesh, Scheme, read_mesh, read_obj, read_off};
+use bcifs::mesh::{MeshReadError, PolyMesh, Scheme, SubdivideError, read_mesh, read_obj, read_off};
 use bcifs::schemes::mesh_automaton;
 
 fn data(name: &str) -> std::path::PathBuf {
@@ -91,8 +91,11 @@ fn bad_meshes_are_refused_with_their_place() {
         let e = read_off(text, "b.off").unwrap_err().to_string();
         assert!(e.contains(expected), "{text:?}: {e}");
     }
-    assert!(matches!(read_mesh(std::path::Path::new("x.stl")), Err(MeshError::Format(_))));
-    assert!(matches!(read_mesh(std::path::Path::new("/nonexistent/x.obj")), Err(MeshError::Io(..))));
+    assert!(matches!(read_mesh(std::path::Path::new("x.stl")), Err(MeshReadError::Format(_))));
+    let e = read_mesh(std::path::Path::new("/nonexistent/x.obj")).unwrap_err();
+    assert!(matches!(&e, MeshReadError::Io { file, .. } if file.ends_with("x.obj")), "{e}");
+    // The cause is the error's source, not text in its message.
+    assert!(std::error::Error::source(&e).is_some_and(|s| s.to_string().contains("No such file")), "{e:?}");
 }
 
 /// Every edge of a closed limit mesh is in two quads, χ = 2 for a sphere,
@@ -409,8 +412,11 @@ fn streamed_output_is_the_in_memory_mesh() {
 #[test]
 fn an_empty_doo_sabin_limit_is_refused() {
     let tri = PolyMesh::new(vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], vec![vec![0, 1, 2]]).unwrap();
-    assert!(matches!(tri.limit(Scheme::DooSabin, 3), Err(MeshError::NoInteriorVertex)));
-    assert!(matches!(mesh_automaton(&tri, Scheme::DooSabin, None), Err(MeshError::NoInteriorVertex)));
+    assert!(matches!(tri.limit(Scheme::DooSabin, 3), Err(SubdivideError::NoInteriorVertex)));
+    assert!(matches!(
+        mesh_automaton(&tri, Scheme::DooSabin, None),
+        Err(bcifs::schemes::MeshAutomatonError::Mesh(SubdivideError::NoInteriorVertex))
+    ));
     let job = bcifs::mesh::Subdivision { scheme: Scheme::DooSabin, depth: 3, weights: None, memory_limit: 1 << 30 };
     let path = crate::scratch("empty.off");
     let mut out = bcifs::export::OffWriter::create(&path).unwrap();

@@ -2,11 +2,12 @@
 
 use std::collections::HashMap;
 
+use super::error::MeshAutomatonError;
 use super::local::{Half, Local, Role, Side, Walk, neighbourhood, sides_of, walk};
 use super::rules::{Lin, Step, Weights, sqrt3_children, step};
 use crate::automaton::ArrowKind;
 use crate::design::{Design, DesignBuilder, Matrix, Model, Value};
-use crate::mesh::{MeshError, PolyMesh, Scheme};
+use crate::mesh::{PolyMesh, Scheme};
 
 /// The children of a cell anchored at `h`, anchored in the subdivided mesh.
 pub(super) fn children_of(scheme: Scheme, role: Role, m: &Local, s: &Step, h: Half) -> Vec<Half> {
@@ -104,14 +105,14 @@ impl Generator {
     }
 
     /// The state of the cell of `role` anchored at `h` in `m`, and its walk's order.
-    pub(super) fn state_at(&mut self, role: Role, m: &Local, h: Half) -> Result<(usize, Vec<usize>), MeshError> {
+    pub(super) fn state_at(
+        &mut self,
+        role: Role,
+        m: &Local,
+        h: Half,
+    ) -> Result<(usize, Vec<usize>), MeshAutomatonError> {
         let set = neighbourhood(self.scheme, role, m, h);
-        let w = walk(m, &set, h).ok_or_else(|| {
-            MeshError::Automaton(format!(
-                "the neighbourhood of a {} is not one piece of surface (a vertex where two fans of faces touch)",
-                role.name()
-            ))
-        })?;
+        let w = walk(m, &set, h).ok_or_else(|| MeshAutomatonError::NotOnePiece { cell: role.name() })?;
         let order = w.order.clone();
         Ok((self.intern(role, w), order))
     }
@@ -119,7 +120,13 @@ impl Generator {
     /// The renumbering arrow from the cell's state anchored at `z` to the
     /// one anchored at `y`: a path ending in the first, followed by it, gives
     /// the control points in the second's order.
-    pub(super) fn renumber(&mut self, role: Role, m: &Local, y: Half, z: Half) -> Result<Option<String>, MeshError> {
+    pub(super) fn renumber(
+        &mut self,
+        role: Role,
+        m: &Local,
+        y: Half,
+        z: Half,
+    ) -> Result<Option<String>, MeshAutomatonError> {
         if y == z {
             return Ok(None);
         }
@@ -129,7 +136,7 @@ impl Generator {
             .iter()
             .map(|v| ob.iter().position(|x| x == v))
             .collect::<Option<_>>()
-            .ok_or_else(|| MeshError::Automaton("two anchors of one cell see different neighbourhoods".into()))?;
+            .ok_or(MeshAutomatonError::Anchors)?;
         if a == b && select.iter().enumerate().all(|(i, &j)| i == j) {
             return Ok(None);
         }
@@ -144,7 +151,7 @@ impl Generator {
     }
 
     /// Subdivides state `k`: its child arrows, boundary arrows and constraints.
-    pub(super) fn process(&mut self, k: usize) -> Result<(), MeshError> {
+    pub(super) fn process(&mut self, k: usize) -> Result<(), MeshAutomatonError> {
         let (scheme, role) = (self.scheme, self.kinds[k].role);
         let m = self.kinds[k].local.clone();
         let name = self.names[k].clone();
@@ -155,13 +162,17 @@ impl Generator {
         let mut child_states = Vec::new();
         for (c, &x) in kids.iter().enumerate() {
             if x.0 >= s.mesh.faces.len() {
-                return Err(MeshError::Automaton(format!("{name}: a child is missing from its parent's subdivision")));
+                return Err(MeshAutomatonError::Child {
+                    state: name,
+                    what: "a child is missing from its parent's subdivision",
+                });
             }
             let (to, order) = self.state_at(role, &s.mesh, x)?;
             let mut rows = vec![vec![Lin::default(); order.len()]; m.vertices];
             for (j, &p) in order.iter().enumerate() {
-                let sym = s.points[p].as_ref().ok_or_else(|| {
-                    MeshError::Automaton(format!("{name}: a child's control point depends on points outside the cell"))
+                let sym = s.points[p].as_ref().ok_or_else(|| MeshAutomatonError::Child {
+                    state: name.clone(),
+                    what: "a child's control point depends on points outside the cell",
                 })?;
                 for (i, wt) in sym {
                     rows[*i][j] = wt.clone();
@@ -249,7 +260,7 @@ pub(super) fn describe(scheme: Scheme, role: Role, m: &Local) -> String {
 }
 
 impl Generator {
-    pub(super) fn design(self, mesh: &PolyMesh, roots: Vec<(usize, Vec<usize>)>) -> Result<Design, MeshError> {
+    pub(super) fn design(self, mesh: &PolyMesh, roots: Vec<(usize, Vec<usize>)>) -> Result<Design, MeshAutomatonError> {
         let name = format!("mesh_{}", self.scheme.name().replace('-', "_"));
         let mut b = DesignBuilder::new(name);
         let patches = if self.scheme == Scheme::DooSabin { "interior vertex" } else { "face" };
@@ -307,6 +318,6 @@ impl Generator {
                 // The mesh file's axes: Y-up, so that rendering it writes the same file as subdividing it.
                 .with_y_up(true),
         );
-        b.build().map_err(|e| MeshError::Automaton(format!("the generated automaton is not well formed: {e}")))
+        b.build().map_err(MeshAutomatonError::Build)
     }
 }

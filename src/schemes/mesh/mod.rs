@@ -51,6 +51,7 @@
 //! weights, and the constraints would no longer be linear in them. Closed
 //! meshes only: its border rule changes from one step to the next.
 
+mod error;
 mod generator;
 mod local;
 mod rules;
@@ -58,7 +59,8 @@ mod rules;
 use std::collections::HashMap;
 
 use crate::design::Design;
-use crate::mesh::{LoopWeights, MeshError, PolyMesh, QuadWeights, RuleWeights, Scheme};
+use crate::mesh::{LoopWeights, PolyMesh, QuadWeights, RuleWeights, Scheme, SubdivideError};
+pub use error::MeshAutomatonError;
 use generator::Generator;
 use local::{Half, Local, Role};
 use rules::Weights;
@@ -83,19 +85,21 @@ use rules::Weights;
 /// √3 on an open mesh (its border rule alternates); a triangle scheme on
 /// a face that is not a triangle; a neighbourhood that is not one piece
 /// of surface.
-pub fn mesh_automaton(mesh: &PolyMesh, scheme: Scheme, weights: Option<RuleWeights>) -> Result<Design, MeshError> {
+pub fn mesh_automaton(
+    mesh: &PolyMesh,
+    scheme: Scheme,
+    weights: Option<RuleWeights>,
+) -> Result<Design, MeshAutomatonError> {
     if scheme == Scheme::Sqrt3 && !mesh.is_closed() {
-        return Err(MeshError::Automaton(
-            "√3 is generated as an automaton on closed meshes only: its border rule changes from one step to the next, so a border triangle's children are not a ternary split".into(),
-        ));
+        return Err(MeshAutomatonError::OpenSqrt3);
     }
     if scheme == Scheme::DooSabin && !mesh.has_interior_vertex() {
-        return Err(MeshError::NoInteriorVertex);
+        return Err(SubdivideError::NoInteriorVertex.into());
     }
     if scheme.triangles_only()
         && let Some(f) = (0..mesh.face_count()).find(|&f| mesh.face(f).len() != 3)
     {
-        return Err(MeshError::NotTriangles { scheme: scheme.name(), face: f, degree: mesh.face(f).len() });
+        return Err(SubdivideError::NotTriangles { scheme: scheme.name(), face: f, degree: mesh.face(f).len() }.into());
     }
     let weights = Weights {
         scheme,
