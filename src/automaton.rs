@@ -458,7 +458,7 @@ impl Automaton<f64> {
     pub fn check_embeddings(&self) -> Result<(), AutomatonError> {
         for (_, arrow) in self.arrows() {
             if arrow.kind == ArrowKind::Boundary {
-                let rank = arrow.matrix.clone().svd(false, false).rank(1e-9);
+                let rank = arrow.matrix.clone().svd(false, false).rank(crate::algebra::tolerance::RANK);
                 if rank < arrow.matrix.ncols() {
                     return Err(AutomatonError::NotEmbedding(arrow.name.clone()));
                 }

@@ -7,6 +7,7 @@ mod expr;
 mod num;
 mod spectrum;
 mod surd;
+pub mod tolerance;
 
 pub use affine::{Affine, AffineDisplay, Nonlinear};
 pub use expr::{Env, Expr, ExprError, ExprSyntaxError, ExprValue};

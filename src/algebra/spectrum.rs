@@ -2,6 +2,10 @@
 
 use nalgebra::Complex;
 
+/// The convergence tolerances of the Schur iteration, tried in turn (with
+/// a balancing similarity after the first) until one converges.
+const SCHUR_TOLERANCES: [f64; 4] = [f64::EPSILON, 1e-13, 1e-11, 1e-9];
+
 /// The eigenvalues of a square matrix by a Schur decomposition with a
 /// bounded number of iterations (nalgebra's unbounded one can stall on
 /// matrices with large defective eigenvalue clusters, such as Kronecker
@@ -14,7 +18,7 @@ pub fn eigenvalues(m: &nalgebra::DMatrix<f64>) -> Option<Vec<Complex<f64>>> {
         return Some(Vec::new());
     }
     let budget = 200 * n + 1000;
-    for (attempt, eps) in [f64::EPSILON, 1e-13, 1e-11, 1e-9].into_iter().enumerate() {
+    for (attempt, eps) in SCHUR_TOLERANCES.into_iter().enumerate() {
         let mut a = m.clone();
         if attempt > 0 {
             // D A D⁻¹ with D = diag(1 + 0.1 sin(i)): a similarity, so the same eigenvalues.

@@ -18,6 +18,7 @@ use std::collections::HashSet;
 use nalgebra::DMatrix;
 use petgraph::graph::NodeIndex;
 
+use crate::algebra::tolerance::{DEGENERATE, SAME_POINT, SLACK};
 use crate::automaton::{ArrowKind, Automaton};
 
 /// Scales in the box-counting fit: the finest ones.
@@ -93,15 +94,15 @@ fn similarity_ratio(x: &[f64], y: &[f64], d: usize, n: usize) -> Option<f64> {
     for i in 0..n {
         for j in i + 1..n {
             let (dx, dy) = (dist(x, i, j), dist(y, i, j));
-            if dx < 1e-12 * scale {
-                if dy > 1e-9 * scale {
+            if dx < DEGENERATE * scale {
+                if dy > SAME_POINT * scale {
                     return None;
                 }
                 continue;
             }
             match ratio {
                 None => ratio = Some(dy / dx),
-                Some(r) if (dy / dx - r).abs() > 1e-9 * r.max(1e-12) => return None,
+                Some(r) if (dy / dx - r).abs() > SLACK * r.max(DEGENERATE) => return None,
                 _ => {}
             }
         }
@@ -234,7 +235,7 @@ pub fn open_set_condition(automaton: &Automaton<f64>, root: NodeIndex, control: 
             }
         }
     }
-    if s > k as f64 + 1e-9 {
+    if s > k as f64 + SLACK {
         return OpenSet {
             holds: Some(false),
             reason: format!(

@@ -31,11 +31,21 @@ use nalgebra::DMatrix;
 use petgraph::algo::tarjan_scc;
 use petgraph::graph::DiGraph;
 
+use crate::algebra::tolerance::{SLACK, STOCHASTIC};
 use crate::automaton::{ArrowKind, Automaton};
 
 /// Rounding allowed when a spectral radius is compared with 1: eigenvalues
 /// of small products with entries of order 1 are backward stable to ~1e-15.
-pub const ROUNDING: f64 = 1e-12;
+pub const ROUNDING: f64 = crate::algebra::tolerance::ROUNDING;
+
+/// Factor matrices closer than this (relative to their size) are one map.
+const SAME_MATRIX: f64 = 1e-14;
+
+/// The identity's share added to each ellipsoid's form, which keeps it definite.
+const DEFINITE: f64 = 1e-9;
+
+/// The ellipsoids' iteration stops once no entry moves more than this.
+const SETTLED: f64 = 1e-10;
 
 /// How hard to look for the bounds. Work is counted in floating-point
 /// operations of the products, eigenvalues and norms (about `n³` each for
@@ -302,7 +312,7 @@ fn kronecker_factors(m: &DMatrix<f64>, p: usize, q: usize) -> Option<Factors> {
     let b = DMatrix::from_fn(q, q, |i, j| r(at.0, i * q + j) / pivot);
     for x in 0..p * p {
         for y in 0..q * q {
-            if (r(x, y) - a[(x / p, x % p)] * b[(y / q, y % q)]).abs() > 1e-12 * best {
+            if (r(x, y) - a[(x / p, x % p)] * b[(y / q, y % q)]).abs() > ROUNDING * best {
                 return None;
             }
         }
@@ -313,7 +323,7 @@ fn kronecker_factors(m: &DMatrix<f64>, p: usize, q: usize) -> Option<Factors> {
         return None;
     }
     let (a, b) = (a / sum, b * sum);
-    let stochastic = |x: &DMatrix<f64>| x.column_iter().all(|c| (c.sum() - 1.0).abs() < 1e-9);
+    let stochastic = |x: &DMatrix<f64>| x.column_iter().all(|c| (c.sum() - 1.0).abs() < STOCHASTIC);
     (stochastic(&a) && stochastic(&b)).then_some((a, b))
 }
 
@@ -335,7 +345,7 @@ fn kronecker_parts(part: &Part) -> Option<(Part, Part)> {
             let mut edges: Vec<Edge> = Vec::new();
             for (e, f) in part.edges.iter().zip(&factors) {
                 let m = which(f);
-                if edges.iter().any(|d| (&d.full - m).amax() <= 1e-14 * m.amax().max(1.0)) {
+                if edges.iter().any(|d| (&d.full - m).amax() <= SAME_MATRIX * m.amax().max(1.0)) {
                     continue;
                 }
                 let matrix = b.transpose() * m * &b;
@@ -417,7 +427,7 @@ pub fn jsr_verdict(automaton: &Automaton<f64>, settings: &JsrSettings) -> Result
         if lower >= 1.0 - ROUNDING {
             return Ok(Verdict::Diverges);
         }
-        let gamma = 1.0 - 1e-9;
+        let gamma = 1.0 - SLACK;
         let share = work.0 / bases.len() as f64;
         let closed =
             gamma > lower && bases.iter().zip(&norms).any(|(basis, n)| part.closes(basis, n, gamma, &mut Work(share)));
@@ -442,7 +452,7 @@ fn parts(automaton: &Automaton<f64>) -> Result<Vec<Part>, JsrError> {
         }
         for (column, col) in arrow.matrix.column_iter().enumerate() {
             let sum = col.sum();
-            if !sum.is_finite() || (sum - 1.0).abs() > 1e-9 {
+            if !sum.is_finite() || (sum - 1.0).abs() > STOCHASTIC {
                 return Err(JsrError::NotStochastic { arrow: arrow.name.clone(), column, sum });
             }
         }
@@ -503,7 +513,7 @@ impl Part {
             search.path.push(k);
             if e.to == search.start && search.work.spend(decomposition_ops(&p)) {
                 let rho = spectral_radius(&p).powf(1.0 / search.path.len() as f64);
-                if rho > search.best.0 + 1e-12 {
+                if rho > search.best.0 + ROUNDING {
                     search.best = (rho, search.path.clone());
                 }
             }
@@ -534,11 +544,11 @@ impl Part {
             let mut change: f64 = 0.0;
             for (x, n) in y.iter_mut().zip(next) {
                 // A little of the identity keeps the norm definite.
-                let n = n / scale + DMatrix::identity(x.nrows(), x.ncols()) * 1e-9;
+                let n = n / scale + DMatrix::identity(x.nrows(), x.ncols()) * DEFINITE;
                 change = change.max((&n - &*x).amax());
                 *x = n;
             }
-            if change < 1e-10 {
+            if change < SETTLED {
                 break;
             }
         }
@@ -607,7 +617,7 @@ impl Part {
         let bases = self.bases(&mut work);
         let norms: Vec<Vec<f64>> = bases.iter().map(|b| b.matrices.iter().map(b.norm).collect()).collect();
         let single = norms.iter().map(|n| n.iter().copied().fold(0.0, f64::max)).fold(f64::INFINITY, f64::min);
-        if single <= lower * (1.0 + 1e-9) {
+        if single <= lower * (1.0 + SLACK) {
             return single;
         }
         // The loosest target first (it decides convergence, and smaller ones need

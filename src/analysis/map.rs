@@ -25,7 +25,7 @@ pub fn per_matrix_condition(automaton: &Automaton<f64>) -> bool {
         a.kind != ArrowKind::Subdivision
             || !a.matrix.is_square()
             || !automaton.on_cycle(id)
-            || eigenvalues(&a.matrix).is_some_and(|e| contractive_spectrum(&e, 1e-9))
+            || eigenvalues(&a.matrix).is_some_and(|e| contractive_spectrum(&e, crate::algebra::tolerance::CONTRACTIVE))
     })
 }
 

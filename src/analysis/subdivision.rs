@@ -76,7 +76,9 @@ impl Mask {
             }
         }
         let scale = self.coeffs.iter().map(|c| c.abs()).fold(1.0, f64::max);
-        rem.iter().all(|r| r.abs() <= 1e-12 * scale).then_some(Mask { start: self.start, coeffs: q })
+        rem.iter()
+            .all(|r| r.abs() <= crate::algebra::tolerance::ROUNDING * scale)
+            .then_some(Mask { start: self.start, coeffs: q })
     }
 
     /// The `L`-step mask `c(z) c(z^p) … c(z^{p^{L-1}})`.

@@ -123,7 +123,13 @@ pub fn run_check(out: &mut String, file: &str, params: &[String], as_json: bool)
         for (n, eig) in &report.spectra {
             let list: Vec<String> = eig
                 .iter()
-                .map(|l| if l.im.abs() < 1e-12 { format!("{:.6}", l.re) } else { format!("{:.6}{:+.6}i", l.re, l.im) })
+                .map(|l| {
+                    if l.im.abs() < bcifs::algebra::tolerance::DEGENERATE {
+                        format!("{:.6}", l.re)
+                    } else {
+                        format!("{:.6}{:+.6}i", l.re, l.im)
+                    }
+                })
                 .collect();
             writeln!(out, "  spectrum of {n}: {}", list.join(", "))?;
         }

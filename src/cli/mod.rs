@@ -102,6 +102,34 @@ fn keyword<T: Copy>(what: &str, value: &str, options: &[(&str, T)]) -> Result<T>
     })
 }
 
+/// The picture flags `render`, `surface` and `scheme` share: size, view, memory.
+#[derive(clap::Args, Clone, Debug)]
+pub struct PictureArgs {
+    /// Picture size in pixels, WIDTHxHEIGHT.
+    #[arg(long, default_value = "800x800", value_parser = parse_size, value_name = "WIDTHxHEIGHT")]
+    pub size: (u32, u32),
+    /// View of 3D shapes: YAW,PITCH in degrees.
+    #[arg(long, default_value = "30,35", allow_hyphen_values = true, value_parser = parse_view, value_name = "YAW,PITCH")]
+    pub view: (f64, f64),
+    /// In-memory limit in MiB (pictures, evaluation, meshes).
+    #[arg(long, default_value_t = 4096)]
+    pub memory_mib: usize,
+}
+
+impl PictureArgs {
+    /// The in-memory limit in bytes.
+    pub fn memory(&self) -> usize {
+        self.memory_mib.saturating_mul(1 << 20)
+    }
+
+    /// The picture settings these flags ask for.
+    pub fn raster(&self) -> bcifs::export::RasterSettings {
+        let ((w, h), (yaw, pitch)) = (self.size, self.view);
+        bcifs::export::RasterSettings::default().with_size(w, h).with_view(yaw, pitch).with_memory_limit(self.memory())
+    }
+}
+
+/// `--size WIDTHxHEIGHT`: two positive numbers of pixels.
 fn parse_size(size: &str) -> Result<(u32, u32)> {
     let (w, h) = size.split_once('x').with_context(|| format!("--size `{size}`: expected WIDTHxHEIGHT"))?;
     let (w, h): (u32, u32) = (w.trim().parse().context("--size width")?, h.trim().parse().context("--size height")?);

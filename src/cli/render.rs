@@ -5,11 +5,10 @@ use std::path::{Path, PathBuf};
 
 use anyhow::bail;
 use bcifs::eval::{EvalError, EvalSettings};
-use bcifs::export::RasterSettings;
 use bcifs::geometry::Shape;
 use bcifs::render::{Options, RenderError, Report, control_net, evaluate_design, model_of, write_shape};
 
-use super::{check_threads, keyword, load, parse_params, parse_size, parse_view, progress_bar};
+use super::{check_threads, load, parse_params, progress_bar};
 
 /// The arguments of `bcifs render`.
 #[derive(clap::Args)]
@@ -40,15 +39,8 @@ pub struct RenderArgs {
     /// Worker threads (default: all cores).
     #[arg(long)]
     pub threads: Option<usize>,
-    /// In-memory limit in MiB for PNG/SVG output.
-    #[arg(long, default_value_t = 4096)]
-    pub memory_mib: usize,
-    /// Picture size in pixels, WIDTHxHEIGHT.
-    #[arg(long, default_value = "800x800")]
-    pub size: String,
-    /// View of 3D shapes: YAW,PITCH in degrees.
-    #[arg(long, default_value = "30,35", allow_hyphen_values = true)]
-    pub view: String,
+    #[command(flatten)]
+    pub picture: super::PictureArgs,
     /// Output file: .obj (streamed), .svg or .png.
     #[arg(short, long)]
     pub output: PathBuf,
@@ -58,9 +50,9 @@ pub struct RenderArgs {
     /// Texture coordinates on meshes: one (u, v) parameterization of the whole grid or torus.
     #[arg(long)]
     pub uv: bool,
-    /// The model axis that is up in OBJ files: y (the convention: model z becomes the file's y) or z (as is).
-    #[arg(long, default_value = "y")]
-    pub up: String,
+    /// The model axis that is up in OBJ and OFF files: y (the convention: model z becomes the file's y) or z (as is).
+    #[arg(long, value_enum, default_value_t = bcifs::export::Up::Y)]
+    pub up: bcifs::export::Up,
     /// Largest OBJ file to write, in GiB (the estimate is checked before writing; raise it on purpose).
     #[arg(long, default_value_t = 4.0)]
     pub max_output_gib: f64,
@@ -119,9 +111,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<u8> {
     let started = std::time::Instant::now();
     if args.control {
         let model = model_of(&design)?;
-        let (w, h) = parse_size(&args.size)?;
-        let memory = args.memory_mib.saturating_mul(1 << 20);
-        let raster = RasterSettings::default().with_size(w, h).with_memory_limit(memory);
+        let raster = args.picture.raster();
         let report = write_shape(&control_net(&model), design.name(), &raster, &args.output)?;
         print_report(&report, &format!("{} (control net)", design.name()), &args.output, started);
         return Ok(0);
@@ -144,7 +134,7 @@ fn options(args: &RenderArgs) -> anyhow::Result<Options> {
         bail!("--max-output-gib {}: expected a positive number of GiB", args.max_output_gib);
     }
     let threads = check_threads(args.threads)?;
-    let memory = args.memory_mib.saturating_mul(1 << 20);
+    let memory = args.picture.memory();
     let mut options = Options { params: parse_params(&args.params)?, ..Options::default() };
     options.eval.depth = match (args.depth, args.tolerance) {
         (_, Some(eps)) if eps > 0.0 => bcifs::eval::Depth::Tolerance(eps),
@@ -158,7 +148,7 @@ fn options(args: &RenderArgs) -> anyhow::Result<Options> {
     options.eval.force = args.force;
     options.eval.uv = args.uv;
     options.dedup = args.dedup;
-    options.coordinates.up = keyword("up axis", &args.up, &[("y", bcifs::export::Up::Y), ("z", bcifs::export::Up::Z)])?;
+    options.coordinates.up = args.up;
     options.coordinates = options.coordinates.with_precision(args.precision);
     options.max_output = (args.max_output_gib * (1u64 << 30) as f64) as u128;
     options.progress = progress_bar();
@@ -174,9 +164,7 @@ fn options(args: &RenderArgs) -> anyhow::Result<Options> {
         r.dropped.clone_from(&args.drop);
         options.random = Some(r);
     }
-    let (w, h) = parse_size(&args.size)?;
-    let (yaw, pitch) = parse_view(&args.view)?;
-    options.raster = options.raster.with_size(w, h).with_view(yaw, pitch).with_memory_limit(memory);
+    options.raster = args.picture.raster();
     options.tone = tone(args)?;
     options.palette =
         args.palette.as_deref().map(bcifs::export::Palette::parse).transpose().map_err(anyhow::Error::msg)?;
@@ -244,7 +232,7 @@ fn parse_colour(text: &str) -> anyhow::Result<[u8; 3]> {
 }
 
 /// Which form of a scheme to evaluate.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum SchemeForm {
     /// The automaton when the scheme has one, the direct polyline form otherwise.
     Auto,

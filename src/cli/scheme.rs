@@ -6,7 +6,7 @@ use anyhow::{Context, Result, bail};
 use clap::Subcommand;
 
 use super::render::{SchemeForm, normal_shape, print_report};
-use super::{keyword, parse_size, progress_bar};
+use super::{keyword, progress_bar};
 use bcifs::render::{Options as RenderOptions, render, write_shape};
 
 #[derive(Subcommand)]
@@ -26,9 +26,8 @@ pub struct SchemeOutput {
     /// Print the automaton file (TOML) instead of rendering.
     #[arg(long)]
     print: bool,
-    /// Picture size in pixels, WIDTHxHEIGHT.
-    #[arg(long, default_value = "800x800")]
-    size: String,
+    #[command(flatten)]
+    picture: super::PictureArgs,
     /// Output file: .obj, .svg or .png.
     #[arg(short, long, required_unless_present = "print")]
     output: Option<PathBuf>,
@@ -87,12 +86,11 @@ fn run_ifs(out: &mut String, args: IfsArgs) -> Result<u8> {
     }
     let output = args.out.output.context("give -o OUT.{png,svg,obj}")?;
     super::check_output(&output, &["png", "svg", "obj"])?;
-    let (w, h) = parse_size(&args.out.size)?;
     let mut options = RenderOptions::default();
     options.eval.depth = bcifs::eval::Depth::Fixed(args.depth);
     options.eval.dropped = args.drop;
     options.eval.progress = progress_bar();
-    options.raster = options.raster.with_size(w, h);
+    options.raster = args.out.picture.raster();
     let started = std::time::Instant::now();
     print_report(&render(&design, &options, &output)?, design.description(), &output, started);
     Ok(0)
@@ -115,14 +113,14 @@ pub struct NormalArgs {
     #[arg(long, allow_hyphen_values = true)]
     beta: Option<String>,
     /// Direction of the normals: positive (counter-clockwise) or negative.
-    #[arg(long)]
-    normal: Option<String>,
+    #[arg(long, value_enum)]
+    normal: Option<Direction>,
     /// Sign pattern of β: constant, alternate ((−1)^i), level ((−1)^(k+1)), level-index ((−1)^(k+i)).
     #[arg(long)]
     sign: Option<String>,
     /// Initial polygon: segment, triangle or quad (the paper's unit shapes).
-    #[arg(long)]
-    polygon: Option<String>,
+    #[arg(long, value_enum)]
+    polygon: Option<Polygon>,
     /// Initial polygon as points `x,y x,y ...` (overrides --polygon).
     #[arg(long, allow_hyphen_values = true)]
     points: Option<String>,
@@ -133,10 +131,30 @@ pub struct NormalArgs {
     #[arg(long)]
     depth: Option<usize>,
     /// auto (automaton when interpolatory), direct (eq. 1 on the polygon) or automaton.
-    #[arg(long, default_value = "auto")]
-    form: String,
+    #[arg(long, value_enum, default_value_t = SchemeForm::Auto)]
+    form: SchemeForm,
     #[command(flatten)]
     out: SchemeOutput,
+}
+
+/// `--normal`: the direction of the normals.
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+enum Direction {
+    /// Counter-clockwise.
+    Positive,
+    /// Clockwise.
+    Negative,
+}
+
+/// `--polygon`: the paper's unit shapes.
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+enum Polygon {
+    /// The unit segment (open).
+    Segment,
+    /// The unit triangle (closed).
+    Triangle,
+    /// The unit square (closed).
+    Quad,
 }
 
 fn run_normal(out: &mut String, args: NormalArgs) -> Result<u8> {
@@ -167,13 +185,11 @@ fn run_normal(out: &mut String, args: NormalArgs) -> Result<u8> {
     {
         bail!("--p {p} but {} values of α and β", preset.scheme.arity());
     }
-    if let Some(n) = &args.normal {
-        let n = keyword(
-            "normal direction",
-            n,
-            &[("positive", NormalDirection::Positive), ("negative", NormalDirection::Negative)],
-        )?;
-        preset.scheme = preset.scheme.with_normal(n);
+    if let Some(n) = args.normal {
+        preset.scheme = preset.scheme.with_normal(match n {
+            Direction::Positive => NormalDirection::Positive,
+            Direction::Negative => NormalDirection::Negative,
+        });
     }
     if let Some(sgn) = &args.sign {
         let options: Vec<(&str, SignPattern)> = SignPattern::ALL.iter().map(|p| (p.keyword(), *p)).collect();
@@ -187,16 +203,12 @@ fn run_normal(out: &mut String, args: NormalArgs) -> Result<u8> {
         }
         preset.polygon = pts;
         preset.closed = args.closed;
-    } else if let Some(poly) = &args.polygon {
-        type Shape = fn() -> Vec<bcifs::schemes::Point2>;
-        let options: [(&str, (Shape, bool)); 3] = [
-            ("segment", (bcifs::schemes::unit_segment, false)),
-            ("triangle", (bcifs::schemes::unit_triangle, true)),
-            ("quad", (bcifs::schemes::unit_square, true)),
-        ];
-        let (make, closed) = keyword("polygon", poly, &options)?;
-        preset.polygon = make();
-        preset.closed = closed;
+    } else if let Some(poly) = args.polygon {
+        (preset.polygon, preset.closed) = match poly {
+            Polygon::Segment => (bcifs::schemes::unit_segment(), false),
+            Polygon::Triangle => (bcifs::schemes::unit_triangle(), true),
+            Polygon::Quad => (bcifs::schemes::unit_square(), true),
+        };
     }
     if preset.polygon.len() < if preset.closed { 3 } else { 2 } {
         bail!("the initial polygon needs at least {} points", if preset.closed { 3 } else { 2 });
@@ -205,18 +217,14 @@ fn run_normal(out: &mut String, args: NormalArgs) -> Result<u8> {
         out.push_str(&bcifs::write_design(&preset.design()?));
         return Ok(0);
     }
-    let form = keyword(
-        "form",
-        &args.form,
-        &[("auto", SchemeForm::Auto), ("direct", SchemeForm::Direct), ("automaton", SchemeForm::Automaton)],
-    )?;
+    let form = args.form;
     let depth = args.depth.unwrap_or(preset.depth);
     let output = args.out.output.context("give -o OUT.{png,svg,obj}")?;
     super::check_output(&output, &["png", "svg", "obj"])?;
-    let (w, h) = parse_size(&args.out.size)?;
+
     let started = std::time::Instant::now();
     let shape = normal_shape(&preset, depth, form, bcifs::eval::DEFAULT_MEMORY_LIMIT)?;
-    let raster = bcifs::export::RasterSettings::default().with_size(w, h);
+    let raster = args.out.picture.raster();
     let label = format!("{} ({}), depth {depth}", preset.name, preset.scheme);
     print_report(&write_shape(&shape, preset.name, &raster, &output)?, &label, &output, started);
     Ok(0)

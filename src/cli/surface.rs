@@ -5,13 +5,13 @@
 use std::path::PathBuf;
 
 use anyhow::bail;
-use bcifs::export::{RasterSettings, write_atomic};
+use bcifs::export::write_atomic;
 use bcifs::mesh::{PolyMesh, Scheme, read_mesh};
 use bcifs::render::{MeshJob, Options, render_mesh, rule_weights};
 use bcifs::schemes::mesh_automaton;
 
+use super::parse_params;
 use super::render::print_report;
-use super::{keyword, parse_params, parse_size, parse_view};
 
 /// The arguments of `bcifs surface`.
 #[derive(clap::Args)]
@@ -19,8 +19,8 @@ pub struct SurfaceArgs {
     /// The control mesh: an OBJ or OFF file (faces of any degree, closed or with boundary).
     pub mesh: PathBuf,
     /// The scheme: doo-sabin, catmull-clark (any polygons), loop or sqrt3 (triangles).
-    #[arg(long)]
-    pub scheme: String,
+    #[arg(long, value_enum)]
+    pub scheme: Scheme,
     /// Split faces of more than three vertices into fans of triangles first (for loop and sqrt3).
     #[arg(long)]
     pub triangulate: bool,
@@ -42,15 +42,8 @@ pub struct SurfaceArgs {
     /// Output file: .obj, .off, .png or .svg (in the input file's axes; pictures seen from --view); with --print, .toml.
     #[arg(short, long, required_unless_present = "print")]
     pub output: Option<PathBuf>,
-    /// In-memory limit in MiB.
-    #[arg(long, default_value_t = 4096)]
-    pub memory_mib: usize,
-    /// Picture size in pixels, WIDTHxHEIGHT.
-    #[arg(long, default_value = "800x800")]
-    pub size: String,
-    /// View of the picture: YAW,PITCH in degrees.
-    #[arg(long, default_value = "30,35", allow_hyphen_values = true)]
-    pub view: String,
+    #[command(flatten)]
+    pub picture: super::PictureArgs,
     /// Largest OBJ or OFF file to write, in GiB (the estimate is checked before writing; raise it on purpose).
     #[arg(long, default_value_t = 4.0)]
     pub max_output_gib: f64,
@@ -59,7 +52,7 @@ pub struct SurfaceArgs {
 /// `bcifs surface`.
 pub fn run(out: &mut String, args: SurfaceArgs) -> anyhow::Result<u8> {
     let started = std::time::Instant::now();
-    let scheme = keyword("scheme", &args.scheme, &Scheme::ALL.map(|s| (s.name(), s)))?;
+    let scheme = args.scheme;
     let weights = rule_weights(scheme, &parse_params(&args.params)?)?;
     let mut mesh = read_mesh(&args.mesh)?;
     if args.triangulate {
@@ -75,12 +68,9 @@ pub fn run(out: &mut String, args: SurfaceArgs) -> anyhow::Result<u8> {
     if !(args.max_output_gib.is_finite() && args.max_output_gib > 0.0) {
         bail!("--max-output-gib {}: expected a positive number of GiB", args.max_output_gib);
     }
-    let (w, h) = parse_size(&args.size)?;
-    let (yaw, pitch) = parse_view(&args.view)?;
-    let memory = args.memory_mib.saturating_mul(1 << 20);
     let mut options = Options::default();
-    options.eval.memory_limit = memory;
-    options.raster = RasterSettings::default().with_size(w, h).with_view(yaw, pitch).with_memory_limit(memory);
+    options.eval.memory_limit = args.picture.memory();
+    options.raster = args.picture.raster();
     options.max_output = (args.max_output_gib * (1u64 << 30) as f64) as u128;
     options.cancel = super::interrupt().clone();
     let report = render_mesh(&mesh, &job, &options, &output)?;

@@ -43,7 +43,9 @@ pub enum ContourError {
 pub fn chain(segments: &[Segment]) -> Result<(Vec<Segment>, bool), ContourError> {
     let Some(first) = segments.first() else { return Err(ContourError::Empty) };
     let scale = segments.iter().flat_map(|s| s.points.iter().flatten()).fold(1.0f64, |m, x| m.max(x.abs()));
-    let same = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).abs().max((a[1] - b[1]).abs()) <= 1e-9 * scale;
+    let same = |a: [f64; 2], b: [f64; 2]| {
+        (a[0] - b[0]).abs().max((a[1] - b[1]).abs()) <= crate::algebra::tolerance::SAME_POINT * scale
+    };
     let mut used = vec![false; segments.len()];
     used[0] = true;
     let mut out = std::collections::VecDeque::from([first.clone()]);

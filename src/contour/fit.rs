@@ -12,6 +12,7 @@
 //! (x right, y down), so it lies within half a pixel of the true edge.
 
 use super::segments::Segment;
+use crate::algebra::tolerance::{DEGENERATE, ROUNDING};
 
 /// IPAN99's parameters (Chetverikov and Szabó): a point is a corner
 /// candidate when a triangle `(p⁻, p, p⁺)` with sides `|p − p⁻|`,
@@ -325,7 +326,7 @@ fn to_piece(p: [f64; 2], s: &Segment) -> f64 {
 /// distances computed from pixel centres (a chord one pixel off computes as
 /// 1.0000000000000284).
 fn within(distance: f64, tolerance: f64) -> bool {
-    distance <= tolerance * (1.0 + 1e-12) + 1e-12
+    distance <= tolerance * (1.0 + ROUNDING) + ROUNDING
 }
 
 /// Distance from `p` to the polyline through `run`.
@@ -428,7 +429,7 @@ fn fit_one(points: &[[f64; 2]], tolerance: f64, strict: bool) -> (Segment, f64) 
             let r = [at[0] - q[0], at[1] - q[1]];
             let f = r[0] * d1[0] + r[1] * d1[1];
             let df = d1[0] * d1[0] + d1[1] * d1[1] + r[0] * d2[0] + r[1] * d2[1];
-            if df.abs() > 1e-12 {
+            if df.abs() > DEGENERATE {
                 *u = (*u - f / df).clamp(0.0, 1.0);
             }
         }

@@ -104,7 +104,7 @@ pub fn arc_ifs(p0: [f64; 2], p1: [f64; 2], p2: [f64; 2]) -> Option<[RowMap; 2]> 
     let p: RowMap = [[p0[0], p0[1], 1.0], [p1[0], p1[1], 1.0], [p2[0], p2[1], 1.0]];
     let det = p[0][0] * (p[1][1] - p[2][1]) - p[0][1] * (p[1][0] - p[2][0]) + (p[1][0] * p[2][1] - p[2][0] * p[1][1]);
     let scale = [p0, p1, p2].iter().flat_map(|q| q.iter()).fold(1.0f64, |m, x| m.max(x.abs()));
-    if det.abs() <= 1e-12 * scale * scale {
+    if det.abs() <= crate::algebra::tolerance::DEGENERATE * scale * scale {
         return None;
     }
     // The adjugate over the determinant.

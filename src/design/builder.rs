@@ -1033,7 +1033,7 @@ impl<'a> Compiler<'a> {
                     ));
                 }
                 let sum: f64 = p.iter().sum();
-                if !sum.is_finite() || (sum - 1.0).abs() > 1e-9 {
+                if !sum.is_finite() || (sum - 1.0).abs() > crate::algebra::tolerance::STOCHASTIC {
                     return Err(Self::model_error(
                         Field::Start(k),
                         format!("start points are barycentric: coordinates must sum to 1 (one sums to {sum})"),

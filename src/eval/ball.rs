@@ -136,7 +136,7 @@ impl Balls {
             for (m, g) in maps.iter().zip(&gaps) {
                 next[m.from] = next[m.from].max(g + m.rho * radii[m.to]);
             }
-            let done = next.iter().zip(&radii).all(|(a, b)| a - b <= 1e-12 * a.abs());
+            let done = next.iter().zip(&radii).all(|(a, b)| a - b <= crate::algebra::tolerance::ROUNDING * a.abs());
             radii = next;
             if done {
                 break;

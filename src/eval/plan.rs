@@ -4,6 +4,7 @@
 
 use petgraph::stable_graph::{EdgeIndex, NodeIndex};
 
+use crate::algebra::tolerance::{CONTRACTIVE, SAME_POINT, STOCHASTIC};
 use crate::automaton::{ArrowKind, Automaton};
 use crate::space::CellKind;
 
@@ -113,7 +114,7 @@ fn mat_vec(m: &[f64], rows: usize, cols: usize, v: &[f64]) -> Vec<f64> {
 }
 
 fn close(a: &[f64], b: &[f64]) -> bool {
-    a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-9)
+    a.iter().zip(b).all(|(x, y)| (x - y).abs() < SAME_POINT)
 }
 
 impl Plan {
@@ -195,10 +196,10 @@ fn check_arrows(automaton: &Automaton<f64>) -> Result<(), PlanError> {
     for (id, arrow) in automaton.arrows() {
         for (j, col) in arrow.matrix.column_iter().enumerate() {
             let sum = col.sum();
-            if (sum - 1.0).abs() > 1e-9 {
+            if (sum - 1.0).abs() > STOCHASTIC {
                 let magnitude = col.iter().map(|x| if x.is_nan() { f64::NAN } else { x.abs() }).fold(0.0, f64::max);
                 // A sum of n entries of this size is only known to within n ε magnitude.
-                if !magnitude.is_finite() || magnitude * col.len() as f64 * f64::EPSILON > 1e-9 {
+                if !magnitude.is_finite() || magnitude * col.len() as f64 * f64::EPSILON > STOCHASTIC {
                     return Err(PlanError::Unrepresentable { arrow: arrow.name.clone(), column: j, magnitude });
                 }
                 return Err(PlanError::NotStochastic { arrow: arrow.name.clone(), column: j, sum });
@@ -207,7 +208,7 @@ fn check_arrows(automaton: &Automaton<f64>) -> Result<(), PlanError> {
         if arrow.kind == ArrowKind::Subdivision && arrow.matrix.is_square() && automaton.on_cycle(id) {
             let eig =
                 crate::algebra::eigenvalues(&arrow.matrix).ok_or_else(|| PlanError::Spectrum(arrow.name.clone()))?;
-            if !crate::algebra::contractive_spectrum(&eig, 1e-9) {
+            if !crate::algebra::contractive_spectrum(&eig, CONTRACTIVE) {
                 // The largest modulus once the eigenvalue nearest 1 is set aside.
                 let one = (0..eig.len()).min_by(|&a, &b| (eig[a] - 1.0).norm().total_cmp(&(eig[b] - 1.0).norm()));
                 let modulus = (0..eig.len())

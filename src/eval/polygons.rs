@@ -50,7 +50,12 @@ impl Evaluator {
             if self.pieces.shared { vec![&self.pieces.pieces[..]] } else { self.pieces.pieces.chunks(1).collect() };
         for group in groups {
             let scale = group.iter().flat_map(|p| &p.control).fold(1.0f64, |m, x| m.max(x.abs()));
-            let mut weld = Weld { q: 1e-9 * scale, d, index: HashMap::new(), positions: Vec::new() };
+            let mut weld = Weld {
+                q: crate::algebra::tolerance::SAME_POINT * scale,
+                d,
+                index: HashMap::new(),
+                positions: Vec::new(),
+            };
             let (mut quads, mut triangles) = (Vec::new(), Vec::new());
             let mut stack: Vec<(usize, Vec<f64>, usize)> =
                 group.iter().rev().map(|p| (p.state, p.control.clone(), k)).collect();

@@ -105,7 +105,9 @@ fn join_union_curves(plan: &Plan, pieces: &mut Pieces) {
         ends.push((a, b));
     }
     let scale = pieces.pieces.iter().flat_map(|p| p.control.iter()).fold(1.0f64, |m, x| m.max(x.abs()));
-    let same = |p: &[f64], q: &[f64]| p.iter().zip(q).all(|(x, y)| (x - y).abs() <= 1e-9 * scale);
+    let same = |p: &[f64], q: &[f64]| {
+        p.iter().zip(q).all(|(x, y)| (x - y).abs() <= crate::algebra::tolerance::SAME_POINT * scale)
+    };
     if ends.len() < 2 || !ends.windows(2).all(|w| same(&w[0].1, &w[1].0)) {
         return;
     }

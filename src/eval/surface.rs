@@ -129,7 +129,7 @@ fn equidistant(u: &DVec3, v: &DVec3, w: &DVec3) -> Option<DVec3> {
     let z = DVec3::new(u.z, v.z, w.z);
     let rows = [y.cross(&z), z.cross(&x), x.cross(&y)];
     let det = x.dot(&rows[0]);
-    if det.abs() <= 1e-12 {
+    if det.abs() <= crate::algebra::tolerance::DEGENERATE {
         return None;
     }
     let r = 1.0 / det;

@@ -9,6 +9,7 @@ use super::number::push_f64;
 /// with model z as file y (`(x, y, z)` → `(x, z, −y)`, a rotation); 2D
 /// curves stay in the xy plane.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum Up {
     /// Model z becomes the file's y (the convention; the default).
     #[default]

@@ -211,7 +211,7 @@ impl Density {
             }
         }
         let max = f64::from(count.iter().copied().fold(0.0, f32::max));
-        let b = tone.brightness.max(1e-9);
+        let b = tone.brightness.max(crate::algebra::tolerance::SLACK);
         let norm = (1.0 + b * max).ln().max(1e-300);
         let gamma = 1.0 / tone.gamma.max(1e-3);
         let vib = tone.vibrancy.clamp(0.0, 1.0);

@@ -10,6 +10,7 @@ use nalgebra::Vector3;
 
 use super::atomic::write_atomic;
 use super::view::{Canvas, RasterSettings, RasterTooLarge, project, raster_bytes};
+use crate::algebra::tolerance::{DEGENERATE, SLACK};
 use crate::geometry::Shape;
 
 pub(super) const INK: [f64; 3] = [27.0, 58.0, 107.0];
@@ -57,7 +58,7 @@ pub(super) fn wu_line(cov: &mut [f32], w: usize, h: usize, (mut x0, mut y0): (f6
         std::mem::swap(&mut y0, &mut y1);
     }
     let dx = x1 - x0;
-    let gradient = if dx.abs() < 1e-12 { 1.0 } else { (y1 - y0) / dx };
+    let gradient = if dx.abs() < DEGENERATE { 1.0 } else { (y1 - y0) / dx };
     let span = if steep { h } else { w } as i64;
     let (xs, xe) = (round_i64(x0).max(-1), round_i64(x1).min(span));
     let mut y = y0 + gradient * (xs as f64 - x0);
@@ -141,7 +142,7 @@ fn draw(shape: &Shape, settings: &RasterSettings) -> RgbImage {
 pub(super) fn finish_picture(w: u32, h: u32, cov: &[f32], density: &[u32]) -> RgbImage {
     let mut img = RgbImage::from_pixel(w, h, Rgb([255, 255, 255]));
     let max = density.iter().copied().max().unwrap_or(0);
-    let norm = (1.0 + f64::from(max)).ln().max(1e-12);
+    let norm = (1.0 + f64::from(max)).ln().max(DEGENERATE);
     for (i, px) in img.pixels_mut().enumerate() {
         let dens = if density[i] > 0 { 0.35 + 0.65 * (1.0 + f64::from(density[i])).ln() / norm } else { 0.0 };
         *px = mix(PAPER, INK, f64::from(cov[i]).max(dens));
@@ -181,7 +182,7 @@ fn shade(shape: &Shape, pts: &[[f64; 3]], canvas: &Canvas, img: &mut RgbImage) {
             s.iter().map(|p| p.1).fold(f64::NEG_INFINITY, f64::max),
         );
         let area = (s[1].0 - s[0].0) * (s[2].1 - s[0].1) - (s[2].0 - s[0].0) * (s[1].1 - s[0].1);
-        if area.abs() < 1e-12 {
+        if area.abs() < DEGENERATE {
             continue;
         }
         let (xs, xe) = (x0.floor().max(0.0) as usize, (x1.ceil() as usize).min(w.saturating_sub(1)));
@@ -195,7 +196,7 @@ fn shade(shape: &Shape, pts: &[[f64; 3]], canvas: &Canvas, img: &mut RgbImage) {
                 let w0 = ((s[1].0 - fx) * (s[2].1 - fy) - (s[2].0 - fx) * (s[1].1 - fy)) / area;
                 let w1 = ((s[2].0 - fx) * (s[0].1 - fy) - (s[0].0 - fx) * (s[2].1 - fy)) / area;
                 let w2 = 1.0 - w0 - w1;
-                if w0 < -1e-9 || w1 < -1e-9 || w2 < -1e-9 {
+                if w0 < -SLACK || w1 < -SLACK || w2 < -SLACK {
                     continue;
                 }
                 let z = w0 * a[2] + w1 * b[2] + w2 * c[2];

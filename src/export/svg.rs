@@ -6,6 +6,7 @@ use std::fmt::Write as _;
 
 use super::png::face_colour;
 use super::view::{Canvas, RasterSettings, project};
+use crate::algebra::tolerance::DEGENERATE;
 use crate::geometry::Shape;
 
 /// The faces of a surface (2D or 3D) as an SVG picture of the settings'
@@ -65,7 +66,7 @@ pub fn svg(shape: &Shape, size: u32) -> String {
     let Some((lo, hi)) = shape.bounds() else {
         return format!("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{size}\" height=\"{size}\"/>\n");
     };
-    let (w, h) = ((hi[0] - lo[0]).max(1e-12), (hi[1] - lo[1]).max(1e-12));
+    let (w, h) = ((hi[0] - lo[0]).max(DEGENERATE), (hi[1] - lo[1]).max(DEGENERATE));
     let scale = f64::from(size) * 0.95 / w.max(h);
     let (width, height) = (w * scale / 0.95, h * scale / 0.95);
     let margin = f64::from(size) * 0.025;

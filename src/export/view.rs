@@ -8,6 +8,7 @@ use nalgebra::{Matrix3, Vector3};
 /// A rotation of space.
 pub(super) type DMat3 = Matrix3<f64>;
 
+use crate::algebra::tolerance::DEGENERATE;
 use crate::geometry::Shape;
 
 /// Where a 3D shape is looked at from: rotation about the vertical (z) axis,
@@ -160,7 +161,7 @@ impl Canvas {
             }
         }
         let (w, h) = (w as usize, h as usize);
-        let span = [(hi[0] - lo[0]).max(1e-12), (hi[1] - lo[1]).max(1e-12)];
+        let span = [(hi[0] - lo[0]).max(DEGENERATE), (hi[1] - lo[1]).max(DEGENERATE)];
         let scale = fill * (w as f64 / span[0]).min(h as f64 / span[1]);
         let off =
             [(w as f64 - span[0] * scale) / 2.0 - lo[0] * scale, (h as f64 - span[1] * scale) / 2.0 - lo[1] * scale];

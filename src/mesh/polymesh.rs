@@ -17,6 +17,7 @@ pub struct PolyMesh {
 
 /// A subdivision scheme on polygon meshes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum Scheme {
     /// Doo-Sabin: a new vertex per face corner (`α_0 = 1/4 + 5/(4n)`,
     /// `α_k = (3 + 2cos(2πk/n))/(4n)`), faces for the faces, the interior
@@ -154,7 +155,7 @@ impl PolyMesh {
         }
         // Faces: triples of mutually adjacent vertices (edge length 2), oriented outwards.
         let d = |i: usize, j: usize| (0..3).map(|a| (positions[i][a] - positions[j][a]).powi(2)).sum::<f64>();
-        let near = |i: usize, j: usize| (d(i, j) - 4.0).abs() < 1e-9;
+        let near = |i: usize, j: usize| (d(i, j) - 4.0).abs() < crate::algebra::tolerance::SAME_POINT;
         let mut faces = Vec::new();
         for i in 0..12 {
             for j in i + 1..12 {

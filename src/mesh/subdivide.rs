@@ -146,8 +146,17 @@ impl From<LoopWeights> for RuleWeights {
     }
 }
 
-/// The classic Doo-Sabin weights of an `n`-gon, `α_0 .. α_{n−1}`.
-fn doo_sabin_weights(n: usize) -> Vec<f64> {
+/// The classic Doo-Sabin weights of an `n`-gon, `α_0 .. α_{n−1}` (`α_k`
+/// on corner `i + k` for the new point of corner `i`): `(1 + 5/n)/4` and
+/// `(3 + 2cos(2πk/n))/(4n)`, CGAL's arithmetic. The one definition: the
+/// subdivision and the generated automaton's defaults use it.
+///
+/// ```
+/// let w = bcifs::mesh::doo_sabin_weights(4);
+/// assert_eq!(w, [9.0 / 16.0, 3.0 / 16.0, 1.0 / 16.0, 3.0 / 16.0]);
+/// assert!((bcifs::mesh::doo_sabin_weights(7).iter().sum::<f64>() - 1.0).abs() < 1e-15);
+/// ```
+pub fn doo_sabin_weights(n: usize) -> Vec<f64> {
     if n == 4 {
         // CGAL spells the quad out: exactly these values.
         return vec![9.0 / 16.0, 3.0 / 16.0, 1.0 / 16.0, 3.0 / 16.0];

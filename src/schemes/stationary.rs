@@ -682,7 +682,7 @@ impl LiftedIfs {
             let mut candidate = basis.clone();
             candidate.push(i);
             let m = DMatrix::from_fn(candidate.len(), d + 1, |r, c| if c < d { points[candidate[r]][c] } else { 1.0 });
-            if m.rank(1e-9) == candidate.len() {
+            if m.rank(crate::algebra::tolerance::RANK) == candidate.len() {
                 basis = candidate;
             }
             if basis.len() == d + 1 {

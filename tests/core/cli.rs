@@ -274,7 +274,7 @@ fn obj_files_are_y_up_unless_asked() {
     assert_eq!(curve[2], 0.0, "2D stays in the xy plane");
     let (code, _, err) = bcifs(&["render", "levy", "--up", "x", "-o", dir.join("x.obj").to_str().unwrap()]);
     assert_eq!(code, 2);
-    assert!(err.contains("up axis"), "{err}");
+    assert!(err.contains("invalid value 'x' for '--up") && err.contains("possible values: y, z"), "{err}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -563,7 +563,7 @@ fn surface_subdivides_a_users_mesh() {
         ),
         (
             vec!["surface", "tests/data/torus12.obj", "--scheme", "butterfly", "-o", &path("bad.png")],
-            "unknown scheme `butterfly`",
+            "invalid value 'butterfly' for '--scheme <SCHEME>'",
         ),
         (
             vec!["surface", "tests/data/torus12.obj", "--scheme", "loop", "-o", &path("bad.png")],

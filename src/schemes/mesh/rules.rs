@@ -126,14 +126,7 @@ impl Weights {
     /// Quads: `alpha`, `beta`, `gamma` and the rest on the opposite corner;
     /// other `n`: `a{n}_{k}` with the rest on corner `⌊n/2⌋`.
     pub(super) fn doo_sabin(&mut self, n: usize) -> Vec<Lin> {
-        let classic = |k: usize| {
-            let nf = n as f64;
-            if k == 0 {
-                0.25 + 1.25 / nf
-            } else {
-                (3.0 + 2.0 * (2.0 * std::f64::consts::PI * k as f64 / nf).cos()) / (4.0 * nf)
-            }
-        };
+        let classic = crate::mesh::doo_sabin_weights(n);
         let rest = n / 2;
         let mut out: Vec<Lin> = (0..n)
             .map(|k| {
@@ -144,7 +137,7 @@ impl Weights {
                     (4, 0) => ("alpha".to_string(), self.quad.alpha),
                     (4, 1) => ("beta".to_string(), self.quad.beta),
                     (4, 3) => ("gamma".to_string(), self.quad.gamma),
-                    _ => (format!("a{n}_{k}"), classic(k)),
+                    _ => (format!("a{n}_{k}"), classic[k]),
                 };
                 Lin::param(self.param(name, default))
             })
@@ -198,12 +191,16 @@ pub(super) fn step(m: &Local, w: &mut Weights) -> Step {
     }
 }
 
+/// A weight within this of a small fraction is that fraction (a float's
+/// own rounding of it is below this).
+const FRACTION: f64 = 1e-15;
+
 /// An exact rational for a weight: small fractions where the weight is
 /// one, the float's shortest decimal otherwise.
 pub(super) fn exact_weight(x: f64) -> BigRational {
     for q in 1..=36i64 {
         let p = (x * q as f64).round();
-        if (p / q as f64 - x).abs() < 1e-15 {
+        if (p / q as f64 - x).abs() < FRACTION {
             return rat(p as i64, q);
         }
     }
@@ -300,113 +297,123 @@ pub(super) fn sqrt3_children(role: Role, m: &Local, s: &Step, h: Half) -> Vec<Ha
     }
 }
 
-/// Catmull-Clark and Loop: vertex points, edge points, (face points), children per corner.
-pub(super) fn primal_step(m: &Local, w: &mut Weights) -> Step {
-    let loop_ = w.scheme == Scheme::Loop;
-    let one = Lin::konst(BigRational::one());
-    let unit = |v: usize| Sym::from([(v, one.clone())]);
-    let nv = m.vertices;
-    let mut points: Vec<Option<Sym>> = Vec::new();
-    // Face points (Catmull-Clark): centroids.
-    let face_point: Vec<Sym> = m
-        .faces
+/// The point of control point `v` alone.
+fn unit(v: usize) -> Sym {
+    Sym::from([(v, Lin::konst(BigRational::one()))])
+}
+
+/// Catmull-Clark's face points: the faces' centroids.
+fn face_points(m: &Local) -> Vec<Sym> {
+    m.faces
         .iter()
         .map(|f| {
             let mut s = Sym::new();
             f.iter().for_each(|&v| add_sym(&mut s, &unit(v), &rat(1, f.len() as i64)));
             s
         })
-        .collect();
-    // Vertex points.
-    for v in 0..nv {
-        let out = &m.around[v];
-        let border: Vec<Half> = out.iter().copied().filter(|h| m.sides[h.0][h.1] == Side::Border).collect();
-        let cut =
-            out.iter().any(|h| m.sides[h.0][h.1] == Side::Cut || m.sides[m.prev(*h).0][m.prev(*h).1] == Side::Cut);
-        let p = if out.is_empty() || cut {
-            None
-        } else if let Some(&b) = border.first() {
-            // (u + 6v + w)/8 with the border neighbours: the head of the outgoing
-            // border half-edge and the tail of the incoming one.
-            let incoming = out.iter().map(|&h| m.prev(h)).find(|g| m.sides[g.0][g.1] == Side::Border);
-            incoming.map(|g| {
-                let mut s = Sym::new();
-                add_sym(&mut s, &unit(m.head(b)), &rat(1, 8));
-                add_sym(&mut s, &unit(m.at(g)), &rat(1, 8));
-                add_sym(&mut s, &unit(v), &rat(6, 8));
-                s
-            })
-        } else {
-            let n = out.len();
+        .collect()
+}
+
+/// The vertex point of `v` (Catmull-Clark or Loop), `None` where its
+/// stencil leaves the neighbourhood.
+fn vertex_point(m: &Local, w: &mut Weights, face_point: &[Sym], v: usize) -> Option<Sym> {
+    let out = &m.around[v];
+    let side = |h: Half| m.sides[h.0][h.1];
+    let border: Vec<Half> = out.iter().copied().filter(|&h| side(h) == Side::Border).collect();
+    if out.is_empty() || out.iter().any(|&h| side(h) == Side::Cut || side(m.prev(h)) == Side::Cut) {
+        return None;
+    }
+    if let Some(&b) = border.first() {
+        // (u + 6v + w)/8 with the border neighbours: the head of the outgoing
+        // border half-edge and the tail of the incoming one.
+        let incoming = out.iter().map(|&h| m.prev(h)).find(|&g| side(g) == Side::Border);
+        return incoming.map(|g| {
             let mut s = Sym::new();
-            if loop_ {
-                let beta = w.loop_ring(n);
-                let mut keep = one.clone();
-                keep.add_scaled(&beta, &rat(-(n as i64), 1));
-                add_point(&mut s, v, &keep);
-                out.iter().for_each(|&h| add_point(&mut s, m.head(h), &beta));
+            add_sym(&mut s, &unit(m.head(b)), &rat(1, 8));
+            add_sym(&mut s, &unit(m.at(g)), &rat(1, 8));
+            add_sym(&mut s, &unit(v), &rat(6, 8));
+            s
+        });
+    }
+    let n = out.len();
+    let one = Lin::konst(BigRational::one());
+    let mut s = Sym::new();
+    if w.scheme == Scheme::Loop {
+        let beta = w.loop_ring(n);
+        let mut keep = one;
+        keep.add_scaled(&beta, &rat(-(n as i64), 1));
+        add_point(&mut s, v, &keep);
+        out.iter().for_each(|&h| add_point(&mut s, m.head(h), &beta));
+    } else {
+        // (1 − r − f) v + r · (mean neighbour) + f · (mean face point);
+        // r = f = 1/n is (Q + 2R + (n − 3)v)/n.
+        let (r, f) = w.catmull_clark_vertex(n);
+        let mut keep = one;
+        keep.add_scaled(&r, &-BigRational::one());
+        keep.add_scaled(&f, &-BigRational::one());
+        add_point(&mut s, v, &keep);
+        let each = rat(1, n as i64);
+        for &h in out {
+            let mut share = Lin::default();
+            share.add_scaled(&r, &each);
+            add_point(&mut s, m.head(h), &share);
+            add_scaled_points(&mut s, &face_point[h.0], &f, &each);
+        }
+    }
+    Some(s)
+}
+
+/// The edge point of the half-edge `h` (Catmull-Clark or Loop), `None`
+/// where its stencil leaves the neighbourhood.
+fn edge_point(m: &Local, w: &mut Weights, face_point: &[Sym], h: Half) -> Option<Sym> {
+    let (a, b) = (m.at(h), m.head(h));
+    match (m.sides[h.0][h.1], m.twin_of(h)) {
+        (Side::Inner, Some(t)) => {
+            let mut s = Sym::new();
+            if w.scheme == Scheme::Loop {
+                let end = Lin::param(w.param("w".into(), w.triangle.w));
+                let mut opposite = Lin::konst(rat(1, 2));
+                opposite.add_scaled(&end, &-BigRational::one());
+                add_point(&mut s, a, &end);
+                add_point(&mut s, b, &end);
+                add_point(&mut s, m.at(m.prev(h)), &opposite);
+                add_point(&mut s, m.at(m.prev(t)), &opposite);
             } else {
-                // (1 − r − f) v + r · (mean neighbour) + f · (mean face point);
-                // r = f = 1/n is (Q + 2R + (n − 3)v)/n.
-                let (r, f) = w.catmull_clark_vertex(n);
-                let mut keep = one.clone();
-                keep.add_scaled(&r, &-BigRational::one());
-                keep.add_scaled(&f, &-BigRational::one());
-                add_point(&mut s, v, &keep);
-                let each = rat(1, n as i64);
-                for &h in out {
-                    let mut share = Lin::default();
-                    share.add_scaled(&r, &each);
-                    add_point(&mut s, m.head(h), &share);
-                    add_scaled_points(&mut s, &face_point[h.0], &f, &each);
-                }
+                // (1 − c)/2 (a + b) + c/2 (f + g): c = 1/2 is (a + b + f + g)/4.
+                let c = Lin::param(w.param("edge_faces".into(), "1/2"));
+                let mut end = Lin::konst(rat(1, 2));
+                end.add_scaled(&c, &rat(-1, 2));
+                add_point(&mut s, a, &end);
+                add_point(&mut s, b, &end);
+                add_scaled_points(&mut s, &face_point[h.0], &c, &rat(1, 2));
+                add_scaled_points(&mut s, &face_point[t.0], &c, &rat(1, 2));
             }
             Some(s)
-        };
-        points.push(p);
+        }
+        (Side::Border, _) => {
+            let mut s = Sym::new();
+            add_sym(&mut s, &unit(a), &rat(1, 2));
+            add_sym(&mut s, &unit(b), &rat(1, 2));
+            Some(s)
+        }
+        _ => None,
     }
+}
+
+/// Catmull-Clark and Loop: vertex points, edge points, (face points), children per corner.
+pub(super) fn primal_step(m: &Local, w: &mut Weights) -> Step {
+    let loop_ = w.scheme == Scheme::Loop;
+    let face_point = face_points(m);
+    let mut points: Vec<Option<Sym>> = (0..m.vertices).map(|v| vertex_point(m, w, &face_point, v)).collect();
     // Edge points, one per edge, numbered after the vertices.
     let mut edge_of: HashMap<(usize, usize), usize> = HashMap::new();
     for (f, face) in m.faces.iter().enumerate() {
         for i in 0..face.len() {
-            let h = (f, i);
-            let (a, b) = (m.at(h), m.head(h));
-            if edge_of.contains_key(&(a.min(b), a.max(b))) {
-                continue;
+            let (a, b) = (m.at((f, i)), m.head((f, i)));
+            if let std::collections::hash_map::Entry::Vacant(e) = edge_of.entry((a.min(b), a.max(b))) {
+                e.insert(points.len());
+                points.push(edge_point(m, w, &face_point, (f, i)));
             }
-            let p = match (m.sides[f][i], m.twin_of(h)) {
-                (Side::Inner, Some(t)) => {
-                    let mut s = Sym::new();
-                    if loop_ {
-                        let end = Lin::param(w.param("w".into(), w.triangle.w));
-                        let mut opposite = Lin::konst(rat(1, 2));
-                        opposite.add_scaled(&end, &-BigRational::one());
-                        add_point(&mut s, a, &end);
-                        add_point(&mut s, b, &end);
-                        add_point(&mut s, m.at(m.prev(h)), &opposite);
-                        add_point(&mut s, m.at(m.prev(t)), &opposite);
-                    } else {
-                        // (1 − c)/2 (a + b) + c/2 (f + g): c = 1/2 is (a + b + f + g)/4.
-                        let c = Lin::param(w.param("edge_faces".into(), "1/2"));
-                        let mut end = Lin::konst(rat(1, 2));
-                        end.add_scaled(&c, &rat(-1, 2));
-                        add_point(&mut s, a, &end);
-                        add_point(&mut s, b, &end);
-                        add_scaled_points(&mut s, &face_point[f], &c, &rat(1, 2));
-                        add_scaled_points(&mut s, &face_point[t.0], &c, &rat(1, 2));
-                    }
-                    Some(s)
-                }
-                (Side::Border, _) => {
-                    let mut s = Sym::new();
-                    add_sym(&mut s, &unit(a), &rat(1, 2));
-                    add_sym(&mut s, &unit(b), &rat(1, 2));
-                    Some(s)
-                }
-                _ => None,
-            };
-            edge_of.insert((a.min(b), a.max(b)), points.len());
-            points.push(p);
         }
     }
     let edge = |h: Half| {
@@ -416,12 +423,10 @@ pub(super) fn primal_step(m: &Local, w: &mut Weights) -> Step {
     let (mut faces, mut sides, mut child, mut middle) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     for (f, face) in m.faces.iter().enumerate() {
         let d = face.len();
-        let fp = if loop_ {
-            None
-        } else {
+        let fp = (!loop_).then(|| {
             points.push(Some(face_point[f].clone()));
-            Some(points.len() - 1)
-        };
+            points.len() - 1
+        });
         let mut here = Vec::with_capacity(d);
         for (i, &corner) in face.iter().enumerate() {
             let (h, g) = ((f, i), m.prev((f, i)));

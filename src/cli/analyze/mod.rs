@@ -6,7 +6,12 @@ use std::path::PathBuf;
 use anyhow::{Context, Result, bail};
 use clap::Subcommand;
 
+use bcifs::analysis::{CurveCell, Verdict};
+
 use super::plot::{Plot, Series};
+
+mod ternary;
+use ternary::run_ternary5;
 
 #[derive(Subcommand)]
 pub enum AnalyzeCommand {
@@ -213,122 +218,6 @@ fn run_map(
     Ok(0)
 }
 
-fn run_ternary5(
-    out: &mut String,
-    (from, to): (f64, f64),
-    steps: usize,
-    output: &std::path::Path,
-    as_json: bool,
-) -> Result<u8> {
-    use bcifs::analysis::ternary::{PAPER_RANGES, boundary, intervals, omegas, ternary5_rows};
-    if from >= to || !from.is_finite() || !to.is_finite() {
-        bail!("--omega-range A B needs finite A < B");
-    }
-    if steps == 0 || steps > 10_000 {
-        bail!("--steps must be between 1 and 10000");
-    }
-    // In chunks, with a progress bar on a terminal.
-    let all = omegas(from, to, steps);
-    let bar = super::progress_bar();
-    let mut rows = Vec::with_capacity(all.len());
-    for chunk in all.chunks(32) {
-        rows.extend(ternary5_rows(chunk));
-        if let Some(b) = &bar {
-            b.report(rows.len() as u64, all.len() as u64);
-        }
-    }
-    let mut table = String::new();
-    writeln!(table, "ternary 5-point scheme (seed 003, eq. 1), ω from {from} to {to}")?;
-    writeln!(
-        table,
-        "{:>10}  {:>8}  {:>8}  {:>8}  {:>8}  {:>8}  {:>8}  verdict",
-        "omega", "C0 bound", "JSR low", "C1 bound", "C2 bound", "len low", "growth"
-    )?;
-    for r in &rows {
-        writeln!(
-            table,
-            "{:>10.5}  {:>8.4}  {:>8.4}  {:>8.4}  {:>8.4}  {:>8.4}  {:>8.4}  {}",
-            r.omega,
-            r.c0,
-            r.c0_lower,
-            r.c1,
-            r.c2,
-            r.length_lower,
-            r.growth,
-            r.verdict()
-        )?;
-    }
-    writeln!(
-        table,
-        "
-C0 bound: min over L ≤ 8 of ‖S_b^L‖∞^(1/L) for the difference scheme b = a/(1+z+z²) (< 1 proves C0);"
-    )?;
-    writeln!(table, "JSR low: max over block products of length ≤ 4 of ρ^(1/len) (≥ 1 proves divergence);")?;
-    writeln!(table, "C1/C2 bounds: the same for 3a/σ² and 9a/σ³ (< 1 proves C1, C2);")?;
-    writeln!(
-        table,
-        "len low: max over signs of ρ(Σ ±B_i) for the blocks of b (> 1 proves the length diverges);
-growth: the measured polygon length ratio per step after 10 steps (shown, no verdict uses it).
-"
-    )?;
-    let step = (to - from) / steps as f64;
-    let refine = |ranges: Vec<(f64, f64)>, pred: &dyn Fn(&bcifs::analysis::ternary::TernaryRow) -> bool| {
-        ranges
-            .into_iter()
-            .map(|(a, b)| {
-                let lo = if a > from { boundary(a - step, a, 1e-6, pred) } else { a };
-                let hi = if b < to { boundary(b, b + step, 1e-6, pred) } else { b };
-                (lo, hi)
-            })
-            .collect::<Vec<_>>()
-    };
-    let show = |v: &[(f64, f64)]| {
-        if v.is_empty() {
-            "none".to_string()
-        } else {
-            v.iter().map(|(a, b)| format!("({a:.5}, {b:.5})")).collect::<Vec<_>>().join(" ∪ ")
-        }
-    };
-    let paper = |i: usize| format!("paper: ({:.5}, {:.5})", PAPER_RANGES[i].1, PAPER_RANGES[i].2);
-    let c0 = refine(intervals(&rows, |r| r.converges()), &|r| r.converges());
-    let fails = refine(intervals(&rows, |r| r.fails()), &|r| r.fails());
-    let c1 = refine(intervals(&rows, |r| r.c1 < 1.0), &|r| r.c1 < 1.0);
-    let c2 = refine(intervals(&rows, |r| r.c2 < 1.0), &|r| r.c2 < 1.0);
-    let fractal = refine(intervals(&rows, |r| r.fractal()), &|r| r.fractal());
-    if as_json {
-        let ranges = |v: &[(f64, f64)]| serde_json::json!(v.iter().map(|(a, b)| [a, b]).collect::<Vec<_>>());
-        let json_rows: Vec<_> = rows
-            .iter()
-            .map(|r| {
-                serde_json::json!({
-                    "omega": r.omega, "c0_upper": r.c0, "c0_lower": r.c0_lower, "c1_upper": r.c1,
-                    "c2_upper": r.c2, "length_lower": r.length_lower, "growth_measured": r.growth,
-                    "verdict": r.verdict(),
-                })
-            })
-            .collect();
-        let doc = serde_json::json!({
-            "scheme": "ternary5", "rows": json_rows,
-            "ranges": {"c0": ranges(&c0), "not_c0": ranges(&fails), "c1": ranges(&c1), "c2": ranges(&c2),
-                       "fractal": ranges(&fractal)},
-        });
-        writeln!(out, "{}", serde_json::to_string_pretty(&doc)?)?;
-    } else {
-        out.push_str(&table);
-        writeln!(out, "C0 proven on       {}   [{}]", show(&c0), paper(0))?;
-        writeln!(out, "not C0 (proven) on {}", show(&fails))?;
-        writeln!(out, "C1 proven on       {}   [{}]", show(&c1), paper(1))?;
-        writeln!(out, "C2 proven on       {}   [{}]", show(&c2), paper(2))?;
-        writeln!(out, "fractal (C0 and length growth proven > 1) on {}", show(&fractal))?;
-    }
-    let img = ternary5_plot(&rows).render(900, 600)?;
-    bcifs::export::write_png(output, &img).with_context(|| format!("cannot write {}", output.display()))?;
-    if !as_json {
-        writeln!(out, "plot → {}", output.display())?;
-    }
-    Ok(0)
-}
-
 /// Runs a `bcifs analyze` command.
 pub fn run(out: &mut String, what: AnalyzeCommand) -> Result<u8> {
     match &what {
@@ -354,46 +243,6 @@ pub fn run(out: &mut String, what: AnalyzeCommand) -> Result<u8> {
             let marker = super::parse_params(&params)?;
             run_curve_map(out, &file, &kind, (&x, &y), (size, threshold, &marker), &output)
         }
-    }
-}
-
-/// The plot of the ternary 5-point analysis: measured length growth per step
-/// and the C0 contraction bound against ω, the line 1, the fractal intervals
-/// shaded, and the paper's C0 bounds as vertical lines.
-pub fn ternary5_plot(rows: &[bcifs::analysis::ternary::TernaryRow]) -> Plot {
-    use bcifs::analysis::ternary::{PAPER_RANGES, intervals};
-    let series = |label: &str, f: &dyn Fn(&bcifs::analysis::ternary::TernaryRow) -> f64, color| Series {
-        label: label.into(),
-        points: rows.iter().map(|r| (r.omega, f(r))).collect(),
-        color,
-    };
-    let mut bands: Vec<(f64, f64, [u8; 3], String)> = intervals(rows, |r| r.fractal())
-        .into_iter()
-        .map(|(a, b)| (a, b, [255, 222, 222], "fractal".to_string()))
-        .collect();
-    bands
-        .extend(intervals(rows, |r| r.fails()).into_iter().map(|(a, b)| (a, b, [225, 225, 225], "not C0".to_string())));
-    // One legend entry per kind.
-    let mut seen = std::collections::HashSet::new();
-    for b in &mut bands {
-        if !seen.insert(b.3.clone()) {
-            b.3.clear();
-        }
-    }
-    let top = rows.iter().map(|r| r.growth.max(r.c0)).fold(1.5f64, f64::max).min(4.0);
-    Plot {
-        title: "Ternary 5-point scheme (seed 003)".into(),
-        x_label: "tension ω".into(),
-        y_label: "rate per step".into(),
-        series: vec![
-            series("length growth", &|r| r.growth, [30, 70, 170]),
-            series("C0 bound (< 1: C0)", &|r| r.c0, [230, 120, 20]),
-            series("C1 bound", &|r| r.c1, [40, 150, 60]),
-        ],
-        bands,
-        hlines: vec![(1.0, [200, 0, 0])],
-        vlines: vec![(PAPER_RANGES[0].1, [150, 0, 150]), (PAPER_RANGES[0].2, [150, 0, 150])],
-        y_range: Some((0.0, top)),
     }
 }
 
@@ -618,6 +467,122 @@ fn region_colour(region: Option<&str>) -> [u8; 3] {
     }
 }
 
+/// The region of a curve-map cell: only where the bounds prove convergence.
+fn cell_region(c: &CurveCell) -> Option<&'static str> {
+    match c.verdict {
+        Verdict::Diverges => Some("divergent"),
+        Verdict::Converges => c.report.as_ref().and_then(|r| r.region),
+        Verdict::Undecided => None,
+    }
+}
+
+/// The junction angle of a curve-map cell, in degrees.
+fn cell_angle(c: &CurveCell) -> Option<f64> {
+    c.report.as_ref().and_then(|r| r.junction_angle_deg)
+}
+
+/// The curve map as CSV: a row per cell.
+fn curve_map_csv(
+    plane: &bcifs::analysis::ParameterPlane,
+    cells: &[CurveCell],
+    size: usize,
+    output: &std::path::Path,
+) -> Result<()> {
+    let mut text = format!("{},{},verdict,per_matrix,region,junction_angle_deg\n", plane.x.0, plane.y.0);
+    for (i, c) in cells.iter().enumerate() {
+        let (px, py) = plane.at(i % size, i / size);
+        let verdict = match c.verdict {
+            Verdict::Converges => "converges",
+            Verdict::Diverges => "diverges",
+            Verdict::Undecided => "undecided",
+        };
+        writeln!(
+            text,
+            "{px},{py},{verdict},{},{},{}",
+            c.per_matrix,
+            cell_region(c).unwrap_or(""),
+            cell_angle(c).map_or(String::new(), |a| a.to_string())
+        )?;
+    }
+    bcifs::export::write_atomic(output, text.as_bytes()).with_context(|| format!("cannot write {}", output.display()))
+}
+
+/// The colour of a curve-map cell for the map `kind`; outside the per-matrix domain grey.
+fn curve_map_colour(c: &CurveCell, kind: &str, threshold: f64) -> [u8; 3] {
+    if !c.per_matrix && c.verdict != Verdict::Converges {
+        return [228, 228, 228];
+    }
+    match kind {
+        "regions" => region_colour(cell_region(c)),
+        _ => match (c.verdict, cell_angle(c)) {
+            (Verdict::Diverges, _) => [200, 30, 30],
+            (Verdict::Converges, Some(a)) if kind == "smooth" => {
+                if a < threshold {
+                    [20, 20, 20]
+                } else {
+                    [255, 255, 255]
+                }
+            }
+            (Verdict::Converges, Some(a)) => angle_colour(a),
+            _ => [245, 230, 120],
+        },
+    }
+}
+
+/// The point given with `--param` (both coordinates of the plane), as a black cross.
+fn mark_point(
+    img: &mut image::RgbImage,
+    plane: &bcifs::analysis::ParameterPlane,
+    marker: &[(String, f64)],
+) -> Result<()> {
+    let size = img.width() as usize;
+    let value = |name: &str| marker.iter().find(|(n, _)| n == name).map(|(_, v)| *v);
+    let (Some(px), Some(py)) = (value(&plane.x.0), value(&plane.y.0)) else {
+        if !marker.is_empty() {
+            bail!("--param with --map marks a point: give both {} and {}", plane.x.0, plane.y.0);
+        }
+        return Ok(());
+    };
+    let col = ((px - plane.x.1) / (plane.x.2 - plane.x.1) * size as f64).floor();
+    let row = ((plane.y.2 - py) / (plane.y.2 - plane.y.1) * size as f64).floor();
+    let arm = (size as f64 / 64.0).max(2.0);
+    for d in -(arm as i64)..=(arm as i64) {
+        for (c, r) in [(col + d as f64, row), (col, row + d as f64)] {
+            if c >= 0.0 && r >= 0.0 && (c as usize) < size && (r as usize) < size {
+                img.put_pixel(c as u32, r as u32, image::Rgb([0, 0, 0]));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The legend of a curve map of `kind`.
+fn curve_map_legend(kind: &str, threshold: f64) -> Vec<([u8; 3], String)> {
+    let mut legend: Vec<([u8; 3], String)> = match kind {
+        "regions" => [
+            ("1", "1: C1 candidates (tangent)"),
+            ("2", "2: cusp (α < 0)"),
+            ("2'", "2': cusp (β < 0)"),
+            ("3", "3: inner tangent at start"),
+            ("3'", "3': inner tangent at end"),
+            ("4", "4: no inner tangent"),
+            ("5", "5: oscillating (1−a−b < 0)"),
+            ("degenerate", "degenerate"),
+        ]
+        .iter()
+        .map(|(r, l)| (region_colour(Some(r)), l.to_string()))
+        .collect(),
+        "smooth" => vec![([20, 20, 20], format!("angle < {threshold}°")), ([255, 255, 255], "rougher".into())],
+        _ => [0.0, 45.0, 90.0, 135.0, 180.0].iter().map(|a: &f64| (angle_colour(*a), format!("angle {a}°"))).collect(),
+    };
+    legend.extend([
+        ([200, 30, 30], "diverges (JSR ≥ 1)".to_string()),
+        ([245, 230, 120], "undecided".to_string()),
+        ([228, 228, 228], "a matrix fails (§3)".to_string()),
+    ]);
+    legend
+}
+
 /// `bcifs analyze curve --map`.
 fn run_curve_map(
     out: &mut String,
@@ -627,7 +592,7 @@ fn run_curve_map(
     (size, threshold, marker): (usize, f64, &[(String, f64)]),
     output: &std::path::Path,
 ) -> Result<u8> {
-    use bcifs::analysis::{JsrSettings, Verdict, curve_map};
+    use bcifs::analysis::{JsrSettings, curve_map};
     if size == 0 || size > 4096 {
         bail!("--size must be between 1 and 4096");
     }
@@ -643,103 +608,21 @@ fn run_curve_map(
     let plane = plane((x, y), size)?;
     let started = std::time::Instant::now();
     let cells = curve_map(&family, &plane, &JsrSettings::quick(), &root)?;
-    // A region only where the bounds prove convergence; outside the per-matrix domain grey.
-    let region = |c: &bcifs::analysis::CurveCell| match c.verdict {
-        Verdict::Diverges => Some("divergent"),
-        Verdict::Converges => c.report.as_ref().and_then(|r| r.region),
-        Verdict::Undecided => None,
-    };
-    let angle = |c: &bcifs::analysis::CurveCell| c.report.as_ref().and_then(|r| r.junction_angle_deg);
     let ext = output.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
     if ext == "csv" {
-        let mut text = format!("{},{},verdict,per_matrix,region,junction_angle_deg\n", plane.x.0, plane.y.0);
-        for (i, c) in cells.iter().enumerate() {
-            let (px, py) = plane.at(i % size, i / size);
-            let verdict = match c.verdict {
-                Verdict::Converges => "converges",
-                Verdict::Diverges => "diverges",
-                Verdict::Undecided => "undecided",
-            };
-            writeln!(
-                text,
-                "{px},{py},{verdict},{},{},{}",
-                c.per_matrix,
-                region(c).unwrap_or(""),
-                angle(c).map_or(String::new(), |a| a.to_string())
-            )?;
-        }
-        bcifs::export::write_atomic(output, text.as_bytes())
-            .with_context(|| format!("cannot write {}", output.display()))?;
+        curve_map_csv(&plane, &cells, size, output)?;
     } else {
-        let colour = |c: &bcifs::analysis::CurveCell| -> [u8; 3] {
-            if !c.per_matrix && c.verdict != Verdict::Converges {
-                return [228, 228, 228];
-            }
-            match kind {
-                "regions" => region_colour(region(c)),
-                _ => match (c.verdict, angle(c)) {
-                    (Verdict::Diverges, _) => [200, 30, 30],
-                    (Verdict::Converges, Some(a)) if kind == "smooth" => {
-                        if a < threshold {
-                            [20, 20, 20]
-                        } else {
-                            [255, 255, 255]
-                        }
-                    }
-                    (Verdict::Converges, Some(a)) => angle_colour(a),
-                    _ => [245, 230, 120],
-                },
-            }
-        };
+        let colour = |c: &CurveCell| curve_map_colour(c, kind, threshold);
         let mut img = image::RgbImage::from_fn(size as u32, size as u32, |i, j| {
             image::Rgb(colour(&cells[j as usize * size + i as usize]))
         });
-        // The point given with --param, as a black cross.
-        let value = |name: &str| marker.iter().find(|(n, _)| n == name).map(|(_, v)| *v);
-        if let (Some(px), Some(py)) = (value(&plane.x.0), value(&plane.y.0)) {
-            let col = ((px - plane.x.1) / (plane.x.2 - plane.x.1) * size as f64).floor();
-            let row = ((plane.y.2 - py) / (plane.y.2 - plane.y.1) * size as f64).floor();
-            let arm = (size as f64 / 64.0).max(2.0);
-            for d in -(arm as i64)..=(arm as i64) {
-                for (c, r) in [(col + d as f64, row), (col, row + d as f64)] {
-                    if c >= 0.0 && r >= 0.0 && (c as usize) < size && (r as usize) < size {
-                        img.put_pixel(c as u32, r as u32, image::Rgb([0, 0, 0]));
-                    }
-                }
-            }
-        } else if !marker.is_empty() {
-            bail!("--param with --map marks a point: give both {} and {}", plane.x.0, plane.y.0);
-        }
-        let mut legend: Vec<([u8; 3], String)> = match kind {
-            "regions" => [
-                ("1", "1: C1 candidates (tangent)"),
-                ("2", "2: cusp (α < 0)"),
-                ("2'", "2': cusp (β < 0)"),
-                ("3", "3: inner tangent at start"),
-                ("3'", "3': inner tangent at end"),
-                ("4", "4: no inner tangent"),
-                ("5", "5: oscillating (1−a−b < 0)"),
-                ("degenerate", "degenerate"),
-            ]
-            .iter()
-            .map(|(r, l)| (region_colour(Some(r)), l.to_string()))
-            .collect(),
-            "smooth" => vec![([20, 20, 20], format!("angle < {threshold}°")), ([255, 255, 255], "rougher".into())],
-            _ => [0.0, 45.0, 90.0, 135.0, 180.0]
-                .iter()
-                .map(|a: &f64| (angle_colour(*a), format!("angle {a}°")))
-                .collect(),
-        };
-        legend.extend([
-            ([200, 30, 30], "diverges (JSR ≥ 1)".to_string()),
-            ([245, 230, 120], "undecided".to_string()),
-            ([228, 228, 228], "a matrix fails (§3)".to_string()),
-        ]);
+        mark_point(&mut img, &plane, marker)?;
+        let legend = curve_map_legend(kind, threshold);
         write_framed_map(output, &format!("{}: {kind}", design.name()), &plane, &img, &legend)?;
     }
     let mut counts: std::collections::BTreeMap<&str, usize> = std::collections::BTreeMap::new();
     for c in &cells {
-        *counts.entry(region(c).unwrap_or("undecided")).or_default() += 1;
+        *counts.entry(cell_region(c).unwrap_or("undecided")).or_default() += 1;
     }
     writeln!(
         out,
