@@ -229,6 +229,97 @@ pub struct ChaosGame {
     settings: RandomSettings,
 }
 
+/// Checks the colours and probabilities the settings give: each names a
+/// subdivision arrow (`arrows`; probabilities one that is walked, `walked`)
+/// and is in range.
+fn check_choices(settings: &RandomSettings, arrows: &[&str], walked: &[&str]) -> Result<(), EvalError> {
+    let unknown = |name: &str, among: &[&str], what: &str| {
+        let help = crate::names::suggest(name, among.iter().copied())
+            .map(|h| format!(" (did you mean `{h}`?)"))
+            .unwrap_or_default();
+        EvalError::Probability(format!("no subdivision arrow named `{name}` to {what}{help}"))
+    };
+    for (name, c) in &settings.colours {
+        if !arrows.contains(&name.as_str()) {
+            return Err(unknown(name, arrows, "colour"));
+        }
+        if !(0.0..=1.0).contains(c) {
+            return Err(EvalError::Probability(format!(
+                "the colour of `{name}` is {c}: colour coordinates are between 0 and 1"
+            )));
+        }
+    }
+    for (name, p) in &settings.probabilities {
+        if !walked.contains(&name.as_str()) {
+            return Err(unknown(name, walked, "give a probability"));
+        }
+        if !p.is_finite() || *p < 0.0 {
+            return Err(EvalError::Probability(format!(
+                "the probability of `{name}` is {p}: probabilities are finite and at least 0"
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// The probabilities of the arrows `names` (matrices `mats`) into the
+/// state `state`: as the settings give them, ∝ |det| otherwise; uniform
+/// when all are 0 by default.
+fn probabilities(
+    mats: &[&nalgebra::DMatrix<f64>],
+    names: &[&str],
+    dim: usize,
+    settings: &RandomSettings,
+    state: &str,
+) -> Result<Vec<f64>, EvalError> {
+    let given = |n: &str| settings.probabilities.iter().find(|(a, _)| a == n).map(|(_, p)| *p);
+    let mut w = det_weights(mats, dim);
+    for (k, n) in names.iter().enumerate() {
+        if let Some(p) = given(n) {
+            w[k] = p;
+        }
+    }
+    if w.iter().sum::<f64>() <= 0.0 {
+        if names.iter().any(|n| given(n).is_some()) {
+            return Err(EvalError::Probability(format!(
+                "the arrows into `{state}` all have probability 0: the walk could not go on"
+            )));
+        }
+        w = vec![1.0; w.len()];
+    }
+    Ok(w)
+}
+
+impl Incoming {
+    /// Keeps the states the roots' attractors are made of: reachable from
+    /// them along subdivision arrows (`A_X = ∪ M · A_Y` over X → Y); the
+    /// others are left out. Which states are kept.
+    fn keep_feeding(&mut self, roots: &[usize]) -> Vec<bool> {
+        let size = self.arrows.len();
+        let mut feeding = vec![false; size];
+        let mut stack = roots.to_vec();
+        for &r in roots {
+            feeding[r] = true;
+        }
+        while let Some(s) = stack.pop() {
+            let targets: Vec<usize> =
+                (0..size).filter(|&t| !feeding[t] && self.arrows[t].iter().any(|(src, _)| *src == s)).collect();
+            for t in targets {
+                feeding[t] = true;
+                stack.push(t);
+            }
+        }
+        for (s, keep) in feeding.iter().enumerate() {
+            if !keep {
+                self.arrows[s].clear();
+                self.colour[s].clear();
+                self.alias[s] = None;
+            }
+        }
+        feeding
+    }
+}
+
 impl ChaosGame {
     /// Prepares the walk.
     ///
@@ -272,54 +363,13 @@ impl ChaosGame {
             let c = settings.colours.iter().find(|(n, _)| *n == arrow.name).map_or(even, |(_, c)| *c);
             inc.colour[to.index()].push(speed * c);
         }
-        for (name, c) in &settings.colours {
-            if !subdivision.iter().any(|(_, a)| a.name == *name) {
-                let help = crate::names::suggest(name, subdivision.iter().map(|(_, a)| a.name.as_str()))
-                    .map(|h| format!(" (did you mean `{h}`?)"))
-                    .unwrap_or_default();
-                return Err(EvalError::Probability(format!("no subdivision arrow named `{name}` to colour{help}")));
-            }
-            if !(0.0..=1.0).contains(c) {
-                return Err(EvalError::Probability(format!(
-                    "the colour of `{name}` is {c}: colour coordinates are between 0 and 1"
-                )));
-            }
-        }
-        for (name, p) in &settings.probabilities {
-            if !names.iter().flatten().any(|n| n == name) {
-                let all = names.iter().flatten().copied();
-                let help =
-                    crate::names::suggest(name, all).map(|h| format!(" (did you mean `{h}`?)")).unwrap_or_default();
-                return Err(EvalError::Probability(format!(
-                    "no subdivision arrow named `{name}` to give a probability{help}"
-                )));
-            }
-            if !p.is_finite() || *p < 0.0 {
-                return Err(EvalError::Probability(format!(
-                    "the probability of `{name}` is {p}: probabilities are finite and at least 0"
-                )));
-            }
-        }
+        let walked: Vec<&str> = names.iter().flatten().copied().collect();
+        check_choices(settings, &subdivision.iter().map(|(_, a)| a.name.as_str()).collect::<Vec<_>>(), &walked)?;
         for s in 0..size {
-            if mats[s].is_empty() {
-                continue;
+            if !mats[s].is_empty() {
+                let name = &plan.state(s).name;
+                inc.alias[s] = Some(Alias::new(&probabilities(&mats[s], &names[s], pieces.dim, settings, name)?));
             }
-            let mut w = det_weights(&mats[s], pieces.dim);
-            for (k, n) in names[s].iter().enumerate() {
-                if let Some((_, p)) = settings.probabilities.iter().find(|(a, _)| a == n) {
-                    w[k] = *p;
-                }
-            }
-            if w.iter().sum::<f64>() <= 0.0 {
-                if names[s].iter().any(|n| settings.probabilities.iter().any(|(a, _)| a == n)) {
-                    return Err(EvalError::Probability(format!(
-                        "the arrows into `{}` all have probability 0: the walk could not go on",
-                        plan.state(s).name
-                    )));
-                }
-                w = vec![1.0; w.len()];
-            }
-            inc.alias[s] = Some(Alias::new(&w));
         }
         let root = pieces.pieces[0].state;
         let mut roots: Vec<usize> = pieces.pieces.iter().map(|p| p.state).collect();
@@ -331,28 +381,7 @@ impl ChaosGame {
                 plan.state(r).name
             )));
         }
-        // The states the roots' attractors are made of: reachable from them along
-        // subdivision arrows (`A_X = ∪ M · A_Y` over X → Y). The others are left out.
-        let mut feeding = vec![false; size];
-        let mut stack = roots.clone();
-        for &r in &roots {
-            feeding[r] = true;
-        }
-        while let Some(s) = stack.pop() {
-            let targets: Vec<usize> =
-                (0..size).filter(|&t| !feeding[t] && inc.arrows[t].iter().any(|(src, _)| *src == s)).collect();
-            for t in targets {
-                feeding[t] = true;
-                stack.push(t);
-            }
-        }
-        for (s, keep) in feeding.iter().enumerate() {
-            if !keep {
-                inc.arrows[s].clear();
-                inc.colour[s].clear();
-                inc.alias[s] = None;
-            }
-        }
+        let feeding = inc.keep_feeding(&roots);
         let single =
             inc.arrows[root].iter().all(|(src, _)| *src == root) && feeding.iter().filter(|f| **f).count() == 1;
         let threads = settings.threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
@@ -509,12 +538,25 @@ impl ChaosGame {
         total: usize,
         emit: &mut dyn FnMut(&[f64], &[f32]),
     ) -> bool {
-        let (inc, root, burn_in) = (&self.inc, self.root, self.settings.burn_in);
+        let Some(maps) = self.affine_maps() else { return false };
+        let Some(alias) = self.inc.alias[self.root].as_ref() else { return false };
+        if self.pieces.dim == 2 {
+            self.plane_chain::<COLOUR>(&maps, alias, rng, total, emit);
+        } else {
+            self.space_chain::<COLOUR>(&maps, alias, rng, total, emit);
+        }
+        true
+    }
+
+    /// The root's arrows as affine maps of space, `d` rows of `[A t]` each
+    /// (row-major, `n = d + 1` columns): `P̂ M P̂⁻¹` with `P̂ = [P; 1 … 1]`;
+    /// `None` unless the root has `d + 1` well-conditioned control points.
+    fn affine_maps(&self) -> Option<Vec<Vec<f64>>> {
+        let root = self.root;
         let (control, d, n) = (&self.pieces.pieces[0].control, self.pieces.dim, self.plan.state(root).dim);
         if n != d + 1 {
-            return false;
+            return None;
         }
-        // P̂ = [P; 1 … 1] (n × n); the map of arrow M is P̂ M P̂⁻¹ = [A t; 0 1].
         let mut ph = nalgebra::DMatrix::<f64>::zeros(n, n);
         for a in 0..d {
             for i in 0..n {
@@ -524,76 +566,92 @@ impl ChaosGame {
         for i in 0..n {
             ph[(d, i)] = 1.0;
         }
-        let Some(inv) = ph.clone().try_inverse() else { return false };
+        let inv = ph.clone().try_inverse()?;
         if ph.norm() * inv.norm() > 1e8 {
-            return false;
+            return None;
         }
-        let maps: Vec<Vec<f64>> = inc.arrows[root]
-            .iter()
-            .map(|(_, m)| {
-                let m = nalgebra::DMatrix::from_row_slice(n, n, m);
-                let h = &ph * m * &inv;
-                (0..d).flat_map(|a| (0..n).map(move |j| (a, j))).map(|(a, j)| h[(a, j)]).collect()
-            })
-            .collect();
-        let Some(alias) = inc.alias[root].as_ref() else { return false };
-        let (keep, tint) = (1.0 - self.settings.colour_speed, &inc.colour[root]);
+        let maps = self.inc.arrows[root].iter().map(|(_, m)| {
+            let h = &ph * nalgebra::DMatrix::from_row_slice(n, n, m) * &inv;
+            (0..d).flat_map(|a| (0..n).map(move |j| (a, j))).map(|(a, j)| h[(a, j)]).collect()
+        });
+        Some(maps.collect())
+    }
+
+    /// The affine chain in the plane: two walks interleaved (their points
+    /// alternate), so that the steps of one overlap the other's, each a
+    /// chain of dependent multiplications.
+    fn plane_chain<const COLOUR: bool>(
+        &self,
+        maps: &[Vec<f64>],
+        alias: &Alias,
+        rng: &mut Rng,
+        total: usize,
+        emit: &mut dyn FnMut(&[f64], &[f32]),
+    ) {
+        let (keep, tint) = (1.0 - self.settings.colour_speed, &self.inc.colour[self.root]);
+        let maps: Vec<[f64; 7]> =
+            maps.iter().zip(tint).map(|(m, t)| [m[0], m[1], m[2], m[3], m[4], m[5], *t]).collect();
+        let mut xs = [0.0; CHUNK * 4];
+        let mut cs = [0f32; CHUNK];
+        let mut at = [[0.0, 0.0, 0.5]; 2];
+        let mut settle = 2 * self.settings.burn_in;
+        while settle > 0 {
+            let here = settle.min(CHUNK);
+            at = walk_plane::<COLOUR>(&maps, alias, rng, keep, at, &mut xs[..2 * here], &mut cs[..here]);
+            settle -= here;
+        }
+        let mut left = total;
+        while left > 0 {
+            let here = left.min(CHUNK);
+            at = walk_plane::<COLOUR>(&maps, alias, rng, keep, at, &mut xs[..2 * here], &mut cs[..here]);
+            emit(&xs[..2 * here], if COLOUR { &cs[..here] } else { &[] });
+            left -= here;
+        }
+    }
+
+    /// The affine chain in `d ≠ 2` dimensions.
+    fn space_chain<const COLOUR: bool>(
+        &self,
+        maps: &[Vec<f64>],
+        alias: &Alias,
+        rng: &mut Rng,
+        total: usize,
+        emit: &mut dyn FnMut(&[f64], &[f32]),
+    ) {
+        let (keep, tint) = (1.0 - self.settings.colour_speed, &self.inc.colour[self.root]);
+        let (d, n) = (self.pieces.dim, self.pieces.dim + 1);
         let mut xs = [0.0; CHUNK * 4];
         let mut cs = [0f32; CHUNK];
         let mut c = 0.5;
-        let mut left = total;
-        match d {
-            2 => {
-                let maps: Vec<[f64; 7]> =
-                    maps.iter().zip(tint).map(|(m, t)| [m[0], m[1], m[2], m[3], m[4], m[5], *t]).collect();
-                // Two walks interleaved (their points alternate): the steps of one
-                // overlap the other's, each a chain of dependent multiplications.
-                let mut at = [[0.0, 0.0, c]; 2];
-                let mut settle = 2 * burn_in;
-                while settle > 0 {
-                    let here = settle.min(CHUNK);
-                    at = walk_plane::<COLOUR>(&maps, alias, rng, keep, at, &mut xs[..2 * here], &mut cs[..here]);
-                    settle -= here;
-                }
-                while left > 0 {
-                    let here = left.min(CHUNK);
-                    at = walk_plane::<COLOUR>(&maps, alias, rng, keep, at, &mut xs[..2 * here], &mut cs[..here]);
-                    emit(&xs[..2 * here], if COLOUR { &cs[..here] } else { &[] });
-                    left -= here;
-                }
+        let mut x = vec![0.0; d];
+        let mut next = vec![0.0; d];
+        let mut step = |x: &mut Vec<f64>, rng: &mut Rng| {
+            let i = alias.pick(rng.next_u64());
+            let m = &maps[i];
+            for a in 0..d {
+                next[a] = m[a * n + d] + (0..d).map(|j| m[a * n + j] * x[j]).sum::<f64>();
             }
-            _ => {
-                let mut x = vec![0.0; d];
-                let mut next = vec![0.0; d];
-                let mut step = |x: &mut Vec<f64>, rng: &mut Rng| {
-                    let i = alias.pick(rng.next_u64());
-                    let m = &maps[i];
-                    for a in 0..d {
-                        next[a] = m[a * n + d] + (0..d).map(|j| m[a * n + j] * x[j]).sum::<f64>();
-                    }
-                    x.copy_from_slice(&next);
-                    i
-                };
-                let per = (xs.len() / d).min(CHUNK);
-                for _ in 0..burn_in {
-                    c = keep * c + tint[step(&mut x, rng)];
-                }
-                while left > 0 {
-                    let here = left.min(per);
-                    for (p, cp) in xs[..d * here].chunks_exact_mut(d).zip(cs.iter_mut()) {
-                        let i = step(&mut x, rng);
-                        p.copy_from_slice(&x);
-                        if COLOUR {
-                            c = keep * c + tint[i];
-                            *cp = c as f32;
-                        }
-                    }
-                    emit(&xs[..d * here], if COLOUR { &cs[..here] } else { &[] });
-                    left -= here;
-                }
-            }
+            x.copy_from_slice(&next);
+            i
+        };
+        let per = (xs.len() / d).min(CHUNK);
+        for _ in 0..self.settings.burn_in {
+            c = keep * c + tint[step(&mut x, rng)];
         }
-        true
+        let mut left = total;
+        while left > 0 {
+            let here = left.min(per);
+            for (p, cp) in xs[..d * here].chunks_exact_mut(d).zip(cs.iter_mut()) {
+                let i = step(&mut x, rng);
+                p.copy_from_slice(&x);
+                if COLOUR {
+                    c = keep * c + tint[i];
+                    *cp = c as f32;
+                }
+            }
+            emit(&xs[..d * here], if COLOUR { &cs[..here] } else { &[] });
+            left -= here;
+        }
     }
 
     /// Any automaton: a walk along the incoming arrows of the states that feed

@@ -376,54 +376,86 @@ pub fn density(
     if needed > settings.memory_limit as u128 {
         return Err(too_large(settings, points, needed));
     }
-    let d = game.dim();
-    let turn = settings.view.turn();
-    // The frame: the first batch's extent, centred, 3% wider.
-    let first: Vec<[f64; 3]> = game.fold(
-        BATCH.min(points.max(1)),
-        false,
-        Vec::new,
-        |acc: &mut Vec<[f64; 3]>, xs, _| {
-            let finite = |p: &[f64; 3]| p.iter().all(|x| x.is_finite());
-            acc.extend(xs.chunks_exact(d).map(|p| screen(&turn, p)).filter(finite))
-        },
-        |mut a, b| {
-            a.extend(b);
-            a
-        },
-    );
-    let canvas = Canvas::fill(&first, sw as u32, sh as u32, 0.97);
-    let frame = Frame {
-        turn: [0, 1, 2].map(|j| [turn.row(0)[j], turn.row(2)[j]]),
-        d,
-        scale: canvas.scale,
-        ox: canvas.off[0],
-        oy: canvas.h as f64 - canvas.off[1],
-        sw,
-        sh,
-    };
-    // Cells of a chunk first, then the increments in a tight loop (many
-    // cache misses in flight); a sample outside the frame goes to the
-    // extra cell at the end, dropped.
-    let trash = sw * sh;
+    let (first, frame) = Frame::of_first_batch(game, points, settings, (sw, sh));
     let Some(palette) = palette else {
-        let mut counts = game.fold(
-            points,
-            false,
-            || vec![0u32; trash + 1],
-            |acc, xs, _| {
-                let mut cells = [0u32; crate::eval::CHUNK];
-                frame.cells(xs, &mut cells);
-                for &i in &cells[..xs.len() / d] {
-                    let c = &mut acc[i as usize];
-                    *c = c.saturating_add(1);
-                }
-            },
-            add_counts,
-        );
-        counts.pop();
+        let counts = count_points(game, points, &frame);
         return Ok(Density { width: w, height: h, supersample: s, counts, colours: Vec::new(), shift: 0 });
     };
+    let (counts, colours, shift) = paint_points(game, points, &frame, &first, palette);
+    Ok(Density { width: w, height: h, supersample: s, counts, colours, shift })
+}
+
+impl Frame {
+    /// The frame of the picture: the first batch's extent, centred, 3%
+    /// wider; and the first batch's projected points.
+    fn of_first_batch(
+        game: &ChaosGame,
+        points: usize,
+        settings: &RasterSettings,
+        (sw, sh): (usize, usize),
+    ) -> (Vec<[f64; 3]>, Frame) {
+        let d = game.dim();
+        let turn = settings.view.turn();
+        let first: Vec<[f64; 3]> = game.fold(
+            BATCH.min(points.max(1)),
+            false,
+            Vec::new,
+            |acc: &mut Vec<[f64; 3]>, xs, _| {
+                let finite = |p: &[f64; 3]| p.iter().all(|x| x.is_finite());
+                acc.extend(xs.chunks_exact(d).map(|p| screen(&turn, p)).filter(finite))
+            },
+            |mut a, b| {
+                a.extend(b);
+                a
+            },
+        );
+        let canvas = Canvas::fill(&first, sw as u32, sh as u32, 0.97);
+        let frame = Frame {
+            turn: [0, 1, 2].map(|j| [turn.row(0)[j], turn.row(2)[j]]),
+            d,
+            scale: canvas.scale,
+            ox: canvas.off[0],
+            oy: canvas.h as f64 - canvas.off[1],
+            sw,
+            sh,
+        };
+        (first, frame)
+    }
+}
+
+/// The samples counted per cell. Cells of a chunk first, then the
+/// increments in a tight loop (many cache misses in flight); a sample
+/// outside the frame goes to the extra cell at the end, dropped.
+fn count_points(game: &ChaosGame, points: usize, frame: &Frame) -> Vec<u32> {
+    let (trash, d) = (frame.sw * frame.sh, frame.d);
+    let mut counts = game.fold(
+        points,
+        false,
+        || vec![0u32; trash + 1],
+        |acc, xs, _| {
+            let mut cells = [0u32; crate::eval::CHUNK];
+            frame.cells(xs, &mut cells);
+            for &i in &cells[..xs.len() / d] {
+                let c = &mut acc[i as usize];
+                *c = c.saturating_add(1);
+            }
+        },
+        add_counts,
+    );
+    counts.pop();
+    counts
+}
+
+/// The samples counted per cell with their colour sums (the palette's
+/// colours shifted right by the shift returned, so that no sum overflows).
+fn paint_points(
+    game: &ChaosGame,
+    points: usize,
+    frame: &Frame,
+    first: &[[f64; 3]],
+    palette: &Palette,
+) -> (Vec<u32>, Vec<[u32; 3]>, u32) {
+    let trash = frame.sw * frame.sh;
     // Colour sums must not overflow: the densest cell of the first batch,
     // scaled to all the points with a margin of 4, bounds a cell's count.
     let mut hits: Vec<u32> = first.iter().map(|p| frame.cell_of(p[0], p[1])).filter(|&i| i as usize != trash).collect();
@@ -478,7 +510,7 @@ pub fn density(
     let mut colours = vec![[0u32; 3]; trash];
     {
         use rayon::prelude::*;
-        let rows = sw.max(1) * 64;
+        let rows = frame.sw.max(1) * 64;
         counts.par_chunks_mut(rows).zip(colours.par_chunks_mut(rows)).enumerate().for_each(|(r, (n, c))| {
             for (j, (n, c)) in n.iter_mut().zip(c.iter_mut()).enumerate() {
                 let t = sum(r * rows + j);
@@ -486,7 +518,7 @@ pub fn density(
             }
         });
     }
-    Ok(Density { width: w, height: h, supersample: s, counts, colours, shift })
+    (counts, colours, shift)
 }
 
 /// Where samples land: the view's rotation (screen x and y rows) and the fitted frame.

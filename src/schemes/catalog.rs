@@ -143,134 +143,144 @@ impl Request<'_> {
 /// The presets of seed 001: B-splines, Bézier curves, the four-point
 /// scheme, Koch and Sierpinski with control points, the bicubic patch.
 fn seed1_preset(request: &Request<'_>) -> Result<Design, CatalogError> {
-    let name = request.name;
-    let seed1 = "Schaefer, Levin, Goldman, Subdivision schemes and attractors (seed 001)";
-    let wave = pts(&[[0.0, 0.0], [1.0, 2.0], [2.5, 2.2], [3.5, 0.4], [5.0, 1.2]]);
-    let n_of = |blocks: &[ExactMatrix]| blocks[0].len();
-    let with = |default| request.with(default);
-    let check = |model: &ModelSpec, min| request.check(model, min);
-    let curve = |blocks, description: &str, comment: &str, model| request.curve(blocks, description, comment, model);
-    match name {
+    match request.name {
+        "bicubic" => bicubic_preset(request),
+        "box-spline" | "box-spline-gasket" | "box-spline-quad" | "sqrt3-patch" => triangle_preset(request),
+        name => match seed1_curve(name) {
+            Some(curve) => curve.design(request),
+            None => Err(CatalogError::Unknown {
+                name: name.to_string(),
+                suggestion: crate::names::suggest(name, IFS_NAMES),
+            }),
+        },
+    }
+}
+
+/// The reference of seed 001.
+const SEED1: &str = "Schaefer, Levin, Goldman, Subdivision schemes and attractors (seed 001)";
+
+/// A curve of seed 001: its blocks, default control points and layout,
+/// the points it needs, and what the automaton file says about it.
+struct Seed1Curve {
+    blocks: Vec<ExactMatrix>,
+    points: Vec<Vec<f64>>,
+    layout: Layout,
+    about_points: &'static str,
+    min: usize,
+    description: &'static str,
+    comment: &'static str,
+}
+
+impl Seed1Curve {
+    fn design(self, request: &Request<'_>) -> Result<Design, CatalogError> {
+        let model = spec(request.with(self.points), self.layout, None, self.about_points);
+        request.check(&model, self.min)?;
+        request.curve(self.blocks, self.description, &format!("{}\n{SEED1}.", self.comment), model)
+    }
+}
+
+/// The curves of seed 001 by name.
+fn seed1_curve(name: &str) -> Option<Seed1Curve> {
+    let wave = || pts(&[[0.0, 0.0], [1.0, 2.0], [2.5, 2.2], [3.5, 0.4], [5.0, 1.2]]);
+    let (s, h) = (3f64.sqrt() / 6.0, 3f64.sqrt() / 2.0);
+    let curve = |blocks: Vec<ExactMatrix>, points, layout, about_points, min, description, comment| Seed1Curve {
+        blocks,
+        points,
+        layout,
+        about_points,
+        min,
+        description,
+        comment,
+    };
+    Some(match name {
         "bspline" => {
             let b = BSpline::uniform(3, 5).expect("valid").blocks(2).expect("self-similar");
-            let model =
-                spec(with(wave), Layout::Open, None, "An open control polygon: windows of 5 points sliding by 2.");
-            check(&model, n_of(&b))?;
+            let n = b[0].len();
             curve(
                 b,
+                wave(),
+                Layout::Open,
+                "An open control polygon: windows of 5 points sliding by 2.",
+                n,
                 "uniform cubic B-spline, 5 control points, seed 001 §2.1 (Fig. 2)",
-                &format!("The uniform cubic B-spline as an IFS: S_1, S_2 are the 5×5 blocks of rules (4).\n{seed1}."),
-                model,
+                "The uniform cubic B-spline as an IFS: S_1, S_2 are the 5×5 blocks of rules (4).",
             )
         }
-        "bspline-end" => {
-            let b = BSpline::new(3, &[0, 0, 0, 1, 2, 2, 2]).expect("valid").blocks(2).expect("self-similar");
-            let model = spec(
-                with(wave),
-                Layout::Single,
-                None,
-                "Five control points; the curve interpolates the first and last.",
-            );
-            check(&model, 5)?;
-            curve(
-                b,
-                "end-interpolating cubic B-spline, knots {0,0,0,1,2,2,2}, seed 001 §2.1 (Fig. 3)",
-                &format!("Knot insertion by blossoming gives the printed S_1, S_2.\n{seed1}."),
-                model,
-            )
-        }
-        "bezier" => {
-            let model =
-                spec(with(pts(&[[0.0, 0.0], [1.0, 2.0], [2.0, 0.0]])), Layout::Single, None, "Three control points.");
-            check(&model, 3)?;
-            curve(
-                BSpline::bezier(2).blocks(2).expect("self-similar"),
-                "quadratic Bézier curve: de Casteljau at u = 1/2, seed 001 §2.2",
-                &format!("Goldman's IFS of a Bézier curve.\n{seed1}."),
-                model,
-            )
-        }
-        "bezier-union" => {
-            let default = pts(&[[0.0, 0.0], [1.0, 2.0], [2.0, 0.0], [2.5, 0.5], [3.0, 2.5], [4.5, 1.5]]);
-            let model = spec(with(default), Layout::Union, None, "Two Bézier curves: points 0-2 and 3-5, drawn apart.");
-            check(&model, 6)?;
-            curve(
-                BSpline::bezier(2).blocks(2).expect("self-similar"),
-                "union of two quadratic Bézier curves, seed 001 §2.2 (Fig. 4)",
-                &format!(
-                    "The union of attractors: one piece per control triangle (the paper's block-diagonal IFS).\n{seed1}."
-                ),
-                model,
-            )
-        }
-        "four-point" => {
-            let default = pts(&[[0.0, 0.0], [1.0, 1.0], [2.0, 0.0], [3.0, 1.5], [4.0, 0.0], [5.0, 1.0], [6.0, 0.0]]);
-            let model =
-                spec(with(default), Layout::Single, None, "Seven control points: the attractor runs from P2 to P4.");
-            check(&model, 7)?;
-            curve(
-                Rules::four_point().blocks(7).expect("7 points give blocks"),
-                "interpolatory four-point scheme, 7×7 blocks, seed 001 §2.3 (Fig. 5)",
-                &format!("The printed 7×7 blocks S_1, S_2 of the four-point rules.\n{seed1}."),
-                model,
-            )
-        }
-        "koch-control" => {
-            let s = 3f64.sqrt() / 6.0;
-            let default = pts(&[[0.0, 0.0], [1.0 / 3.0, 0.0], [0.5, s], [2.0 / 3.0, 0.0], [1.0, 0.0]]);
-            let model = spec(
-                with(default),
-                Layout::Single,
-                None,
-                "The natural control points of the Koch curve (move them to deform it).",
-            );
-            check(&model, 5)?;
-            curve(
-                koch_blocks(),
-                "Koch curve with 5 control points, seed 001 §4.1 (Fig. 10)",
-                &format!("The printed S_1 … S_4: barycentric coordinates w.r.t. the closest control points.\n{seed1}."),
-                model,
-            )
-        }
-        "sierpinski-control" => {
-            let h = 3f64.sqrt() / 2.0;
-            let default = pts(&[[0.0, 0.0], [0.5, 0.0], [1.0, 0.0], [0.75, h / 2.0], [0.5, h], [0.25, h / 2.0]]);
-            let model = spec(
-                with(default),
-                Layout::Single,
-                None,
-                "Corners 0, 2, 4 and edge points 1, 3, 5 (quadratic outer edges).",
-            );
-            check(&model, 6)?;
-            curve(
-                sierpinski_blocks(),
-                "Sierpinski gasket with 6 control points, seed 001 §4.2 (Fig. 11)",
-                &format!("The printed S_1 … S_3: outer edges by Lagrange interpolation, inner edges linear.\n{seed1}."),
-                model,
-            )
-        }
-        "bicubic" => {
-            let b = BSpline::uniform(3, 4).expect("valid").blocks(2).expect("self-similar");
-            let default =
-                grid_points(6, 6, |c, r| if (1.0..=4.0).contains(&c) && (1.0..=4.0).contains(&r) { 1.2 } else { 0.0 });
-            let model =
-                spec(with(default), Layout::Grid, Some((6, 6)), "A 6×6 control grid: 3×3 bicubic patches, welded.");
-            check(&model, 16)?;
-            let description = "bicubic B-spline patches: tensor product of the cubic IFS, seed 001 §3.1 (Fig. 6)";
-            tensor_design(
-                name,
-                description,
-                &format!("Four maps (S_v ⊗ S_u)ᵀ on a 4×4 control grid.\n{seed1}."),
-                &b,
-                &model,
-            )
-            .map_err(|e| CatalogError::Points(e.to_string()))
-        }
-        "box-spline" | "box-spline-gasket" | "box-spline-quad" | "sqrt3-patch" => triangle_preset(request),
-        other => {
-            Err(CatalogError::Unknown { name: other.to_string(), suggestion: crate::names::suggest(other, IFS_NAMES) })
-        }
-    }
+        "bspline-end" => curve(
+            BSpline::new(3, &[0, 0, 0, 1, 2, 2, 2]).expect("valid").blocks(2).expect("self-similar"),
+            wave(),
+            Layout::Single,
+            "Five control points; the curve interpolates the first and last.",
+            5,
+            "end-interpolating cubic B-spline, knots {0,0,0,1,2,2,2}, seed 001 §2.1 (Fig. 3)",
+            "Knot insertion by blossoming gives the printed S_1, S_2.",
+        ),
+        "bezier" => curve(
+            BSpline::bezier(2).blocks(2).expect("self-similar"),
+            pts(&[[0.0, 0.0], [1.0, 2.0], [2.0, 0.0]]),
+            Layout::Single,
+            "Three control points.",
+            3,
+            "quadratic Bézier curve: de Casteljau at u = 1/2, seed 001 §2.2",
+            "Goldman's IFS of a Bézier curve.",
+        ),
+        "bezier-union" => curve(
+            BSpline::bezier(2).blocks(2).expect("self-similar"),
+            pts(&[[0.0, 0.0], [1.0, 2.0], [2.0, 0.0], [2.5, 0.5], [3.0, 2.5], [4.5, 1.5]]),
+            Layout::Union,
+            "Two Bézier curves: points 0-2 and 3-5, drawn apart.",
+            6,
+            "union of two quadratic Bézier curves, seed 001 §2.2 (Fig. 4)",
+            "The union of attractors: one piece per control triangle (the paper's block-diagonal IFS).",
+        ),
+        "four-point" => curve(
+            Rules::four_point().blocks(7).expect("7 points give blocks"),
+            pts(&[[0.0, 0.0], [1.0, 1.0], [2.0, 0.0], [3.0, 1.5], [4.0, 0.0], [5.0, 1.0], [6.0, 0.0]]),
+            Layout::Single,
+            "Seven control points: the attractor runs from P2 to P4.",
+            7,
+            "interpolatory four-point scheme, 7×7 blocks, seed 001 §2.3 (Fig. 5)",
+            "The printed 7×7 blocks S_1, S_2 of the four-point rules.",
+        ),
+        "koch-control" => curve(
+            koch_blocks(),
+            pts(&[[0.0, 0.0], [1.0 / 3.0, 0.0], [0.5, s], [2.0 / 3.0, 0.0], [1.0, 0.0]]),
+            Layout::Single,
+            "The natural control points of the Koch curve (move them to deform it).",
+            5,
+            "Koch curve with 5 control points, seed 001 §4.1 (Fig. 10)",
+            "The printed S_1 … S_4: barycentric coordinates w.r.t. the closest control points.",
+        ),
+        "sierpinski-control" => curve(
+            sierpinski_blocks(),
+            pts(&[[0.0, 0.0], [0.5, 0.0], [1.0, 0.0], [0.75, h / 2.0], [0.5, h], [0.25, h / 2.0]]),
+            Layout::Single,
+            "Corners 0, 2, 4 and edge points 1, 3, 5 (quadratic outer edges).",
+            6,
+            "Sierpinski gasket with 6 control points, seed 001 §4.2 (Fig. 11)",
+            "The printed S_1 … S_3: outer edges by Lagrange interpolation, inner edges linear.",
+        ),
+        _ => return None,
+    })
+}
+
+/// Seed 001's bicubic B-spline patches (Fig. 6).
+fn bicubic_preset(request: &Request<'_>) -> Result<Design, CatalogError> {
+    let b = BSpline::uniform(3, 4).expect("valid").blocks(2).expect("self-similar");
+    let default =
+        grid_points(6, 6, |c, r| if (1.0..=4.0).contains(&c) && (1.0..=4.0).contains(&r) { 1.2 } else { 0.0 });
+    let model =
+        spec(request.with(default), Layout::Grid, Some((6, 6)), "A 6×6 control grid: 3×3 bicubic patches, welded.");
+    request.check(&model, 16)?;
+    let description = "bicubic B-spline patches: tensor product of the cubic IFS, seed 001 §3.1 (Fig. 6)";
+    tensor_design(
+        request.name,
+        description,
+        &format!("Four maps (S_v ⊗ S_u)ᵀ on a 4×4 control grid.\n{SEED1}."),
+        &b,
+        &model,
+    )
+    .map_err(|e| CatalogError::Points(e.to_string()))
 }
 
 /// The triangle schemes of seed 001 §3.2–3.3 as IFS on lattice cells
