@@ -53,6 +53,99 @@ fn pair_multi_edge(twin: &mut [u32], face: &[u32], mut forth: Vec<usize>, mut ba
     }
 }
 
+/// The half-edges of a mesh by vertex, outgoing and incoming (counting
+/// sorts): a half-edge's twin is found among the fewer of its end's
+/// outgoing or its start's incoming ones, so a vertex of valence n (a
+/// fan's apex) costs O(n), not O(n²).
+struct ByVertex<'m> {
+    mesh: &'m PolyMesh,
+    /// The face of each corner.
+    face: Vec<u32>,
+    out_start: Vec<u32>,
+    out: Vec<u32>,
+    in_start: Vec<u32>,
+    incoming: Vec<u32>,
+}
+
+impl<'m> ByVertex<'m> {
+    fn new(mesh: &'m PolyMesh, face: Vec<u32>) -> ByVertex<'m> {
+        let (corners, nv) = (mesh.corner_count(), mesh.positions.len());
+        let next = |c: usize| {
+            let f = face[c] as usize;
+            if c + 1 == mesh.starts[f + 1] { mesh.starts[f] } else { c + 1 }
+        };
+        let by_vertex = |key: &dyn Fn(usize) -> usize| {
+            let mut start = vec![0u32; nv + 1];
+            (0..corners).for_each(|c| start[key(c) + 1] += 1);
+            for v in 0..nv {
+                start[v + 1] += start[v];
+            }
+            let mut list = vec![0u32; corners];
+            let mut fill: Vec<u32> = start[..nv].to_vec();
+            for c in 0..corners {
+                let v = key(c);
+                list[fill[v] as usize] = c as u32;
+                fill[v] += 1;
+            }
+            (start, list)
+        };
+        let (out_start, out) = by_vertex(&|c| mesh.indices[c]);
+        let (in_start, incoming) = by_vertex(&|c| mesh.indices[next(c)]);
+        ByVertex { mesh, face, out_start, out, in_start, incoming }
+    }
+
+    /// The corner after `c` in its face.
+    #[inline]
+    fn next(&self, c: usize) -> usize {
+        let f = self.face[c] as usize;
+        if c + 1 == self.mesh.starts[f + 1] { self.mesh.starts[f] } else { c + 1 }
+    }
+
+    /// The half-edges out of `a` (the outgoing lists stay valid once `face` is taken).
+    fn outgoing(&self, a: usize) -> impl Iterator<Item = usize> + '_ {
+        self.out[self.out_start[a] as usize..self.out_start[a + 1] as usize].iter().map(|&d| d as usize)
+    }
+
+    /// The half-edges `a → b`.
+    fn ends(&self, a: usize, b: usize) -> impl Iterator<Item = usize> + '_ {
+        let from_a = &self.out[self.out_start[a] as usize..self.out_start[a + 1] as usize];
+        let into_b = &self.incoming[self.in_start[b] as usize..self.in_start[b + 1] as usize];
+        let by_start = from_a.len() <= into_b.len();
+        let list = if by_start { from_a } else { into_b };
+        let indices = &self.mesh.indices;
+        list.iter()
+            .map(|&d| d as usize)
+            .filter(move |&d| if by_start { indices[self.next(d)] == b } else { indices[d] == a })
+    }
+
+    /// Checks the edge of the half-edge `c = a → b`: in at most two faces, run
+    /// once each way; the faces named by `place`.
+    fn check_edge(&self, c: usize, (a, b): (usize, usize), place: &dyn Fn(usize) -> Place) -> Result<(), MeshCheckError> {
+        let (same, back) = (self.ends(a, b).count(), self.ends(b, a).count());
+        if same + back > 2 {
+            // Named at the face that comes last in the file: the one too many.
+            let last = self.ends(a, b).chain(self.ends(b, a)).map(|d| self.face[d] as usize).max().unwrap_or(0);
+            return Err(MeshCheckError::NonManifoldEdge {
+                place: place(last),
+                a: a.min(b),
+                b: a.max(b),
+                count: same + back,
+            });
+        }
+        if same > 1 {
+            let other = self.ends(a, b).find(|&d| d != c).unwrap_or(c);
+            let (first, second) = (c.min(other), c.max(other));
+            return Err(MeshCheckError::Orientation {
+                place: place(self.face[second] as usize),
+                a,
+                b,
+                other: place(self.face[first] as usize),
+            });
+        }
+        Ok(())
+    }
+}
+
 impl Topology {
     /// The half-edges of `mesh`, checked: no edge in three faces, faces
     /// consistently oriented, every vertex a single fan.
@@ -87,79 +180,24 @@ impl Topology {
         for f in 0..mesh.face_count() {
             face[mesh.starts[f]..mesh.starts[f + 1]].iter_mut().for_each(|x| *x = f as u32);
         }
-        let next = |c: usize| {
-            let f = face[c] as usize;
-            if c + 1 == mesh.starts[f + 1] { mesh.starts[f] } else { c + 1 }
-        };
-        // Outgoing and incoming half-edges per vertex (counting sorts): a half-edge's
-        // twin is found among the fewer of its end's outgoing or its start's incoming
-        // ones, so a vertex of valence n (a fan's apex) costs O(n), not O(n²).
-        let by_vertex = |key: &dyn Fn(usize) -> usize| {
-            let mut start = vec![0u32; nv + 1];
-            (0..corners).for_each(|c| start[key(c) + 1] += 1);
-            for v in 0..nv {
-                start[v + 1] += start[v];
-            }
-            let mut list = vec![0u32; corners];
-            let mut fill: Vec<u32> = start[..nv].to_vec();
-            for c in 0..corners {
-                let v = key(c);
-                list[fill[v] as usize] = c as u32;
-                fill[v] += 1;
-            }
-            (start, list)
-        };
-        let (out_start, out) = by_vertex(&|c| mesh.indices[c]);
-        let (in_start, incoming) = by_vertex(&|c| mesh.indices[next(c)]);
-        let outgoing = |a: usize| out[out_start[a] as usize..out_start[a + 1] as usize].iter().map(|&d| d as usize);
-        // The half-edges a → b.
-        let ends = |a: usize, b: usize| {
-            let (from_a, into_b) = (
-                &out[out_start[a] as usize..out_start[a + 1] as usize],
-                &incoming[in_start[b] as usize..in_start[b + 1] as usize],
-            );
-            let by_start = from_a.len() <= into_b.len();
-            let list = if by_start { from_a } else { into_b };
-            list.iter()
-                .map(|&d| d as usize)
-                .filter(move |&d| if by_start { mesh.indices[next(d)] == b } else { mesh.indices[d] == a })
-        };
+        let mut by = ByVertex::new(mesh, face);
         let mut twin = vec![NONE; corners];
         for c in 0..corners {
-            let (a, b) = (mesh.indices[c], mesh.indices[next(c)]);
+            let (a, b) = (mesh.indices[c], mesh.indices[by.next(c)]);
             if let Some(place) = check {
-                let (same, back) = (ends(a, b).count(), ends(b, a).count());
-                if same + back > 2 {
-                    // Named at the face that comes last in the file: the one too many.
-                    let last = ends(a, b).chain(ends(b, a)).map(|d| face[d] as usize).max().unwrap_or(0);
-                    return Err(MeshCheckError::NonManifoldEdge {
-                        place: place(last),
-                        a: a.min(b),
-                        b: a.max(b),
-                        count: same + back,
-                    });
-                }
-                if same > 1 {
-                    let other = ends(a, b).find(|&d| d != c).unwrap_or(c);
-                    let (first, second) = (c.min(other), c.max(other));
-                    return Err(MeshCheckError::Orientation {
-                        place: place(face[second] as usize),
-                        a,
-                        b,
-                        other: place(face[first] as usize),
-                    });
-                }
+                by.check_edge(c, (a, b), place)?;
             }
             if twin[c] != NONE {
                 continue;
             }
-            let mut back = ends(b, a).filter(|&d| twin[d] == NONE && d != c);
+            let mut back = by.ends(b, a).filter(|&d| twin[d] == NONE && d != c);
             match (back.next(), back.next()) {
                 (None, _) => {}
-                (Some(d), None) if ends(a, b).nth(1).is_none() => (twin[c], twin[d]) = (d as u32, c as u32),
-                _ => pair_multi_edge(&mut twin, &face, ends(a, b).collect(), ends(b, a).collect()),
+                (Some(d), None) if by.ends(a, b).nth(1).is_none() => (twin[c], twin[d]) = (d as u32, c as u32),
+                _ => pair_multi_edge(&mut twin, &by.face, by.ends(a, b).collect(), by.ends(b, a).collect()),
             }
         }
+        let face = std::mem::take(&mut by.face);
         let mut topology = Topology { face, twin, first: vec![NONE; nv], on_border: vec![false; nv] };
         for c in 0..corners {
             let v = mesh.indices[c];
@@ -172,30 +210,36 @@ impl Topology {
             }
         }
         if check.is_some() {
-            // One fan per vertex: walks of the rotation, from the border corners first, cover its corners.
-            // Corners already walked (marked, then unmarked vertex by vertex: linear in all).
-            let mut seen = vec![false; corners];
-            for v in 0..nv {
-                let mut fans = 0;
-                let starts = outgoing(v).filter(|&c| topology.twin[c] == NONE).chain(outgoing(v));
-                for c0 in starts {
-                    if seen[c0] {
-                        continue;
-                    }
-                    fans += 1;
-                    let mut c = c0;
-                    while c != BORDER && !seen[c] {
-                        seen[c] = true;
-                        c = topology.rotate(mesh, c);
-                    }
-                }
-                outgoing(v).for_each(|c| seen[c] = false);
-                if fans > 1 {
-                    return Err(MeshCheckError::NonManifoldVertex(v, fans));
-                }
-            }
+            topology.check_fans(mesh, &by)?;
         }
         Ok(topology)
+    }
+
+    /// One fan per vertex: walks of the rotation, from the border corners
+    /// first, cover its corners. Corners already walked are marked, then
+    /// unmarked vertex by vertex: linear in all.
+    fn check_fans(&self, mesh: &PolyMesh, by: &ByVertex<'_>) -> Result<(), MeshCheckError> {
+        let mut seen = vec![false; mesh.corner_count()];
+        for v in 0..mesh.positions.len() {
+            let mut fans = 0;
+            let starts = by.outgoing(v).filter(|&c| self.twin[c] == NONE).chain(by.outgoing(v));
+            for c0 in starts {
+                if seen[c0] {
+                    continue;
+                }
+                fans += 1;
+                let mut c = c0;
+                while c != BORDER && !seen[c] {
+                    seen[c] = true;
+                    c = self.rotate(mesh, c);
+                }
+            }
+            by.outgoing(v).for_each(|c| seen[c] = false);
+            if fans > 1 {
+                return Err(MeshCheckError::NonManifoldVertex(v, fans));
+            }
+        }
+        Ok(())
     }
 
     /// The face of corner `c`.
