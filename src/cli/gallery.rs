@@ -279,8 +279,36 @@ pub fn gallery_items() -> Vec<(String, String, GallerySource)> {
 /// # Errors
 /// The first entry that fails, or an I/O error.
 pub fn gallery(dir: &Path, progress: Option<&Progress>) -> Result<Vec<GalleryEntry>, RenderError> {
+    check_gallery_dir(dir)?;
+    let mut entries = Vec::new();
+    let items = gallery_items();
+    let total = items.len() as u64;
+    for (done, (name, description, source)) in items.into_iter().enumerate() {
+        if let Some(p) = progress {
+            p.report(done as u64, total);
+        }
+        let (png, obj) = (format!("{name}.png"), format!("{name}.obj"));
+        let (depth, summary, files) = match source {
+            GallerySource::Shape(shape, depth) => {
+                let summary = write_shape(&shape, &name, &RasterSettings::default(), &dir.join(&png))?;
+                write_shape(&shape, &name, &RasterSettings::default(), &dir.join(&obj))?;
+                (Depth::Fixed(depth), summary, vec![png, obj])
+            }
+            GallerySource::Design(design, fixed) => design_entry(dir, &name, &design, fixed)?,
+        };
+        entries.push(GalleryEntry { name, description, depth, files, summary });
+    }
+    entries.push(density_page(dir)?);
+    if let Some(p) = progress {
+        p.report(total, total);
+    }
+    write_index(dir, &entries)?;
+    Ok(entries)
+}
+
+/// Before any work: no output of the gallery may land on a directory.
+fn check_gallery_dir(dir: &Path) -> Result<(), RenderError> {
     std::fs::create_dir_all(dir).map_err(|e| RenderError::Io(dir.to_path_buf(), e))?;
-    // Before any work: no output of the gallery may land on a directory.
     let entries = std::fs::read_dir(dir).map_err(|e| RenderError::Io(dir.to_path_buf(), e))?;
     for entry in entries.flatten() {
         let path = entry.path();
@@ -291,70 +319,55 @@ pub fn gallery(dir: &Path, progress: Option<&Progress>) -> Result<Vec<GalleryEnt
             return Err(RenderError::Io(path, why));
         }
     }
-    let mut entries = Vec::new();
-    let items = gallery_items();
-    let total = items.len() as u64;
-    for (done, (name, description, source)) in items.into_iter().enumerate() {
-        if let Some(p) = progress {
-            p.report(done as u64, total);
-        }
-        let mut files = Vec::new();
-        let (png, obj) = (format!("{name}.png"), format!("{name}.obj"));
-        let (depth, summary) = match source {
-            GallerySource::Shape(shape, depth) => {
-                let summary = write_shape(&shape, &name, &RasterSettings::default(), &dir.join(&png))?;
-                write_shape(&shape, &name, &RasterSettings::default(), &dir.join(&obj))?;
-                files.extend([png, obj]);
-                (Depth::Fixed(depth), summary)
-            }
-            GallerySource::Design(design, fixed) => {
-                let depth = match fixed {
-                    Some(d) => d,
-                    None => gallery_depth(&design)?,
-                };
-                let mut options = RenderOptions::default();
-                options.eval.depth = Depth::Fixed(depth);
-                let model = model_of(&design)?;
-                let plain_ifs = model.layout == Layout::Single
-                    && design
-                        .automaton()
-                        .state_id(model.root(0))
-                        .is_some_and(|r| design.automaton().state(r).kind == CellKind::Free);
-                // Affine maps (d + 1 control points) get a Hausdorff tolerance; larger
-                // free states (subdivision patches as IFS) keep the deepest depth that fits.
-                let affine = design
-                    .automaton()
-                    .state_id(model.root(0))
-                    .is_some_and(|r| design.automaton().state(r).dim <= model.points[0].len() + 1);
-                if plain_ifs
-                    && affine
-                    && let Some(eps) = gallery_tolerance(&design)?
-                {
-                    options.eval.depth = Depth::Tolerance(eps);
-                }
-                let summary = render(&design, &options, &dir.join(&png))?;
-                render(&design, &options, &dir.join(&obj))?;
-                files.extend([png, obj]);
-                if plain_ifs {
-                    let mut random = options.clone();
-                    random.random = Some(RandomSettings::default().with_points(2_000_000));
-                    let png = format!("{name}-chaos.png");
-                    render(&design, &random, &dir.join(&png))?;
-                    files.push(png);
-                }
-                (options.eval.depth, summary)
-            }
-        };
-        entries.push(GalleryEntry { name, description, depth, files, summary });
+    Ok(())
+}
+
+/// A design's gallery entry: its PNG and OBJ at the depth (or Hausdorff
+/// tolerance) that fits, and a chaos-game picture of plain IFS.
+fn design_entry(
+    dir: &Path,
+    name: &str,
+    design: &Design,
+    fixed: Option<usize>,
+) -> Result<(Depth, RenderSummary, Vec<String>), RenderError> {
+    let depth = match fixed {
+        Some(d) => d,
+        None => gallery_depth(design)?,
+    };
+    let mut options = RenderOptions::default();
+    options.eval.depth = Depth::Fixed(depth);
+    let model = model_of(design)?;
+    let root = design.automaton().state_id(model.root(0)).map(|r| design.automaton().state(r));
+    let plain_ifs = model.layout == Layout::Single && root.is_some_and(|r| r.kind == CellKind::Free);
+    // Affine maps (d + 1 control points) get a Hausdorff tolerance; larger
+    // free states (subdivision patches as IFS) keep the deepest depth that fits.
+    let affine = root.is_some_and(|r| r.dim <= model.points[0].len() + 1);
+    if plain_ifs
+        && affine
+        && let Some(eps) = gallery_tolerance(design)?
+    {
+        options.eval.depth = Depth::Tolerance(eps);
     }
-    entries.push(density_page(dir)?);
-    if let Some(p) = progress {
-        p.report(total, total);
+    let (png, obj) = (format!("{name}.png"), format!("{name}.obj"));
+    let summary = render(design, &options, &dir.join(&png))?;
+    render(design, &options, &dir.join(&obj))?;
+    let mut files = vec![png, obj];
+    if plain_ifs {
+        let mut random = options.clone();
+        random.random = Some(RandomSettings::default().with_points(2_000_000));
+        let png = format!("{name}-chaos.png");
+        render(design, &random, &dir.join(&png))?;
+        files.push(png);
     }
+    Ok((options.eval.depth, summary, files))
+}
+
+/// The gallery's `index.html`: a figure per entry.
+fn write_index(dir: &Path, entries: &[GalleryEntry]) -> Result<(), RenderError> {
     let mut html = String::from(
         "<!doctype html>\n<html><head><meta charset=\"utf-8\"><title>bcifs gallery</title>\n<style>body{font-family:sans-serif;margin:2em;background:#f6f7f9}figure{display:inline-block;margin:1em;background:white;padding:1em;box-shadow:0 1px 3px #0002;vertical-align:top}img{width:360px;height:360px;object-fit:contain}figcaption{max-width:360px}</style></head><body>\n<h1>bcifs gallery</h1>\n",
     );
-    for e in &entries {
+    for e in entries {
         let _ = write!(html, "<figure>");
         for f in e.files.iter().filter(|f| f.ends_with(".png")) {
             let _ = write!(html, "<img src=\"{f}\" alt=\"{}\">", e.name);
@@ -377,8 +390,7 @@ pub fn gallery(dir: &Path, progress: Option<&Progress>) -> Result<Vec<GalleryEnt
         );
     }
     html.push_str("</body></html>\n");
-    write_atomic(&dir.join("index.html"), html.as_bytes()).map_err(|e| RenderError::Io(dir.join("index.html"), e))?;
-    Ok(entries)
+    write_atomic(&dir.join("index.html"), html.as_bytes()).map_err(|e| RenderError::Io(dir.join("index.html"), e))
 }
 
 /// Sample counts of the density page.

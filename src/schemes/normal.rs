@@ -520,25 +520,40 @@ pub fn unit_square() -> Vec<Point2> {
 /// # Errors
 /// [`NormalSchemeError::UnknownPreset`], with the closest name.
 pub fn normal_preset(name: &str) -> Result<NormalPreset, NormalSchemeError> {
+    curve_figure(name).or_else(|| shape_figure(name)).ok_or_else(|| NormalSchemeError::UnknownPreset {
+        name: name.to_string(),
+        suggestion: crate::names::suggest(name, PRESET_NAMES),
+    })
+}
+
+/// A preset scheme: `α` and `β` as exact constants, the normals' direction and β's signs.
+fn preset_scheme(a: &[&str], b: &[&str], normal: NormalDirection, sign: SignPattern) -> NormalScheme {
+    NormalScheme::parse(a, b).expect("preset parameters are exact").with_normal(normal).with_sign(sign)
+}
+
+/// A preset of a figure.
+fn preset(
+    name: &'static str,
+    description: &'static str,
+    scheme: NormalScheme,
+    polygon: &[Point2],
+    closed: bool,
+    depth: usize,
+) -> NormalPreset {
+    NormalPreset { name, description, scheme, polygon: polygon.to_vec(), closed, depth }
+}
+
+/// The classic fractal curves of the paper (Figs. 2–7) on its unit shapes.
+fn curve_figure(name: &str) -> Option<NormalPreset> {
     use NormalDirection::{Negative, Positive};
-    use SignPattern::{Alternate, Constant, Level, LevelIndex};
-    let scheme = |a: &[&str], b: &[&str], normal, sign| {
-        NormalScheme::parse(a, b).expect("preset parameters are exact").with_normal(normal).with_sign(sign)
-    };
+    use SignPattern::{Alternate, Constant, LevelIndex};
+    let scheme = preset_scheme;
     let levy = || scheme(&["0", "1/2"], &["0", "1/2"], Positive, Constant);
     let dragon = || scheme(&["0", "1/2"], &["0", "1/2"], Positive, Alternate);
     let sierpinski = || scheme(&["0", "1/4", "3/4"], &["0", "sqrt(3)/4", "sqrt(3)/4"], Positive, LevelIndex);
     let koch = |normal| scheme(&["0", "1/3", "1/2", "2/3"], &["0", "0", "sqrt(3)/6", "0"], normal, Constant);
     let (seg, tri, quad) = (unit_segment(), unit_triangle(), unit_square());
-    let preset = |name, description, scheme, polygon: &Vec<Point2>, closed, depth| NormalPreset {
-        name,
-        description,
-        scheme,
-        polygon: polygon.clone(),
-        closed,
-        depth,
-    };
-    Ok(match name {
+    Some(match name {
         "levy" => preset("levy", "Lévy C curve, scheme (2), Fig. 2", levy(), &seg, false, 11),
         "dragon" => preset("dragon", "dragon curve, β_1 = (−1)^i/2, Fig. 3a", dragon(), &seg, false, 10),
         "dragon-triangle" => {
@@ -570,6 +585,17 @@ pub fn normal_preset(name: &str) -> Result<NormalPreset, NormalSchemeError> {
             preset("koch-quad", "Koch-type curve on a quadrilateral, Fig. 6c", koch(Positive), &quad, true, 5)
         }
         "snowflake" => preset("snowflake", "Koch snowflake, negative normals, Fig. 7b", koch(Negative), &tri, true, 5),
+        _ => return None,
+    })
+}
+
+/// The other shapes of the paper (Figs. 8–9).
+fn shape_figure(name: &str) -> Option<NormalPreset> {
+    use NormalDirection::{Negative, Positive};
+    use SignPattern::{Constant, Level};
+    let scheme = preset_scheme;
+    let (seg, quad) = (unit_segment(), unit_square());
+    Some(match name {
         "tigerhead" => preset(
             "tigerhead",
             "tiger-head-like curve, Fig. 8a",
@@ -620,12 +646,7 @@ pub fn normal_preset(name: &str) -> Result<NormalPreset, NormalSchemeError> {
             false,
             5,
         ),
-        other => {
-            return Err(NormalSchemeError::UnknownPreset {
-                name: other.to_string(),
-                suggestion: crate::names::suggest(other, PRESET_NAMES),
-            });
-        }
+        _ => return None,
     })
 }
 
