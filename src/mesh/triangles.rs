@@ -129,106 +129,21 @@ impl PolyMesh {
         weights: Option<LoopWeights>,
         out: &mut Emit<'_>,
     ) -> io::Result<()> {
-        let custom = weights.filter(|w| *w != LoopWeights::CLASSIC);
-        let (nv, nf) = (self.positions.len(), self.face_count());
         let mut mid = Emit::points();
         self.loop_into(t, weights, &mut mid)?;
-        let mid = mid.into_points();
         let (edge_of, edges) = self.edge_points(t, &mut Emit::points(), |_, _| [0.0; 3])?;
-        let m = |c: usize| nv + edge_of[c] as usize;
-        let canonical = |c: usize| t.twin(c) == BORDER || c < t.twin(c);
-        let sum = |ids: &[usize]| {
-            let mut r = [0.0; 3];
-            ids.iter().for_each(|&i| add(&mut r, mid[i], 1.0));
-            r
+        let two = TwoSteps {
+            mesh: self,
+            t,
+            mid: mid.into_points(),
+            edge_of,
+            edges,
+            custom: weights.filter(|w| *w != LoopWeights::CLASSIC),
         };
-        let border = |u: usize, v: usize, w: usize| {
-            let mut q = [0.0; 3];
-            add(&mut q, mid[u], 1.0 / 8.0);
-            add(&mut q, mid[v], 6.0 / 8.0);
-            add(&mut q, mid[w], 1.0 / 8.0);
-            q
-        };
-        let half = |a: usize, b: usize| {
-            let mut q = [0.0; 3];
-            add(&mut q, mid[a], 0.5);
-            add(&mut q, mid[b], 0.5);
-            q
-        };
-        // The middle net's vertex points: its old vertices, then its edge points.
-        for (v, &p) in mid.iter().enumerate().take(nv) {
-            let c0 = t.first(v);
-            let q = if c0 == BORDER {
-                p
-            } else if t.on_border(v) {
-                let mut last = c0;
-                while t.rotate(self, last) != BORDER {
-                    last = t.rotate(self, last);
-                }
-                border(m(t.prev(self, last)), v, m(c0))
-            } else {
-                let mut ring = vec![m(c0)];
-                let mut c = t.rotate(self, c0);
-                while c != c0 {
-                    ring.push(m(c));
-                    c = t.rotate(self, c);
-                }
-                loop_vertex(p, sum(&ring), ring.len(), custom)
-            };
-            out.vertex(q)?;
-        }
-        let numbering: Vec<usize> = (0..self.corner_count()).filter(|&c| canonical(c)).collect();
-        for &c in &numbering {
-            let (tw, a, b) = (t.twin(c), self.indices[c], self.indices[t.next(self, c)]);
-            let q = if tw == BORDER {
-                border(a, m(c), b)
-            } else {
-                let ring = [a, b, m(t.next(self, c)), m(t.prev(self, c)), m(t.next(self, tw)), m(t.prev(self, tw))];
-                loop_vertex(mid[m(c)], sum(&ring), 6, custom)
-            };
-            out.vertex(q)?;
-        }
-        // The middle net's edge points: the halves of this net's edges, the middle triangles' edges.
-        for &c in &numbering {
-            let (tw, a, b) = (t.twin(c), self.indices[c], self.indices[t.next(self, c)]);
-            if tw == BORDER {
-                out.vertex(half(a, m(c)))?;
-                out.vertex(half(m(c), b))?;
-            } else {
-                let (p, n) = (m(t.prev(self, c)), m(t.next(self, c)));
-                let (tp, tn) = (m(t.prev(self, tw)), m(t.next(self, tw)));
-                out.vertex(loop_edge([mid[a], mid[m(c)], mid[p], mid[tn]], custom))?;
-                out.vertex(loop_edge([mid[m(c)], mid[b], mid[n], mid[tp]], custom))?;
-            }
-        }
-        for f in 0..nf {
-            let s = self.starts[f];
-            for k in 0..3 {
-                let (k1, k2) = (s + (k + 1) % 3, s + (k + 2) % 3);
-                let e = [mid[m(s + k)], mid[m(k1)], mid[self.indices[k1]], mid[m(k2)]];
-                out.vertex(loop_edge(e, custom))?;
-            }
-        }
-        // Sixteen triangles per face: each child [A, B, C] split as one step splits it.
-        let base = nv + edges;
-        let start_half = |c: usize| base + 2 * edge_of[c] as usize + usize::from(!canonical(c));
-        let end_half = |c: usize| base + 2 * edge_of[c] as usize + usize::from(canonical(c));
-        let inner = |f: usize, k: usize| base + 2 * edges + 3 * f + k;
-        for f in 0..nf {
-            let s = self.starts[f];
-            let mut split = |[a, b, c]: [usize; 3], [ab, bc, ca]: [usize; 3]| -> io::Result<()> {
-                out.face([a, ab, ca])?;
-                out.face([b, bc, ab])?;
-                out.face([c, ca, bc])?;
-                out.face([ab, bc, ca])
-            };
-            for k in 0..3 {
-                let p = (k + 2) % 3;
-                split([self.indices[s + k], m(s + k), m(s + p)], [start_half(s + k), inner(f, p), end_half(s + p)])?;
-            }
-            split([m(s), m(s + 1), m(s + 2)], [inner(f, 0), inner(f, 1), inner(f, 2)])?;
-        }
-        Ok(())
+        let numbering: Vec<usize> = (0..self.corner_count()).filter(|&c| two.canonical(c)).collect();
+        two.vertex_points(&numbering, out)?;
+        two.edge_points(&numbering, out)?;
+        two.faces(out)
     }
 
     /// One √3 step into `out`: vertex points, a centroid per face, and every
@@ -401,3 +316,139 @@ impl PolyMesh {
         PolyMesh::from_flat(self.positions.clone(), starts, indices)
     }
 }
+/// Two Loop steps from a net at once: the middle net's points (`mid`: one
+/// step's vertex points, then its edge points numbered by `edge_of`) and
+/// the rules of the second step on them.
+struct TwoSteps<'a> {
+    mesh: &'a PolyMesh,
+    t: &'a Topology,
+    mid: Vec<[f64; 3]>,
+    edge_of: Vec<u32>,
+    edges: usize,
+    custom: Option<LoopWeights>,
+}
+
+impl TwoSteps<'_> {
+    /// The middle net's point on the edge of corner `c`.
+    fn m(&self, c: usize) -> usize {
+        self.mesh.positions.len() + self.edge_of[c] as usize
+    }
+
+    /// Whether corner `c` numbers its edge.
+    fn canonical(&self, c: usize) -> bool {
+        self.t.twin(c) == BORDER || c < self.t.twin(c)
+    }
+
+    fn sum(&self, ids: &[usize]) -> [f64; 3] {
+        let mut r = [0.0; 3];
+        ids.iter().for_each(|&i| add(&mut r, self.mid[i], 1.0));
+        r
+    }
+
+    /// The border rule `(u + 6v + w)/8` on middle points.
+    fn border(&self, u: usize, v: usize, w: usize) -> [f64; 3] {
+        let mut q = [0.0; 3];
+        add(&mut q, self.mid[u], 1.0 / 8.0);
+        add(&mut q, self.mid[v], 6.0 / 8.0);
+        add(&mut q, self.mid[w], 1.0 / 8.0);
+        q
+    }
+
+    fn half(&self, a: usize, b: usize) -> [f64; 3] {
+        let mut q = [0.0; 3];
+        add(&mut q, self.mid[a], 0.5);
+        add(&mut q, self.mid[b], 0.5);
+        q
+    }
+
+    /// The middle net's vertex points: its old vertices, then its edge points.
+    fn vertex_points(&self, numbering: &[usize], out: &mut Emit<'_>) -> io::Result<()> {
+        let (mesh, t) = (self.mesh, self.t);
+        for (v, &p) in self.mid.iter().enumerate().take(mesh.positions.len()) {
+            let c0 = t.first(v);
+            let q = if c0 == BORDER {
+                p
+            } else if t.on_border(v) {
+                let mut last = c0;
+                while t.rotate(mesh, last) != BORDER {
+                    last = t.rotate(mesh, last);
+                }
+                self.border(self.m(t.prev(mesh, last)), v, self.m(c0))
+            } else {
+                let mut ring = vec![self.m(c0)];
+                let mut c = t.rotate(mesh, c0);
+                while c != c0 {
+                    ring.push(self.m(c));
+                    c = t.rotate(mesh, c);
+                }
+                loop_vertex(p, self.sum(&ring), ring.len(), self.custom)
+            };
+            out.vertex(q)?;
+        }
+        for &c in numbering {
+            let (tw, a, b) = (t.twin(c), mesh.indices[c], mesh.indices[t.next(mesh, c)]);
+            let q = if tw == BORDER {
+                self.border(a, self.m(c), b)
+            } else {
+                let m = |c| self.m(c);
+                let ring = [a, b, m(t.next(mesh, c)), m(t.prev(mesh, c)), m(t.next(mesh, tw)), m(t.prev(mesh, tw))];
+                loop_vertex(self.mid[m(c)], self.sum(&ring), 6, self.custom)
+            };
+            out.vertex(q)?;
+        }
+        Ok(())
+    }
+
+    /// The middle net's edge points: the halves of this net's edges, the middle triangles' edges.
+    fn edge_points(&self, numbering: &[usize], out: &mut Emit<'_>) -> io::Result<()> {
+        let (mesh, t, mid, custom) = (self.mesh, self.t, &self.mid, self.custom);
+        let m = |c| self.m(c);
+        for &c in numbering {
+            let (tw, a, b) = (t.twin(c), mesh.indices[c], mesh.indices[t.next(mesh, c)]);
+            if tw == BORDER {
+                out.vertex(self.half(a, m(c)))?;
+                out.vertex(self.half(m(c), b))?;
+            } else {
+                let (p, n) = (m(t.prev(mesh, c)), m(t.next(mesh, c)));
+                let (tp, tn) = (m(t.prev(mesh, tw)), m(t.next(mesh, tw)));
+                out.vertex(loop_edge([mid[a], mid[m(c)], mid[p], mid[tn]], custom))?;
+                out.vertex(loop_edge([mid[m(c)], mid[b], mid[n], mid[tp]], custom))?;
+            }
+        }
+        for f in 0..mesh.face_count() {
+            let s = mesh.starts[f];
+            for k in 0..3 {
+                let (k1, k2) = (s + (k + 1) % 3, s + (k + 2) % 3);
+                let e = [mid[m(s + k)], mid[m(k1)], mid[mesh.indices[k1]], mid[m(k2)]];
+                out.vertex(loop_edge(e, custom))?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Sixteen triangles per face: each child `[A, B, C]` split as one step splits it.
+    fn faces(&self, out: &mut Emit<'_>) -> io::Result<()> {
+        let mesh = self.mesh;
+        let base = mesh.positions.len() + self.edges;
+        let start_half = |c: usize| base + 2 * self.edge_of[c] as usize + usize::from(!self.canonical(c));
+        let end_half = |c: usize| base + 2 * self.edge_of[c] as usize + usize::from(self.canonical(c));
+        let inner = |f: usize, k: usize| base + 2 * self.edges + 3 * f + k;
+        let m = |c| self.m(c);
+        for f in 0..mesh.face_count() {
+            let s = mesh.starts[f];
+            let mut split = |[a, b, c]: [usize; 3], [ab, bc, ca]: [usize; 3]| -> io::Result<()> {
+                out.face([a, ab, ca])?;
+                out.face([b, bc, ab])?;
+                out.face([c, ca, bc])?;
+                out.face([ab, bc, ca])
+            };
+            for k in 0..3 {
+                let p = (k + 2) % 3;
+                split([mesh.indices[s + k], m(s + k), m(s + p)], [start_half(s + k), inner(f, p), end_half(s + p)])?;
+            }
+            split([m(s), m(s + 1), m(s + 2)], [inner(f, 0), inner(f, 1), inner(f, 2)])?;
+        }
+        Ok(())
+    }
+}
+
