@@ -112,13 +112,33 @@ impl Balls {
                 }
             }
         }
-        // Centres: the images of the centres averaged, to their fixed point.
-        let mut centres = vec![vec![0.0; d]; plan.states.len()];
+        let states = plan.states.len();
+        let centres = balls.centres(&maps, states, control, d);
+        let radii = balls.radii(&maps, &centres, control, d)?;
+        for s in (0..states).filter(|&s| seen[s]) {
+            let beta = balls.barycentric(control, &centres[s], d);
+            balls.balls[s] = Some((beta, radii[s]));
+        }
+        let tight: Vec<Option<(Vec<f64>, f64)>> =
+            (0..states).map(|s| if seen[s] { balls.tightened(plan, s, control, d) } else { None }).collect();
+        for (ball, t) in balls.balls.iter_mut().zip(tight) {
+            if let (Some(b), Some(t)) = (ball.as_mut(), t)
+                && t.1 < b.1
+            {
+                *b = t;
+            }
+        }
+        Some(balls)
+    }
+
+    /// Centres: the images of the centres averaged, to their fixed point.
+    fn centres(&self, maps: &[Map], states: usize, control: &[f64], d: usize) -> Vec<Vec<f64>> {
+        let mut centres = vec![vec![0.0; d]; states];
         for _ in 0..200 {
-            let mut next = vec![vec![0.0; d]; plan.states.len()];
-            let mut counts = vec![0usize; plan.states.len()];
-            for map in &maps {
-                let x = balls.apply(map, &centres[map.to], control, d);
+            let mut next = vec![vec![0.0; d]; states];
+            let mut counts = vec![0usize; states];
+            for map in maps {
+                let x = self.apply(map, &centres[map.to], control, d);
                 next[map.from].iter_mut().zip(&x).for_each(|(a, b)| *a += b);
                 counts[map.from] += 1;
             }
@@ -127,12 +147,17 @@ impl Balls {
             }
             centres = next;
         }
-        // Radii: the least solution of R_s = max (|f(c_t) − c_s| + ρ R_t), inflated until it holds.
+        centres
+    }
+
+    /// Radii: the least solution of `R_s = max (|f(c_t) − c_s| + ρ R_t)`,
+    /// inflated until it holds; `None` when it cannot be made to.
+    fn radii(&self, maps: &[Map], centres: &[Vec<f64>], control: &[f64], d: usize) -> Option<Vec<f64>> {
         let gaps: Vec<f64> =
-            maps.iter().map(|m| distance(&balls.apply(m, &centres[m.to], control, d), &centres[m.from])).collect();
-        let mut radii = vec![0.0f64; plan.states.len()];
+            maps.iter().map(|m| distance(&self.apply(m, &centres[m.to], control, d), &centres[m.from])).collect();
+        let mut radii = vec![0.0f64; centres.len()];
         for _ in 0..10_000 {
-            let mut next = vec![0.0f64; plan.states.len()];
+            let mut next = vec![0.0f64; centres.len()];
             for (m, g) in maps.iter().zip(&gaps) {
                 next[m.from] = next[m.from].max(g + m.rho * radii[m.to]);
             }
@@ -151,20 +176,7 @@ impl Balls {
                 return None;
             }
         }
-        for s in (0..plan.states.len()).filter(|&s| seen[s]) {
-            let beta = balls.barycentric(control, &centres[s], d);
-            balls.balls[s] = Some((beta, radii[s]));
-        }
-        let tight: Vec<Option<(Vec<f64>, f64)>> =
-            (0..plan.states.len()).map(|s| if seen[s] { balls.tightened(plan, s, control, d) } else { None }).collect();
-        for (ball, t) in balls.balls.iter_mut().zip(tight) {
-            if let (Some(b), Some(t)) = (ball.as_mut(), t)
-                && t.1 < b.1
-            {
-                *b = t;
-            }
-        }
-        Some(balls)
+        Some(radii)
     }
 
     /// `f(x)` for the map `m`.

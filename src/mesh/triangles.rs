@@ -146,6 +146,47 @@ impl PolyMesh {
         two.faces(out)
     }
 
+    /// √3's new position of vertex `v` (kept on the border on steps that do not refine it).
+    fn sqrt3_vertex(&self, t: &Topology, refine_border: bool, v: usize) -> [f64; 3] {
+        let p = self.positions[v];
+        let c0 = t.first(v);
+        if c0 == BORDER || (t.on_border(v) && !refine_border) {
+            return p;
+        }
+        let mut q = [0.0; 3];
+        if t.on_border(v) {
+            let (u, w) = t.border_neighbours(self, c0);
+            add(&mut q, self.positions[u], 4.0 / 27.0);
+            add(&mut q, p, 19.0 / 27.0);
+            add(&mut q, self.positions[w], 4.0 / 27.0);
+            return q;
+        }
+        let n = ring(self, t, c0).count();
+        let a = sqrt3_alpha(n);
+        add(&mut q, p, 1.0 - a);
+        for u in ring(self, t, c0) {
+            add(&mut q, self.positions[u], a / n as f64);
+        }
+        q
+    }
+
+    /// √3's two points on the border edge of corner `cb` (a face split on a border-refining step).
+    fn sqrt3_border_points(&self, t: &Topology, cb: usize) -> [[f64; 3]; 2] {
+        let (a, b) = (self.indices[cb], self.indices[t.next(self, cb)]);
+        let (a2, _) = t.border_neighbours(self, t.first(a));
+        let (_, b2) = t.border_neighbours(self, t.first(b));
+        let (pa, pb) = (self.positions[a], self.positions[b]);
+        let mut x1 = [0.0; 3];
+        add(&mut x1, self.positions[a2], 1.0 / 27.0);
+        add(&mut x1, pa, 16.0 / 27.0);
+        add(&mut x1, pb, 10.0 / 27.0);
+        let mut x2 = [0.0; 3];
+        add(&mut x2, pa, 10.0 / 27.0);
+        add(&mut x2, pb, 16.0 / 27.0);
+        add(&mut x2, self.positions[b2], 1.0 / 27.0);
+        [x1, x2]
+    }
+
     /// One √3 step into `out`: vertex points, a centroid per face, and every
     /// interior edge flipped to join the points of its two faces. With
     /// `refine_border` (CGAL's even steps), a face on the border gets two
@@ -156,28 +197,7 @@ impl PolyMesh {
     pub(crate) fn sqrt3_into(&self, t: &Topology, refine_border: bool, out: &mut Emit<'_>) -> io::Result<()> {
         let (nv, nf) = (self.positions.len(), self.face_count());
         for v in 0..nv {
-            let p = self.positions[v];
-            let c0 = t.first(v);
-            if c0 == BORDER || (t.on_border(v) && !refine_border) {
-                out.vertex(p)?;
-                continue;
-            }
-            let mut q = [0.0; 3];
-            if t.on_border(v) {
-                let (u, w) = t.border_neighbours(self, c0);
-                add(&mut q, self.positions[u], 4.0 / 27.0);
-                add(&mut q, p, 19.0 / 27.0);
-                add(&mut q, self.positions[w], 4.0 / 27.0);
-                out.vertex(q)?;
-                continue;
-            }
-            let n = ring(self, t, c0).count();
-            let a = sqrt3_alpha(n);
-            add(&mut q, p, 1.0 - a);
-            for u in ring(self, t, c0) {
-                add(&mut q, self.positions[u], a / n as f64);
-            }
-            out.vertex(q)?;
+            out.vertex(self.sqrt3_vertex(t, refine_border, v))?;
         }
         // Per face: its border corner when it is split, and the number of its first new point.
         let mut split = vec![BORDER; nf];
@@ -188,18 +208,7 @@ impl PolyMesh {
             let s = self.starts[f];
             if let Some(cb) = (s..s + 3).find(|&c| refine_border && t.twin(c) == BORDER) {
                 split[f] = cb;
-                let (a, b) = (self.indices[cb], self.indices[t.next(self, cb)]);
-                let (a2, _) = t.border_neighbours(self, t.first(a));
-                let (_, b2) = t.border_neighbours(self, t.first(b));
-                let (pa, pb) = (self.positions[a], self.positions[b]);
-                let mut x1 = [0.0; 3];
-                add(&mut x1, self.positions[a2], 1.0 / 27.0);
-                add(&mut x1, pa, 16.0 / 27.0);
-                add(&mut x1, pb, 10.0 / 27.0);
-                let mut x2 = [0.0; 3];
-                add(&mut x2, pa, 10.0 / 27.0);
-                add(&mut x2, pb, 16.0 / 27.0);
-                add(&mut x2, self.positions[b2], 1.0 / 27.0);
+                let [x1, x2] = self.sqrt3_border_points(t, cb);
                 out.vertex(x1)?;
                 out.vertex(x2)?;
                 next_point += 2;
