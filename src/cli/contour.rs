@@ -57,82 +57,14 @@ pub enum ContourCommand {
 pub fn run(out: &mut String, command: ContourCommand) -> Result<u8> {
     match command {
         ContourCommand::Fit { image, output, threshold, tolerance, d_min, d_max, alpha_max, json } => {
-            // The fit is a segments file (TOML): a picture's extension would hold text.
-            super::check_output(&output, &["toml"])?;
-            if !(tolerance > 0.0 && tolerance.is_finite()) {
-                anyhow::bail!("--tolerance {tolerance}: expected a positive number of pixels");
-            }
-            if !(d_min > 0.0 && d_min <= d_max && d_max.is_finite() && (0.0..=180.0).contains(&alpha_max)) {
-                anyhow::bail!("IPAN99 needs 0 < d_min ≤ d_max and 0 ≤ alpha_max ≤ 180");
-            }
-            let picture = image::open(&image)
-                .map_err(|e| anyhow::anyhow!("{}: not a readable PNG or JPEG picture: {e}", image.display()))?
-                .to_luma8();
-            let (w, h) = (picture.width() as usize, picture.height() as usize);
             let settings = bcifs::contour::FitSettings {
                 threshold,
                 ipan: bcifs::contour::Ipan { d_min, d_max, alpha_max },
                 tolerance,
             };
-            let fit = bcifs::contour::fit_contour(picture.as_raw(), w, h, &settings)
-                .map_err(|e| anyhow::anyhow!("{}: {e}", image.display()))?;
-            let text = bcifs::contour::write_segments(&fit.segments);
-            bcifs::export::write_atomic(&output, text.as_bytes())
-                .map_err(|e| anyhow::anyhow!("cannot write {}: {e}", output.display()))?;
-            let arcs = fit.segments.iter().filter(|s| s.is_arc()).count();
-            if json {
-                let segments: Vec<&Vec<[f64; 2]>> = fit.segments.iter().map(|s| &s.points).collect();
-                let value = serde_json::json!({
-                    "image": image.display().to_string(), "threshold": fit.threshold, "components": fit.components,
-                    "contour_points": fit.contour.len(), "corners": fit.corners, "segments": segments,
-                    "max_distance": fit.max_distance,
-                });
-                writeln!(out, "{}", serde_json::to_string_pretty(&value)?)?;
-            } else {
-                writeln!(
-                    out,
-                    "{}: threshold {}, {} contour points, {} corners → {} arcs and {} line segments \
-                     (within {:.3} px) → {}",
-                    image.display(),
-                    fit.threshold,
-                    fit.contour.len(),
-                    fit.corners.len(),
-                    arcs,
-                    fit.segments.len() - arcs,
-                    fit.max_distance,
-                    output.display()
-                )?;
-                if fit.components > 1 {
-                    writeln!(out, "  {} shapes: the largest is traced", fit.components)?;
-                }
-            }
-            Ok(0)
+            run_fit(out, &image, &output, &settings, json)
         }
-        ContourCommand::Ifs { segments, json } => {
-            let pieces = bcifs::contour::read_segments(&segments)?;
-            let mut maps = Vec::new();
-            for (k, s) in pieces.iter().enumerate() {
-                let pair = s.maps().map_err(|e| anyhow::anyhow!("{}: segment {k}: {e}", segments.display()))?;
-                for (name, m) in pair {
-                    maps.push((k, name, m));
-                }
-            }
-            if json {
-                let list: Vec<serde_json::Value> = maps
-                    .iter()
-                    .map(|(k, name, m)| serde_json::json!({"segment": k, "name": name, "matrix": m}))
-                    .collect();
-                writeln!(out, "{}", serde_json::to_string_pretty(&serde_json::json!({ "maps": list }))?)?;
-            } else {
-                for (k, name, m) in &maps {
-                    writeln!(out, "segment {k} {name}:")?;
-                    for row in m {
-                        writeln!(out, "  [{:>10.6} {:>10.6} {:>10.6}]", row[0], row[1], row[2])?;
-                    }
-                }
-            }
-            Ok(0)
-        }
+        ContourCommand::Ifs { segments, json } => run_ifs(out, &segments, json),
         ContourCommand::Automaton { segments } => {
             let pieces = bcifs::contour::read_segments(&segments)?;
             let name = segments.file_stem().map_or("contour".into(), |s| s.to_string_lossy().to_string());
@@ -141,4 +73,85 @@ pub fn run(out: &mut String, command: ContourCommand) -> Result<u8> {
             Ok(0)
         }
     }
+}
+
+/// `contour fit`: the contour of a picture as arcs and segments, to a segments file.
+fn run_fit(
+    out: &mut String,
+    image: &std::path::Path,
+    output: &std::path::Path,
+    settings: &bcifs::contour::FitSettings,
+    json: bool,
+) -> Result<u8> {
+    let (tolerance, bcifs::contour::Ipan { d_min, d_max, alpha_max }) = (settings.tolerance, settings.ipan);
+    // The fit is a segments file (TOML): a picture's extension would hold text.
+    super::check_output(output, &["toml"])?;
+    if !(tolerance > 0.0 && tolerance.is_finite()) {
+        anyhow::bail!("--tolerance {tolerance}: expected a positive number of pixels");
+    }
+    if !(d_min > 0.0 && d_min <= d_max && d_max.is_finite() && (0.0..=180.0).contains(&alpha_max)) {
+        anyhow::bail!("IPAN99 needs 0 < d_min ≤ d_max and 0 ≤ alpha_max ≤ 180");
+    }
+    let picture = image::open(image)
+        .map_err(|e| anyhow::anyhow!("{}: not a readable PNG or JPEG picture: {e}", image.display()))?
+        .to_luma8();
+    let (w, h) = (picture.width() as usize, picture.height() as usize);
+    let fit = bcifs::contour::fit_contour(picture.as_raw(), w, h, settings)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", image.display()))?;
+    let text = bcifs::contour::write_segments(&fit.segments);
+    bcifs::export::write_atomic(output, text.as_bytes())
+        .map_err(|e| anyhow::anyhow!("cannot write {}: {e}", output.display()))?;
+    let arcs = fit.segments.iter().filter(|s| s.is_arc()).count();
+    if json {
+        let segments: Vec<&Vec<[f64; 2]>> = fit.segments.iter().map(|s| &s.points).collect();
+        let value = serde_json::json!({
+            "image": image.display().to_string(), "threshold": fit.threshold, "components": fit.components,
+            "contour_points": fit.contour.len(), "corners": fit.corners, "segments": segments,
+            "max_distance": fit.max_distance,
+        });
+        writeln!(out, "{}", serde_json::to_string_pretty(&value)?)?;
+    } else {
+        writeln!(
+            out,
+            "{}: threshold {}, {} contour points, {} corners → {} arcs and {} line segments \
+             (within {:.3} px) → {}",
+            image.display(),
+            fit.threshold,
+            fit.contour.len(),
+            fit.corners.len(),
+            arcs,
+            fit.segments.len() - arcs,
+            fit.max_distance,
+            output.display()
+        )?;
+        if fit.components > 1 {
+            writeln!(out, "  {} shapes: the largest is traced", fit.components)?;
+        }
+    }
+    Ok(0)
+}
+
+/// `contour ifs`: the two maps of each segment.
+fn run_ifs(out: &mut String, segments: &std::path::Path, json: bool) -> Result<u8> {
+    let pieces = bcifs::contour::read_segments(segments)?;
+    let mut maps = Vec::new();
+    for (k, s) in pieces.iter().enumerate() {
+        let pair = s.maps().map_err(|e| anyhow::anyhow!("{}: segment {k}: {e}", segments.display()))?;
+        for (name, m) in pair {
+            maps.push((k, name, m));
+        }
+    }
+    if json {
+        let list: Vec<serde_json::Value> =
+            maps.iter().map(|(k, name, m)| serde_json::json!({"segment": k, "name": name, "matrix": m})).collect();
+        writeln!(out, "{}", serde_json::to_string_pretty(&serde_json::json!({ "maps": list }))?)?;
+    } else {
+        for (k, name, m) in &maps {
+            writeln!(out, "segment {k} {name}:")?;
+            for row in m {
+                writeln!(out, "  [{:>10.6} {:>10.6} {:>10.6}]", row[0], row[1], row[2])?;
+            }
+        }
+    }
+    Ok(0)
 }

@@ -120,7 +120,12 @@ impl<'m> ByVertex<'m> {
 
     /// Checks the edge of the half-edge `c = a → b`: in at most two faces, run
     /// once each way; the faces named by `place`.
-    fn check_edge(&self, c: usize, (a, b): (usize, usize), place: &dyn Fn(usize) -> Place) -> Result<(), MeshCheckError> {
+    fn check_edge(
+        &self,
+        c: usize,
+        (a, b): (usize, usize),
+        place: &dyn Fn(usize) -> Place,
+    ) -> Result<(), MeshCheckError> {
         let (same, back) = (self.ends(a, b).count(), self.ends(b, a).count());
         if same + back > 2 {
             // Named at the face that comes last in the file: the one too many.

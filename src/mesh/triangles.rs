@@ -460,4 +460,3 @@ impl TwoSteps<'_> {
         Ok(())
     }
 }
-

@@ -172,6 +172,18 @@ struct Seed1Curve {
 }
 
 impl Seed1Curve {
+    fn new(
+        blocks: Vec<ExactMatrix>,
+        points: Vec<Vec<f64>>,
+        layout: Layout,
+        about_points: &'static str,
+        min: usize,
+        description: &'static str,
+        comment: &'static str,
+    ) -> Seed1Curve {
+        Seed1Curve { blocks, points, layout, about_points, min, description, comment }
+    }
+
     fn design(self, request: &Request<'_>) -> Result<Design, CatalogError> {
         let model = spec(request.with(self.points), self.layout, None, self.about_points);
         request.check(&model, self.min)?;
@@ -181,17 +193,13 @@ impl Seed1Curve {
 
 /// The curves of seed 001 by name.
 fn seed1_curve(name: &str) -> Option<Seed1Curve> {
+    seed1_spline(name).or_else(|| seed1_fractal(name))
+}
+
+/// The spline curves of seed 001 (§2).
+fn seed1_spline(name: &str) -> Option<Seed1Curve> {
     let wave = || pts(&[[0.0, 0.0], [1.0, 2.0], [2.5, 2.2], [3.5, 0.4], [5.0, 1.2]]);
-    let (s, h) = (3f64.sqrt() / 6.0, 3f64.sqrt() / 2.0);
-    let curve = |blocks: Vec<ExactMatrix>, points, layout, about_points, min, description, comment| Seed1Curve {
-        blocks,
-        points,
-        layout,
-        about_points,
-        min,
-        description,
-        comment,
-    };
+    let curve = Seed1Curve::new;
     Some(match name {
         "bspline" => {
             let b = BSpline::uniform(3, 5).expect("valid").blocks(2).expect("self-similar");
@@ -233,6 +241,15 @@ fn seed1_curve(name: &str) -> Option<Seed1Curve> {
             "union of two quadratic Bézier curves, seed 001 §2.2 (Fig. 4)",
             "The union of attractors: one piece per control triangle (the paper's block-diagonal IFS).",
         ),
+        _ => return None,
+    })
+}
+
+/// The four-point scheme and the fractals with control points of seed 001 (§2.3, §4).
+fn seed1_fractal(name: &str) -> Option<Seed1Curve> {
+    let (s, h) = (3f64.sqrt() / 6.0, 3f64.sqrt() / 2.0);
+    let curve = Seed1Curve::new;
+    Some(match name {
         "four-point" => curve(
             Rules::four_point().blocks(7).expect("7 points give blocks"),
             pts(&[[0.0, 0.0], [1.0, 1.0], [2.0, 0.0], [3.0, 1.5], [4.0, 0.0], [5.0, 1.0], [6.0, 0.0]]),

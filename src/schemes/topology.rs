@@ -286,6 +286,27 @@ pub fn quad_patch(symmetric: bool) -> Result<Design, TopologyError> {
         b.incidence(e);
     }
     b.doc("The boundary of a sub-cell is the subdivided boundary.");
+    quad_parameters(&mut b, symmetric)?;
+    // An open 5×5 control grid with a raised centre: 3×3 patches.
+    let grid: Vec<Vec<f64>> = (0..25)
+        .map(|k| {
+            let (r, c) = (k / 5, k % 5);
+            let z = match (r, c) {
+                (2, 2) => 2.0,
+                (1..=3, 1..=3) => 0.8,
+                _ => 0.0,
+            };
+            vec![c as f64, r as f64, z]
+        })
+        .collect();
+    b.model(Model::new("face", grid).with_layout(Layout::Grid).with_grid(5, 5))
+        .doc("A 5×5 control grid (rows along v): 3×3 patches welded into one sheet.");
+    b.build().map_err(internal)
+}
+
+/// The quad patch's parameters: the symmetric vertex rule's `alpha`,
+/// `beta`, `gamma` (Doo-Sabin's by default), or every free entry of `W`.
+fn quad_parameters(b: &mut DesignBuilder, symmetric: bool) -> Result<(), TopologyError> {
     if symmetric {
         for e in QUAD_SYMMETRY {
             b.constraint("symmetry", e);
@@ -304,27 +325,13 @@ pub fn quad_patch(symmetric: bool) -> Result<Design, TopologyError> {
              i.e. the biquadratic B-spline patch.",
         );
     } else {
-        let named = name_free_entries(&b)?;
+        let named = name_free_entries(b)?;
         for (l, a, r, c) in &named {
             b.name_entry(l.clone(), format!("{a}[{r}][{c}]"));
         }
         b.doc(format!("{} free parameters: the entries of the vertex rule W.", named.len()));
     }
-    // An open 5×5 control grid with a raised centre: 3×3 patches.
-    let grid: Vec<Vec<f64>> = (0..25)
-        .map(|k| {
-            let (r, c) = (k / 5, k % 5);
-            let z = match (r, c) {
-                (2, 2) => 2.0,
-                (1..=3, 1..=3) => 0.8,
-                _ => 0.0,
-            };
-            vec![c as f64, r as f64, z]
-        })
-        .collect();
-    b.model(Model::new("face", grid).with_layout(Layout::Grid).with_grid(5, 5))
-        .doc("A 5×5 control grid (rows along v): 3×3 patches welded into one sheet.");
-    b.build().map_err(internal)
+    Ok(())
 }
 
 #[cfg(test)]

@@ -327,7 +327,7 @@ fn run_dimension(out: &mut String, file: &str, params: &[String], as_json: bool)
 
 /// `bcifs analyze curve`.
 fn run_curve(out: &mut String, file: &str, params: &[String], as_json: bool) -> Result<u8> {
-    use bcifs::analysis::{JsrSettings, Verdict, curve_query, jsr, per_matrix_condition};
+    use bcifs::analysis::{JsrSettings, Verdict, curve_query, jsr};
     let (design, instance, arrows) = curve_halves(file, params)?;
     let automaton = &instance.automaton;
     let (t0, t1) = (&automaton.arrow(arrows[0]).matrix, &automaton.arrow(arrows[1]).matrix);
@@ -343,70 +343,103 @@ fn run_curve(out: &mut String, file: &str, params: &[String], as_json: bool) -> 
             e.half_tangents.as_ref().map(|[s, t]| [s, t].map(|v| v.iter().map(|x| x.to_f64()).collect()));
     }
     let verdict = jsr(automaton, &JsrSettings::default()).ok().map(|j| j.verdict());
-    let converges = verdict.and_then(|v| v.converges());
     let region = match verdict {
         Some(Verdict::Diverges) => Some("divergent"),
         Some(Verdict::Converges) => report.region,
         _ => None,
     };
-    let strings = |v: &[bcifs::Surd]| v.iter().map(|x| x.to_string()).collect::<Vec<_>>();
-    let exact_json = exact.as_ref().map(|e| {
-        serde_json::json!({
-            "eigenvalues": {names[0].clone(): strings(&e.eigenvalues[0]), names[1].clone(): strings(&e.eigenvalues[1])},
-            "subdominant": {names[0].clone(): e.subdominant[0].as_ref().map(|x| x.to_string()),
-                            names[1].clone(): e.subdominant[1].as_ref().map(|x| x.to_string())},
-            "half_tangents": e.half_tangents.as_ref().map(|[s, t]| serde_json::json!({"start": strings(s), "end": strings(t)})),
-        })
-    });
-    let params: serde_json::Map<String, serde_json::Value> =
-        instance.parameters.iter().map(|(n, v)| (n.clone(), serde_json::json!(v))).collect();
+    let answer = CurveAnswer { names, report, converges: verdict.and_then(|v| v.converges()), region, exact };
     if as_json {
+        answer.json(out, &design, &instance)?;
+    } else {
+        answer.text(out, &design, &instance)?;
+    }
+    Ok(0)
+}
+
+/// What `analyze curve` found at one point.
+struct CurveAnswer {
+    /// The two halves' arrows.
+    names: [String; 2],
+    report: bcifs::analysis::CurveReport,
+    converges: Option<bool>,
+    region: Option<&'static str>,
+    exact: Option<bcifs::analysis::ExactCurveReport>,
+}
+
+/// Exact numbers as text.
+fn strings(v: &[bcifs::Surd]) -> Vec<String> {
+    v.iter().map(|x| x.to_string()).collect()
+}
+
+impl CurveAnswer {
+    fn json(&self, out: &mut String, design: &bcifs::Design, instance: &bcifs::Instance) -> Result<()> {
+        let (names, report) = (&self.names, &self.report);
+        let exact_json = self.exact.as_ref().map(|e| {
+            serde_json::json!({
+                "eigenvalues": {names[0].clone(): strings(&e.eigenvalues[0]), names[1].clone(): strings(&e.eigenvalues[1])},
+                "subdominant": {names[0].clone(): e.subdominant[0].as_ref().map(|x| x.to_string()),
+                                names[1].clone(): e.subdominant[1].as_ref().map(|x| x.to_string())},
+                "half_tangents": e.half_tangents.as_ref().map(|[s, t]| serde_json::json!({"start": strings(s), "end": strings(t)})),
+            })
+        });
+        let params: serde_json::Map<String, serde_json::Value> =
+            instance.parameters.iter().map(|(n, v)| (n.clone(), serde_json::json!(v))).collect();
         let value = serde_json::json!({
-            "automaton": design.name(), "parameters": params, "converges": converges,
-            "per_matrix_condition": per_matrix_condition(automaton),
+            "automaton": design.name(), "parameters": params, "converges": self.converges,
+            "per_matrix_condition": bcifs::analysis::per_matrix_condition(&instance.automaton),
             "eigenvalues": {names[0].clone(): report.eigenvalues[0], names[1].clone(): report.eigenvalues[1]},
             "subdominant": {names[0].clone(): report.subdominant[0], names[1].clone(): report.subdominant[1]},
             "half_tangents": report.half_tangents.as_ref().map(|[s, e]| serde_json::json!({"start": s, "end": e})),
             "junction_angle_deg": report.junction_angle_deg,
             "c1_necessary": report.c1_necessary,
-            "region": region,
+            "region": self.region,
             "exact": exact_json,
         });
         writeln!(out, "{}", serde_json::to_string_pretty(&value)?)?;
-        return Ok(0);
+        Ok(())
     }
-    let p: Vec<String> = instance.parameters.iter().map(|(n, v)| format!("{n} = {v}")).collect();
-    writeln!(out, "{}: {}", design.name(), p.join(", "))?;
-    writeln!(out, "  converges: {}", converges.map_or("undecided".to_string(), |c| c.to_string()))?;
-    for (k, name) in names.iter().enumerate() {
-        let eigenvalues = match &report.eigenvalues[k] {
-            Some(values) => values.iter().map(|x| format!("{x:.6}")).collect::<Vec<_>>().join(", "),
-            None => "not computed (complex, or no basis of eigenvectors)".to_string(),
-        };
-        let subdominant = report.subdominant[k].map_or("none".to_string(), |x| format!("{x:.6}"));
-        writeln!(out, "  {name}: eigenvalues {eigenvalues}; sub-dominant {subdominant}")?;
-    }
-    match (&report.half_tangents, report.junction_angle_deg) {
-        (Some([s, e]), Some(angle)) => {
-            let v = |x: &[f64]| format!("({})", x.iter().map(|c| format!("{c:.6}")).collect::<Vec<_>>().join(", "));
-            writeln!(out, "  half-tangents: start {}, end {}; junction angle {angle:.4}°", v(s), v(e))?
+
+    fn text(&self, out: &mut String, design: &bcifs::Design, instance: &bcifs::Instance) -> Result<()> {
+        let (names, report) = (&self.names, &self.report);
+        let p: Vec<String> = instance.parameters.iter().map(|(n, v)| format!("{n} = {v}")).collect();
+        writeln!(out, "{}: {}", design.name(), p.join(", "))?;
+        writeln!(out, "  converges: {}", self.converges.map_or("undecided".to_string(), |c| c.to_string()))?;
+        for (k, name) in names.iter().enumerate() {
+            let eigenvalues = match &report.eigenvalues[k] {
+                Some(values) => values.iter().map(|x| format!("{x:.6}")).collect::<Vec<_>>().join(", "),
+                None => "not computed (complex, or no basis of eigenvectors)".to_string(),
+            };
+            let subdominant = report.subdominant[k].map_or("none".to_string(), |x| format!("{x:.6}"));
+            writeln!(out, "  {name}: eigenvalues {eigenvalues}; sub-dominant {subdominant}")?;
         }
-        _ => writeln!(out, "  no half-tangents (a leading eigenvalue is negative or tied)")?,
-    }
-    writeln!(out, "  C1 necessary condition: {}; region {}", report.c1_necessary, region.unwrap_or("undecided"))?;
-    match &exact {
-        Some(e) => {
-            for (k, name) in names.iter().enumerate() {
-                writeln!(out, "  exact {name}: eigenvalues {}", strings(&e.eigenvalues[k]).join(", "))?;
+        match (&report.half_tangents, report.junction_angle_deg) {
+            (Some([s, e]), Some(angle)) => {
+                let v = |x: &[f64]| format!("({})", x.iter().map(|c| format!("{c:.6}")).collect::<Vec<_>>().join(", "));
+                writeln!(out, "  half-tangents: start {}, end {}; junction angle {angle:.4}°", v(s), v(e))?
             }
-            writeln!(out, "  (regions, ties and collinearity decided in exact arithmetic)")?;
+            _ => writeln!(out, "  no half-tangents (a leading eigenvalue is negative or tied)")?,
         }
-        None => writeln!(
+        writeln!(
             out,
-            "  (floating point: the exact analysis needs 3×3 matrices with the eigenvalue 1 and two more real ones, at rational parameters)"
-        )?,
+            "  C1 necessary condition: {}; region {}",
+            report.c1_necessary,
+            self.region.unwrap_or("undecided")
+        )?;
+        match &self.exact {
+            Some(e) => {
+                for (k, name) in names.iter().enumerate() {
+                    writeln!(out, "  exact {name}: eigenvalues {}", strings(&e.eigenvalues[k]).join(", "))?;
+                }
+                writeln!(out, "  (regions, ties and collinearity decided in exact arithmetic)")?;
+            }
+            None => writeln!(
+                out,
+                "  (floating point: the exact analysis needs 3×3 matrices with the eigenvalue 1 and two more real ones, at rational parameters)"
+            )?,
+        }
+        Ok(())
     }
-    Ok(0)
 }
 
 /// The exact query when the curve's halves are rational `3 × 3` at the
