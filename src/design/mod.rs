@@ -3,7 +3,12 @@
 //! The one way to make one is the checked [`DesignBuilder`].
 
 mod builder;
+mod compile;
+mod error;
 mod model;
+mod value;
 
-pub use builder::{BuildError, Design, DesignBuilder, Field, Locus, MAX_UNKNOWNS, Matrix, Value};
+pub use builder::{Design, DesignBuilder, MAX_UNKNOWNS};
+pub use error::BuildError;
 pub use model::{Docs, Layout, Model, Origin, Variable};
+pub use value::{Field, Locus, Matrix, Value};

@@ -16,16 +16,15 @@ mod plan;
 mod polygons;
 mod prepared;
 mod random;
+mod sampling;
 mod settings;
 mod surface;
 
 pub use pieces::{ModelError, Piece, Pieces};
 pub use plan::PlanError;
 pub use prepared::Evaluator;
-pub use random::{
-    BATCH, CHUNK, ChaosGame, DEFAULT_BURN_IN, MAX_SAMPLES, RandomSettings, SINGULAR_FLOOR, chaos_game, check_samples,
-    det_weights,
-};
+pub use random::{BATCH, CHUNK, ChaosGame, chaos_game};
+pub use sampling::{DEFAULT_BURN_IN, MAX_SAMPLES, RandomSettings, SINGULAR_FLOOR, check_samples, det_weights};
 pub use settings::{
     DEFAULT_DEPTH, DEFAULT_MEMORY_LIMIT, Depth, EvalError, EvalSettings, MAX_ADAPTIVE_DEPTH, MAX_DEPTH,
 };

@@ -13,6 +13,7 @@
 mod catalog;
 mod contour;
 mod lattice;
+mod lift;
 mod mesh;
 mod normal;
 mod stationary;
@@ -25,14 +26,15 @@ pub use lattice::{
     Axial, LatticeIfs, LatticeScheme, NotClosed, SubPatch, box_spline_hexagon, hexagon_parts, lattice_ifs,
     lattice_triangles, parallelogram_parts, ternary_triangle_parts,
 };
+pub use lift::{LiftError, LiftedIfs, to_f64};
 pub use mesh::{MeshAutomatonError, mesh_automaton};
 pub use normal::{
     NormalDirection, NormalPreset, NormalScheme, NormalSchemeError, PRESET_NAMES, Point2, SignPattern, normal_preset,
     unit_segment, unit_square, unit_triangle,
 };
 pub use stationary::{
-    BSpline, CurveStructure, ExactMatrix, LiftError, LiftedIfs, ModelSpec, Rules, StationaryError, curve_structure,
-    ifs_design, koch_blocks, sierpinski_blocks, tensor_design, to_f64,
+    BSpline, CurveStructure, ExactMatrix, ModelSpec, Rules, StationaryError, curve_structure, ifs_design, koch_blocks,
+    sierpinski_blocks, tensor_design,
 };
 pub use ternary::{TERNARY_WINDOW, ternary_five_point};
 pub use topology::{TopologyError, bspline_segment_matrices, curve, quad_patch};
