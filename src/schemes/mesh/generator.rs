@@ -4,7 +4,7 @@ use std::collections::HashMap;
 
 use super::error::MeshAutomatonError;
 use super::local::{Half, Local, Role, Side, Walk, neighbourhood, sides_of, walk};
-use super::rules::{Lin, Step, Weights, sqrt3_children, step};
+use super::rules::{Lin, Step, Weights, sqrt3_children, step, value};
 use crate::automaton::ArrowKind;
 use crate::design::{Design, DesignBuilder, Matrix, Model, Value};
 use crate::mesh::{PolyMesh, Scheme};
@@ -168,7 +168,7 @@ impl Generator {
                 });
             }
             let (to, order) = self.state_at(role, &s.mesh, x)?;
-            let mut rows = vec![vec![Lin::default(); order.len()]; m.vertices];
+            let mut rows = vec![vec![crate::algebra::Affine::zero(); order.len()]; m.vertices];
             for (j, &p) in order.iter().enumerate() {
                 let sym = s.points[p].as_ref().ok_or_else(|| MeshAutomatonError::Child {
                     state: name.clone(),
@@ -286,7 +286,7 @@ impl Generator {
         }
         for (name, from, to, rows) in &self.arrows {
             let rows: Vec<Vec<Value>> =
-                rows.iter().map(|r| r.iter().map(|l| l.value(&self.weights.names)).collect()).collect();
+                rows.iter().map(|r| r.iter().map(|l| value(l, &self.weights.names)).collect()).collect();
             b.arrow(
                 name.clone(),
                 self.names[*from].clone(),

@@ -8,65 +8,63 @@ use num_rational::BigRational;
 use num_traits::{One, Signed, Zero};
 
 use super::local::{Half, Local, Role, Side};
-use crate::algebra::{Num, Surd};
+use crate::algebra::{Affine, Num};
 use crate::design::Value;
 use crate::mesh::{LoopWeights, QuadWeights, Scheme};
 
-/// An affine form in the weights: `c + Σ k_p · weight_p`, exact.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub(super) struct Lin {
-    pub(super) c: BigRational,
-    pub(super) terms: BTreeMap<usize, BigRational>,
+/// An affine form in the weights (`c + Σ k_p · weight_p`, exact): the
+/// solver's [`Affine`], its variables the weights' parameter numbers.
+pub(super) type Lin = Affine;
+
+/// The constant `c`.
+pub(super) fn konst(c: BigRational) -> Lin {
+    Affine::constant(Num::rational(c))
 }
 
-impl Lin {
-    pub(super) fn konst(c: BigRational) -> Lin {
-        Lin { c, terms: BTreeMap::new() }
+/// The weight numbered `p`.
+pub(super) fn param(p: usize) -> Lin {
+    Affine::var(p)
+}
+
+/// `l += k · o`.
+pub(super) fn add_lin(l: &mut Lin, o: &Lin, k: &BigRational) {
+    *l = l.add_scaled(o, &Num::rational(k.clone()));
+}
+
+/// The constant term of a form whose coefficients are rational (every form here).
+fn constant_of(l: &Lin) -> BigRational {
+    l.constant_term().as_rational().cloned().unwrap_or_else(BigRational::zero)
+}
+
+/// A form as a matrix entry of the automaton file: a number, or `c + k*name + …`.
+pub(super) fn value(l: &Lin, names: &[String]) -> Value {
+    if l.terms().is_empty() {
+        return Value::Num(l.constant_term().clone());
     }
-    pub(super) fn param(p: usize) -> Lin {
-        Lin { c: BigRational::zero(), terms: BTreeMap::from([(p, BigRational::one())]) }
-    }
-    pub(super) fn add_scaled(&mut self, o: &Lin, k: &BigRational) {
-        self.c += &o.c * k;
-        for (p, q) in &o.terms {
-            let e = self.terms.entry(*p).or_insert_with(BigRational::zero);
-            *e += q * k;
-            if e.is_zero() {
-                self.terms.remove(p);
-            }
+    let mut text = String::new();
+    let mut push = |q: &BigRational, name: Option<&str>| {
+        let neg = q.is_negative();
+        let a = q.abs();
+        text.push_str(match (text.is_empty(), neg) {
+            (true, false) => "",
+            (true, true) => "-",
+            (false, false) => " + ",
+            (false, true) => " - ",
+        });
+        match name {
+            Some(n) if a.is_one() => text.push_str(n),
+            Some(n) => text.push_str(&format!("{a}*{n}")),
+            None => text.push_str(&a.to_string()),
         }
+    };
+    let c = constant_of(l);
+    if !c.is_zero() {
+        push(&c, None);
     }
-    pub(super) fn is_zero(&self) -> bool {
-        self.c.is_zero() && self.terms.is_empty()
+    for (p, q) in l.terms() {
+        push(q.as_rational().expect("rational weights"), Some(&names[*p]));
     }
-    pub(super) fn value(&self, names: &[String]) -> Value {
-        if self.terms.is_empty() {
-            return Value::Num(Num::Exact(Surd::rational(self.c.clone())));
-        }
-        let mut text = String::new();
-        let mut push = |q: &BigRational, name: Option<&str>| {
-            let neg = q.is_negative();
-            let a = q.abs();
-            text.push_str(match (text.is_empty(), neg) {
-                (true, false) => "",
-                (true, true) => "-",
-                (false, false) => " + ",
-                (false, true) => " - ",
-            });
-            match name {
-                Some(n) if a.is_one() => text.push_str(n),
-                Some(n) => text.push_str(&format!("{a}*{n}")),
-                None => text.push_str(&a.to_string()),
-            }
-        };
-        if !self.c.is_zero() {
-            push(&self.c, None);
-        }
-        for (p, q) in &self.terms {
-            push(q, Some(&names[*p]));
-        }
-        Value::Text(text)
-    }
+    Value::Text(text)
 }
 
 pub(super) fn rat(p: i64, q: i64) -> BigRational {
@@ -77,8 +75,8 @@ pub(super) fn rat(p: i64, q: i64) -> BigRational {
 pub(super) type Sym = BTreeMap<usize, Lin>;
 
 pub(super) fn add_point(s: &mut Sym, v: usize, w: &Lin) {
-    let e = s.entry(v).or_default();
-    e.add_scaled(w, &BigRational::one());
+    let e = s.entry(v).or_insert_with(Affine::zero);
+    add_lin(e, w, &BigRational::one());
     if e.is_zero() {
         s.remove(&v);
     }
@@ -86,8 +84,8 @@ pub(super) fn add_point(s: &mut Sym, v: usize, w: &Lin) {
 
 pub(super) fn add_sym(s: &mut Sym, o: &Sym, k: &BigRational) {
     for (v, w) in o {
-        let e = s.entry(*v).or_default();
-        e.add_scaled(w, k);
+        let e = s.entry(*v).or_insert_with(Affine::zero);
+        add_lin(e, w, k);
         if e.is_zero() {
             s.remove(v);
         }
@@ -97,8 +95,8 @@ pub(super) fn add_sym(s: &mut Sym, o: &Sym, k: &BigRational) {
 /// `s += k · w · o` for a point `o` of constant weights.
 pub(super) fn add_scaled_points(s: &mut Sym, o: &Sym, w: &Lin, k: &BigRational) {
     for (v, c) in o {
-        let mut share = Lin::default();
-        share.add_scaled(w, &(&c.c * k));
+        let mut share = Affine::zero();
+        add_lin(&mut share, w, &(constant_of(c) * k));
         add_point(s, *v, &share);
     }
 }
@@ -131,7 +129,7 @@ impl Weights {
         let mut out: Vec<Lin> = (0..n)
             .map(|k| {
                 if k == rest {
-                    return Lin::default();
+                    return Affine::zero();
                 }
                 let (name, default) = match (n, k) {
                     (4, 0) => ("alpha".to_string(), self.quad.alpha),
@@ -139,13 +137,13 @@ impl Weights {
                     (4, 3) => ("gamma".to_string(), self.quad.gamma),
                     _ => (format!("a{n}_{k}"), classic[k]),
                 };
-                Lin::param(self.param(name, default))
+                param(self.param(name, default))
             })
             .collect();
-        let mut last = Lin::konst(BigRational::one());
+        let mut last = konst(BigRational::one());
         for (k, w) in out.iter().enumerate() {
             if k != rest {
-                last.add_scaled(w, &-BigRational::one());
+                add_lin(&mut last, w, &-BigRational::one());
             }
         }
         out[rest] = last;
@@ -158,13 +156,13 @@ impl Weights {
     pub(super) fn catmull_clark_vertex(&mut self, n: usize) -> (Lin, Lin) {
         let ring = self.param(format!("ring{n}"), format!("1/{n}"));
         let faces = self.param(format!("faces{n}"), format!("1/{n}"));
-        (Lin::param(ring), Lin::param(faces))
+        (param(ring), param(faces))
     }
 
     /// Loop's ring weight `β` at valence `n` (each neighbour; the vertex keeps `1 − nβ`).
     pub(super) fn loop_ring(&mut self, n: usize) -> Lin {
         let default = self.triangle.ring(n) / n as f64;
-        Lin::param(self.param(format!("beta{n}"), default))
+        param(self.param(format!("beta{n}"), default))
     }
 }
 
@@ -220,15 +218,15 @@ pub(super) fn sqrt3_once(m: &Local) -> (Local, Vec<Option<Sym>>) {
             let n = m.around[v].len();
             let a = exact_weight(crate::mesh::sqrt3_alpha(n));
             let mut s = Sym::new();
-            add_point(&mut s, v, &Lin::konst(BigRational::one() - &a));
-            let each = Lin::konst(a / BigInt::from(n));
+            add_point(&mut s, v, &konst(BigRational::one() - &a));
+            let each = konst(a / BigInt::from(n));
             m.around[v].iter().for_each(|&h| add_point(&mut s, m.head(h), &each));
             Some(s)
         })
         .collect();
     for face in &m.faces {
         let mut s = Sym::new();
-        face.iter().for_each(|&v| add_point(&mut s, v, &Lin::konst(rat(1, face.len() as i64))));
+        face.iter().for_each(|&v| add_point(&mut s, v, &konst(rat(1, face.len() as i64))));
         points.push(Some(s));
     }
     let mut faces = Vec::new();
@@ -253,7 +251,7 @@ pub(super) fn sqrt3_step(m: &Local) -> Step {
         .map(|s| {
             let mut out = Sym::new();
             for (j, w) in s.as_ref()? {
-                add_sym(&mut out, first[*j].as_ref()?, &w.c);
+                add_sym(&mut out, first[*j].as_ref()?, &constant_of(w));
             }
             Some(out)
         })
@@ -299,7 +297,7 @@ pub(super) fn sqrt3_children(role: Role, m: &Local, s: &Step, h: Half) -> Vec<Ha
 
 /// The point of control point `v` alone.
 fn unit(v: usize) -> Sym {
-    Sym::from([(v, Lin::konst(BigRational::one()))])
+    Sym::from([(v, konst(BigRational::one()))])
 }
 
 /// Catmull-Clark's face points: the faces' centroids.
@@ -336,12 +334,12 @@ fn vertex_point(m: &Local, w: &mut Weights, face_point: &[Sym], v: usize) -> Opt
         });
     }
     let n = out.len();
-    let one = Lin::konst(BigRational::one());
+    let one = konst(BigRational::one());
     let mut s = Sym::new();
     if w.scheme == Scheme::Loop {
         let beta = w.loop_ring(n);
         let mut keep = one;
-        keep.add_scaled(&beta, &rat(-(n as i64), 1));
+        add_lin(&mut keep, &beta, &rat(-(n as i64), 1));
         add_point(&mut s, v, &keep);
         out.iter().for_each(|&h| add_point(&mut s, m.head(h), &beta));
     } else {
@@ -349,13 +347,13 @@ fn vertex_point(m: &Local, w: &mut Weights, face_point: &[Sym], v: usize) -> Opt
         // r = f = 1/n is (Q + 2R + (n − 3)v)/n.
         let (r, f) = w.catmull_clark_vertex(n);
         let mut keep = one;
-        keep.add_scaled(&r, &-BigRational::one());
-        keep.add_scaled(&f, &-BigRational::one());
+        add_lin(&mut keep, &r, &-BigRational::one());
+        add_lin(&mut keep, &f, &-BigRational::one());
         add_point(&mut s, v, &keep);
         let each = rat(1, n as i64);
         for &h in out {
-            let mut share = Lin::default();
-            share.add_scaled(&r, &each);
+            let mut share = Affine::zero();
+            add_lin(&mut share, &r, &each);
             add_point(&mut s, m.head(h), &share);
             add_scaled_points(&mut s, &face_point[h.0], &f, &each);
         }
@@ -371,18 +369,18 @@ fn edge_point(m: &Local, w: &mut Weights, face_point: &[Sym], h: Half) -> Option
         (Side::Inner, Some(t)) => {
             let mut s = Sym::new();
             if w.scheme == Scheme::Loop {
-                let end = Lin::param(w.param("w".into(), w.triangle.w));
-                let mut opposite = Lin::konst(rat(1, 2));
-                opposite.add_scaled(&end, &-BigRational::one());
+                let end = param(w.param("w".into(), w.triangle.w));
+                let mut opposite = konst(rat(1, 2));
+                add_lin(&mut opposite, &end, &-BigRational::one());
                 add_point(&mut s, a, &end);
                 add_point(&mut s, b, &end);
                 add_point(&mut s, m.at(m.prev(h)), &opposite);
                 add_point(&mut s, m.at(m.prev(t)), &opposite);
             } else {
                 // (1 − c)/2 (a + b) + c/2 (f + g): c = 1/2 is (a + b + f + g)/4.
-                let c = Lin::param(w.param("edge_faces".into(), "1/2"));
-                let mut end = Lin::konst(rat(1, 2));
-                end.add_scaled(&c, &rat(-1, 2));
+                let c = param(w.param("edge_faces".into(), "1/2"));
+                let mut end = konst(rat(1, 2));
+                add_lin(&mut end, &c, &rat(-1, 2));
                 add_point(&mut s, a, &end);
                 add_point(&mut s, b, &end);
                 add_scaled_points(&mut s, &face_point[h.0], &c, &rat(1, 2));
