@@ -277,7 +277,7 @@ impl ChaosGame {
             let mut acc = init();
             loop {
                 let k = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                if k >= batches {
+                if k >= batches || self.settings.cancel.as_ref().is_some_and(crate::progress::Cancel::is_cancelled) {
                     return acc;
                 }
                 let n = BATCH.min(points - k * BATCH);

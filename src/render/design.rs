@@ -212,6 +212,7 @@ fn density_picture(
     let game = streaming_game(&instance.automaton, &model, random)?;
     let palette = options.palette.as_ref();
     let img = crate::export::density_image(&game, random.points, &options.raster, &options.tone, palette)?;
+    // A cancelled fold stops early: its partial picture is not written.
     options.check_cancel()?;
     crate::export::write_png(out, &img).map_err(write_error(options, out))?;
     report.vertices = random.points;

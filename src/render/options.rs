@@ -111,6 +111,7 @@ impl Options {
         if self.progress.is_some() {
             random.progress.clone_from(&self.progress);
         }
+        random.cancel = Some(self.cancel.clone());
         Some(random)
     }
 

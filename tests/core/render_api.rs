@@ -106,6 +106,19 @@ fn cancellation_stops_a_streamed_render() {
     assert!(matches!(render_mesh(&mesh, &job, &options, &dir.join("cube.obj")), Err(RenderError::Cancelled)));
     assert!(!dir.join("cube.obj").exists());
     no_temporaries(&dir);
+    // A density picture of the chaos game: the walk stops taking batches once the flag is set.
+    let cancel = Cancel::new();
+    let flag = cancel.clone();
+    let progress = Progress::new(move |done, total| {
+        if done > 0 && done < total {
+            flag.cancel();
+        }
+    });
+    let mut options = Options::default().with_progress(progress).with_cancel(cancel).with_size(64, 64);
+    options.random = Some(bcifs::eval::RandomSettings::default().with_points(1 << 24));
+    let fern = bcifs::builtin_design("fern").unwrap();
+    assert!(matches!(render(&fern, &options, &dir.join("fern.png")), Err(RenderError::Cancelled)));
+    assert!(!dir.join("fern.png").exists());
     // Without the flag the same calls write their files.
     let fresh = Options::default().with_depth(3);
     render(&design, &fresh, &out).unwrap();
