@@ -1,4 +1,6 @@
-//! Writers: streaming OBJ, SVG, PNG pictures; files are replaced atomically.
+//! Writers, one per format, each a [`crate::geometry::Sink`]: streaming OBJ
+//! and OFF, SVG and PNG pictures; density pictures of the chaos game; the
+//! axes, digits and atomic files they share.
 
 mod atomic;
 mod axes;
@@ -7,6 +9,7 @@ mod draw;
 mod number;
 mod obj;
 mod off;
+mod picture;
 mod png;
 mod svg;
 mod view;
@@ -17,6 +20,7 @@ pub use density::{Density, Palette, Tone, density, density_bytes, density_image}
 pub use draw::{SEGMENTS_PER_PIXEL, curve_picture_depth, picture, picture_bytes, picture_depth};
 pub use obj::{ObjWriter, write_evaluation, write_obj};
 pub use off::OffWriter;
+pub use picture::{PictureError, PictureKind, PictureWriter, write_picture};
 pub use png::{ascii, raster, write_png};
 pub use svg::{svg, svg_surface};
 pub use view::{RasterSettings, RasterTooLarge, View, raster_bytes};

@@ -4,31 +4,40 @@ use std::io;
 use std::path::Path;
 
 use super::options::{Format, Options, RenderError};
-use crate::export::{Coordinates, ObjWriter, OffWriter};
+use crate::export::{Coordinates, ObjWriter, OffWriter, PictureKind, PictureWriter, RasterSettings};
 use crate::geometry::Sink;
 use crate::progress::Cancel;
 
-/// A streamed file being written: OBJ or OFF.
+/// A file being written, in any format: OBJ and OFF streamed, pictures drawn at the end.
 pub(crate) enum FileWriter {
     Obj(ObjWriter),
     Off(OffWriter),
+    Picture(PictureWriter),
+}
+
+/// How a file is written: the axes and digits of text formats, the threads
+/// that format them, the settings of pictures.
+pub(crate) struct WriteSettings<'a> {
+    pub(crate) coordinates: Coordinates,
+    pub(crate) threads: usize,
+    pub(crate) raster: &'a RasterSettings,
 }
 
 impl FileWriter {
-    /// Starts writing `out` in `format` (OBJ or OFF) on `threads` threads.
-    pub(crate) fn create(
-        out: &Path,
-        format: Format,
-        coordinates: Coordinates,
-        threads: usize,
-    ) -> Result<FileWriter, RenderError> {
+    /// Starts writing `out` in `format`.
+    pub(crate) fn create(out: &Path, format: Format, settings: &WriteSettings<'_>) -> Result<FileWriter, RenderError> {
         let io = |e| RenderError::Io(out.to_path_buf(), e);
+        let (coordinates, raster) = (settings.coordinates, *settings.raster);
         Ok(match format {
             Format::Obj => FileWriter::Obj(
-                ObjWriter::create(out).and_then(|w| w.with_threads(threads)).map_err(io)?.with_coordinates(coordinates),
+                ObjWriter::create(out)
+                    .and_then(|w| w.with_threads(settings.threads))
+                    .map_err(io)?
+                    .with_coordinates(coordinates),
             ),
             Format::Off => FileWriter::Off(OffWriter::create(out).map_err(io)?.with_coordinates(coordinates)),
-            other => return Err(RenderError::Unsupported(format!("{other:?} is not a streamed format"))),
+            Format::Svg => FileWriter::Picture(PictureWriter::create(out, PictureKind::Svg, raster).map_err(io)?),
+            Format::Png => FileWriter::Picture(PictureWriter::create(out, PictureKind::Png, raster).map_err(io)?),
         })
     }
 
@@ -37,17 +46,19 @@ impl FileWriter {
         let sink: &mut dyn Sink = match self {
             FileWriter::Obj(w) => w,
             FileWriter::Off(w) => w,
+            FileWriter::Picture(w) => w,
         };
         Checked { sink, cancel, vertices: 0, faces: 0 }
     }
 
     /// Completes the file; its size in bytes.
     pub(crate) fn finish(self, out: &Path) -> Result<u64, RenderError> {
+        let io = |e| RenderError::Io(out.to_path_buf(), e);
         match self {
-            FileWriter::Obj(w) => w.finish(),
-            FileWriter::Off(w) => w.finish(),
+            FileWriter::Obj(w) => w.finish().map_err(io)?,
+            FileWriter::Off(w) => w.finish().map_err(io)?,
+            FileWriter::Picture(w) => w.finish()?,
         }
-        .map_err(|e| RenderError::Io(out.to_path_buf(), e))?;
         Ok(std::fs::metadata(out).map_or(0, |m| m.len()))
     }
 }

@@ -2,7 +2,7 @@
 
 use std::path::Path;
 
-use super::checked::{FileWriter, write_error};
+use super::checked::{FileWriter, WriteSettings, write_error};
 use super::options::{Format, Options, RenderError, Report, check_disk};
 use super::shape::write_shape;
 use crate::automaton::Automaton;
@@ -155,7 +155,8 @@ fn stream_file(
     let instance = instantiate(design, &options.params)?;
     let threads = options.eval.threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
     let io = write_error(options, out);
-    let mut writer = FileWriter::create(out, format, options.coordinates, threads)?;
+    let settings = WriteSettings { coordinates: options.coordinates, threads, raster: &options.raster };
+    let mut writer = FileWriter::create(out, format, &settings)?;
     if let (Some(random), false) = (options.random_settings(), options.dedup) {
         let game = streaming_game(&instance.automaton, &model, &random)?;
         check_disk(out, random.points as u128 * (3 + 22 * game.dim() as u128), options.max_output)?;
@@ -188,7 +189,7 @@ fn stream_file(
         (report.vertices, report.faces) = match &mut writer {
             // Vertices, then elements: two streamed passes, no side file of elements.
             FileWriter::Obj(w) => crate::export::write_evaluation(&ev, w, Some(&options.cancel)).map_err(eval_error)?,
-            FileWriter::Off(_) => {
+            FileWriter::Off(_) | FileWriter::Picture(_) => {
                 let mut sink = writer.checked(&options.cancel);
                 ev.stream(&mut sink).map_err(eval_error)?;
                 (sink.vertices, sink.faces)

@@ -195,6 +195,16 @@ pub enum RenderError {
     Cancelled,
 }
 
+impl From<crate::export::PictureError> for RenderError {
+    fn from(e: crate::export::PictureError) -> RenderError {
+        match e {
+            crate::export::PictureError::Io(path, e) => RenderError::Io(path, e),
+            crate::export::PictureError::TooLarge(e) => RenderError::Raster(e),
+            crate::export::PictureError::NotPlanar => RenderError::NotPlanar,
+        }
+    }
+}
+
 /// Refuses an output whose estimated size is over `max` (0: no limit) or
 /// over the free space of the target's disk (with its side files, a
 /// streamed file peaks at about 1.5 times its size).

@@ -2,10 +2,10 @@
 
 use std::path::Path;
 
-use super::checked::{FileWriter, write_error};
+use super::checked::{FileWriter, WriteSettings, write_error};
 use super::options::{Format, Options, RenderError, Report};
 use crate::design::Model;
-use crate::export::{RasterSettings, raster, svg, svg_surface, write_atomic, write_png};
+use crate::export::{Coordinates, PictureKind, RasterSettings, write_picture};
 use crate::geometry::{Shape, Sink};
 
 /// Writes a shape held in memory to `out`, the format chosen by its
@@ -31,15 +31,18 @@ pub fn write_shape(
         faces: shape.quads.len() + shape.triangles.len(),
         ..Report::default()
     };
-    let coordinates = crate::export::Coordinates { y_up_input: raster_settings.view.y_up, ..Default::default() };
-    match format {
+    let kind = match format {
+        Format::Svg => PictureKind::Svg,
+        Format::Png => PictureKind::Png,
         Format::Obj | Format::Off => {
             if format == Format::Off && shape.polylines().next().is_some() {
                 return Err(RenderError::Unsupported(
                     "an OFF file holds faces and points, not curves: write curves as .obj or .svg".into(),
                 ));
             }
-            let mut writer = FileWriter::create(out, format, coordinates, 1)?;
+            let coordinates = Coordinates { y_up_input: raster_settings.view.y_up, ..Default::default() };
+            let settings = WriteSettings { coordinates, threads: 1, raster: raster_settings };
+            let mut writer = FileWriter::create(out, format, &settings)?;
             let mut sink = writer.checked(&options.cancel);
             if shape.objects.is_empty() {
                 sink.object(name).map_err(&io)?;
@@ -48,17 +51,8 @@ pub fn write_shape(
             report.bytes = writer.finish(out)?;
             return Ok(report);
         }
-        Format::Svg if !shape.quads.is_empty() || !shape.triangles.is_empty() => {
-            write_atomic(out, svg_surface(shape, raster_settings).as_bytes()).map_err(io)?;
-        }
-        Format::Svg => {
-            if shape.dim > 2 {
-                return Err(RenderError::NotPlanar);
-            }
-            write_atomic(out, svg(shape, raster_settings.width).as_bytes()).map_err(io)?;
-        }
-        Format::Png => write_png(out, &raster(shape, raster_settings)?).map_err(io)?,
-    }
+    };
+    write_picture(shape, kind, raster_settings, out)?;
     report.bytes = std::fs::metadata(out).map_or(0, |m| m.len());
     Ok(report)
 }
