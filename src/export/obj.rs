@@ -261,6 +261,21 @@ fn format_vertices(
     }
 }
 
+/// One `f` record: the corners 1-based, each with its normal index when the vertices have normals.
+#[inline]
+fn push_face(line: &mut Vec<u8>, ints: &mut itoa::Buffer, corners: &[usize], normals: bool) {
+    line.push(b'f');
+    for &v in corners {
+        line.push(b' ');
+        line.extend_from_slice(ints.format(v + 1).as_bytes());
+        if normals {
+            line.extend_from_slice(b"//");
+            line.extend_from_slice(ints.format(v + 1).as_bytes());
+        }
+    }
+    line.push(b'\n');
+}
+
 /// The OBJ text of faces of any degree (`corners[starts[k]..starts[k + 1]]`),
 /// with normal indices when the vertices have normals; faces of fewer than
 /// three corners are left out.
@@ -272,16 +287,7 @@ fn format_polygons(line: &mut Vec<u8>, starts: &[usize], corners: &[usize], norm
         if face.len() < 3 {
             continue;
         }
-        line.push(b'f');
-        for &v in face {
-            line.push(b' ');
-            line.extend_from_slice(ints.format(v + 1).as_bytes());
-            if normals {
-                line.extend_from_slice(b"//");
-                line.extend_from_slice(ints.format(v + 1).as_bytes());
-            }
-        }
-        line.push(b'\n');
+        push_face(line, &mut ints, face, normals);
         written += 1;
     }
     written
@@ -452,16 +458,7 @@ impl Sink for ObjWriter {
         let normals = self.normals;
         let mut line = Vec::with_capacity(triangles.len() * 40);
         for t in triangles {
-            line.push(b'f');
-            for &v in t {
-                line.push(b' ');
-                line.extend_from_slice(ints.format(v + 1).as_bytes());
-                if normals {
-                    line.extend_from_slice(b"//");
-                    line.extend_from_slice(ints.format(v + 1).as_bytes());
-                }
-            }
-            line.push(b'\n');
+            push_face(&mut line, &mut ints, t, normals);
         }
         self.ints = ints;
         self.spool().write_all(&line)
