@@ -202,11 +202,48 @@ fn contour_fit(c: &mut Criterion) {
     g.finish();
 }
 
+/// Binary PLY against OBJ text (issue 25's target: ≥ 1 GB/s), the same
+/// depth-8 torus held in memory (1.05 M vertices with normals, 1.05 M quads):
+/// throughput in the bytes of each file.
+fn ply(c: &mut Criterion) {
+    let dir = std::env::temp_dir().join("bcifs-bench");
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let (a, model) = setup("doo_sabin_torus");
+    let ev = Evaluator::new(&a, &model, EvalSettings::default().with_depth(8)).expect("evaluable");
+    let shape = ev.evaluate().expect("fits");
+    let quads: Vec<[usize; 4]> = shape.quads.iter().map(|q| q.map(|i| i as usize)).collect();
+    let fill = |w: &mut dyn bcifs::geometry::Sink| {
+        w.object("torus").expect("write");
+        w.vertices(shape.dim, &shape.positions, Some(&shape.normals)).expect("write");
+        w.faces(&quads, None).expect("write");
+    };
+    let (ply_path, obj_path) = (dir.join("bench.ply"), dir.join("bench-ply.obj"));
+    let write_ply = || {
+        let mut w = bcifs::export::PlyWriter::create(&ply_path, false).expect("create");
+        fill(&mut w);
+        w.finish().expect("finish");
+    };
+    let write_obj = || {
+        let mut w = ObjWriter::create(&obj_path).expect("create");
+        fill(&mut w);
+        w.finish().expect("finish");
+    };
+    write_ply();
+    write_obj();
+    let mut g = c.benchmark_group("ply");
+    g.sample_size(10);
+    g.throughput(Throughput::Bytes(std::fs::metadata(&ply_path).expect("written").len()));
+    g.bench_function("binary/torus_depth8", |b| b.iter(write_ply));
+    g.throughput(Throughput::Bytes(std::fs::metadata(&obj_path).expect("written").len()));
+    g.bench_function("obj_text/torus_depth8", |b| b.iter(write_obj));
+    g.finish();
+}
+
 // Criterion's plots use plotters, whose `ab_glyph` fonts (enabled for the
 // command line's plots) are registered by bcifs only: no plots here.
 criterion_group! {
     name = benches;
     config = Criterion::default().without_plots();
-    targets = levy, chaos, doo_sabin, obj, contour_fit
+    targets = levy, chaos, doo_sabin, obj, ply, contour_fit
 }
 criterion_main!(benches);

@@ -41,7 +41,7 @@ pub struct RenderArgs {
     pub threads: Option<usize>,
     #[command(flatten)]
     pub picture: super::PictureArgs,
-    /// Output file: .obj (streamed), .svg or .png.
+    /// Output file: .obj, .off, .ply (streamed), .svg or .png.
     #[arg(short, long)]
     pub output: PathBuf,
     /// Evaluate even a system whose convergence bounds prove it diverges.
@@ -53,6 +53,9 @@ pub struct RenderArgs {
     /// The model axis that is up in OBJ and OFF files: y (the convention: model z becomes the file's y) or z (as is).
     #[arg(long, value_enum, default_value_t = bcifs::export::Up::Y)]
     pub up: bcifs::export::Up,
+    /// PLY as text instead of binary little-endian.
+    #[arg(long)]
+    pub ascii: bool,
     /// Largest OBJ file to write, in GiB (the estimate is checked before writing; raise it on purpose).
     #[arg(long, default_value_t = 4.0)]
     pub max_output_gib: f64,
@@ -106,7 +109,7 @@ pub struct RenderArgs {
 
 /// `bcifs render`: evaluates a design with its model and writes the file.
 pub fn run(args: RenderArgs) -> anyhow::Result<u8> {
-    super::check_output(&args.output, &["obj", "off", "svg", "png"])?;
+    super::check_output(&args.output, &["obj", "off", "ply", "svg", "png"])?;
     let design = load(&args.file)?;
     let started = std::time::Instant::now();
     if args.control {
@@ -150,6 +153,7 @@ fn options(args: &RenderArgs) -> anyhow::Result<Options> {
     options.dedup = args.dedup;
     options.coordinates.up = args.up;
     options.coordinates = options.coordinates.with_precision(args.precision);
+    options.ascii = args.ascii;
     options.max_output = (args.max_output_gib * (1u64 << 30) as f64) as u128;
     options.progress = progress_bar();
     options.cancel = super::interrupt().clone();

@@ -39,11 +39,14 @@ pub struct SurfaceArgs {
     /// to -o FILE.toml or to standard output; `bcifs solve` and `bcifs check` read it.
     #[arg(long, conflicts_with = "net")]
     pub print: bool,
-    /// Output file: .obj, .off, .png or .svg (in the input file's axes; pictures seen from --view); with --print, .toml.
+    /// Output file: .obj, .off, .ply, .png or .svg (in the input file's axes; pictures seen from --view); with --print, .toml.
     #[arg(short, long, required_unless_present = "print")]
     pub output: Option<PathBuf>,
     #[command(flatten)]
     pub picture: super::PictureArgs,
+    /// PLY as text instead of binary little-endian.
+    #[arg(long)]
+    pub ascii: bool,
     /// Largest OBJ or OFF file to write, in GiB (the estimate is checked before writing; raise it on purpose).
     #[arg(long, default_value_t = 4.0)]
     pub max_output_gib: f64,
@@ -64,7 +67,7 @@ pub fn run(out: &mut String, args: SurfaceArgs) -> anyhow::Result<u8> {
         return print_automaton(out, &args, &mesh, &job, started);
     }
     let Some(output) = args.output.clone() else { bail!("give the output file with -o") };
-    super::check_output(&output, &["obj", "off", "png", "svg"])?;
+    super::check_output(&output, &["obj", "off", "ply", "png", "svg"])?;
     if !(args.max_output_gib.is_finite() && args.max_output_gib > 0.0) {
         bail!("--max-output-gib {}: expected a positive number of GiB", args.max_output_gib);
     }
@@ -73,6 +76,7 @@ pub fn run(out: &mut String, args: SurfaceArgs) -> anyhow::Result<u8> {
     options.raster = args.picture.raster();
     options.max_output = (args.max_output_gib * (1u64 << 30) as f64) as u128;
     options.cancel = super::interrupt().clone();
+    options.ascii = args.ascii;
     let report = render_mesh(&mesh, &job, &options, &output)?;
     let label =
         format!("{} ({}, depth {}{})", job.name, scheme.name(), args.depth, if args.net { ", net" } else { "" });

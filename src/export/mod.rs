@@ -10,6 +10,7 @@ mod number;
 mod obj;
 mod off;
 mod picture;
+mod ply;
 mod png;
 mod svg;
 mod view;
@@ -21,6 +22,7 @@ pub use draw::{SEGMENTS_PER_PIXEL, curve_picture_depth, picture, picture_bytes, 
 pub use obj::{ObjWriter, write_evaluation, write_obj};
 pub use off::OffWriter;
 pub use picture::{PictureError, PictureKind, PictureWriter, write_picture};
+pub use ply::PlyWriter;
 pub use png::{ascii, raster, write_png};
 pub use svg::{svg, svg_surface};
 pub use view::{RasterSettings, RasterTooLarge, View, raster_bytes};

@@ -4,7 +4,7 @@ use std::io;
 use std::path::Path;
 
 use super::options::{Format, Options, RenderError};
-use crate::export::{Coordinates, ObjWriter, OffWriter, PictureKind, PictureWriter, RasterSettings};
+use crate::export::{Coordinates, ObjWriter, OffWriter, PictureKind, PictureWriter, PlyWriter, RasterSettings};
 use crate::geometry::Sink;
 use crate::progress::Cancel;
 
@@ -12,6 +12,7 @@ use crate::progress::Cancel;
 pub(crate) enum FileWriter {
     Obj(ObjWriter),
     Off(OffWriter),
+    Ply(PlyWriter),
     Picture(PictureWriter),
 }
 
@@ -21,6 +22,7 @@ pub(crate) struct WriteSettings<'a> {
     pub(crate) coordinates: Coordinates,
     pub(crate) threads: usize,
     pub(crate) raster: &'a RasterSettings,
+    pub(crate) ascii: bool,
 }
 
 impl FileWriter {
@@ -36,6 +38,9 @@ impl FileWriter {
                     .with_coordinates(coordinates),
             ),
             Format::Off => FileWriter::Off(OffWriter::create(out).map_err(io)?.with_coordinates(coordinates)),
+            Format::Ply => {
+                FileWriter::Ply(PlyWriter::create(out, settings.ascii).map_err(io)?.with_coordinates(coordinates))
+            }
             Format::Svg => FileWriter::Picture(PictureWriter::create(out, PictureKind::Svg, raster).map_err(io)?),
             Format::Png => FileWriter::Picture(PictureWriter::create(out, PictureKind::Png, raster).map_err(io)?),
         })
@@ -46,6 +51,7 @@ impl FileWriter {
         let sink: &mut dyn Sink = match self {
             FileWriter::Obj(w) => w,
             FileWriter::Off(w) => w,
+            FileWriter::Ply(w) => w,
             FileWriter::Picture(w) => w,
         };
         Checked { sink, cancel, vertices: 0, faces: 0 }
@@ -57,6 +63,7 @@ impl FileWriter {
         match self {
             FileWriter::Obj(w) => w.finish().map_err(io)?,
             FileWriter::Off(w) => w.finish().map_err(io)?,
+            FileWriter::Ply(w) => w.finish().map_err(io)?,
             FileWriter::Picture(w) => w.finish()?,
         }
         Ok(std::fs::metadata(out).map_or(0, |m| m.len()))

@@ -82,7 +82,7 @@ pub fn render(design: &Design, options: &Options, out: &Path) -> Result<Report, 
     }
     let options = &options;
     match format {
-        Format::Obj | Format::Off => stream_file(design, options, format, out, &mut report)?,
+        Format::Obj | Format::Off | Format::Ply => stream_file(design, options, format, out, &mut report)?,
         Format::Png if !options.dedup => match options.random_settings() {
             Some(random) => density_picture(design, options, &random, out, &mut report)?,
             None => deterministic_picture(design, options, out, &mut report)?,
@@ -123,7 +123,7 @@ fn warn_unused(options: &Options, format: Format, warnings: &mut Vec<String>) {
     if options.eval.uv && format != Format::Obj {
         warnings.push(format!("--uv writes texture coordinates into OBJ files; the .{ext} output ignores it"));
     }
-    if options.coordinates.precision.is_some() && !matches!(format, Format::Obj | Format::Off) {
+    if options.coordinates.precision.is_some() && !matches!(format, Format::Obj | Format::Off | Format::Ply) {
         warnings.push(format!("--precision sets the digits of file coordinates; the .{ext} output ignores it"));
     }
 }
@@ -155,7 +155,8 @@ fn stream_file(
     let instance = instantiate(design, &options.params)?;
     let threads = options.eval.threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
     let io = write_error(options, out);
-    let settings = WriteSettings { coordinates: options.coordinates, threads, raster: &options.raster };
+    let settings =
+        WriteSettings { coordinates: options.coordinates, threads, raster: &options.raster, ascii: options.ascii };
     let mut writer = FileWriter::create(out, format, &settings)?;
     if let (Some(random), false) = (options.random_settings(), options.dedup) {
         let game = streaming_game(&instance.automaton, &model, &random)?;
@@ -189,7 +190,7 @@ fn stream_file(
         (report.vertices, report.faces) = match &mut writer {
             // Vertices, then elements: two streamed passes, no side file of elements.
             FileWriter::Obj(w) => crate::export::write_evaluation(&ev, w, Some(&options.cancel)).map_err(eval_error)?,
-            FileWriter::Off(_) | FileWriter::Picture(_) => {
+            FileWriter::Off(_) | FileWriter::Ply(_) | FileWriter::Picture(_) => {
                 let mut sink = writer.checked(&options.cancel);
                 ev.stream(&mut sink).map_err(eval_error)?;
                 (sink.vertices, sink.faces)

@@ -131,7 +131,7 @@ pub fn render_mesh(mesh: &PolyMesh, job: &MeshJob, options: &Options, out: &Path
     check_disk(out, faces.saturating_mul(BYTES_PER_FACE), options.max_output)?;
     let coordinates = crate::export::Coordinates { y_up_input: true, ..options.coordinates };
     let threads = options.eval.threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
-    let settings = WriteSettings { coordinates, threads, raster: &options.raster };
+    let settings = WriteSettings { coordinates, threads, raster: &options.raster, ascii: options.ascii };
     let mut writer = FileWriter::create(out, format, &settings)?;
     let mut sink = writer.checked(&options.cancel);
     let written = mesh.subdivide_into(&subdivision, !job.net, &job.name, &mut sink).map_err(|e| match e {

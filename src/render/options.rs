@@ -13,6 +13,8 @@ pub enum Format {
     Obj,
     /// OFF, streamed (faces and points; no curves).
     Off,
+    /// PLY, streamed: binary little-endian, or ASCII with [`Options::ascii`].
+    Ply,
     /// SVG, drawn from memory (2D shapes; surfaces as seen from the view).
     Svg,
     /// PNG picture.
@@ -21,13 +23,14 @@ pub enum Format {
 
 impl Format {
     /// Every format, in the order they are listed to users.
-    pub const ALL: [Format; 4] = [Format::Obj, Format::Off, Format::Svg, Format::Png];
+    pub const ALL: [Format; 5] = [Format::Obj, Format::Off, Format::Ply, Format::Svg, Format::Png];
 
     /// The file extension (lower case, without the dot).
     pub fn extension(self) -> &'static str {
         match self {
             Format::Obj => "obj",
             Format::Off => "off",
+            Format::Ply => "ply",
             Format::Svg => "svg",
             Format::Png => "png",
         }
@@ -57,6 +60,8 @@ pub struct Options {
     pub raster: RasterSettings,
     /// Files: the up axis and the digits of coordinates.
     pub coordinates: Coordinates,
+    /// Text instead of binary where a format has both (PLY).
+    pub ascii: bool,
     /// Largest file to write, in bytes (0: no limit); the estimate is checked before writing.
     pub max_output: u128,
     /// Drop exact duplicate points of a point cloud (evaluated in memory).
@@ -170,7 +175,7 @@ pub enum RenderError {
     #[error(transparent)]
     Weights(#[from] crate::analysis::WeightsError),
     /// Output format not known.
-    #[error("unknown output format `.{0}`: expected .obj, .off, .svg or .png")]
+    #[error("unknown output format `.{0}`: expected .obj, .off, .ply, .svg or .png")]
     Format(String),
     /// A format that cannot hold this output.
     #[error("{0}")]

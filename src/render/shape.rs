@@ -34,14 +34,14 @@ pub fn write_shape(
     let kind = match format {
         Format::Svg => PictureKind::Svg,
         Format::Png => PictureKind::Png,
-        Format::Obj | Format::Off => {
+        Format::Obj | Format::Off | Format::Ply => {
             if format == Format::Off && shape.polylines().next().is_some() {
                 return Err(RenderError::Unsupported(
                     "an OFF file holds faces and points, not curves: write curves as .obj or .svg".into(),
                 ));
             }
             let coordinates = Coordinates { y_up_input: raster_settings.view.y_up, ..Default::default() };
-            let settings = WriteSettings { coordinates, threads: 1, raster: raster_settings };
+            let settings = WriteSettings { coordinates, threads: 1, raster: raster_settings, ascii: false };
             let mut writer = FileWriter::create(out, format, &settings)?;
             let mut sink = writer.checked(&options.cancel);
             if shape.objects.is_empty() {

@@ -11,7 +11,7 @@ use crate::load;
 
 /// Runs a Python script with `module` importable; `None` (and a printed
 /// reason) when Python or the module is missing.
-fn python(module: &str, script: &str) -> Option<String> {
+pub(crate) fn python(module: &str, script: &str) -> Option<String> {
     let probe = Command::new("python3").args(["-c", &format!("import {module}")]).output();
     match probe {
         Ok(o) if o.status.success() => {}
@@ -128,7 +128,7 @@ fn det(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
 /// Runs a Python script in headless Blender (`blender -b --factory-startup`)
 /// and returns the lines it printed after `BCIFS `; `None` (and a printed
 /// reason) when Blender is not installed.
-fn blender(script: &str) -> Option<Vec<String>> {
+pub(crate) fn blender(script: &str) -> Option<Vec<String>> {
     if Command::new("blender").arg("--version").output().is_err() {
         println!("skipped: blender is not installed (apt-get install blender)");
         return None;

@@ -1,0 +1,114 @@
+//! PLY files (issue 25's first format, on issue 24's pipeline) in the
+//! clients that read them: trimesh, MeshLab and Blender 3.4.
+
+use std::path::{Path, PathBuf};
+
+use bcifs::mesh::{Scheme, read_mesh};
+use bcifs::render::{MeshJob, Options, Report, render, render_mesh};
+
+use crate::clients::{blender, python};
+
+fn scratch(file: &str) -> PathBuf {
+    std::env::temp_dir().join(format!("bcifs-ply-{}-{file}", std::process::id()))
+}
+
+fn design(name: &str, options: &Options, file: &str) -> (PathBuf, Report) {
+    let path = scratch(file);
+    let report = render(&bcifs::builtin_design(name).unwrap(), options, &path).unwrap();
+    (path, report)
+}
+
+/// The closed Doo-Sabin torus as binary, ASCII and single-precision PLY:
+/// trimesh reads it watertight and outward with every vertex, the binary
+/// file's vertices are the OBJ file's to the bit, the `float` ones to 6
+/// digits, MeshLab reads the ASCII file whole.
+#[test]
+fn surfaces_load_whole_from_ply() {
+    let options = Options::default().with_depth(4);
+    let (binary, report) = design("doo_sabin_torus", &options, "t.ply");
+    let (ascii, _) = design("doo_sabin_torus", &Options { ascii: true, ..options.clone() }, "ta.ply");
+    let mut six = options.clone();
+    six.coordinates = six.coordinates.with_precision(Some(6));
+    let (single, _) = design("doo_sabin_torus", &six, "t32.ply");
+    let (obj, _) = design("doo_sabin_torus", &options, "t.obj");
+    let head = std::fs::read(&binary).unwrap();
+    assert!(head.starts_with(b"ply\nformat binary_little_endian 1.0\n"));
+    let [b, a, s, o] = [&binary, &ascii, &single, &obj].map(|p| p.display().to_string());
+    if let Some(out) = python(
+        "trimesh",
+        &format!(
+            "import trimesh, numpy as np\n\
+             b = trimesh.load('{b}', process=False); a = trimesh.load('{a}', process=False)\n\
+             s = trimesh.load('{s}', process=False); o = trimesh.load('{o}', process=False)\n\
+             print(b.is_watertight, b.volume > 0, len(b.vertices), len(b.faces), \
+                   np.array_equal(b.vertices, o.vertices), np.array_equal(a.vertices, o.vertices), \
+                   np.abs(s.vertices - o.vertices).max() <= 1e-5 * np.abs(o.vertices).max())"
+        ),
+    ) {
+        // Quads are split in two by trimesh.
+        assert_eq!(out, format!("True True {} {} True True True", report.vertices, 2 * report.faces), "trimesh");
+    }
+    if let Some(out) = python(
+        "pymeshlab",
+        &format!(
+            "import pymeshlab\nms = pymeshlab.MeshSet()\nms.load_new_mesh('{a}')\nm = ms.current_mesh()\n\
+             print(m.vertex_number(), m.face_number())"
+        ),
+    ) {
+        assert_eq!(out, format!("{} {}", report.vertices, 2 * report.faces), "MeshLab");
+    }
+    for p in [binary, ascii, single, obj] {
+        std::fs::remove_file(p).unwrap();
+    }
+}
+
+/// Faces of any degree (Suzanne's Doo-Sabin net: n-gons beside quads) keep
+/// their degree in Blender and are all there in MeshLab (which triangulates
+/// them); a curve's segments are edges in both, a chaos-game cloud is every
+/// point. trimesh's binary reader assumes faces of one degree (it refuses
+/// the mixed file), so it is given the others.
+#[test]
+fn polygons_curves_and_clouds_load_whole_from_ply() {
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    let mesh = read_mesh(&data.join("suzanne.obj")).unwrap();
+    let net = scratch("s.ply");
+    let job = MeshJob { net: true, ..MeshJob::new(Scheme::DooSabin, 2) };
+    let report = render_mesh(&mesh, &job, &Options::default(), &net).unwrap();
+    let (curve, curve_report) = design("corner_cutting", &Options::default().with_depth(5), "c.ply");
+    let random =
+        Options { random: Some(bcifs::eval::RandomSettings::default().with_points(10_000)), ..Options::default() };
+    let (cloud, _) = design("fern", &random, "f.ply");
+    let [n, c, f] = [&net, &curve, &cloud].map(|p| p.display().to_string());
+    let corner_cutting_segments = curve_report.vertices; // a closed curve: as many segments as vertices
+    if let Some(out) = python(
+        "pymeshlab",
+        &format!(
+            "import pymeshlab\nfor f in ['{n}', '{c}', '{f}']:\n    ms = pymeshlab.MeshSet(); ms.load_new_mesh(f)\n    \
+             m = ms.current_mesh(); print(m.vertex_number(), m.face_number() > 0, m.edge_number())"
+        ),
+    ) {
+        let lines: Vec<&str> = out.lines().collect();
+        assert_eq!(lines[0], format!("{} True 0", report.vertices), "MeshLab net");
+        assert_eq!(lines[1], format!("{} False {corner_cutting_segments}", curve_report.vertices), "MeshLab curve");
+        assert_eq!(lines[2], "10000 False 0", "MeshLab cloud");
+    }
+    if let Some(out) =
+        python("trimesh", &format!("import trimesh\nm = trimesh.load('{f}')\nprint(type(m).__name__, len(m.vertices))"))
+    {
+        assert_eq!(out, "PointCloud 10000", "trimesh cloud");
+    }
+    let script = format!(
+        "import bpy\n\
+         for f in [r'{n}', r'{c}']:\n    bpy.ops.object.select_all(action='SELECT'); bpy.ops.object.delete()\n    \
+         bpy.ops.import_mesh.ply(filepath=f)\n    o = bpy.context.selected_objects[0]\n    \
+         print('BCIFS', len(o.data.vertices), len(o.data.polygons), len(o.data.edges))\n"
+    );
+    if let Some(lines) = blender(&script) {
+        let net_line: Vec<usize> = lines[0].split(' ').map(|x| x.parse().unwrap()).collect();
+        assert_eq!((net_line[0], net_line[1]), (report.vertices, report.faces), "Blender keeps every n-gon");
+        assert_eq!(lines[1], format!("{} 0 {corner_cutting_segments}", curve_report.vertices), "Blender curve");
+    }
+    for p in [net, curve, cloud] {
+        std::fs::remove_file(p).unwrap();
+    }
+}
