@@ -41,7 +41,7 @@ pub struct RenderArgs {
     pub threads: Option<usize>,
     #[command(flatten)]
     pub picture: super::PictureArgs,
-    /// Output file: .obj, .off, .ply (streamed), .svg or .png.
+    /// Output file: .obj, .off, .ply, .stl (streamed), .svg or .png.
     #[arg(short, long)]
     pub output: PathBuf,
     /// Evaluate even a system whose convergence bounds prove it diverges.
@@ -109,7 +109,7 @@ pub struct RenderArgs {
 
 /// `bcifs render`: evaluates a design with its model and writes the file.
 pub fn run(args: RenderArgs) -> anyhow::Result<u8> {
-    super::check_output(&args.output, &["obj", "off", "ply", "svg", "png"])?;
+    super::check_output(&args.output, &["obj", "off", "ply", "stl", "svg", "png"])?;
     let design = load(&args.file)?;
     let started = std::time::Instant::now();
     if args.control {

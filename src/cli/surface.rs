@@ -39,7 +39,7 @@ pub struct SurfaceArgs {
     /// to -o FILE.toml or to standard output; `bcifs solve` and `bcifs check` read it.
     #[arg(long, conflicts_with = "net")]
     pub print: bool,
-    /// Output file: .obj, .off, .ply, .png or .svg (in the input file's axes; pictures seen from --view); with --print, .toml.
+    /// Output file: .obj, .off, .ply, .stl, .png or .svg (in the input file's axes; pictures seen from --view); with --print, .toml.
     #[arg(short, long, required_unless_present = "print")]
     pub output: Option<PathBuf>,
     #[command(flatten)]
@@ -67,7 +67,7 @@ pub fn run(out: &mut String, args: SurfaceArgs) -> anyhow::Result<u8> {
         return print_automaton(out, &args, &mesh, &job, started);
     }
     let Some(output) = args.output.clone() else { bail!("give the output file with -o") };
-    super::check_output(&output, &["obj", "off", "ply", "png", "svg"])?;
+    super::check_output(&output, &["obj", "off", "ply", "stl", "png", "svg"])?;
     if !(args.max_output_gib.is_finite() && args.max_output_gib > 0.0) {
         bail!("--max-output-gib {}: expected a positive number of GiB", args.max_output_gib);
     }

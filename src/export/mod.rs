@@ -12,6 +12,7 @@ mod off;
 mod picture;
 mod ply;
 mod png;
+mod stl;
 mod svg;
 mod view;
 
@@ -24,5 +25,6 @@ pub use off::OffWriter;
 pub use picture::{PictureError, PictureKind, PictureWriter, write_picture};
 pub use ply::PlyWriter;
 pub use png::{ascii, raster, write_png};
+pub use stl::StlWriter;
 pub use svg::{svg, svg_surface};
 pub use view::{RasterSettings, RasterTooLarge, View, raster_bytes};

@@ -4,7 +4,9 @@ use std::io;
 use std::path::Path;
 
 use super::options::{Format, Options, RenderError};
-use crate::export::{Coordinates, ObjWriter, OffWriter, PictureKind, PictureWriter, PlyWriter, RasterSettings};
+use crate::export::{
+    Coordinates, ObjWriter, OffWriter, PictureKind, PictureWriter, PlyWriter, RasterSettings, StlWriter,
+};
 use crate::geometry::Sink;
 use crate::progress::Cancel;
 
@@ -13,6 +15,7 @@ pub(crate) enum FileWriter {
     Obj(ObjWriter),
     Off(OffWriter),
     Ply(PlyWriter),
+    Stl(StlWriter),
     Picture(PictureWriter),
 }
 
@@ -41,6 +44,7 @@ impl FileWriter {
             Format::Ply => {
                 FileWriter::Ply(PlyWriter::create(out, settings.ascii).map_err(io)?.with_coordinates(coordinates))
             }
+            Format::Stl => FileWriter::Stl(StlWriter::create(out).map_err(io)?.with_coordinates(coordinates)),
             Format::Svg => FileWriter::Picture(PictureWriter::create(out, PictureKind::Svg, raster).map_err(io)?),
             Format::Png => FileWriter::Picture(PictureWriter::create(out, PictureKind::Png, raster).map_err(io)?),
         })
@@ -52,6 +56,7 @@ impl FileWriter {
             FileWriter::Obj(w) => w,
             FileWriter::Off(w) => w,
             FileWriter::Ply(w) => w,
+            FileWriter::Stl(w) => w,
             FileWriter::Picture(w) => w,
         };
         Checked { sink, cancel, vertices: 0, faces: 0 }
@@ -64,6 +69,10 @@ impl FileWriter {
             FileWriter::Obj(w) => w.finish().map_err(io)?,
             FileWriter::Off(w) => w.finish().map_err(io)?,
             FileWriter::Ply(w) => w.finish().map_err(io)?,
+            FileWriter::Stl(w) => w.finish().map_err(|e| match e.kind() {
+                std::io::ErrorKind::InvalidInput => RenderError::Unsupported(e.to_string()),
+                _ => io(e),
+            })?,
             FileWriter::Picture(w) => w.finish()?,
         }
         Ok(std::fs::metadata(out).map_or(0, |m| m.len()))

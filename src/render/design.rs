@@ -82,7 +82,9 @@ pub fn render(design: &Design, options: &Options, out: &Path) -> Result<Report, 
     }
     let options = &options;
     match format {
-        Format::Obj | Format::Off | Format::Ply => stream_file(design, options, format, out, &mut report)?,
+        Format::Obj | Format::Off | Format::Ply | Format::Stl => {
+            stream_file(design, options, format, out, &mut report)?
+        }
         Format::Png if !options.dedup => match options.random_settings() {
             Some(random) => density_picture(design, options, &random, out, &mut report)?,
             None => deterministic_picture(design, options, out, &mut report)?,
@@ -190,7 +192,7 @@ fn stream_file(
         (report.vertices, report.faces) = match &mut writer {
             // Vertices, then elements: two streamed passes, no side file of elements.
             FileWriter::Obj(w) => crate::export::write_evaluation(&ev, w, Some(&options.cancel)).map_err(eval_error)?,
-            FileWriter::Off(_) | FileWriter::Ply(_) | FileWriter::Picture(_) => {
+            FileWriter::Off(_) | FileWriter::Ply(_) | FileWriter::Stl(_) | FileWriter::Picture(_) => {
                 let mut sink = writer.checked(&options.cancel);
                 ev.stream(&mut sink).map_err(eval_error)?;
                 (sink.vertices, sink.faces)

@@ -15,6 +15,8 @@ pub enum Format {
     Off,
     /// PLY, streamed: binary little-endian, or ASCII with [`Options::ascii`].
     Ply,
+    /// Binary STL, for 3D printing: surfaces only (curves and clouds refused).
+    Stl,
     /// SVG, drawn from memory (2D shapes; surfaces as seen from the view).
     Svg,
     /// PNG picture.
@@ -23,7 +25,7 @@ pub enum Format {
 
 impl Format {
     /// Every format, in the order they are listed to users.
-    pub const ALL: [Format; 5] = [Format::Obj, Format::Off, Format::Ply, Format::Svg, Format::Png];
+    pub const ALL: [Format; 6] = [Format::Obj, Format::Off, Format::Ply, Format::Stl, Format::Svg, Format::Png];
 
     /// The file extension (lower case, without the dot).
     pub fn extension(self) -> &'static str {
@@ -31,6 +33,7 @@ impl Format {
             Format::Obj => "obj",
             Format::Off => "off",
             Format::Ply => "ply",
+            Format::Stl => "stl",
             Format::Svg => "svg",
             Format::Png => "png",
         }
@@ -175,7 +178,7 @@ pub enum RenderError {
     #[error(transparent)]
     Weights(#[from] crate::analysis::WeightsError),
     /// Output format not known.
-    #[error("unknown output format `.{0}`: expected .obj, .off, .ply, .svg or .png")]
+    #[error("unknown output format `.{0}`: expected .obj, .off, .ply, .stl, .svg or .png")]
     Format(String),
     /// A format that cannot hold this output.
     #[error("{0}")]

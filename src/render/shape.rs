@@ -34,7 +34,7 @@ pub fn write_shape(
     let kind = match format {
         Format::Svg => PictureKind::Svg,
         Format::Png => PictureKind::Png,
-        Format::Obj | Format::Off | Format::Ply => {
+        Format::Obj | Format::Off | Format::Ply | Format::Stl => {
             if format == Format::Off && shape.polylines().next().is_some() {
                 return Err(RenderError::Unsupported(
                     "an OFF file holds faces and points, not curves: write curves as .obj or .svg".into(),

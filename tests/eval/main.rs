@@ -6,7 +6,7 @@ mod curves;
 mod export;
 #[path = "../common/hausdorff.rs"]
 mod hausdorff;
-mod ply;
+mod formats;
 mod surfaces;
 
 use bcifs::eval::{EvalSettings, Evaluator};

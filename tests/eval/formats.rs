@@ -1,4 +1,4 @@
-//! PLY files (issue 25's first format, on issue 24's pipeline) in the
+//! PLY and STL files (issue 25, on issue 24's pipeline) in the
 //! clients that read them: trimesh, MeshLab and Blender 3.4.
 
 use std::path::{Path, PathBuf};
@@ -109,6 +109,58 @@ fn polygons_curves_and_clouds_load_whole_from_ply() {
         assert_eq!(lines[1], format!("{} 0 {corner_cutting_segments}", curve_report.vertices), "Blender curve");
     }
     for p in [net, curve, cloud] {
+        std::fs::remove_file(p).unwrap();
+    }
+}
+
+/// Binary STL for 3D printing: closed surfaces (the Doo-Sabin torus, the
+/// Catmull-Clark cube, Doo-Sabin beside a valence-2 vertex) arrive
+/// watertight and outward in trimesh once merged by position (a slicer's
+/// sense), every face as triangles; a curve and a point cloud are refused
+/// with the reason, and nothing is written.
+#[test]
+fn closed_surfaces_arrive_watertight_in_stl() {
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    let (torus, report) = design("doo_sabin_torus", &Options::default().with_depth(4), "t.stl");
+    assert_eq!(std::fs::metadata(&torus).unwrap().len(), 84 + 50 * 2 * report.faces as u64);
+    let cube = scratch("cube.stl");
+    let cc = render_mesh(
+        &read_mesh(&data.join("cube.off")).unwrap(),
+        &MeshJob::new(Scheme::CatmullClark, 3),
+        &Options::default(),
+        &cube,
+    )
+    .unwrap();
+    let split = scratch("split.stl");
+    let job = MeshJob::new(Scheme::DooSabin, 2);
+    render_mesh(&read_mesh(&data.join("split_cube.obj")).unwrap(), &job, &Options::default(), &split).unwrap();
+    let [t, c, s] = [&torus, &cube, &split].map(|p| p.display().to_string());
+    if let Some(out) = python(
+        "trimesh",
+        &format!(
+            "import trimesh\nfor f in ['{t}', '{c}', '{s}']:\n    m = trimesh.load(f); m.merge_vertices()\n    \
+             print(len(m.faces), m.is_watertight, m.is_winding_consistent, m.volume > 0)"
+        ),
+    ) {
+        let lines: Vec<&str> = out.lines().collect();
+        assert_eq!(lines[0], format!("{} True True True", 2 * report.faces), "torus");
+        assert_eq!(lines[1], format!("{} True True True", 2 * cc.faces), "cube");
+        assert!(lines[2].ends_with("True True True"), "split cube: {}", lines[2]);
+    }
+    for (name, options, why) in [
+        ("corner_cutting", Options::default().with_depth(4), "not curves"),
+        (
+            "fern",
+            Options { random: Some(bcifs::eval::RandomSettings::default().with_points(1000)), ..Options::default() },
+            "no face",
+        ),
+    ] {
+        let out = scratch(&format!("{name}.stl"));
+        let e = render(&bcifs::builtin_design(name).unwrap(), &options, &out).unwrap_err();
+        assert!(e.to_string().contains(why), "{name}: {e}");
+        assert!(!out.exists(), "{name}: nothing is written");
+    }
+    for p in [torus, cube, split] {
         std::fs::remove_file(p).unwrap();
     }
 }
