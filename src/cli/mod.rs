@@ -209,6 +209,12 @@ fn parse_params(params: &[String]) -> Result<Vec<(String, f64)>> {
     Ok(out)
 }
 
+/// This run's command line, as a picture records it (`bcifs render …`).
+pub fn command_line() -> String {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    format!("bcifs {}", args.join(" "))
+}
+
 /// The signal that interrupted the run (0: none).
 static SIGNAL: std::sync::atomic::AtomicI32 = std::sync::atomic::AtomicI32::new(0);
 

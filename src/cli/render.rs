@@ -157,6 +157,7 @@ fn options(args: &RenderArgs) -> anyhow::Result<Options> {
     options.max_output = (args.max_output_gib * (1u64 << 30) as f64) as u128;
     options.progress = progress_bar();
     options.cancel = super::interrupt().clone();
+    options.provenance = Some(super::command_line());
     if let Some(n) = args.random {
         let mut r = bcifs::eval::RandomSettings::default().with_points(n).with_seed(args.seed);
         r.threads = threads;

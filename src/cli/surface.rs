@@ -77,6 +77,7 @@ pub fn run(out: &mut String, args: SurfaceArgs) -> anyhow::Result<u8> {
     options.max_output = (args.max_output_gib * (1u64 << 30) as f64) as u128;
     options.cancel = super::interrupt().clone();
     options.ascii = args.ascii;
+    options.provenance = Some(super::command_line());
     let report = render_mesh(&mesh, &job, &options, &output)?;
     let label =
         format!("{} ({}, depth {}{})", job.name, scheme.name(), args.depth, if args.net { ", net" } else { "" });

@@ -4,7 +4,7 @@ use std::io;
 use std::path::{Path, PathBuf};
 
 use super::atomic::{check_target, write_atomic};
-use super::png::{raster, write_png};
+use super::png::{raster, write_png_text};
 use super::svg::{svg, svg_surface};
 use super::view::{RasterSettings, RasterTooLarge};
 use crate::geometry::{Shape, Sink};
@@ -57,6 +57,7 @@ pub struct PictureWriter {
     kind: PictureKind,
     settings: RasterSettings,
     shape: Shape,
+    text: Vec<(String, String)>,
 }
 
 impl PictureWriter {
@@ -66,7 +67,13 @@ impl PictureWriter {
     /// The target cannot be written (a directory, a missing directory).
     pub fn create(path: &Path, kind: PictureKind, settings: RasterSettings) -> io::Result<PictureWriter> {
         check_target(path)?;
-        Ok(PictureWriter { path: path.to_path_buf(), kind, settings, shape: Shape::default() })
+        Ok(PictureWriter { path: path.to_path_buf(), kind, settings, shape: Shape::default(), text: Vec::new() })
+    }
+
+    /// The same writer, recording `text` (keyword, text) in a PNG's `tEXt` chunks.
+    pub fn with_text(mut self, text: Vec<(String, String)>) -> PictureWriter {
+        self.text = text;
+        self
     }
 
     /// The shape drawn so far.
@@ -79,13 +86,13 @@ impl PictureWriter {
     /// # Errors
     /// A 3D curve to SVG, a picture over the memory limit, or an I/O error.
     pub fn finish(self) -> Result<(), PictureError> {
-        write_picture(&self.shape, self.kind, &self.settings, &self.path)
+        write_picture(&self.shape, self.kind, &self.settings, &self.path, &self.text)
     }
 }
 
 /// Draws `shape` as a picture of `kind` with `settings` and writes it to
-/// `path` atomically: what [`PictureWriter::finish`] does, for a shape
-/// already in memory.
+/// `path` atomically (a PNG with `text` in `tEXt` chunks): what
+/// [`PictureWriter::finish`] does, for a shape already in memory.
 ///
 /// # Errors
 /// A 3D curve to SVG, a picture over the memory limit, or an I/O error.
@@ -94,6 +101,7 @@ pub fn write_picture(
     kind: PictureKind,
     settings: &RasterSettings,
     path: &Path,
+    text: &[(String, String)],
 ) -> Result<(), PictureError> {
     let io = |e| PictureError::Io(path.to_path_buf(), e);
     let surface = !shape.quads.is_empty() || !shape.triangles.is_empty();
@@ -101,7 +109,7 @@ pub fn write_picture(
         PictureKind::Svg if surface => write_atomic(path, svg_surface(shape, settings).as_bytes()).map_err(io),
         PictureKind::Svg if shape.dim > 2 => Err(PictureError::NotPlanar),
         PictureKind::Svg => write_atomic(path, svg(shape, settings.width).as_bytes()).map_err(io),
-        PictureKind::Png => write_png(path, &raster(shape, settings)?).map_err(io),
+        PictureKind::Png => write_png_text(path, &raster(shape, settings)?, text).map_err(io),
     }
 }
 

@@ -220,6 +220,34 @@ pub fn write_png(path: &Path, img: &RgbImage) -> io::Result<()> {
     write_atomic(path, bytes.get_ref())
 }
 
+/// Writes an RGB picture as PNG with `tEXt` chunks (keyword, text), as
+/// flam3 records its genome: the settings that made the picture travel
+/// with it (`Software`, `Title`, `Description`, `Comment` are PNG's
+/// registered keywords). Keywords are 1 to 79 Latin-1 characters; the
+/// text is Latin-1 (others are replaced by `?`).
+///
+/// # Errors
+/// An I/O error or a keyword PNG refuses; nothing is left half-written.
+pub fn write_png_text(path: &Path, img: &RgbImage, text: &[(String, String)]) -> io::Result<()> {
+    if text.is_empty() {
+        return write_png(path, img);
+    }
+    let mut bytes = Vec::new();
+    {
+        let mut encoder = png::Encoder::new(&mut bytes, img.width(), img.height());
+        encoder.set_color(png::ColorType::Rgb);
+        encoder.set_depth(png::BitDepth::Eight);
+        let latin1 = |t: &str| t.chars().map(|c| if (c as u32) < 256 { c } else { '?' }).collect::<String>();
+        for (keyword, value) in text {
+            encoder.add_text_chunk(latin1(keyword), latin1(value)).map_err(io::Error::other)?;
+        }
+        let mut writer = encoder.write_header().map_err(io::Error::other)?;
+        writer.write_image_data(img.as_raw()).map_err(io::Error::other)?;
+        writer.finish().map_err(io::Error::other)?;
+    }
+    write_atomic(path, &bytes)
+}
+
 /// The picture as `#`/`.` text (a pixel is `#` when darker than half), for golden tests.
 pub fn ascii(img: &RgbImage) -> String {
     let mut out = String::new();

@@ -4,7 +4,7 @@ use std::path::Path;
 
 use super::checked::{FileWriter, WriteSettings, write_error};
 use super::options::{Format, Options, RenderError, Report, check_disk};
-use super::shape::write_shape;
+use super::shape::write_shape_text;
 use crate::automaton::Automaton;
 use crate::design::{Design, Model};
 use crate::eval::{ChaosGame, Depth, EvalError, EvalSettings, Evaluator, RandomSettings, chaos_game};
@@ -93,7 +93,8 @@ pub fn render(design: &Design, options: &Options, out: &Path) -> Result<Report, 
             let mut shape = evaluate_design(design, options, &mut report.warnings)?;
             let duplicates = dedup(&mut shape, options, &mut report.warnings);
             options.check_cancel()?;
-            let written = write_shape(&shape, design.name(), &options.raster, out)?;
+            let written =
+                write_shape_text(&shape, design.name(), &options.raster, out, &options.png_text(design.name()))?;
             report.vertices = written.vertices;
             report.faces = written.faces;
             report.bytes = written.bytes;
@@ -218,7 +219,7 @@ fn density_picture(
     let img = crate::export::density_image(&game, random.points, &options.raster, &options.tone, palette)?;
     // A cancelled fold stops early: its partial picture is not written.
     options.check_cancel()?;
-    crate::export::write_png(out, &img).map_err(write_error(options, out))?;
+    crate::export::write_png_text(out, &img, &options.png_text(design.name())).map_err(write_error(options, out))?;
     report.vertices = random.points;
     report.bytes = std::fs::metadata(out).map_or(0, |m| m.len());
     Ok(())
@@ -261,7 +262,8 @@ fn deterministic_picture(
     }
     options.check_cancel()?;
     if let Some((img, vertices)) = crate::export::picture(&ev, raster)? {
-        crate::export::write_png(out, &img).map_err(write_error(options, out))?;
+        crate::export::write_png_text(out, &img, &options.png_text(design.name()))
+            .map_err(write_error(options, out))?;
         report.vertices = vertices;
         report.bytes = std::fs::metadata(out).map_or(0, |m| m.len());
         return Ok(());
@@ -286,7 +288,7 @@ fn deterministic_picture(
     }
     let shape = ev.evaluate()?;
     options.check_cancel()?;
-    let written = write_shape(&shape, design.name(), raster, out)?;
+    let written = write_shape_text(&shape, design.name(), raster, out, &options.png_text(design.name()))?;
     report.vertices = written.vertices;
     report.faces = written.faces;
     report.bytes = written.bytes;

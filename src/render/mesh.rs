@@ -5,7 +5,7 @@ use std::path::Path;
 
 use super::checked::{FileWriter, WriteSettings, write_error};
 use super::options::{Format, Options, RenderError, Report, check_disk};
-use super::shape::write_shape;
+use super::shape::write_shape_text;
 use crate::analysis::{WeightsError, WeightsVerdict, check_loop_weights, check_quad_weights};
 use crate::mesh::{LoopWeights, PolyMesh, QuadWeights, RuleWeights, Scheme, SubdivideError, Subdivision};
 
@@ -124,7 +124,9 @@ pub fn render_mesh(mesh: &PolyMesh, job: &MeshJob, options: &Options, out: &Path
             mesh.limit_with(job.scheme, job.depth, job.weights, memory)?
         };
         options.check_cancel()?;
-        let written = write_shape(&shape, &job.name, &options.raster.with_y_up(true), out)?;
+        let mut text = options.png_text(&job.name);
+        text[2].1 = format!("{} depth {}{}", job.scheme.name(), job.depth, if job.net { ", net" } else { "" });
+        let written = write_shape_text(&shape, &job.name, &options.raster.with_y_up(true), out, &text)?;
         return Ok(Report { warnings: report.warnings, depth: report.depth, ..written });
     }
     let faces = mesh.estimate(job.scheme, job.depth).0;

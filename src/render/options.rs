@@ -77,6 +77,8 @@ pub struct Options {
     pub progress: Option<Progress>,
     /// Stops the work when set: [`RenderError::Cancelled`], nothing written.
     pub cancel: Cancel,
+    /// What asked for the render (the command line), recorded in PNG pictures.
+    pub provenance: Option<String>,
 }
 
 impl Options {
@@ -121,6 +123,33 @@ impl Options {
         }
         random.cancel = Some(self.cancel.clone());
         Some(random)
+    }
+
+    /// The `tEXt` chunks of a PNG picture of `title` made with these
+    /// options: `Software`, `Title`, `Comment` (parameters, depth or chaos
+    /// game, size, view) and `Description` (the provenance, when given).
+    pub fn png_text(&self, title: &str) -> Vec<(String, String)> {
+        let mut settings = Vec::new();
+        if !self.params.is_empty() {
+            let params: Vec<String> = self.params.iter().map(|(n, v)| format!("{n}={v}")).collect();
+            settings.push(format!("params {}", params.join(" ")));
+        }
+        settings.push(match (&self.random, self.eval.depth) {
+            (Some(r), _) => format!("random {} seed {}", r.points, r.seed),
+            (None, crate::eval::Depth::Fixed(k)) => format!("depth {k}"),
+            (None, crate::eval::Depth::Tolerance(eps)) => format!("tolerance {eps}"),
+        });
+        let (raster, view) = (&self.raster, &self.raster.view);
+        settings.push(format!("size {}x{}; view {},{}", raster.width, raster.height, view.yaw, view.pitch));
+        let mut text = vec![
+            ("Software".to_string(), format!("bcifs {}", env!("CARGO_PKG_VERSION"))),
+            ("Title".to_string(), title.to_string()),
+            ("Comment".to_string(), settings.join("; ")),
+        ];
+        if let Some(p) = &self.provenance {
+            text.push(("Description".to_string(), p.clone()));
+        }
+        text
     }
 
     /// [`RenderError::Cancelled`] when the flag is set.

@@ -22,6 +22,21 @@ pub fn write_shape(
     raster_settings: &RasterSettings,
     out: &Path,
 ) -> Result<Report, RenderError> {
+    let text = [
+        ("Software".to_string(), format!("bcifs {}", env!("CARGO_PKG_VERSION"))),
+        ("Title".to_string(), name.to_string()),
+    ];
+    write_shape_text(shape, name, raster_settings, out, &text)
+}
+
+/// [`write_shape`] with the `tEXt` chunks of a PNG.
+pub(crate) fn write_shape_text(
+    shape: &Shape,
+    name: &str,
+    raster_settings: &RasterSettings,
+    out: &Path,
+    text: &[(String, String)],
+) -> Result<Report, RenderError> {
     let format = Format::of(out)?;
     let options = Options::default();
     let io = write_error(&options, out);
@@ -52,7 +67,7 @@ pub fn write_shape(
             return Ok(report);
         }
     };
-    write_picture(shape, kind, raster_settings, out)?;
+    write_picture(shape, kind, raster_settings, out, text)?;
     report.bytes = std::fs::metadata(out).map_or(0, |m| m.len());
     Ok(report)
 }

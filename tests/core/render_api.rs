@@ -69,7 +69,7 @@ fn the_cli_makes_the_api_calls() {
 fn formats_are_chosen_by_extension() {
     let dir = scratch("formats");
     assert_eq!(Format::of(Path::new("a/B.OBJ")).unwrap(), Format::Obj);
-    assert!(matches!(Format::of(Path::new("x.stl")), Err(RenderError::Format(e)) if e == "stl"));
+    assert!(matches!(Format::of(Path::new("x.stp")), Err(RenderError::Format(e)) if e == "stp"));
     let curve = bcifs::builtin_design("corner_cutting").unwrap();
     let off = dir.join("curve.off");
     let e = render(&curve, &Options::default().with_depth(3), &off).unwrap_err();

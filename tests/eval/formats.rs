@@ -164,3 +164,42 @@ fn closed_surfaces_arrive_watertight_in_stl() {
         std::fs::remove_file(p).unwrap();
     }
 }
+
+/// PNG pictures carry their settings in `tEXt` chunks (as flam3 records
+/// its genome): the program, the design, the parameters and depth or the
+/// chaos game, the size and view, and what asked for them; the pixels are
+/// the same as without.
+#[test]
+fn png_pictures_carry_their_settings() {
+    let text_of = |path: &Path| -> Vec<(String, String)> {
+        let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
+        let reader = decoder.read_info().unwrap();
+        reader.info().uncompressed_latin1_text.iter().map(|t| (t.keyword.clone(), t.text.clone())).collect()
+    };
+    let mut options = Options::default().with_depth(5).with_size(120, 90);
+    options.params = vec![("a".into(), 0.25), ("b".into(), 0.125)];
+    options.provenance = Some("a test of the render API".into());
+    let (curve, _) = design("corner_cutting", &options, "cc.png");
+    let text = text_of(&curve);
+    let get = |k: &str| text.iter().find(|(key, _)| key == k).map(|(_, v)| v.as_str()).unwrap_or("");
+    assert!(get("Software").starts_with("bcifs "), "{text:?}");
+    assert_eq!(get("Title"), "corner_cutting");
+    assert_eq!(get("Comment"), "params a=0.25 b=0.125; depth 5; size 120x90; view 30,35");
+    assert_eq!(get("Description"), "a test of the render API");
+    // The same pixels as the picture without chunks.
+    let img = image::open(&curve).unwrap().to_rgb8();
+    let plain = scratch("plain.png");
+    bcifs::export::write_png(&plain, &img).unwrap();
+    assert_eq!(image::open(&plain).unwrap().to_rgb8(), img);
+    assert!(text_of(&plain).is_empty());
+    // A chaos-game picture records the walk.
+    let random = Options {
+        random: Some(bcifs::eval::RandomSettings::default().with_points(20_000).with_seed(7)),
+        ..Options::default().with_size(64, 64)
+    };
+    let (fern, _) = design("fern", &random, "fern.png");
+    assert!(text_of(&fern).iter().any(|(k, v)| k == "Comment" && v.starts_with("random 20000 seed 7")));
+    for p in [curve, plain, fern] {
+        std::fs::remove_file(p).unwrap();
+    }
+}

@@ -4,9 +4,9 @@
 mod clients;
 mod curves;
 mod export;
+mod formats;
 #[path = "../common/hausdorff.rs"]
 mod hausdorff;
-mod formats;
 mod surfaces;
 
 use bcifs::eval::{EvalSettings, Evaluator};
