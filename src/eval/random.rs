@@ -326,6 +326,45 @@ impl ChaosGame {
     }
 }
 
+impl ChaosGame {
+    /// As [`ChaosGame::stream`], with each point's colour coordinate in
+    /// `[0, 1]` (the arrows' colours mixed along the walk, as the density
+    /// pictures colour by them): `write(points, colours)`.
+    ///
+    /// # Errors
+    /// The first error of `write`, which stops the walk.
+    pub fn stream_coloured<E: Send>(
+        &self,
+        points: usize,
+        mut write: impl FnMut(&[f64], &[f32]) -> Result<(), E>,
+    ) -> Result<(), E> {
+        let first = self.settings.chains.max(1) as u64;
+        let batches = points.div_ceil(BATCH);
+        let group = self.pool.current_num_threads().max(1) * 2;
+        let mut bufs: Vec<(Vec<f64>, Vec<f32>)> = vec![(Vec::new(), Vec::new()); group];
+        for start in (0..batches).step_by(group) {
+            let ks: Vec<usize> = (start..batches.min(start + group)).collect();
+            self.pool.install(|| {
+                bufs.par_iter_mut().zip(ks.par_iter()).for_each(|((xs, cs), &k)| {
+                    xs.clear();
+                    cs.clear();
+                    self.chain::<true>(first + k as u64, BATCH.min(points - k * BATCH), &mut |x, c| {
+                        xs.extend_from_slice(x);
+                        cs.extend_from_slice(c);
+                    });
+                })
+            });
+            for (xs, cs) in &bufs[..ks.len()] {
+                write(xs, cs)?;
+            }
+            if let Some(p) = &self.settings.progress {
+                p.report((start + ks.len()) as u64, batches as u64);
+            }
+        }
+        Ok(())
+    }
+}
+
 /// Runs the chaos game and returns the points (a point cloud shape).
 ///
 /// # Errors

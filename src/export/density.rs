@@ -28,6 +28,11 @@ const NAMED: [(&str, &[[u8; 3]]); 5] = [
 ];
 
 impl Palette {
+    /// The colour at coordinate `c` in `[0, 1]` (as the density pictures pick it).
+    pub fn colour(&self, c: f32) -> [u8; 3] {
+        self.0.get(index(c)).or(self.0.last()).copied().unwrap_or([0; 3])
+    }
+
     /// The names [`Palette::named`] knows.
     pub fn names() -> impl Iterator<Item = &'static str> {
         NAMED.iter().map(|(n, _)| *n)

@@ -113,15 +113,16 @@ pub fn render(design: &Design, options: &Options, out: &Path) -> Result<Report, 
 /// Options given that this output does not use, as warnings.
 fn warn_unused(options: &Options, format: Format, warnings: &mut Vec<String>) {
     let ext = format.extension();
-    let flame = options.palette.is_some()
-        || options.random.as_ref().is_some_and(|r| !r.colours.is_empty())
-        || options.tone.blur > 0.0
-        || options.tone.vibrancy != 1.0
-        || options.tone.background.is_some();
-    if flame && options.random.is_none() {
+    let colours = options.palette.is_some() || options.random.as_ref().is_some_and(|r| !r.colours.is_empty());
+    let tone = options.tone.blur > 0.0 || options.tone.vibrancy != 1.0 || options.tone.background.is_some();
+    if (colours || tone) && options.random.is_none() {
         warnings.push("--palette, --color, --blur, --vibrancy and --background shape chaos-game pictures (--random N); this render ignores them".into());
-    } else if flame && format != Format::Png {
-        warnings.push(format!("--palette, --color, --blur, --vibrancy and --background shape density pictures (.png); the .{ext} file ignores them"));
+    } else if tone && format != Format::Png {
+        warnings.push(format!(
+            "--blur, --vibrancy and --background shape density pictures (.png); the .{ext} file ignores them"
+        ));
+    } else if colours && !matches!(format, Format::Png | Format::Obj | Format::Ply) {
+        warnings.push(format!("--palette and --color colour density pictures (.png) and the points of .obj and .ply files; the .{ext} file ignores them"));
     }
     if options.eval.uv && format != Format::Obj {
         warnings.push(format!("--uv writes texture coordinates into OBJ files; the .{ext} output ignores it"));
@@ -166,7 +167,16 @@ fn stream_file(
         check_disk(out, random.points as u128 * (3 + 22 * game.dim() as u128), options.max_output)?;
         let mut sink = writer.checked(&options.cancel);
         sink.object(design.name()).map_err(&io)?;
-        game.stream(random.points, |xs| sink.vertices(game.dim(), xs, None)).map_err(&io)?;
+        match &options.palette {
+            // Each point coloured as the density pictures colour it, in the formats that hold colours.
+            Some(palette) if matches!(format, Format::Obj | Format::Ply) => game
+                .stream_coloured(random.points, |xs, cs| {
+                    sink.colours(&cs.iter().map(|c| palette.colour(*c)).collect::<Vec<_>>())?;
+                    sink.vertices(game.dim(), xs, None)
+                })
+                .map_err(&io)?,
+            _ => game.stream(random.points, |xs| sink.vertices(game.dim(), xs, None)).map_err(&io)?,
+        }
         report.vertices = random.points;
     } else if options.random.is_some() || options.dedup {
         let mut shape = evaluate_design(design, options, &mut report.warnings)?;

@@ -1121,8 +1121,8 @@ fn options_that_do_nothing_say_so() {
     let at = |name: &str| dir.join(name).display().to_string();
     for (args, warning) in [
         (
-            vec!["render", "fern", "--random", "1000", "--palette", "fire", "-o", &at("a.obj")],
-            "the .obj file ignores them",
+            vec!["render", "fern", "--random", "1000", "--palette", "fire", "-o", &at("a.off")],
+            "the .off file ignores them",
         ),
         (vec!["render", "fern", "--random", "1000", "--blur", "2", "-o", &at("b.obj")], "the .obj file ignores them"),
         (vec!["render", "levy", "--depth", "6", "--uv", "-o", &at("c.obj")], "this curve or point set has none"),

@@ -203,3 +203,39 @@ fn png_pictures_carry_their_settings() {
         std::fs::remove_file(p).unwrap();
     }
 }
+
+/// A chaos game with `--palette` to OBJ and PLY: every point carries the
+/// colour the density pictures give it (MeshLab's `v x y z r g b` in OBJ,
+/// `uchar` RGB in PLY): as many colours as vertices, and many of them.
+#[test]
+fn coloured_clouds_carry_their_colours() {
+    let options = Options {
+        random: Some(bcifs::eval::RandomSettings::default().with_points(20_000)),
+        palette: Some(bcifs::export::Palette::parse("rainbow").unwrap()),
+        ..Options::default()
+    };
+    let (ply, _) = design("gasket", &options, "g.ply");
+    let (obj, _) = design("gasket", &options, "g.obj");
+    let [p, o] = [&ply, &obj].map(|p| p.display().to_string());
+    if let Some(out) = python(
+        "trimesh",
+        &format!(
+            "import trimesh\nm = trimesh.load('{p}')\n\
+             print(len(m.vertices), len(m.colors), len(set(map(tuple, m.colors[:, :3].tolist()))) > 50)"
+        ),
+    ) {
+        assert_eq!(out, "20000 20000 True", "trimesh");
+    }
+    if let Some(out) = python(
+        "pymeshlab",
+        &format!(
+            "import pymeshlab\nfor f in ['{p}', '{o}']:\n    ms = pymeshlab.MeshSet(); ms.load_new_mesh(f)\n    \
+             m = ms.current_mesh(); print(m.vertex_number(), m.has_vertex_color(), len(set(map(tuple, m.vertex_color_matrix().round(3).tolist()))) > 50)"
+        ),
+    ) {
+        assert_eq!(out, "20000 True True\n20000 True True", "MeshLab");
+    }
+    for p in [ply, obj] {
+        std::fs::remove_file(p).unwrap();
+    }
+}
