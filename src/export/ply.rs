@@ -2,7 +2,7 @@
 //! place PLY records are formatted. Binary little-endian by default, ASCII
 //! on request.
 
-use std::io::{self, Write};
+use std::io::{self, Seek, SeekFrom, Write};
 use std::path::Path;
 
 use super::atomic::{AtomicFile, Spool};
@@ -10,12 +10,17 @@ use super::axes::Coordinates;
 use super::number::push_f64;
 use crate::geometry::Sink;
 
+/// Bytes reserved for the header: every property, 20-digit counts, with room to spare.
+const HEADER_BYTES: usize = 1024;
+
 /// A [`Sink`] that streams a PLY file: vertices (with normals and RGB
 /// colours when given), faces of any degree (`list int int`, which MeshLab,
 /// trimesh and Blender read; MeshLab refuses `uint` counts), polylines as
-/// edges, points as vertices alone. The header counts every element, so
-/// vertices, faces and edges go to side files joined by
-/// [`PlyWriter::finish`]; memory stays bounded whatever the size.
+/// edges, points as vertices alone. The header counts every element: its
+/// bytes are reserved at the start and written by [`PlyWriter::finish`]
+/// (padded with a comment line), vertices go straight to the file, faces
+/// and edges to side files appended at the end; memory stays bounded
+/// whatever the size.
 /// Coordinates are `double`, or `float` when at most 7 significant digits
 /// are asked ([`Coordinates::precision`]). Whether vertices carry normals
 /// and colours is decided by the first vertices written.
@@ -39,7 +44,6 @@ pub struct PlyWriter {
     coordinates: Coordinates,
     ascii: bool,
     main: Option<AtomicFile>,
-    vertex_spool: Option<Spool>,
     face_spool: Option<Spool>,
     edge_spool: Option<Spool>,
     vertices: usize,
@@ -60,8 +64,11 @@ impl PlyWriter {
         Ok(PlyWriter {
             coordinates: Coordinates::default(),
             ascii,
-            main: Some(AtomicFile::create(path)?),
-            vertex_spool: Some(Spool::create(path, "vertices")?),
+            main: Some({
+                let mut main = AtomicFile::create(path)?;
+                main.writer().write_all(&[b' '; HEADER_BYTES])?;
+                main
+            }),
             face_spool: Some(Spool::create(path, "elements")?),
             edge_spool: Some(Spool::create(path, "elements")?),
             vertices: 0,
@@ -117,11 +124,37 @@ impl PlyWriter {
     /// An I/O error; the target is then left as it was.
     pub fn finish(mut self) -> io::Result<()> {
         let mut main = self.main.take().expect("finish once");
-        main.writer().write_all(self.header().as_bytes())?;
-        self.vertex_spool.take().expect("finish once").append_to(&mut main)?;
+        let header = self.header();
+        // The reserved bytes, exactly: the header, comment lines of padding (short: MeshLab reads
+        // header lines of limited length) before `end_header`.
+        let body = header.strip_suffix("end_header\n").unwrap_or(&header);
+        if body.len() + "comment \nend_header\n".len() > HEADER_BYTES {
+            return Err(io::Error::other("the PLY header outgrew its reserved bytes"));
+        }
+        let mut full = body.to_string();
+        let mut left = HEADER_BYTES - body.len() - "end_header\n".len();
+        while left > 0 {
+            let line = if left > 72 { 64 } else { left };
+            full += &format!("comment{}\n", " ".repeat(line - "comment\n".len()));
+            left -= line;
+        }
+        full += "end_header\n";
+        let w = main.writer();
+        w.seek(SeekFrom::Start(0))?;
+        w.write_all(full.as_bytes())?;
+        w.seek(SeekFrom::End(0))?;
         self.face_spool.take().expect("finish once").append_to(&mut main)?;
         self.edge_spool.take().expect("finish once").append_to(&mut main)?;
         main.commit()
+    }
+
+    /// Writes the buffer of vertices to the file.
+    fn spill_vertices(&mut self) -> io::Result<()> {
+        let buf = std::mem::take(&mut self.buf);
+        let result = self.main.as_mut().expect("not finished").writer().write_all(&buf);
+        self.buf = buf;
+        self.buf.clear();
+        result
     }
 
     /// Writes the buffer to a side file.
@@ -200,11 +233,11 @@ impl PlyWriter {
                 used.iter().for_each(|x| self.buf.extend_from_slice(&x.to_le_bytes()));
             }
             if self.buf.len() >= 1 << 20 {
-                self.spill(|w| &mut w.vertex_spool)?;
+                self.spill_vertices()?;
             }
         }
         self.vertices += count;
-        self.spill(|w| &mut w.vertex_spool)
+        self.spill_vertices()
     }
 
     /// Face records, digons left out.
@@ -263,11 +296,11 @@ impl Sink for PlyWriter {
                 self.buf.push(b'\n');
             }
             if self.buf.len() >= 1 << 20 {
-                self.spill(|w| &mut w.vertex_spool)?;
+                self.spill_vertices()?;
             }
         }
         self.vertices += count;
-        self.spill(|w| &mut w.vertex_spool)
+        self.spill_vertices()
     }
 
     fn colours(&mut self, rgb: &[[u8; 3]]) -> io::Result<()> {
