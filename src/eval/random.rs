@@ -245,6 +245,9 @@ impl ChaosGame {
     }
 }
 
+/// What takes the streamed chains: points, and their colour coordinates (or none).
+type ChunkWriter<'a, E> = dyn FnMut(&[f64], &[f32]) -> Result<(), E> + 'a;
+
 /// Points per batch of [`ChaosGame::fold`]: a chain of its own.
 pub const BATCH: usize = 1 << 16;
 /// Points per chunk handed to a visitor: few enough to stay in the first-level cache.
@@ -302,21 +305,33 @@ impl ChaosGame {
     /// # Errors
     /// The first error of `write`, which stops the walk.
     pub fn stream<E: Send>(&self, points: usize, mut write: impl FnMut(&[f64]) -> Result<(), E>) -> Result<(), E> {
-        let d = self.pieces.dim;
+        self.stream_chains::<false, E>(points, &mut |xs, _| write(xs))
+    }
+
+    /// The chains of [`ChaosGame::stream`], with their colour coordinates when `COLOUR`.
+    fn stream_chains<const COLOUR: bool, E: Send>(
+        &self,
+        points: usize,
+        write: &mut ChunkWriter<'_, E>,
+    ) -> Result<(), E> {
         let first = self.settings.chains.max(1) as u64;
         let batches = points.div_ceil(BATCH);
         let group = self.pool.current_num_threads().max(1) * 2;
-        let mut bufs: Vec<Vec<f64>> = vec![Vec::new(); group];
+        let mut bufs: Vec<(Vec<f64>, Vec<f32>)> = vec![(Vec::new(), Vec::new()); group];
         for start in (0..batches).step_by(group) {
             let ks: Vec<usize> = (start..batches.min(start + group)).collect();
             self.pool.install(|| {
-                bufs.par_iter_mut().zip(ks.par_iter()).for_each(|(buf, &k)| {
-                    buf.resize(BATCH.min(points - k * BATCH) * d, 0.0);
-                    self.chain_into(first + k as u64, buf);
+                bufs.par_iter_mut().zip(ks.par_iter()).for_each(|((xs, cs), &k)| {
+                    xs.clear();
+                    cs.clear();
+                    self.chain::<COLOUR>(first + k as u64, BATCH.min(points - k * BATCH), &mut |x, c| {
+                        xs.extend_from_slice(x);
+                        cs.extend_from_slice(c);
+                    });
                 })
             });
-            for buf in &bufs[..ks.len()] {
-                write(buf)?;
+            for (xs, cs) in &bufs[..ks.len()] {
+                write(xs, cs)?;
             }
             if let Some(p) = &self.settings.progress {
                 p.report((start + ks.len()) as u64, batches as u64);
@@ -338,30 +353,7 @@ impl ChaosGame {
         points: usize,
         mut write: impl FnMut(&[f64], &[f32]) -> Result<(), E>,
     ) -> Result<(), E> {
-        let first = self.settings.chains.max(1) as u64;
-        let batches = points.div_ceil(BATCH);
-        let group = self.pool.current_num_threads().max(1) * 2;
-        let mut bufs: Vec<(Vec<f64>, Vec<f32>)> = vec![(Vec::new(), Vec::new()); group];
-        for start in (0..batches).step_by(group) {
-            let ks: Vec<usize> = (start..batches.min(start + group)).collect();
-            self.pool.install(|| {
-                bufs.par_iter_mut().zip(ks.par_iter()).for_each(|((xs, cs), &k)| {
-                    xs.clear();
-                    cs.clear();
-                    self.chain::<true>(first + k as u64, BATCH.min(points - k * BATCH), &mut |x, c| {
-                        xs.extend_from_slice(x);
-                        cs.extend_from_slice(c);
-                    });
-                })
-            });
-            for (xs, cs) in &bufs[..ks.len()] {
-                write(xs, cs)?;
-            }
-            if let Some(p) = &self.settings.progress {
-                p.report((start + ks.len()) as u64, batches as u64);
-            }
-        }
-        Ok(())
+        self.stream_chains::<true, E>(points, &mut write)
     }
 }
 

@@ -125,7 +125,9 @@ pub fn render_mesh(mesh: &PolyMesh, job: &MeshJob, options: &Options, out: &Path
         };
         options.check_cancel()?;
         let mut text = options.png_text(&job.name);
-        text[2].1 = format!("{} depth {}{}", job.scheme.name(), job.depth, if job.net { ", net" } else { "" });
+        if let Some((_, comment)) = text.iter_mut().find(|(key, _)| key == "Comment") {
+            *comment = format!("{} depth {}{}", job.scheme.name(), job.depth, if job.net { ", net" } else { "" });
+        }
         let written = write_shape_text(&shape, &job.name, &options.raster.with_y_up(true), out, &text)?;
         return Ok(Report { warnings: report.warnings, depth: report.depth, ..written });
     }
