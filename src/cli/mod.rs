@@ -53,7 +53,7 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
-    /// Evaluate an automaton with its model and write OBJ, SVG or PNG.
+    /// Evaluate an automaton with its model and write OBJ, OFF, PLY, STL, glTF, SVG or PNG.
     Render(RenderArgs),
     /// Subdivide a polygon mesh (OBJ or OFF) by Doo-Sabin, Catmull-Clark, Loop or √3: its limit surface or its net.
     Surface(surface::SurfaceArgs),
@@ -148,6 +148,11 @@ fn parse_view(view: &str) -> Result<(f64, f64)> {
         bail!("--view {yaw},{pitch}: the angles must be finite numbers of degrees");
     }
     Ok((yaw, pitch))
+}
+
+/// The extensions of every format a render writes.
+fn render_formats() -> Vec<&'static str> {
+    bcifs::render::Format::ALL.iter().map(|f| f.extension()).collect()
 }
 
 /// Checks, before any work, that an output path can be written (not a

@@ -109,7 +109,7 @@ pub struct RenderArgs {
 
 /// `bcifs render`: evaluates a design with its model and writes the file.
 pub fn run(args: RenderArgs) -> anyhow::Result<u8> {
-    super::check_output(&args.output, &["obj", "off", "ply", "stl", "svg", "png"])?;
+    super::check_output(&args.output, &super::render_formats())?;
     let design = load(&args.file)?;
     let started = std::time::Instant::now();
     if args.control {

@@ -6,6 +6,7 @@ mod atomic;
 mod axes;
 mod density;
 mod draw;
+mod gltf;
 mod number;
 mod obj;
 mod off;
@@ -20,6 +21,7 @@ pub use atomic::{AtomicFile, check_target, remove_temporary_files, write_atomic}
 pub use axes::{Coordinates, Up};
 pub use density::{Density, Palette, Tone, density, density_bytes, density_image};
 pub use draw::{SEGMENTS_PER_PIXEL, curve_picture_depth, picture, picture_bytes, picture_depth};
+pub use gltf::GltfWriter;
 pub use obj::{ObjWriter, write_evaluation, write_obj};
 pub use off::OffWriter;
 pub use picture::{PictureError, PictureKind, PictureWriter, write_picture};

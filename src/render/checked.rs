@@ -5,7 +5,7 @@ use std::path::Path;
 
 use super::options::{Format, Options, RenderError};
 use crate::export::{
-    Coordinates, ObjWriter, OffWriter, PictureKind, PictureWriter, PlyWriter, RasterSettings, StlWriter,
+    Coordinates, GltfWriter, ObjWriter, OffWriter, PictureKind, PictureWriter, PlyWriter, RasterSettings, StlWriter,
 };
 use crate::geometry::Sink;
 use crate::progress::Cancel;
@@ -16,6 +16,7 @@ pub(crate) enum FileWriter {
     Off(OffWriter),
     Ply(PlyWriter),
     Stl(StlWriter),
+    Glb(GltfWriter),
     Picture(PictureWriter),
 }
 
@@ -45,6 +46,7 @@ impl FileWriter {
                 FileWriter::Ply(PlyWriter::create(out, settings.ascii).map_err(io)?.with_coordinates(coordinates))
             }
             Format::Stl => FileWriter::Stl(StlWriter::create(out).map_err(io)?.with_coordinates(coordinates)),
+            Format::Glb => FileWriter::Glb(GltfWriter::create(out).map_err(io)?.with_coordinates(coordinates)),
             Format::Svg => FileWriter::Picture(PictureWriter::create(out, PictureKind::Svg, raster).map_err(io)?),
             Format::Png => FileWriter::Picture(PictureWriter::create(out, PictureKind::Png, raster).map_err(io)?),
         })
@@ -57,6 +59,7 @@ impl FileWriter {
             FileWriter::Off(w) => w,
             FileWriter::Ply(w) => w,
             FileWriter::Stl(w) => w,
+            FileWriter::Glb(w) => w,
             FileWriter::Picture(w) => w,
         };
         Checked { sink, cancel, vertices: 0, faces: 0 }
@@ -69,13 +72,20 @@ impl FileWriter {
             FileWriter::Obj(w) => w.finish().map_err(io)?,
             FileWriter::Off(w) => w.finish().map_err(io)?,
             FileWriter::Ply(w) => w.finish().map_err(io)?,
-            FileWriter::Stl(w) => w.finish().map_err(|e| match e.kind() {
-                std::io::ErrorKind::InvalidInput => RenderError::Unsupported(e.to_string()),
-                _ => io(e),
-            })?,
+            FileWriter::Stl(w) => w.finish().map_err(|e| unsupported(e, out))?,
+            FileWriter::Glb(w) => w.finish().map_err(|e| unsupported(e, out))?,
             FileWriter::Picture(w) => w.finish()?,
         }
         Ok(std::fs::metadata(out).map_or(0, |m| m.len()))
+    }
+}
+
+/// A format's refusal ([`std::io::ErrorKind::InvalidInput`]) as
+/// [`RenderError::Unsupported`], other errors as I/O errors of `out`.
+fn unsupported(e: io::Error, out: &Path) -> RenderError {
+    match e.kind() {
+        io::ErrorKind::InvalidInput => RenderError::Unsupported(e.to_string()),
+        _ => RenderError::Io(out.to_path_buf(), e),
     }
 }
 
@@ -139,5 +149,5 @@ impl Sink for Checked<'_> {
 /// flag stopped it, the I/O error otherwise.
 pub(crate) fn write_error(options: &Options, out: &Path) -> impl Fn(io::Error) -> RenderError {
     let (cancelled, out) = (options.cancel.clone(), out.to_path_buf());
-    move |e| if cancelled.is_cancelled() { RenderError::Cancelled } else { RenderError::Io(out.clone(), e) }
+    move |e| if cancelled.is_cancelled() { RenderError::Cancelled } else { unsupported(e, &out) }
 }

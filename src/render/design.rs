@@ -82,14 +82,12 @@ pub fn render(design: &Design, options: &Options, out: &Path) -> Result<Report, 
     }
     let options = &options;
     match format {
-        Format::Obj | Format::Off | Format::Ply | Format::Stl => {
-            stream_file(design, options, format, out, &mut report)?
-        }
+        f if f.is_geometry() => stream_file(design, options, format, out, &mut report)?,
         Format::Png if !options.dedup => match options.random_settings() {
             Some(random) => density_picture(design, options, &random, out, &mut report)?,
             None => deterministic_picture(design, options, out, &mut report)?,
         },
-        Format::Svg | Format::Png => {
+        _ => {
             let mut shape = evaluate_design(design, options, &mut report.warnings)?;
             let duplicates = dedup(&mut shape, options, &mut report.warnings);
             options.check_cancel()?;
@@ -121,13 +119,13 @@ fn warn_unused(options: &Options, format: Format, warnings: &mut Vec<String>) {
         warnings.push(format!(
             "--blur, --vibrancy and --background shape density pictures (.png); the .{ext} file ignores them"
         ));
-    } else if colours && !matches!(format, Format::Png | Format::Obj | Format::Ply) {
-        warnings.push(format!("--palette and --color colour density pictures (.png) and the points of .obj and .ply files; the .{ext} file ignores them"));
+    } else if colours && format != Format::Png && !format.has_colours() {
+        warnings.push(format!("--palette and --color colour density pictures (.png) and the points of .obj, .ply and .glb files; the .{ext} file ignores them"));
     }
-    if options.eval.uv && format != Format::Obj {
-        warnings.push(format!("--uv writes texture coordinates into OBJ files; the .{ext} output ignores it"));
+    if options.eval.uv && !format.has_uvs() {
+        warnings.push(format!("--uv writes texture coordinates into OBJ and glTF files; the .{ext} output ignores it"));
     }
-    if options.coordinates.precision.is_some() && !matches!(format, Format::Obj | Format::Off | Format::Ply) {
+    if options.coordinates.precision.is_some() && !format.has_digits() {
         warnings.push(format!("--precision sets the digits of file coordinates; the .{ext} output ignores it"));
     }
 }
@@ -169,7 +167,7 @@ fn stream_file(
         sink.object(design.name()).map_err(&io)?;
         match &options.palette {
             // Each point coloured as the density pictures colour it, in the formats that hold colours.
-            Some(palette) if matches!(format, Format::Obj | Format::Ply) => game
+            Some(palette) if format.has_colours() => game
                 .stream_coloured(random.points, |xs, cs| {
                     sink.colours(&cs.iter().map(|c| palette.colour(*c)).collect::<Vec<_>>())?;
                     sink.vertices(game.dim(), xs, None)
@@ -203,7 +201,7 @@ fn stream_file(
         (report.vertices, report.faces) = match &mut writer {
             // Vertices, then elements: two streamed passes, no side file of elements.
             FileWriter::Obj(w) => crate::export::write_evaluation(&ev, w, Some(&options.cancel)).map_err(eval_error)?,
-            FileWriter::Off(_) | FileWriter::Ply(_) | FileWriter::Stl(_) | FileWriter::Picture(_) => {
+            _ => {
                 let mut sink = writer.checked(&options.cancel);
                 ev.stream(&mut sink).map_err(eval_error)?;
                 (sink.vertices, sink.faces)

@@ -17,6 +17,8 @@ pub enum Format {
     Ply,
     /// Binary STL, for 3D printing: surfaces only (curves and clouds refused).
     Stl,
+    /// glTF 2.0 binary: one mesh and node per object, Y-up (at most 4 GiB).
+    Glb,
     /// SVG, drawn from memory (2D shapes; surfaces as seen from the view).
     Svg,
     /// PNG picture.
@@ -25,7 +27,8 @@ pub enum Format {
 
 impl Format {
     /// Every format, in the order they are listed to users.
-    pub const ALL: [Format; 6] = [Format::Obj, Format::Off, Format::Ply, Format::Stl, Format::Svg, Format::Png];
+    pub const ALL: [Format; 7] =
+        [Format::Obj, Format::Off, Format::Ply, Format::Stl, Format::Glb, Format::Svg, Format::Png];
 
     /// The file extension (lower case, without the dot).
     pub fn extension(self) -> &'static str {
@@ -34,9 +37,30 @@ impl Format {
             Format::Off => "off",
             Format::Ply => "ply",
             Format::Stl => "stl",
+            Format::Glb => "glb",
             Format::Svg => "svg",
             Format::Png => "png",
         }
+    }
+
+    /// A file of geometry (vertices and elements), not a picture.
+    pub fn is_geometry(self) -> bool {
+        !matches!(self, Format::Svg | Format::Png)
+    }
+
+    /// The format holds vertex colours.
+    pub fn has_colours(self) -> bool {
+        matches!(self, Format::Obj | Format::Ply | Format::Glb)
+    }
+
+    /// The format holds texture coordinates.
+    pub fn has_uvs(self) -> bool {
+        matches!(self, Format::Obj | Format::Glb)
+    }
+
+    /// The format writes coordinates with chosen digits (text, or PLY's `float`/`double`).
+    pub fn has_digits(self) -> bool {
+        matches!(self, Format::Obj | Format::Off | Format::Ply)
     }
 
     /// The format of `path`, by its extension (any case).
@@ -207,7 +231,7 @@ pub enum RenderError {
     #[error(transparent)]
     Weights(#[from] crate::analysis::WeightsError),
     /// Output format not known.
-    #[error("unknown output format `.{0}`: expected .obj, .off, .ply, .stl, .svg or .png")]
+    #[error("unknown output format `.{0}`: expected .obj, .off, .ply, .stl, .glb, .svg or .png")]
     Format(String),
     /// A format that cannot hold this output.
     #[error("{0}")]

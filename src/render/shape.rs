@@ -49,7 +49,7 @@ pub(crate) fn write_shape_text(
     let kind = match format {
         Format::Svg => PictureKind::Svg,
         Format::Png => PictureKind::Png,
-        Format::Obj | Format::Off | Format::Ply | Format::Stl => {
+        _ => {
             if format == Format::Off && shape.polylines().next().is_some() {
                 return Err(RenderError::Unsupported(
                     "an OFF file holds faces and points, not curves: write curves as .obj or .svg".into(),

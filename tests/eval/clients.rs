@@ -25,6 +25,41 @@ pub(crate) fn python(module: &str, script: &str) -> Option<String> {
     Some(String::from_utf8_lossy(&out.stdout).trim().to_string())
 }
 
+/// Where `.ci/run` installs the npm clients (`npm install --prefix`), or `$BCIFS_NPM_CLIENTS`.
+fn npm_clients() -> std::path::PathBuf {
+    std::env::var_os("BCIFS_NPM_CLIENTS")
+        .map(std::path::PathBuf::from)
+        .unwrap_or_else(|| std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("target/clients"))
+}
+
+/// The Khronos glTF validator's verdict on each file: `(errors, warnings,
+/// messages)`; `None` (and a printed reason) when Node.js or the validator
+/// is missing.
+pub(crate) fn gltf_validator(files: &[&std::path::Path]) -> Option<Vec<(u64, u64, Vec<String>)>> {
+    let modules = npm_clients().join("node_modules");
+    if !modules.join("gltf-validator").is_dir() || Command::new("node").arg("--version").output().is_err() {
+        println!(
+            "skipped: the glTF validator is not installed (npm install --prefix {} gltf-validator)",
+            npm_clients().display()
+        );
+        return None;
+    }
+    let script = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/clients/validate_gltf.js");
+    let out = Command::new("node").env("NODE_PATH", &modules).arg(script).args(files).output().expect("node runs");
+    assert!(out.status.success(), "the glTF validator failed: {}", String::from_utf8_lossy(&out.stderr));
+    let lines = String::from_utf8_lossy(&out.stdout).lines().map(str::to_string).collect::<Vec<_>>();
+    Some(
+        lines
+            .iter()
+            .map(|l| {
+                let v: serde_json::Value = serde_json::from_str(l).expect("the validator's JSON");
+                let messages = v["messages"].as_array().unwrap().iter().map(|m| m.as_str().unwrap().to_string());
+                (v["errors"].as_u64().unwrap(), v["warnings"].as_u64().unwrap(), messages.collect())
+            })
+            .collect(),
+    )
+}
+
 fn streamed(name: &str, depth: usize, file: &str) -> std::path::PathBuf {
     let (a, model, _) = load(name, &[]);
     let path = std::env::temp_dir().join(format!("bcifs-client-{}-{file}", std::process::id()));

@@ -5,6 +5,7 @@ mod clients;
 mod curves;
 mod export;
 mod formats;
+mod gltf;
 #[path = "../common/hausdorff.rs"]
 mod hausdorff;
 mod surfaces;

@@ -1,0 +1,433 @@
+//! glTF 2.0 binary (`.glb`: what web viewers, Blender's preferred importer
+//! and game engines read): the one place glTF records are formatted.
+
+use std::io::{self, Write};
+use std::path::Path;
+
+use serde_json::{Value, json};
+
+use super::atomic::{AtomicFile, Spool};
+use super::axes::{Coordinates, Up};
+use crate::geometry::Sink;
+
+/// The largest `.glb` (its length is a `u32`).
+const GLB_LIMIT: u64 = u32::MAX as u64;
+/// glTF's component types and buffer-view targets.
+const FLOAT: u32 = 5126;
+const UNSIGNED_BYTE: u32 = 5121;
+const UNSIGNED_INT: u32 = 5125;
+const ARRAY_BUFFER: u32 = 34962;
+const ELEMENT_ARRAY_BUFFER: u32 = 34963;
+/// Primitive modes.
+const POINTS: u32 = 0;
+const LINES: u32 = 1;
+const TRIANGLES: u32 = 4;
+/// No texture coordinate at this corner.
+const NO_UV: u32 = u32::MAX;
+
+/// A [`Sink`] that writes a glTF 2.0 binary file: one mesh and one node per
+/// object (an object with no vertex gives none), its faces triangulated
+/// (quads and larger faces as fans) in a `TRIANGLES` primitive, its
+/// polylines as `LINES`, and a cloud (vertices with no element) as
+/// `POINTS`. Vertices carry `POSITION` (with the `min`/`max` the
+/// specification requires), and `NORMAL` (normalised), `COLOR_0` (RGBA
+/// bytes) and `TEXCOORD_0` when given. Texture coordinates are face-varying
+/// in bcifs (a corner has a vertex and a texture vertex, as in OBJ) and
+/// per-vertex in glTF: a vertex whose corners have different texture
+/// vertices (a seam) is written once per texture vertex, and `v` is turned
+/// to glTF's top-left origin (`1 − v`). Coordinates are `float`, Y-up as
+/// glTF requires whatever [`Coordinates::up`] says.
+///
+/// The current object is held in memory (about 40 bytes a vertex); finished
+/// objects go to a side file, and the file is assembled at
+/// [`GltfWriter::finish`]. A `.glb` holds at most 4 GiB: larger output is
+/// refused, nothing written.
+///
+/// ```
+/// use bcifs::geometry::Sink;
+/// let dir = std::env::temp_dir().join(format!("bcifs-glb-doc-{}", std::process::id()));
+/// std::fs::create_dir_all(&dir)?;
+/// let path = dir.join("square.glb");
+/// let mut glb = bcifs::export::GltfWriter::create(&path)?;
+/// glb.object("square")?;
+/// glb.vertices(2, &[0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0, 1.0], None)?;
+/// glb.polygons(&[0, 4], &[0, 1, 2, 3])?;
+/// glb.finish()?;
+/// let bytes = std::fs::read(&path)?;
+/// assert_eq!(&bytes[..4], b"glTF");
+/// assert_eq!(u32::from_le_bytes(bytes[8..12].try_into().unwrap()) as usize, bytes.len());
+/// # std::fs::remove_dir_all(&dir)?;
+/// # Ok::<(), std::io::Error>(())
+/// ```
+pub struct GltfWriter {
+    coordinates: Coordinates,
+    main: Option<AtomicFile>,
+    bin: Option<Spool>,
+    /// Bytes in the binary chunk so far.
+    bin_len: u64,
+    buffer_views: Vec<Value>,
+    accessors: Vec<Value>,
+    meshes: Vec<Value>,
+    nodes: Vec<Value>,
+    /// The object being written.
+    current: Part,
+    /// Vertices of the objects before the current one.
+    base: usize,
+    /// Texture vertices of the objects before the current one.
+    uv_base: usize,
+    colours: Vec<[u8; 3]>,
+}
+
+/// One object, in memory until the next begins.
+#[derive(Default)]
+struct Part {
+    name: String,
+    positions: Vec<[f32; 3]>,
+    normals: Vec<[f32; 3]>,
+    colours: Vec<[u8; 4]>,
+    /// Texture vertices, `v` already turned.
+    uvs: Vec<[f32; 2]>,
+    /// Triangle corners: vertex and texture vertex (or [`NO_UV`]).
+    corners: Vec<[u32; 2]>,
+    lines: Vec<u32>,
+}
+
+fn invalid(what: String) -> io::Error {
+    io::Error::new(io::ErrorKind::InvalidInput, what)
+}
+
+impl GltfWriter {
+    /// Starts writing `path`.
+    ///
+    /// # Errors
+    /// The temporary files cannot be created.
+    pub fn create(path: &Path) -> io::Result<GltfWriter> {
+        Ok(GltfWriter {
+            coordinates: Coordinates::default(),
+            main: Some(AtomicFile::create(path)?),
+            bin: Some(Spool::create(path, "elements")?),
+            bin_len: 0,
+            buffer_views: Vec::new(),
+            accessors: Vec::new(),
+            meshes: Vec::new(),
+            nodes: Vec::new(),
+            current: Part::default(),
+            base: 0,
+            uv_base: 0,
+            colours: Vec::new(),
+        })
+    }
+
+    /// The same writer, with the input axes of `coordinates` (the file is
+    /// Y-up whatever `coordinates.up` says; glTF has no digits: `float`).
+    pub fn with_coordinates(mut self, coordinates: Coordinates) -> GltfWriter {
+        self.coordinates = Coordinates { up: Up::Y, ..coordinates };
+        self
+    }
+
+    /// Completes the file: the JSON chunk, then the binary chunk, renamed
+    /// onto the target.
+    ///
+    /// # Errors
+    /// The output exceeds 4 GiB, or an I/O error; the target is then left as it was.
+    pub fn finish(mut self) -> io::Result<()> {
+        self.end_object()?;
+        let mut root = json!({
+            "asset": { "version": "2.0", "generator": format!("bcifs {}", env!("CARGO_PKG_VERSION")) },
+            "scene": 0,
+            "scenes": [{ "nodes": (0..self.nodes.len()).collect::<Vec<_>>() }],
+            "nodes": self.nodes,
+        });
+        if !self.meshes.is_empty() {
+            root["meshes"] = Value::Array(std::mem::take(&mut self.meshes));
+            root["accessors"] = Value::Array(std::mem::take(&mut self.accessors));
+            root["bufferViews"] = Value::Array(std::mem::take(&mut self.buffer_views));
+            root["buffers"] = json!([{ "byteLength": self.bin_len }]);
+        }
+        let mut text = serde_json::to_vec(&root).map_err(io::Error::other)?;
+        text.resize(text.len().next_multiple_of(4), b' ');
+        let bin_chunk = if self.bin_len > 0 { 8 + self.bin_len } else { 0 };
+        let total = 12 + 8 + text.len() as u64 + bin_chunk;
+        if total > GLB_LIMIT {
+            return Err(too_large(total));
+        }
+        let mut main = self.main.take().expect("finish once");
+        let w = main.writer();
+        w.write_all(b"glTF")?;
+        w.write_all(&2u32.to_le_bytes())?;
+        w.write_all(&(total as u32).to_le_bytes())?;
+        w.write_all(&(text.len() as u32).to_le_bytes())?;
+        w.write_all(b"JSON")?;
+        w.write_all(&text)?;
+        if self.bin_len > 0 {
+            w.write_all(&(self.bin_len as u32).to_le_bytes())?;
+            w.write_all(b"BIN\0")?;
+        }
+        self.bin.take().expect("finish once").append_to(&mut main)?;
+        main.commit()
+    }
+
+    /// Appends `bytes` (padded to 4) to the binary chunk as a buffer view; its index.
+    fn view(&mut self, bytes: &[u8], target: u32) -> io::Result<usize> {
+        let padded = bytes.len().next_multiple_of(4);
+        if self.bin_len + padded as u64 + 1024 > GLB_LIMIT {
+            return Err(too_large(self.bin_len + padded as u64));
+        }
+        let w = self.bin.as_mut().expect("not finished").writer();
+        w.write_all(bytes)?;
+        w.write_all(&[0; 3][..padded - bytes.len()])?;
+        self.buffer_views.push(json!({
+            "buffer": 0, "byteOffset": self.bin_len, "byteLength": bytes.len(), "target": target,
+        }));
+        self.bin_len += padded as u64;
+        Ok(self.buffer_views.len() - 1)
+    }
+
+    /// An accessor over a new buffer view of `bytes`; its index.
+    fn accessor(&mut self, bytes: &[u8], target: u32, mut description: Value) -> io::Result<usize> {
+        description["bufferView"] = self.view(bytes, target)?.into();
+        self.accessors.push(description);
+        Ok(self.accessors.len() - 1)
+    }
+
+    /// Writes the current object as a mesh and a node, and starts the next.
+    fn end_object(&mut self) -> io::Result<()> {
+        let part = std::mem::take(&mut self.current);
+        self.base += part.positions.len();
+        self.uv_base += part.uvs.len();
+        if part.positions.is_empty() {
+            return Ok(());
+        }
+        let part = part.split_seams();
+        let n = part.positions.len();
+        let mut attributes = serde_json::Map::new();
+        let (lo, hi) = part.positions.iter().fold(([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]), |(lo, hi), p| {
+            ([0, 1, 2].map(|a| lo[a].min(p[a])), [0, 1, 2].map(|a| hi[a].max(p[a])))
+        });
+        let position = self.accessor(
+            &floats(part.positions.iter().flatten().copied()),
+            ARRAY_BUFFER,
+            json!({ "componentType": FLOAT, "count": n, "type": "VEC3", "min": lo, "max": hi }),
+        )?;
+        attributes.insert("POSITION".into(), position.into());
+        if part.normals.len() == n {
+            let unit = part.normals.iter().flat_map(|v| unit(*v));
+            let normal = self.accessor(
+                &floats(unit),
+                ARRAY_BUFFER,
+                json!({ "componentType": FLOAT, "count": n, "type": "VEC3" }),
+            )?;
+            attributes.insert("NORMAL".into(), normal.into());
+        }
+        if part.uvs.len() == n {
+            let uv = self.accessor(
+                &floats(part.uvs.iter().flatten().copied()),
+                ARRAY_BUFFER,
+                json!({ "componentType": FLOAT, "count": n, "type": "VEC2" }),
+            )?;
+            attributes.insert("TEXCOORD_0".into(), uv.into());
+        }
+        if part.colours.len() == n {
+            let bytes: Vec<u8> = part.colours.iter().flatten().copied().collect();
+            let colour = self.accessor(
+                &bytes,
+                ARRAY_BUFFER,
+                json!({ "componentType": UNSIGNED_BYTE, "normalized": true, "count": n, "type": "VEC4" }),
+            )?;
+            attributes.insert("COLOR_0".into(), colour.into());
+        }
+        let mut primitives = Vec::new();
+        for (indices, mode) in [(part.corners.iter().map(|c| c[0]).collect::<Vec<_>>(), TRIANGLES), (part.lines, LINES)]
+        {
+            if indices.is_empty() {
+                continue;
+            }
+            let bytes: Vec<u8> = indices.iter().flat_map(|i| i.to_le_bytes()).collect();
+            let accessor = self.accessor(
+                &bytes,
+                ELEMENT_ARRAY_BUFFER,
+                json!({ "componentType": UNSIGNED_INT, "count": indices.len(), "type": "SCALAR" }),
+            )?;
+            primitives.push(json!({ "attributes": attributes, "indices": accessor, "mode": mode }));
+        }
+        if primitives.is_empty() {
+            primitives.push(json!({ "attributes": attributes, "mode": POINTS }));
+        }
+        let mut mesh = json!({ "primitives": primitives });
+        let mut node = json!({ "mesh": self.meshes.len() });
+        if !part.name.is_empty() {
+            mesh["name"] = part.name.clone().into();
+            node["name"] = part.name.into();
+        }
+        self.meshes.push(mesh);
+        self.nodes.push(node);
+        Ok(())
+    }
+
+    /// The current object's index of the global vertex `v`.
+    fn local(&self, v: usize) -> io::Result<u32> {
+        let n = self.current.positions.len();
+        match v.checked_sub(self.base) {
+            Some(i) if i < n => Ok(i as u32),
+            _ => Err(invalid(format!(
+                "a glTF element refers to vertex {v}, outside its object (vertices {} to {})",
+                self.base,
+                self.base + n
+            ))),
+        }
+    }
+
+    /// Faces as fans of triangles, with their texture vertices if any.
+    fn fans<'a>(&mut self, faces: impl Iterator<Item = (&'a [usize], Option<&'a [usize]>)>) -> io::Result<()> {
+        for (face, uv) in faces.filter(|(f, _)| f.len() >= 3) {
+            for k in 1..face.len() - 1 {
+                for c in [0, k, k + 1] {
+                    let v = self.local(face[c])?;
+                    let t = match uv {
+                        Some(uv) => {
+                            let t = uv[c].checked_sub(self.uv_base).filter(|&t| t < self.current.uvs.len());
+                            t.ok_or_else(|| {
+                                invalid(format!("a glTF face refers to texture vertex {}, not written", uv[c]))
+                            })? as u32
+                        }
+                        None => NO_UV,
+                    };
+                    self.current.corners.push([v, t]);
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Part {
+    /// The same object with one vertex per (vertex, texture vertex) pair
+    /// its triangles use, when it has texture coordinates (glTF's are per
+    /// vertex): seams split, texture coordinates per vertex.
+    fn split_seams(mut self) -> Part {
+        if self.uvs.is_empty() || self.corners.iter().all(|c| c[1] == NO_UV) {
+            self.uvs.clear();
+            return self;
+        }
+        let n = self.positions.len();
+        let mut seen = vec![false; n];
+        let mut pairs: std::collections::HashMap<[u32; 2], u32> = std::collections::HashMap::new();
+        let mut origin: Vec<u32> = (0..n as u32).collect();
+        let mut uv_of: Vec<u32> = vec![NO_UV; n];
+        for corner in &mut self.corners {
+            let [v, t] = *corner;
+            let new = if !seen[v as usize] {
+                seen[v as usize] = true;
+                uv_of[v as usize] = t;
+                v
+            } else if uv_of[v as usize] == t {
+                v
+            } else {
+                *pairs.entry([v, t]).or_insert_with(|| {
+                    origin.push(v);
+                    uv_of.push(t);
+                    (origin.len() - 1) as u32
+                })
+            };
+            corner[0] = new;
+        }
+        let pick = |values: &[[f32; 3]]| -> Vec<[f32; 3]> {
+            if values.len() == n { origin.iter().map(|&o| values[o as usize]).collect() } else { Vec::new() }
+        };
+        let positions = pick(&self.positions);
+        let normals = pick(&self.normals);
+        let colours = if self.colours.len() == n {
+            origin.iter().map(|&o| self.colours[o as usize]).collect()
+        } else {
+            Vec::new()
+        };
+        let uvs = uv_of.iter().map(|&t| if t == NO_UV { [0.0, 0.0] } else { self.uvs[t as usize] }).collect();
+        Part { positions, normals, colours, uvs, ..self }
+    }
+}
+
+/// The little-endian bytes of `values`.
+fn floats(values: impl Iterator<Item = f32>) -> Vec<u8> {
+    values.flat_map(f32::to_le_bytes).collect()
+}
+
+/// `v` normalised (glTF requires unit normals); a zero or non-finite normal
+/// (a vertex no face gives a direction) becomes the up axis.
+fn unit(v: [f32; 3]) -> [f32; 3] {
+    let len = v.iter().map(|x| x * x).sum::<f32>().sqrt();
+    if len > 0.0 && len.is_finite() { v.map(|x| x / len) } else { [0.0, 1.0, 0.0] }
+}
+
+fn too_large(bytes: u64) -> io::Error {
+    invalid(format!(
+        "a .glb file holds at most 4 GiB and this output needs {:.1} GiB: lower the depth, or write .ply",
+        bytes as f64 / f64::from(1u32 << 30)
+    ))
+}
+
+impl Sink for GltfWriter {
+    fn object(&mut self, name: &str) -> io::Result<()> {
+        self.end_object()?;
+        self.current.name = name.to_string();
+        Ok(())
+    }
+
+    fn vertices(&mut self, dim: usize, positions: &[f64], normals: Option<&[f64]>) -> io::Result<()> {
+        let dim = dim.max(1);
+        let count = positions.len() / dim;
+        let turn = self.coordinates.turn(dim);
+        let before = self.current.positions.len();
+        let part = &mut self.current;
+        part.positions.extend(positions.chunks_exact(dim).map(|p| {
+            turn.apply([p[0], p.get(1).copied().unwrap_or(0.0), p.get(2).copied().unwrap_or(0.0)]).map(|x| x as f32)
+        }));
+        // Normals and colours are kept only while every vertex of the object has them.
+        match normals {
+            Some(n) if part.normals.len() == before => part
+                .normals
+                .extend(n.chunks_exact(3).take(count).map(|n| turn.apply([n[0], n[1], n[2]]).map(|x| x as f32))),
+            _ => part.normals.clear(),
+        }
+        let colours = std::mem::take(&mut self.colours);
+        if colours.len() == count && part.colours.len() == before {
+            part.colours.extend(colours.iter().map(|c| [c[0], c[1], c[2], 255]));
+        } else {
+            part.colours.clear();
+        }
+        Ok(())
+    }
+
+    fn colours(&mut self, rgb: &[[u8; 3]]) -> io::Result<()> {
+        self.colours = rgb.to_vec();
+        Ok(())
+    }
+
+    fn uvs(&mut self, uvs: &[f64]) -> io::Result<()> {
+        self.current.uvs.extend(uvs.chunks_exact(2).map(|t| [t[0] as f32, 1.0 - t[1] as f32]));
+        Ok(())
+    }
+
+    fn polyline(&mut self, first: usize, count: usize, closed: bool) -> io::Result<()> {
+        let segments = if closed && count > 2 { count } else { count.saturating_sub(1) };
+        for k in 0..segments {
+            let (a, b) = (self.local(first + k)?, self.local(first + (k + 1) % count)?);
+            self.current.lines.extend([a, b]);
+        }
+        Ok(())
+    }
+
+    fn faces(&mut self, quads: &[[usize; 4]], uvs: Option<&[[usize; 4]]>) -> io::Result<()> {
+        match uvs {
+            Some(uvs) => self.fans(quads.iter().zip(uvs).map(|(q, t)| (q.as_slice(), Some(t.as_slice())))),
+            None => self.fans(quads.iter().map(|q| (q.as_slice(), None))),
+        }
+    }
+
+    fn triangles(&mut self, triangles: &[[usize; 3]]) -> io::Result<()> {
+        self.fans(triangles.iter().map(|t| (t.as_slice(), None)))
+    }
+
+    fn polygons(&mut self, starts: &[usize], corners: &[usize]) -> io::Result<()> {
+        self.fans(starts.windows(2).map(|w| (&corners[w[0]..w[1]], None)))
+    }
+}

@@ -1,0 +1,157 @@
+//! glTF 2.0 binary files (issue 25) in the clients that read them: the
+//! Khronos glTF validator (no error, no warning), trimesh and Blender 3.4's
+//! importer.
+
+use std::path::{Path, PathBuf};
+
+use bcifs::geometry::{Shape, Sink};
+use bcifs::mesh::{Scheme, read_mesh};
+use bcifs::render::{MeshJob, Options, Report, render, render_mesh, write_shape};
+
+use crate::clients::{blender, gltf_validator, python};
+
+fn scratch(file: &str) -> PathBuf {
+    std::env::temp_dir().join(format!("bcifs-glb-{}-{file}", std::process::id()))
+}
+
+fn design(name: &str, options: &Options, file: &str) -> (PathBuf, Report) {
+    let path = scratch(file);
+    let report = render(&bcifs::builtin_design(name).unwrap(), options, &path).unwrap();
+    (path, report)
+}
+
+/// Blender's glTF importer, headless: per object of each file, `name
+/// vertices faces edges dx dy dz smooth_faces colour_attributes uv_layers`.
+/// Debian's Blender 3.4 importer calls `numpy.bool`, which its NumPy (1.24)
+/// no longer has: the alias is put back before importing.
+fn blender_glb(files: &[&Path]) -> Option<Vec<String>> {
+    let list: Vec<String> = files.iter().map(|f| format!("r'{}'", f.display())).collect();
+    blender(&format!(
+        "import bpy, numpy\nnumpy.bool = bool\n\
+         for f in [{}]:\n    bpy.ops.wm.read_factory_settings(use_empty=True)\n    \
+         bpy.ops.import_scene.gltf(filepath=f)\n    \
+         for o in sorted(bpy.data.objects, key=lambda o: o.name):\n        m = o.data\n        \
+         print('BCIFS', o.name.replace(' ', '_'), len(m.vertices), len(m.polygons), len(m.edges), \
+               *[round(x, 3) for x in o.dimensions], sum(p.use_smooth for p in m.polygons), \
+               len(m.color_attributes), len(m.uv_layers))\n",
+        list.join(", ")
+    ))
+}
+
+/// The closed Doo-Sabin torus, a curve and a coloured cloud as `.glb`:
+/// valid for the Khronos validator; in trimesh a watertight outward mesh
+/// (quads as two triangles), a path and a coloured point cloud with every
+/// vertex; in Blender the same counts, smooth-shaded (the normals are
+/// there), the colours an attribute, and the torus standing as it was
+/// modelled (the model's z, its axis, is glTF's y and Blender's z again).
+#[test]
+fn surfaces_curves_and_clouds_load_whole_from_glb() {
+    let (torus, report) = design("doo_sabin_torus", &Options::default().with_depth(4), "torus.glb");
+    let (curve, curve_report) = design("corner_cutting", &Options::default().with_depth(5), "curve.glb");
+    let coloured = Options {
+        random: Some(bcifs::eval::RandomSettings::default().with_points(20_000)),
+        palette: Some(bcifs::export::Palette::parse("rainbow").unwrap()),
+        ..Options::default()
+    };
+    let (cloud, _) = design("gasket", &coloured, "cloud.glb");
+    let files = [torus.as_path(), curve.as_path(), cloud.as_path()];
+    if let Some(verdicts) = gltf_validator(&files) {
+        for (file, (errors, warnings, messages)) in files.iter().zip(verdicts) {
+            assert_eq!((errors, warnings), (0, 0), "{}: {messages:?}", file.display());
+        }
+    }
+    let [t, c, p] = files.map(|p| p.display().to_string());
+    if let Some(out) = python(
+        "trimesh",
+        &format!(
+            "import trimesh\n\
+             t = trimesh.load('{t}', force='mesh'); t.merge_vertices()\n\
+             print(len(t.faces), t.is_watertight, t.volume > 0, t.extents.argmin())\n\
+             c = trimesh.load('{c}', force='scene'); g = list(c.geometry.values())[0]\n\
+             print(type(g).__name__, len(g.vertices))\n\
+             p = trimesh.load('{p}', force='scene'); g = list(p.geometry.values())[0]\n\
+             print(type(g).__name__, len(g.vertices), len(g.colors), len(set(map(tuple, g.colors.tolist()))) > 50)"
+        ),
+    ) {
+        let lines: Vec<&str> = out.lines().collect();
+        // The torus axis (model z) is the file's y.
+        assert_eq!(lines[0], format!("{} True True 1", 2 * report.faces), "trimesh torus");
+        assert_eq!(lines[1], format!("Path3D {}", curve_report.vertices), "trimesh curve");
+        assert_eq!(lines[2], "PointCloud 20000 20000 True", "trimesh cloud");
+    }
+    if let Some(lines) = blender_glb(&files) {
+        let torus_line: Vec<&str> = lines[0].split(' ').collect();
+        assert_eq!(torus_line[1..4], [report.vertices, 2 * report.faces, 3 * report.faces].map(|n| n.to_string()));
+        let (dx, dz): (f64, f64) = (torus_line[4].parse().unwrap(), torus_line[6].parse().unwrap());
+        assert!(dz < dx / 2.0, "the torus stands on its axis in Blender: {}", lines[0]);
+        assert_eq!(torus_line[7], (2 * report.faces).to_string(), "smooth: every face has its vertex normals");
+        let curve_line: Vec<&str> = lines[1].split(' ').collect();
+        // A closed curve: as many segments as vertices.
+        assert_eq!(curve_line[1..4], [curve_report.vertices, 0, curve_report.vertices].map(|n| n.to_string()));
+        let cloud_line: Vec<&str> = lines[2].split(' ').collect();
+        assert_eq!((cloud_line[1], cloud_line[8]), ("20000", "1"), "Blender cloud: {}", lines[2]);
+    }
+    for p in [torus, curve, cloud] {
+        std::fs::remove_file(p).unwrap();
+    }
+}
+
+/// One node per object, named as the objects are: a shape of a surface
+/// (quads), a triangle, a polyline and a cloud gives four meshes in every
+/// client; faces of any degree (Suzanne's Doo-Sabin net) are fanned into
+/// triangles, every one of them there.
+#[test]
+fn objects_are_nodes_and_polygons_are_fanned() {
+    let mut shape = Shape::default();
+    shape.object("quads").unwrap();
+    shape.vertices(3, &[0., 0., 0., 1., 0., 0., 1., 1., 0., 0., 1., 0., 0., 0., 1., 1., 0., 1.], None).unwrap();
+    shape.faces(&[[0, 1, 2, 3], [0, 4, 5, 1]], None).unwrap();
+    shape.object("triangle").unwrap();
+    shape.vertices(3, &[2., 0., 0., 3., 0., 0., 2., 1., 0.], None).unwrap();
+    shape.triangles(&[[6, 7, 8]]).unwrap();
+    shape.object("polyline").unwrap();
+    shape.vertices(3, &[4., 0., 0., 5., 0., 0., 5., 1., 1.], None).unwrap();
+    shape.polyline(9, 3, false).unwrap();
+    shape.object("cloud").unwrap();
+    shape.vertices(3, &[6., 0., 0., 7., 0., 0.], None).unwrap();
+    let objects = scratch("objects.glb");
+    write_shape(&shape, "objects", &Default::default(), &objects).unwrap();
+
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    let net = scratch("suzanne.glb");
+    let job = MeshJob { net: true, ..MeshJob::new(Scheme::DooSabin, 1) };
+    let mesh = read_mesh(&data.join("suzanne.obj")).unwrap();
+    let report = render_mesh(&mesh, &job, &Options::default(), &net).unwrap();
+    let subdivided = mesh.subdivide(Scheme::DooSabin, 1).unwrap();
+    let triangles: usize = subdivided.written_faces().map(|f| f.len() - 2).sum();
+
+    if let Some(verdicts) = gltf_validator(&[&objects, &net]) {
+        for (errors, warnings, messages) in verdicts {
+            assert_eq!((errors, warnings), (0, 0), "{messages:?}");
+        }
+    }
+    let [o, n] = [&objects, &net].map(|p| p.display().to_string());
+    if let Some(out) = python(
+        "trimesh",
+        &format!(
+            "import trimesh\ns = trimesh.load('{o}', force='scene')\n\
+             print(' '.join(f'{{k}}:{{type(g).__name__}}:{{len(g.vertices)}}' for k, g in sorted(s.geometry.items())))\n\
+             m = trimesh.load('{n}', force='mesh')\nprint(len(m.vertices), len(m.faces))"
+        ),
+    ) {
+        let lines: Vec<&str> = out.lines().collect();
+        assert_eq!(lines[0], "cloud:PointCloud:2 polyline:Path3D:3 quads:Trimesh:6 triangle:Trimesh:3");
+        assert_eq!(lines[1], format!("{} {triangles}", report.vertices), "Suzanne's net, fanned");
+    }
+    if let Some(lines) = blender_glb(&[&objects, &net]) {
+        let names: Vec<&str> = lines[..4].iter().map(|l| l.split(' ').next().unwrap()).collect();
+        assert_eq!(names, ["cloud", "polyline", "quads", "triangle"]);
+        assert!(lines[2].starts_with("quads 6 4 "), "{}", lines[2]);
+        assert!(lines[1].starts_with("polyline 3 0 2 "), "{}", lines[1]);
+        let counts: Vec<usize> = lines[4].split(' ').skip(1).take(2).map(|x| x.parse().unwrap()).collect();
+        assert_eq!(counts, [report.vertices, triangles], "Blender: Suzanne's net");
+    }
+    for p in [objects, net] {
+        std::fs::remove_file(p).unwrap();
+    }
+}
