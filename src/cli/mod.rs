@@ -114,6 +114,9 @@ pub struct PictureArgs {
     /// In-memory limit in MiB (pictures, evaluation, meshes).
     #[arg(long, default_value_t = 4096)]
     pub memory_mib: usize,
+    /// PNG with a transparent background (RGBA): the shape over nothing, for compositing.
+    #[arg(long)]
+    pub transparent: bool,
 }
 
 impl PictureArgs {
@@ -125,7 +128,11 @@ impl PictureArgs {
     /// The picture settings these flags ask for.
     pub fn raster(&self) -> bcifs::export::RasterSettings {
         let ((w, h), (yaw, pitch)) = (self.size, self.view);
-        bcifs::export::RasterSettings::default().with_size(w, h).with_view(yaw, pitch).with_memory_limit(self.memory())
+        bcifs::export::RasterSettings::default()
+            .with_size(w, h)
+            .with_view(yaw, pitch)
+            .with_memory_limit(self.memory())
+            .with_transparent(self.transparent)
     }
 }
 

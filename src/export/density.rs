@@ -146,6 +146,24 @@ impl Default for Tone {
     }
 }
 
+impl Tone {
+    /// The paper of a density picture: the background, or white for one
+    /// ink and black for a palette.
+    pub fn paper(&self, palette: bool) -> [u8; 3] {
+        self.background.unwrap_or(if palette { [0; 3] } else { PAPER.map(|c| c as u8) })
+    }
+
+    /// How the background of a density picture becomes transparent: the
+    /// one ink unmixed from the paper, or a palette's inks.
+    pub fn matte(&self, palette: bool) -> super::Matte {
+        if palette {
+            super::Matte::Unmix(self.paper(true))
+        } else {
+            super::Matte::Ink { paper: self.paper(false), ink: INK.map(|c| c as u8) }
+        }
+    }
+}
+
 /// Samples of a chaos game counted per cell: `width · s × height · s` cells
 /// for a `width × height` picture with `s × s` cells per pixel, and with a
 /// palette the sums of their colours.
@@ -221,7 +239,7 @@ impl Density {
         let gamma = 1.0 / tone.gamma.max(1e-3);
         let vib = tone.vibrancy.clamp(0.0, 1.0);
         let level = |c: f64| ((1.0 + b * c).ln() / norm).clamp(0.0, 1.0).powf(gamma);
-        let paper = tone.background.map_or(if colour { [0.0; 3] } else { PAPER }, |c| c.map(f64::from));
+        let paper = tone.paper(colour).map(f64::from);
         let mut img = RgbImage::new(w as u32, h as u32);
         let empty = Rgb(paper.map(|c| c.round() as u8));
         for (i, px) in img.pixels_mut().enumerate() {

@@ -4,7 +4,7 @@ use std::io;
 use std::path::{Path, PathBuf};
 
 use super::atomic::{check_target, write_atomic};
-use super::png::{raster, write_png_text};
+use super::png::{Matte, raster, write_png_matte};
 use super::svg::{svg, svg_surface};
 use super::view::{RasterSettings, RasterTooLarge};
 use crate::geometry::{Shape, Sink};
@@ -109,7 +109,10 @@ pub fn write_picture(
         PictureKind::Svg if surface => write_atomic(path, svg_surface(shape, settings).as_bytes()).map_err(io),
         PictureKind::Svg if shape.dim > 2 => Err(PictureError::NotPlanar),
         PictureKind::Svg => write_atomic(path, svg(shape, settings.width).as_bytes()).map_err(io),
-        PictureKind::Png => write_png_text(path, &raster(shape, settings)?, text).map_err(io),
+        PictureKind::Png => {
+            let matte = settings.transparent.then(|| Matte::of_shape(shape));
+            write_png_matte(path, &raster(shape, settings)?, text, matte).map_err(io)
+        }
     }
 }
 

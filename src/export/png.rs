@@ -220,6 +220,74 @@ pub fn write_png(path: &Path, img: &RgbImage) -> io::Result<()> {
     write_atomic(path, bytes.get_ref())
 }
 
+/// How a picture's background becomes transparent (`--transparent`): the
+/// pictures are ink mixed over a paper colour, and the matte recovers how
+/// much ink each pixel holds.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Matte {
+    /// Opaque shapes (shaded surfaces) on a paper no face colour equals:
+    /// the paper's pixels transparent, the others opaque.
+    Key([u8; 3]),
+    /// One ink mixed over the paper (curves, clouds, one-colour density
+    /// pictures): the ink, as opaque as the mix says.
+    Ink {
+        /// The background.
+        paper: [u8; 3],
+        /// The ink.
+        ink: [u8; 3],
+    },
+    /// Inks of any colour over the paper (palette density pictures): the
+    /// least opaque colour that, over the paper, gives the pixel (GIMP's
+    /// "colour to alpha").
+    Unmix([u8; 3]),
+}
+
+impl Matte {
+    /// The matte of pictures of `shape` ([`Matte::Key`] for surfaces, the
+    /// default ink otherwise).
+    pub(crate) fn of_shape(shape: &Shape) -> Matte {
+        if shape.quads.is_empty() && shape.triangles.is_empty() { Matte::default_ink() } else { Matte::Key([255; 3]) }
+    }
+
+    /// The default ink on white paper.
+    pub fn default_ink() -> Matte {
+        Matte::Ink { paper: PAPER.map(|c| c as u8), ink: INK.map(|c| c as u8) }
+    }
+
+    /// The pixel `px` with its alpha.
+    pub fn apply(self, px: [u8; 3]) -> [u8; 4] {
+        let f = px.map(f64::from);
+        match self {
+            Matte::Key(paper) => {
+                let a = if px == paper { 0 } else { 255 };
+                [px[0], px[1], px[2], a]
+            }
+            Matte::Ink { paper, ink } => {
+                let (p, i) = (paper.map(f64::from), ink.map(f64::from));
+                let d = [0, 1, 2].map(|k| p[k] - i[k]);
+                let norm: f64 = d.iter().map(|x| x * x).sum();
+                let v = if norm > 0.0 { (0..3).map(|k| (p[k] - f[k]) * d[k]).sum::<f64>() / norm } else { 1.0 };
+                [ink[0], ink[1], ink[2], (v.clamp(0.0, 1.0) * 255.0).round() as u8]
+            }
+            Matte::Unmix(paper) => {
+                let p = paper.map(f64::from);
+                let alpha = (0..3)
+                    .map(|k| match f[k].total_cmp(&p[k]) {
+                        std::cmp::Ordering::Greater => (f[k] - p[k]) / (255.0 - p[k]),
+                        std::cmp::Ordering::Less => (p[k] - f[k]) / p[k],
+                        std::cmp::Ordering::Equal => 0.0,
+                    })
+                    .fold(0.0, f64::max);
+                if alpha <= 0.0 {
+                    return [0; 4];
+                }
+                let c = [0, 1, 2].map(|k| (p[k] + (f[k] - p[k]) / alpha).round().clamp(0.0, 255.0) as u8);
+                [c[0], c[1], c[2], (alpha * 255.0).round() as u8]
+            }
+        }
+    }
+}
+
 /// Writes an RGB picture as PNG with `tEXt` chunks (keyword, text), as
 /// flam3 records its genome: the settings that made the picture travel
 /// with it (`Software`, `Title`, `Description`, `Comment` are PNG's
@@ -232,17 +300,40 @@ pub fn write_png_text(path: &Path, img: &RgbImage, text: &[(String, String)]) ->
     if text.is_empty() {
         return write_png(path, img);
     }
+    encode(path, img.width(), img.height(), png::ColorType::Rgb, img.as_raw(), text)
+}
+
+/// [`write_png_text`], the background made transparent by `matte` when
+/// given (an RGBA picture), the RGB picture as it is otherwise.
+///
+/// # Errors
+/// As [`write_png_text`].
+pub fn write_png_matte(path: &Path, img: &RgbImage, text: &[(String, String)], matte: Option<Matte>) -> io::Result<()> {
+    let Some(matte) = matte else { return write_png_text(path, img, text) };
+    let rgba: Vec<u8> = img.pixels().flat_map(|px| matte.apply(px.0)).collect();
+    encode(path, img.width(), img.height(), png::ColorType::Rgba, &rgba, text)
+}
+
+/// Encodes 8-bit pixels of `colour` with text chunks into `path`, atomically.
+fn encode(
+    path: &Path,
+    width: u32,
+    height: u32,
+    colour: png::ColorType,
+    pixels: &[u8],
+    text: &[(String, String)],
+) -> io::Result<()> {
     let mut bytes = Vec::new();
     {
-        let mut encoder = png::Encoder::new(&mut bytes, img.width(), img.height());
-        encoder.set_color(png::ColorType::Rgb);
+        let mut encoder = png::Encoder::new(&mut bytes, width, height);
+        encoder.set_color(colour);
         encoder.set_depth(png::BitDepth::Eight);
         let latin1 = |t: &str| t.chars().map(|c| if (c as u32) < 256 { c } else { '?' }).collect::<String>();
         for (keyword, value) in text {
             encoder.add_text_chunk(latin1(keyword), latin1(value)).map_err(io::Error::other)?;
         }
         let mut writer = encoder.write_header().map_err(io::Error::other)?;
-        writer.write_image_data(img.as_raw()).map_err(io::Error::other)?;
+        writer.write_image_data(pixels).map_err(io::Error::other)?;
         writer.finish().map_err(io::Error::other)?;
     }
     write_atomic(path, &bytes)

@@ -43,6 +43,8 @@ pub struct RasterSettings {
     /// The most bytes drawing may allocate (picture, coverage and depth
     /// buffers, projected points); a larger picture is refused.
     pub memory_limit: usize,
+    /// PNG with an alpha channel: the background transparent (see [`super::Matte`]).
+    pub transparent: bool,
 }
 
 impl Default for RasterSettings {
@@ -52,6 +54,7 @@ impl Default for RasterSettings {
             height: 800,
             view: View::default(),
             memory_limit: crate::eval::DEFAULT_MEMORY_LIMIT,
+            transparent: false,
         }
     }
 }
@@ -99,6 +102,11 @@ impl RasterSettings {
     /// For shapes whose coordinates are Y-up (`true`) or Z-up (`false`, the default).
     pub fn with_y_up(mut self, y_up: bool) -> Self {
         self.view.y_up = y_up;
+        self
+    }
+    /// PNG pictures with a transparent background (RGBA).
+    pub fn with_transparent(mut self, transparent: bool) -> Self {
+        self.transparent = transparent;
         self
     }
     /// With a memory limit in bytes.

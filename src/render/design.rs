@@ -227,7 +227,9 @@ fn density_picture(
     let img = crate::export::density_image(&game, random.points, &options.raster, &options.tone, palette)?;
     // A cancelled fold stops early: its partial picture is not written.
     options.check_cancel()?;
-    crate::export::write_png_text(out, &img, &options.png_text(design.name())).map_err(write_error(options, out))?;
+    let matte = options.raster.transparent.then(|| options.tone.matte(palette.is_some()));
+    crate::export::write_png_matte(out, &img, &options.png_text(design.name()), matte)
+        .map_err(write_error(options, out))?;
     report.vertices = random.points;
     report.bytes = std::fs::metadata(out).map_or(0, |m| m.len());
     Ok(())
@@ -270,7 +272,8 @@ fn deterministic_picture(
     }
     options.check_cancel()?;
     if let Some((img, vertices)) = crate::export::picture(&ev, raster)? {
-        crate::export::write_png_text(out, &img, &options.png_text(design.name()))
+        let matte = raster.transparent.then(crate::export::Matte::default_ink);
+        crate::export::write_png_matte(out, &img, &options.png_text(design.name()), matte)
             .map_err(write_error(options, out))?;
         report.vertices = vertices;
         report.bytes = std::fs::metadata(out).map_or(0, |m| m.len());

@@ -239,3 +239,45 @@ fn coloured_clouds_carry_their_colours() {
         std::fs::remove_file(p).unwrap();
     }
 }
+
+/// `--transparent` pictures are RGBA whose background is transparent:
+/// composited over the paper of the opaque picture they give it back (to
+/// the rounding of 8-bit channels), and exactly the paper's pixels are
+/// fully transparent: a curve, a shaded surface, a one-ink and a palette
+/// density picture.
+#[test]
+fn transparent_pictures_composite_back_to_the_opaque_ones() {
+    let random = |palette: Option<&str>| Options {
+        random: Some(bcifs::eval::RandomSettings::default().with_points(50_000)),
+        palette: palette.map(|p| bcifs::export::Palette::parse(p).unwrap()),
+        ..Options::default().with_size(160, 160)
+    };
+    let cases = [
+        ("koch", Options::default().with_depth(6).with_size(160, 120), [255u8; 3]),
+        ("doo_sabin_torus", Options::default().with_depth(4).with_size(160, 120), [255; 3]),
+        ("fern", random(None), [255; 3]),
+        ("fern", random(Some("fire")), [0; 3]),
+    ];
+    for (k, (name, options, paper)) in cases.into_iter().enumerate() {
+        let (opaque, _) = design(name, &options, &format!("opaque{k}.png"));
+        let mut clear = options.clone();
+        clear.raster = clear.raster.with_transparent(true);
+        let (transparent, _) = design(name, &clear, &format!("clear{k}.png"));
+        let (o, t) = (image::open(&opaque).unwrap(), image::open(&transparent).unwrap());
+        assert_eq!(t.color(), image::ColorType::Rgba8, "{name}");
+        let (o, t) = (o.to_rgb8(), t.to_rgba8());
+        let mut worst = 0u8;
+        for (po, pt) in o.pixels().zip(t.pixels()) {
+            let a = f64::from(pt[3]) / 255.0;
+            for c in 0..3 {
+                let over = (f64::from(pt[c]) * a + f64::from(paper[c]) * (1.0 - a)).round() as u8;
+                worst = worst.max(over.abs_diff(po[c]));
+            }
+            assert_eq!(pt[3] == 0, po.0 == paper, "{name}: the paper, and only it, is clear");
+        }
+        // Alpha is rounded to 1/255: an ink's channel moves by at most its distance to the paper over 255, twice.
+        assert!(worst <= 2, "{name} ({k}): composited back within {worst} levels");
+        std::fs::remove_file(opaque).unwrap();
+        std::fs::remove_file(transparent).unwrap();
+    }
+}
