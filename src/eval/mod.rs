@@ -23,7 +23,7 @@ mod surface;
 pub use pieces::{ModelError, Piece, Pieces};
 pub use plan::PlanError;
 pub use prepared::Evaluator;
-pub use random::{BATCH, CHUNK, ChaosGame, chaos_game};
+pub use random::{BATCH, CHUNK, ChaosGame, PlainIfs, chaos_game};
 pub use sampling::{DEFAULT_BURN_IN, MAX_SAMPLES, RandomSettings, SINGULAR_FLOOR, check_samples, det_weights};
 pub use settings::{
     DEFAULT_DEPTH, DEFAULT_MEMORY_LIMIT, Depth, EvalError, EvalSettings, MAX_ADAPTIVE_DEPTH, MAX_DEPTH,

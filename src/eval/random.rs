@@ -27,6 +27,25 @@ struct Incoming {
     alias: Vec<Option<Alias>>,
     /// Per state, per incoming arrow: `s · c_arrow` (the colour step's constant term).
     colour: Vec<Vec<f64>>,
+    /// Per state, per incoming arrow: its name and its probability (normalised).
+    chosen: Vec<Vec<(String, f64)>>,
+}
+
+/// A chaos game that is a plain IFS of the plane: one state, its arrows
+/// affine maps of the modelling plane with their probabilities and colours
+/// (what a `.flame` file holds; see [`ChaosGame::plain_ifs`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlainIfs {
+    /// Per map: its arrow's name.
+    pub names: Vec<String>,
+    /// Per map: `[a, b, e, c, d, f]`, the map `(x, y) ↦ (a x + b y + e, c x + d y + f)`.
+    pub maps: Vec<[f64; 6]>,
+    /// Per map: its probability (they sum to 1).
+    pub probabilities: Vec<f64>,
+    /// Per map: its colour coordinate in `[0, 1]`.
+    pub colours: Vec<f64>,
+    /// How far each step moves the colour towards the map's ([`RandomSettings::colour_speed`]).
+    pub colour_speed: f64,
 }
 
 /// A chaos game prepared for an automaton and model: probabilities, alias
@@ -125,6 +144,7 @@ impl Incoming {
             if !keep {
                 self.arrows[s].clear();
                 self.colour[s].clear();
+                self.chosen[s].clear();
                 self.alias[s] = None;
             }
         }
@@ -148,8 +168,12 @@ impl ChaosGame {
             return Err(EvalError::TooLarge { estimate: bytes, limit: settings.memory_limit });
         }
         let size = plan.states.len();
-        let mut inc =
-            Incoming { arrows: vec![Vec::new(); size], alias: vec![None; size], colour: vec![Vec::new(); size] };
+        let mut inc = Incoming {
+            arrows: vec![Vec::new(); size],
+            alias: vec![None; size],
+            colour: vec![Vec::new(); size],
+            chosen: vec![Vec::new(); size],
+        };
         let mut mats: Vec<Vec<&nalgebra::DMatrix<f64>>> = vec![Vec::new(); size];
         let mut names: Vec<Vec<&str>> = vec![Vec::new(); size];
         let subdivision: Vec<_> = automaton.arrows().filter(|(_, a)| a.kind == ArrowKind::Subdivision).collect();
@@ -180,7 +204,10 @@ impl ChaosGame {
         for s in 0..size {
             if !mats[s].is_empty() {
                 let name = &plan.state(s).name;
-                inc.alias[s] = Some(Alias::new(&probabilities(&mats[s], &names[s], pieces.dim, settings, name)?));
+                let p = probabilities(&mats[s], &names[s], pieces.dim, settings, name)?;
+                let total: f64 = p.iter().sum();
+                inc.chosen[s] = names[s].iter().zip(&p).map(|(n, w)| (n.to_string(), w / total)).collect();
+                inc.alias[s] = Some(Alias::new(&p));
             }
         }
         let root = pieces.pieces[0].state;
@@ -202,6 +229,43 @@ impl ChaosGame {
             .build()
             .map_err(|e| std::io::Error::other(e.to_string()))?;
         Ok(ChaosGame { plan, pieces, inc, root, single, pool, settings: settings.clone() })
+    }
+
+    /// The walk as a plain IFS of the plane, what a `.flame` file holds:
+    /// the root's maps in modelling coordinates (`P̂ M P̂⁻¹`), their
+    /// probabilities and colours.
+    ///
+    /// # Errors
+    /// Why it is not one: a graph-directed automaton (more than one state
+    /// walked, or several pieces), a 3D model, or control points that do
+    /// not make the maps affine (more than three).
+    pub fn plain_ifs(&self) -> Result<PlainIfs, String> {
+        if !self.single || self.pieces.pieces.len() != 1 {
+            return Err(format!(
+                "a .flame file holds one IFS; this automaton is graph-directed (its root `{}` is made of other states' attractors)",
+                self.plan.state(self.root).name
+            ));
+        }
+        if self.pieces.dim != 2 {
+            return Err("a .flame file holds an IFS of the plane; this model is 3D".into());
+        }
+        let Some(maps) = self.affine_maps() else {
+            return Err(format!(
+                "a .flame file holds affine maps; the root `{}` has {} control points, not three in general position, so its maps are not affine in the plane",
+                self.plan.state(self.root).name,
+                self.plan.state(self.root).dim
+            ));
+        };
+        let speed = self.settings.colour_speed;
+        let colours = self.inc.colour[self.root].iter().map(|c| if speed > 0.0 { c / speed } else { 0.0 }).collect();
+        let chosen = &self.inc.chosen[self.root];
+        Ok(PlainIfs {
+            names: chosen.iter().map(|(n, _)| n.clone()).collect(),
+            maps: maps.iter().map(|m| [m[0], m[1], m[2], m[3], m[4], m[5]]).collect(),
+            probabilities: chosen.iter().map(|(_, p)| *p).collect(),
+            colours,
+            colour_speed: speed,
+        })
     }
 
     /// Coordinates per point.

@@ -408,6 +408,17 @@ pub fn density(
     Ok(Density { width: w, height: h, supersample: s, counts, colours, shift })
 }
 
+/// Where a density picture of `game` looks, for a picture of the plane:
+/// the modelling point at its centre and its pixels per modelling unit
+/// (what a `.flame` file's `center` and `scale` say), fitted on the first
+/// batch of points as [`density`] fits it.
+pub fn picture_frame(game: &ChaosGame, points: usize, settings: &RasterSettings) -> ([f64; 2], f64) {
+    let (w, h) = (settings.width.max(1) as usize, settings.height.max(1) as usize);
+    let (_, frame) = Frame::of_first_batch(game, points, settings, (w, h));
+    let centre = [(w as f64 / 2.0 - frame.ox) / frame.scale, (frame.oy - h as f64 / 2.0) / frame.scale];
+    (centre, frame.scale)
+}
+
 impl Frame {
     /// The frame of the picture: the first batch's extent, centred, 3%
     /// wider; and the first batch's projected points.

@@ -6,6 +6,7 @@ mod atomic;
 mod axes;
 mod density;
 mod draw;
+mod flame;
 mod gltf;
 mod number;
 mod obj;
@@ -19,8 +20,9 @@ mod view;
 
 pub use atomic::{AtomicFile, check_target, remove_temporary_files, write_atomic};
 pub use axes::{Coordinates, Up};
-pub use density::{Density, Palette, Tone, density, density_bytes, density_image};
+pub use density::{Density, Palette, Tone, density, density_bytes, density_image, picture_frame};
 pub use draw::{SEGMENTS_PER_PIXEL, curve_picture_depth, picture, picture_bytes, picture_depth};
+pub use flame::{FlameError, flame_text, write_flame};
 pub use gltf::GltfWriter;
 pub use obj::{ObjWriter, write_evaluation, write_obj};
 pub use off::OffWriter;

@@ -61,6 +61,38 @@ pub trait Sink {
     }
 }
 
+/// Area-weighted unit vertex normals of the polygons `faces` over
+/// `points`: each face adds its area vector (Newell's, exact for planar
+/// faces, the mean of the fan's for skew ones) to its corners, and each sum
+/// is normalised; a vertex no face of positive area touches gets zero.
+///
+/// ```
+/// let points = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]];
+/// let square: &[usize] = &[0, 1, 2, 3];
+/// let normals = bcifs::geometry::area_normals(&points, [square].into_iter());
+/// assert_eq!(normals, vec![[0.0, 0.0, 1.0]; 4]);
+/// ```
+pub fn area_normals<'a>(points: &[[f64; 3]], faces: impl Iterator<Item = &'a [usize]>) -> Vec<[f64; 3]> {
+    let mut sums = vec![[0.0f64; 3]; points.len()];
+    for face in faces.filter(|f| f.len() >= 3) {
+        let mut n = [0.0; 3];
+        for (k, &a) in face.iter().enumerate() {
+            let (p, q) = (points[a], points[face[(k + 1) % face.len()]]);
+            n[0] += (p[1] - q[1]) * (p[2] + q[2]);
+            n[1] += (p[2] - q[2]) * (p[0] + q[0]);
+            n[2] += (p[0] - q[0]) * (p[1] + q[1]);
+        }
+        for &a in face {
+            (0..3).for_each(|c| sums[a][c] += n[c]);
+        }
+    }
+    for n in &mut sums {
+        let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+        *n = if len > 0.0 && len.is_finite() { n.map(|x| x / len) } else { [0.0; 3] };
+    }
+    sums
+}
+
 /// A quad of an in-memory mesh: four vertex (or texture) indices, counter-clockwise.
 pub type Quad = [u32; 4];
 
@@ -176,6 +208,18 @@ impl Shape {
             o.vertices = new_index[o.vertices.start.min(n)]..new_index[o.vertices.end.min(n)];
         }
         Some(dropped)
+    }
+
+    /// Sets the normals of a 3D shape with faces to the area-weighted
+    /// normals of its quads and triangles ([`area_normals`]).
+    pub fn set_area_normals(&mut self) {
+        if self.dim != 3 || (self.quads.is_empty() && self.triangles.is_empty()) {
+            return;
+        }
+        let points = self.points();
+        let quads: Vec<[usize; 4]> = self.quads.iter().map(|q| q.map(|i| i as usize)).collect();
+        let faces = quads.iter().map(|q| q.as_slice()).chain(self.triangles.iter().map(|t| t.as_slice()));
+        self.normals = area_normals(&points, faces).into_iter().flatten().collect();
     }
 
     /// All polylines of all objects.

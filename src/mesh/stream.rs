@@ -85,6 +85,42 @@ impl PolyMesh {
     }
 }
 
+impl PolyMesh {
+    /// [`PolyMesh::subdivide_into`], with area-weighted vertex normals
+    /// ([`crate::geometry::area_normals`]): the whole output is made in
+    /// memory first (the normals need every face around a vertex), so
+    /// `job.memory_limit` bounds the output itself.
+    ///
+    /// # Errors
+    /// The output over `memory_limit` (with the estimate), a Doo-Sabin limit
+    /// of a mesh without interior vertex, or the sink's error.
+    pub fn subdivide_smooth_into(
+        &self,
+        job: &Subdivision,
+        limit: bool,
+        name: &str,
+        sink: &mut dyn Sink,
+    ) -> Result<Written, SubdivideError> {
+        let Subdivision { scheme, depth, weights, memory_limit } = *job;
+        let io = SubdivideError::Write;
+        if limit {
+            let mut shape = self.limit_with(scheme, depth, weights, memory_limit)?;
+            shape.set_area_normals();
+            if let Some(object) = shape.objects.first_mut() {
+                object.name = name.to_string();
+            }
+            shape.replay(sink).map_err(io)?;
+            return Ok(Written { vertices: shape.vertex_count(), faces: shape.quads.len() + shape.triangles.len() });
+        }
+        let net = self.subdivide_with(scheme, depth, weights, memory_limit)?;
+        let normals = crate::geometry::area_normals(&net.positions, net.faces());
+        sink.object(name).map_err(io)?;
+        sink.vertices(3, net.positions.as_flattened(), Some(normals.as_flattened())).map_err(io)?;
+        sink.polygons(&net.starts, &net.indices).map_err(io)?;
+        Ok(Written { vertices: net.positions.len(), faces: net.written_faces().count() })
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -10,6 +10,10 @@ use crate::export::{
 use crate::geometry::Sink;
 use crate::progress::Cancel;
 
+/// Why only designs go to `.flame`.
+pub(crate) const FLAME_HOLDS: &str =
+    "a .flame file holds an IFS of the plane (render a design with the chaos game), not a mesh or a shape";
+
 /// A file being written, in any format: OBJ and OFF streamed, pictures drawn at the end.
 pub(crate) enum FileWriter {
     Obj(ObjWriter),
@@ -49,6 +53,7 @@ impl FileWriter {
             Format::Glb => FileWriter::Glb(GltfWriter::create(out).map_err(io)?.with_coordinates(coordinates)),
             Format::Svg => FileWriter::Picture(PictureWriter::create(out, PictureKind::Svg, raster).map_err(io)?),
             Format::Png => FileWriter::Picture(PictureWriter::create(out, PictureKind::Png, raster).map_err(io)?),
+            Format::Flame => return Err(RenderError::Unsupported(FLAME_HOLDS.into())),
         })
     }
 

@@ -82,6 +82,7 @@ pub fn render(design: &Design, options: &Options, out: &Path) -> Result<Report, 
     }
     let options = &options;
     match format {
+        Format::Flame => flame_file(design, options, out, &mut report)?,
         f if f.is_geometry() => stream_file(design, options, format, out, &mut report)?,
         Format::Png if !options.dedup => match options.random_settings() {
             Some(random) => density_picture(design, options, &random, out, &mut report)?,
@@ -113,13 +114,14 @@ fn warn_unused(options: &Options, format: Format, warnings: &mut Vec<String>) {
     let ext = format.extension();
     let colours = options.palette.is_some() || options.random.as_ref().is_some_and(|r| !r.colours.is_empty());
     let tone = options.tone.blur > 0.0 || options.tone.vibrancy != 1.0 || options.tone.background.is_some();
-    if (colours || tone) && options.random.is_none() {
+    let picture = matches!(format, Format::Png | Format::Flame);
+    if (colours || tone) && options.random.is_none() && format != Format::Flame {
         warnings.push("--palette, --color, --blur, --vibrancy and --background shape chaos-game pictures (--random N); this render ignores them".into());
-    } else if tone && format != Format::Png {
+    } else if tone && !picture {
         warnings.push(format!(
             "--blur, --vibrancy and --background shape density pictures (.png); the .{ext} file ignores them"
         ));
-    } else if colours && format != Format::Png && !format.has_colours() {
+    } else if colours && !picture && !format.has_colours() {
         warnings.push(format!("--palette and --color colour density pictures (.png) and the points of .obj, .ply and .glb files; the .{ext} file ignores them"));
     }
     if options.eval.uv && !format.has_uvs() {
@@ -209,6 +211,24 @@ fn stream_file(
         };
     }
     report.bytes = writer.finish(out)?;
+    Ok(())
+}
+
+/// A `.flame` file of the chaos game (its settings, or the defaults), framed as its density picture.
+fn flame_file(design: &Design, options: &Options, out: &Path, report: &mut Report) -> Result<(), RenderError> {
+    let model = model_of(design)?;
+    let instance = instantiate(design, &options.params)?;
+    let mut random = options.random_settings().unwrap_or_default();
+    random.progress = None;
+    let game = streaming_game(&instance.automaton, &model, &random)?;
+    let palette = options.palette.as_ref();
+    crate::export::write_flame(out, design.name(), &game, &options.raster, &options.tone, palette, random.points)
+        .map_err(|e| match e {
+            crate::export::FlameError::NotPlain(why) => RenderError::Unsupported(format!("{}: {why}", design.name())),
+            crate::export::FlameError::Io(path, e) => RenderError::Io(path, e),
+        })?;
+    report.vertices = random.points;
+    report.bytes = std::fs::metadata(out).map_or(0, |m| m.len());
     Ok(())
 }
 

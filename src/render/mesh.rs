@@ -138,7 +138,22 @@ pub fn render_mesh(mesh: &PolyMesh, job: &MeshJob, options: &Options, out: &Path
     let settings = WriteSettings { coordinates, threads, raster: &options.raster, ascii: options.ascii };
     let mut writer = FileWriter::create(out, format, &settings)?;
     let mut sink = writer.checked(&options.cancel);
-    let written = mesh.subdivide_into(&subdivision, !job.net, &job.name, &mut sink).map_err(|e| match e {
+    // Vertex normals need every face around a vertex: the output in memory when it fits, streamed without them otherwise.
+    let in_memory = mesh.estimate(job.scheme, job.depth).1;
+    let smooth = format.has_normals() && in_memory <= memory as u128;
+    if format.has_normals() && !smooth {
+        report.notes.push(format!(
+            "written without vertex normals: the mesh would take {:.1} GiB in memory to compute them, over the limit of {:.1} GiB (--memory-mib); it is streamed",
+            in_memory as f64 / f64::from(1u32 << 30),
+            memory as f64 / f64::from(1u32 << 30)
+        ));
+    }
+    let written = if smooth {
+        mesh.subdivide_smooth_into(&subdivision, !job.net, &job.name, &mut sink)
+    } else {
+        mesh.subdivide_into(&subdivision, !job.net, &job.name, &mut sink)
+    };
+    let written = written.map_err(|e| match e {
         SubdivideError::Write(e) => write_error(options, out)(e),
         other => other.into(),
     })?;

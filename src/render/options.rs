@@ -23,12 +23,14 @@ pub enum Format {
     Svg,
     /// PNG picture.
     Png,
+    /// flam3's XML for a plain IFS of the plane (the chaos game, for flam3-render and flame editors).
+    Flame,
 }
 
 impl Format {
     /// Every format, in the order they are listed to users.
-    pub const ALL: [Format; 7] =
-        [Format::Obj, Format::Off, Format::Ply, Format::Stl, Format::Glb, Format::Svg, Format::Png];
+    pub const ALL: [Format; 8] =
+        [Format::Obj, Format::Off, Format::Ply, Format::Stl, Format::Glb, Format::Svg, Format::Png, Format::Flame];
 
     /// The file extension (lower case, without the dot).
     pub fn extension(self) -> &'static str {
@@ -40,16 +42,22 @@ impl Format {
             Format::Glb => "glb",
             Format::Svg => "svg",
             Format::Png => "png",
+            Format::Flame => "flame",
         }
     }
 
     /// A file of geometry (vertices and elements), not a picture.
     pub fn is_geometry(self) -> bool {
-        !matches!(self, Format::Svg | Format::Png)
+        !matches!(self, Format::Svg | Format::Png | Format::Flame)
     }
 
     /// The format holds vertex colours.
     pub fn has_colours(self) -> bool {
+        matches!(self, Format::Obj | Format::Ply | Format::Glb)
+    }
+
+    /// The format holds vertex normals.
+    pub fn has_normals(self) -> bool {
         matches!(self, Format::Obj | Format::Ply | Format::Glb)
     }
 
@@ -231,7 +239,7 @@ pub enum RenderError {
     #[error(transparent)]
     Weights(#[from] crate::analysis::WeightsError),
     /// Output format not known.
-    #[error("unknown output format `.{0}`: expected .obj, .off, .ply, .stl, .glb, .svg or .png")]
+    #[error("unknown output format `.{0}`: expected .obj, .off, .ply, .stl, .glb, .svg, .png or .flame")]
     Format(String),
     /// A format that cannot hold this output.
     #[error("{0}")]

@@ -49,6 +49,7 @@ pub(crate) fn write_shape_text(
     let kind = match format {
         Format::Svg => PictureKind::Svg,
         Format::Png => PictureKind::Png,
+        Format::Flame => return Err(RenderError::Unsupported(super::checked::FLAME_HOLDS.into())),
         _ => {
             if format == Format::Off && shape.polylines().next().is_some() {
                 return Err(RenderError::Unsupported(

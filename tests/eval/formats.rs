@@ -281,3 +281,94 @@ fn transparent_pictures_composite_back_to_the_opaque_ones() {
         std::fs::remove_file(transparent).unwrap();
     }
 }
+
+/// `surface` output carries area-weighted vertex normals in every format
+/// that has them (OBJ `vn`, PLY `nx ny nz`, glTF `NORMAL`): in trimesh each
+/// vertex has one, unit, pointing out of the closed Catmull-Clark cube and
+/// within a few degrees of the normal trimesh computes from the faces (its
+/// own weighting differs; the surface is smooth, so both are close).
+#[test]
+fn subdivided_surfaces_carry_vertex_normals() {
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    let cube = read_mesh(&data.join("cube.off")).unwrap();
+    let mut files = Vec::new();
+    let mut vertices = 0;
+    for (ext, net) in [("obj", false), ("ply", false), ("glb", true)] {
+        let path = scratch(&format!("normals.{ext}"));
+        let job = MeshJob { net, ..MeshJob::new(Scheme::CatmullClark, 3) };
+        vertices = render_mesh(&cube, &job, &Options::default(), &path).unwrap().vertices;
+        files.push(path);
+    }
+    let list: Vec<String> = files.iter().map(|p| format!("'{}'", p.display())).collect();
+    if let Some(out) = python(
+        "trimesh",
+        &format!(
+            "import trimesh, numpy as np\nfor f in [{}]:\n    \
+             m = trimesh.load(f, force='mesh', process=False)\n    n = np.asarray(m.vertex_normals)\n    \
+             own = trimesh.Trimesh(vertices=m.vertices, faces=m.faces, process=False).vertex_normals\n    \
+             out = ((m.vertices - m.vertices.mean(axis=0)) * n).sum(axis=1)\n    \
+             angle = np.degrees(np.arccos(np.clip((n * own).sum(axis=1), -1, 1))).max()\n    \
+             print(len(n), np.abs(np.linalg.norm(n, axis=1) - 1).max() < 1e-6, (out > 0).all(), angle < 5)",
+            list.join(", ")
+        ),
+    ) {
+        for (line, file) in out.lines().zip(&files) {
+            assert_eq!(line, format!("{vertices} True True True"), "{}", file.display());
+        }
+    }
+    for p in files {
+        std::fs::remove_file(p).unwrap();
+    }
+}
+
+/// `.flame` files (flam3's XML) of the plain IFS: flam3-render draws the
+/// picture bcifs draws, framed alike and standing alike (the inked pixels
+/// of the two pictures overlap to 90% at least: their tone mappings and
+/// filters differ, the shape and its frame do not), with one ink or the
+/// fire palette; a graph-directed automaton is refused with the reason.
+#[test]
+fn flame_files_render_the_same_picture_in_flam3() {
+    let probe = std::process::Command::new("flam3-render").stdin(std::process::Stdio::null()).output();
+    for (name, palette) in [("fern", None), ("gasket", Some("fire")), ("levy", None)] {
+        let options = Options {
+            random: Some(bcifs::eval::RandomSettings::default().with_points(1_000_000)),
+            palette: palette.map(|p| bcifs::export::Palette::parse(p).unwrap()),
+            ..Options::default().with_size(200, 160)
+        };
+        let (flame, _) = design(name, &options, &format!("{name}.flame"));
+        let (ours, _) = design(name, &options, &format!("{name}.png"));
+        let text = std::fs::read_to_string(&flame).unwrap();
+        assert!(text.contains("<flame ") && text.contains("linear=\"1\""), "{text}");
+        if probe.is_err() {
+            println!("skipped: flam3-render is not installed (apt-get install flam3-utils)");
+        } else {
+            let prefix = scratch(&format!("{name}-flam3-"));
+            let rendered = std::process::Command::new("flam3-render")
+                .env("prefix", &prefix)
+                .env("format", "png")
+                .stdin(std::fs::File::open(&flame).unwrap())
+                .output()
+                .unwrap();
+            assert!(rendered.status.success(), "{}", String::from_utf8_lossy(&rendered.stderr));
+            assert!(!String::from_utf8_lossy(&rendered.stderr).contains("Warning"), "flam3 takes every attribute");
+            let theirs = PathBuf::from(format!("{}00000.png", prefix.display()));
+            let inked = |path: &Path| -> Vec<bool> {
+                let img = image::open(path).unwrap().to_rgb8();
+                let paper = *img.get_pixel(0, 0);
+                img.pixels().map(|p| (0..3).any(|k| p[k].abs_diff(paper[k]) > 8)).collect()
+            };
+            let (a, b) = (inked(&theirs), inked(&ours));
+            assert_eq!(a.len(), b.len(), "{name}: same size");
+            let both = a.iter().zip(&b).filter(|(x, y)| **x && **y).count() as f64;
+            let either = a.iter().zip(&b).filter(|(x, y)| **x || **y).count() as f64;
+            assert!(both / either > 0.9, "{name}: flam3 and bcifs ink the same pixels ({:.3})", both / either);
+            std::fs::remove_file(theirs).unwrap();
+        }
+        std::fs::remove_file(flame).unwrap();
+        std::fs::remove_file(ours).unwrap();
+    }
+    let out = scratch("cc.flame");
+    let e = render(&bcifs::builtin_design("corner_cutting").unwrap(), &Options::default(), &out).unwrap_err();
+    assert!(e.to_string().contains("graph-directed"), "{e}");
+    assert!(!out.exists());
+}
