@@ -155,11 +155,11 @@ impl Tone {
 
     /// How the background of a density picture becomes transparent: the
     /// one ink unmixed from the paper, or a palette's inks.
-    pub fn matte(&self, palette: bool) -> super::Matte {
+    pub fn matte(&self, palette: bool) -> super::png::Matte {
         if palette {
-            super::Matte::Unmix(self.paper(true))
+            super::png::Matte::Unmix(self.paper(true))
         } else {
-            super::Matte::Ink { paper: self.paper(false), ink: INK.map(|c| c as u8) }
+            super::png::Matte::Ink { paper: self.paper(false), ink: INK.map(|c| c as u8) }
         }
     }
 }
