@@ -525,6 +525,25 @@ impl<'a> Compiler<'a> {
                 }
             }
         }
+        for (k, (state, faces)) in m.start_faces.iter().enumerate() {
+            let Some((_, set)) = m.start.iter().find(|(s, _)| s == state) else {
+                return Err(Self::model_error(
+                    Field::StartFaces(k),
+                    format!(
+                        "faces over the start set of `{state}`, which has none: give [model.start] {state} = [...]"
+                    ),
+                ));
+            };
+            if let Some(face) = faces.iter().find(|f| f.len() < 3 || f.iter().any(|&i| i >= set.len())) {
+                return Err(Self::model_error(
+                    Field::StartFaces(k),
+                    format!(
+                        "start faces of `{state}` need at least 3 indices below {} (its start points): {face:?}",
+                        set.len()
+                    ),
+                ));
+            }
+        }
         Ok(())
     }
 

@@ -107,6 +107,13 @@ pub struct Model {
     /// Start sets: barycentric points per state, emitted at leaves instead
     /// of the kind's default (any compact start set converges to the attractor).
     pub start: Vec<(String, Vec<Vec<f64>>)>,
+    /// Faces over a state's start set (indices into its points, at least 3
+    /// each): every cell of the state at the leaves is meshed by these faces
+    /// of its start points, and the images are welded; faces that two cells
+    /// both make are kept once. A patch triangulated by its maps (seed 001
+    /// §3.2): with the limit points of the cell's vertices as start set, the
+    /// mesh's vertices lie on the limit surface.
+    pub start_faces: Vec<(String, Vec<Vec<usize>>)>,
     /// Faces of the control net, as indices into `points` (at least 3 each),
     /// for drawing it (`bcifs render --control`); empty: the net follows
     /// from the layout (a polygon, or the grid's quads).
@@ -135,6 +142,7 @@ impl Model {
             step: None,
             grid: None,
             start: Vec::new(),
+            start_faces: Vec::new(),
             net: Vec::new(),
             patches: Vec::new(),
             y_up: false,
@@ -189,6 +197,12 @@ impl Model {
     /// The same model with a start set for `state` (barycentric points).
     pub fn with_start(mut self, state: impl Into<String>, points: Vec<Vec<f64>>) -> Model {
         self.start.push((state.into(), points));
+        self
+    }
+
+    /// The same model with faces over the start set of `state` (see [`Model::start_faces`]).
+    pub fn with_start_faces(mut self, state: impl Into<String>, faces: Vec<Vec<usize>>) -> Model {
+        self.start_faces.push((state.into(), faces));
         self
     }
 

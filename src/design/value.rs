@@ -113,6 +113,8 @@ pub enum Field {
     Grid,
     /// The model's `k`-th start set.
     Start(usize),
+    /// The model's `k`-th list of start faces.
+    StartFaces(usize),
     /// The model's control net.
     Net,
     /// The model's patches.

@@ -88,6 +88,8 @@ pub struct StatePlan {
     pub split: usize,
     /// Whether the state lies on a cycle of subdivision arrows (its cells are iterated).
     pub cyclic: bool,
+    /// Faces over `samples` ([`crate::Model::start_faces`]): a leaf cell is meshed by them.
+    pub faces: Vec<Vec<usize>>,
 }
 
 /// The evaluation plan of an automaton.
@@ -164,6 +166,7 @@ impl Plan {
                 quadrants: Vec::new(),
                 split: 0,
                 cyclic: automaton.outgoing(id, ArrowKind::Subdivision).into_iter().any(|e| automaton.on_cycle(e)),
+                faces: Vec::new(),
             };
             match s.kind {
                 CellKind::Vertex => plan.samples = vertex_point[id.index()].iter().cloned().collect(),

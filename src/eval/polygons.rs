@@ -25,7 +25,7 @@ impl Evaluator {
                 continue;
             }
             let sp = self.plan.state(s);
-            if sp.kind == CellKind::Face && sp.split == 0 && !self.uses_start_set(s) {
+            if (sp.kind == CellKind::Face && sp.split == 0 && !self.uses_start_set(s)) || !sp.faces.is_empty() {
                 return true;
             }
             stack.extend(sp.children.iter().map(|c| c.1));
@@ -57,10 +57,36 @@ impl Evaluator {
                 positions: Vec::new(),
             };
             let (mut quads, mut triangles) = (Vec::new(), Vec::new());
+            // Faces over start sets that two cells both make (overlapping copies of a patch) are kept once.
+            let mut made: std::collections::HashSet<Vec<usize>> = std::collections::HashSet::new();
             let mut stack: Vec<(usize, Vec<f64>, usize)> =
                 group.iter().rev().map(|p| (p.state, p.control.clone(), k)).collect();
             while let Some((s, c, r)) = stack.pop() {
                 let sp = self.plan.state(s);
+                if !sp.faces.is_empty() && r == 0 {
+                    let n = sp.dim;
+                    let index: Vec<usize> = sp
+                        .samples
+                        .iter()
+                        .map(|b| {
+                            let p: Vec<f64> = (0..d).map(|a| (0..n).map(|i| c[a * n + i] * b[i]).sum()).collect();
+                            first + weld.index(&p)
+                        })
+                        .collect();
+                    for face in &sp.faces {
+                        let corners: Vec<usize> = face.iter().map(|&i| index[i]).collect();
+                        let mut key = corners.clone();
+                        key.sort_unstable();
+                        if key.windows(2).any(|w| w[0] == w[1]) || !made.insert(key) {
+                            continue;
+                        }
+                        match corners.len() {
+                            4 => quads.push([corners[0], corners[1], corners[2], corners[3]]),
+                            n => triangles.extend((1..n - 1).map(|i| [corners[0], corners[i], corners[i + 1]])),
+                        }
+                    }
+                    continue;
+                }
                 if sp.kind == CellKind::Face && r == 0 {
                     let n = sp.dim;
                     let corners: Vec<usize> = sp
@@ -90,7 +116,15 @@ impl Evaluator {
                 }
             }
             sink.object(if self.pieces.shared { "surface" } else { &group[0].name })?;
-            sink.vertices(d, &weld.positions, None)?;
+            // Shaded smooth in every client: area-weighted normals of the welded faces.
+            let normals = (d == 3).then(|| {
+                let points: Vec<[f64; 3]> = weld.positions.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect();
+                let local = |v: &[usize]| v.iter().map(|i| i - first).collect::<Vec<_>>();
+                let faces: Vec<Vec<usize>> =
+                    quads.iter().map(|q| local(q)).chain(triangles.iter().map(|t| local(t))).collect();
+                crate::geometry::area_normals(&points, faces.iter().map(Vec::as_slice)).concat()
+            });
+            sink.vertices(d, &weld.positions, normals.as_deref())?;
             sink.faces(&quads, None)?;
             sink.triangles(&triangles)?;
             first += weld.positions.len() / d;
@@ -111,7 +145,7 @@ impl Evaluator {
             return n;
         }
         let sp = self.plan.state(s);
-        if sp.kind == CellKind::Face && r == 0 {
+        if (sp.kind == CellKind::Face || !sp.faces.is_empty()) && r == 0 {
             return 1;
         }
         let step = self.step_of(s);

@@ -159,6 +159,12 @@ impl Evaluator {
         start.extend(settings.start.iter().cloned());
         check_depth(settings.depth)?;
         let mut plan = Plan::new(automaton, &start)?;
+        // Faces over the model's start sets (not over a set the settings replace).
+        for (state, faces) in model.start_faces.iter().filter(|(s, _)| !settings.start.iter().any(|(t, _)| t == s)) {
+            if let Some(sp) = plan.states.iter_mut().flatten().find(|sp| sp.name == *state) {
+                sp.faces.clone_from(faces);
+            }
+        }
         let warnings = convergence_warnings(automaton, settings.force)?;
         for name in &settings.dropped {
             let found = plan.states.iter_mut().flatten().any(|s| {

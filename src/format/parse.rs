@@ -74,6 +74,8 @@ struct ModelSpec {
     patches: Option<Spanned<Vec<Vec<i64>>>>,
     #[serde(default)]
     start: IndexMap<String, Spanned<Vec<Vec<Spanned<EntrySpec>>>>>,
+    #[serde(default)]
+    start_faces: IndexMap<String, Spanned<Vec<Vec<i64>>>>,
 }
 
 /// `root = "e"` or `root = ["even", "odd"]` (piece `i` takes the `i mod len`-th).
@@ -278,6 +280,7 @@ struct ModelSpans {
     net: Option<Range<usize>>,
     patches: Option<Range<usize>>,
     starts: Vec<Range<usize>>,
+    start_faces: Vec<Range<usize>>,
 }
 
 impl Spans {
@@ -315,6 +318,7 @@ impl Spans {
                     Field::Step => m.step.clone().unwrap_or(m.whole.clone()),
                     Field::Grid => m.grid.clone().unwrap_or(m.whole.clone()),
                     Field::Start(k) => m.starts.get(k).cloned().unwrap_or(m.whole.clone()),
+                    Field::StartFaces(k) => m.start_faces.get(k).cloned().unwrap_or(m.whole.clone()),
                     Field::Net => m.net.clone().unwrap_or(m.whole.clone()),
                     Field::Patches => m.patches.clone().unwrap_or(m.whole.clone()),
                     _ => m.whole.clone(),
@@ -658,6 +662,16 @@ impl Reader<'_> {
             model.start.push((state.clone(), set));
             starts.push(pts.span());
         }
+        let mut start_faces = Vec::new();
+        for (state, faces) in &spec.start_faces {
+            let bad = || src.at(&faces.span(), "expected STATE = [[I, J, K, ...], ...]: faces of start point indices");
+            let mut list = Vec::new();
+            for face in faces.get_ref() {
+                list.push(face.iter().map(|&i| usize::try_from(i).map_err(|_| bad())).collect::<Result<_, _>>()?);
+            }
+            model.start_faces.push((state.clone(), list));
+            start_faces.push(faces.span());
+        }
         self.spans.model = ModelSpans {
             whole: m.span(),
             root: spec.root.span(),
@@ -667,6 +681,7 @@ impl Reader<'_> {
             net: spec.net.as_ref().map(Spanned::span),
             patches: spec.patches.as_ref().map(Spanned::span),
             starts,
+            start_faces,
         };
         Ok(model)
     }

@@ -85,6 +85,13 @@ pub fn write_design(design: &Design) -> String {
                 let _ = writeln!(w.out, "{} = [{}]", quote(state), rows.join(", "));
             }
         }
+        if !m.start_faces.is_empty() {
+            w.out.push_str("\n[model.start_faces]\n");
+            for (state, faces) in &m.start_faces {
+                let lists: Vec<String> = faces.iter().map(|f| format!("{f:?}")).collect();
+                let _ = writeln!(w.out, "{} = {}", quote(state), lines(&lists, 8));
+            }
+        }
     }
     w.finish()
 }

@@ -366,10 +366,28 @@ fn triangle_preset(request: &Request<'_>) -> Result<Design, CatalogError> {
          the net is the lattice's triangles.",
     );
     model.model.net = super::lattice::lattice_triangles(&ifs.control);
+    // The cell triangulated: its lattice triangles over the limit points of its vertices (a surface, not a cloud).
+    let (start, faces) = super::lattice::cell_mesh(&ifs.control, &cell_triangles(request.name))
+        .map_err(|e| CatalogError::Points(e.to_string()))?;
+    model.model.start.push(("e".into(), start));
+    model.model.start_faces.push(("e".into(), faces));
     request.check(&model, ifs.control.len())?;
     let lattice: Vec<String> = ifs.control.iter().map(|(i, j)| format!("({i},{j})")).collect();
     let comment = format!("{comment}\nLattice points in order: {}.\n{seed1}.", lattice.join(" "));
     request.curve(ifs.blocks, description, &comment, model)
+}
+
+/// The lattice triangles of the cell of a triangle preset, counter-clockwise:
+/// the hexagon's six around its centre, the parallelogram's two, the triangle.
+fn cell_triangles(name: &str) -> Vec<[super::lattice::Axial; 3]> {
+    use super::lattice::DIRECTIONS;
+    match name {
+        "box-spline" | "box-spline-gasket" => {
+            (0..6).map(|i| [(0, 0), DIRECTIONS[i], DIRECTIONS[(i + 1) % 6]]).collect()
+        }
+        "box-spline-quad" => vec![[(0, 0), (1, 0), (1, 1)], [(0, 0), (1, 1), (0, 1)]],
+        _ => vec![[(0, 0), (1, 0), (0, 1)]],
+    }
 }
 
 /// Which of the box-spline's six sub-hexagons (counter-clockwise from the

@@ -302,6 +302,55 @@ pub fn lattice_triangles(points: &[Axial]) -> Vec<Vec<usize>> {
     out
 }
 
+/// The limit point of a lattice vertex, as barycentric weights of the
+/// control points: `1/2` on the vertex and `1/12` on each of its six
+/// neighbours, for both schemes. It is the left eigenvector of eigenvalue 1
+/// of one step at a regular vertex: with `L = a v + b Σ n_i` (`a + 6b = 1`)
+/// unchanged by Loop's step (`v' = 5/8 v + 1/16 Σ n_i`, edge points
+/// `3/8 (v + n_i) + 1/8 (n_{i−1} + n_{i+1})`) or by √3's (`v' = 2/3 v +
+/// 1/18 Σ n_i`, new points at the centroids), `a = 6b`.
+///
+/// # Errors
+/// [`NotClosed`] (radius 0) when a neighbour is not a control point.
+pub fn limit_stencil(control: &[Axial], vertex: Axial) -> Result<Vec<f64>, NotClosed> {
+    let index = |p: Axial| control.iter().position(|&q| q == p).ok_or(NotClosed(0));
+    let mut weights = vec![0.0; control.len()];
+    weights[index(vertex)?] = 0.5;
+    for (di, dj) in DIRECTIONS {
+        weights[index((vertex.0 + di, vertex.1 + dj))?] += 1.0 / 12.0;
+    }
+    Ok(weights)
+}
+
+/// A start set (barycentric points) and faces over it.
+pub type StartMesh = (Vec<Vec<f64>>, Vec<Vec<usize>>);
+
+/// A cell meshed by its lattice `triangles`: the start set (the limit
+/// stencil of each vertex the triangles use, [`limit_stencil`]) and the
+/// triangles as indices into it.
+///
+/// # Errors
+/// [`NotClosed`] when a vertex's neighbours are not all control points.
+pub fn cell_mesh(control: &[Axial], triangles: &[[Axial; 3]]) -> Result<StartMesh, NotClosed> {
+    let mut vertices: Vec<Axial> = Vec::new();
+    let mut faces = Vec::new();
+    for t in triangles {
+        faces.push(
+            t.iter()
+                .map(|&v| match vertices.iter().position(|&w| w == v) {
+                    Some(i) => i,
+                    None => {
+                        vertices.push(v);
+                        vertices.len() - 1
+                    }
+                })
+                .collect(),
+        );
+    }
+    let start = vertices.iter().map(|&v| limit_stencil(control, v)).collect::<Result<_, _>>()?;
+    Ok((start, faces))
+}
+
 /// The six sub-hexagons of the box-spline's hexagonal patch (Fig. 7): the
 /// half-size copies centred at the six lattice neighbours of the centre.
 pub fn hexagon_parts() -> Vec<SubPatch> {
