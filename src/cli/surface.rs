@@ -44,12 +44,25 @@ pub struct SurfaceArgs {
     pub output: Option<PathBuf>,
     #[command(flatten)]
     pub picture: super::PictureArgs,
+    /// The input's texture coordinates: `keep` them, subdivided face-varying with linear seams
+    /// (Catmull-Clark and Loop, into OBJ and glTF), or `none`.
+    #[arg(long, value_enum, default_value_t = UvMode::Keep)]
+    pub uv: UvMode,
     /// PLY as text instead of binary little-endian.
     #[arg(long)]
     pub ascii: bool,
     /// Largest OBJ or OFF file to write, in GiB (the estimate is checked before writing; raise it on purpose).
     #[arg(long, default_value_t = 4.0)]
     pub max_output_gib: f64,
+}
+
+/// What happens to the input's texture coordinates.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum UvMode {
+    /// Subdivided with the surface.
+    Keep,
+    /// Dropped.
+    None,
 }
 
 /// `bcifs surface`.
@@ -61,8 +74,10 @@ pub fn run(out: &mut String, args: SurfaceArgs) -> anyhow::Result<u8> {
     if args.triangulate {
         mesh = mesh.triangulated();
     }
-    let name = args.mesh.file_stem().map_or("mesh".into(), |s| s.to_string_lossy().to_string());
-    let job = MeshJob { scheme, depth: args.depth, weights, net: args.net, name };
+    // The file's own name for its object (`o`, else `g`), else the file's.
+    let stem = || args.mesh.file_stem().map_or("mesh".into(), |s| s.to_string_lossy().to_string());
+    let name = mesh.name.clone().unwrap_or_else(stem);
+    let job = MeshJob { scheme, depth: args.depth, weights, net: args.net, name, uv: args.uv == UvMode::Keep };
     if args.print {
         return print_automaton(out, &args, &mesh, &job, started);
     }

@@ -35,7 +35,9 @@ const NO_UV: u32 = u32::MAX;
 /// in bcifs (a corner has a vertex and a texture vertex, as in OBJ) and
 /// per-vertex in glTF: a vertex whose corners have different texture
 /// vertices (a seam) is written once per texture vertex, and `v` is turned
-/// to glTF's top-left origin (`1 − v`). Coordinates are `float`, Y-up as
+/// to glTF's top-left origin (`1 − v`); textured surfaces get one plain
+/// material (clients read texture coordinates of a material's primitives
+/// only). Coordinates are `float`, Y-up as
 /// glTF requires whatever [`Coordinates::up`] says.
 ///
 /// The current object is held in memory (about 40 bytes a vertex); finished
@@ -69,6 +71,8 @@ pub struct GltfWriter {
     accessors: Vec<Value>,
     meshes: Vec<Value>,
     nodes: Vec<Value>,
+    /// A textured surface was written: the one material (which clients need to read texture coordinates) is used.
+    material: bool,
     /// The object being written.
     current: Part,
     /// Vertices of the objects before the current one.
@@ -111,6 +115,7 @@ impl GltfWriter {
             accessors: Vec::new(),
             meshes: Vec::new(),
             nodes: Vec::new(),
+            material: false,
             current: Part::default(),
             base: 0,
             uv_base: 0,
@@ -143,6 +148,13 @@ impl GltfWriter {
             root["accessors"] = Value::Array(std::mem::take(&mut self.accessors));
             root["bufferViews"] = Value::Array(std::mem::take(&mut self.buffer_views));
             root["buffers"] = json!([{ "byteLength": self.bin_len }]);
+        }
+        if self.material {
+            // Plain grey, for the texture a user puts on it.
+            root["materials"] = json!([{
+                "name": "bcifs",
+                "pbrMetallicRoughness": { "baseColorFactor": [0.8, 0.8, 0.8, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.8 },
+            }]);
         }
         let mut text = serde_json::to_vec(&root).map_err(io::Error::other)?;
         text.resize(text.len().next_multiple_of(4), b' ');
@@ -248,7 +260,12 @@ impl GltfWriter {
                 ELEMENT_ARRAY_BUFFER,
                 json!({ "componentType": UNSIGNED_INT, "count": indices.len(), "type": "SCALAR" }),
             )?;
-            primitives.push(json!({ "attributes": attributes, "indices": accessor, "mode": mode }));
+            let mut primitive = json!({ "attributes": attributes, "indices": accessor, "mode": mode });
+            if mode == TRIANGLES && attributes.contains_key("TEXCOORD_0") {
+                primitive["material"] = 0.into();
+                self.material = true;
+            }
+            primitives.push(primitive);
         }
         if primitives.is_empty() {
             primitives.push(json!({ "attributes": attributes, "mode": POINTS }));
@@ -429,5 +446,12 @@ impl Sink for GltfWriter {
 
     fn polygons(&mut self, starts: &[usize], corners: &[usize]) -> io::Result<()> {
         self.fans(starts.windows(2).map(|w| (&corners[w[0]..w[1]], None)))
+    }
+
+    fn textured_polygons(&mut self, starts: &[usize], corners: &[usize], uv_corners: &[usize]) -> io::Result<()> {
+        if uv_corners.len() != corners.len() {
+            return self.polygons(starts, corners);
+        }
+        self.fans(starts.windows(2).map(|w| (&corners[w[0]..w[1]], Some(&uv_corners[w[0]..w[1]]))))
     }
 }

@@ -261,14 +261,22 @@ fn format_vertices(
     }
 }
 
-/// One `f` record: the corners 1-based, each with its normal index when the vertices have normals.
+/// One `f` record: the corners 1-based, each with its texture index when
+/// given and its normal index when the vertices have normals.
 #[inline]
-fn push_face(line: &mut Vec<u8>, ints: &mut itoa::Buffer, corners: &[usize], normals: bool) {
+fn push_face(line: &mut Vec<u8>, ints: &mut itoa::Buffer, corners: &[usize], uvs: Option<&[usize]>, normals: bool) {
     line.push(b'f');
-    for &v in corners {
+    for (k, &v) in corners.iter().enumerate() {
         line.push(b' ');
         line.extend_from_slice(ints.format(v + 1).as_bytes());
-        if normals {
+        if let Some(t) = uvs {
+            line.push(b'/');
+            line.extend_from_slice(ints.format(t[k] + 1).as_bytes());
+            if normals {
+                line.push(b'/');
+                line.extend_from_slice(ints.format(v + 1).as_bytes());
+            }
+        } else if normals {
             line.extend_from_slice(b"//");
             line.extend_from_slice(ints.format(v + 1).as_bytes());
         }
@@ -277,9 +285,16 @@ fn push_face(line: &mut Vec<u8>, ints: &mut itoa::Buffer, corners: &[usize], nor
 }
 
 /// The OBJ text of faces of any degree (`corners[starts[k]..starts[k + 1]]`),
-/// with normal indices when the vertices have normals; faces of fewer than
-/// three corners are left out.
-fn format_polygons(line: &mut Vec<u8>, starts: &[usize], corners: &[usize], normals: bool) -> usize {
+/// with texture indices when given (`uvs`, parallel to `corners`) and normal
+/// indices when the vertices have normals; faces of fewer than three
+/// corners are left out.
+fn format_polygons(
+    line: &mut Vec<u8>,
+    starts: &[usize],
+    corners: &[usize],
+    uvs: Option<&[usize]>,
+    normals: bool,
+) -> usize {
     let mut ints = itoa::Buffer::new();
     let mut written = 0;
     for w in starts.windows(2) {
@@ -287,7 +302,7 @@ fn format_polygons(line: &mut Vec<u8>, starts: &[usize], corners: &[usize], norm
         if face.len() < 3 {
             continue;
         }
-        push_face(line, &mut ints, face, normals);
+        push_face(line, &mut ints, face, uvs.map(|t| &t[w[0]..w[1]]), normals);
         written += 1;
     }
     written
@@ -297,23 +312,7 @@ fn format_polygons(line: &mut Vec<u8>, starts: &[usize], corners: &[usize], norm
 fn format_quads(line: &mut Vec<u8>, quads: &[[usize; 4]], uvs: Option<&[[usize; 4]]>, normals: bool) {
     let mut ints = itoa::Buffer::new();
     for (k, q) in quads.iter().enumerate() {
-        line.push(b'f');
-        for c in 0..4 {
-            line.push(b' ');
-            line.extend_from_slice(ints.format(q[c] + 1).as_bytes());
-            if let Some(t) = uvs {
-                line.push(b'/');
-                line.extend_from_slice(ints.format(t[k][c] + 1).as_bytes());
-                if normals {
-                    line.push(b'/');
-                    line.extend_from_slice(ints.format(q[c] + 1).as_bytes());
-                }
-            } else if normals {
-                line.extend_from_slice(b"//");
-                line.extend_from_slice(ints.format(q[c] + 1).as_bytes());
-            }
-        }
-        line.push(b'\n');
+        push_face(line, &mut ints, q, uvs.map(|t| &t[k][..]), normals);
     }
 }
 
@@ -399,7 +398,19 @@ impl Sink for ObjWriter {
         let normals = self.normals;
         let faces = starts.len() - 1;
         let chunks = self.format_chunks(faces, |text, r| {
-            format_polygons(text, &starts[r.start..=r.end], corners, normals);
+            format_polygons(text, &starts[r.start..=r.end], corners, None, normals);
+        });
+        self.write_texts(chunks, true)
+    }
+
+    fn textured_polygons(&mut self, starts: &[usize], corners: &[usize], uv_corners: &[usize]) -> io::Result<()> {
+        if starts.len() < 2 || uv_corners.len() != corners.len() {
+            return self.polygons(starts, corners);
+        }
+        let normals = self.normals;
+        let faces = starts.len() - 1;
+        let chunks = self.format_chunks(faces, |text, r| {
+            format_polygons(text, &starts[r.start..=r.end], corners, Some(uv_corners), normals);
         });
         self.write_texts(chunks, true)
     }
@@ -458,7 +469,7 @@ impl Sink for ObjWriter {
         let normals = self.normals;
         let mut line = Vec::with_capacity(triangles.len() * 40);
         for t in triangles {
-            push_face(&mut line, &mut ints, t, normals);
+            push_face(&mut line, &mut ints, t, None, normals);
         }
         self.ints = ints;
         self.spool().write_all(&line)

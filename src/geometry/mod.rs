@@ -53,6 +53,15 @@ pub trait Sink {
         Ok(())
     }
 
+    /// Faces of any degree as [`Sink::polygons`], with a texture vertex
+    /// (given by [`Sink::uvs`], numbered from 0 across the output) for each
+    /// corner: `uv_corners[k]` belongs to `corners[k]`. Formats without
+    /// texture coordinates drop them (the default).
+    fn textured_polygons(&mut self, starts: &[usize], corners: &[usize], uv_corners: &[usize]) -> io::Result<()> {
+        let _ = uv_corners;
+        self.polygons(starts, corners)
+    }
+
     /// Colours (RGB) of the vertices of the next [`Sink::vertices`] call,
     /// one per vertex. Formats without colours ignore them (the default).
     fn colours(&mut self, rgb: &[[u8; 3]]) -> io::Result<()> {

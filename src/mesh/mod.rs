@@ -29,6 +29,7 @@ mod polymesh;
 mod read;
 mod stream;
 mod subdivide;
+mod texture;
 mod topology;
 mod triangles;
 mod write;

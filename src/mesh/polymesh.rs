@@ -13,6 +13,11 @@ pub struct PolyMesh {
     pub(crate) starts: Vec<usize>,
     /// The vertices of all faces, face after face.
     pub(crate) indices: Vec<usize>,
+    /// Texture coordinates, face-varying: a mesh of texture vertices
+    /// `(u, v, 0)` with the same faces, corner for corner (see [`PolyMesh::texture`]).
+    pub(crate) texture: Option<Box<PolyMesh>>,
+    /// The name the file gives the mesh (OBJ's first `o`, else its first `g`).
+    pub name: Option<String>,
 }
 
 /// A subdivision scheme on polygon meshes.
@@ -91,7 +96,7 @@ pub const DEFAULT_MESH_MEMORY: usize = 4 << 30;
 impl PolyMesh {
     /// A mesh from flat faces (not checked: for meshes made by subdivision).
     pub(crate) fn from_flat(positions: Vec<[f64; 3]>, starts: Vec<usize>, indices: Vec<usize>) -> PolyMesh {
-        PolyMesh { positions, starts, indices }
+        PolyMesh { positions, starts, indices, texture: None, name: None }
     }
 
     /// Number of faces.

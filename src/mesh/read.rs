@@ -1,6 +1,7 @@
-//! Reading polygon meshes: Wavefront OBJ (`v` and `f` records; texture and
-//! normal indices, negative indices, any face degree; other records are
-//! skipped) and OFF (with `#` comments, the counts on the header line or
+//! Reading polygon meshes: Wavefront OBJ (`v`, `vt` and `f` records;
+//! texture coordinates kept when every corner has one, normal indices
+//! skipped, negative indices, any face degree; the first `o` (else `g`)
+//! names the mesh; other records are skipped) and OFF (with `#` comments, the counts on the header line or
 //! the next, colours after the coordinates or indices ignored). Errors name
 //! `file:line:column` and what was expected; the mesh is then checked like
 //! [`PolyMesh::new`], naming the face's line.
@@ -64,6 +65,8 @@ pub fn read_obj(text: &str, file: &str) -> Result<PolyMesh, MeshReadError> {
     let mut positions: Vec<[f64; 3]> = Vec::new();
     let mut faces = Vec::new();
     let mut lines = Vec::new();
+    let (mut uvs, mut uv_corners, mut all_textured): (Vec<[f64; 2]>, Vec<usize>, bool) = (Vec::new(), Vec::new(), true);
+    let (mut object, mut group): (Option<String>, Option<String>) = (None, None);
     let mut continued = String::new();
     let mut start_line = 0;
     for (i, raw) in text.lines().enumerate() {
@@ -93,10 +96,38 @@ pub fn read_obj(text: &str, file: &str) -> Result<PolyMesh, MeshReadError> {
                 }
                 positions.push(p);
             }
+            "vt" => {
+                let mut t = [0.0; 2];
+                let mut last = keyword.len() + 1;
+                for x in &mut t {
+                    let (col, tok) = tokens
+                        .next()
+                        .ok_or_else(|| syntax(file, start_line, last + 1, "expected a texture coordinate"))?;
+                    *x = coordinate(tok, file, start_line, col)?;
+                    last = col + tok.len();
+                }
+                uvs.push(t);
+            }
+            "o" | "g" => {
+                let name = content.trim_start()[1..].trim();
+                let slot = if keyword == "o" { &mut object } else { &mut group };
+                if slot.is_none() && !name.is_empty() {
+                    *slot = Some(name.to_string());
+                }
+            }
             "f" => {
                 let mut face = Vec::new();
                 for (col, tok) in tokens {
-                    let index = tok.split('/').next().unwrap_or("");
+                    let mut parts = tok.split('/');
+                    let index = parts.next().unwrap_or("");
+                    // The texture index, resolved like the vertex index; any corner without one drops them all.
+                    match parts.next().filter(|t| !t.is_empty()).and_then(|t| t.parse::<i64>().ok()) {
+                        Some(k) if k > 0 && (k as usize) <= uvs.len() => uv_corners.push(k as usize - 1),
+                        Some(k) if k < 0 && k.unsigned_abs() as usize <= uvs.len() => {
+                            uv_corners.push(uvs.len() - k.unsigned_abs() as usize)
+                        }
+                        _ => all_textured = false,
+                    }
                     let k: i64 = index.parse().map_err(|_| {
                         syntax(file, start_line, col, format!("expected a vertex index, found `{tok}`"))
                     })?;
@@ -118,7 +149,12 @@ pub fn read_obj(text: &str, file: &str) -> Result<PolyMesh, MeshReadError> {
             _ => {}
         }
     }
-    finish(positions, faces, &lines, file)
+    let mut mesh = finish(positions, faces, &lines, file)?;
+    mesh.name = object.or(group);
+    if all_textured && !uvs.is_empty() {
+        mesh = mesh.with_texture(uvs, uv_corners)?;
+    }
+    Ok(mesh)
 }
 
 /// Whitespace-separated tokens with their 1-based columns.

@@ -87,8 +87,11 @@ impl PolyMesh {
 
 impl PolyMesh {
     /// [`PolyMesh::subdivide_into`], with area-weighted vertex normals
-    /// ([`crate::geometry::area_normals`]): the whole output is made in
-    /// memory first (the normals need every face around a vertex), so
+    /// ([`crate::geometry::area_normals`]) and, when `texture` is asked and
+    /// the mesh has texture coordinates, the texture mesh subdivided alike
+    /// ([`PolyMesh::texture_after`]: Catmull-Clark and Loop) as
+    /// [`Sink::textured_polygons`]. The whole output is made in memory
+    /// first (the normals need every face around a vertex), so
     /// `job.memory_limit` bounds the output itself.
     ///
     /// # Errors
@@ -98,26 +101,47 @@ impl PolyMesh {
         &self,
         job: &Subdivision,
         limit: bool,
+        texture: bool,
         name: &str,
         sink: &mut dyn Sink,
     ) -> Result<Written, SubdivideError> {
         let Subdivision { scheme, depth, weights, memory_limit } = *job;
         let io = SubdivideError::Write;
-        if limit {
-            let mut shape = self.limit_with(scheme, depth, weights, memory_limit)?;
-            shape.set_area_normals();
-            if let Some(object) = shape.objects.first_mut() {
-                object.name = name.to_string();
+        let (positions, starts, indices) = if limit {
+            // The limit's faces are the last net's, in order (Doo-Sabin's: the dual's quads).
+            let shape = self.limit_with(scheme, depth, weights, memory_limit)?;
+            let mut starts = vec![0];
+            let mut indices = Vec::with_capacity(4 * shape.quads.len() + 3 * shape.triangles.len());
+            for face in shape
+                .quads
+                .iter()
+                .map(|q| q.map(|v| v as usize).to_vec())
+                .chain(shape.triangles.iter().map(|t| t.to_vec()))
+            {
+                indices.extend(face);
+                starts.push(indices.len());
             }
-            shape.replay(sink).map_err(io)?;
-            return Ok(Written { vertices: shape.vertex_count(), faces: shape.quads.len() + shape.triangles.len() });
-        }
-        let net = self.subdivide_with(scheme, depth, weights, memory_limit)?;
-        let normals = crate::geometry::area_normals(&net.positions, net.faces());
+            (shape.points(), starts, indices)
+        } else {
+            let net = self.subdivide_with(scheme, depth, weights, memory_limit)?;
+            (net.positions, net.starts, net.indices)
+        };
+        let steps = if limit { depth.max(1) } else { depth };
+        let uv = if texture { self.texture_after(scheme, steps, weights) } else { None };
+        let uv = uv.filter(|t| t.indices.len() == indices.len());
+        let faces = || starts.windows(2).map(|w| &indices[w[0]..w[1]]);
+        let normals = crate::geometry::area_normals(&positions, faces());
         sink.object(name).map_err(io)?;
-        sink.vertices(3, net.positions.as_flattened(), Some(normals.as_flattened())).map_err(io)?;
-        sink.polygons(&net.starts, &net.indices).map_err(io)?;
-        Ok(Written { vertices: net.positions.len(), faces: net.written_faces().count() })
+        sink.vertices(3, positions.as_flattened(), Some(normals.as_flattened())).map_err(io)?;
+        match &uv {
+            Some(uv) => {
+                let flat: Vec<f64> = uv.positions.iter().flat_map(|t| [t[0], t[1]]).collect();
+                sink.uvs(&flat).map_err(io)?;
+                sink.textured_polygons(&starts, &indices, &uv.indices).map_err(io)?;
+            }
+            None => sink.polygons(&starts, &indices).map_err(io)?,
+        }
+        Ok(Written { vertices: positions.len(), faces: faces().filter(|f| f.len() >= 3).count() })
     }
 }
 

@@ -239,7 +239,7 @@ impl PolyMesh {
     }
 
     /// Step number `step` (from 0) of `scheme` in memory.
-    fn step(&self, scheme: Scheme, step: usize, t: &Topology, weights: Option<RuleWeights>) -> PolyMesh {
+    pub(super) fn step(&self, scheme: Scheme, step: usize, t: &Topology, weights: Option<RuleWeights>) -> PolyMesh {
         let mut out = Emit::memory(self.positions.len() + self.corner_count(), 4 * self.corner_count());
         // Writing into memory cannot fail.
         let _ = self.step_into(scheme, step, t, weights, &mut out);

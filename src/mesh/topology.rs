@@ -340,7 +340,7 @@ impl PolyMesh {
         for f in &faces {
             starts.push(starts[starts.len() - 1] + f.len());
         }
-        let mesh = PolyMesh { positions, starts, indices: faces.concat() };
+        let mesh = PolyMesh::from_flat(positions, starts, faces.concat());
         mesh.check(&|face| Place { file: None, line: None, face })?;
         Ok(mesh)
     }

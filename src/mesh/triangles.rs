@@ -312,6 +312,7 @@ impl PolyMesh {
         }
         let mut starts = vec![0];
         let mut indices = Vec::with_capacity(3 * self.corner_count());
+        let mut apexes = Vec::with_capacity(self.face_count());
         for f in self.faces() {
             let n = f.len();
             let diagonals = |r: usize| (2..n - 1).map(move |i| key(f[r], f[(r + i) % n]));
@@ -321,8 +322,20 @@ impl PolyMesh {
                 indices.extend([f[apex], f[(apex + i) % n], f[(apex + i + 1) % n]]);
                 starts.push(indices.len());
             }
+            apexes.push(apex);
         }
-        PolyMesh::from_flat(self.positions.clone(), starts, indices)
+        // The texture mesh split alike, corner for corner.
+        let texture = self.texture.as_deref().map(|uv| {
+            let mut corners = Vec::with_capacity(indices.len());
+            for (f, &apex) in uv.faces().zip(&apexes) {
+                let n = f.len();
+                for i in 1..n - 1 {
+                    corners.extend([f[apex], f[(apex + i) % n], f[(apex + i + 1) % n]]);
+                }
+            }
+            Box::new(PolyMesh::from_flat(uv.positions.clone(), starts.clone(), corners))
+        });
+        PolyMesh { texture, name: self.name.clone(), ..PolyMesh::from_flat(self.positions.clone(), starts, indices) }
     }
 }
 /// Two Loop steps from a net at once: the middle net's points (`mid`: one

@@ -145,6 +145,11 @@ impl Sink for Checked<'_> {
         self.faces += starts.windows(2).filter(|w| w[1] - w[0] >= 3).count();
         self.sink.polygons(starts, corners)
     }
+    fn textured_polygons(&mut self, starts: &[usize], corners: &[usize], uv_corners: &[usize]) -> io::Result<()> {
+        self.check()?;
+        self.faces += starts.windows(2).filter(|w| w[1] - w[0] >= 3).count();
+        self.sink.textured_polygons(starts, corners, uv_corners)
+    }
     fn colours(&mut self, rgb: &[[u8; 3]]) -> io::Result<()> {
         self.sink.colours(rgb)
     }

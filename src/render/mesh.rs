@@ -20,14 +20,16 @@ pub struct MeshJob {
     pub weights: Option<RuleWeights>,
     /// The control net after `depth` steps instead of the limit surface.
     pub net: bool,
-    /// The object's name in the file.
+    /// The object's name in the file (empty: the mesh's own, [`PolyMesh::name`], else `mesh`).
     pub name: String,
+    /// Keep the input's texture coordinates (Catmull-Clark and Loop), face-varying.
+    pub uv: bool,
 }
 
 impl MeshJob {
-    /// The limit surface of `scheme` after `depth` steps, classic weights, object `mesh`.
+    /// The limit surface of `scheme` after `depth` steps, classic weights, named as the mesh is.
     pub fn new(scheme: Scheme, depth: usize) -> MeshJob {
-        MeshJob { scheme, depth, weights: None, net: false, name: "mesh".into() }
+        MeshJob { scheme, depth, weights: None, net: false, name: String::new(), uv: true }
     }
 }
 
@@ -112,6 +114,13 @@ pub fn check_weights(mesh: &PolyMesh, weights: Option<RuleWeights>) -> Result<Op
 /// limit, an I/O error or [`RenderError::Cancelled`]; nothing is left half-written.
 pub fn render_mesh(mesh: &PolyMesh, job: &MeshJob, options: &Options, out: &Path) -> Result<Report, RenderError> {
     let format = Format::of(out)?;
+    let named;
+    let job = if job.name.is_empty() {
+        named = MeshJob { name: mesh.name.clone().unwrap_or_else(|| "mesh".into()), ..job.clone() };
+        &named
+    } else {
+        job
+    };
     options.check_cancel()?;
     let mut report = Report { format: Some(format), depth: Some(job.depth), ..Report::default() };
     report.warnings.extend(check_weights(mesh, job.weights)?);
@@ -148,8 +157,20 @@ pub fn render_mesh(mesh: &PolyMesh, job: &MeshJob, options: &Options, out: &Path
             memory as f64 / f64::from(1u32 << 30)
         ));
     }
+    if job.uv && format.has_uvs() && mesh.texture().is_some() {
+        if !matches!(job.scheme, Scheme::CatmullClark | Scheme::Loop) {
+            report.notes.push(format!(
+                "texture coordinates follow Catmull-Clark and Loop, whose faces split the input's; {}'s faces come from edges and vertices too: the output has none",
+                job.scheme.name()
+            ));
+        } else if !smooth {
+            report.notes.push(
+                "texture coordinates are written with the normals, in memory: this streamed output has none".into(),
+            );
+        }
+    }
     let written = if smooth {
-        mesh.subdivide_smooth_into(&subdivision, !job.net, &job.name, &mut sink)
+        mesh.subdivide_smooth_into(&subdivision, !job.net, job.uv && format.has_uvs(), &job.name, &mut sink)
     } else {
         mesh.subdivide_into(&subdivision, !job.net, &job.name, &mut sink)
     };

@@ -155,3 +155,44 @@ fn objects_are_nodes_and_polygons_are_fanned() {
         std::fs::remove_file(p).unwrap();
     }
 }
+
+/// A textured mesh through Catmull-Clark into glTF: texture coordinates
+/// per vertex (glTF has no face-varying attribute), so a seam vertex is
+/// written once per side: valid for the validator, one UV map in Blender,
+/// every corner with the texture coordinate the OBJ gives it (OBJ's `v` up,
+/// glTF's down: `1 − v`; compared to 5 decimals: glTF is `float`).
+#[test]
+fn textured_meshes_keep_their_uvs_in_glb() {
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    let suzanne = read_mesh(&data.join("suzanne.obj")).unwrap();
+    let (glb, obj) = (scratch("suzanne-uv.glb"), scratch("suzanne-uv.obj"));
+    let job = MeshJob::new(Scheme::CatmullClark, 1);
+    let report = render_mesh(&suzanne, &job, &Options::default(), &glb).unwrap();
+    render_mesh(&suzanne, &job, &Options::default(), &obj).unwrap();
+    if let Some(verdicts) = gltf_validator(&[&glb]) {
+        assert_eq!((verdicts[0].0, verdicts[0].1), (0, 0), "{:?}", verdicts[0].2);
+    }
+    let [g, o] = [&glb, &obj].map(|p| p.display().to_string());
+    if let Some(out) = python(
+        "trimesh",
+        &format!(
+            "import trimesh, numpy as np\n\
+             g = trimesh.load('{g}', force='mesh', process=False)\n\
+             o = trimesh.load('{o}', force='mesh', process=False)\n\
+             def corners(m):\n    c = np.hstack([m.vertices[m.faces].reshape(-1, 3), m.visual.uv[m.faces].reshape(-1, 2)])\n    \
+             return c[np.lexsort(np.round(c, 3).T[::-1])]\n\
+             a, b = corners(g), corners(o)\n\
+             print(len(g.visual.uv) == len(g.vertices), a.shape == b.shape and np.abs(a - b).max() < 1e-5)"
+        ),
+    ) {
+        assert_eq!(out, "True True", "trimesh: the same texture coordinate at every corner");
+    }
+    if let Some(lines) = blender_glb(&[&glb]) {
+        let fields: Vec<&str> = lines[0].split(' ').collect();
+        assert_eq!(fields[0], "Suzanne");
+        assert_eq!(fields[2], (report.faces * 2).to_string(), "quads as two triangles");
+        assert_eq!(fields[9], "1", "one UV map");
+    }
+    std::fs::remove_file(glb).unwrap();
+    std::fs::remove_file(obj).unwrap();
+}

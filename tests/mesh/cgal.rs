@@ -16,37 +16,39 @@ use bcifs::mesh::{PolyMesh, Scheme};
 pub fn cgal_peer() -> Option<&'static Path> {
     static PEER: OnceLock<Option<PathBuf>> = OnceLock::new();
     PEER.get_or_init(|| {
-        if !Path::new("/usr/include/CGAL/subdivision_method_3.h").exists() {
-            println!("skipped: CGAL is not installed (apt-get install libcgal-dev)");
-            return None;
-        }
-        let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-        let source = root.join("benches/peers/cgal_subdivide.cpp");
-        let dir = root.join("target/peers");
-        std::fs::create_dir_all(&dir).unwrap();
-        let exe = dir.join("cgal_subdivide");
-        let fresh = |p: &Path| p.metadata().and_then(|m| m.modified()).ok();
-        if fresh(&exe).is_none() || fresh(&exe) < fresh(&source) {
-            let tmp = dir.join(format!("cgal_subdivide.{}.tmp", std::process::id()));
-            let out = Command::new("g++")
-                .args(["-O2", "-std=c++17"])
-                .arg(&source)
-                .arg("-o")
-                .arg(&tmp)
-                .args(["-lgmp", "-lmpfr"])
-                .output();
-            match out {
-                Ok(o) if o.status.success() => std::fs::rename(&tmp, &exe).unwrap(),
-                Ok(o) => panic!("the CGAL peer does not build: {}", String::from_utf8_lossy(&o.stderr)),
-                Err(e) => {
-                    println!("skipped: g++ cannot run ({e})");
-                    return None;
-                }
-            }
-        }
-        Some(exe)
+        build_peer("cgal_subdivide", "/usr/include/CGAL/subdivision_method_3.h", "libcgal-dev", &["-lgmp", "-lmpfr"])
     })
     .as_deref()
+}
+
+/// A C++ peer of `benches/peers/NAME.cpp`, built by g++ into
+/// `target/peers/NAME` when missing or older than its source; `None` (and
+/// a printed reason) when `header` of its library (Debian's `package`) or
+/// g++ is missing.
+pub fn build_peer(name: &str, header: &str, package: &str, libs: &[&str]) -> Option<PathBuf> {
+    if !Path::new(header).exists() {
+        println!("skipped: {header} is not installed (apt-get install {package})");
+        return None;
+    }
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let source = root.join(format!("benches/peers/{name}.cpp"));
+    let dir = root.join("target/peers");
+    std::fs::create_dir_all(&dir).unwrap();
+    let exe = dir.join(name);
+    let fresh = |p: &Path| p.metadata().and_then(|m| m.modified()).ok();
+    if fresh(&exe).is_none() || fresh(&exe) < fresh(&source) {
+        let tmp = dir.join(format!("{name}.{}.tmp", std::process::id()));
+        let out = Command::new("g++").args(["-O2", "-std=c++17"]).arg(&source).arg("-o").arg(&tmp).args(libs).output();
+        match out {
+            Ok(o) if o.status.success() => std::fs::rename(&tmp, &exe).unwrap(),
+            Ok(o) => panic!("the peer {name} does not build: {}", String::from_utf8_lossy(&o.stderr)),
+            Err(e) => {
+                println!("skipped: g++ cannot run ({e})");
+                return None;
+            }
+        }
+    }
+    Some(exe)
 }
 
 /// A mesh as CGAL wrote it: positions and faces, digons (two-sided faces,

@@ -5,6 +5,7 @@ mod cgal;
 #[path = "../common/hausdorff.rs"]
 mod hausdorff;
 mod meshes;
+mod opensubdiv;
 
 use bcifs::mesh::PolyMesh;
 
