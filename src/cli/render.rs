@@ -83,6 +83,11 @@ pub struct RenderArgs {
     /// viridis, sunset, or a picture file (its middle row, left to right).
     #[arg(long)]
     pub palette: Option<String>,
+    /// Colour the vertices of a deterministic evaluation (OBJ, PLY, glTF) with --palette (default
+    /// rainbow): by the `state` of the cell that makes them, the `level` at which they appear, or the
+    /// `map`s that lead to them (as the chaos game colours, with --color and --color-speed).
+    #[arg(long = "colour", alias = "colour-by", value_enum)]
+    pub colour_by: Option<bcifs::eval::Colouring>,
     /// Chaos game with --palette: the colour coordinate of an arrow, ARROW=C with C in [0, 1]
     /// (repeatable; the others are spread evenly in arrow order).
     #[arg(long = "color", value_name = "ARROW=C")]
@@ -171,6 +176,9 @@ fn options(args: &RenderArgs) -> anyhow::Result<Options> {
     }
     options.raster = args.picture.raster();
     options.tone = tone(args)?;
+    options.colour = args.colour_by;
+    options.arrow_colours = parse_params(&args.colours)?;
+    options.colour_speed = Some(args.colour_speed);
     options.palette =
         args.palette.as_deref().map(bcifs::export::Palette::parse).transpose().map_err(anyhow::Error::msg)?;
     Ok(options)

@@ -9,6 +9,7 @@
 //! `evaluate` (into memory or streamed), `random` (the chaos game).
 
 mod ball;
+mod colour;
 mod curve;
 mod evaluate;
 mod pieces;
@@ -20,11 +21,14 @@ mod sampling;
 mod settings;
 mod surface;
 
+pub use colour::Colouring;
 pub use pieces::{ModelError, Piece, Pieces};
 pub use plan::PlanError;
 pub use prepared::Evaluator;
 pub use random::{BATCH, CHUNK, ChaosGame, PlainIfs, chaos_game};
-pub use sampling::{DEFAULT_BURN_IN, MAX_SAMPLES, RandomSettings, SINGULAR_FLOOR, check_samples, det_weights};
+pub use sampling::{
+    DEFAULT_BURN_IN, MAX_SAMPLES, RandomSettings, SINGULAR_FLOOR, arrow_colour, check_samples, det_weights,
+};
 pub use settings::{
     DEFAULT_DEPTH, DEFAULT_MEMORY_LIMIT, Depth, EvalError, EvalSettings, MAX_ADAPTIVE_DEPTH, MAX_DEPTH,
 };

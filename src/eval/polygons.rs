@@ -38,6 +38,17 @@ impl Evaluator {
     /// welded: each piece on its own, or all together when they share
     /// control points (a mesh's patches).
     pub(super) fn polygons(&self, k: usize, sink: &mut dyn Sink) -> Result<(), EvalError> {
+        self.polygons_coloured(k, sink, None)
+    }
+
+    /// [`Evaluator::polygons`], recording the colour coordinate of every
+    /// vertex (the first cell that makes it decides) when `colours` is given.
+    pub(super) fn polygons_coloured(
+        &self,
+        k: usize,
+        sink: &mut dyn Sink,
+        mut colours: Option<&mut super::colour::CellColours<'_>>,
+    ) -> Result<(), EvalError> {
         let d = self.pieces.dim;
         // Welding holds every corner: refuse what would not fit, with the estimate.
         let cells = self.pieces.pieces.iter().fold(0u128, |n, p| n.saturating_add(self.face_cells(p.state, k)));
@@ -47,7 +58,12 @@ impl Evaluator {
         }
         let mut first = 0usize;
         let groups: Vec<&[super::pieces::Piece]> =
-            if self.pieces.shared { vec![&self.pieces.pieces[..]] } else { self.pieces.pieces.chunks(1).collect() };
+            // Pieces of one surface (a mesh's patches, a grid's or torus's windows) are welded together.
+            if self.pieces.shared || self.pieces.grid.is_some() {
+                vec![&self.pieces.pieces[..]]
+            } else {
+                self.pieces.pieces.chunks(1).collect()
+            };
         for group in groups {
             let scale = group.iter().flat_map(|p| &p.control).fold(1.0f64, |m, x| m.max(x.abs()));
             let mut weld = Weld {
@@ -59,10 +75,17 @@ impl Evaluator {
             let (mut quads, mut triangles) = (Vec::new(), Vec::new());
             // Faces over start sets that two cells both make (overlapping copies of a patch) are kept once.
             let mut made: std::collections::HashSet<Vec<usize>> = std::collections::HashSet::new();
-            let mut stack: Vec<(usize, Vec<f64>, usize)> =
-                group.iter().rev().map(|p| (p.state, p.control.clone(), k)).collect();
-            while let Some((s, c, r)) = stack.pop() {
+            // Per cell: state, control points, depth left, and its colour so far (see `CellColours`).
+            let mut stack: Vec<(usize, Vec<f64>, usize, [f64; 2])> =
+                group.iter().rev().map(|p| (p.state, p.control.clone(), k, [0.0, 1.0])).collect();
+            while let Some((s, c, r, colour)) = stack.pop() {
                 let sp = self.plan.state(s);
+                let before = weld.positions.len() / d;
+                let leaf = r == 0 && (!sp.faces.is_empty() || sp.kind == CellKind::Face);
+                if let (true, Some(cc)) = (leaf, colours.as_deref_mut()) {
+                    // The colour of the vertices this cell adds, whichever branch adds them.
+                    cc.pending = Some((first + before, cc.leaf(s, colour)));
+                }
                 if !sp.faces.is_empty() && r == 0 {
                     let n = sp.dim;
                     let index: Vec<usize> = sp
@@ -85,6 +108,9 @@ impl Evaluator {
                             n => triangles.extend((1..n - 1).map(|i| [corners[0], corners[i], corners[i + 1]])),
                         }
                     }
+                    if let Some(cc) = colours.as_deref_mut() {
+                        cc.settle(first + weld.positions.len() / d);
+                    }
                     continue;
                 }
                 if sp.kind == CellKind::Face && r == 0 {
@@ -102,20 +128,24 @@ impl Evaluator {
                         4 => quads.push([corners[0], corners[1], corners[2], corners[3]]),
                         _ => triangles.extend((1..corners.len() - 1).map(|i| [corners[0], corners[i], corners[i + 1]])),
                     }
+                    if let Some(cc) = colours.as_deref_mut() {
+                        cc.settle(first + weld.positions.len() / d);
+                    }
                     continue;
                 }
                 let step = self.step_of(s);
                 if r < step {
                     continue;
                 }
-                for (_, t, m) in &sp.children {
+                for (e, t, m) in &sp.children {
                     let nt = self.plan.state(*t).dim;
                     let mut child = vec![0.0; d * nt];
                     super::prepared::mul_into(&c, d, sp.dim, m, nt, &mut child);
-                    stack.push((*t, child, r - step));
+                    let colour = colours.as_deref().map_or(colour, |cc| cc.step(*e, colour));
+                    stack.push((*t, child, r - step, colour));
                 }
             }
-            sink.object(if self.pieces.shared { "surface" } else { &group[0].name })?;
+            sink.object(if group.len() > 1 { "surface" } else { &group[0].name })?;
             // Shaded smooth in every client: area-weighted normals of the welded faces.
             let normals = (d == 3).then(|| {
                 let points: Vec<[f64; 3]> = weld.positions.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect();

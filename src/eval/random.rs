@@ -195,8 +195,7 @@ impl ChaosGame {
             inc.arrows[to.index()].push((from.index(), row_major));
             mats[to.index()].push(m);
             names[to.index()].push(&arrow.name);
-            let even = if subdivision.len() > 1 { k as f64 / (subdivision.len() - 1) as f64 } else { 0.5 };
-            let c = settings.colours.iter().find(|(n, _)| *n == arrow.name).map_or(even, |(_, c)| *c);
+            let c = super::sampling::arrow_colour(settings, k, subdivision.len(), &arrow.name);
             inc.colour[to.index()].push(speed * c);
         }
         let walked: Vec<&str> = names.iter().flatten().copied().collect();

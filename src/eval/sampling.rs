@@ -93,6 +93,14 @@ impl RandomSettings {
     }
 }
 
+/// The colour coordinate of subdivision arrow `k` (of `count`, in order)
+/// named `name`: as `settings` gives it, else spread evenly over `[0, 1]`
+/// in arrow order (as flame editors do).
+pub fn arrow_colour(settings: &RandomSettings, k: usize, count: usize, name: &str) -> f64 {
+    let even = if count > 1 { k as f64 / (count - 1) as f64 } else { 0.5 };
+    settings.colours.iter().find(|(n, _)| n == name).map_or(even, |(_, c)| *c)
+}
+
 /// A small, fast generator (wyrand): good statistical quality for sampling.
 #[derive(Clone, Debug)]
 pub struct Rng(u64);

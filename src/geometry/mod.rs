@@ -132,6 +132,8 @@ pub struct Shape {
     pub normals: Vec<f64>,
     /// 2 coordinates per texture vertex.
     pub uvs: Vec<f64>,
+    /// RGB colour per vertex, or empty (written by the formats that hold colours).
+    pub colours: Vec<[u8; 3]>,
     /// Quads, counter-clockwise (compact indices: a mesh in memory has fewer than 2^32 vertices).
     pub quads: Vec<Quad>,
     /// Texture indices of the quads, or empty.
@@ -209,6 +211,10 @@ impl Shape {
             }
         }
         new_index.push(w);
+        if self.colours.len() == n {
+            let mut k = keep.iter();
+            self.colours.retain(|_| *k.next().unwrap_or(&false));
+        }
         self.positions.truncate(w * dim);
         if has_normals {
             self.normals.truncate(3 * w);
@@ -288,6 +294,9 @@ impl Shape {
             sink.object(if o.name.is_empty() { "shape" } else { &o.name })?;
             let v = o.vertices.clone();
             if !v.is_empty() {
+                if self.colours.len() == self.vertex_count() {
+                    sink.colours(&self.colours[v.clone()])?;
+                }
                 let normals = (!self.normals.is_empty()).then(|| &self.normals[v.start * 3..v.end * 3]);
                 sink.vertices(d, &self.positions[v.start * d..v.end * d], normals)?;
             }

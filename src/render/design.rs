@@ -82,6 +82,9 @@ pub fn render(design: &Design, options: &Options, out: &Path) -> Result<Report, 
     }
     let options = &options;
     match format {
+        _ if options.colour.is_some() && options.random.is_none() => {
+            coloured_file(design, options, format, out, &mut report)?
+        }
         Format::Flame => flame_file(design, options, out, &mut report)?,
         f if f.is_geometry() => stream_file(design, options, format, out, &mut report)?,
         Format::Png if !options.dedup => match options.random_settings() {
@@ -211,6 +214,44 @@ fn stream_file(
         };
     }
     report.bytes = writer.finish(out)?;
+    Ok(())
+}
+
+/// A deterministic evaluation coloured by state, level or map
+/// ([`Options::colour`]), evaluated in memory and written with its colours.
+fn coloured_file(
+    design: &Design,
+    options: &Options,
+    format: Format,
+    out: &Path,
+    report: &mut Report,
+) -> Result<(), RenderError> {
+    let Some(mode) = options.colour else { return Ok(()) };
+    if !format.has_colours() {
+        report.warnings.push(format!(
+            "--colour colours the vertices of .obj, .ply and .glb files; the .{} file has no vertex colours",
+            format.extension()
+        ));
+    }
+    let model = model_of(design)?;
+    let instance = instantiate(design, &options.params)?;
+    let mut ev = evaluator(&instance.automaton, &model, options.eval_settings(), design.name(), &mut report.warnings)?;
+    let mut random = crate::eval::RandomSettings { colours: options.arrow_colours.clone(), ..Default::default() };
+    if let Some(speed) = options.colour_speed {
+        random.colour_speed = speed;
+    }
+    let (mut shape, coordinates) = ev.evaluate_coloured(&instance.automaton, mode, &random)?;
+    options.check_cancel()?;
+    let rainbow = crate::export::Palette::named("rainbow");
+    let palette = options.palette.as_ref().or(rainbow.as_ref());
+    shape.colours = match palette {
+        Some(p) => coordinates.iter().map(|&c| p.colour(c)).collect(),
+        None => Vec::new(),
+    };
+    let written = super::shape::write_shape_options(&shape, design.name(), options, out)?;
+    report.vertices = written.vertices;
+    report.faces = written.faces;
+    report.bytes = written.bytes;
     Ok(())
 }
 

@@ -103,8 +103,16 @@ pub struct Options {
     pub dedup: bool,
     /// Tone mapping of chaos-game pictures (density images).
     pub tone: Tone,
-    /// Colour chaos-game pictures by the arrows applied, with this palette.
+    /// Colour chaos-game pictures by the arrows applied, with this palette
+    /// (and the vertices of [`Options::colour`]: default `rainbow`).
     pub palette: Option<Palette>,
+    /// Colour the vertices of a deterministic evaluation by state, level or
+    /// map (files with colours: OBJ, PLY, glTF); evaluated in memory.
+    pub colour: Option<crate::eval::Colouring>,
+    /// [`Options::colour`] by map: colour coordinates of arrows by name (the others spread evenly).
+    pub arrow_colours: Vec<(String, f64)>,
+    /// [`Options::colour`] by map: the colour speed (`None`: 1/2, as the chaos game's).
+    pub colour_speed: Option<f64>,
     /// Told how far the work is (evaluation, chaos game).
     pub progress: Option<Progress>,
     /// Stops the work when set: [`RenderError::Cancelled`], nothing written.

@@ -37,6 +37,31 @@ pub(crate) fn write_shape_text(
     out: &Path,
     text: &[(String, String)],
 ) -> Result<Report, RenderError> {
+    let coordinates = Coordinates { y_up_input: raster_settings.view.y_up, ..Default::default() };
+    let settings = WriteSettings { coordinates, threads: 1, raster: raster_settings, ascii: false };
+    write_shape_with(shape, name, &settings, out, text)
+}
+
+/// A shape in memory written with the options' axes, digits, text or
+/// binary, picture settings and PNG text.
+pub(crate) fn write_shape_options(
+    shape: &Shape,
+    name: &str,
+    options: &Options,
+    out: &Path,
+) -> Result<Report, RenderError> {
+    let settings =
+        WriteSettings { coordinates: options.coordinates, threads: 1, raster: &options.raster, ascii: options.ascii };
+    write_shape_with(shape, name, &settings, out, &options.png_text(name))
+}
+
+fn write_shape_with(
+    shape: &Shape,
+    name: &str,
+    settings: &WriteSettings<'_>,
+    out: &Path,
+    text: &[(String, String)],
+) -> Result<Report, RenderError> {
     let format = Format::of(out)?;
     let options = Options::default();
     let io = write_error(&options, out);
@@ -56,9 +81,7 @@ pub(crate) fn write_shape_text(
                     "an OFF file holds faces and points, not curves: write curves as .obj or .svg".into(),
                 ));
             }
-            let coordinates = Coordinates { y_up_input: raster_settings.view.y_up, ..Default::default() };
-            let settings = WriteSettings { coordinates, threads: 1, raster: raster_settings, ascii: false };
-            let mut writer = FileWriter::create(out, format, &settings)?;
+            let mut writer = FileWriter::create(out, format, settings)?;
             let mut sink = writer.checked(&options.cancel);
             if shape.objects.is_empty() {
                 sink.object(name).map_err(&io)?;
@@ -68,7 +91,7 @@ pub(crate) fn write_shape_text(
             return Ok(report);
         }
     };
-    write_picture(shape, kind, raster_settings, out, text)?;
+    write_picture(shape, kind, settings.raster, out, text)?;
     report.bytes = std::fs::metadata(out).map_or(0, |m| m.len());
     Ok(report)
 }

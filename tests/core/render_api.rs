@@ -144,7 +144,7 @@ fn meshes_render_to_every_format() {
             let b = render_mesh(&mesh, &job, &Options::default(), &off).unwrap();
             assert_eq!((a.vertices, a.faces), (b.vertices, b.faces));
             let (m1, m2) = (read_mesh(&obj).unwrap(), read_mesh(&off).unwrap());
-            assert_eq!(m1, m2, "{scheme:?} net {net}");
+            assert_eq!(m1.clone().without_texture(), m2, "{scheme:?} net {net}: OFF has no texture coordinates");
             assert_eq!((m1.positions.len(), m1.face_count()), (a.vertices, a.faces));
             // Suzanne stands: her height (file y) is her input's y, untouched.
             let span = |m: &PolyMesh, k: usize| {

@@ -372,3 +372,72 @@ fn flame_files_render_the_same_picture_in_flam3() {
     assert!(e.to_string().contains("graph-directed"), "{e}");
     assert!(!out.exists());
 }
+
+/// `--colour level|state|map` (issue 25) on deterministic evaluations, in
+/// the files that hold colours:
+/// - level: the box-spline patch at depth 3 has 7 vertices already at level
+///   0 (the hexagon's), then 12, 42 and 156 new ones (`3R(R + 1) + 1`
+///   lattice points for `R = 2^j`): one colour per level, in those counts;
+/// - state: the graph-directed fern-with-Sierpinski's points of the fern
+///   state are the points left when the one arrow into the other state
+///   (`T2`) is dropped, and the others are the rest;
+/// - map: the Koch curve at depth 1 gives each of its four pieces
+///   `s c_q + (1 − s)/2` with `c_q = q/(n − 1)` (`n` subdivision arrows)
+///   and `s = 1/2`, the end point its last piece's;
+///
+/// trimesh reads a colour per vertex.
+#[test]
+fn vertices_are_coloured_by_level_state_and_map() {
+    use bcifs::eval::Colouring;
+    let count = |path: &Path| -> Vec<usize> {
+        let p = path.display();
+        let out = python(
+            "trimesh",
+            &format!(
+                "import trimesh, collections\nm = trimesh.load('{p}', process=False)\n\
+                 c = m.visual.vertex_colors if hasattr(m, 'visual') else m.colors\n\
+                 assert len(c) == len(m.vertices)\nprint(*sorted(collections.Counter(map(tuple, c.tolist())).values()))"
+            ),
+        );
+        out.map(|o| o.split(' ').map(|x| x.parse().unwrap()).collect()).unwrap_or_default()
+    };
+    let coloured = |mode| Options { colour: Some(mode), ..Options::default().with_depth(3) };
+    let patch = scratch("levels.ply");
+    let box_spline = bcifs::schemes::ifs_preset("box-spline", None, None).unwrap();
+    let report = render(&box_spline, &coloured(Colouring::Level), &patch).unwrap();
+    assert_eq!(report.vertices, 217);
+    let levels = count(&patch);
+    assert!(levels.is_empty() || levels == [7, 12, 42, 156], "{levels:?}");
+
+    let states = Options { colour: Some(Colouring::State), ..Options::default().with_depth(5) };
+    let (fs, all) = design("fern_sierpinski", &states, "states.ply");
+    let mut fern_only = Options::default().with_depth(5);
+    fern_only.eval.dropped = vec!["T2".into()];
+    let (fern, only) = design("fern_sierpinski", &fern_only, "fern.ply");
+    let per_state = count(&fs);
+    if !per_state.is_empty() {
+        let mut expected = vec![only.vertices, all.vertices - only.vertices];
+        expected.sort_unstable();
+        assert_eq!(per_state, expected, "fern state and Sierpinski state");
+    }
+
+    let design_koch = bcifs::builtin_design("koch").unwrap();
+    let instance = bcifs::instantiate(&design_koch, &[]).unwrap();
+    let model = design_koch.model().unwrap();
+    let mut ev =
+        bcifs::eval::Evaluator::new(&instance.automaton, model, bcifs::eval::EvalSettings::default().with_depth(1))
+            .unwrap();
+    let (shape, coordinates) =
+        ev.evaluate_coloured(&instance.automaton, Colouring::Map, &bcifs::eval::RandomSettings::default()).unwrap();
+    assert_eq!(shape.vertex_count(), 5);
+    // Arrow colours are spread over all subdivision arrows (the end vertex's own arrow too).
+    let arrows = instance.automaton.arrows().filter(|(_, a)| a.kind == bcifs::ArrowKind::Subdivision).count() as f64;
+    let expected: Vec<f32> =
+        [0.0, 1.0, 2.0, 3.0, 3.0].iter().map(|q: &f64| (0.5 * q / (arrows - 1.0) + 0.25) as f32).collect();
+    for (c, e) in coordinates.iter().zip(&expected) {
+        assert!((c - e).abs() < 1e-6, "{coordinates:?} against {expected:?}");
+    }
+    for p in [patch, fs, fern] {
+        std::fs::remove_file(p).unwrap();
+    }
+}
