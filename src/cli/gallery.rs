@@ -278,7 +278,7 @@ pub fn gallery_items() -> Vec<(String, String, GallerySource)> {
 ///
 /// # Errors
 /// The first entry that fails, or an I/O error.
-pub fn gallery(dir: &Path, progress: Option<&Progress>) -> Result<Vec<GalleryEntry>, RenderError> {
+pub fn gallery(dir: &Path, formats: &[String], progress: Option<&Progress>) -> Result<Vec<GalleryEntry>, RenderError> {
     check_gallery_dir(dir)?;
     let mut entries = Vec::new();
     let items = gallery_items();
@@ -287,14 +287,19 @@ pub fn gallery(dir: &Path, progress: Option<&Progress>) -> Result<Vec<GalleryEnt
         if let Some(p) = progress {
             p.report(done as u64, total);
         }
-        let (png, obj) = (format!("{name}.png"), format!("{name}.obj"));
+        let png = format!("{name}.png");
         let (depth, summary, files) = match source {
             GallerySource::Shape(shape, depth) => {
                 let summary = write_shape(&shape, &name, &RasterSettings::default(), &dir.join(&png))?;
-                write_shape(&shape, &name, &RasterSettings::default(), &dir.join(&obj))?;
-                (Depth::Fixed(depth), summary, vec![png, obj])
+                let mut files = vec![png];
+                for ext in formats {
+                    let file = format!("{name}.{ext}");
+                    write_shape(&shape, &name, &RasterSettings::default(), &dir.join(&file))?;
+                    files.push(file);
+                }
+                (Depth::Fixed(depth), summary, files)
             }
-            GallerySource::Design(design, fixed) => design_entry(dir, &name, &design, fixed)?,
+            GallerySource::Design(design, fixed) => design_entry(dir, &name, &design, fixed, formats)?,
         };
         entries.push(GalleryEntry { name, description, depth, files, summary });
     }
@@ -313,7 +318,7 @@ fn check_gallery_dir(dir: &Path) -> Result<(), RenderError> {
     for entry in entries.flatten() {
         let path = entry.path();
         let ext = path.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
-        if path.is_dir() && ["png", "obj", "html"].contains(&ext.as_str()) {
+        if path.is_dir() && ["png", "obj", "ply", "glb", "html"].contains(&ext.as_str()) {
             let why =
                 std::io::Error::new(std::io::ErrorKind::IsADirectory, "a directory where the gallery writes a file");
             return Err(RenderError::Io(path, why));
@@ -329,6 +334,7 @@ fn design_entry(
     name: &str,
     design: &Design,
     fixed: Option<usize>,
+    formats: &[String],
 ) -> Result<(Depth, RenderSummary, Vec<String>), RenderError> {
     let depth = match fixed {
         Some(d) => d,
@@ -348,10 +354,14 @@ fn design_entry(
     {
         options.eval.depth = Depth::Tolerance(eps);
     }
-    let (png, obj) = (format!("{name}.png"), format!("{name}.obj"));
+    let png = format!("{name}.png");
     let summary = render(design, &options, &dir.join(&png))?;
-    render(design, &options, &dir.join(&obj))?;
-    let mut files = vec![png, obj];
+    let mut files = vec![png];
+    for ext in formats {
+        let file = format!("{name}.{ext}");
+        render(design, &options, &dir.join(&file))?;
+        files.push(file);
+    }
     if plain_ifs {
         let mut random = options.clone();
         random.random = Some(RandomSettings::default().with_points(2_000_000));
@@ -372,12 +382,8 @@ fn write_index(dir: &Path, entries: &[GalleryEntry]) -> Result<(), RenderError> 
         for f in e.files.iter().filter(|f| f.ends_with(".png")) {
             let _ = write!(html, "<img src=\"{f}\" alt=\"{}\">", e.name);
         }
-        let obj: Vec<String> = e
-            .files
-            .iter()
-            .filter(|f| f.ends_with(".obj") || f.ends_with(".html"))
-            .map(|f| format!("<a href=\"{f}\">{f}</a>"))
-            .collect();
+        let obj: Vec<String> =
+            e.files.iter().filter(|f| !f.ends_with(".png")).map(|f| format!("<a href=\"{f}\">{f}</a>")).collect();
         let _ = writeln!(
             html,
             "<figcaption><b>{}</b> — {}<br>{}, {} vertices{}; {}</figcaption></figure>",
@@ -467,9 +473,9 @@ fn density_page(dir: &Path) -> Result<GalleryEntry, RenderError> {
 }
 
 /// `bcifs gallery DIR`: renders the gallery and lists what it wrote.
-pub fn run(out: &mut String, dir: &Path) -> anyhow::Result<u8> {
+pub fn run(out: &mut String, dir: &Path, formats: &[String]) -> anyhow::Result<u8> {
     let started = std::time::Instant::now();
-    let entries = gallery(dir, progress_bar().as_ref())?;
+    let entries = gallery(dir, formats, progress_bar().as_ref())?;
     for e in &entries {
         writeln!(
             out,

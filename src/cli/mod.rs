@@ -62,6 +62,10 @@ enum Command {
         /// Output directory.
         #[arg(default_value = "gallery")]
         dir: PathBuf,
+        /// The geometry files of each entry, by extension: obj, ply or glb (repeatable; the formats
+        /// that hold curves, surfaces and clouds alike).
+        #[arg(long = "format", default_values_t = [String::from("obj")], value_parser = ["obj", "ply", "glb"])]
+        formats: Vec<String>,
     },
     /// Generate the seeds' subdivision schemes: render them or print their automaton.
     Scheme {
@@ -262,7 +266,7 @@ fn run(out: &mut String, cli: Cli) -> Result<u8> {
         Command::Check { file, params, json } => core::run_check(out, &file, &params, json),
         Command::Render(args) => render::run(args),
         Command::Surface(args) => surface::run(out, args),
-        Command::Gallery { dir } => gallery::run(out, &dir),
+        Command::Gallery { dir, formats } => gallery::run(out, &dir, &formats),
         Command::Analyze { what } => analyze::run(out, what),
         Command::Contour { what } => contour::run(out, what),
         Command::Scheme { scheme } => scheme::run(out, scheme),

@@ -41,7 +41,7 @@ pub struct RenderArgs {
     pub threads: Option<usize>,
     #[command(flatten)]
     pub picture: super::PictureArgs,
-    /// Output file: .obj, .off, .ply, .stl (streamed), .svg or .png.
+    /// Output file: .obj, .off, .ply, .stl (streamed), .glb, .svg, .png, or .flame (a plain IFS of the plane).
     #[arg(short, long)]
     pub output: PathBuf,
     /// Evaluate even a system whose convergence bounds prove it diverges.

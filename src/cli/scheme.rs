@@ -28,7 +28,7 @@ pub struct SchemeOutput {
     print: bool,
     #[command(flatten)]
     picture: super::PictureArgs,
-    /// Output file: .obj, .svg or .png.
+    /// Output file: .obj, .off, .ply, .stl, .glb, .svg or .png.
     #[arg(short, long, required_unless_present = "print")]
     output: Option<PathBuf>,
 }

@@ -39,7 +39,7 @@ pub struct SurfaceArgs {
     /// to -o FILE.toml or to standard output; `bcifs solve` and `bcifs check` read it.
     #[arg(long, conflicts_with = "net")]
     pub print: bool,
-    /// Output file: .obj, .off, .ply, .stl, .png or .svg (in the input file's axes; pictures seen from --view); with --print, .toml.
+    /// Output file: .obj, .off, .ply, .stl, .glb, .png or .svg (in the input file's axes, glTF Y-up; pictures seen from --view); with --print, .toml.
     #[arg(short, long, required_unless_present = "print")]
     pub output: Option<PathBuf>,
     #[command(flatten)]

@@ -210,6 +210,15 @@ impl GltfWriter {
         if part.positions.is_empty() {
             return Ok(());
         }
+        let n = part.positions.len() as u32;
+        if let Some(v) = part.corners.iter().map(|c| c[0]).chain(part.lines.iter().copied()).find(|&v| v >= n) {
+            return Err(invalid(format!(
+                "a glTF element refers to vertex {}, outside its object (vertices {} to {})",
+                self.base - part.positions.len() + v as usize,
+                self.base - part.positions.len(),
+                self.base
+            )));
+        }
         let part = part.split_seams();
         let n = part.positions.len();
         let mut attributes = serde_json::Map::new();
@@ -281,15 +290,14 @@ impl GltfWriter {
         Ok(())
     }
 
-    /// The current object's index of the global vertex `v`.
+    /// The current object's index of the global vertex `v` (which may come
+    /// after the element: checked when the object ends).
     fn local(&self, v: usize) -> io::Result<u32> {
-        let n = self.current.positions.len();
-        match v.checked_sub(self.base) {
-            Some(i) if i < n => Ok(i as u32),
-            _ => Err(invalid(format!(
-                "a glTF element refers to vertex {v}, outside its object (vertices {} to {})",
-                self.base,
-                self.base + n
+        match v.checked_sub(self.base).and_then(|i| u32::try_from(i).ok()).filter(|&i| i != NO_UV) {
+            Some(i) => Ok(i),
+            None => Err(invalid(format!(
+                "a glTF element refers to vertex {v}, outside its object (which starts at vertex {})",
+                self.base
             ))),
         }
     }

@@ -38,8 +38,8 @@ fn blender_glb(files: &[&Path]) -> Option<Vec<String>> {
     ))
 }
 
-/// The closed Doo-Sabin torus, a curve and a coloured cloud as `.glb`:
-/// valid for the Khronos validator; in trimesh a watertight outward mesh
+/// The closed Doo-Sabin torus, a curve, a coloured cloud and an open sheet
+/// as `.glb`: valid for the Khronos validator; in trimesh a watertight outward mesh
 /// (quads as two triangles), a path and a coloured point cloud with every
 /// vertex; in Blender the same counts, smooth-shaded (the normals are
 /// there), the colours an attribute, and the torus standing as it was
@@ -54,12 +54,15 @@ fn surfaces_curves_and_clouds_load_whole_from_glb() {
         ..Options::default()
     };
     let (cloud, _) = design("gasket", &coloured, "cloud.glb");
+    // An open sheet streams its far row and column after its quads: they refer to vertices still to come.
+    let (sheet, _) = design("doo_sabin_quad", &Options::default().with_depth(3), "sheet.glb");
     let files = [torus.as_path(), curve.as_path(), cloud.as_path()];
-    if let Some(verdicts) = gltf_validator(&files) {
-        for (file, (errors, warnings, messages)) in files.iter().zip(verdicts) {
+    if let Some(verdicts) = gltf_validator(&[&torus, &curve, &cloud, &sheet]) {
+        for (file, (errors, warnings, messages)) in [&torus, &curve, &cloud, &sheet].iter().zip(verdicts) {
             assert_eq!((errors, warnings), (0, 0), "{}: {messages:?}", file.display());
         }
     }
+    std::fs::remove_file(sheet).unwrap();
     let [t, c, p] = files.map(|p| p.display().to_string());
     if let Some(out) = python(
         "trimesh",
