@@ -235,6 +235,7 @@ fn coloured_clouds_carry_their_colours() {
     ) {
         assert_eq!(out, "20000 True True\n20000 True True", "MeshLab");
     }
+
     for p in [ply, obj] {
         std::fs::remove_file(p).unwrap();
     }
@@ -408,6 +409,16 @@ fn vertices_are_coloured_by_level_state_and_map() {
     assert_eq!(report.vertices, 217);
     let levels = count(&patch);
     assert!(levels.is_empty() || levels == [7, 12, 42, 156], "{levels:?}");
+    // Blender 3.4's PLY importer keeps colours on faces' corners (a cloud's are dropped): the patch's arrive.
+    let script = format!(
+        "import bpy\nbpy.ops.object.select_all(action='SELECT'); bpy.ops.object.delete()\n\
+         bpy.ops.import_mesh.ply(filepath=r'{}')\no = bpy.context.selected_objects[0]\n\
+         print('BCIFS', len(o.data.vertices), len(o.data.color_attributes))\n",
+        patch.display()
+    );
+    if let Some(lines) = crate::clients::blender(&script) {
+        assert_eq!(lines[0], "217 1", "Blender: every vertex, one colour attribute");
+    }
 
     let states = Options { colour: Some(Colouring::State), ..Options::default().with_depth(5) };
     let (fs, all) = design("fern_sierpinski", &states, "states.ply");

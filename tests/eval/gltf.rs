@@ -82,6 +82,17 @@ fn surfaces_curves_and_clouds_load_whole_from_glb() {
         assert_eq!(lines[1], format!("Path3D {}", curve_report.vertices), "trimesh curve");
         assert_eq!(lines[2], "PointCloud 20000 20000 True", "trimesh cloud");
     }
+    if let Some(out) = python(
+        "pymeshlab",
+        &format!(
+            "import pymeshlab\nfor f in ['{t}', '{p}']:\n    ms = pymeshlab.MeshSet(); ms.load_new_mesh(f)\n    \
+             m = ms.current_mesh(); print(m.vertex_number(), m.face_number(), m.has_vertex_color())"
+        ),
+    ) {
+        let lines: Vec<&str> = out.lines().collect();
+        assert_eq!(lines[0], format!("{} {} False", report.vertices, 2 * report.faces), "MeshLab torus (no colours)");
+        assert_eq!(lines[1], "20000 0 True", "MeshLab coloured cloud");
+    }
     if let Some(lines) = blender_glb(&files) {
         let torus_line: Vec<&str> = lines[0].split(' ').collect();
         assert_eq!(torus_line[1..4], [report.vertices, 2 * report.faces, 3 * report.faces].map(|n| n.to_string()));
