@@ -93,6 +93,8 @@ struct Part {
     uvs: Vec<[f32; 2]>,
     /// Triangle corners: vertex and texture vertex (or [`NO_UV`]).
     corners: Vec<[u32; 2]>,
+    /// Named groups of triangles: each from its first corner on (a primitive each).
+    groups: Vec<(String, usize)>,
     lines: Vec<u32>,
 }
 
@@ -258,8 +260,22 @@ impl GltfWriter {
             attributes.insert("COLOR_0".into(), colour.into());
         }
         let mut primitives = Vec::new();
-        for (indices, mode) in [(part.corners.iter().map(|c| c[0]).collect::<Vec<_>>(), TRIANGLES), (part.lines, LINES)]
-        {
+        // One primitive per group of triangles (named in its extras), then the lines.
+        let triangles: Vec<u32> = part.corners.iter().map(|c| c[0]).collect();
+        let mut cuts: Vec<(Option<&str>, usize)> = vec![(None, 0)];
+        for (name, at) in &part.groups {
+            if *at == cuts[cuts.len() - 1].1 {
+                cuts.pop();
+            }
+            cuts.push((Some(name), *at));
+        }
+        let mut pieces = Vec::new();
+        for (k, &(name, at)) in cuts.iter().enumerate() {
+            let end = cuts.get(k + 1).map_or(triangles.len(), |c| c.1).min(triangles.len());
+            pieces.push((triangles[at.min(end)..end].to_vec(), TRIANGLES, name));
+        }
+        pieces.push((part.lines.clone(), LINES, None));
+        for (indices, mode, group) in pieces {
             if indices.is_empty() {
                 continue;
             }
@@ -273,6 +289,9 @@ impl GltfWriter {
             if mode == TRIANGLES && attributes.contains_key("TEXCOORD_0") {
                 primitive["material"] = 0.into();
                 self.material = true;
+            }
+            if let Some(group) = group {
+                primitive["extras"] = json!({ "group": group });
             }
             primitives.push(primitive);
         }
@@ -454,6 +473,11 @@ impl Sink for GltfWriter {
 
     fn polygons(&mut self, starts: &[usize], corners: &[usize]) -> io::Result<()> {
         self.fans(starts.windows(2).map(|w| (&corners[w[0]..w[1]], None)))
+    }
+
+    fn group(&mut self, name: &str) -> io::Result<()> {
+        self.current.groups.push((name.to_string(), self.current.corners.len()));
+        Ok(())
     }
 
     fn textured_polygons(&mut self, starts: &[usize], corners: &[usize], uv_corners: &[usize]) -> io::Result<()> {

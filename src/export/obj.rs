@@ -192,6 +192,9 @@ impl Sink for Pass<'_> {
         self.check()?;
         if self.elements { self.writer.object(name) } else { Ok(()) }
     }
+    fn group(&mut self, name: &str) -> io::Result<()> {
+        if self.elements { self.writer.group(name) } else { Ok(()) }
+    }
     fn vertices(&mut self, dim: usize, positions: &[f64], normals: Option<&[f64]>) -> io::Result<()> {
         self.check()?;
         if self.elements {
@@ -367,6 +370,11 @@ impl Sink for ObjWriter {
     fn object(&mut self, name: &str) -> io::Result<()> {
         let clean: String = name.chars().map(|c| if c.is_whitespace() { '_' } else { c }).collect();
         writeln!(self.spool(), "o {clean}")
+    }
+
+    fn group(&mut self, name: &str) -> io::Result<()> {
+        let clean: String = name.chars().map(|c| if c.is_whitespace() { '_' } else { c }).collect();
+        writeln!(self.spool(), "g {clean}")
     }
 
     fn vertices(&mut self, dim: usize, positions: &[f64], normals: Option<&[f64]>) -> io::Result<()> {

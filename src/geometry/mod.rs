@@ -53,6 +53,13 @@ pub trait Sink {
         Ok(())
     }
 
+    /// Starts a named group of the current object's faces (OBJ's `g`): the
+    /// faces that follow belong to it. Formats without groups ignore it (the default).
+    fn group(&mut self, name: &str) -> io::Result<()> {
+        let _ = name;
+        Ok(())
+    }
+
     /// Faces of any degree as [`Sink::polygons`], with a texture vertex
     /// (given by [`Sink::uvs`], numbered from 0 across the output) for each
     /// corner: `uv_corners[k]` belongs to `corners[k]`. Formats without

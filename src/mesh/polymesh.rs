@@ -20,6 +20,8 @@ pub struct PolyMesh {
     pub(crate) texture: Option<Box<PolyMesh>>,
     /// The name the file gives the mesh (OBJ's first `o`, else its first `g`).
     pub name: Option<String>,
+    /// Named groups of faces (OBJ's `o` and `g`): each from its first face on.
+    pub groups: Vec<(String, usize)>,
 }
 
 /// A subdivision scheme on polygon meshes.
@@ -105,7 +107,7 @@ pub const DEFAULT_MESH_MEMORY: usize = 4 << 30;
 impl PolyMesh {
     /// A mesh from flat faces (not checked: for meshes made by subdivision).
     pub(crate) fn from_flat(positions: Vec<[f64; 3]>, starts: Vec<usize>, indices: Vec<usize>) -> PolyMesh {
-        PolyMesh { positions, starts, indices, texture: None, name: None }
+        PolyMesh { positions, starts, indices, texture: None, name: None, groups: Vec::new() }
     }
 
     /// Number of faces.

@@ -1,7 +1,8 @@
 //! Reading polygon meshes: Wavefront OBJ (`v`, `vt` and `f` records;
 //! texture coordinates kept when every corner has one, normal indices
 //! skipped, negative indices, any face degree; the first `o` (else `g`)
-//! names the mesh; other records are skipped) and OFF (with `#` comments, the counts on the header line or
+//! names the mesh, and every `o` and `g` starts a group of faces; other
+//! records are skipped) and OFF (with `#` comments, the counts on the header line or
 //! the next, colours after the coordinates or indices ignored). Errors name
 //! `file:line:column` and what was expected; the mesh is then checked like
 //! [`PolyMesh::new`], naming the face's line.
@@ -67,6 +68,7 @@ pub fn read_obj(text: &str, file: &str) -> Result<PolyMesh, MeshReadError> {
     let mut lines = Vec::new();
     let (mut uvs, mut uv_corners, mut all_textured): (Vec<[f64; 2]>, Vec<usize>, bool) = (Vec::new(), Vec::new(), true);
     let (mut object, mut group): (Option<String>, Option<String>) = (None, None);
+    let mut groups: Vec<(String, usize)> = Vec::new();
     let mut continued = String::new();
     let mut start_line = 0;
     for (i, raw) in text.lines().enumerate() {
@@ -114,6 +116,13 @@ pub fn read_obj(text: &str, file: &str) -> Result<PolyMesh, MeshReadError> {
                 if slot.is_none() && !name.is_empty() {
                     *slot = Some(name.to_string());
                 }
+                if !name.is_empty() {
+                    // A group starts at the next face; one named twice in a row is the later name.
+                    if groups.last().is_some_and(|(_, at)| *at == faces.len()) {
+                        groups.pop();
+                    }
+                    groups.push((name.to_string(), faces.len()));
+                }
             }
             "f" => {
                 let mut face = Vec::new();
@@ -151,6 +160,8 @@ pub fn read_obj(text: &str, file: &str) -> Result<PolyMesh, MeshReadError> {
     }
     let mut mesh = finish(positions, faces, &lines, file)?;
     mesh.name = object.or(group);
+    groups.retain(|(_, at)| *at < mesh.face_count());
+    mesh.groups = groups;
     if all_textured && !uvs.is_empty() {
         mesh = mesh.with_texture(uvs, uv_corners)?;
     }

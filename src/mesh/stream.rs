@@ -133,13 +133,30 @@ impl PolyMesh {
         let normals = crate::geometry::area_normals(&positions, faces());
         sink.object(name).map_err(io)?;
         sink.vertices(3, positions.as_flattened(), Some(normals.as_flattened())).map_err(io)?;
-        match &uv {
-            Some(uv) => {
-                let flat: Vec<f64> = uv.positions.iter().flat_map(|t| [t[0], t[1]]).collect();
-                sink.uvs(&flat).map_err(io)?;
-                sink.textured_polygons(&starts, &indices, &uv.indices).map_err(io)?;
+        if let Some(uv) = &uv {
+            let flat: Vec<f64> = uv.positions.iter().flat_map(|t| [t[0], t[1]]).collect();
+            sink.uvs(&flat).map_err(io)?;
+        }
+        // The input's groups of faces, where the scheme's faces follow them (two or more: one is the object).
+        let face_count = starts.len() - 1;
+        let groups = self.groups_after(scheme, steps).filter(|g| g.len() > 1 && !(limit && scheme == Scheme::DooSabin));
+        let mut cuts: Vec<(Option<&str>, usize)> = match &groups {
+            Some(g) => g.iter().map(|(n, at)| (Some(n.as_str()), (*at).min(face_count))).collect(),
+            None => vec![(None, 0)],
+        };
+        if cuts.first().is_some_and(|c| c.1 > 0) {
+            cuts.insert(0, (None, 0));
+        }
+        for (k, &(group, at)) in cuts.iter().enumerate() {
+            let end = cuts.get(k + 1).map_or(face_count, |c| c.1);
+            if let Some(group) = group {
+                sink.group(group).map_err(io)?;
             }
-            None => sink.polygons(&starts, &indices).map_err(io)?,
+            let range = &starts[at..=end.max(at)];
+            match &uv {
+                Some(uv) => sink.textured_polygons(range, &indices, &uv.indices).map_err(io)?,
+                None => sink.polygons(range, &indices).map_err(io)?,
+            }
         }
         Ok(Written { vertices: positions.len(), faces: faces().filter(|f| f.len() >= 3).count() })
     }

@@ -69,6 +69,28 @@ impl PolyMesh {
         self
     }
 
+    /// The groups of faces (see [`PolyMesh::groups`]) after `depth` steps
+    /// of `scheme`: each group's first face followed through the face splits
+    /// (Catmull-Clark: a quad per corner, Loop: four triangles per
+    /// triangle); `None` for the schemes whose faces come from edges and
+    /// vertices too (Doo-Sabin, √3).
+    pub fn groups_after(&self, scheme: Scheme, depth: usize) -> Option<Vec<(String, usize)>> {
+        if !matches!(scheme, Scheme::CatmullClark | Scheme::Loop) {
+            return None;
+        }
+        let split = |at: usize, step: usize| match (scheme, step) {
+            // The first step: one quad per corner of the faces before.
+            (Scheme::CatmullClark, 0) => self.starts[at.min(self.face_count())],
+            _ => 4 * at,
+        };
+        Some(
+            self.groups
+                .iter()
+                .map(|(name, first)| (name.clone(), (0..depth).fold(*first, &split)))
+                .collect(),
+        )
+    }
+
     /// The texture mesh after `depth` steps of `scheme` (with the surface's
     /// rule `weights`), face for face the faces of
     /// [`PolyMesh::subdivide_with`]'s net; `None` when the mesh has no

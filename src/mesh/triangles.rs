@@ -335,7 +335,20 @@ impl PolyMesh {
             }
             Box::new(PolyMesh::from_flat(uv.positions.clone(), starts.clone(), corners))
         });
-        PolyMesh { texture, name: self.name.clone(), ..PolyMesh::from_flat(self.positions.clone(), starts, indices) }
+        // A group starts at the first triangle of its first face.
+        let first: Vec<usize> = std::iter::once(0)
+            .chain(self.faces().scan(0, |n, f| {
+                *n += f.len().saturating_sub(2);
+                Some(*n)
+            }))
+            .collect();
+        let groups = self.groups.iter().map(|(g, at)| (g.clone(), first[(*at).min(first.len() - 1)])).collect();
+        PolyMesh {
+            texture,
+            groups,
+            name: self.name.clone(),
+            ..PolyMesh::from_flat(self.positions.clone(), starts, indices)
+        }
     }
 }
 /// Two Loop steps from a net at once: the middle net's points (`mid`: one

@@ -145,6 +145,9 @@ impl Sink for Checked<'_> {
         self.faces += starts.windows(2).filter(|w| w[1] - w[0] >= 3).count();
         self.sink.polygons(starts, corners)
     }
+    fn group(&mut self, name: &str) -> io::Result<()> {
+        self.sink.group(name)
+    }
     fn textured_polygons(&mut self, starts: &[usize], corners: &[usize], uv_corners: &[usize]) -> io::Result<()> {
         self.check()?;
         self.faces += starts.windows(2).filter(|w| w[1] - w[0] >= 3).count();

@@ -210,3 +210,35 @@ fn textured_meshes_keep_their_uvs_in_glb() {
     std::fs::remove_file(glb).unwrap();
     std::fs::remove_file(obj).unwrap();
 }
+
+/// Groups of faces (OBJ's `g`) through Catmull-Clark into glTF: one
+/// primitive per group, named in its `extras`, with its faces' children
+/// (16 quads, 32 triangles, per input quad after two steps); the node is
+/// named as the file names its object; valid for the validator.
+#[test]
+fn groups_are_primitives_in_glb() {
+    let cube = "o box\ng top\nv -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\n\
+                f 5 6 7 8\ng sides\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\ng bottom\nf 1 4 3 2\n";
+    let mesh = bcifs::mesh::read_obj(cube, "box.obj").unwrap();
+    let out = scratch("groups.glb");
+    render_mesh(&mesh, &MeshJob::new(Scheme::CatmullClark, 2), &Options::default(), &out).unwrap();
+    let bytes = std::fs::read(&out).unwrap();
+    let length = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+    let json: serde_json::Value = serde_json::from_slice(&bytes[20..20 + length]).unwrap();
+    let primitives: Vec<(String, u64)> = json["meshes"][0]["primitives"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| {
+            let count = json["accessors"][p["indices"].as_u64().unwrap() as usize]["count"].as_u64().unwrap();
+            (p["extras"]["group"].as_str().unwrap().to_string(), count)
+        })
+        .collect();
+    let expected = [("top", 96), ("sides", 4 * 96), ("bottom", 96)].map(|(g, n)| (g.to_string(), n));
+    assert_eq!(primitives, expected);
+    assert_eq!(json["nodes"][0]["name"], "box");
+    if let Some(verdicts) = gltf_validator(&[&out]) {
+        assert_eq!((verdicts[0].0, verdicts[0].1), (0, 0), "{:?}", verdicts[0].2);
+    }
+    std::fs::remove_file(out).unwrap();
+}

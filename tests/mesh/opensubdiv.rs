@@ -140,3 +140,42 @@ fn texture_coordinates_are_written_where_asked_and_possible() {
     assert!(report.notes.iter().any(|n| n.contains("texture coordinates")), "{report:?}");
     std::fs::remove_file(&out).unwrap();
 }
+
+/// The input's `o` and `g` names carry through: the file's first name
+/// names the output's object, and its groups of faces follow the faces
+/// through Catmull-Clark (a quad per corner) and Loop (four triangles per
+/// triangle), as `g` records in OBJ (read back: the same groups, each with
+/// its faces' children) and as one named primitive each in glTF; Doo-Sabin
+/// makes faces of edges and vertices too, and writes one object.
+#[test]
+fn object_and_group_names_carry_through() {
+    use bcifs::render::{MeshJob, Options, render_mesh};
+    let cube = "o box\ng top\nv -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\n\
+                f 5 6 7 8\ng sides\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\ng bottom\nf 1 4 3 2\n";
+    let mesh = read_obj(cube, "box.obj").unwrap();
+    assert_eq!(mesh.name.as_deref(), Some("box"));
+    let groups = |m: &PolyMesh| m.groups.iter().map(|(n, at)| format!("{n}@{at}")).collect::<Vec<_>>();
+    assert_eq!(groups(&mesh), ["top@0", "sides@1", "bottom@5"], "`o box` then `g top` at the same face: top");
+    let out = std::env::temp_dir().join(format!("bcifs-groups-{}.obj", std::process::id()));
+    for (scheme, mesh, per_face) in [
+        (Scheme::CatmullClark, mesh.clone(), 16),
+        (Scheme::Loop, mesh.triangulated(), 32), // two triangles per square, 16 each after two steps
+    ] {
+        for net in [true, false] {
+            let job = MeshJob { net, ..MeshJob::new(scheme, 2) };
+            render_mesh(&mesh, &job, &Options::default(), &out).unwrap();
+            let text = std::fs::read_to_string(&out).unwrap();
+            assert!(text.contains("o box\n"), "{scheme:?}: the object is named as the file names it");
+            let back = read_obj(&text, "back.obj").unwrap();
+            let expected: Vec<String> = [("top", 0), ("sides", per_face), ("bottom", 5 * per_face)]
+                .iter()
+                .map(|(n, at)| format!("{n}@{at}"))
+                .collect();
+            assert_eq!(groups(&back), expected, "{scheme:?} net {net}");
+        }
+    }
+    let doo_sabin = render_mesh(&mesh, &MeshJob::new(Scheme::DooSabin, 2), &Options::default(), &out).unwrap();
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(!text.contains("\ng "), "Doo-Sabin: no groups ({} faces in one object)", doo_sabin.faces);
+    std::fs::remove_file(&out).unwrap();
+}
