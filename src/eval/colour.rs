@@ -36,7 +36,7 @@ pub enum Colouring {
 }
 
 /// The colour of cells as the recursion goes down: per arrow its colour
-/// coordinate, the speed, the states' count; the vertices a leaf added.
+/// coordinate, the speed, the states' count; the vertices' colours so far.
 pub(super) struct CellColours<'a> {
     mode: Colouring,
     arrows: &'a HashMap<EdgeIndex, f64>,
@@ -44,8 +44,6 @@ pub(super) struct CellColours<'a> {
     states: usize,
     /// Per vertex, its coordinate.
     pub(super) out: Vec<f32>,
-    /// The first vertex a leaf may add, and its colour.
-    pub(super) pending: Option<(usize, f32)>,
 }
 
 impl CellColours<'_> {
@@ -60,14 +58,6 @@ impl CellColours<'_> {
         match self.mode {
             Colouring::State => (state as f64 / (self.states.max(2) - 1) as f64) as f32,
             Colouring::Map | Colouring::Level => (sum + weight * 0.5) as f32,
-        }
-    }
-
-    /// The vertices `..end` are made: those the pending leaf added get its colour.
-    pub(super) fn settle(&mut self, end: usize) {
-        if let Some((first, c)) = self.pending.take() {
-            self.out.resize(first.max(self.out.len()), c);
-            self.out.resize(end, c);
         }
     }
 }
@@ -102,7 +92,6 @@ impl Evaluator {
             speed: random.colour_speed,
             states: self.plan.states.iter().flatten().count(),
             out: Vec::new(),
-            pending: None,
         };
         let (shape, mut colours) = if self.meshes() || self.polygon_faces() {
             let mut shape = Shape::default();

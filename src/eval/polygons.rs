@@ -80,13 +80,8 @@ impl Evaluator {
                 group.iter().rev().map(|p| (p.state, p.control.clone(), k, [0.0, 1.0])).collect();
             while let Some((s, c, r, colour)) = stack.pop() {
                 let sp = self.plan.state(s);
-                let before = weld.positions.len() / d;
-                let leaf = r == 0 && (!sp.faces.is_empty() || sp.kind == CellKind::Face);
-                if let (true, Some(cc)) = (leaf, colours.as_deref_mut()) {
-                    // The colour of the vertices this cell adds, whichever branch adds them.
-                    cc.pending = Some((first + before, cc.leaf(s, colour)));
-                }
-                if !sp.faces.is_empty() && r == 0 {
+                if r == 0 && (!sp.faces.is_empty() || sp.kind == CellKind::Face) {
+                    // The leaf's polygons over its sample points: its start faces, or its corner polygon.
                     let n = sp.dim;
                     let index: Vec<usize> = sp
                         .samples
@@ -96,40 +91,27 @@ impl Evaluator {
                             first + weld.index(&p)
                         })
                         .collect();
-                    for face in &sp.faces {
+                    let corner_polygon = [(0..index.len()).collect::<Vec<usize>>()];
+                    let start_faces = !sp.faces.is_empty();
+                    for face in if start_faces { &sp.faces[..] } else { &corner_polygon[..] } {
                         let corners: Vec<usize> = face.iter().map(|&i| index[i]).collect();
-                        let mut key = corners.clone();
-                        key.sort_unstable();
-                        if key.windows(2).any(|w| w[0] == w[1]) || !made.insert(key) {
-                            continue;
+                        if start_faces {
+                            let mut key = corners.clone();
+                            key.sort_unstable();
+                            if key.windows(2).any(|w| w[0] == w[1]) || !made.insert(key) {
+                                continue;
+                            }
                         }
                         match corners.len() {
                             4 => quads.push([corners[0], corners[1], corners[2], corners[3]]),
-                            n => triangles.extend((1..n - 1).map(|i| [corners[0], corners[i], corners[i + 1]])),
+                            k => triangles
+                                .extend((1..k.saturating_sub(1)).map(|i| [corners[0], corners[i], corners[i + 1]])),
                         }
                     }
                     if let Some(cc) = colours.as_deref_mut() {
-                        cc.settle(first + weld.positions.len() / d);
-                    }
-                    continue;
-                }
-                if sp.kind == CellKind::Face && r == 0 {
-                    let n = sp.dim;
-                    let corners: Vec<usize> = sp
-                        .samples
-                        .iter()
-                        .map(|b| {
-                            let p: Vec<f64> = (0..d).map(|a| (0..n).map(|i| c[a * n + i] * b[i]).sum()).collect();
-                            first + weld.index(&p)
-                        })
-                        .collect();
-                    match corners.len() {
-                        3 => triangles.push([corners[0], corners[1], corners[2]]),
-                        4 => quads.push([corners[0], corners[1], corners[2], corners[3]]),
-                        _ => triangles.extend((1..corners.len() - 1).map(|i| [corners[0], corners[i], corners[i + 1]])),
-                    }
-                    if let Some(cc) = colours.as_deref_mut() {
-                        cc.settle(first + weld.positions.len() / d);
+                        // The vertices this cell adds take its colour.
+                        let value = cc.leaf(s, colour);
+                        cc.out.resize(first + weld.positions.len() / d, value);
                     }
                     continue;
                 }

@@ -83,12 +83,7 @@ impl PolyMesh {
             (Scheme::CatmullClark, 0) => self.starts[at.min(self.face_count())],
             _ => 4 * at,
         };
-        Some(
-            self.groups
-                .iter()
-                .map(|(name, first)| (name.clone(), (0..depth).fold(*first, &split)))
-                .collect(),
-        )
+        Some(self.groups.iter().map(|(name, first)| (name.clone(), (0..depth).fold(*first, &split))).collect())
     }
 
     /// The texture mesh after `depth` steps of `scheme` (with the surface's
