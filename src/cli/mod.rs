@@ -18,7 +18,7 @@ use std::process::ExitCode;
 use anyhow::{Context, Result, bail};
 use clap::{Parser, Subcommand};
 
-use bcifs::{Design, Progress, read_design};
+use bcifs::{Design, Progress};
 
 use self::analyze::AnalyzeCommand;
 use self::core::Topology;
@@ -190,25 +190,7 @@ fn check_threads(threads: Option<usize>) -> Result<Option<usize>> {
 /// Reads a file, or a shipped automaton or scheme preset by name when no
 /// such file exists; a name that is neither says which one is closest.
 fn load(file: &str) -> Result<Design> {
-    let path = PathBuf::from(file);
-    if !path.exists() {
-        let name = file.trim_end_matches(".toml");
-        if let Some(d) = bcifs::builtin_design(name) {
-            return Ok(d);
-        }
-        // The scheme presets too, spelt with `-` or `_`.
-        let preset = name.replace('_', "-");
-        if bcifs::schemes::IFS_NAMES.contains(&preset.as_str()) {
-            return Ok(bcifs::schemes::ifs_preset(&preset, None, None)?);
-        }
-        let shipped: Vec<&str> =
-            bcifs::BUILTIN_AUTOMATA.iter().map(|(n, _)| *n).chain(bcifs::schemes::IFS_NAMES).collect();
-        let help = bcifs::suggest(name, shipped.iter().copied())
-            .map(|s| format!(" (did you mean `{s}`?)"))
-            .unwrap_or_default();
-        bail!("`{file}` is neither a file nor a shipped automaton{help}; `bcifs list` shows the shipped ones");
-    }
-    Ok(read_design(&path)?)
+    Ok(bcifs::render::load(file)?)
 }
 
 fn parse_params(params: &[String]) -> Result<Vec<(String, f64)>> {

@@ -23,11 +23,13 @@
 
 mod checked;
 mod design;
+mod load;
 mod mesh;
 mod options;
 mod shape;
 
 pub use design::{evaluate_design, model_of, render};
+pub use load::{LoadError, load};
 pub use mesh::{MeshJob, check_weights, render_mesh, rule_weights};
 pub use options::{Format, Options, RenderError, Report, check_disk};
 pub use shape::{control_net, write_shape};

@@ -1,0 +1,68 @@
+"""Type stubs of the compiled module (`bcifs._bcifs`)."""
+
+import os
+from typing import Any, Optional, Sequence, Union
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+class BcifsError(ValueError):
+    """What bcifs refuses, with the library's message."""
+
+class Mesh:
+    """A mesh as numpy arrays."""
+
+    vertices: npt.NDArray[np.float64]
+    """(n, 3) positions."""
+    faces: Union[npt.NDArray[np.int64], list[npt.NDArray[np.int64]]]
+    """(m, k) corner indices when every face has k corners, else one array per face."""
+    edges: npt.NDArray[np.int64]
+    """(e, 2) segments of curves."""
+    normals: Optional[npt.NDArray[np.float64]]
+    """(n, 3) unit vertex normals, when the output has them."""
+    colours: Optional[npt.NDArray[np.uint8]]
+    """(n, 3) RGB vertex colours, when the output has them."""
+
+class Design:
+    """An automaton with its model."""
+
+    @staticmethod
+    def from_toml(text: str) -> Design: ...
+    def to_toml(self) -> str: ...
+    @property
+    def name(self) -> str: ...
+    @property
+    def parameters(self) -> list[str]: ...
+    def mesh(self, depth: Optional[int] = None, tolerance: Optional[float] = None, **params: float) -> Mesh: ...
+    def points(self, samples: int, seed: int = 0, **params: float) -> npt.NDArray[np.float64]: ...
+    def density(
+        self,
+        samples: int,
+        size: tuple[int, int] = (800, 800),
+        seed: int = 0,
+        palette: Optional[str] = None,
+        **params: float,
+    ) -> npt.NDArray[np.uint8]: ...
+    def render(
+        self,
+        path: Union[str, os.PathLike[str]],
+        depth: Optional[int] = None,
+        tolerance: Optional[float] = None,
+        samples: Optional[int] = None,
+        seed: int = 1,
+        size: tuple[int, int] = (800, 800),
+        palette: Optional[str] = None,
+        **params: float,
+    ) -> dict[str, Any]: ...
+
+def load(name_or_path: str) -> Design: ...
+def subdivide(
+    vertices: npt.ArrayLike,
+    faces: Union[npt.ArrayLike, Sequence[Sequence[int]]],
+    scheme: str,
+    depth: int,
+    net: bool = False,
+    **weights: float,
+) -> Mesh: ...

@@ -1,0 +1,352 @@
+//! The `bcifs` Python module (`bcifs._bcifs`, re-exported by the `bcifs`
+//! package): designs loaded by name or path, evaluated into numpy arrays
+//! and written in every format of the command line, through the library's
+//! render API. Long calls release the GIL.
+
+use numpy::ndarray::{Array2, Array3};
+use numpy::{IntoPyArray, PyArray2, PyReadonlyArray2};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+
+use bcifs::eval::{Depth, RandomSettings};
+use bcifs::geometry::Shape;
+use bcifs::mesh::{PolyMesh, Scheme};
+use bcifs::render::{MeshJob, Options};
+
+pyo3::create_exception!(
+    bcifs,
+    BcifsError,
+    PyValueError,
+    "What bcifs refuses, with the library's message: an unknown name, a malformed file, a bad parameter, a divergent system."
+);
+
+fn err(e: impl std::fmt::Display) -> PyErr {
+    BcifsError::new_err(e.to_string())
+}
+
+/// `**params` as `(name, value)` pairs.
+fn params(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<(String, f64)>> {
+    let mut out = Vec::new();
+    if let Some(kwargs) = kwargs {
+        for (k, v) in kwargs.iter() {
+            out.push((
+                k.extract::<String>()?,
+                v.extract::<f64>().map_err(|_| err(format!("parameter `{k}` must be a number")))?,
+            ));
+        }
+    }
+    Ok(out)
+}
+
+/// A design: an automaton (states, arrows, constraints) with its model.
+#[pyclass(module = "bcifs", frozen)]
+pub struct Design {
+    inner: bcifs::Design,
+}
+
+/// A mesh as numpy arrays: `vertices` (n, 3) float64, `faces` (m, k) int64
+/// when every face has k corners (else a list of arrays), `edges` (e, 2)
+/// int64 for curves, `normals` (n, 3) and `colours` (n, 3) uint8 when present.
+#[pyclass(module = "bcifs", frozen, get_all)]
+pub struct Mesh {
+    vertices: Py<PyArray2<f64>>,
+    faces: Py<PyAny>,
+    edges: Py<PyArray2<i64>>,
+    normals: Option<Py<PyArray2<f64>>>,
+    colours: Option<Py<PyArray2<u8>>>,
+}
+
+/// `values` as an (n, k) array.
+fn matrix<T: numpy::Element>(py: Python<'_>, values: Vec<T>, k: usize) -> Py<PyArray2<T>> {
+    let n = values.len().checked_div(k).unwrap_or(0);
+    Array2::from_shape_vec((n, k), values).expect("n × k values").into_pyarray(py).unbind()
+}
+
+/// Faces as one (m, k) array when they all have k corners, a list of arrays otherwise.
+fn faces_of(py: Python<'_>, faces: Vec<Vec<i64>>) -> PyResult<Py<PyAny>> {
+    let k = faces.first().map_or(3, Vec::len);
+    if faces.iter().all(|f| f.len() == k) {
+        return Ok(matrix(py, faces.concat(), k).into_any());
+    }
+    let list = PyList::empty(py);
+    for f in faces {
+        list.append(f.into_pyarray(py))?;
+    }
+    Ok(list.into_any().unbind())
+}
+
+impl Mesh {
+    fn of_shape(py: Python<'_>, shape: &Shape) -> PyResult<Mesh> {
+        let n = shape.vertex_count();
+        let vertices: Vec<f64> = (0..n).flat_map(|i| shape.point(i)).collect();
+        let mut faces: Vec<Vec<i64>> = shape.quads.iter().map(|q| q.iter().map(|&v| i64::from(v)).collect()).collect();
+        faces.extend(shape.triangles.iter().map(|t| t.iter().map(|&v| v as i64).collect()));
+        let mut edges = Vec::new();
+        for (first, count, closed) in shape.polylines() {
+            let segments = if closed && count > 2 { count } else { count.saturating_sub(1) };
+            for k in 0..segments {
+                edges.extend([(first + k) as i64, (first + (k + 1) % count) as i64]);
+            }
+        }
+        Ok(Mesh {
+            vertices: matrix(py, vertices, 3),
+            faces: faces_of(py, faces)?,
+            edges: matrix(py, edges, 2),
+            normals: (shape.normals.len() == 3 * n && n > 0).then(|| matrix(py, shape.normals.clone(), 3)),
+            colours: (shape.colours.len() == n && n > 0).then(|| matrix(py, shape.colours.concat(), 3)),
+        })
+    }
+
+    fn of_polymesh(py: Python<'_>, mesh: &PolyMesh) -> PyResult<Mesh> {
+        let faces = mesh.faces().map(|f| f.iter().map(|&v| v as i64).collect()).collect();
+        let normals = bcifs::geometry::area_normals(&mesh.positions, mesh.faces());
+        Ok(Mesh {
+            vertices: matrix(py, mesh.positions.concat(), 3),
+            faces: faces_of(py, faces)?,
+            edges: matrix(py, Vec::new(), 2),
+            normals: Some(matrix(py, normals.concat(), 3)),
+            colours: None,
+        })
+    }
+}
+
+#[pymethods]
+impl Mesh {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        let faces = self.faces.bind(py).len().unwrap_or(0);
+        format!(
+            "<bcifs.Mesh: {} vertices, {} faces, {} edges>",
+            self.vertices.bind(py).len().unwrap_or(0),
+            faces,
+            self.edges.bind(py).len().unwrap_or(0)
+        )
+    }
+}
+
+impl Design {
+    fn options(
+        &self,
+        depth: Option<usize>,
+        tolerance: Option<f64>,
+        kwargs: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Options> {
+        let mut options = Options { params: params(kwargs)?, ..Options::default() };
+        options.eval.depth = match (depth, tolerance) {
+            (Some(_), Some(_)) => return Err(err("give depth or tolerance, not both")),
+            (_, Some(eps)) => Depth::Tolerance(eps),
+            (Some(k), None) => Depth::Fixed(k),
+            (None, None) => options.eval.depth,
+        };
+        Ok(options)
+    }
+}
+
+#[pymethods]
+impl Design {
+    /// A design from the text of an automaton file.
+    #[staticmethod]
+    fn from_toml(text: &str) -> PyResult<Design> {
+        Ok(Design { inner: bcifs::parse_design(text, "<string>", "design").map_err(err)? })
+    }
+
+    /// The automaton file's text of this design.
+    fn to_toml(&self) -> String {
+        bcifs::write_design(&self.inner)
+    }
+
+    /// The design's name.
+    #[getter]
+    fn name(&self) -> String {
+        self.inner.name().to_string()
+    }
+
+    /// The parameters the design declares (names of its families' free values).
+    #[getter]
+    fn parameters(&self) -> Vec<String> {
+        self.inner.declared().to_vec()
+    }
+
+    /// The attractor evaluated `depth` subdivisions down (or until every
+    /// cell is below `tolerance`), with the given parameter values, as a [`Mesh`].
+    #[pyo3(signature = (depth=None, tolerance=None, **params))]
+    fn mesh(
+        &self,
+        py: Python<'_>,
+        depth: Option<usize>,
+        tolerance: Option<f64>,
+        params: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Mesh> {
+        let options = self.options(depth, tolerance, params)?;
+        let design = &self.inner;
+        let shape = py.detach(|| bcifs::render::evaluate_design(design, &options, &mut Vec::new())).map_err(err)?;
+        Mesh::of_shape(py, &shape)
+    }
+
+    /// `samples` points of the chaos game (seed `seed`), an (n, 3) array.
+    #[pyo3(signature = (samples, seed=0, **params))]
+    fn points(
+        &self,
+        py: Python<'_>,
+        samples: usize,
+        seed: u64,
+        params: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Py<PyArray2<f64>>> {
+        let mut options = self.options(None, None, params)?;
+        options.random = Some(RandomSettings::default().with_points(samples).with_seed(seed));
+        let design = &self.inner;
+        let shape = py.detach(|| bcifs::render::evaluate_design(design, &options, &mut Vec::new())).map_err(err)?;
+        let n = shape.vertex_count();
+        Ok(matrix(py, (0..n).flat_map(|i| shape.point(i)).collect(), 3))
+    }
+
+    /// The density picture of `samples` chaos-game points, an (h, w, 3)
+    /// uint8 array: the pixels of `render(path.png, random=samples, ...)`.
+    #[pyo3(signature = (samples, size=(800, 800), seed=0, palette=None, **params))]
+    fn density<'py>(
+        &self,
+        py: Python<'py>,
+        samples: usize,
+        size: (u32, u32),
+        seed: u64,
+        palette: Option<&str>,
+        params: Option<&Bound<'py, PyDict>>,
+    ) -> PyResult<Bound<'py, numpy::PyArray3<u8>>> {
+        let options = self.options(None, None, params)?;
+        let palette = palette.map(bcifs::export::Palette::parse).transpose().map_err(err)?;
+        let random = RandomSettings::default().with_points(samples).with_seed(seed);
+        let raster = bcifs::export::RasterSettings::default().with_size(size.0, size.1);
+        let design = &self.inner;
+        let img = py
+            .detach(|| -> Result<_, String> {
+                let model = bcifs::render::model_of(design).map_err(|e| e.to_string())?;
+                let instance = bcifs::instantiate(design, &options.params).map_err(|e| e.to_string())?;
+                let game =
+                    bcifs::eval::ChaosGame::new(&instance.automaton, &model, &random).map_err(|e| e.to_string())?;
+                bcifs::export::density_image(&game, samples, &raster, &options.tone, palette.as_ref())
+                    .map_err(|e| e.to_string())
+            })
+            .map_err(err)?;
+        let (w, h) = img.dimensions();
+        Ok(Array3::from_shape_vec((h as usize, w as usize, 3), img.into_raw()).expect("h × w × 3").into_pyarray(py))
+    }
+
+    /// Writes the design to `path`, the format chosen by its extension (every
+    /// format of `bcifs render`); `samples` runs the chaos game. Returns the
+    /// report as a dict (format, vertices, faces, bytes, warnings, notes).
+    #[pyo3(signature = (path, depth=None, tolerance=None, samples=None, seed=1, size=(800, 800), palette=None, **params))]
+    #[allow(clippy::too_many_arguments)]
+    fn render<'py>(
+        &self,
+        py: Python<'py>,
+        path: std::path::PathBuf,
+        depth: Option<usize>,
+        tolerance: Option<f64>,
+        samples: Option<usize>,
+        seed: u64,
+        size: (u32, u32),
+        palette: Option<&str>,
+        params: Option<&Bound<'py, PyDict>>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let mut options = self.options(depth, tolerance, params)?.with_size(size.0, size.1);
+        options.random = samples.map(|n| RandomSettings::default().with_points(n).with_seed(seed));
+        options.palette = palette.map(bcifs::export::Palette::parse).transpose().map_err(err)?;
+        let design = &self.inner;
+        let report = py.detach(|| bcifs::render::render(design, &options, &path)).map_err(err)?;
+        report_dict(py, &report)
+    }
+
+    fn __repr__(&self) -> String {
+        format!("<bcifs.Design {:?}: {}>", self.inner.name(), self.inner.description())
+    }
+}
+
+fn report_dict<'py>(py: Python<'py>, report: &bcifs::render::Report) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("format", report.format.map(|f| f.extension()))?;
+    d.set_item("vertices", report.vertices)?;
+    d.set_item("faces", report.faces)?;
+    d.set_item("bytes", report.bytes)?;
+    d.set_item("depth", report.depth)?;
+    d.set_item("warnings", report.warnings.clone())?;
+    d.set_item("notes", report.notes.clone())?;
+    Ok(d)
+}
+
+/// A design by name (a shipped automaton or scheme preset) or path.
+#[pyfunction]
+fn load(name_or_path: &str) -> PyResult<Design> {
+    Ok(Design { inner: bcifs::render::load(name_or_path).map_err(err)? })
+}
+
+/// A user's polygon mesh (`vertices` (n, 3), `faces` an (m, k) array or a
+/// list of index sequences) subdivided `depth` times by `scheme`
+/// (`doo-sabin`, `catmull-clark`, `loop`, `sqrt3`): the limit surface, or
+/// the control net with `net=True`; `weights` the rule weights (`alpha`,
+/// `beta`, `gamma` for Doo-Sabin, `w`, `sigma` for Loop). The same mesh as
+/// `bcifs surface` on that mesh written as OBJ.
+#[pyfunction]
+#[pyo3(signature = (vertices, faces, scheme, depth, net=false, **weights))]
+fn subdivide(
+    py: Python<'_>,
+    vertices: PyReadonlyArray2<'_, f64>,
+    faces: &Bound<'_, PyAny>,
+    scheme: &str,
+    depth: usize,
+    net: bool,
+    weights: Option<&Bound<'_, PyDict>>,
+) -> PyResult<Mesh> {
+    let v = vertices.as_array();
+    if v.ncols() != 3 {
+        return Err(err(format!("vertices must be an (n, 3) array, not (n, {})", v.ncols())));
+    }
+    let positions: Vec<[f64; 3]> = v.rows().into_iter().map(|r| [r[0], r[1], r[2]]).collect();
+    let faces: Vec<Vec<usize>> = faces
+        .extract::<Vec<Vec<i64>>>()?
+        .into_iter()
+        .map(|f| {
+            f.into_iter()
+                .map(|i| usize::try_from(i).map_err(|_| err(format!("a face index is negative: {i}"))))
+                .collect()
+        })
+        .collect::<PyResult<_>>()?;
+    let scheme = match scheme.replace('_', "-").as_str() {
+        "doo-sabin" => Scheme::DooSabin,
+        "catmull-clark" => Scheme::CatmullClark,
+        "loop" => Scheme::Loop,
+        "sqrt3" => Scheme::Sqrt3,
+        other => return Err(err(format!("unknown scheme `{other}`: doo-sabin, catmull-clark, loop or sqrt3"))),
+    };
+    let mesh = PolyMesh::new(positions, faces).map_err(err)?;
+    let weights = bcifs::render::rule_weights(scheme, &params(weights)?).map_err(err)?;
+    if let Some(why) = bcifs::render::check_weights(&mesh, weights).map_err(err)? {
+        PyErr::warn(
+            py,
+            &py.get_type::<pyo3::exceptions::PyUserWarning>(),
+            &std::ffi::CString::new(why).unwrap_or_default(),
+            1,
+        )?;
+    }
+    let memory = bcifs::mesh::DEFAULT_MESH_MEMORY;
+    let _ = MeshJob::new(scheme, depth);
+    if net {
+        let out = py.detach(|| mesh.subdivide_with(scheme, depth, weights, memory)).map_err(err)?;
+        Mesh::of_polymesh(py, &out)
+    } else {
+        let mut shape = py.detach(|| mesh.limit_with(scheme, depth, weights, memory)).map_err(err)?;
+        shape.set_area_normals();
+        Mesh::of_shape(py, &shape)
+    }
+}
+
+/// The module.
+#[pymodule]
+fn _bcifs(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("BcifsError", m.py().get_type::<BcifsError>())?;
+    m.add_class::<Design>()?;
+    m.add_class::<Mesh>()?;
+    m.add_function(wrap_pyfunction!(load, m)?)?;
+    m.add_function(wrap_pyfunction!(subdivide, m)?)?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

@@ -1,0 +1,145 @@
+"""The bcifs module against the command line it stands beside: the same
+arrays as the files the CLI writes, the same pixels as its PNG, the same
+subdivided mesh as `bcifs surface`, and the library's errors as exceptions."""
+
+import os
+import pathlib
+import shutil
+import subprocess
+
+import numpy as np
+import pytest
+
+import bcifs
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+
+
+def cli():
+    """The `bcifs` binary: $BCIFS_BIN, else the one cargo built (release or debug)."""
+    for candidate in [os.environ.get("BCIFS_BIN"), ROOT / "target/release/bcifs", ROOT / "target/debug/bcifs"]:
+        if candidate and pathlib.Path(candidate).is_file():
+            return str(candidate)
+    found = shutil.which("bcifs")
+    if not found:
+        pytest.skip("the bcifs binary is not built (cargo build --release)")
+    return found
+
+
+def read_obj(path):
+    """Vertices and faces of an OBJ file, parsed with numpy (indices from 0)."""
+    vertices, faces = [], []
+    for line in pathlib.Path(path).read_text().splitlines():
+        words = line.split()
+        if words and words[0] == "v":
+            vertices.append([float(x) for x in words[1:4]])
+        elif words and words[0] == "f":
+            faces.append([int(w.split("/")[0]) - 1 for w in words[1:]])
+    return np.array(vertices), faces
+
+
+def test_mesh_equals_the_cli_obj_to_the_last_bit(tmp_path):
+    out = tmp_path / "t.obj"
+    subprocess.run([cli(), "render", "doo_sabin_torus", "--depth", "3", "--up", "z", "-o", str(out)], check=True, capture_output=True)
+    vertices, faces = read_obj(out)
+    mesh = bcifs.load("doo_sabin_torus").mesh(depth=3)
+    assert mesh.vertices.dtype == np.float64 and mesh.vertices.shape == vertices.shape
+    # The OBJ holds the shortest text that reads back to the same float64.
+    assert np.array_equal(mesh.vertices, vertices)
+    assert np.array_equal(mesh.faces, np.array(faces))
+    assert mesh.normals.shape == vertices.shape
+    assert np.allclose(np.linalg.norm(mesh.normals, axis=1), 1.0)
+
+
+def test_parameters_change_the_mesh():
+    design = bcifs.load("doo_sabin_torus")
+    assert design.parameters == ["alpha", "beta", "gamma"]
+    plain = design.mesh(depth=2).vertices
+    other = design.mesh(depth=2, alpha=0.7, beta=0.1).vertices  # defaults: 0.6, 0.15, 0.19
+    assert plain.shape == other.shape and not np.allclose(plain, other)
+
+
+def test_curves_have_edges_and_points_are_the_chaos_game():
+    koch = bcifs.load("koch").mesh(depth=4)
+    assert koch.vertices.shape == (4**4 + 1, 3)
+    assert koch.edges.shape == (4**4, 2) and koch.edges.dtype == np.int64
+    points = bcifs.load("fern").points(5000, seed=3)
+    assert points.shape == (5000, 3)
+    assert np.array_equal(points, bcifs.load("fern").points(5000, seed=3)), "the same seed, the same points"
+
+
+def test_density_equals_the_png(tmp_path):
+    pytest.importorskip("PIL")
+    from PIL import Image
+
+    out = tmp_path / "fern.png"
+    subprocess.run(
+        [cli(), "render", "fern", "--random", "200000", "--seed", "5", "--size", "120x90", "--palette", "fire", "-o", str(out)],
+        check=True,
+        capture_output=True,
+    )
+    picture = bcifs.load("fern").density(200000, size=(120, 90), seed=5, palette="fire")
+    assert picture.shape == (90, 120, 3) and picture.dtype == np.uint8
+    assert np.array_equal(picture, np.asarray(Image.open(out).convert("RGB")))
+
+
+def test_subdivide_equals_bcifs_surface(tmp_path):
+    source = ROOT / "tests/data/cube.off"
+    out = tmp_path / "cube.obj"
+    subprocess.run([cli(), "surface", str(source), "--scheme", "catmull-clark", "--depth", "2", "--net", "-o", str(out)], check=True, capture_output=True)
+    vertices, faces = read_obj(out)
+    words = source.read_text().split()
+    nv, nf = int(words[1]), int(words[2])
+    v = np.array(words[4 : 4 + 3 * nv], dtype=float).reshape(nv, 3)
+    rest = words[4 + 3 * nv :]
+    f = []
+    for _ in range(nf):
+        k = int(rest[0])
+        f.append([int(x) for x in rest[1 : 1 + k]])
+        rest = rest[1 + k :]
+    mesh = bcifs.subdivide(v, np.array(f), "catmull-clark", 2, net=True)
+    assert np.array_equal(mesh.vertices, vertices)
+    assert np.array_equal(mesh.faces, np.array(faces))
+    # Mixed degrees come back as a list of arrays; triangles only as one array.
+    pyramid = bcifs.subdivide(
+        np.array([[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0], [0, 0, 1.5]], float),
+        [[0, 3, 2, 1], [0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]],
+        "doo-sabin",
+        1,
+        net=True,
+    )
+    assert isinstance(pyramid.faces, list)
+
+
+def test_render_writes_every_format(tmp_path):
+    design = bcifs.load("doo_sabin_torus")
+    for ext in ["obj", "ply", "glb", "stl", "off", "png"]:
+        report = design.render(tmp_path / f"t.{ext}", depth=3, size=(64, 64))
+        assert report["format"] == ext and report["bytes"] == (tmp_path / f"t.{ext}").stat().st_size
+
+
+def test_toml_round_trip():
+    design = bcifs.load("gasket")
+    again = bcifs.Design.from_toml(design.to_toml())
+    assert again.name == design.name
+    assert np.array_equal(again.mesh(depth=4).vertices, design.mesh(depth=4).vertices)
+
+
+def test_errors_are_exceptions_with_the_library_messages():
+    with pytest.raises(bcifs.BcifsError, match="did you mean `fern`"):
+        bcifs.load("fren")
+    with pytest.raises(bcifs.BcifsError, match="is not a free parameter"):
+        bcifs.load("doo_sabin_torus").mesh(depth=2, delta=0.5)
+    with pytest.raises(bcifs.BcifsError, match=r"<string>:\d+:\d+"):
+        bcifs.Design.from_toml("[[state]]\nname = 3\n")
+    with pytest.raises(ValueError):  # BcifsError is a ValueError
+        bcifs.subdivide(np.zeros((3, 3)), [[0, 1, 2]], "no-such-scheme", 1)
+
+
+def test_trimesh_takes_the_arrays():
+    trimesh = pytest.importorskip("trimesh")
+    mesh = bcifs.load("doo_sabin_torus").mesh(depth=3)
+    quads = mesh.faces
+    t = trimesh.Trimesh(mesh.vertices, np.concatenate([quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]]), process=False)
+    t.merge_vertices()
+    assert t.is_watertight and t.volume > 0
