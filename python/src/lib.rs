@@ -256,9 +256,43 @@ impl Design {
         report_dict(py, &report)
     }
 
+    /// The solved family: the object `bcifs solve --json` prints (a dict:
+    /// `consistent`, `dof`, `parameters`, exact `matrices`, or `conflicts`).
+    fn solve<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let design = &self.inner;
+        let report = py.detach(|| bcifs::render::solve_report(design)).map_err(err)?;
+        json_object(py, &report)
+    }
+
+    /// The check at the given parameter values: the object `bcifs check
+    /// --json` prints (constraints' residuals, spectra, JSR bounds, verdict).
+    #[pyo3(signature = (**params))]
+    fn check<'py>(&self, py: Python<'py>, params: Option<&Bound<'py, PyDict>>) -> PyResult<Bound<'py, PyAny>> {
+        let values = self::params(params)?;
+        let design = &self.inner;
+        let report = py.detach(|| bcifs::render::check_report(design, &values)).map_err(err)?;
+        json_object(py, &report)
+    }
+
+    /// A 400 × 400 picture, for Jupyter.
+    fn _repr_png_(&self, py: Python<'_>) -> PyResult<Vec<u8>> {
+        let path = std::env::temp_dir().join(format!("bcifs-repr-{}-{:p}.png", std::process::id(), self));
+        let options = Options::default().with_size(400, 400);
+        let design = &self.inner;
+        py.detach(|| bcifs::render::render(design, &options, &path)).map_err(err)?;
+        let bytes = std::fs::read(&path).map_err(err)?;
+        let _ = std::fs::remove_file(&path);
+        Ok(bytes)
+    }
+
     fn __repr__(&self) -> String {
         format!("<bcifs.Design {:?}: {}>", self.inner.name(), self.inner.description())
     }
+}
+
+/// A JSON value as Python objects (through `json.loads`).
+fn json_object<'py>(py: Python<'py>, value: &serde_json::Value) -> PyResult<Bound<'py, PyAny>> {
+    py.import("json")?.call_method1("loads", (value.to_string(),))
 }
 
 fn report_dict<'py>(py: Python<'py>, report: &bcifs::render::Report) -> PyResult<Bound<'py, PyDict>> {

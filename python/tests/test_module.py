@@ -143,3 +143,21 @@ def test_trimesh_takes_the_arrays():
     t = trimesh.Trimesh(mesh.vertices, np.concatenate([quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]]), process=False)
     t.merge_vertices()
     assert t.is_watertight and t.volume > 0
+
+
+def test_solve_and_check_are_the_cli_json():
+    import json
+
+    for name in ["corner_cutting", "doo_sabin_torus"]:
+        solved = json.loads(subprocess.run([cli(), "solve", name, "--json"], capture_output=True, text=True).stdout)
+        assert bcifs.load(name).solve() == solved
+    checked = json.loads(
+        subprocess.run([cli(), "check", "corner_cutting", "--param", "a=0.2", "--json"], capture_output=True, text=True).stdout
+    )
+    report = bcifs.load("corner_cutting").check(a=0.2)
+    assert report == checked and report["parameters"]["a"] == 0.2
+
+
+def test_a_design_shows_its_picture():
+    png = bcifs.load("koch")._repr_png_()
+    assert png[:8] == b"\x89PNG\r\n\x1a\n"

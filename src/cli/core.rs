@@ -4,7 +4,6 @@ use std::fmt::Write as _;
 
 use anyhow::{Result, bail};
 use clap::Subcommand;
-use serde_json::json;
 
 use bcifs::analysis::{DEFAULT_CHECK_TOLERANCE, check};
 use bcifs::schemes::{curve, quad_patch};
@@ -37,48 +36,29 @@ pub enum Topology {
 pub fn run_solve(out: &mut String, file: &str, as_json: bool) -> Result<u8> {
     let design = load(file)?;
     let name = design.name().to_string();
+    if as_json {
+        let report = bcifs::render::solve_report(&design).map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
+        writeln!(out, "{}", serde_json::to_string_pretty(&report)?)?;
+        return Ok(if report["consistent"] == true { 0 } else { 1 });
+    }
     match solve(&design) {
         Ok(family) => {
-            let matrices = family.matrices_text();
-            if as_json {
-                let m: serde_json::Map<String, serde_json::Value> =
-                    matrices.iter().map(|(n, rows)| (n.clone(), json!(rows))).collect();
-                writeln!(
-                    out,
-                    "{}",
-                    serde_json::to_string_pretty(&json!({
-                        "automaton": name, "consistent": true, "dof": family.dof(),
-                        "parameters": family.parameter_names(), "matrices": m,
-                    }))?
-                )?;
-            } else {
-                writeln!(out, "{name}: {} free parameter(s): {}", family.dof(), family.parameter_names().join(", "))?;
-                writeln!(out, "({} scalar equations, rank {})", family.equations, family.rank)?;
-                for (n, rows) in &matrices {
-                    let width = rows.iter().flatten().map(String::len).max().unwrap_or(1);
-                    writeln!(out, "\n{n} =")?;
-                    for row in rows {
-                        let cells: Vec<String> = row.iter().map(|c| format!("{c:>width$}")).collect();
-                        writeln!(out, "  [ {} ]", cells.join("  "))?;
-                    }
+            writeln!(out, "{name}: {} free parameter(s): {}", family.dof(), family.parameter_names().join(", "))?;
+            writeln!(out, "({} scalar equations, rank {})", family.equations, family.rank)?;
+            for (n, rows) in &family.matrices_text() {
+                let width = rows.iter().flatten().map(String::len).max().unwrap_or(1);
+                writeln!(out, "\n{n} =")?;
+                for row in rows {
+                    let cells: Vec<String> = row.iter().map(|c| format!("{c:>width$}")).collect();
+                    writeln!(out, "  [ {} ]", cells.join("  "))?;
                 }
             }
             Ok(0)
         }
         Err(SolveError::Inconsistent { conflicts }) => {
-            if as_json {
-                writeln!(
-                    out,
-                    "{}",
-                    serde_json::to_string_pretty(
-                        &json!({"automaton": name, "consistent": false, "conflicts": conflicts})
-                    )?
-                )?;
-            } else {
-                writeln!(out, "{name}: the constraints are inconsistent; these equations conflict:")?;
-                for c in &conflicts {
-                    writeln!(out, "  {c}")?;
-                }
+            writeln!(out, "{name}: the constraints are inconsistent; these equations conflict:")?;
+            for c in &conflicts {
+                writeln!(out, "  {c}")?;
             }
             Ok(1)
         }
@@ -92,26 +72,9 @@ pub fn run_check(out: &mut String, file: &str, params: &[String], as_json: bool)
     let instance = bcifs::instantiate(&design, &values).map_err(|e| anyhow::anyhow!("{}: {e}", design.name()))?;
     let report = check(&instance.automaton, &instance.values, DEFAULT_CHECK_TOLERANCE)?;
     if as_json {
-        let params: serde_json::Map<String, serde_json::Value> =
-            instance.parameters.iter().map(|(n, v)| (n.clone(), json!(v))).collect();
-        let spectra: serde_json::Map<String, serde_json::Value> = report
-            .spectra
-            .iter()
-            .map(|(n, eig)| (n.clone(), json!(eig.iter().map(|l| [l.re, l.im]).collect::<Vec<_>>())))
-            .collect();
-        let constraints: Vec<_> =
-            report.constraints.iter().map(|(e, r)| json!({"equation": e, "max_abs_residual": r})).collect();
-        let jsr = report.jsr.as_ref().map(|j| json!({"lower": j.lower, "upper": j.upper, "witness": j.witness}));
-        writeln!(
-            out,
-            "{}",
-            serde_json::to_string_pretty(&json!({
-                "automaton": design.name(), "ok": report.ok, "parameters": params,
-                "constraints": constraints, "max_column_sum_error": report.max_column_sum_error,
-                "spectra": spectra, "per_matrix_condition": report.contractive,
-                "jsr": jsr, "converges": report.converges, "contractive": report.converges,
-            }))?
-        )?;
+        let json =
+            bcifs::render::check_report(&design, &values).map_err(|e| anyhow::anyhow!("{}: {e}", design.name()))?;
+        writeln!(out, "{}", serde_json::to_string_pretty(&json)?)?;
     } else {
         let p: Vec<String> = instance.parameters.iter().map(|(n, v)| format!("{n} = {v}")).collect();
         writeln!(out, "{}: {}", design.name(), if p.is_empty() { "no free parameter".into() } else { p.join(", ") })?;
