@@ -1,7 +1,7 @@
 """Type stubs of the compiled module (`bcifs._bcifs`)."""
 
 import os
-from typing import Any, Optional, Sequence, Union
+from typing import Any, Callable, Optional, Sequence, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -57,6 +57,7 @@ class Design:
         seed: int = 1,
         size: tuple[int, int] = (800, 800),
         palette: Optional[str] = None,
+        progress: Optional[Callable[[int, int], Any]] = None,
         **params: float,
     ) -> dict[str, Any]: ...
 

@@ -39,6 +39,55 @@ fn params(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<(String, f64)>> {
     Ok(out)
 }
 
+/// Runs `work` on a worker thread, the GIL released, while this thread
+/// forwards its progress to `progress` (a callable taking `done, total`:
+/// tqdm's `update` fits through a small lambda) and checks for Ctrl-C every
+/// 100 ms: on KeyboardInterrupt the work is cancelled through the
+/// [`bcifs::Cancel`] it was given (no file is left) and the exception raised.
+fn cancellable<T: Send>(
+    py: Python<'_>,
+    progress: Option<&Bound<'_, PyAny>>,
+    work: impl FnOnce(bcifs::Cancel, Option<bcifs::Progress>) -> T + Send,
+) -> PyResult<T> {
+    let cancel = bcifs::Cancel::new();
+    let (tx, rx) = std::sync::mpsc::channel::<(u64, u64)>();
+    let reporter = progress.is_some().then(|| {
+        let tx = std::sync::Mutex::new(tx);
+        bcifs::Progress::new(move |done, total| {
+            let _ = tx.lock().map(|t| t.send((done, total)));
+        })
+    });
+    let rx = std::sync::Mutex::new(rx);
+    std::thread::scope(|scope| {
+        let worker_cancel = cancel.clone();
+        let handle = scope.spawn(move || work(worker_cancel, reporter));
+        let mut interrupted = None;
+        while !handle.is_finished() {
+            let wait = std::time::Duration::from_millis(100);
+            let message = py.detach(|| rx.lock().ok().and_then(|r| r.recv_timeout(wait).ok()));
+            if let (Some((done, total)), Some(callback)) = (message, progress)
+                && interrupted.is_none()
+            {
+                if let Err(e) = callback.call1((done, total)) {
+                    cancel.cancel();
+                    interrupted = Some(e);
+                }
+            }
+            if interrupted.is_none()
+                && let Err(e) = py.check_signals()
+            {
+                cancel.cancel();
+                interrupted = Some(e);
+            }
+        }
+        let result = py.detach(|| handle.join()).map_err(|_| err("the computation panicked"))?;
+        match interrupted {
+            Some(e) => Err(e),
+            None => Ok(result),
+        }
+    })
+}
+
 /// A design: an automaton (states, arrows, constraints) with its model.
 #[pyclass(module = "bcifs", frozen)]
 pub struct Design {
@@ -232,9 +281,11 @@ impl Design {
     }
 
     /// Writes the design to `path`, the format chosen by its extension (every
-    /// format of `bcifs render`); `samples` runs the chaos game. Returns the
-    /// report as a dict (format, vertices, faces, bytes, warnings, notes).
-    #[pyo3(signature = (path, depth=None, tolerance=None, samples=None, seed=1, size=(800, 800), palette=None, **params))]
+    /// format of `bcifs render`); `samples` runs the chaos game; `progress`
+    /// is called with `(done, total)` as the work goes. Returns the report as
+    /// a dict (format, vertices, faces, bytes, warnings, notes). Ctrl-C stops
+    /// it within a tenth of a second and leaves no file.
+    #[pyo3(signature = (path, depth=None, tolerance=None, samples=None, seed=1, size=(800, 800), palette=None, progress=None, **params))]
     #[allow(clippy::too_many_arguments)]
     fn render<'py>(
         &self,
@@ -246,13 +297,19 @@ impl Design {
         seed: u64,
         size: (u32, u32),
         palette: Option<&str>,
+        progress: Option<&Bound<'py, PyAny>>,
         params: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
         let mut options = self.options(depth, tolerance, params)?.with_size(size.0, size.1);
         options.random = samples.map(|n| RandomSettings::default().with_points(n).with_seed(seed));
         options.palette = palette.map(bcifs::export::Palette::parse).transpose().map_err(err)?;
         let design = &self.inner;
-        let report = py.detach(|| bcifs::render::render(design, &options, &path)).map_err(err)?;
+        let report = cancellable(py, progress, |cancel, reporter| {
+            let mut options = options.with_cancel(cancel);
+            options.progress = reporter;
+            bcifs::render::render(design, &options, &path)
+        })?
+        .map_err(err)?;
         report_dict(py, &report)
     }
 

@@ -161,3 +161,34 @@ def test_solve_and_check_are_the_cli_json():
 def test_a_design_shows_its_picture():
     png = bcifs.load("koch")._repr_png_()
     assert png[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_progress_is_reported(tmp_path):
+    seen = []
+    report = bcifs.load("fern").render(
+        tmp_path / "fern.png", samples=3_000_000, size=(64, 64), progress=lambda done, total: seen.append((done, total))
+    )
+    assert report["vertices"] == 3_000_000
+    assert seen and all(d <= t for d, t in seen)
+    assert seen[-1][0] == seen[-1][1], "the last report says the work is done"
+
+
+def test_ctrl_c_stops_a_long_call_and_leaves_no_file(tmp_path):
+    import signal
+    import sys
+    import time
+
+    out = tmp_path / "long.png"
+    child = subprocess.Popen(
+        [sys.executable, "-c", f"import bcifs; bcifs.load('fern').render({str(out)!r}, samples=4_000_000_000, size=(64, 64))"],
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    time.sleep(2.0)
+    assert child.poll() is None, "still working when interrupted"
+    sent = time.monotonic()
+    child.send_signal(signal.SIGINT)
+    _, stderr = child.communicate(timeout=30)
+    assert time.monotonic() - sent < 1.5, "stopped within a second or so"
+    assert "KeyboardInterrupt" in stderr
+    assert not out.exists() and not list(tmp_path.iterdir()), "no file, no temporary file"
