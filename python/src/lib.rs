@@ -67,11 +67,10 @@ fn cancellable<T: Send>(
             let message = py.detach(|| rx.lock().ok().and_then(|r| r.recv_timeout(wait).ok()));
             if let (Some((done, total)), Some(callback)) = (message, progress)
                 && interrupted.is_none()
+                && let Err(e) = callback.call1((done, total))
             {
-                if let Err(e) = callback.call1((done, total)) {
-                    cancel.cancel();
-                    interrupted = Some(e);
-                }
+                cancel.cancel();
+                interrupted = Some(e);
             }
             if interrupted.is_none()
                 && let Err(e) = py.check_signals()
