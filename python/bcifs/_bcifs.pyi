@@ -24,6 +24,8 @@ class Mesh:
     """(n, 3) unit vertex normals, when the output has them."""
     colours: Optional[npt.NDArray[np.uint8]]
     """(n, 3) RGB vertex colours, when the output has them."""
+    def to_trimesh(self) -> Any:
+        """A trimesh `Trimesh`, `Path3D` or `PointCloud` (trimesh must be installed)."""
 
 class Design:
     """An automaton with its model."""

@@ -161,6 +161,47 @@ impl Mesh {
 
 #[pymethods]
 impl Mesh {
+    /// The mesh as trimesh has it (trimesh must be installed): a `Trimesh`
+    /// (faces fanned into triangles, normals and colours kept), a `Path3D`
+    /// for curves, or a `PointCloud`.
+    fn to_trimesh<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let trimesh = py.import("trimesh")?;
+        let faces = self.faces.bind(py);
+        let mut triangles: Vec<i64> = Vec::new();
+        for face in faces.try_iter()? {
+            let f: Vec<i64> = face?.extract()?;
+            for i in 1..f.len().saturating_sub(1) {
+                triangles.extend([f[0], f[i], f[i + 1]]);
+            }
+        }
+        let vertices = self.vertices.bind(py);
+        if !triangles.is_empty() {
+            let kwargs = PyDict::new(py);
+            kwargs.set_item("vertices", vertices)?;
+            kwargs.set_item("faces", matrix(py, triangles, 3))?;
+            kwargs.set_item("vertex_normals", self.normals.as_ref().map(|n| n.bind(py)))?;
+            kwargs.set_item("vertex_colors", self.colours.as_ref().map(|c| c.bind(py)))?;
+            kwargs.set_item("process", false)?;
+            return trimesh.getattr("Trimesh")?.call((), Some(&kwargs));
+        }
+        let edges = self.edges.bind(py);
+        if edges.len()? > 0 {
+            // One `Line` entity per segment (no solver of trimesh's needed).
+            let line = py.import("trimesh.path.entities")?.getattr("Line")?;
+            let entities = PyList::empty(py);
+            for edge in edges.try_iter()? {
+                entities.append(line.call1((edge?,))?)?;
+            }
+            let kwargs = PyDict::new(py);
+            kwargs.set_item("entities", entities)?;
+            kwargs.set_item("vertices", vertices)?;
+            return py.import("trimesh.path")?.getattr("Path3D")?.call((), Some(&kwargs));
+        }
+        let kwargs = PyDict::new(py);
+        kwargs.set_item("colors", self.colours.as_ref().map(|c| c.bind(py)))?;
+        trimesh.getattr("PointCloud")?.call((vertices,), Some(&kwargs))
+    }
+
     fn __repr__(&self, py: Python<'_>) -> String {
         let faces = self.faces.bind(py).len().unwrap_or(0);
         format!(

@@ -136,6 +136,16 @@ def test_errors_are_exceptions_with_the_library_messages():
         bcifs.subdivide(np.zeros((3, 3)), [[0, 1, 2]], "no-such-scheme", 1)
 
 
+def test_to_trimesh():
+    trimesh = pytest.importorskip("trimesh")
+    torus = bcifs.load("doo_sabin_torus").mesh(depth=3).to_trimesh()
+    assert isinstance(torus, trimesh.Trimesh) and len(torus.faces) == 2 * 4096
+    torus.merge_vertices()
+    assert torus.is_watertight and torus.volume > 0
+    assert isinstance(bcifs.load("koch").mesh(depth=3).to_trimesh(), trimesh.path.Path3D)
+    assert isinstance(bcifs.load("fern").mesh(depth=3).to_trimesh(), trimesh.PointCloud)
+
+
 def test_trimesh_takes_the_arrays():
     trimesh = pytest.importorskip("trimesh")
     mesh = bcifs.load("doo_sabin_torus").mesh(depth=3)
