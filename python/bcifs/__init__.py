@@ -9,7 +9,45 @@ numpy arrays, drawn, and written in every format of the command line::
     torus.render("torus.glb", depth=5)  # any format of `bcifs render`
 """
 
-from ._bcifs import BcifsError, Design, Mesh, load, subdivide
+import os
 
-__all__ = ["BcifsError", "Design", "Mesh", "load", "subdivide"]
+import numpy as np
+
+from ._bcifs import BcifsError, Design, Mesh, load, subdivide, sweep_rows
+
+__all__ = ["BcifsError", "Design", "Mesh", "load", "subdivide", "sweep"]
+
+
+def _sweep_band(toml, x, y, rows, what, thorough):
+    """One band of rows of a sweep (what a Dask worker runs: the design travels as its TOML text)."""
+    return sweep_rows(toml, x, y, rows, what, thorough)
+
+
+def sweep(design, x, y, what="verdict", client=None, tiles=None, thorough=False):
+    """A parameter plane of `design`: `x` and `y` are `(NAME, lo, hi, n)`,
+    the other parameters at their defaults; an (ny, nx) int8 array, row 0 at
+    the top (y = hi), of convergence verdicts: 1 converges, 0 undecided,
+    -1 diverges (JSR >= 1), -2 a subdivision matrix fails seed 004's
+    per-matrix condition (the colours of `bcifs analyze map`).
+
+    The plane is split into `tiles` bands of rows; with `client` (a
+    `dask.distributed.Client`) the bands run on its workers, each loading
+    the design from its TOML text, otherwise here. The array is the same
+    either way, bit for bit.
+    """
+    text = design.to_toml() if isinstance(design, Design) else load(design).to_toml()
+    x, y = (str(x[0]), float(x[1]), float(x[2]), int(x[3])), (str(y[0]), float(y[1]), float(y[2]), int(y[3]))
+    ny = y[3]
+    if tiles is None:
+        workers = len(client.scheduler_info()["workers"]) if client is not None else (os.cpu_count() or 1)
+        tiles = max(1, min(ny, 4 * workers))
+    edges = [round(k * ny / tiles) for k in range(tiles + 1)]
+    bands = [(a, b) for a, b in zip(edges, edges[1:]) if b > a]
+    if client is None:
+        parts = [_sweep_band(text, x, y, band, what, thorough) for band in bands]
+    else:
+        k = len(bands)
+        futures = client.map(_sweep_band, [text] * k, [x] * k, [y] * k, bands, [what] * k, [thorough] * k, pure=False)
+        parts = client.gather(futures)
+    return np.concatenate(parts, axis=0) if parts else np.zeros((0, x[3]), dtype=np.int8)
 

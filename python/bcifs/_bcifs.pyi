@@ -72,3 +72,11 @@ def subdivide(
     net: bool = False,
     **weights: float,
 ) -> Mesh: ...
+def sweep_rows(
+    toml: str,
+    x: tuple[str, float, float, int],
+    y: tuple[str, float, float, int],
+    rows: tuple[int, int],
+    what: str = "verdict",
+    thorough: bool = False,
+) -> npt.NDArray[np.int8]: ...

@@ -470,6 +470,48 @@ fn subdivide(
     }
 }
 
+/// The rows `rows` of a parameter sweep of the design in `toml` (a band of
+/// `bcifs.sweep`'s array, bit for bit): `x` and `y` are `(name, lo, hi,
+/// n)`; verdicts as int8: 1 converges, 0 undecided, -1 diverges (JSR ≥ 1),
+/// -2 a subdivision matrix fails seed 004's per-matrix condition.
+#[pyfunction]
+#[pyo3(signature = (toml, x, y, rows, what="verdict", thorough=false))]
+fn sweep_rows<'py>(
+    py: Python<'py>,
+    toml: &str,
+    x: (String, f64, f64, usize),
+    y: (String, f64, f64, usize),
+    rows: (usize, usize),
+    what: &str,
+    thorough: bool,
+) -> PyResult<Bound<'py, PyArray2<i8>>> {
+    use bcifs::analysis::{JsrSettings, ParameterPlane, Verdict, verdict_map_rows};
+    if what != "verdict" {
+        return Err(err(format!(
+            "sweep what=`{what}`: this version sweeps the convergence verdict (what=\"verdict\")"
+        )));
+    }
+    let design = bcifs::parse_design(toml, "<sweep>", "design").map_err(err)?;
+    let plane = ParameterPlane { x: (x.0, x.1, x.2), y: (y.0, y.1, y.2), size: (x.3, y.3) };
+    let settings = if thorough { JsrSettings::default() } else { JsrSettings::quick() };
+    let cells = py
+        .detach(|| -> Result<_, String> {
+            let family = bcifs::solve(&design).map_err(|e| e.to_string())?;
+            verdict_map_rows(&family, &plane, &settings, rows.0..rows.1).map_err(|e| e.to_string())
+        })
+        .map_err(err)?;
+    let codes: Vec<i8> = cells
+        .iter()
+        .map(|c| match (c.verdict, c.per_matrix) {
+            (Verdict::Converges, _) => 1,
+            (Verdict::Undecided, _) => 0,
+            (Verdict::Diverges, true) => -1,
+            (Verdict::Diverges, false) => -2,
+        })
+        .collect();
+    Ok(matrix(py, codes, plane.size.0).into_bound(py))
+}
+
 /// The module.
 #[pymodule]
 fn _bcifs(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -478,6 +520,7 @@ fn _bcifs(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Mesh>()?;
     m.add_function(wrap_pyfunction!(load, m)?)?;
     m.add_function(wrap_pyfunction!(subdivide, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep_rows, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

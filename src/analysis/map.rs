@@ -73,7 +73,22 @@ pub fn verdict_map(
     plane: &ParameterPlane,
     settings: &JsrSettings,
 ) -> Result<Vec<MapCell>, InstantiateError> {
-    over_plane(family, plane, |automaton| {
+    verdict_map_rows(family, plane, settings, 0..plane.size.1)
+}
+
+/// [`verdict_map`] of the rows `rows` of `plane` only: the same pixels, bit
+/// for bit, as the whole map's (a band of it, for sweeps split over
+/// machines).
+///
+/// # Errors
+/// As [`verdict_map`].
+pub fn verdict_map_rows(
+    family: &Family,
+    plane: &ParameterPlane,
+    settings: &JsrSettings,
+    rows: std::ops::Range<usize>,
+) -> Result<Vec<MapCell>, InstantiateError> {
+    over_rows(family, plane, rows, |automaton| {
         let verdict = jsr_verdict(automaton, settings).unwrap_or(Verdict::Undecided);
         MapCell { verdict, per_matrix: per_matrix_condition(automaton) }
     })
@@ -87,7 +102,18 @@ fn over_plane<T: Send>(
     plane: &ParameterPlane,
     cell: impl Fn(&Automaton<f64>) -> T + Sync,
 ) -> Result<Vec<T>, InstantiateError> {
-    let (w, h) = plane.size;
+    over_rows(family, plane, 0..plane.size.1, cell)
+}
+
+/// [`over_plane`] over the rows `rows` only.
+fn over_rows<T: Send>(
+    family: &Family,
+    plane: &ParameterPlane,
+    rows: std::ops::Range<usize>,
+    cell: impl Fn(&Automaton<f64>) -> T + Sync,
+) -> Result<Vec<T>, InstantiateError> {
+    let w = plane.size.0;
+    let rows = rows.start.min(plane.size.1)..rows.end.min(plane.size.1);
     // Checks the names and the defaults once, before the threads start.
     let (xname, yname) = (plane.x.0.clone(), plane.y.0.clone());
     let base = family.parameter_values(&[(xname.clone(), plane.x.1), (yname.clone(), plane.y.1)])?;
@@ -95,7 +121,7 @@ fn over_plane<T: Send>(
     let (ix, iy) =
         (names.iter().position(|n| *n == xname).unwrap_or(0), names.iter().position(|n| *n == yname).unwrap_or(0));
     let numeric = NumericFamily::new(family);
-    let rows: Vec<Vec<T>> = (0..h)
+    let rows: Vec<Vec<T>> = rows
         .into_par_iter()
         .map_init(
             || (numeric.automaton(), base.clone()),
