@@ -18,13 +18,17 @@ import bcifs
 COLOURS = {1: (150, 205, 150), 0: (240, 200, 80), -1: (215, 60, 60), -2: (228, 228, 228)}
 
 
+def sweep(client):
+    return bcifs.sweep("corner_cutting", x=("a", -1, 1, 256), y=("b", -1, 1, 256), client=client)
+
+
 def main():
     if len(sys.argv) > 1:
-        client = Client(sys.argv[1])
+        with Client(sys.argv[1]) as client:
+            verdicts = sweep(client)
     else:
-        client = Client(LocalCluster(n_workers=2, threads_per_worker=1, dashboard_address=None))
-    with client:
-        verdicts = bcifs.sweep("corner_cutting", x=("a", -1, 1, 256), y=("b", -1, 1, 256), client=client)
+        with LocalCluster(n_workers=2, threads_per_worker=1, dashboard_address=None) as cluster, Client(cluster) as client:
+            verdicts = sweep(client)
     picture = np.zeros(verdicts.shape + (3,), dtype=np.uint8)
     for code, colour in COLOURS.items():
         picture[verdicts == code] = colour
