@@ -13,9 +13,9 @@ import os
 
 import numpy as np
 
-from ._bcifs import BcifsError, Design, Mesh, load, subdivide, sweep_rows
+from ._bcifs import BcifsError, Design, Mesh, dimension, load, subdivide, sweep_rows
 
-__all__ = ["BcifsError", "Design", "Mesh", "load", "subdivide", "sweep"]
+__all__ = ["BcifsError", "Design", "Mesh", "dimension", "load", "subdivide", "sweep"]
 
 
 def _sweep_band(toml, x, y, rows, what, thorough):

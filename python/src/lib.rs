@@ -470,6 +470,22 @@ fn subdivide(
     }
 }
 
+/// The dimensions of a design's attractor at the given parameter values:
+/// the object `bcifs analyze dimension --json` prints (box-counting
+/// dimension and its fit, similarity dimension, open set condition).
+#[pyfunction]
+#[pyo3(signature = (design, **params))]
+fn dimension<'py>(
+    py: Python<'py>,
+    design: &Design,
+    params: Option<&Bound<'py, PyDict>>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let values = self::params(params)?;
+    let inner = &design.inner;
+    let report = py.detach(|| bcifs::render::dimension_report(inner, &values)).map_err(err)?;
+    json_object(py, &report.to_json())
+}
+
 /// The rows `rows` of a parameter sweep of the design in `toml` (a band of
 /// `bcifs.sweep`'s array, bit for bit): `x` and `y` are `(name, lo, hi,
 /// n)`; verdicts as int8: 1 converges, 0 undecided, -1 diverges (JSR ≥ 1),
@@ -521,6 +537,7 @@ fn _bcifs(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(load, m)?)?;
     m.add_function(wrap_pyfunction!(subdivide, m)?)?;
     m.add_function(wrap_pyfunction!(sweep_rows, m)?)?;
+    m.add_function(wrap_pyfunction!(dimension, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

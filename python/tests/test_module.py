@@ -168,6 +168,15 @@ def test_solve_and_check_are_the_cli_json():
     assert report == checked and report["parameters"]["a"] == 0.2
 
 
+def test_dimension_is_the_cli_json():
+    import json
+
+    expected = json.loads(subprocess.run([cli(), "analyze", "dimension", "gasket", "--json"], capture_output=True, text=True).stdout)
+    report = bcifs.dimension(bcifs.load("gasket"))
+    assert report == expected
+    assert abs(report["similarity_dimension"] - np.log(3) / np.log(2)) < 1e-9
+
+
 def test_a_design_shows_its_picture():
     png = bcifs.load("koch")._repr_png_()
     assert png[:8] == b"\x89PNG\r\n\x1a\n"

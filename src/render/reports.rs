@@ -4,6 +4,7 @@
 
 use serde_json::{Value, json};
 
+use super::options::RenderError;
 use crate::algebra::ExprError;
 use crate::analysis::{DEFAULT_CHECK_TOLERANCE, check};
 use crate::design::Design;
@@ -70,4 +71,91 @@ pub fn check_report(design: &Design, params: &[(String, f64)]) -> Result<Value, 
         "spectra": spectra, "per_matrix_condition": report.contractive,
         "jsr": jsr, "converges": report.converges, "contractive": report.converges,
     }))
+}
+
+/// What `analyze dimension` finds: the box-counting dimension of points
+/// within `resolution` of the attractor, the similarity dimension and the
+/// open set condition when the maps are similarities.
+#[derive(Clone, Debug)]
+pub struct DimensionReport {
+    /// The design's name.
+    pub automaton: String,
+    /// The parameter values used.
+    pub parameters: Vec<(String, f64)>,
+    /// Points sampled.
+    pub points: usize,
+    /// Their distance to the attractor, at most.
+    pub resolution: f64,
+    /// The box-counting fit (`None`: not enough scales).
+    pub fit: Option<crate::analysis::BoxCount>,
+    /// The similarity dimension, when every map is a similarity.
+    pub similarity: Option<f64>,
+    /// The open set condition, when there is a similarity dimension.
+    pub open_set: Option<crate::analysis::OpenSet>,
+}
+
+impl DimensionReport {
+    /// The object `analyze dimension --json` prints.
+    pub fn to_json(&self) -> Value {
+        let parameters: serde_json::Map<String, Value> =
+            self.parameters.iter().map(|(n, v)| (n.clone(), json!(v))).collect();
+        let fit = self
+            .fit
+            .as_ref()
+            .map(|f| json!({"r2": f.r2, "scales": f.scales.iter().map(|(e, n)| json!([e, n])).collect::<Vec<_>>()}));
+        let open_set = self.open_set.as_ref();
+        json!({
+            "automaton": self.automaton, "parameters": parameters,
+            "box_dimension": self.fit.as_ref().map(|f| f.dimension), "fit": fit,
+            "similarity_dimension": self.similarity, "points": self.points,
+            "open_set_condition": open_set.and_then(|o| o.holds),
+            "open_set_reason": open_set.map(|o| o.reason.clone()),
+            "similarity_dimension_is": open_set.map(|o| if o.holds == Some(true) { "the Hausdorff dimension" } else { "an upper bound of the Hausdorff dimension" }),
+        })
+    }
+}
+
+/// The dimensions of `design`'s attractor at `params` (see [`DimensionReport`]).
+///
+/// # Errors
+/// Parameters that do not instantiate, no model, an evaluation error, an empty attractor.
+pub fn dimension_report(design: &Design, params: &[(String, f64)]) -> Result<DimensionReport, RenderError> {
+    use crate::eval::{EvalSettings, Evaluator};
+    let instance = instantiate(design, params)?;
+    let model = super::design::model_of(design)?;
+    // The extent from a coarse evaluation, then points within 1/1024 of it.
+    let coarse_ev = Evaluator::new(&instance.automaton, &model, EvalSettings::default().with_depth(4))?;
+    let pieces = coarse_ev.pieces();
+    let first = pieces.pieces.first();
+    let root = |p: &crate::eval::Piece| petgraph::graph::NodeIndex::new(p.state);
+    let similarity =
+        first.and_then(|p| crate::analysis::similarity_dimension(&instance.automaton, root(p), &p.control, pieces.dim));
+    let open_set = first
+        .zip(similarity)
+        .map(|(p, s)| crate::analysis::open_set_condition(&instance.automaton, root(p), &p.control, pieces.dim, s));
+    let coarse = coarse_ev.evaluate()?;
+    let (lo, hi) = coarse.bounds().ok_or_else(|| RenderError::Unsupported("the attractor is empty".into()))?;
+    let extent = (0..3).map(|a| hi[a] - lo[a]).fold(0.0, f64::max);
+    // Surfaces have many more cells per unit of resolution: a quarter of it, and
+    // the quads' centres and edge midpoints as samples too (within O(h²) of a smooth sheet).
+    let surface = !coarse.quads.is_empty();
+    let resolution = extent / if surface { 256.0 } else { 1024.0 };
+    let settings = EvalSettings::default().with_tolerance(resolution).with_memory_limit(1 << 30);
+    let shape = Evaluator::new(&instance.automaton, &model, settings)?.evaluate()?;
+    let mut samples = shape.points();
+    for q in &shape.quads {
+        let p = q.map(|i| shape.point(i as usize));
+        let mid = |a: [f64; 3], b: [f64; 3]| [0, 1, 2].map(|k| (a[k] + b[k]) / 2.0);
+        samples.extend([mid(p[0], p[1]), mid(p[1], p[2]), mid(p[2], p[3]), mid(p[3], p[0]), mid(p[0], p[2])]);
+    }
+    let fit = crate::analysis::box_dimension(&samples, if surface { resolution / 2.0 } else { resolution });
+    Ok(DimensionReport {
+        automaton: design.name().to_string(),
+        parameters: instance.parameters.clone(),
+        points: shape.vertex_count(),
+        resolution,
+        fit,
+        similarity,
+        open_set,
+    })
 }

@@ -248,56 +248,16 @@ pub fn run(out: &mut String, what: AnalyzeCommand) -> Result<u8> {
 
 /// `bcifs analyze dimension`.
 fn run_dimension(out: &mut String, file: &str, params: &[String], as_json: bool) -> Result<u8> {
-    use bcifs::eval::{EvalSettings, Evaluator};
     let design = super::load(file)?;
     let values = super::parse_params(params)?;
-    let instance = bcifs::instantiate(&design, &values).map_err(|e| anyhow::anyhow!("{}: {e}", design.name()))?;
-    let model =
-        design.model().cloned().with_context(|| format!("`{}` has no [model]: add control points", design.name()))?;
-    // The extent from a coarse evaluation, then points within 1/1024 of it.
-    let coarse_ev = Evaluator::new(&instance.automaton, &model, EvalSettings::default().with_depth(4))?;
-    let pieces = coarse_ev.pieces();
-    let first = pieces.pieces.first();
-    let root = |p: &bcifs::eval::Piece| bcifs::petgraph::graph::NodeIndex::new(p.state);
-    let similarity =
-        first.and_then(|p| bcifs::analysis::similarity_dimension(&instance.automaton, root(p), &p.control, pieces.dim));
-    let open_set = first
-        .zip(similarity)
-        .map(|(p, s)| bcifs::analysis::open_set_condition(&instance.automaton, root(p), &p.control, pieces.dim, s));
-    let coarse = coarse_ev.evaluate()?;
-    let (lo, hi) = coarse.bounds().context("the attractor is empty")?;
-    let extent = (0..3).map(|a| hi[a] - lo[a]).fold(0.0, f64::max);
-    // Surfaces have many more cells per unit of resolution: a quarter of it, and
-    // the quads' centres and edge midpoints as samples too (within O(h²) of a smooth sheet).
-    let surface = !coarse.quads.is_empty();
-    let resolution = extent / if surface { 256.0 } else { 1024.0 };
-    let settings = EvalSettings::default().with_tolerance(resolution).with_memory_limit(1 << 30);
-    let shape = Evaluator::new(&instance.automaton, &model, settings)?.evaluate()?;
-    let mut samples = shape.points();
-    for q in &shape.quads {
-        let p = q.map(|i| shape.point(i as usize));
-        let mid = |a: [f64; 3], b: [f64; 3]| [0, 1, 2].map(|k| (a[k] + b[k]) / 2.0);
-        samples.extend([mid(p[0], p[1]), mid(p[1], p[2]), mid(p[2], p[3]), mid(p[3], p[0]), mid(p[0], p[2])]);
-    }
-    let fit = bcifs::analysis::box_dimension(&samples, if surface { resolution / 2.0 } else { resolution });
-    let params: serde_json::Map<String, serde_json::Value> =
-        instance.parameters.iter().map(|(n, v)| (n.clone(), serde_json::json!(v))).collect();
+    let report =
+        bcifs::render::dimension_report(&design, &values).map_err(|e| anyhow::anyhow!("{}: {e}", design.name()))?;
     if as_json {
-        let fit_json = fit.as_ref().map(|f| {
-            serde_json::json!({"r2": f.r2, "scales": f.scales.iter().map(|(e, n)| serde_json::json!([e, n])).collect::<Vec<_>>()})
-        });
-        let value = serde_json::json!({
-            "automaton": design.name(), "parameters": params,
-            "box_dimension": fit.as_ref().map(|f| f.dimension), "fit": fit_json,
-            "similarity_dimension": similarity, "points": shape.vertex_count(),
-            "open_set_condition": open_set.as_ref().and_then(|o| o.holds),
-            "open_set_reason": open_set.as_ref().map(|o| o.reason.clone()),
-            "similarity_dimension_is": open_set.as_ref().map(|o| if o.holds == Some(true) { "the Hausdorff dimension" } else { "an upper bound of the Hausdorff dimension" }),
-        });
-        writeln!(out, "{}", serde_json::to_string_pretty(&value)?)?;
+        writeln!(out, "{}", serde_json::to_string_pretty(&report.to_json())?)?;
         return Ok(0);
     }
-    writeln!(out, "{}: {} points within {resolution:.3e}", design.name(), shape.vertex_count())?;
+    let bcifs::render::DimensionReport { fit, similarity, open_set, resolution, points, .. } = report;
+    writeln!(out, "{}: {points} points within {resolution:.3e}", design.name())?;
     match &fit {
         Some(f) => writeln!(
             out,
