@@ -458,16 +458,9 @@ fn subdivide(
             1,
         )?;
     }
-    let memory = bcifs::mesh::DEFAULT_MESH_MEMORY;
-    let _ = MeshJob::new(scheme, depth);
-    if net {
-        let out = py.detach(|| mesh.subdivide_with(scheme, depth, weights, memory)).map_err(err)?;
-        Mesh::of_polymesh(py, &out)
-    } else {
-        let mut shape = py.detach(|| mesh.limit_with(scheme, depth, weights, memory)).map_err(err)?;
-        shape.set_area_normals();
-        Mesh::of_shape(py, &shape)
-    }
+    let job = MeshJob { weights, net, ..MeshJob::new(scheme, depth) };
+    let out = py.detach(|| bcifs::render::subdivide_mesh(&mesh, &job, &Options::default())).map_err(err)?;
+    Mesh::of_polymesh(py, &out)
 }
 
 /// The dimensions of a design's attractor at the given parameter values:

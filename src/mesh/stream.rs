@@ -86,6 +86,30 @@ impl PolyMesh {
 }
 
 impl PolyMesh {
+    /// The output of [`PolyMesh::subdivide_into`] in memory: the net after
+    /// `job.depth` steps, or with `limit` the limit surface's points at the
+    /// last net's vertices with its faces, in order (Doo-Sabin's: the dual's
+    /// quads), within `job.memory_limit`.
+    ///
+    /// # Errors
+    /// The output over `memory_limit` (with the estimate), or a Doo-Sabin
+    /// limit of a mesh without interior vertex.
+    pub fn subdivided(&self, job: &Subdivision, limit: bool) -> Result<PolyMesh, SubdivideError> {
+        let Subdivision { scheme, depth, weights, memory_limit } = *job;
+        if !limit {
+            return self.subdivide_with(scheme, depth, weights, memory_limit);
+        }
+        let shape = self.limit_with(scheme, depth, weights, memory_limit)?;
+        let mut starts = vec![0];
+        let mut indices = Vec::with_capacity(4 * shape.quads.len() + 3 * shape.triangles.len());
+        let quads = shape.quads.iter().map(|q| q.map(|v| v as usize).to_vec());
+        for face in quads.chain(shape.triangles.iter().map(|t| t.to_vec())) {
+            indices.extend(face);
+            starts.push(indices.len());
+        }
+        Ok(PolyMesh::from_flat(shape.points(), starts, indices))
+    }
+
     /// [`PolyMesh::subdivide_into`], with area-weighted vertex normals
     /// ([`crate::geometry::area_normals`]) and, when `texture` is asked and
     /// the mesh has texture coordinates, the texture mesh subdivided alike
@@ -105,27 +129,9 @@ impl PolyMesh {
         name: &str,
         sink: &mut dyn Sink,
     ) -> Result<Written, SubdivideError> {
-        let Subdivision { scheme, depth, weights, memory_limit } = *job;
+        let Subdivision { scheme, depth, weights, .. } = *job;
         let io = SubdivideError::Write;
-        let (positions, starts, indices) = if limit {
-            // The limit's faces are the last net's, in order (Doo-Sabin's: the dual's quads).
-            let shape = self.limit_with(scheme, depth, weights, memory_limit)?;
-            let mut starts = vec![0];
-            let mut indices = Vec::with_capacity(4 * shape.quads.len() + 3 * shape.triangles.len());
-            for face in shape
-                .quads
-                .iter()
-                .map(|q| q.map(|v| v as usize).to_vec())
-                .chain(shape.triangles.iter().map(|t| t.to_vec()))
-            {
-                indices.extend(face);
-                starts.push(indices.len());
-            }
-            (shape.points(), starts, indices)
-        } else {
-            let net = self.subdivide_with(scheme, depth, weights, memory_limit)?;
-            (net.positions, net.starts, net.indices)
-        };
+        let PolyMesh { positions, starts, indices, .. } = self.subdivided(job, limit)?;
         let steps = if limit { depth.max(1) } else { depth };
         let uv = if texture { self.texture_after(scheme, steps, weights) } else { None };
         let uv = uv.filter(|t| t.indices.len() == indices.len());

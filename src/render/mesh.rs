@@ -102,6 +102,20 @@ pub fn check_weights(mesh: &PolyMesh, weights: Option<RuleWeights>) -> Result<Op
     })
 }
 
+/// The output of `job` on `mesh` in memory (what [`render_mesh`] writes,
+/// as a mesh: the net, or the limit surface's points with the net's faces),
+/// the rule weights checked first and [`Options`]' memory limit applied:
+/// what front ends that want arrays, not files, call.
+///
+/// # Errors
+/// Diverging weights, or an output over the memory limit.
+pub fn subdivide_mesh(mesh: &PolyMesh, job: &MeshJob, options: &Options) -> Result<PolyMesh, RenderError> {
+    check_weights(mesh, job.weights)?;
+    let memory = options.eval.memory_limit;
+    let subdivision = Subdivision { scheme: job.scheme, depth: job.depth, weights: job.weights, memory_limit: memory };
+    Ok(mesh.subdivided(&subdivision, !job.net)?)
+}
+
 /// Subdivides `mesh` as `job` says and writes it to `out`, the format
 /// chosen by its extension: OBJ and OFF streamed (only the net before the
 /// last step in memory; the size estimate checked against
@@ -127,11 +141,7 @@ pub fn render_mesh(mesh: &PolyMesh, job: &MeshJob, options: &Options, out: &Path
     let memory = options.eval.memory_limit;
     let subdivision = Subdivision { scheme: job.scheme, depth: job.depth, weights: job.weights, memory_limit: memory };
     if matches!(format, Format::Png | Format::Svg) {
-        let shape = if job.net {
-            mesh.subdivide_with(job.scheme, job.depth, job.weights, memory)?.to_shape(&job.name)
-        } else {
-            mesh.limit_with(job.scheme, job.depth, job.weights, memory)?
-        };
+        let shape = mesh.subdivided(&subdivision, !job.net)?.to_shape(&job.name);
         options.check_cancel()?;
         let mut text = options.png_text(&job.name);
         if let Some((_, comment)) = text.iter_mut().find(|(key, _)| key == "Comment") {

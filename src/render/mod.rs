@@ -31,7 +31,7 @@ mod shape;
 
 pub use design::{evaluate_design, model_of, render};
 pub use load::{LoadError, load};
-pub use mesh::{MeshJob, check_weights, render_mesh, rule_weights};
+pub use mesh::{MeshJob, check_weights, render_mesh, rule_weights, subdivide_mesh};
 pub use options::{Format, Options, RenderError, Report, check_disk};
 pub use reports::{CheckReportError, DimensionReport, check_report, dimension_report, solve_report};
 pub use shape::{control_net, write_shape};
