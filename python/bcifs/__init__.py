@@ -13,9 +13,9 @@ import os
 
 import numpy as np
 
-from ._bcifs import BcifsError, Design, Mesh, dimension, load, subdivide, sweep_rows
+from ._bcifs import REGIONS, BcifsError, Builder, Design, Mesh, analyze_curve, dimension, load, subdivide, sweep_rows
 
-__all__ = ["BcifsError", "Design", "Mesh", "dimension", "load", "subdivide", "sweep"]
+__all__ = ["REGIONS", "BcifsError", "Builder", "Design", "Mesh", "analyze_curve", "dimension", "load", "subdivide", "sweep"]
 
 
 def _sweep_band(toml, x, y, rows, what, thorough):
@@ -25,10 +25,20 @@ def _sweep_band(toml, x, y, rows, what, thorough):
 
 def sweep(design, x, y, what="verdict", client=None, tiles=None, thorough=False):
     """A parameter plane of `design`: `x` and `y` are `(NAME, lo, hi, n)`,
-    the other parameters at their defaults; an (ny, nx) int8 array, row 0 at
-    the top (y = hi), of convergence verdicts: 1 converges, 0 undecided,
-    -1 diverges (JSR >= 1), -2 a subdivision matrix fails seed 004's
-    per-matrix condition (the colours of `bcifs analyze map`).
+    the other parameters at their defaults; an (ny, nx) array, row 0 at the
+    top (y = hi), pixel centres as `bcifs analyze map` samples them, of
+
+    - ``what="verdict"``: int8 convergence verdicts: 1 converges, 0
+      undecided, -1 diverges (JSR >= 1), -2 a subdivision matrix fails the
+      per-matrix condition of Zhang et al. (2015) §3;
+    - ``what="region"``: int8 regions of a curve family (their Fig. 8), an
+      index into `bcifs.REGIONS`;
+    - ``what="angle"``: float64 junction angles of a curve family in
+      degrees (NaN where there are no half-tangents);
+    - ``what="dimension"``: float64 box-counting dimensions where the bounds
+      prove convergence (NaN elsewhere).
+
+    The same values as `bcifs analyze map --what WHAT -o map.csv`.
 
     The plane is split into `tiles` bands of rows; with `client` (a
     `dask.distributed.Client`) the bands run on its workers, each loading
@@ -49,5 +59,7 @@ def sweep(design, x, y, what="verdict", client=None, tiles=None, thorough=False)
         k = len(bands)
         futures = client.map(_sweep_band, [text] * k, [x] * k, [y] * k, bands, [what] * k, [thorough] * k, pure=False)
         parts = client.gather(futures)
-    return np.concatenate(parts, axis=0) if parts else np.zeros((0, x[3]), dtype=np.int8)
+    if parts:
+        return np.concatenate(parts, axis=0)
+    return np.zeros((0, x[3]), dtype=np.int8 if what in ("verdict", "region", "regions") else np.float64)
 

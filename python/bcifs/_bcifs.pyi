@@ -1,6 +1,7 @@
 """Type stubs of the compiled module (`bcifs._bcifs`)."""
 
 import os
+from fractions import Fraction
 from typing import Any, Callable, Optional, Sequence, Union
 
 import numpy as np
@@ -24,6 +25,10 @@ class Mesh:
     """(n, 3) unit vertex normals, when the output has them."""
     colours: Optional[npt.NDArray[np.uint8]]
     """(n, 3) RGB vertex colours, when the output has them."""
+    uv: Optional[npt.NDArray[np.float64]]
+    """(t, 2) texture coordinates, when the output has them (face-varying: see `uv_faces`)."""
+    uv_faces: Optional[Union[npt.NDArray[np.int64], list[npt.NDArray[np.int64]]]]
+    """Shaped as `faces`: the index into `uv` of every corner."""
     def to_trimesh(self) -> Any:
         """A trimesh `Trimesh`, `Path3D` or `PointCloud` (trimesh must be installed)."""
 
@@ -71,8 +76,46 @@ def subdivide(
     scheme: str,
     depth: int,
     net: bool = False,
+    uv: Optional[npt.ArrayLike] = None,
+    uv_faces: Optional[Union[npt.ArrayLike, Sequence[Sequence[int]]]] = None,
     **weights: float,
 ) -> Mesh: ...
+def analyze_curve(design: Design, **params: Union[float, int, str, Fraction]) -> dict[str, Any]: ...
+
+REGIONS: list[str]
+"""The regions of a region sweep, by code."""
+
+class Builder:
+    """The checked builder: a design made in code, checked as a whole by `build()`."""
+
+    def __init__(self, name: str) -> None: ...
+    @staticmethod
+    def of(design: Design) -> Builder: ...
+    def description(self, text: str) -> Builder: ...
+    def doc(self, text: str) -> Builder: ...
+    def state(self, name: str, dim: int, kind: str) -> Builder: ...
+    def unknown(self, name: str, source: str, target: str) -> Builder: ...
+    def matrix(self, name: str, source: str, target: str, rows: Any) -> Builder: ...
+    def select(self, name: str, source: str, target: str, select: Sequence[int]) -> Builder: ...
+    def constraint(self, group: str, equation: str) -> Builder: ...
+    def adjacency(self, equation: str) -> Builder: ...
+    def incidence(self, equation: str) -> Builder: ...
+    def name_entry(self, name: str, entry: str, default: Optional[Union[float, str, Fraction]] = None) -> Builder: ...
+    def parameter(self, name: str, default: Optional[Union[float, str, Fraction]] = None) -> Builder: ...
+    def default(self, name: str, value: Union[float, str, Fraction]) -> Builder: ...
+    def model(
+        self,
+        root: str,
+        points: Sequence[Sequence[float]],
+        layout: str = "single",
+        roots: Optional[Sequence[str]] = None,
+        step: Optional[int] = None,
+        grid: Optional[tuple[int, int]] = None,
+        net: Optional[Sequence[Sequence[int]]] = None,
+        patches: Optional[Sequence[Sequence[int]]] = None,
+        y_up: bool = False,
+    ) -> Builder: ...
+    def build(self) -> Design: ...
 def sweep_rows(
     toml: str,
     x: tuple[str, float, float, int],
@@ -80,4 +123,4 @@ def sweep_rows(
     rows: tuple[int, int],
     what: str = "verdict",
     thorough: bool = False,
-) -> npt.NDArray[np.int8]: ...
+) -> npt.NDArray[Any]: ...

@@ -14,6 +14,9 @@ use bcifs::geometry::Shape;
 use bcifs::mesh::{PolyMesh, Scheme};
 use bcifs::render::{MeshJob, Options};
 
+mod builder;
+use builder::Builder;
+
 pyo3::create_exception!(
     bcifs,
     BcifsError,
@@ -90,12 +93,15 @@ fn cancellable<T: Send>(
 /// A design: an automaton (states, arrows, constraints) with its model.
 #[pyclass(module = "bcifs", frozen)]
 pub struct Design {
-    inner: bcifs::Design,
+    pub(crate) inner: bcifs::Design,
 }
 
 /// A mesh as numpy arrays: `vertices` (n, 3) float64, `faces` (m, k) int64
 /// when every face has k corners (else a list of arrays), `edges` (e, 2)
-/// int64 for curves, `normals` (n, 3) and `colours` (n, 3) uint8 when present.
+/// int64 for curves, `normals` (n, 3) and `colours` (n, 3) uint8 when
+/// present, and texture coordinates face-varying as libigl has them: `uv`
+/// (t, 2) float64 and `uv_faces`, shaped as `faces`, indexing `uv` corner
+/// for corner.
 #[pyclass(module = "bcifs", frozen, get_all)]
 pub struct Mesh {
     vertices: Py<PyArray2<f64>>,
@@ -103,6 +109,8 @@ pub struct Mesh {
     edges: Py<PyArray2<i64>>,
     normals: Option<Py<PyArray2<f64>>>,
     colours: Option<Py<PyArray2<u8>>>,
+    uv: Option<Py<PyArray2<f64>>>,
+    uv_faces: Option<Py<PyAny>>,
 }
 
 /// `values` as an (n, k) array.
@@ -111,25 +119,42 @@ fn matrix<T: numpy::Element>(py: Python<'_>, values: Vec<T>, k: usize) -> Py<PyA
     Array2::from_shape_vec((n, k), values).expect("n × k values").into_pyarray(py).unbind()
 }
 
-/// Faces as one (m, k) array when they all have k corners, a list of arrays otherwise.
-fn faces_of(py: Python<'_>, faces: Vec<Vec<i64>>) -> PyResult<Py<PyAny>> {
-    let k = faces.first().map_or(3, Vec::len);
-    if faces.iter().all(|f| f.len() == k) {
-        return Ok(matrix(py, faces.concat(), k).into_any());
+/// Faces given by `starts` (m + 1 offsets into `indices`) as one (m, k)
+/// array when they all have k corners, a list of arrays otherwise.
+fn faces_of(py: Python<'_>, starts: &[usize], indices: &[usize]) -> PyResult<Py<PyAny>> {
+    let k = starts.get(1).map_or(3, |s| s - starts[0]);
+    let flat = || indices.iter().map(|&i| i as i64).collect::<Vec<i64>>();
+    if starts.windows(2).all(|w| w[1] - w[0] == k) {
+        return Ok(matrix(py, flat(), k).into_any());
     }
     let list = PyList::empty(py);
-    for f in faces {
-        list.append(f.into_pyarray(py))?;
+    for w in starts.windows(2) {
+        list.append(indices[w[0]..w[1]].iter().map(|&i| i as i64).collect::<Vec<i64>>().into_pyarray(py))?;
     }
     Ok(list.into_any().unbind())
 }
 
 impl Mesh {
-    fn of_shape(py: Python<'_>, shape: &Shape) -> PyResult<Mesh> {
+    /// The arrays of an evaluated shape, moved out of it where the library
+    /// already holds them as numpy wants them (3D positions, normals,
+    /// colours: no copy).
+    fn of_shape(py: Python<'_>, shape: Shape) -> PyResult<Mesh> {
         let n = shape.vertex_count();
-        let vertices: Vec<f64> = (0..n).flat_map(|i| shape.point(i)).collect();
-        let mut faces: Vec<Vec<i64>> = shape.quads.iter().map(|q| q.iter().map(|&v| i64::from(v)).collect()).collect();
-        faces.extend(shape.triangles.iter().map(|t| t.iter().map(|&v| v as i64).collect()));
+        let mut starts = vec![0];
+        let mut indices = Vec::with_capacity(4 * shape.quads.len() + 3 * shape.triangles.len());
+        for q in &shape.quads {
+            indices.extend(q.iter().map(|&v| v as usize));
+            starts.push(indices.len());
+        }
+        for t in &shape.triangles {
+            indices.extend(t);
+            starts.push(indices.len());
+        }
+        let mut uv_indices = Vec::with_capacity(4 * shape.quad_uvs.len());
+        for q in &shape.quad_uvs {
+            uv_indices.extend(q.iter().map(|&v| v as usize));
+        }
+        let textured = !shape.uvs.is_empty() && shape.triangles.is_empty() && shape.quad_uvs.len() == shape.quads.len();
         let mut edges = Vec::new();
         for (first, count, closed) in shape.polylines() {
             let segments = if closed && count > 2 { count } else { count.saturating_sub(1) };
@@ -137,24 +162,40 @@ impl Mesh {
                 edges.extend([(first + k) as i64, (first + (k + 1) % count) as i64]);
             }
         }
+        let Shape { dim, positions, normals, colours, uvs, .. } = shape;
+        let positions =
+            if dim == 3 { positions } else { positions.chunks(dim.max(1)).flat_map(|p| [p[0], p[1], 0.0]).collect() };
         Ok(Mesh {
-            vertices: matrix(py, vertices, 3),
-            faces: faces_of(py, faces)?,
+            vertices: matrix(py, positions, 3),
+            faces: faces_of(py, &starts, &indices)?,
             edges: matrix(py, edges, 2),
-            normals: (shape.normals.len() == 3 * n && n > 0).then(|| matrix(py, shape.normals.clone(), 3)),
-            colours: (shape.colours.len() == n && n > 0).then(|| matrix(py, shape.colours.concat(), 3)),
+            normals: (normals.len() == 3 * n && n > 0).then(|| matrix(py, normals, 3)),
+            colours: (colours.len() == n && n > 0).then(|| matrix(py, colours.into_flattened(), 3)),
+            uv: textured.then(|| matrix(py, uvs, 2)),
+            uv_faces: if textured { Some(faces_of(py, &starts, &uv_indices)?) } else { None },
         })
     }
 
-    fn of_polymesh(py: Python<'_>, mesh: &PolyMesh) -> PyResult<Mesh> {
-        let faces = mesh.faces().map(|f| f.iter().map(|&v| v as i64).collect()).collect();
+    /// The arrays of a polygon mesh, its positions moved (no copy), with
+    /// area-weighted normals and its texture when it has one.
+    fn of_polymesh(py: Python<'_>, mesh: PolyMesh) -> PyResult<Mesh> {
         let normals = bcifs::geometry::area_normals(&mesh.positions, mesh.faces());
+        let (uv, uv_faces) = match mesh.texture() {
+            Some(t) => (
+                Some(matrix(py, t.positions.iter().flat_map(|p| [p[0], p[1]]).collect(), 2)),
+                Some(faces_of(py, t.offsets(), t.corners())?),
+            ),
+            None => (None, None),
+        };
+        let faces = faces_of(py, mesh.offsets(), mesh.corners())?;
         Ok(Mesh {
-            vertices: matrix(py, mesh.positions.concat(), 3),
-            faces: faces_of(py, faces)?,
+            vertices: matrix(py, mesh.positions.into_flattened(), 3),
+            faces,
             edges: matrix(py, Vec::new(), 2),
-            normals: Some(matrix(py, normals.concat(), 3)),
+            normals: Some(matrix(py, normals.into_flattened(), 3)),
             colours: None,
+            uv,
+            uv_faces,
         })
     }
 }
@@ -162,26 +203,60 @@ impl Mesh {
 #[pymethods]
 impl Mesh {
     /// The mesh as trimesh has it (trimesh must be installed): a `Trimesh`
-    /// (faces fanned into triangles, normals and colours kept), a `Path3D`
+    /// (faces fanned into triangles, normals and colours kept; with UVs, a
+    /// vertex split at the seams, trimesh's one UV per vertex), a `Path3D`
     /// for curves, or a `PointCloud`.
     fn to_trimesh<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         let trimesh = py.import("trimesh")?;
-        let faces = self.faces.bind(py);
+        let faces: Vec<Vec<i64>> = self.faces.bind(py).extract()?;
         let mut triangles: Vec<i64> = Vec::new();
-        for face in faces.try_iter()? {
-            let f: Vec<i64> = face?.extract()?;
+        let fan = |f: &[i64], out: &mut Vec<i64>| {
             for i in 1..f.len().saturating_sub(1) {
-                triangles.extend([f[0], f[i], f[i + 1]]);
+                out.extend([f[0], f[i], f[i + 1]]);
             }
-        }
+        };
+        faces.iter().for_each(|f| fan(f, &mut triangles));
         let vertices = self.vertices.bind(py);
         if !triangles.is_empty() {
             let kwargs = PyDict::new(py);
-            kwargs.set_item("vertices", vertices)?;
-            kwargs.set_item("faces", matrix(py, triangles, 3))?;
-            kwargs.set_item("vertex_normals", self.normals.as_ref().map(|n| n.bind(py)))?;
-            kwargs.set_item("vertex_colors", self.colours.as_ref().map(|c| c.bind(py)))?;
             kwargs.set_item("process", false)?;
+            let (Some(uv), Some(uv_faces)) = (&self.uv, &self.uv_faces) else {
+                kwargs.set_item("vertices", vertices)?;
+                kwargs.set_item("faces", matrix(py, triangles, 3))?;
+                kwargs.set_item("vertex_normals", self.normals.as_ref().map(|n| n.bind(py)))?;
+                kwargs.set_item("vertex_colors", self.colours.as_ref().map(|c| c.bind(py)))?;
+                return trimesh.getattr("Trimesh")?.call((), Some(&kwargs));
+            };
+            // trimesh holds one UV per vertex: a vertex is split where its corners' UVs differ (the seams).
+            let uv_faces: Vec<Vec<i64>> = uv_faces.bind(py).extract()?;
+            let (p, t): (Vec<[f64; 3]>, Vec<[f64; 2]>) = (vertices.extract()?, uv.bind(py).extract()?);
+            let n: Option<Vec<[f64; 3]>> = self.normals.as_ref().map(|n| n.bind(py).extract()).transpose()?;
+            let mut split = std::collections::HashMap::new();
+            let (mut positions, mut uvs, mut normals, mut corners) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+            for (f, g) in faces.iter().zip(&uv_faces) {
+                let face: Vec<i64> = f
+                    .iter()
+                    .zip(g)
+                    .map(|(&v, &k)| {
+                        *split.entry((v, k)).or_insert_with(|| {
+                            positions.extend(p[v as usize]);
+                            uvs.extend(t[k as usize]);
+                            if let Some(n) = &n {
+                                normals.extend(n[v as usize]);
+                            }
+                            (positions.len() / 3 - 1) as i64
+                        })
+                    })
+                    .collect();
+                fan(&face, &mut corners);
+            }
+            kwargs.set_item("vertices", matrix(py, positions, 3))?;
+            kwargs.set_item("faces", matrix(py, corners, 3))?;
+            kwargs.set_item("vertex_normals", n.is_some().then(|| matrix(py, normals, 3)))?;
+            let visuals = py.import("trimesh.visual")?.getattr("TextureVisuals")?;
+            let visual_kwargs = PyDict::new(py);
+            visual_kwargs.set_item("uv", matrix(py, uvs, 2))?;
+            kwargs.set_item("visual", visuals.call((), Some(&visual_kwargs))?)?;
             return trimesh.getattr("Trimesh")?.call((), Some(&kwargs));
         }
         let edges = self.edges.bind(py);
@@ -269,7 +344,7 @@ impl Design {
         let options = self.options(depth, tolerance, params)?;
         let design = &self.inner;
         let shape = py.detach(|| bcifs::render::evaluate_design(design, &options, &mut Vec::new())).map_err(err)?;
-        Mesh::of_shape(py, &shape)
+        Mesh::of_shape(py, shape)
     }
 
     /// `samples` points of the chaos game (seed `seed`), an (n, 3) array.
@@ -404,6 +479,19 @@ fn report_dict<'py>(py: Python<'py>, report: &bcifs::render::Report) -> PyResult
     Ok(d)
 }
 
+/// Index lists (an (m, k) array or a list of sequences) as `usize`s, refusing negative ones.
+fn index_lists(faces: &Bound<'_, PyAny>) -> PyResult<Vec<Vec<usize>>> {
+    faces
+        .extract::<Vec<Vec<i64>>>()?
+        .into_iter()
+        .map(|f| {
+            f.into_iter()
+                .map(|i| usize::try_from(i).map_err(|_| err(format!("a face index is negative: {i}"))))
+                .collect()
+        })
+        .collect()
+}
+
 /// A design by name (a shipped automaton or scheme preset) or path.
 #[pyfunction]
 fn load(name_or_path: &str) -> PyResult<Design> {
@@ -415,9 +503,13 @@ fn load(name_or_path: &str) -> PyResult<Design> {
 /// (`doo-sabin`, `catmull-clark`, `loop`, `sqrt3`): the limit surface, or
 /// the control net with `net=True`; `weights` the rule weights (`alpha`,
 /// `beta`, `gamma` for Doo-Sabin, `w`, `sigma` for Loop). The same mesh as
-/// `bcifs surface` on that mesh written as OBJ.
+/// `bcifs surface` on that mesh written as OBJ. Texture coordinates `uv`
+/// (t, 2) with `uv_faces` (shaped as `faces`, indexing `uv`) follow
+/// Catmull-Clark and Loop with linear seams, as in the files: the result's
+/// `uv` and `uv_faces`.
 #[pyfunction]
-#[pyo3(signature = (vertices, faces, scheme, depth, net=false, **weights))]
+#[pyo3(signature = (vertices, faces, scheme, depth, net=false, uv=None, uv_faces=None, **weights))]
+#[allow(clippy::too_many_arguments)]
 fn subdivide(
     py: Python<'_>,
     vertices: PyReadonlyArray2<'_, f64>,
@@ -425,6 +517,8 @@ fn subdivide(
     scheme: &str,
     depth: usize,
     net: bool,
+    uv: Option<PyReadonlyArray2<'_, f64>>,
+    uv_faces: Option<&Bound<'_, PyAny>>,
     weights: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Mesh> {
     let v = vertices.as_array();
@@ -432,15 +526,7 @@ fn subdivide(
         return Err(err(format!("vertices must be an (n, 3) array, not (n, {})", v.ncols())));
     }
     let positions: Vec<[f64; 3]> = v.rows().into_iter().map(|r| [r[0], r[1], r[2]]).collect();
-    let faces: Vec<Vec<usize>> = faces
-        .extract::<Vec<Vec<i64>>>()?
-        .into_iter()
-        .map(|f| {
-            f.into_iter()
-                .map(|i| usize::try_from(i).map_err(|_| err(format!("a face index is negative: {i}"))))
-                .collect()
-        })
-        .collect::<PyResult<_>>()?;
+    let faces = index_lists(faces)?;
     let scheme = match scheme.replace('_', "-").as_str() {
         "doo-sabin" => Scheme::DooSabin,
         "catmull-clark" => Scheme::CatmullClark,
@@ -448,7 +534,20 @@ fn subdivide(
         "sqrt3" => Scheme::Sqrt3,
         other => return Err(err(format!("unknown scheme `{other}`: doo-sabin, catmull-clark, loop or sqrt3"))),
     };
-    let mesh = PolyMesh::new(positions, faces).map_err(err)?;
+    let mut mesh = PolyMesh::new(positions, faces).map_err(err)?;
+    match (uv, uv_faces) {
+        (Some(uv), Some(uv_faces)) => {
+            let t = uv.as_array();
+            if t.ncols() != 2 {
+                return Err(err(format!("uv must be a (t, 2) array, not (t, {})", t.ncols())));
+            }
+            let uvs: Vec<[f64; 2]> = t.rows().into_iter().map(|r| [r[0], r[1]]).collect();
+            let corners: Vec<usize> = index_lists(uv_faces)?.concat();
+            mesh = mesh.with_texture(uvs, corners).map_err(|e| err(format!("uv_faces: {e}")))?;
+        }
+        (None, None) => {}
+        _ => return Err(err("give uv and uv_faces together")),
+    }
     let weights = bcifs::render::rule_weights(scheme, &params(weights)?).map_err(err)?;
     if let Some(why) = bcifs::render::check_weights(&mesh, weights).map_err(err)? {
         PyErr::warn(
@@ -460,7 +559,7 @@ fn subdivide(
     }
     let job = MeshJob { weights, net, ..MeshJob::new(scheme, depth) };
     let out = py.detach(|| bcifs::render::subdivide_mesh(&mesh, &job, &Options::default())).map_err(err)?;
-    Mesh::of_polymesh(py, &out)
+    Mesh::of_polymesh(py, out)
 }
 
 /// The dimensions of a design's attractor at the given parameter values:
@@ -479,10 +578,49 @@ fn dimension<'py>(
     json_object(py, &report.to_json())
 }
 
+/// A parameter value read exactly: a `str` (`"1/20"`, `"sqrt(2)/4"`), a
+/// `Fraction`, an int, or a float read as its shortest decimal (`0.05` is 1/20).
+fn exact_value(v: &Bound<'_, PyAny>) -> PyResult<bcifs::Num> {
+    let text = if v.is_instance_of::<pyo3::types::PyFloat>() {
+        let x: f64 = v.extract()?;
+        return Ok(bcifs::Num::from_f64(x));
+    } else if v.hasattr("numerator")? && v.hasattr("denominator")? {
+        format!("{}/{}", v.getattr("numerator")?, v.getattr("denominator")?)
+    } else {
+        v.str()?.to_string()
+    };
+    text.parse::<bcifs::Num>().map_err(|e| err(format!("`{text}`: {e}")))
+}
+
+/// A curve family's differential behaviour at the given parameter values
+/// (seed 004 §4): the object `bcifs analyze curve --json` prints
+/// (convergence, eigenvalues, half-tangents, junction angle, region of
+/// Fig. 8, and the exact answers when the halves are rational 3 × 3).
+/// Values are read exactly: `a="1/20"`, `a=Fraction(1, 20)` and `a=0.05`
+/// are the same point.
+#[pyfunction]
+#[pyo3(signature = (design, **params))]
+fn analyze_curve<'py>(
+    py: Python<'py>,
+    design: &Design,
+    params: Option<&Bound<'py, PyDict>>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let mut values = Vec::new();
+    if let Some(params) = params {
+        for (k, v) in params.iter() {
+            values.push((k.extract::<String>()?, exact_value(&v).map_err(|e| err(format!("parameter `{k}`: {e}")))?));
+        }
+    }
+    let inner = &design.inner;
+    let analysis = py.detach(|| bcifs::render::curve_analysis(inner, &values)).map_err(err)?;
+    json_object(py, &analysis.to_json())
+}
+
 /// The rows `rows` of a parameter sweep of the design in `toml` (a band of
 /// `bcifs.sweep`'s array, bit for bit): `x` and `y` are `(name, lo, hi,
-/// n)`; verdicts as int8: 1 converges, 0 undecided, -1 diverges (JSR ≥ 1),
-/// -2 a subdivision matrix fails seed 004's per-matrix condition.
+/// n)`; `what` is `verdict` (int8: 1 converges, 0 undecided, -1 diverges,
+/// -2 a matrix fails the per-matrix condition), `region` (int8, an index
+/// into `bcifs.REGIONS`), `angle` or `dimension` (float64, NaN where none).
 #[pyfunction]
 #[pyo3(signature = (toml, x, y, rows, what="verdict", thorough=false))]
 fn sweep_rows<'py>(
@@ -493,32 +631,16 @@ fn sweep_rows<'py>(
     rows: (usize, usize),
     what: &str,
     thorough: bool,
-) -> PyResult<Bound<'py, PyArray2<i8>>> {
-    use bcifs::analysis::{JsrSettings, ParameterPlane, Verdict, verdict_map_rows};
-    if what != "verdict" {
-        return Err(err(format!(
-            "sweep what=`{what}`: this version sweeps the convergence verdict (what=\"verdict\")"
-        )));
-    }
+) -> PyResult<Bound<'py, PyAny>> {
+    use bcifs::render::{SweepKind, SweepValues};
+    let kind: SweepKind = what.parse().map_err(err)?;
     let design = bcifs::parse_design(toml, "<sweep>", "design").map_err(err)?;
-    let plane = ParameterPlane { x: (x.0, x.1, x.2), y: (y.0, y.1, y.2), size: (x.3, y.3) };
-    let settings = if thorough { JsrSettings::default() } else { JsrSettings::quick() };
-    let cells = py
-        .detach(|| -> Result<_, String> {
-            let family = bcifs::solve(&design).map_err(|e| e.to_string())?;
-            verdict_map_rows(&family, &plane, &settings, rows.0..rows.1).map_err(|e| e.to_string())
-        })
-        .map_err(err)?;
-    let codes: Vec<i8> = cells
-        .iter()
-        .map(|c| match (c.verdict, c.per_matrix) {
-            (Verdict::Converges, _) => 1,
-            (Verdict::Undecided, _) => 0,
-            (Verdict::Diverges, true) => -1,
-            (Verdict::Diverges, false) => -2,
-        })
-        .collect();
-    Ok(matrix(py, codes, plane.size.0).into_bound(py))
+    let plane = bcifs::analysis::ParameterPlane { x: (x.0, x.1, x.2), y: (y.0, y.1, y.2), size: (x.3, y.3) };
+    let values = py.detach(|| bcifs::render::sweep(&design, &plane, kind, thorough, rows.0..rows.1)).map_err(err)?;
+    Ok(match values {
+        SweepValues::Codes(c) => matrix(py, c, plane.size.0).into_bound(py).into_any(),
+        SweepValues::Values(v) => matrix(py, v, plane.size.0).into_bound(py).into_any(),
+    })
 }
 
 /// The module.
@@ -527,6 +649,9 @@ fn _bcifs(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("BcifsError", m.py().get_type::<BcifsError>())?;
     m.add_class::<Design>()?;
     m.add_class::<Mesh>()?;
+    m.add_class::<Builder>()?;
+    m.add_function(wrap_pyfunction!(analyze_curve, m)?)?;
+    m.add("REGIONS", bcifs::render::REGIONS.to_vec())?;
     m.add_function(wrap_pyfunction!(load, m)?)?;
     m.add_function(wrap_pyfunction!(subdivide, m)?)?;
     m.add_function(wrap_pyfunction!(sweep_rows, m)?)?;

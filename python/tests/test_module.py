@@ -229,3 +229,143 @@ def test_sweep_is_the_same_on_dask_workers():
         with distributed.Client(cluster) as client:
             on_workers = bcifs.sweep(design, x, y, client=client)
     assert np.array_equal(whole, on_workers)
+
+
+def read_textured_obj(path):
+    """Vertices, faces, texture vertices and texture faces of an OBJ file (indices from 0)."""
+    v, f, vt, ft = [], [], [], []
+    for line in pathlib.Path(path).read_text().splitlines():
+        words = line.split()
+        if words and words[0] == "v":
+            v.append([float(x) for x in words[1:4]])
+        elif words and words[0] == "vt":
+            vt.append([float(x) for x in words[1:3]])
+        elif words and words[0] == "f":
+            f.append([int(w.split("/")[0]) - 1 for w in words[1:]])
+            ft.append([int(w.split("/")[1]) - 1 for w in words[1:] if "/" in w])
+    return np.array(v), f, np.array(vt), ft
+
+
+@pytest.mark.parametrize("scheme", ["catmull-clark", "loop"])
+def test_subdivide_carries_uvs_as_bcifs_surface_does(tmp_path, scheme):
+    """Suzanne's UVs (seams and all) through Catmull-Clark and Loop: the
+    arrays equal the OBJ `bcifs surface` writes, corner for corner."""
+    source = ROOT / "tests/data/suzanne.obj"
+    v, f, vt, ft = read_textured_obj(source)
+    if scheme == "loop":  # Loop takes triangles: fan the quads first, in the file as in the arrays
+        f = [[p[0], p[i], p[i + 1]] for p in f for i in range(1, len(p) - 1)]
+        ft = [[p[0], p[i], p[i + 1]] for p in ft for i in range(1, len(p) - 1)]
+        source = tmp_path / "suzanne_tri.obj"
+        lines = [f"v {' '.join(repr(float(c)) for c in p)}" for p in v] + [f"vt {float(a)!r} {float(b)!r}" for a, b in vt]
+        lines += ["f " + " ".join(f"{a + 1}/{b + 1}" for a, b in zip(p, q)) for p, q in zip(f, ft)]
+        source.write_text("\n".join(lines) + "\n")
+    out = tmp_path / "out.obj"
+    subprocess.run([cli(), "surface", str(source), "--scheme", scheme, "--depth", "2", "-o", str(out)], check=True, capture_output=True)
+    ev, ef, evt, eft = read_textured_obj(out)
+    mesh = bcifs.subdivide(v, f, scheme, 2, uv=vt, uv_faces=ft)
+    assert np.array_equal(mesh.vertices, ev)
+    assert [list(x) for x in mesh.faces] == ef
+    assert mesh.uv is not None and np.array_equal(mesh.uv, evt)
+    assert [list(x) for x in mesh.uv_faces] == eft
+    # Without UVs in, none out; UVs need their faces.
+    assert bcifs.subdivide(v, f, scheme, 1).uv is None
+    with pytest.raises(bcifs.BcifsError, match="together"):
+        bcifs.subdivide(v, f, scheme, 1, uv=vt)
+    trimesh = pytest.importorskip("trimesh")
+    t = mesh.to_trimesh()
+    # trimesh's one UV per vertex: vertices split at the seams, each corner's UV kept.
+    assert len(t.vertices) == len({(a, b) for p, q in zip(ef, eft) for a, b in zip(p, q)})
+    assert t.visual.uv.shape == (len(t.vertices), 2)
+
+
+def test_the_builder_makes_the_shipped_design():
+    """Corner cutting made in code (the builder's doc example) solves into
+    the family the shipped file gives; mistakes are named."""
+    b = bcifs.Builder("corner_cutting")
+    b.state("e", 3, "edge").state("v", 2, "vertex")
+    b.unknown("T0", "e", "e").unknown("T1", "e", "e").unknown("Tv", "v", "v")
+    b.select("b0", "e", "v", [0, 1]).select("b1", "e", "v", [1, 2])
+    b.adjacency("T0 b1 = T1 b0").incidence("T0 b0 = b0 Tv").incidence("T1 b1 = b1 Tv")
+    b.name_entry("a", "T0[1][0]", default=0.25).name_entry("b", "T0[0][1]", default="1/4")
+    b.model("e", [[0, 0], [1, 2], [3, 2], [4, 0]], layout="open")
+    design = b.build()
+    shipped = bcifs.load("corner_cutting").solve()
+    solved = design.solve()
+    assert solved["parameters"] == ["a", "b"] == shipped["parameters"]
+    assert solved["matrices"]["T0"] == shipped["matrices"]["T0"] and solved["matrices"]["T1"] == shipped["matrices"]["T1"]
+    # Chaikin at the defaults a = b = 1/4: the curve converges, C1.
+    assert design.check()["converges"] is True
+    assert bcifs.Design.from_toml(design.to_toml()).solve() == solved
+    # Known matrices with expressions and Fractions.
+    from fractions import Fraction
+
+    half = Fraction(1, 2)
+    line = bcifs.Builder("halves").state("e", 2, "edge").state("v", 1, "vertex").parameter("t", default=half)
+    line.matrix("T0", "e", "e", [[1, "1 - t"], [0, "t"]]).matrix("T1", "e", "e", [["1 - t", 0], ["t", 1]])
+    line.matrix("Tv", "v", "v", [[1]]).select("b0", "e", "v", [0]).select("b1", "e", "v", [1])
+    line.adjacency("T0 b1 = T1 b0").incidence("T0 b0 = b0 Tv").incidence("T1 b1 = b1 Tv")
+    line.model("e", [[0, 0], [1, 0]])
+    segment = line.build().mesh(depth=3)
+    assert np.allclose(np.sort(segment.vertices[:, 0]), np.linspace(0, 1, 9))
+    with pytest.raises(bcifs.BcifsError, match="did you mean `e`"):
+        bcifs.Builder("x").state("e", 3, "edge").unknown("T0", "e", "ee").build()
+    with pytest.raises(bcifs.BcifsError, match="unknown kind"):
+        bcifs.Builder("x").state("e", 3, "eddge")
+    again = bcifs.Builder.of(bcifs.load("koch")).build()
+    assert np.array_equal(again.mesh(depth=3).vertices, bcifs.load("koch").mesh(depth=3).vertices)
+
+
+def test_analyze_curve_is_the_cli_json():
+    import json
+    from fractions import Fraction
+
+    design = bcifs.load("corner_cutting")
+    for args, kwargs in [
+        (["--param", "a=1/20", "--param", "b=0.3"], {"a": "1/20", "b": 0.3}),
+        (["--param", "a=0.05", "--param", "b=3/10"], {"a": Fraction(1, 20), "b": "0.3"}),
+        ([], {}),
+    ]:
+        run = subprocess.run([cli(), "analyze", "curve", "corner_cutting", *args, "--json"], capture_output=True, text=True)
+        assert bcifs.analyze_curve(design, **kwargs) == json.loads(run.stdout)
+    chaikin = bcifs.analyze_curve(design, a=0.25, b=0.25)
+    assert chaikin["converges"] is True and chaikin["region"] == "1" and chaikin["exact"] is not None
+    with pytest.raises(bcifs.BcifsError, match="curve root"):
+        bcifs.analyze_curve(bcifs.load("doo_sabin_torus"))
+
+
+def read_map_csv(path, n):
+    """The value column of `analyze map -o map.csv` as an (n, n) array (NaN where empty)."""
+    rows = pathlib.Path(path).read_text().splitlines()[1:]
+    return np.array([float(r.split(",")[2]) if r.split(",")[2] else np.nan for r in rows]).reshape(n, n)
+
+
+@pytest.mark.parametrize("what,n", [("verdict", 24), ("region", 24), ("angle", 24), ("dimension", 4)])
+def test_sweep_equals_analyze_map_csv(tmp_path, what, n):
+    out = tmp_path / "map.csv"
+    subprocess.run(
+        [cli(), "analyze", "map", "corner_cutting", "--x=a=-0.5:1", "--y=b=-0.5:1", "--size", str(n), "--what", what, "-o", str(out)],
+        check=True,
+        capture_output=True,
+    )
+    expected = read_map_csv(out, n)
+    swept = bcifs.sweep("corner_cutting", ("a", -0.5, 1.0, n), ("b", -0.5, 1.0, n), what=what, tiles=3)
+    assert swept.shape == (n, n)
+    assert swept.dtype == (np.int8 if what in ("verdict", "region") else np.float64)
+    # The CSV holds the shortest text of each float64: equal to the last bit, NaN where empty.
+    assert np.array_equal(swept.astype(np.float64), expected, equal_nan=True)
+    if what == "region":
+        labels = [r.split(",")[3] for r in out.read_text().splitlines()[1:]]
+        assert [bcifs.REGIONS[c] for c in swept.ravel()] == labels
+    if what == "dimension":
+        finite = swept[np.isfinite(swept)]
+        assert finite.size > 0 and ((finite > 0.5) & (finite < 2.0)).all(), "a plane curve's dimension"
+
+
+def test_arrays_are_not_copied_where_the_library_holds_them():
+    """Vertices, normals and colours are handed to numpy as the library made
+    them (the array does not own its memory: a bcifs buffer does)."""
+    mesh = bcifs.load("doo_sabin_torus").mesh(depth=3)
+    assert not mesh.vertices.flags.owndata and mesh.vertices.base is not None
+    assert mesh.vertices.flags.c_contiguous
+    sub = bcifs.subdivide(mesh.vertices, mesh.faces, "catmull-clark", 1, net=True)
+    assert not sub.vertices.flags.owndata

@@ -94,18 +94,9 @@ pub fn verdict_map_rows(
     })
 }
 
-/// `cell` at the centre of every pixel of `plane` (row by row, top row
-/// first), the other parameters at their defaults, in parallel over rows
+/// `cell` at the centre of every pixel of the rows `rows` of `plane` (row
+/// by row, top row first), the other parameters at their defaults, in parallel over rows
 /// (one numeric automaton per thread, refilled at every pixel).
-fn over_plane<T: Send>(
-    family: &Family,
-    plane: &ParameterPlane,
-    cell: impl Fn(&Automaton<f64>) -> T + Sync,
-) -> Result<Vec<T>, InstantiateError> {
-    over_rows(family, plane, 0..plane.size.1, cell)
-}
-
-/// [`over_plane`] over the rows `rows` only.
 fn over_rows<T: Send>(
     family: &Family,
     plane: &ParameterPlane,
@@ -151,6 +142,23 @@ pub struct CurveCell {
     pub report: Option<super::curve::CurveReport>,
 }
 
+impl CurveCell {
+    /// The region of seed 004 Fig. 8 where the bounds prove convergence,
+    /// `divergent` where they prove divergence, `None` where undecided.
+    pub fn region(&self) -> Option<&'static str> {
+        match self.verdict {
+            Verdict::Diverges => Some("divergent"),
+            Verdict::Converges => self.report.as_ref().and_then(|r| r.region),
+            Verdict::Undecided => None,
+        }
+    }
+
+    /// The junction angle in degrees, where the halves have half-tangents.
+    pub fn angle(&self) -> Option<f64> {
+        self.report.as_ref().and_then(|r| r.junction_angle_deg)
+    }
+}
+
 /// [`verdict_map`] with [`super::curve::curve_query`] at every pixel, for
 /// a family whose state `root` is a curve with two subdivision arrows `T0`,
 /// `T1` to itself (in the order of the automaton).
@@ -163,7 +171,21 @@ pub fn curve_map(
     settings: &JsrSettings,
     root: &str,
 ) -> Result<Vec<CurveCell>, InstantiateError> {
-    over_plane(family, plane, |a| {
+    curve_map_rows(family, plane, settings, root, 0..plane.size.1)
+}
+
+/// [`curve_map`] of the rows `rows` of `plane` only (a band of it, bit for bit).
+///
+/// # Errors
+/// As [`verdict_map`].
+pub fn curve_map_rows(
+    family: &Family,
+    plane: &ParameterPlane,
+    settings: &JsrSettings,
+    root: &str,
+    rows: std::ops::Range<usize>,
+) -> Result<Vec<CurveCell>, InstantiateError> {
+    over_rows(family, plane, rows, |a| {
         // A matrix with an eigenvalue of modulus ≥ 1 on the differences already makes
         // the joint spectral radius ≥ 1: no bounds needed there.
         let per_matrix = per_matrix_condition(a);

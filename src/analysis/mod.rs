@@ -15,5 +15,7 @@ pub use curve::{Blending, CurveReport, blending, curve_query};
 pub use dimension::{BoxCount, OpenSet, box_dimension, open_set_condition, similarity_dimension};
 pub use exact::{ExactCurveReport, curve_query_exact};
 pub use jsr::{Jsr, JsrError, JsrSettings, ROUNDING, Verdict, jsr, jsr_verdict};
-pub use map::{CurveCell, MapCell, ParameterPlane, curve_map, per_matrix_condition, verdict_map, verdict_map_rows};
+pub use map::{
+    CurveCell, MapCell, ParameterPlane, curve_map, curve_map_rows, per_matrix_condition, verdict_map, verdict_map_rows,
+};
 pub use weights::{WeightsError, WeightsVerdict, check_loop_weights, check_quad_weights};

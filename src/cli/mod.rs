@@ -194,10 +194,15 @@ fn load(file: &str) -> Result<Design> {
 }
 
 fn parse_params(params: &[String]) -> Result<Vec<(String, f64)>> {
-    let mut out: Vec<(String, f64)> = Vec::with_capacity(params.len());
+    Ok(parse_exact_params(params)?.into_iter().map(|(n, v)| (n, v.to_f64())).collect())
+}
+
+/// `NAME=VALUE` pairs, the values exact (`1/20`, `0.05`, `sqrt(2)/4`).
+fn parse_exact_params(params: &[String]) -> Result<Vec<(String, bcifs::Num)>> {
+    let mut out: Vec<(String, bcifs::Num)> = Vec::with_capacity(params.len());
     for p in params {
         let (name, value) = p.split_once('=').with_context(|| format!("`{p}`: expected NAME=VALUE"))?;
-        let value = value.trim().parse::<bcifs::Num>().map_err(|e| anyhow::anyhow!("`{p}`: {e}"))?.to_f64();
+        let value = value.trim().parse::<bcifs::Num>().map_err(|e| anyhow::anyhow!("`{p}`: {e}"))?;
         let name = name.trim().to_string();
         if out.iter().any(|(n, _)| *n == name) {
             bail!("`{name}` is given twice: one value per name");

@@ -140,6 +140,16 @@ impl PolyMesh {
         self.indices.len()
     }
 
+    /// The faces flat: face `f` is `corners()[offsets()[f]..offsets()[f + 1]]`.
+    pub fn offsets(&self) -> &[usize] {
+        &self.starts
+    }
+
+    /// Every face's vertices, face after face (see [`PolyMesh::offsets`]).
+    pub fn corners(&self) -> &[usize] {
+        &self.indices
+    }
+
     /// The cube `[-1, 1]³`, faces counter-clockwise seen from outside
     /// (seed 004 Fig. 12 subdivides it).
     pub fn cube() -> PolyMesh {

@@ -105,7 +105,9 @@ pub fn check_weights(mesh: &PolyMesh, weights: Option<RuleWeights>) -> Result<Op
 /// The output of `job` on `mesh` in memory (what [`render_mesh`] writes,
 /// as a mesh: the net, or the limit surface's points with the net's faces),
 /// the rule weights checked first and [`Options`]' memory limit applied:
-/// what front ends that want arrays, not files, call.
+/// what front ends that want arrays, not files, call. With `job.uv` the
+/// input's texture coordinates follow (Catmull-Clark and Loop, as the files
+/// have them): the result's [`PolyMesh::texture`], face for face.
 ///
 /// # Errors
 /// Diverging weights, or an output over the memory limit.
@@ -113,7 +115,13 @@ pub fn subdivide_mesh(mesh: &PolyMesh, job: &MeshJob, options: &Options) -> Resu
     check_weights(mesh, job.weights)?;
     let memory = options.eval.memory_limit;
     let subdivision = Subdivision { scheme: job.scheme, depth: job.depth, weights: job.weights, memory_limit: memory };
-    Ok(mesh.subdivided(&subdivision, !job.net)?)
+    let mut out = mesh.subdivided(&subdivision, !job.net)?;
+    if job.uv {
+        let steps = if job.net { job.depth } else { job.depth.max(1) };
+        let texture = mesh.texture_after(job.scheme, steps, job.weights);
+        out.texture = texture.filter(|t| t.indices.len() == out.indices.len()).map(Box::new);
+    }
+    Ok(out)
 }
 
 /// Subdivides `mesh` as `job` says and writes it to `out`, the format

@@ -22,16 +22,20 @@
 //! [`Format`]; a new subdivision scheme is a rule in [`crate::mesh`].
 
 mod checked;
+mod curve;
 mod design;
 mod load;
 mod mesh;
 mod options;
 mod reports;
 mod shape;
+mod sweep;
 
+pub use curve::{CurveAnalysis, curve_analysis, curve_halves};
 pub use design::{evaluate_design, model_of, render};
 pub use load::{LoadError, load};
 pub use mesh::{MeshJob, check_weights, render_mesh, rule_weights, subdivide_mesh};
 pub use options::{Format, Options, RenderError, Report, check_disk};
 pub use reports::{CheckReportError, DimensionReport, check_report, dimension_report, solve_report};
 pub use shape::{control_net, write_shape};
+pub use sweep::{REGIONS, SweepKind, SweepValues, sweep, sweep_csv};

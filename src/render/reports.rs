@@ -120,6 +120,15 @@ impl DimensionReport {
 /// # Errors
 /// Parameters that do not instantiate, no model, an evaluation error, an empty attractor.
 pub fn dimension_report(design: &Design, params: &[(String, f64)]) -> Result<DimensionReport, RenderError> {
+    dimension_within(design, params, 1 << 30)
+}
+
+/// [`dimension_report`] with the points' evaluation refused over `memory` bytes.
+pub(super) fn dimension_within(
+    design: &Design,
+    params: &[(String, f64)],
+    memory: usize,
+) -> Result<DimensionReport, RenderError> {
     use crate::eval::{EvalSettings, Evaluator};
     let instance = instantiate(design, params)?;
     let model = super::design::model_of(design)?;
@@ -140,7 +149,7 @@ pub fn dimension_report(design: &Design, params: &[(String, f64)]) -> Result<Dim
     // the quads' centres and edge midpoints as samples too (within O(h²) of a smooth sheet).
     let surface = !coarse.quads.is_empty();
     let resolution = extent / if surface { 256.0 } else { 1024.0 };
-    let settings = EvalSettings::default().with_tolerance(resolution).with_memory_limit(1 << 30);
+    let settings = EvalSettings::default().with_tolerance(resolution).with_memory_limit(memory);
     let shape = Evaluator::new(&instance.automaton, &model, settings)?.evaluate()?;
     let mut samples = shape.points();
     for q in &shape.quads {

@@ -176,6 +176,64 @@ fn analyze_map_draws_the_verdicts() {
     assert_eq!(code, 2);
 }
 
+/// `analyze map --what region|angle -o map.csv` holds, pixel for pixel, the
+/// regions and junction angles of `analyze curve --map … -o map.csv` (one
+/// sweep, two commands); the verdict CSV's codes are the PNG's counts; a
+/// band of a sweep is the whole sweep's rows, bit for bit; a dimension
+/// sweep gives a plane curve's dimensions (between 1 and 2, 1 where Chaikin).
+#[test]
+fn analyze_map_sweeps_regions_angles_and_dimensions() {
+    use bcifs::analysis::ParameterPlane;
+    use bcifs::render::{SweepKind, SweepValues, sweep};
+    let csv = |args: &[&str], name: &str| -> Vec<Vec<String>> {
+        let path = temp(name);
+        let mut all = args.to_vec();
+        all.extend(["-o", path.to_str().unwrap()]);
+        let (code, _, err) = bcifs(&all);
+        assert_eq!(code, 0, "{err}");
+        std::fs::read_to_string(&path)
+            .unwrap()
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').map(String::from).collect())
+            .collect()
+    };
+    let axes = ["corner_cutting", "--x", "a=-0.5:1", "--y", "b=-0.5:1", "--size", "20"];
+    let map =
+        |what: &str| csv(&[&["analyze", "map"], &axes[..], &["--what", what]].concat(), &format!("sweep-{what}.csv"));
+    let curve = csv(&[&["analyze", "curve"], &axes[..], &["--map", "regions"]].concat(), "curve-map.csv");
+    let (regions, angles) = (map("region"), map("angle"));
+    assert_eq!(curve.len(), 400);
+    for ((c, r), a) in curve.iter().zip(&regions).zip(&angles) {
+        assert_eq!((&c[0], &c[1]), (&r[0], &r[1]), "the same pixel centres");
+        let region = if c[4].is_empty() { "undecided" } else { c[4].as_str() };
+        assert_eq!(region, r[3], "the region's label");
+        assert_eq!(c[5], a[2], "the junction angle, to the last digit");
+    }
+    let verdicts = map("verdict");
+    let codes: Vec<i8> = verdicts.iter().map(|r| r[2].parse().unwrap()).collect();
+    assert!(codes.contains(&1) && codes.contains(&-2));
+    assert!(verdicts.iter().all(|r| (r[2] == "1") == (r[3] == "converges")));
+    let design = bcifs::builtin_design("corner_cutting").unwrap();
+    let plane = ParameterPlane { x: ("a".into(), -0.5, 1.0), y: ("b".into(), -0.5, 1.0), size: (20, 20) };
+    let SweepValues::Codes(whole) = sweep(&design, &plane, SweepKind::Verdict, false, 0..20).unwrap() else {
+        panic!("verdicts are codes")
+    };
+    assert_eq!(whole, codes, "the library's sweep is the CSV");
+    let SweepValues::Codes(band) = sweep(&design, &plane, SweepKind::Verdict, false, 7..13).unwrap() else {
+        panic!("verdicts are codes")
+    };
+    assert_eq!(band, whole[7 * 20..13 * 20]);
+    let chaikin = ParameterPlane { x: ("a".into(), 0.2, 0.3), y: ("b".into(), 0.2, 0.3), size: (2, 2) };
+    let SweepValues::Values(d) = sweep(&design, &chaikin, SweepKind::Dimension, false, 0..2).unwrap() else {
+        panic!("dimensions are values")
+    };
+    // Near Chaikin (a = b = 1/4) the curve is C1: box dimension 1 within the fit's error.
+    assert!(d.iter().all(|x| (x - 1.0).abs() < 0.05), "{d:?}");
+    let err = sweep(&bcifs::builtin_design("doo_sabin_torus").unwrap(), &plane, SweepKind::Region, false, 0..1);
+    assert!(err.is_err(), "regions are for curve families");
+}
+
 /// `bcifs contour ifs --json` lists the maps in segment order in the
 /// paper's convention (the heart: L1 as printed), `contour automaton`
 /// prints an automaton that `check` passes and `render --random` draws;

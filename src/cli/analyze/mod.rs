@@ -107,10 +107,14 @@ pub enum AnalyzeCommand {
         /// Pixels on a side.
         #[arg(long, default_value_t = 256)]
         size: usize,
+        /// What each pixel shows: verdict, region or angle (curve families:
+        /// seed 004 Fig. 8 and Fig. 11), or dimension (box counting where it converges).
+        #[arg(long, default_value = "verdict")]
+        what: String,
         /// Search the bounds with the full budget at every pixel (slower, fewer undecided pixels).
         #[arg(long)]
         thorough: bool,
-        /// The map (PNG).
+        /// The map: .png, or .csv for the raw grid (x, y, value, label; the array `bcifs.sweep` returns).
         #[arg(short, long, default_value = "map.png")]
         output: PathBuf,
     },
@@ -150,46 +154,96 @@ fn write_framed_map(
     bcifs::export::write_png(output, &framed).with_context(|| format!("cannot write {}", output.display()))
 }
 
-/// `bcifs analyze map`: the verdict map as a picture, and its counts.
+/// The colour of a verdict code.
+fn verdict_colour(code: i8) -> [u8; 3] {
+    match code {
+        1 => [150, 205, 150],
+        -1 => [215, 60, 60],
+        -2 => [228, 228, 228],
+        _ => [240, 200, 80],
+    }
+}
+
+/// A dimension's colour: 1 dark blue to 2 yellow (viridis-like), NaN grey.
+fn dimension_colour(d: f64) -> [u8; 3] {
+    if d.is_nan() {
+        return [228, 228, 228];
+    }
+    let stops =
+        [[68.0, 1.0, 84.0], [59.0, 82.0, 139.0], [33.0, 145.0, 140.0], [94.0, 201.0, 98.0], [253.0, 231.0, 37.0]];
+    let t = (d - 1.0).clamp(0.0, 1.0) * 4.0;
+    let (k, f) = ((t.floor() as usize).min(3), t - t.floor().min(3.0));
+    [0, 1, 2].map(|c| (stops[k][c] + (stops[k + 1][c] - stops[k][c]) * f).round() as u8)
+}
+
+/// `bcifs analyze map`: a sweep as a picture (or CSV), and its counts.
 fn run_map(
     out: &mut String,
     file: &str,
     (x, y): (&str, &str),
     size: usize,
-    thorough: bool,
+    (what, thorough): (&str, bool),
     output: &std::path::Path,
 ) -> Result<u8> {
-    use bcifs::analysis::{JsrSettings, Verdict, verdict_map};
+    use bcifs::render::{REGIONS, SweepKind, SweepValues};
     if size == 0 || size > 4096 {
         bail!("--size must be between 1 and 4096");
     }
+    let kind: SweepKind = what.parse()?;
     let design = super::load(file)?;
-    let family = bcifs::solve(&design).map_err(|e| anyhow::anyhow!("{}: {e}", design.name()))?;
     let plane = plane((x, y), size)?;
-    let settings = if thorough { JsrSettings::default() } else { JsrSettings::quick() };
     let started = std::time::Instant::now();
-    let map = verdict_map(&family, &plane, &settings)?;
-    let colour = |c: &bcifs::analysis::MapCell| match (c.verdict, c.per_matrix) {
-        (Verdict::Converges, _) => [150, 205, 150],
-        (Verdict::Diverges, true) => [215, 60, 60],
-        (Verdict::Diverges, false) => [228, 228, 228],
-        (Verdict::Undecided, _) => [240, 200, 80],
+    let values = bcifs::render::sweep(&design, &plane, kind, thorough, 0..size)?;
+    let ext = output.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
+    let numbers = values.to_f64();
+    let pixel = |i: u32, j: u32| numbers[j as usize * size + i as usize];
+    let count = |code: i8| numbers.iter().filter(|&&v| v == f64::from(code)).count();
+    let colour = |v: f64| match kind {
+        SweepKind::Verdict => verdict_colour(v as i8),
+        SweepKind::Region => match REGIONS[v as usize] {
+            "undecided" => region_colour(None),
+            r => region_colour(Some(r)),
+        },
+        SweepKind::Angle if v.is_nan() => [228, 228, 228],
+        SweepKind::Angle => angle_colour(v),
+        SweepKind::Dimension => dimension_colour(v),
     };
-    let img = image::RgbImage::from_fn(size as u32, size as u32, |i, j| {
-        image::Rgb(colour(&map[j as usize * size + i as usize]))
-    });
-    let count = |f: &dyn Fn(&bcifs::analysis::MapCell) -> bool| map.iter().filter(|c| f(c)).count();
-    let legend = [
-        ([150, 205, 150], format!("converges ({})", count(&|c| c.verdict == Verdict::Converges))),
-        ([215, 60, 60], format!("diverges, JSR ≥ 1 ({})", count(&|c| c.verdict == Verdict::Diverges && c.per_matrix))),
-        (
-            [228, 228, 228],
-            format!("a matrix fails, §3 ({})", count(&|c| c.verdict == Verdict::Diverges && !c.per_matrix)),
+    let (title, legend): (&str, Vec<([u8; 3], String)>) = match kind {
+        SweepKind::Verdict => (
+            "convergence verdicts (JSR bounds)",
+            vec![
+                (verdict_colour(1), format!("converges ({})", count(1))),
+                (verdict_colour(-1), format!("diverges, JSR ≥ 1 ({})", count(-1))),
+                (verdict_colour(-2), format!("a matrix fails, §3 ({})", count(-2))),
+                (verdict_colour(0), format!("undecided ({})", count(0))),
+            ],
         ),
-        ([240, 200, 80], format!("undecided ({})", count(&|c| c.verdict == Verdict::Undecided))),
-    ];
-    let title = format!("{}: convergence verdicts (JSR bounds)", design.name());
-    write_framed_map(output, &title, &plane, &img, &legend)?;
+        SweepKind::Region => ("regions", curve_map_legend("regions", 0.0)),
+        SweepKind::Angle => (
+            "junction angle, where the halves have half-tangents",
+            [0.0, 45.0, 90.0, 135.0, 180.0]
+                .iter()
+                .map(|a: &f64| (angle_colour(*a), format!("angle {a}°")))
+                .chain([([228, 228, 228], "no half-tangents".to_string())])
+                .collect(),
+        ),
+        SweepKind::Dimension => (
+            "box-counting dimension",
+            [1.0, 1.25, 1.5, 1.75, 2.0]
+                .iter()
+                .map(|d| (dimension_colour(*d), format!("dimension {d}")))
+                .chain([(dimension_colour(f64::NAN), "not convergent".to_string())])
+                .collect(),
+        ),
+    };
+    if ext == "csv" {
+        let text = bcifs::render::sweep_csv(&plane, kind, &values);
+        bcifs::export::write_atomic(output, text.as_bytes())
+            .with_context(|| format!("cannot write {}", output.display()))?;
+    } else {
+        let img = image::RgbImage::from_fn(size as u32, size as u32, |i, j| image::Rgb(colour(pixel(i, j))));
+        write_framed_map(output, &format!("{}: {title}", design.name()), &plane, &img, &legend)?;
+    }
     writeln!(
         out,
         "{}: {} ∈ [{}, {}] (x) × {} ∈ [{}, {}] (y), {size}×{size} pixels in {:.2} s",
@@ -202,18 +256,31 @@ fn run_map(
         plane.y.2,
         started.elapsed().as_secs_f64()
     )?;
-    writeln!(out, "  converges (green):                          {}", count(&|c| c.verdict == Verdict::Converges))?;
-    writeln!(
-        out,
-        "  diverges although each matrix passes (red):  {}",
-        count(&|c| c.verdict == Verdict::Diverges && c.per_matrix)
-    )?;
-    writeln!(
-        out,
-        "  diverges, a matrix fails (grey):            {}",
-        count(&|c| c.verdict == Verdict::Diverges && !c.per_matrix)
-    )?;
-    writeln!(out, "  undecided (yellow):                         {}", count(&|c| c.verdict == Verdict::Undecided))?;
+    match &values {
+        SweepValues::Codes(_) if kind == SweepKind::Verdict => {
+            writeln!(out, "  converges (green):                          {}", count(1))?;
+            writeln!(out, "  diverges although each matrix passes (red):  {}", count(-1))?;
+            writeln!(out, "  diverges, a matrix fails (grey):            {}", count(-2))?;
+            writeln!(out, "  undecided (yellow):                         {}", count(0))?;
+        }
+        SweepValues::Codes(_) => {
+            for (code, region) in REGIONS.iter().enumerate() {
+                let n = count(code as i8);
+                if n > 0 {
+                    writeln!(out, "  region {region:<10} {n}")?;
+                }
+            }
+        }
+        SweepValues::Values(v) => {
+            let defined: Vec<f64> = v.iter().copied().filter(|x| !x.is_nan()).collect();
+            let (lo, hi) = defined.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| (a.min(x), b.max(x)));
+            if defined.is_empty() {
+                writeln!(out, "  no pixel has a {}", kind.name())?;
+            } else {
+                writeln!(out, "  {} pixels with a {}, from {lo:.4} to {hi:.4}", defined.len(), kind.name())?;
+            }
+        }
+    }
     writeln!(out, "map → {}", output.display())?;
     Ok(0)
 }
@@ -224,7 +291,7 @@ pub fn run(out: &mut String, what: AnalyzeCommand) -> Result<u8> {
         AnalyzeCommand::Ternary5 { output, .. } | AnalyzeCommand::Blend { output, .. } => {
             super::check_output(output, &["png"])?;
         }
-        AnalyzeCommand::Map { output, .. } => super::check_output(output, &["png"])?,
+        AnalyzeCommand::Map { output, .. } => super::check_output(output, &["png", "csv"])?,
         AnalyzeCommand::Curve { output: Some(output), .. } => super::check_output(output, &["png", "csv"])?,
         _ => {}
     }
@@ -232,8 +299,8 @@ pub fn run(out: &mut String, what: AnalyzeCommand) -> Result<u8> {
         AnalyzeCommand::Ternary5 { omega_range, steps, output, json } => {
             run_ternary5(out, (omega_range[0], omega_range[1]), steps, &output, json)
         }
-        AnalyzeCommand::Map { file, x, y, size, thorough, output } => {
-            run_map(out, &file, (&x, &y), size, thorough, &output)
+        AnalyzeCommand::Map { file, x, y, size, what, thorough, output } => {
+            run_map(out, &file, (&x, &y), size, (&what, thorough), &output)
         }
         AnalyzeCommand::Dimension { file, params, json } => run_dimension(out, &file, &params, json),
         AnalyzeCommand::Blend { file, params, depth, output } => run_blend(out, &file, &params, depth, &output),
@@ -287,150 +354,59 @@ fn run_dimension(out: &mut String, file: &str, params: &[String], as_json: bool)
 
 /// `bcifs analyze curve`.
 fn run_curve(out: &mut String, file: &str, params: &[String], as_json: bool) -> Result<u8> {
-    use bcifs::analysis::{JsrSettings, Verdict, curve_query, jsr};
-    let (design, instance, arrows) = curve_halves(file, params)?;
-    let automaton = &instance.automaton;
-    let (t0, t1) = (&automaton.arrow(arrows[0]).matrix, &automaton.arrow(arrows[1]).matrix);
-    let names = [automaton.arrow(arrows[0]).name.clone(), automaton.arrow(arrows[1]).name.clone()];
-    let mut report = curve_query(t0, t1);
-    let exact = exact_query(&design, params, &instance.parameters, &names);
-    if let Some(e) = &exact {
-        // The exact answers replace the floating-point ones where they decide something.
-        report.region = e.region;
-        report.c1_necessary = e.c1_necessary;
-        report.junction_angle_deg = e.junction_angle_deg;
-        report.half_tangents =
-            e.half_tangents.as_ref().map(|[s, t]| [s, t].map(|v| v.iter().map(|x| x.to_f64()).collect()));
-    }
-    let verdict = jsr(automaton, &JsrSettings::default()).ok().map(|j| j.verdict());
-    let region = match verdict {
-        Some(Verdict::Diverges) => Some("divergent"),
-        Some(Verdict::Converges) => report.region,
-        _ => None,
-    };
-    let answer = CurveAnswer { names, report, converges: verdict.and_then(|v| v.converges()), region, exact };
+    let design = super::load(file)?;
+    let values = super::parse_exact_params(params)?;
+    let analysis =
+        bcifs::render::curve_analysis(&design, &values).map_err(|e| anyhow::anyhow!("{}: {e}", design.name()))?;
     if as_json {
-        answer.json(out, &design, &instance)?;
+        writeln!(out, "{}", serde_json::to_string_pretty(&analysis.to_json())?)?;
     } else {
-        answer.text(out, &design, &instance)?;
+        curve_text(out, &analysis)?;
     }
     Ok(0)
 }
 
-/// What `analyze curve` found at one point.
-struct CurveAnswer {
-    /// The two halves' arrows.
-    names: [String; 2],
-    report: bcifs::analysis::CurveReport,
-    converges: Option<bool>,
-    region: Option<&'static str>,
-    exact: Option<bcifs::analysis::ExactCurveReport>,
-}
-
-/// Exact numbers as text.
-fn strings(v: &[bcifs::Surd]) -> Vec<String> {
-    v.iter().map(|x| x.to_string()).collect()
-}
-
-impl CurveAnswer {
-    fn json(&self, out: &mut String, design: &bcifs::Design, instance: &bcifs::Instance) -> Result<()> {
-        let (names, report) = (&self.names, &self.report);
-        let exact_json = self.exact.as_ref().map(|e| {
-            serde_json::json!({
-                "eigenvalues": {names[0].clone(): strings(&e.eigenvalues[0]), names[1].clone(): strings(&e.eigenvalues[1])},
-                "subdominant": {names[0].clone(): e.subdominant[0].as_ref().map(|x| x.to_string()),
-                                names[1].clone(): e.subdominant[1].as_ref().map(|x| x.to_string())},
-                "half_tangents": e.half_tangents.as_ref().map(|[s, t]| serde_json::json!({"start": strings(s), "end": strings(t)})),
-            })
-        });
-        let params: serde_json::Map<String, serde_json::Value> =
-            instance.parameters.iter().map(|(n, v)| (n.clone(), serde_json::json!(v))).collect();
-        let value = serde_json::json!({
-            "automaton": design.name(), "parameters": params, "converges": self.converges,
-            "per_matrix_condition": bcifs::analysis::per_matrix_condition(&instance.automaton),
-            "eigenvalues": {names[0].clone(): report.eigenvalues[0], names[1].clone(): report.eigenvalues[1]},
-            "subdominant": {names[0].clone(): report.subdominant[0], names[1].clone(): report.subdominant[1]},
-            "half_tangents": report.half_tangents.as_ref().map(|[s, e]| serde_json::json!({"start": s, "end": e})),
-            "junction_angle_deg": report.junction_angle_deg,
-            "c1_necessary": report.c1_necessary,
-            "region": self.region,
-            "exact": exact_json,
-        });
-        writeln!(out, "{}", serde_json::to_string_pretty(&value)?)?;
-        Ok(())
+/// `analyze curve` as text.
+fn curve_text(out: &mut String, analysis: &bcifs::render::CurveAnalysis) -> Result<()> {
+    let (names, report) = (&analysis.names, &analysis.report);
+    let p: Vec<String> = analysis.parameters.iter().map(|(n, v)| format!("{n} = {v}")).collect();
+    writeln!(out, "{}: {}", analysis.automaton, p.join(", "))?;
+    writeln!(out, "  converges: {}", analysis.converges.map_or("undecided".to_string(), |c| c.to_string()))?;
+    for (k, name) in names.iter().enumerate() {
+        let eigenvalues = match &report.eigenvalues[k] {
+            Some(values) => values.iter().map(|x| format!("{x:.6}")).collect::<Vec<_>>().join(", "),
+            None => "not computed (complex, or no basis of eigenvectors)".to_string(),
+        };
+        let subdominant = report.subdominant[k].map_or("none".to_string(), |x| format!("{x:.6}"));
+        writeln!(out, "  {name}: eigenvalues {eigenvalues}; sub-dominant {subdominant}")?;
     }
-
-    fn text(&self, out: &mut String, design: &bcifs::Design, instance: &bcifs::Instance) -> Result<()> {
-        let (names, report) = (&self.names, &self.report);
-        let p: Vec<String> = instance.parameters.iter().map(|(n, v)| format!("{n} = {v}")).collect();
-        writeln!(out, "{}: {}", design.name(), p.join(", "))?;
-        writeln!(out, "  converges: {}", self.converges.map_or("undecided".to_string(), |c| c.to_string()))?;
-        for (k, name) in names.iter().enumerate() {
-            let eigenvalues = match &report.eigenvalues[k] {
-                Some(values) => values.iter().map(|x| format!("{x:.6}")).collect::<Vec<_>>().join(", "),
-                None => "not computed (complex, or no basis of eigenvectors)".to_string(),
-            };
-            let subdominant = report.subdominant[k].map_or("none".to_string(), |x| format!("{x:.6}"));
-            writeln!(out, "  {name}: eigenvalues {eigenvalues}; sub-dominant {subdominant}")?;
+    match (&report.half_tangents, report.junction_angle_deg) {
+        (Some([s, e]), Some(angle)) => {
+            let v = |x: &[f64]| format!("({})", x.iter().map(|c| format!("{c:.6}")).collect::<Vec<_>>().join(", "));
+            writeln!(out, "  half-tangents: start {}, end {}; junction angle {angle:.4}°", v(s), v(e))?
         }
-        match (&report.half_tangents, report.junction_angle_deg) {
-            (Some([s, e]), Some(angle)) => {
-                let v = |x: &[f64]| format!("({})", x.iter().map(|c| format!("{c:.6}")).collect::<Vec<_>>().join(", "));
-                writeln!(out, "  half-tangents: start {}, end {}; junction angle {angle:.4}°", v(s), v(e))?
+        _ => writeln!(out, "  no half-tangents (a leading eigenvalue is negative or tied)")?,
+    }
+    writeln!(
+        out,
+        "  C1 necessary condition: {}; region {}",
+        report.c1_necessary,
+        analysis.region.unwrap_or("undecided")
+    )?;
+    match &analysis.exact {
+        Some(e) => {
+            for (k, name) in names.iter().enumerate() {
+                let values: Vec<String> = e.eigenvalues[k].iter().map(ToString::to_string).collect();
+                writeln!(out, "  exact {name}: eigenvalues {}", values.join(", "))?;
             }
-            _ => writeln!(out, "  no half-tangents (a leading eigenvalue is negative or tied)")?,
+            writeln!(out, "  (regions, ties and collinearity decided in exact arithmetic)")?;
         }
-        writeln!(
+        None => writeln!(
             out,
-            "  C1 necessary condition: {}; region {}",
-            report.c1_necessary,
-            self.region.unwrap_or("undecided")
-        )?;
-        match &self.exact {
-            Some(e) => {
-                for (k, name) in names.iter().enumerate() {
-                    writeln!(out, "  exact {name}: eigenvalues {}", strings(&e.eigenvalues[k]).join(", "))?;
-                }
-                writeln!(out, "  (regions, ties and collinearity decided in exact arithmetic)")?;
-            }
-            None => writeln!(
-                out,
-                "  (floating point: the exact analysis needs 3×3 matrices with the eigenvalue 1 and two more real ones, at rational parameters)"
-            )?,
-        }
-        Ok(())
+            "  (floating point: the exact analysis needs 3×3 matrices with the eigenvalue 1 and two more real ones, at rational parameters)"
+        )?,
     }
-}
-
-/// The exact query when the curve's halves are rational `3 × 3` at the
-/// parameter values: the user's values read exactly (`1/20`, `0.05`), the
-/// defaults as the decimals they print as.
-fn exact_query(
-    design: &bcifs::Design,
-    params: &[String],
-    values: &[(String, f64)],
-    names: &[String; 2],
-) -> Option<bcifs::analysis::ExactCurveReport> {
-    let family = bcifs::solve(design).ok()?;
-    let given: Vec<(String, bcifs::Num)> = params
-        .iter()
-        .filter_map(|p| {
-            let (n, v) = p.split_once('=')?;
-            Some((n.trim().to_string(), v.trim().parse::<bcifs::Num>().ok()?))
-        })
-        .collect();
-    let x: Vec<bcifs::Num> = family
-        .parameter_names()
-        .iter()
-        .map(|n| {
-            given.iter().rev().find(|(g, _)| g == n).map(|(_, v)| v.clone()).unwrap_or_else(|| {
-                bcifs::Num::from_f64(values.iter().find(|(m, _)| m == n).map_or(f64::NAN, |(_, v)| *v))
-            })
-        })
-        .collect();
-    let t0 = family.exact_matrix(&names[0], &x)?;
-    let t1 = family.exact_matrix(&names[1], &x)?;
-    bcifs::analysis::curve_query_exact(&t0, &t1)
+    Ok(())
 }
 
 /// A junction angle's colour: 0° red to 180° violet through the hues, as Fig. 11.
@@ -460,20 +436,6 @@ fn region_colour(region: Option<&str>) -> [u8; 3] {
     }
 }
 
-/// The region of a curve-map cell: only where the bounds prove convergence.
-fn cell_region(c: &CurveCell) -> Option<&'static str> {
-    match c.verdict {
-        Verdict::Diverges => Some("divergent"),
-        Verdict::Converges => c.report.as_ref().and_then(|r| r.region),
-        Verdict::Undecided => None,
-    }
-}
-
-/// The junction angle of a curve-map cell, in degrees.
-fn cell_angle(c: &CurveCell) -> Option<f64> {
-    c.report.as_ref().and_then(|r| r.junction_angle_deg)
-}
-
 /// The curve map as CSV: a row per cell.
 fn curve_map_csv(
     plane: &bcifs::analysis::ParameterPlane,
@@ -493,8 +455,8 @@ fn curve_map_csv(
             text,
             "{px},{py},{verdict},{},{},{}",
             c.per_matrix,
-            cell_region(c).unwrap_or(""),
-            cell_angle(c).map_or(String::new(), |a| a.to_string())
+            c.region().unwrap_or(""),
+            c.angle().map_or(String::new(), |a| a.to_string())
         )?;
     }
     bcifs::export::write_atomic(output, text.as_bytes()).with_context(|| format!("cannot write {}", output.display()))
@@ -506,8 +468,8 @@ fn curve_map_colour(c: &CurveCell, kind: &str, threshold: f64) -> [u8; 3] {
         return [228, 228, 228];
     }
     match kind {
-        "regions" => region_colour(cell_region(c)),
-        _ => match (c.verdict, cell_angle(c)) {
+        "regions" => region_colour(c.region()),
+        _ => match (c.verdict, c.angle()) {
             (Verdict::Diverges, _) => [200, 30, 30],
             (Verdict::Converges, Some(a)) if kind == "smooth" => {
                 if a < threshold {
@@ -615,7 +577,7 @@ fn run_curve_map(
     }
     let mut counts: std::collections::BTreeMap<&str, usize> = std::collections::BTreeMap::new();
     for c in &cells {
-        *counts.entry(cell_region(c).unwrap_or("undecided")).or_default() += 1;
+        *counts.entry(c.region().unwrap_or("undecided")).or_default() += 1;
     }
     writeln!(
         out,
@@ -630,38 +592,16 @@ fn run_curve_map(
     Ok(0)
 }
 
-/// The two subdivision matrices of a design's curve root, with the instance's parameters.
-fn curve_halves(
-    file: &str,
-    params: &[String],
-) -> Result<(bcifs::Design, bcifs::Instance, [bcifs::petgraph::graph::EdgeIndex; 2])> {
-    use bcifs::{ArrowKind, CellKind};
-    let design = super::load(file)?;
-    let values = super::parse_params(params)?;
-    let instance = bcifs::instantiate(&design, &values).map_err(|e| anyhow::anyhow!("{}: {e}", design.name()))?;
-    let automaton = &instance.automaton;
-    let root_name =
-        design.model().map(|m| m.root(0).to_string()).context("the design has no [model] naming its root")?;
-    let root = automaton.state_id(&root_name).context("the model's root is not a state")?;
-    let arrows = automaton.outgoing(root, ArrowKind::Subdivision);
-    if automaton.state(root).kind != CellKind::Edge
-        || arrows.len() != 2
-        || arrows.iter().any(|&e| automaton.arrow_ends(e).1 != root)
-    {
-        bail!(
-            "{}: a curve root (an edge state with two subdivision arrows to itself, T0 and T1) is needed",
-            design.name()
-        );
-    }
-    Ok((design, instance, [arrows[0], arrows[1]]))
-}
-
 /// `bcifs analyze blend`.
 fn run_blend(out: &mut String, file: &str, params: &[String], depth: usize, output: &std::path::Path) -> Result<u8> {
     if depth == 0 || depth > 16 {
         bail!("--depth must be between 1 and 16");
     }
-    let (design, instance, [e0, e1]) = curve_halves(file, params)?;
+    let design = super::load(file)?;
+    let values = super::parse_params(params)?;
+    let instance = bcifs::instantiate(&design, &values).map_err(|e| anyhow::anyhow!("{}: {e}", design.name()))?;
+    let [e0, e1] =
+        bcifs::render::curve_halves(&design, &instance).map_err(|e| anyhow::anyhow!("{}: {e}", design.name()))?;
     let a = &instance.automaton;
     let b = bcifs::analysis::blending(&a.arrow(e0).matrix, &a.arrow(e1).matrix, depth)
         .context("a subdivision matrix has no fixed point")?;

@@ -1,0 +1,203 @@
+//! Parameter sweeps: one quantity at every pixel of a plane of two free
+//! parameters of a family, computed band by band so that a sweep splits
+//! over threads, processes or machines and gives the same array, bit for
+//! bit. `analyze map` writes them (a picture, or CSV); the Python module's
+//! `bcifs.sweep` returns them as arrays, on Dask workers when asked.
+
+use std::fmt::Write as _;
+use std::ops::Range;
+
+use rayon::prelude::*;
+
+use super::options::RenderError;
+use crate::analysis::{JsrSettings, ParameterPlane, Verdict, curve_map_rows, verdict_map_rows};
+use crate::design::Design;
+use crate::family::solve;
+
+/// The memory one pixel of a dimension sweep may take (the points of its
+/// evaluation): a pixel near the edge of the convergence domain contracts
+/// so slowly that its points would take more, and is left NaN.
+pub const SWEEP_MEMORY: usize = 16 << 20;
+
+/// What a sweep computes at each pixel.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SweepKind {
+    /// The convergence verdict ([`SweepKind::verdict_code`]).
+    Verdict,
+    /// The region of seed 004 Fig. 8 of a curve family, an index into [`REGIONS`].
+    Region,
+    /// The junction angle of a curve family's half-tangents, in degrees (NaN: none).
+    Angle,
+    /// The box-counting dimension of the attractor where the bounds prove
+    /// convergence (NaN elsewhere, with too few scales, or where the points
+    /// would take more than [`SWEEP_MEMORY`]).
+    Dimension,
+}
+
+/// The regions of a region sweep, by code: `REGIONS[code]`.
+pub const REGIONS: [&str; 10] = ["undecided", "1", "2", "2'", "3", "3'", "4", "5", "divergent", "degenerate"];
+
+impl std::str::FromStr for SweepKind {
+    type Err = RenderError;
+    fn from_str(text: &str) -> Result<SweepKind, RenderError> {
+        Ok(match text {
+            "verdict" => SweepKind::Verdict,
+            "region" | "regions" => SweepKind::Region,
+            "angle" | "roughness" => SweepKind::Angle,
+            "dimension" => SweepKind::Dimension,
+            other => {
+                return Err(RenderError::Unsupported(format!(
+                    "unknown sweep `{other}`: expected verdict, region, angle or dimension"
+                )));
+            }
+        })
+    }
+}
+
+impl SweepKind {
+    /// The name used by `analyze map --what` and `bcifs.sweep(what=…)`.
+    pub fn name(self) -> &'static str {
+        match self {
+            SweepKind::Verdict => "verdict",
+            SweepKind::Region => "region",
+            SweepKind::Angle => "angle",
+            SweepKind::Dimension => "dimension",
+        }
+    }
+
+    /// The code of a verdict pixel: 1 converges, 0 undecided, -1 diverges
+    /// although every matrix passes seed 004 §3's per-matrix condition, -2
+    /// a subdivision matrix fails it.
+    pub fn verdict_code(verdict: Verdict, per_matrix: bool) -> i8 {
+        match (verdict, per_matrix) {
+            (Verdict::Converges, _) => 1,
+            (Verdict::Undecided, _) => 0,
+            (Verdict::Diverges, true) => -1,
+            (Verdict::Diverges, false) => -2,
+        }
+    }
+
+    /// The label of a code (verdicts and regions), as CSV writes it.
+    pub fn label(self, value: f64) -> &'static str {
+        match self {
+            SweepKind::Verdict => match value as i8 {
+                1 => "converges",
+                0 => "undecided",
+                -1 => "diverges",
+                _ => "matrix fails",
+            },
+            SweepKind::Region => REGIONS.get(value as usize).copied().unwrap_or("undecided"),
+            SweepKind::Angle | SweepKind::Dimension => "",
+        }
+    }
+}
+
+/// The pixels of a band of a sweep: codes (verdicts, regions) or values (angles, dimensions).
+#[derive(Clone, Debug, PartialEq)]
+pub enum SweepValues {
+    /// Verdict codes or region indices.
+    Codes(Vec<i8>),
+    /// Angles or dimensions; NaN where there is none.
+    Values(Vec<f64>),
+}
+
+impl SweepValues {
+    /// Every pixel as a number.
+    pub fn to_f64(&self) -> Vec<f64> {
+        match self {
+            SweepValues::Codes(c) => c.iter().map(|&c| f64::from(c)).collect(),
+            SweepValues::Values(v) => v.clone(),
+        }
+    }
+}
+
+/// `kind` at every pixel of the rows `rows` of `plane` (row by row, top
+/// row first; the other parameters at their defaults), with the quick
+/// bounds search or the full one (`thorough`). The rows of a whole sweep,
+/// bit for bit, whatever the bands it is cut into.
+///
+/// # Errors
+/// A family that does not solve, a parameter it does not have, a design
+/// that is not a curve family for regions and angles, no model for dimensions.
+///
+/// # Example
+/// ```
+/// use bcifs::analysis::ParameterPlane;
+/// use bcifs::render::{SweepKind, SweepValues, sweep};
+/// let design = bcifs::builtin_design("corner_cutting").unwrap();
+/// let plane = ParameterPlane { x: ("a".into(), 0.0, 0.5), y: ("b".into(), 0.0, 0.5), size: (4, 4) };
+/// let SweepValues::Codes(top) = sweep(&design, &plane, SweepKind::Verdict, false, 0..2).unwrap() else { panic!() };
+/// let SweepValues::Codes(all) = sweep(&design, &plane, SweepKind::Verdict, false, 0..4).unwrap() else { panic!() };
+/// assert_eq!(top, all[..8]);
+/// ```
+pub fn sweep(
+    design: &Design,
+    plane: &ParameterPlane,
+    kind: SweepKind,
+    thorough: bool,
+    rows: Range<usize>,
+) -> Result<SweepValues, RenderError> {
+    let name = design.name();
+    let family = solve(design).map_err(|e| RenderError::Unsupported(format!("{name}: {e}")))?;
+    let settings = if thorough { JsrSettings::default() } else { JsrSettings::quick() };
+    let instantiate = |e: crate::family::InstantiateError| RenderError::Unsupported(format!("{name}: {e}"));
+    match kind {
+        SweepKind::Verdict | SweepKind::Dimension => {
+            let cells = verdict_map_rows(&family, plane, &settings, rows.clone()).map_err(instantiate)?;
+            if kind == SweepKind::Verdict {
+                return Ok(SweepValues::Codes(
+                    cells.iter().map(|c| SweepKind::verdict_code(c.verdict, c.per_matrix)).collect(),
+                ));
+            }
+            super::design::model_of(design)?;
+            let w = plane.size.0;
+            let first = rows.start.min(plane.size.1);
+            let values = cells
+                .par_iter()
+                .enumerate()
+                .map(|(i, c)| {
+                    if c.verdict != Verdict::Converges {
+                        return f64::NAN;
+                    }
+                    let (x, y) = plane.at(i % w, first + i / w);
+                    let at = [(plane.x.0.clone(), x), (plane.y.0.clone(), y)];
+                    super::reports::dimension_within(design, &at, SWEEP_MEMORY)
+                        .ok()
+                        .and_then(|r| r.fit.map(|f| f.dimension))
+                        .unwrap_or(f64::NAN)
+                })
+                .collect();
+            Ok(SweepValues::Values(values))
+        }
+        SweepKind::Region | SweepKind::Angle => {
+            // The root must be a curve (checked on the plane's corner).
+            let corner = [(plane.x.0.clone(), plane.x.1), (plane.y.0.clone(), plane.y.1)];
+            super::curve::curve_halves(design, &crate::family::instantiate(design, &corner)?)?;
+            let root = design.model().map(|m| m.root(0).to_string()).unwrap_or_default();
+            let cells = curve_map_rows(&family, plane, &settings, &root, rows).map_err(instantiate)?;
+            Ok(if kind == SweepKind::Region {
+                SweepValues::Codes(
+                    cells
+                        .iter()
+                        .map(|c| REGIONS.iter().position(|r| Some(*r) == c.region()).unwrap_or(0) as i8)
+                        .collect(),
+                )
+            } else {
+                SweepValues::Values(cells.iter().map(|c| c.angle().unwrap_or(f64::NAN)).collect())
+            })
+        }
+    }
+}
+
+/// A whole sweep as CSV: a header `X,Y,what,label` and a row per pixel
+/// (row by row, top row first): the parameter values at the pixel's
+/// centre, the value (empty for NaN) and the label of codes.
+pub fn sweep_csv(plane: &ParameterPlane, kind: SweepKind, values: &SweepValues) -> String {
+    let mut text = format!("{},{},{},label\n", plane.x.0, plane.y.0, kind.name());
+    for (i, v) in values.to_f64().into_iter().enumerate() {
+        let (x, y) = plane.at(i % plane.size.0.max(1), i / plane.size.0.max(1));
+        let value = if v.is_nan() { String::new() } else { v.to_string() };
+        let _ = writeln!(text, "{x},{y},{value},{}", kind.label(v));
+    }
+    text
+}
