@@ -23,7 +23,7 @@ def _sweep_band(toml, x, y, rows, what, thorough):
     return sweep_rows(toml, x, y, rows, what, thorough)
 
 
-def sweep(design, x, y, what="verdict", client=None, tiles=None, thorough=False):
+def sweep(design, x, y, what="verdict", client=None, tiles=None, thorough=False, scheduler=None):
     """A parameter plane of `design`: `x` and `y` are `(NAME, lo, hi, n)`,
     the other parameters at their defaults; an (ny, nx) array, row 0 at the
     top (y = hi), pixel centres as `bcifs analyze map` samples them, of
@@ -42,18 +42,26 @@ def sweep(design, x, y, what="verdict", client=None, tiles=None, thorough=False)
 
     The plane is split into `tiles` bands of rows; with `client` (a
     `dask.distributed.Client`) the bands run on its workers, each loading
-    the design from its TOML text, otherwise here. The array is the same
-    either way, bit for bit.
+    the design from its TOML text; with `scheduler` (any Dask scheduler:
+    ``"processes"``, or Ray's ``ray.util.dask.ray_dask_get`` to run them as
+    Ray tasks) as `dask.delayed` tasks; otherwise here. The array is the
+    same either way, bit for bit.
     """
     text = design.to_toml() if isinstance(design, Design) else load(design).to_toml()
     x, y = (str(x[0]), float(x[1]), float(x[2]), int(x[3])), (str(y[0]), float(y[1]), float(y[2]), int(y[3]))
     ny = y[3]
     if tiles is None:
         workers = len(client.scheduler_info()["workers"]) if client is not None else (os.cpu_count() or 1)
+        workers = workers if scheduler is None else max(workers, 4)
         tiles = max(1, min(ny, 4 * workers))
     edges = [round(k * ny / tiles) for k in range(tiles + 1)]
     bands = [(a, b) for a, b in zip(edges, edges[1:]) if b > a]
-    if client is None:
+    if client is None and scheduler is not None:
+        import dask
+
+        tasks = [dask.delayed(_sweep_band, pure=True)(text, x, y, band, what, thorough) for band in bands]
+        parts = list(dask.compute(*tasks, scheduler=scheduler))
+    elif client is None:
         parts = [_sweep_band(text, x, y, band, what, thorough) for band in bands]
     else:
         k = len(bands)

@@ -83,6 +83,14 @@ fn cancellable<T: Send>(
             }
         }
         let result = py.detach(|| handle.join()).map_err(|_| err("the computation panicked"))?;
+        // The reports sent between the last poll and the end (the last one says the work is done).
+        if let (Some(callback), None) = (progress, &interrupted)
+            && let Ok(rx) = rx.lock()
+        {
+            for (done, total) in rx.try_iter() {
+                callback.call1((done, total))?;
+            }
+        }
         match interrupted {
             Some(e) => Err(e),
             None => Ok(result),

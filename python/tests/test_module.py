@@ -369,3 +369,17 @@ def test_arrays_are_not_copied_where_the_library_holds_them():
     assert mesh.vertices.flags.c_contiguous
     sub = bcifs.subdivide(mesh.vertices, mesh.faces, "catmull-clark", 1, net=True)
     assert not sub.vertices.flags.owndata
+
+
+def test_sweep_runs_as_ray_tasks():
+    """Dask on Ray: the bands as Ray tasks through Ray's Dask scheduler, the same array."""
+    ray = pytest.importorskip("ray", reason="Ray is not installed (pip install ray pandas pyarrow)")
+    ray_dask = pytest.importorskip("ray.util.dask", reason="Ray's Dask scheduler needs dask, pandas and pyarrow")
+    x, y = ("a", -1.0, 1.0, 24), ("b", -1.0, 1.0, 16)
+    here = bcifs.sweep("corner_cutting", x, y, what="region")
+    ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False)
+    try:
+        on_ray = bcifs.sweep("corner_cutting", x, y, what="region", scheduler=ray_dask.ray_dask_get, tiles=4)
+    finally:
+        ray.shutdown()
+    assert np.array_equal(here, on_ray)
