@@ -404,11 +404,25 @@ impl Design {
     }
 
     /// Writes the design to `path`, the format chosen by its extension (every
-    /// format of `bcifs render`); `samples` runs the chaos game; `progress`
-    /// is called with `(done, total)` as the work goes. Returns the report as
-    /// a dict (format, vertices, faces, bytes, warnings, notes). Ctrl-C stops
-    /// it within a tenth of a second and leaves no file.
-    #[pyo3(signature = (path, depth=None, tolerance=None, samples=None, seed=1, size=(800, 800), palette=None, progress=None, **params))]
+    /// format of `bcifs render`), with the options of `bcifs render`:
+    /// `depth` or `tolerance`; `samples` runs the chaos game (`seed`,
+    /// `probs` {arrow: p}, `drop` [arrows]); `size` (w, h) and `palette` of
+    /// pictures, `tone` {brightness, gamma, vibrancy, supersample, blur,
+    /// blur_curve, background}; `up` ("y" or "z") of mesh files, `ascii`
+    /// PLY, `precision` significant digits; `colour` ("state", "level",
+    /// "map") with `colours` {arrow: c} and `colour_speed`; `view` (yaw,
+    /// pitch) of 3D pictures and `transparent` PNG; `uv`, `dedup`,
+    /// `force` (a divergent system), `threads`, `memory_mib`,
+    /// `max_output_gib`. `progress` is called with `(done, total)` as the
+    /// work goes. Returns the report as a dict (format, vertices, faces,
+    /// bytes, warnings, notes). Ctrl-C stops it within a tenth of a second
+    /// and leaves no file.
+    #[pyo3(signature = (
+        path, depth=None, tolerance=None, samples=None, seed=1, size=(800, 800), palette=None, progress=None,
+        *, probs=None, drop=None, tone=None, up="y", ascii=false, precision=None, colour=None, colours=None,
+        colour_speed=0.5, uv=false, dedup=false, force=false, threads=None, memory_mib=None, max_output_gib=4.0,
+        view=(30.0, 35.0), transparent=false, **params
+    ))]
     #[allow(clippy::too_many_arguments)]
     fn render<'py>(
         &self,
@@ -421,11 +435,102 @@ impl Design {
         size: (u32, u32),
         palette: Option<&str>,
         progress: Option<&Bound<'py, PyAny>>,
+        probs: Option<&Bound<'py, PyDict>>,
+        drop: Option<Vec<String>>,
+        tone: Option<&Bound<'py, PyDict>>,
+        up: &str,
+        ascii: bool,
+        precision: Option<u32>,
+        colour: Option<&str>,
+        colours: Option<&Bound<'py, PyDict>>,
+        colour_speed: f64,
+        uv: bool,
+        dedup: bool,
+        force: bool,
+        threads: Option<usize>,
+        memory_mib: Option<usize>,
+        max_output_gib: f64,
+        view: (f64, f64),
+        transparent: bool,
         params: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
+        use bcifs::eval::Colouring;
+        use bcifs::export::{Tone, Up};
         let mut options = self.options(depth, tolerance, params)?.with_size(size.0, size.1);
-        options.random = samples.map(|n| RandomSettings::default().with_points(n).with_seed(seed));
+        if samples.is_some() && (depth.is_some() || tolerance.is_some()) {
+            return Err(err("samples draws points by the chaos game: depth and tolerance do not apply to it"));
+        }
+        if precision.is_some_and(|p| !(1..=15).contains(&p)) {
+            return Err(err("precision is a number of significant digits, 1 to 15"));
+        }
+        if !(max_output_gib.is_finite() && max_output_gib > 0.0 && (0.0..=1.0).contains(&colour_speed)) {
+            return Err(err("max_output_gib must be positive, colour_speed between 0 and 1"));
+        }
+        let (drop, colours, probs) = (drop.unwrap_or_default(), self::params(colours)?, self::params(probs)?);
+        options.eval.threads = threads;
+        options.eval.force = force;
+        options.eval.uv = uv;
+        options.eval.dropped.clone_from(&drop);
+        if let Some(mib) = memory_mib {
+            options.eval.memory_limit = mib.saturating_mul(1 << 20);
+        }
+        options.raster = bcifs::export::RasterSettings::default()
+            .with_size(size.0, size.1)
+            .with_view(view.0, view.1)
+            .with_memory_limit(options.eval.memory_limit)
+            .with_transparent(transparent);
+        options.dedup = dedup;
+        options.ascii = ascii;
+        options.coordinates.up = match up {
+            "y" => Up::Y,
+            "z" => Up::Z,
+            other => return Err(err(format!("up=`{other}`: expected \"y\" or \"z\""))),
+        };
+        options.coordinates = options.coordinates.with_precision(precision);
+        options.max_output = (max_output_gib * f64::from(1u32 << 30)) as u128;
+        options.colour = match colour {
+            None => None,
+            Some("state") => Some(Colouring::State),
+            Some("level") => Some(Colouring::Level),
+            Some("map") => Some(Colouring::Map),
+            Some(other) => return Err(err(format!("colour=`{other}`: expected \"state\", \"level\" or \"map\""))),
+        };
+        options.arrow_colours.clone_from(&colours);
+        options.colour_speed = Some(colour_speed);
         options.palette = palette.map(bcifs::export::Palette::parse).transpose().map_err(err)?;
+        let mut t = Tone::default();
+        if let Some(tone) = tone {
+            for (k, v) in tone.iter() {
+                let key: String = k.extract()?;
+                let number = || v.extract::<f64>().map_err(|_| err(format!("tone[{key:?}] must be a number")));
+                match key.as_str() {
+                    "brightness" => t.brightness = number()?,
+                    "gamma" => t.gamma = number()?,
+                    "vibrancy" => t.vibrancy = number()?,
+                    "supersample" => t.supersample = v.extract()?,
+                    "blur" => t.blur = number()?,
+                    "blur_curve" => t.blur_curve = number()?,
+                    "background" => t.background = Some(Tone::parse_colour(&v.extract::<String>()?).map_err(err)?),
+                    other => {
+                        return Err(err(format!(
+                            "tone has no setting `{other}`: brightness, gamma, vibrancy, supersample, blur, blur_curve, background"
+                        )));
+                    }
+                }
+            }
+        }
+        options.tone = t.checked().map_err(err)?;
+        if let Some(n) = samples {
+            let mut r = RandomSettings::default().with_points(n).with_seed(seed);
+            r.threads = threads;
+            r.probabilities = probs;
+            r.force = force;
+            r.memory_limit = options.eval.memory_limit;
+            r.colours = colours;
+            r.colour_speed = colour_speed;
+            r.dropped = drop;
+            options.random = Some(r);
+        }
         let design = &self.inner;
         let report = cancellable(py, progress, |cancel, reporter| {
             let mut options = options.with_cancel(cancel);

@@ -383,3 +383,47 @@ def test_sweep_runs_as_ray_tasks():
     finally:
         ray.shutdown()
     assert np.array_equal(here, on_ray)
+
+
+@pytest.mark.parametrize(
+    "name,args,kwargs,ext",
+    [
+        ("doo_sabin_torus", ["--depth", "3", "--colour", "state", "--up", "z", "--ascii"], dict(depth=3, colour="state", up="z", ascii=True), "ply"),
+        ("koch", ["--depth", "4", "--precision", "6"], dict(depth=4, precision=6), "obj"),
+        ("gasket", ["--random", "20000", "--seed", "4", "--dedup", "--prob", "T0=0.5"], dict(samples=20000, seed=4, dedup=True, probs={"T0": 0.5}), "obj"),
+        ("doo_sabin_torus", ["--depth", "2", "--param", "alpha=0.7"], dict(depth=2, alpha=0.7), "glb"),
+    ],
+)
+def test_render_takes_the_options_of_the_cli(tmp_path, name, args, kwargs, ext):
+    """The same options, the same file, byte for byte."""
+    expected, got = tmp_path / f"cli.{ext}", tmp_path / f"module.{ext}"
+    subprocess.run([cli(), "render", name, *args, "-o", str(expected)], check=True, capture_output=True)
+    bcifs.load(name).render(got, **kwargs)
+    assert got.read_bytes() == expected.read_bytes()
+
+
+def test_render_pictures_take_the_tone_and_view_of_the_cli(tmp_path):
+    pytest.importorskip("PIL")
+    from PIL import Image
+
+    cases = [
+        (
+            "fern",
+            ["--random", "100000", "--seed", "3", "--palette", "fire", "--brightness", "2", "--background", "000010", "--size", "100x80"],
+            dict(samples=100000, seed=3, palette="fire", tone={"brightness": 2, "background": "000010"}, size=(100, 80)),
+        ),
+        ("doo_sabin_torus", ["--depth", "3", "--view", "60,10", "--transparent", "--size", "90x70"], dict(depth=3, view=(60, 10), transparent=True, size=(90, 70))),
+    ]
+    for name, args, kwargs in cases:
+        expected, got = tmp_path / f"{name}-cli.png", tmp_path / f"{name}.png"
+        subprocess.run([cli(), "render", name, *args, "-o", str(expected)], check=True, capture_output=True)
+        bcifs.load(name).render(got, **kwargs)
+        a, b = Image.open(expected), Image.open(got)
+        assert a.mode == b.mode and np.array_equal(np.asarray(a), np.asarray(b))
+    with pytest.raises(bcifs.BcifsError, match="supersample"):
+        bcifs.load("fern").render(tmp_path / "x.png", samples=1000, tone={"supersample": 0})
+    with pytest.raises(bcifs.BcifsError, match="no setting `gama`"):
+        bcifs.load("fern").render(tmp_path / "x.png", samples=1000, tone={"gama": 2})
+    with pytest.raises(bcifs.BcifsError, match="expected"):
+        bcifs.load("koch").render(tmp_path / "x.obj", up="x")
+    assert not (tmp_path / "x.png").exists() and not (tmp_path / "x.obj").exists()

@@ -186,23 +186,20 @@ fn options(args: &RenderArgs) -> anyhow::Result<Options> {
 
 /// The tone mapping of density pictures the arguments ask for, checked.
 fn tone(args: &RenderArgs) -> anyhow::Result<bcifs::export::Tone> {
+    use bcifs::export::Tone;
     let RenderArgs { brightness, gamma, supersample, vibrancy, colour_speed, blur, blur_curve, .. } = *args;
-    if !(brightness > 0.0
-        && brightness.is_finite()
-        && gamma > 0.0
-        && gamma.is_finite()
-        && (1..=8).contains(&supersample))
-    {
-        bail!("--brightness and --gamma must be positive numbers, --supersample 1 to 8");
+    if !(0.0..=1.0).contains(&colour_speed) {
+        bail!("--color-speed is between 0 and 1");
     }
-    if !((0.0..=1.0).contains(&vibrancy) && (0.0..=1.0).contains(&colour_speed)) {
-        bail!("--vibrancy and --color-speed are between 0 and 1");
-    }
-    if !(blur.is_finite() && (0.0..=64.0).contains(&blur) && blur_curve.is_finite() && blur_curve >= 0.0) {
-        bail!("--blur is a radius from 0 to 64 pixels, --blur-curve a number from 0 up");
-    }
-    let background = args.background.as_deref().map(parse_colour).transpose()?;
-    Ok(bcifs::export::Tone { brightness, gamma, vibrancy, supersample, blur, blur_curve, background })
+    let background = args
+        .background
+        .as_deref()
+        .map(Tone::parse_colour)
+        .transpose()
+        .map_err(|e| anyhow::anyhow!("--background {e}"))?;
+    Tone { brightness, gamma, vibrancy, supersample, blur, blur_curve, background }
+        .checked()
+        .map_err(|e| anyhow::anyhow!("--{e}"))
 }
 
 /// Tells stderr a render's warnings and notes.
@@ -227,21 +224,6 @@ pub fn print_report(report: &Report, label: &str, output: &Path, started: std::t
         output.display(),
         started.elapsed().as_secs_f64()
     );
-}
-
-/// A colour: `RRGGBB` in hexadecimal (an optional `#`), `white` or `black`.
-fn parse_colour(text: &str) -> anyhow::Result<[u8; 3]> {
-    match text {
-        "white" => return Ok([255; 3]),
-        "black" => return Ok([0; 3]),
-        _ => {}
-    }
-    let hex = text.trim_start_matches('#');
-    let channel = |k: usize| hex.get(2 * k..2 * k + 2).and_then(|h| u8::from_str_radix(h, 16).ok());
-    match (hex.len(), channel(0), channel(1), channel(2)) {
-        (6, Some(r), Some(g), Some(b)) => Ok([r, g, b]),
-        _ => bail!("--background {text}: expected RRGGBB in hexadecimal, white or black"),
-    }
 }
 
 /// Which form of a scheme to evaluate.

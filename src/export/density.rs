@@ -147,6 +147,47 @@ impl Default for Tone {
 }
 
 impl Tone {
+    /// The settings checked: positive finite brightness and gamma,
+    /// supersampling 1 to 8, vibrancy in [0, 1], a blur radius of 0 to 64
+    /// pixels and a blur curve from 0 up; the message names what is wrong.
+    ///
+    /// # Errors
+    /// A setting out of its range.
+    pub fn checked(self) -> Result<Tone, String> {
+        let Tone { brightness, gamma, vibrancy, supersample, blur, blur_curve, .. } = self;
+        if !(brightness > 0.0 && brightness.is_finite() && gamma > 0.0 && gamma.is_finite()) {
+            return Err("brightness and gamma must be positive numbers".into());
+        }
+        if !(1..=8).contains(&supersample) {
+            return Err(format!("supersample {supersample}: expected 1 to 8"));
+        }
+        if !(0.0..=1.0).contains(&vibrancy) {
+            return Err(format!("vibrancy {vibrancy}: expected a number between 0 and 1"));
+        }
+        if !(blur.is_finite() && (0.0..=64.0).contains(&blur) && blur_curve.is_finite() && blur_curve >= 0.0) {
+            return Err(format!("blur {blur} (curve {blur_curve}): a radius from 0 to 64 pixels, a curve from 0 up"));
+        }
+        Ok(self)
+    }
+
+    /// A colour: `RRGGBB` in hexadecimal (an optional `#`), `white` or `black`.
+    ///
+    /// # Errors
+    /// Any other text.
+    pub fn parse_colour(text: &str) -> Result<[u8; 3], String> {
+        match text {
+            "white" => return Ok([255; 3]),
+            "black" => return Ok([0; 3]),
+            _ => {}
+        }
+        let hex = text.trim_start_matches('#');
+        let channel = |k: usize| hex.get(2 * k..2 * k + 2).and_then(|h| u8::from_str_radix(h, 16).ok());
+        match (hex.len(), channel(0), channel(1), channel(2)) {
+            (6, Some(r), Some(g), Some(b)) => Ok([r, g, b]),
+            _ => Err(format!("`{text}`: expected a colour, RRGGBB in hexadecimal, white or black")),
+        }
+    }
+
     /// The paper of a density picture: the background, or white for one
     /// ink and black for a palette.
     pub fn paper(&self, palette: bool) -> [u8; 3] {
