@@ -340,16 +340,22 @@ impl Design {
     }
 
     /// The attractor evaluated `depth` subdivisions down (or until every
-    /// cell is below `tolerance`), with the given parameter values, as a [`Mesh`].
-    #[pyo3(signature = (depth=None, tolerance=None, **params))]
+    /// cell is below `tolerance`), with the given parameter values, as a
+    /// [`Mesh`]; `uv` gives surfaces texture coordinates (as `render
+    /// --uv`), `force` evaluates a system whose bounds prove divergence.
+    #[pyo3(signature = (depth=None, tolerance=None, uv=false, force=false, **params))]
     fn mesh(
         &self,
         py: Python<'_>,
         depth: Option<usize>,
         tolerance: Option<f64>,
+        uv: bool,
+        force: bool,
         params: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Mesh> {
-        let options = self.options(depth, tolerance, params)?;
+        let mut options = self.options(depth, tolerance, params)?;
+        options.eval.uv = uv;
+        options.eval.force = force;
         let design = &self.inner;
         let shape = py.detach(|| bcifs::render::evaluate_design(design, &options, &mut Vec::new())).map_err(err)?;
         Mesh::of_shape(py, shape)

@@ -1,0 +1,246 @@
+"""Run inside Blender by test_blender.py: `blender [-b] --factory-startup
+--python blender_session.py -- MODE ZIP OUT_DIR`. Installs the add-on zip,
+drives its operators and writes what it saw to OUT_DIR/MODE.json (arrays as
+lists) for the test to compare with the command line's files.
+
+MODE `operators` (background): add, change a parameter, apply, curves as
+curves and as edges, a cloud, subdivide Suzanne (written as OBJ for the
+CLI), a divergent weight refused, the parameter map, a saved .blend.
+MODE `reload` (background): the saved .blend reopened, its parameters
+editable. MODE `ui` (under Xvfb, a window): undo of both operators, the
+full depth once a slider rests, a screenshot of the panel.
+"""
+
+import json
+import pathlib
+import sys
+import traceback
+
+import bpy
+
+MODE, ZIP, OUT = sys.argv[sys.argv.index("--") + 1 :][:3]
+OUT = pathlib.Path(OUT)
+seen = {}
+
+
+def enable():
+    bpy.ops.preferences.addon_install(filepath=ZIP, overwrite=True)
+    bpy.ops.preferences.addon_enable(module="bcifs_blender")
+
+
+def vertices(obj):
+    if obj.type == "CURVE":
+        return [list(p.co[:3]) for s in obj.data.splines for p in s.points]
+    return [list(v.co) for v in obj.data.vertices]
+
+
+def faces(obj):
+    return [list(p.vertices) for p in obj.data.polygons]
+
+
+def write_obj(obj, path):
+    """The mesh's vertices, UVs and faces as an OBJ (its local coordinates, as Blender holds them)."""
+    me = obj.data
+    lines = [f"v {v.co.x!r} {v.co.y!r} {v.co.z!r}" for v in me.vertices]
+    uv = me.uv_layers.active
+    if uv is not None:
+        lines += [f"vt {d.uv.x!r} {d.uv.y!r}" for d in uv.data]
+        lines += ["f " + " ".join(f"{me.loops[k].vertex_index + 1}/{k + 1}" for k in p.loop_indices) for p in me.polygons]
+    else:
+        lines += ["f " + " ".join(str(i + 1) for i in p.vertices) for p in me.polygons]
+    pathlib.Path(path).write_text("\n".join(lines) + "\n")
+
+
+def operators():
+    enable()
+    bpy.ops.object.select_all(action="SELECT")
+    bpy.ops.object.delete()
+    assert bpy.ops.bcifs.add(source="doo_sabin_torus", depth=3) == {"FINISHED"}
+    torus = bpy.context.active_object
+    state = torus.bcifs
+    seen["torus"] = {
+        "type": torus.type,
+        "vertices": vertices(torus),
+        "faces": faces(torus),
+        "smooth": all(p.use_smooth for p in torus.data.polygons),
+        "params": {p.name: [p.value, p.lo, p.hi] for p in state.params},
+        "verdict": state.verdict,
+        "jsr": [state.jsr_lower, state.jsr_upper],
+    }
+    state.params["alpha"].value = 0.7  # a slider's move: the preview depth at once
+    seen["preview"] = {"depth": state.shown_depth, "vertices": len(torus.data.vertices)}
+    state.depth = 3
+    assert bpy.ops.bcifs.apply() == {"FINISHED"}
+    seen["alpha"] = {"vertices": vertices(torus), "depth": state.shown_depth}
+    # A divergent point: refused, the verdict says so, the mesh kept.
+    state.params["alpha"].value = 3.0
+    seen["divergent"] = {"verdict": state.verdict, "message": state.message, "vertices": len(torus.data.vertices)}
+    state.params["alpha"].value = 0.7
+    assert bpy.ops.bcifs.map(size=64) == {"FINISHED"}
+    image = bpy.data.images[f"BC-IFS map {torus.name}"]
+    seen["map"] = {"size": list(image.size)}
+    assert bpy.ops.bcifs.add(source="koch", depth=4) == {"FINISHED"}
+    koch = bpy.context.active_object
+    seen["koch"] = {"type": koch.type, "splines": len(koch.data.splines), "vertices": vertices(koch), "poly": koch.data.splines[0].type}
+    assert bpy.ops.bcifs.add(source="koch", depth=4, curve_as="EDGES") == {"FINISHED"}
+    edges = bpy.context.active_object
+    seen["koch_edges"] = {"type": edges.type, "vertices": len(edges.data.vertices), "edges": len(edges.data.edges)}
+    assert bpy.ops.bcifs.add(source="fern", depth=5) == {"FINISHED"}
+    fern = bpy.context.active_object
+    seen["fern"] = {"vertices": len(fern.data.vertices), "faces": len(fern.data.polygons), "edges": len(fern.data.edges)}
+    try:
+        bpy.ops.bcifs.add(source="no_such_design")
+        seen["unknown"] = ""
+    except RuntimeError as e:
+        seen["unknown"] = str(e)
+    for scheme, depth in [("catmull-clark", 2), ("doo-sabin", 2), ("loop", 2)]:
+        bpy.ops.object.select_all(action="DESELECT")
+        # Loop takes triangles: an icosphere (UV-mapped) for it, Suzanne for the others.
+        if scheme == "loop":
+            bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=2)
+        else:
+            bpy.ops.mesh.primitive_monkey_add()
+        monkey = bpy.context.active_object
+        write_obj(monkey, OUT / f"suzanne-{scheme}.obj")
+        assert bpy.ops.bcifs.subdivide(scheme=scheme, depth=depth) == {"FINISHED"}
+        result = bpy.context.active_object
+        seen[scheme] = {
+            "vertices": vertices(result),
+            "faces": faces(result),
+            "uv": result.data.uv_layers.active is not None,
+            "source_hidden": monkey.hide_get(),
+            "name": result.name,
+            "weights": {k: result[k] for k in result.keys() if k.startswith("bcifs_")},
+        }
+    try:
+        bpy.ops.bcifs.subdivide(scheme="doo-sabin", depth=1, alpha=3.0, beta=-1.0, gamma=-1.0)
+        seen["diverging"] = ""
+    except RuntimeError as e:
+        seen["diverging"] = str(e)
+    bpy.ops.wm.save_as_mainfile(filepath=str(OUT / "scene.blend"))
+
+
+def reload():
+    enable()
+    bpy.ops.wm.open_mainfile(filepath=str(OUT / "scene.blend"))
+    torus = bpy.data.objects["doo_sabin_torus"]
+    state = torus.bcifs
+    before = vertices(torus)
+    seen["reloaded"] = {
+        "source": state.source,
+        "params": {p.name: p.value for p in state.params},
+        "depth": state.depth,
+        "vertices": len(before),
+    }
+    bpy.context.view_layer.objects.active = torus
+    state.params["beta"].value = 0.1
+    assert bpy.ops.bcifs.apply() == {"FINISHED"}
+    seen["reloaded"]["changed"] = vertices(torus) != before
+
+
+def undo():
+    """Undo, in the window's context (a timer's context may have lost it after a memfile undo)."""
+    window = bpy.context.window_manager.windows[0]
+    with bpy.context.temp_override(window=window, screen=window.screen):
+        bpy.ops.ed.undo()
+
+
+def ui_steps():
+    """The window session, step by step: each `yield` returns to Blender's
+    event loop (undo needs the window's context back between operators)."""
+    enable()
+    scene_objects = len(bpy.data.objects)
+    bpy.ops.ed.undo_push(message="before")
+    yield
+    # As from a menu: EXEC_DEFAULT with an undo step (the second argument), which the UNDO flag makes.
+    bpy.ops.bcifs.add("EXEC_DEFAULT", True, source="doo_sabin_torus", depth=4)
+    added = len(bpy.data.objects)
+    yield
+    undo()
+    yield
+    seen["undo_add"] = [scene_objects, added, len(bpy.data.objects)]
+    bpy.ops.object.select_all(action="DESELECT")
+    bpy.ops.mesh.primitive_cube_add("EXEC_DEFAULT", True)
+    name = bpy.context.active_object.name
+    with_cube = len(bpy.data.objects)
+    yield
+    bpy.ops.bcifs.subdivide("EXEC_DEFAULT", True, scheme="catmull-clark", depth=2)
+    subdivided = len(bpy.data.objects)
+    yield
+    undo()
+    yield
+    seen["undo_subdivide"] = [with_cube, subdivided, len(bpy.data.objects), bpy.data.objects[name].hide_get()]
+    for obj in list(bpy.data.objects):
+        obj.hide_set(True)
+    bpy.ops.bcifs.add(source="doo_sabin_torus", depth=5)
+    torus = bpy.context.active_object
+    torus.bcifs.preview_depth = 2
+    torus.bcifs.params["alpha"].value = 0.66
+    seen["settle"] = {"preview": torus.bcifs.shown_depth}
+    for area in bpy.context.screen.areas:
+        if area.type == "VIEW_3D":
+            area.spaces.active.show_region_ui = True
+            for region in area.regions:
+                if region.type == "UI":
+                    try:
+                        region.active_panel_category = "BC-IFS"
+                    except (AttributeError, TypeError):
+                        pass
+                if region.type == "WINDOW":
+                    with bpy.context.temp_override(area=area, region=region):
+                        bpy.ops.view3d.view_selected()
+    # The sidebar's BC-IFS tab, as a user reaches it: Ctrl + wheel over the
+    # sidebar's tab strip (its right edge) steps through the tabs (Item,
+    # Tool, View, BC-IFS); Blender runs with --enable-event-simulate for this.
+    window = bpy.context.window_manager.windows[0]
+    for area in bpy.context.screen.areas:
+        for region in area.regions if area.type == "VIEW_3D" else []:
+            if region.type == "UI" and hasattr(window, "event_simulate"):
+                x, y = region.x + region.width - 8, region.y + region.height - 40
+                seen["sidebar"] = [region.x, region.y, region.width, region.height]
+                window.event_simulate(type="MOUSEMOVE", value="NOTHING", x=x, y=y)
+                yield
+                for _ in range(3):
+                    window.event_simulate(type="WHEELDOWNMOUSE", value="PRESS", ctrl=True, x=x, y=y)
+                    yield
+    for _ in range(15):  # 1.5 s: the slider rests, the full depth comes
+        yield
+    seen["settle"]["after"] = torus.bcifs.shown_depth
+    seen["settle"]["depth"] = torus.bcifs.depth
+    bpy.ops.screen.screenshot(filepath=str(OUT / "panel.png"))
+
+
+def ui():
+    steps = ui_steps()
+
+    def tick():
+        try:
+            next(steps)
+            return 0.1
+        except StopIteration:
+            done()
+        except Exception:
+            seen["error"] = traceback.format_exc()
+            done()
+        bpy.ops.wm.quit_blender()
+        return None
+
+    bpy.app.timers.register(tick, first_interval=0.5)
+
+
+def done():
+    (OUT / f"{MODE}.json").write_text(json.dumps(seen))
+
+
+def main():
+    try:
+        {"operators": operators, "reload": reload, "ui": ui}[MODE]()
+        if MODE != "ui":
+            done()
+    except Exception:
+        traceback.print_exc()
+        seen["error"] = traceback.format_exc()
+        done()
+
+
+main()
