@@ -3,19 +3,20 @@
 //! and written in every format of the command line, through the library's
 //! render API. Long calls release the GIL.
 
-use numpy::ndarray::{Array2, Array3};
+use numpy::ndarray::Array3;
 use numpy::{IntoPyArray, PyArray2, PyReadonlyArray2};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
+use pyo3::types::PyDict;
 
 use bcifs::eval::{Depth, RandomSettings};
-use bcifs::geometry::Shape;
 use bcifs::mesh::{PolyMesh, Scheme};
 use bcifs::render::{MeshJob, Options};
 
 mod builder;
+mod mesh;
 use builder::Builder;
+use mesh::{Mesh, matrix};
 
 pyo3::create_exception!(
     bcifs,
@@ -102,198 +103,6 @@ fn cancellable<T: Send>(
 #[pyclass(module = "bcifs", frozen)]
 pub struct Design {
     pub(crate) inner: bcifs::Design,
-}
-
-/// A mesh as numpy arrays: `vertices` (n, 3) float64, `faces` (m, k) int64
-/// when every face has k corners (else a list of arrays), `edges` (e, 2)
-/// int64 for curves, `normals` (n, 3) and `colours` (n, 3) uint8 when
-/// present, and texture coordinates face-varying as libigl has them: `uv`
-/// (t, 2) float64 and `uv_faces`, shaped as `faces`, indexing `uv` corner
-/// for corner.
-#[pyclass(module = "bcifs", frozen, get_all)]
-pub struct Mesh {
-    vertices: Py<PyArray2<f64>>,
-    faces: Py<PyAny>,
-    edges: Py<PyArray2<i64>>,
-    normals: Option<Py<PyArray2<f64>>>,
-    colours: Option<Py<PyArray2<u8>>>,
-    uv: Option<Py<PyArray2<f64>>>,
-    uv_faces: Option<Py<PyAny>>,
-}
-
-/// `values` as an (n, k) array.
-fn matrix<T: numpy::Element>(py: Python<'_>, values: Vec<T>, k: usize) -> Py<PyArray2<T>> {
-    let n = values.len().checked_div(k).unwrap_or(0);
-    Array2::from_shape_vec((n, k), values).expect("n × k values").into_pyarray(py).unbind()
-}
-
-/// Faces given by `starts` (m + 1 offsets into `indices`) as one (m, k)
-/// array when they all have k corners, a list of arrays otherwise.
-fn faces_of(py: Python<'_>, starts: &[usize], indices: &[usize]) -> PyResult<Py<PyAny>> {
-    let k = starts.get(1).map_or(3, |s| s - starts[0]);
-    let flat = || indices.iter().map(|&i| i as i64).collect::<Vec<i64>>();
-    if starts.windows(2).all(|w| w[1] - w[0] == k) {
-        return Ok(matrix(py, flat(), k).into_any());
-    }
-    let list = PyList::empty(py);
-    for w in starts.windows(2) {
-        list.append(indices[w[0]..w[1]].iter().map(|&i| i as i64).collect::<Vec<i64>>().into_pyarray(py))?;
-    }
-    Ok(list.into_any().unbind())
-}
-
-impl Mesh {
-    /// The arrays of an evaluated shape, moved out of it where the library
-    /// already holds them as numpy wants them (3D positions, normals,
-    /// colours: no copy).
-    fn of_shape(py: Python<'_>, shape: Shape) -> PyResult<Mesh> {
-        let n = shape.vertex_count();
-        let mut starts = vec![0];
-        let mut indices = Vec::with_capacity(4 * shape.quads.len() + 3 * shape.triangles.len());
-        for q in &shape.quads {
-            indices.extend(q.iter().map(|&v| v as usize));
-            starts.push(indices.len());
-        }
-        for t in &shape.triangles {
-            indices.extend(t);
-            starts.push(indices.len());
-        }
-        let mut uv_indices = Vec::with_capacity(4 * shape.quad_uvs.len());
-        for q in &shape.quad_uvs {
-            uv_indices.extend(q.iter().map(|&v| v as usize));
-        }
-        let textured = !shape.uvs.is_empty() && shape.triangles.is_empty() && shape.quad_uvs.len() == shape.quads.len();
-        let mut edges = Vec::new();
-        for (first, count, closed) in shape.polylines() {
-            let segments = if closed && count > 2 { count } else { count.saturating_sub(1) };
-            for k in 0..segments {
-                edges.extend([(first + k) as i64, (first + (k + 1) % count) as i64]);
-            }
-        }
-        let Shape { dim, positions, normals, colours, uvs, .. } = shape;
-        let positions =
-            if dim == 3 { positions } else { positions.chunks(dim.max(1)).flat_map(|p| [p[0], p[1], 0.0]).collect() };
-        Ok(Mesh {
-            vertices: matrix(py, positions, 3),
-            faces: faces_of(py, &starts, &indices)?,
-            edges: matrix(py, edges, 2),
-            normals: (normals.len() == 3 * n && n > 0).then(|| matrix(py, normals, 3)),
-            colours: (colours.len() == n && n > 0).then(|| matrix(py, colours.into_flattened(), 3)),
-            uv: textured.then(|| matrix(py, uvs, 2)),
-            uv_faces: if textured { Some(faces_of(py, &starts, &uv_indices)?) } else { None },
-        })
-    }
-
-    /// The arrays of a polygon mesh, its positions moved (no copy), with
-    /// area-weighted normals and its texture when it has one.
-    fn of_polymesh(py: Python<'_>, mesh: PolyMesh) -> PyResult<Mesh> {
-        let normals = bcifs::geometry::area_normals(&mesh.positions, mesh.faces());
-        let (uv, uv_faces) = match mesh.texture() {
-            Some(t) => (
-                Some(matrix(py, t.positions.iter().flat_map(|p| [p[0], p[1]]).collect(), 2)),
-                Some(faces_of(py, t.offsets(), t.corners())?),
-            ),
-            None => (None, None),
-        };
-        let faces = faces_of(py, mesh.offsets(), mesh.corners())?;
-        Ok(Mesh {
-            vertices: matrix(py, mesh.positions.into_flattened(), 3),
-            faces,
-            edges: matrix(py, Vec::new(), 2),
-            normals: Some(matrix(py, normals.into_flattened(), 3)),
-            colours: None,
-            uv,
-            uv_faces,
-        })
-    }
-}
-
-#[pymethods]
-impl Mesh {
-    /// The mesh as trimesh has it (trimesh must be installed): a `Trimesh`
-    /// (faces fanned into triangles, normals and colours kept; with UVs, a
-    /// vertex split at the seams, trimesh's one UV per vertex), a `Path3D`
-    /// for curves, or a `PointCloud`.
-    fn to_trimesh<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let trimesh = py.import("trimesh")?;
-        let faces: Vec<Vec<i64>> = self.faces.bind(py).extract()?;
-        let mut triangles: Vec<i64> = Vec::new();
-        let fan = |f: &[i64], out: &mut Vec<i64>| {
-            for i in 1..f.len().saturating_sub(1) {
-                out.extend([f[0], f[i], f[i + 1]]);
-            }
-        };
-        faces.iter().for_each(|f| fan(f, &mut triangles));
-        let vertices = self.vertices.bind(py);
-        if !triangles.is_empty() {
-            let kwargs = PyDict::new(py);
-            kwargs.set_item("process", false)?;
-            let (Some(uv), Some(uv_faces)) = (&self.uv, &self.uv_faces) else {
-                kwargs.set_item("vertices", vertices)?;
-                kwargs.set_item("faces", matrix(py, triangles, 3))?;
-                kwargs.set_item("vertex_normals", self.normals.as_ref().map(|n| n.bind(py)))?;
-                kwargs.set_item("vertex_colors", self.colours.as_ref().map(|c| c.bind(py)))?;
-                return trimesh.getattr("Trimesh")?.call((), Some(&kwargs));
-            };
-            // trimesh holds one UV per vertex: a vertex is split where its corners' UVs differ (the seams).
-            let uv_faces: Vec<Vec<i64>> = uv_faces.bind(py).extract()?;
-            let (p, t): (Vec<[f64; 3]>, Vec<[f64; 2]>) = (vertices.extract()?, uv.bind(py).extract()?);
-            let n: Option<Vec<[f64; 3]>> = self.normals.as_ref().map(|n| n.bind(py).extract()).transpose()?;
-            let mut split = std::collections::HashMap::new();
-            let (mut positions, mut uvs, mut normals, mut corners) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-            for (f, g) in faces.iter().zip(&uv_faces) {
-                let face: Vec<i64> = f
-                    .iter()
-                    .zip(g)
-                    .map(|(&v, &k)| {
-                        *split.entry((v, k)).or_insert_with(|| {
-                            positions.extend(p[v as usize]);
-                            uvs.extend(t[k as usize]);
-                            if let Some(n) = &n {
-                                normals.extend(n[v as usize]);
-                            }
-                            (positions.len() / 3 - 1) as i64
-                        })
-                    })
-                    .collect();
-                fan(&face, &mut corners);
-            }
-            kwargs.set_item("vertices", matrix(py, positions, 3))?;
-            kwargs.set_item("faces", matrix(py, corners, 3))?;
-            kwargs.set_item("vertex_normals", n.is_some().then(|| matrix(py, normals, 3)))?;
-            let visuals = py.import("trimesh.visual")?.getattr("TextureVisuals")?;
-            let visual_kwargs = PyDict::new(py);
-            visual_kwargs.set_item("uv", matrix(py, uvs, 2))?;
-            kwargs.set_item("visual", visuals.call((), Some(&visual_kwargs))?)?;
-            return trimesh.getattr("Trimesh")?.call((), Some(&kwargs));
-        }
-        let edges = self.edges.bind(py);
-        if edges.len()? > 0 {
-            // One `Line` entity per segment (no solver of trimesh's needed).
-            let line = py.import("trimesh.path.entities")?.getattr("Line")?;
-            let entities = PyList::empty(py);
-            for edge in edges.try_iter()? {
-                entities.append(line.call1((edge?,))?)?;
-            }
-            let kwargs = PyDict::new(py);
-            kwargs.set_item("entities", entities)?;
-            kwargs.set_item("vertices", vertices)?;
-            return py.import("trimesh.path")?.getattr("Path3D")?.call((), Some(&kwargs));
-        }
-        let kwargs = PyDict::new(py);
-        kwargs.set_item("colors", self.colours.as_ref().map(|c| c.bind(py)))?;
-        trimesh.getattr("PointCloud")?.call((vertices,), Some(&kwargs))
-    }
-
-    fn __repr__(&self, py: Python<'_>) -> String {
-        let faces = self.faces.bind(py).len().unwrap_or(0);
-        format!(
-            "<bcifs.Mesh: {} vertices, {} faces, {} edges>",
-            self.vertices.bind(py).len().unwrap_or(0),
-            faces,
-            self.edges.bind(py).len().unwrap_or(0)
-        )
-    }
 }
 
 impl Design {
