@@ -43,15 +43,22 @@ fn params(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<(String, f64)>> {
     Ok(out)
 }
 
+/// How long an interrupted call waits for its work to notice the
+/// cancellation (a file being written removes its temporary file) before it
+/// raises anyway; in-memory evaluations that do not look at the flag finish
+/// in the background, within the memory limit's time, their result dropped.
+const GRACE: std::time::Duration = std::time::Duration::from_millis(800);
+
 /// Runs `work` on a worker thread, the GIL released, while this thread
 /// forwards its progress to `progress` (a callable taking `done, total`:
 /// tqdm's `update` fits through a small lambda) and checks for Ctrl-C every
 /// 100 ms: on KeyboardInterrupt the work is cancelled through the
-/// [`bcifs::Cancel`] it was given (no file is left) and the exception raised.
-fn cancellable<T: Send>(
+/// [`bcifs::Cancel`] it was given (no file is left) and the exception
+/// raised within a second.
+fn cancellable<T: Send + 'static>(
     py: Python<'_>,
     progress: Option<&Bound<'_, PyAny>>,
-    work: impl FnOnce(bcifs::Cancel, Option<bcifs::Progress>) -> T + Send,
+    work: impl FnOnce(bcifs::Cancel, Option<bcifs::Progress>) -> T + Send + 'static,
 ) -> PyResult<T> {
     let cancel = bcifs::Cancel::new();
     let (tx, rx) = std::sync::mpsc::channel::<(u64, u64)>();
@@ -62,41 +69,41 @@ fn cancellable<T: Send>(
         })
     });
     let rx = std::sync::Mutex::new(rx);
-    std::thread::scope(|scope| {
-        let worker_cancel = cancel.clone();
-        let handle = scope.spawn(move || work(worker_cancel, reporter));
+    let worker_cancel = cancel.clone();
+    let handle = std::thread::spawn(move || work(worker_cancel, reporter));
+    let wait = std::time::Duration::from_millis(100);
+    while !handle.is_finished() {
+        let message = py.detach(|| rx.lock().ok().and_then(|r| r.recv_timeout(wait).ok()));
         let mut interrupted = None;
-        while !handle.is_finished() {
-            let wait = std::time::Duration::from_millis(100);
-            let message = py.detach(|| rx.lock().ok().and_then(|r| r.recv_timeout(wait).ok()));
-            if let (Some((done, total)), Some(callback)) = (message, progress)
-                && interrupted.is_none()
-                && let Err(e) = callback.call1((done, total))
-            {
-                cancel.cancel();
-                interrupted = Some(e);
-            }
-            if interrupted.is_none()
-                && let Err(e) = py.check_signals()
-            {
-                cancel.cancel();
-                interrupted = Some(e);
-            }
-        }
-        let result = py.detach(|| handle.join()).map_err(|_| err("the computation panicked"))?;
-        // The reports sent between the last poll and the end (the last one says the work is done).
-        if let (Some(callback), None) = (progress, &interrupted)
-            && let Ok(rx) = rx.lock()
+        if let (Some((done, total)), Some(callback)) = (message, progress)
+            && let Err(e) = callback.call1((done, total))
         {
-            for (done, total) in rx.try_iter() {
-                callback.call1((done, total))?;
-            }
+            interrupted = Some(e);
         }
-        match interrupted {
-            Some(e) => Err(e),
-            None => Ok(result),
+        if interrupted.is_none()
+            && let Err(e) = py.check_signals()
+        {
+            interrupted = Some(e);
         }
-    })
+        if let Some(e) = interrupted {
+            cancel.cancel();
+            let started = std::time::Instant::now();
+            py.detach(|| {
+                while !handle.is_finished() && started.elapsed() < GRACE {
+                    std::thread::sleep(std::time::Duration::from_millis(10));
+                }
+            });
+            return Err(e);
+        }
+    }
+    let result = py.detach(|| handle.join()).map_err(|_| err("the computation panicked"))?;
+    // The reports sent between the last poll and the end (the last one says the work is done).
+    if let (Some(callback), Ok(rx)) = (progress, rx.lock()) {
+        for (done, total) in rx.try_iter() {
+            callback.call1((done, total))?;
+        }
+    }
+    Ok(result)
 }
 
 /// A design: an automaton (states, arrows, constraints) with its model.
@@ -165,8 +172,10 @@ impl Design {
         let mut options = self.options(depth, tolerance, params)?;
         options.eval.uv = uv;
         options.eval.force = force;
-        let design = &self.inner;
-        let shape = py.detach(|| bcifs::render::evaluate_design(design, &options, &mut Vec::new())).map_err(err)?;
+        let design = self.inner.clone();
+        let shape =
+            cancellable(py, None, move |_, _| bcifs::render::evaluate_design(&design, &options, &mut Vec::new()))?
+                .map_err(err)?;
         Mesh::of_shape(py, shape)
     }
 
@@ -181,8 +190,10 @@ impl Design {
     ) -> PyResult<Py<PyArray2<f64>>> {
         let mut options = self.options(None, None, params)?;
         options.random = Some(RandomSettings::default().with_points(samples).with_seed(seed));
-        let design = &self.inner;
-        let shape = py.detach(|| bcifs::render::evaluate_design(design, &options, &mut Vec::new())).map_err(err)?;
+        let design = self.inner.clone();
+        let shape =
+            cancellable(py, None, move |_, _| bcifs::render::evaluate_design(&design, &options, &mut Vec::new()))?
+                .map_err(err)?;
         let n = shape.vertex_count();
         Ok(matrix(py, (0..n).flat_map(|i| shape.point(i)).collect(), 3))
     }
@@ -203,17 +214,15 @@ impl Design {
         let palette = palette.map(bcifs::export::Palette::parse).transpose().map_err(err)?;
         let random = RandomSettings::default().with_points(samples).with_seed(seed);
         let raster = bcifs::export::RasterSettings::default().with_size(size.0, size.1);
-        let design = &self.inner;
-        let img = py
-            .detach(|| -> Result<_, String> {
-                let model = bcifs::render::model_of(design).map_err(|e| e.to_string())?;
-                let instance = bcifs::instantiate(design, &options.params).map_err(|e| e.to_string())?;
-                let game =
-                    bcifs::eval::ChaosGame::new(&instance.automaton, &model, &random).map_err(|e| e.to_string())?;
-                bcifs::export::density_image(&game, samples, &raster, &options.tone, palette.as_ref())
-                    .map_err(|e| e.to_string())
-            })
-            .map_err(err)?;
+        let design = self.inner.clone();
+        let img = cancellable(py, None, move |_, _| -> Result<_, String> {
+            let model = bcifs::render::model_of(&design).map_err(|e| e.to_string())?;
+            let instance = bcifs::instantiate(&design, &options.params).map_err(|e| e.to_string())?;
+            let game = bcifs::eval::ChaosGame::new(&instance.automaton, &model, &random).map_err(|e| e.to_string())?;
+            bcifs::export::density_image(&game, samples, &raster, &options.tone, palette.as_ref())
+                .map_err(|e| e.to_string())
+        })?
+        .map_err(err)?;
         let (w, h) = img.dimensions();
         Ok(Array3::from_shape_vec((h as usize, w as usize, 3), img.into_raw()).expect("h × w × 3").into_pyarray(py))
     }
@@ -346,11 +355,11 @@ impl Design {
             r.dropped = drop;
             options.random = Some(r);
         }
-        let design = &self.inner;
-        let report = cancellable(py, progress, |cancel, reporter| {
+        let design = self.inner.clone();
+        let report = cancellable(py, progress, move |cancel, reporter| {
             let mut options = options.with_cancel(cancel);
             options.progress = reporter;
-            bcifs::render::render(design, &options, &path)
+            bcifs::render::render(&design, &options, &path)
         })?
         .map_err(err)?;
         report_dict(py, &report)
@@ -486,7 +495,8 @@ fn subdivide(
         )?;
     }
     let job = MeshJob { weights, net, ..MeshJob::new(scheme, depth) };
-    let out = py.detach(|| bcifs::render::subdivide_mesh(&mesh, &job, &Options::default())).map_err(err)?;
+    let out = cancellable(py, None, move |_, _| bcifs::render::subdivide_mesh(&mesh, &job, &Options::default()))?
+        .map_err(err)?;
     Mesh::of_polymesh(py, out)
 }
 
@@ -564,10 +574,13 @@ fn sweep_rows<'py>(
     let kind: SweepKind = what.parse().map_err(err)?;
     let design = bcifs::parse_design(toml, "<sweep>", "design").map_err(err)?;
     let plane = bcifs::analysis::ParameterPlane { x: (x.0, x.1, x.2), y: (y.0, y.1, y.2), size: (x.3, y.3) };
-    let values = py.detach(|| bcifs::render::sweep(&design, &plane, kind, thorough, rows.0..rows.1)).map_err(err)?;
+    let width = plane.size.0;
+    let values =
+        cancellable(py, None, move |_, _| bcifs::render::sweep(&design, &plane, kind, thorough, rows.0..rows.1))?
+            .map_err(err)?;
     Ok(match values {
-        SweepValues::Codes(c) => matrix(py, c, plane.size.0).into_bound(py).into_any(),
-        SweepValues::Values(v) => matrix(py, v, plane.size.0).into_bound(py).into_any(),
+        SweepValues::Codes(c) => matrix(py, c, width).into_bound(py).into_any(),
+        SweepValues::Values(v) => matrix(py, v, width).into_bound(py).into_any(),
     })
 }
 

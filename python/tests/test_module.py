@@ -192,14 +192,22 @@ def test_progress_is_reported(tmp_path):
     assert seen[-1][0] == seen[-1][1], "the last report says the work is done"
 
 
-def test_ctrl_c_stops_a_long_call_and_leaves_no_file(tmp_path):
+@pytest.mark.parametrize(
+    "call",
+    [
+        "bcifs.load('fern').render({out!r}, samples=4_000_000_000, size=(64, 64))",
+        "bcifs.sweep('corner_cutting', ('a', -0.5, 1, 64), ('b', -0.5, 1, 64), what='dimension', tiles=1)",
+        "bcifs.load('doo_sabin_torus').mesh(depth=9)",
+    ],
+)
+def test_ctrl_c_stops_a_long_call_and_leaves_no_file(tmp_path, call):
     import signal
     import sys
     import time
 
     out = tmp_path / "long.png"
     child = subprocess.Popen(
-        [sys.executable, "-c", f"import bcifs; bcifs.load('fern').render({str(out)!r}, samples=4_000_000_000, size=(64, 64))"],
+        [sys.executable, "-c", "import bcifs; " + call.format(out=str(out))],
         stderr=subprocess.PIPE,
         text=True,
     )

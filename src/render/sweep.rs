@@ -7,8 +7,6 @@
 use std::fmt::Write as _;
 use std::ops::Range;
 
-use rayon::prelude::*;
-
 use super::options::RenderError;
 use crate::analysis::{JsrSettings, ParameterPlane, Verdict, curve_map_rows, verdict_map_rows};
 use crate::design::Design;
@@ -152,8 +150,11 @@ pub fn sweep(
             super::design::model_of(design)?;
             let w = plane.size.0;
             let first = rows.start.min(plane.size.1);
+            // One pixel after another, each evaluation parallel inside: pixels in
+            // parallel nest evaluations on the stacks of rayon's workers (a worker
+            // waiting in one steals another's), which overflowed them.
             let values = cells
-                .par_iter()
+                .iter()
                 .enumerate()
                 .map(|(i, c)| {
                     if c.verdict != Verdict::Converges {
