@@ -5,6 +5,7 @@
 mod analyze;
 mod contour;
 mod core;
+mod explore;
 mod gallery;
 mod plot;
 mod render;
@@ -94,6 +95,9 @@ enum Command {
         /// A shipped automaton, `scheme normal` preset or `scheme ifs` preset.
         name: String,
     },
+    /// A local web page to explore a family: sliders for its parameters, its
+    /// verdict and region maps, the attractor, checks and exports, live.
+    Explore(explore::ExploreArgs),
 }
 
 fn keyword<T: Copy>(what: &str, value: &str, options: &[(&str, T)]) -> Result<T> {
@@ -260,6 +264,7 @@ fn run(out: &mut String, cli: Cli) -> Result<u8> {
         Command::New { topology } => core::run_new(out, topology),
         Command::List => core::run_list(out),
         Command::Show { name } => core::run_show(out, &name),
+        Command::Explore(args) => explore::run(args),
     }
 }
 

@@ -4,6 +4,7 @@ mod builder;
 mod cli;
 mod convergence;
 mod errors;
+mod explore;
 mod families;
 mod fuzzed;
 mod layers;

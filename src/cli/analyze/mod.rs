@@ -176,6 +176,33 @@ fn dimension_colour(d: f64) -> [u8; 3] {
     [0, 1, 2].map(|c| (stops[k][c] + (stops[k + 1][c] - stops[k][c]) * f).round() as u8)
 }
 
+/// The colour of a sweep's pixel value.
+fn sweep_colour(kind: bcifs::render::SweepKind, v: f64) -> [u8; 3] {
+    use bcifs::render::{REGIONS, SweepKind};
+    match kind {
+        SweepKind::Verdict => verdict_colour(v as i8),
+        SweepKind::Region => match REGIONS[v as usize] {
+            "undecided" => region_colour(None),
+            r => region_colour(Some(r)),
+        },
+        SweepKind::Angle if v.is_nan() => [228, 228, 228],
+        SweepKind::Angle => angle_colour(v),
+        SweepKind::Dimension => dimension_colour(v),
+    }
+}
+
+/// A square sweep of `size` pixels a side as a picture (row 0 at the top), unframed.
+pub fn sweep_image(
+    kind: bcifs::render::SweepKind,
+    values: &bcifs::render::SweepValues,
+    size: usize,
+) -> image::RgbImage {
+    let numbers = values.to_f64();
+    image::RgbImage::from_fn(size as u32, size as u32, |i, j| {
+        image::Rgb(sweep_colour(kind, numbers[j as usize * size + i as usize]))
+    })
+}
+
 /// `bcifs analyze map`: a sweep as a picture (or CSV), and its counts.
 fn run_map(
     out: &mut String,
@@ -196,18 +223,7 @@ fn run_map(
     let values = bcifs::render::sweep(&design, &plane, kind, thorough, 0..size)?;
     let ext = output.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
     let numbers = values.to_f64();
-    let pixel = |i: u32, j: u32| numbers[j as usize * size + i as usize];
     let count = |code: i8| numbers.iter().filter(|&&v| v == f64::from(code)).count();
-    let colour = |v: f64| match kind {
-        SweepKind::Verdict => verdict_colour(v as i8),
-        SweepKind::Region => match REGIONS[v as usize] {
-            "undecided" => region_colour(None),
-            r => region_colour(Some(r)),
-        },
-        SweepKind::Angle if v.is_nan() => [228, 228, 228],
-        SweepKind::Angle => angle_colour(v),
-        SweepKind::Dimension => dimension_colour(v),
-    };
     let (title, legend): (&str, Vec<([u8; 3], String)>) = match kind {
         SweepKind::Verdict => (
             "convergence verdicts (JSR bounds)",
@@ -241,7 +257,7 @@ fn run_map(
         bcifs::export::write_atomic(output, text.as_bytes())
             .with_context(|| format!("cannot write {}", output.display()))?;
     } else {
-        let img = image::RgbImage::from_fn(size as u32, size as u32, |i, j| image::Rgb(colour(pixel(i, j))));
+        let img = sweep_image(kind, &values, size);
         write_framed_map(output, &format!("{}: {title}", design.name()), &plane, &img, &legend)?;
     }
     writeln!(

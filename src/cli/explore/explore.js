@@ -1,0 +1,161 @@
+// The explorer page: sliders → the URL's query → pictures and checks from the API.
+"use strict";
+
+const state = { design: null, values: {}, depth: 6, yaw: 30, pitch: 35, preview: 3, map: null };
+const $ = (id) => document.getElementById(id);
+
+function query(extra) {
+  const q = new URLSearchParams();
+  for (const [k, v] of Object.entries(state.values)) q.set(k, v);
+  for (const [k, v] of Object.entries(extra || {})) q.set(k, v);
+  return q.toString();
+}
+
+function saveUrl() {
+  history.replaceState(null, "", "?" + query({ depth: state.depth, view: `${state.yaw},${state.pitch}` }));
+}
+
+async function picture(coarse) {
+  const depth = coarse ? Math.min(state.depth, state.preview) : state.depth;
+  const side = Math.min(900, Math.round($("picture").clientWidth || 600));
+  const url = "api/picture.png?" + query({ depth, size: `${side}x${side}`, view: `${state.yaw},${state.pitch}`, slot: "picture" });
+  const response = await fetch(url);
+  if (response.status === 409) return; // a newer picture is coming
+  if (!response.ok) {
+    const { error } = await response.json();
+    $("status").textContent = error;
+    $("picture").style.opacity = 0.25; // a divergent point is shown as such, not drawn
+    return;
+  }
+  $("status").textContent = coarse && depth < state.depth ? `preview at depth ${depth}` : "";
+  $("picture").style.opacity = 1;
+  $("picture").src = URL.createObjectURL(await response.blob());
+}
+
+async function check() {
+  const response = await fetch("api/check?" + query());
+  const body = await response.json();
+  if (!response.ok) { $("verdict").textContent = body.error; $("verdict").className = "diverges"; return; }
+  const c = body.check;
+  const verdict = c.converges === true ? "converges" : c.converges === false ? "diverges" : "undecided";
+  $("verdict").className = verdict;
+  const jsr = c.jsr ? `JSR ∈ [${c.jsr.lower.toFixed(5)}, ${c.jsr.upper === null ? "?" : c.jsr.upper.toFixed(5)}]` : "";
+  const witness = c.jsr && c.jsr.witness ? ` witness ${c.jsr.witness.join(" ")}` : "";
+  $("verdict").textContent = `${verdict}; ${jsr}${verdict === "diverges" ? witness : ""}`;
+  const lines = [];
+  if (body.curve) {
+    const k = body.curve;
+    if (k.half_tangents) lines.push(`half-tangents: start ${fmt(k.half_tangents.start)}, end ${fmt(k.half_tangents.end)}`);
+    if (k.junction_angle_deg !== null) lines.push(`junction angle ${k.junction_angle_deg.toFixed(3)}°`);
+    lines.push(`region ${k.region === null ? "undecided" : k.region}; C1 necessary condition ${k.c1_necessary}`);
+  }
+  $("check").textContent = lines.join("\n");
+  const d = await fetch("api/dimension?" + query());
+  if (d.ok) {
+    const dim = await d.json();
+    if (dim.box_dimension !== null) $("check").textContent += `\nbox-counting dimension ${dim.box_dimension.toFixed(4)}`;
+  }
+}
+
+const fmt = (v) => "(" + v.map((x) => Number(x).toFixed(4)).join(", ") + ")";
+
+function exports() {
+  for (const ext of ["obj", "ply", "glb", "png", "toml"]) {
+    $("export-" + ext).href = `api/export.${ext}?` + query({ depth: state.depth });
+  }
+}
+
+function update(coarse) {
+  saveUrl();
+  exports();
+  picture(coarse);
+  if (!coarse) check();
+  marker();
+}
+
+function slider(p) {
+  const label = document.createElement("label");
+  const value = document.createElement("span");
+  value.className = "value";
+  const input = document.createElement("input");
+  Object.assign(input, { type: "range", min: p.range[0], max: p.range[1], step: (p.range[1] - p.range[0]) / 1000, value: state.values[p.name] });
+  input.id = "param-" + p.name;
+  label.append(p.name, value, input);
+  const show = () => { value.textContent = Number(state.values[p.name]).toPrecision(5); };
+  input.addEventListener("input", () => { state.values[p.name] = Number(input.value); show(); update(true); });
+  input.addEventListener("change", () => update(false));
+  show();
+  return label;
+}
+
+function mapRange(p) {
+  const w = p.range[1] - p.range[0];
+  return [p.range[0] - w / 2, p.range[1] + w / 2];
+}
+
+async function map() {
+  const names = state.design.parameters.map((p) => p.name);
+  if (names.length < 2) { $("mapnote").textContent = "A map needs two free parameters."; $("mapbox").hidden = true; return; }
+  const [x, y] = [$("mapx").value, $("mapy").value];
+  if (x === y) { $("mapnote").textContent = "Choose two different parameters."; return; }
+  const px = state.design.parameters.find((p) => p.name === x), py = state.design.parameters.find((p) => p.name === y);
+  state.map = { x, y, xr: mapRange(px), yr: mapRange(py) };
+  $("xname").textContent = x; $("yname").textContent = y;
+  $("xlo").textContent = state.map.xr[0].toPrecision(3); $("xhi").textContent = state.map.xr[1].toPrecision(3);
+  $("ylo").textContent = `${y} from ${state.map.yr[0].toPrecision(3)} (bottom)`; $("yhi").textContent = `to ${state.map.yr[1].toPrecision(3)} (top)`;
+  $("mapnote").textContent = "Click to set the parameters.";
+  const url = `api/map.png?x=${x}&y=${y}&kind=${$("mapkind").value}&size=192&slot=map`;
+  const response = await fetch(url);
+  if (!response.ok) { if (response.status !== 409) $("mapnote").textContent = (await response.json()).error; return; }
+  $("map").src = URL.createObjectURL(await response.blob());
+  marker();
+}
+
+function marker() {
+  if (!state.map) return;
+  const { x, y, xr, yr } = state.map;
+  const u = (state.values[x] - xr[0]) / (xr[1] - xr[0]), v = (yr[1] - state.values[y]) / (yr[1] - yr[0]);
+  Object.assign($("marker").style, { left: `${100 * u}%`, top: `${100 * v}%` });
+}
+
+$("map").addEventListener("click", (event) => {
+  const box = $("map").getBoundingClientRect();
+  const { x, y, xr, yr } = state.map;
+  state.values[x] = xr[0] + (event.clientX - box.left) / box.width * (xr[1] - xr[0]);
+  state.values[y] = yr[1] - (event.clientY - box.top) / box.height * (yr[1] - yr[0]);
+  for (const n of [x, y]) { const input = $("param-" + n); if (input) input.value = state.values[n]; input && input.dispatchEvent(new Event("input")); }
+  update(false);
+});
+
+async function start() {
+  state.design = await (await fetch("api/design")).json();
+  $("name").textContent = state.design.name;
+  $("description").textContent = state.design.description;
+  document.title = `bcifs explore: ${state.design.name}`;
+  const given = new URLSearchParams(location.search);
+  for (const p of state.design.parameters) state.values[p.name] = given.has(p.name) ? Number(given.get(p.name)) : p.default;
+  if (given.has("depth")) state.depth = Number(given.get("depth"));
+  if (given.has("view")) [state.yaw, state.pitch] = given.get("view").split(",").map(Number);
+  for (const p of state.design.parameters) $("sliders").append(slider(p));
+  $("depth").value = state.depth; $("yaw").value = state.yaw; $("pitch").value = state.pitch;
+  const showDepth = () => { $("depth-value").textContent = state.depth; $("view-value").textContent = `${state.yaw}°, ${state.pitch}°`; };
+  $("depth").addEventListener("input", () => { state.depth = Number($("depth").value); showDepth(); });
+  $("depth").addEventListener("change", () => update(false));
+  for (const id of ["yaw", "pitch"]) {
+    $(id).addEventListener("input", () => { state[id] = Number($(id).value); showDepth(); update(true); });
+    $(id).addEventListener("change", () => update(false));
+  }
+  showDepth();
+  for (const [i, p] of state.design.parameters.entries()) {
+    for (const [select, at] of [["mapx", 0], ["mapy", 1]]) {
+      const option = new Option(p.name, p.name, false, i === at);
+      $(select).append(option);
+    }
+  }
+  for (const id of ["mapx", "mapy", "mapkind"]) $(id).addEventListener("change", map);
+  update(false);
+  map();
+  document.body.dataset.ready = "yes";
+}
+
+start();

@@ -1,0 +1,588 @@
+//! `bcifs explore NAME|FILE`: a local web page where a family's parameters,
+//! its maps and the attractor sit side by side. The design is parsed,
+//! solved and its parameter ranges found once; every request then renders
+//! through the library's render API under a time and memory budget.
+//!
+//! The API (JSON errors `{"error": …}` with a 4xx status, never a panic):
+//! `GET /api/design`, `/api/check?NAME=VALUE…`, `/api/dimension?…`,
+//! `/api/picture.png?…&depth=&size=WxH&view=YAW,PITCH`,
+//! `/api/map.png?x=&y=&kind=verdict|region|angle|dimension&size=`,
+//! `/api/export.{obj,ply,glb,png,toml}?…`. A request that names a `slot`
+//! (the page's picture, its map) cancels the older one of the same slot.
+
+use std::collections::HashMap;
+use std::io::Read as _;
+use std::net::SocketAddr;
+use std::path::PathBuf;
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+use anyhow::{Context, Result, bail};
+use image::ImageEncoder as _;
+use serde_json::{Value, json};
+
+use bcifs::render::{Options, SweepKind};
+use bcifs::{Cancel, Design};
+
+const PAGE: &str = include_str!("index.html");
+const SCRIPT: &str = include_str!("explore.js");
+
+/// Every request's budget: its time, then it is cancelled.
+const TIME_BUDGET: Duration = Duration::from_secs(20);
+/// Every request's memory for evaluation and pictures.
+const MEMORY_BUDGET: usize = 768 << 20;
+/// The largest picture or map side, in pixels.
+const MAX_SIDE: u32 = 2048;
+/// The deepest evaluation a request may ask (the memory budget refuses most before).
+const MAX_DEPTH: usize = 16;
+/// Worker threads answering requests.
+const WORKERS: usize = 8;
+
+#[derive(clap::Args)]
+pub struct ExploreArgs {
+    /// The automaton file (TOML), or the name of a shipped automaton or preset.
+    file: String,
+    /// The port (0: a free one).
+    #[arg(long, default_value_t = 8765)]
+    port: u16,
+    /// The address to listen on (127.0.0.1: this machine only).
+    #[arg(long, default_value = "127.0.0.1")]
+    bind: String,
+    /// Do not open the browser.
+    #[arg(long)]
+    no_open: bool,
+}
+
+/// A free parameter with its default and the range around it where the bounds prove convergence.
+#[derive(Clone, Debug)]
+struct Parameter {
+    name: String,
+    default: f64,
+    range: (f64, f64),
+}
+
+/// What every request shares: the design, prepared once.
+struct Explorer {
+    design: Design,
+    parameters: Vec<Parameter>,
+    scratch: PathBuf,
+    slots: Mutex<HashMap<String, Cancel>>,
+    deadlines: Mutex<Vec<(Instant, Cancel)>>,
+    maps: Mutex<HashMap<String, Vec<u8>>>,
+    counter: std::sync::atomic::AtomicU64,
+}
+
+/// An answer: status, content type, body, and a file name for downloads.
+struct Answer {
+    status: u16,
+    kind: &'static str,
+    body: Vec<u8>,
+    download: Option<String>,
+}
+
+impl Answer {
+    fn json(value: &Value) -> Answer {
+        Answer { status: 200, kind: "application/json", body: value.to_string().into_bytes(), download: None }
+    }
+    fn error(status: u16, message: impl std::fmt::Display) -> Answer {
+        let body = json!({ "error": message.to_string() }).to_string().into_bytes();
+        Answer { status, kind: "application/json", body, download: None }
+    }
+}
+
+/// The range around `default` where `design` converges (others at their defaults), in 12 steps each way of `span`.
+fn convergence_range(design: &Design, name: &str, default: f64) -> (f64, f64) {
+    let span = default.abs().max(1.0);
+    let converges = |x: f64| {
+        bcifs::render::check_report(design, &[(name.to_string(), x)])
+            .ok()
+            .and_then(|r| r.get("converges").and_then(Value::as_bool))
+            .unwrap_or(false)
+    };
+    let (mut lo, mut hi) = (default, default);
+    for direction in [-1.0, 1.0] {
+        for k in 1..=12 {
+            let x = default + direction * span * f64::from(k) / 12.0;
+            if !converges(x) {
+                break;
+            }
+            (lo, hi) = (lo.min(x), hi.max(x));
+        }
+    }
+    if lo == hi { (default - span / 12.0, default + span / 12.0) } else { (lo, hi) }
+}
+
+impl Explorer {
+    fn new(design: Design) -> Result<Explorer> {
+        let family = bcifs::solve(&design).map_err(|e| anyhow::anyhow!("{}: {e}", design.name()))?;
+        let values = family.parameter_values(&[]).map_err(|e| anyhow::anyhow!("{}: {e}", design.name()))?;
+        let parameters = family
+            .parameter_names()
+            .iter()
+            .zip(values)
+            .map(|(name, default)| Parameter {
+                name: name.clone(),
+                default,
+                range: convergence_range(&design, name, default),
+            })
+            .collect();
+        let scratch = std::env::temp_dir().join(format!("bcifs-explore-{}", std::process::id()));
+        std::fs::create_dir_all(&scratch).with_context(|| format!("cannot create {}", scratch.display()))?;
+        Ok(Explorer {
+            design,
+            parameters,
+            scratch,
+            slots: Mutex::new(HashMap::new()),
+            deadlines: Mutex::new(Vec::new()),
+            maps: Mutex::new(HashMap::new()),
+            counter: 0.into(),
+        })
+    }
+
+    /// A cancel flag for a request: cancelled after the time budget, or
+    /// when a newer request names the same `slot`.
+    fn cancel_for(&self, slot: Option<&str>) -> Cancel {
+        let cancel = Cancel::new();
+        if let Some(slot) = slot
+            && let Ok(mut slots) = self.slots.lock()
+            && let Some(older) = slots.insert(slot.to_string(), cancel.clone())
+        {
+            older.cancel();
+        }
+        if let Ok(mut d) = self.deadlines.lock() {
+            d.push((Instant::now() + TIME_BUDGET, cancel.clone()));
+        }
+        cancel
+    }
+
+    /// Cancels the requests past their budget (run every 100 ms).
+    fn expire(&self) {
+        if let Ok(mut d) = self.deadlines.lock() {
+            let now = Instant::now();
+            d.retain(|(at, cancel)| {
+                if *at <= now {
+                    cancel.cancel();
+                }
+                *at > now && !cancel.is_cancelled()
+            });
+        }
+    }
+
+    /// The parameter values of a query: every free parameter it names (others: defaults).
+    fn values(&self, query: &Query) -> std::result::Result<Vec<(String, f64)>, Answer> {
+        let reserved = ["depth", "size", "view", "slot", "x", "y", "kind", "xr", "yr"];
+        let mut values = Vec::new();
+        for (k, v) in &query.pairs {
+            if reserved.contains(&k.as_str()) {
+                continue;
+            }
+            if !self.parameters.iter().any(|p| &p.name == k) {
+                let names: Vec<&str> = self.parameters.iter().map(|p| p.name.as_str()).collect();
+                return Err(Answer::error(
+                    400,
+                    format!("`{k}` is not a parameter of {}: {names:?}", self.design.name()),
+                ));
+            }
+            let x: f64 = v
+                .parse()
+                .ok()
+                .filter(|x: &f64| x.is_finite())
+                .ok_or_else(|| Answer::error(400, format!("parameter `{k}` = `{v}`: expected a finite number")))?;
+            values.push((k.clone(), x));
+        }
+        Ok(values)
+    }
+
+    /// The render options of a query, checked: depth, size, view, under the budgets.
+    fn options(&self, query: &Query, cancel: Cancel) -> std::result::Result<Options, Answer> {
+        let mut options = Options { params: self.values(query)?, ..Options::default() }.with_cancel(cancel);
+        options.eval.memory_limit = MEMORY_BUDGET;
+        if let Some(depth) = query.get("depth") {
+            let depth: usize =
+                depth.parse().map_err(|_| Answer::error(400, format!("depth `{depth}`: expected 0 to {MAX_DEPTH}")))?;
+            if depth > MAX_DEPTH {
+                return Err(Answer::error(400, format!("depth {depth}: at most {MAX_DEPTH}")));
+            }
+            options.eval.depth = bcifs::eval::Depth::Fixed(depth);
+        }
+        let (w, h) = match query.get("size") {
+            Some(size) => parse_size(size)?,
+            None => (640, 640),
+        };
+        let (yaw, pitch) = match query.get("view") {
+            Some(view) => {
+                let parts: Vec<f64> = view.split(',').filter_map(|t| t.trim().parse().ok()).collect();
+                match parts[..] {
+                    [yaw, pitch] if yaw.is_finite() && pitch.is_finite() => (yaw, pitch),
+                    _ => return Err(Answer::error(400, format!("view `{view}`: expected YAW,PITCH in degrees"))),
+                }
+            }
+            None => (30.0, 35.0),
+        };
+        options.raster = bcifs::export::RasterSettings::default()
+            .with_size(w, h)
+            .with_view(yaw, pitch)
+            .with_memory_limit(MEMORY_BUDGET);
+        Ok(options)
+    }
+
+    /// Renders to a scratch file of extension `ext` and returns its bytes.
+    fn render_bytes(&self, options: &Options, ext: &str) -> std::result::Result<Vec<u8>, Answer> {
+        let id = self.counter.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        let path = self.scratch.join(format!("r{id}.{ext}"));
+        let result = bcifs::render::render(&self.design, options, &path);
+        let answer = match result {
+            // Superseded while it was evaluated (the in-memory evaluation of a picture looks at
+            // the flag between its stages only): the page wants the newer one.
+            Ok(_) if options.cancel.is_cancelled() => {
+                Err(Answer::error(409, "cancelled: a newer request, or over the time budget"))
+            }
+            Ok(_) => std::fs::read(&path).map_err(|e| Answer::error(500, e)),
+            Err(bcifs::render::RenderError::Cancelled) => {
+                Err(Answer::error(409, "cancelled: a newer request, or over the time budget"))
+            }
+            Err(e) => Err(Answer::error(422, e)),
+        };
+        let _ = std::fs::remove_file(&path);
+        answer
+    }
+
+    fn design_json(&self) -> Value {
+        let parameters: Vec<Value> = self
+            .parameters
+            .iter()
+            .map(|p| json!({"name": p.name, "default": p.default, "range": [p.range.0, p.range.1]}))
+            .collect();
+        let curve = bcifs::instantiate(&self.design, &[])
+            .ok()
+            .is_some_and(|i| bcifs::render::curve_halves(&self.design, &i).is_ok());
+        json!({
+            "name": self.design.name(), "description": self.design.description(),
+            "parameters": parameters, "curve": curve,
+        })
+    }
+
+    fn map(&self, query: &Query, cancel: &Cancel) -> std::result::Result<Vec<u8>, Answer> {
+        let kind: SweepKind = query.get("kind").unwrap_or("verdict").parse().map_err(|e| Answer::error(400, e))?;
+        let size: usize =
+            query.get("size").unwrap_or("192").parse().map_err(|_| Answer::error(400, "size: a number of pixels"))?;
+        if size == 0 || size > 512 {
+            return Err(Answer::error(400, format!("map size {size}: 1 to 512 pixels")));
+        }
+        let axis = |key: &str, range_key: &str| -> std::result::Result<(String, f64, f64), Answer> {
+            let name =
+                query.get(key).ok_or_else(|| Answer::error(400, format!("`{key}`: the map's {key} parameter")))?;
+            let p = self
+                .parameters
+                .iter()
+                .find(|p| p.name == name)
+                .ok_or_else(|| Answer::error(400, format!("`{name}` is not a parameter")))?;
+            let (lo, hi) = match query.get(range_key) {
+                Some(r) => {
+                    let (a, b) =
+                        r.split_once(':').ok_or_else(|| Answer::error(400, format!("{range_key}: FROM:TO")))?;
+                    let (a, b): (f64, f64) = (
+                        a.parse().map_err(|_| Answer::error(400, "FROM"))?,
+                        b.parse().map_err(|_| Answer::error(400, "TO"))?,
+                    );
+                    if !(a.is_finite() && b.is_finite() && a < b) {
+                        return Err(Answer::error(400, format!("{range_key}: finite FROM < TO")));
+                    }
+                    (a, b)
+                }
+                None => {
+                    let w = p.range.1 - p.range.0;
+                    (p.range.0 - w / 2.0, p.range.1 + w / 2.0)
+                }
+            };
+            Ok((name.to_string(), lo, hi))
+        };
+        let (x, y) = (axis("x", "xr")?, axis("y", "yr")?);
+        if x.0 == y.0 {
+            return Err(Answer::error(400, "x and y must be two different parameters"));
+        }
+        let key = format!("{}|{x:?}|{y:?}|{size}", kind.name());
+        if let Some(png) = self.maps.lock().ok().and_then(|m| m.get(&key).cloned()) {
+            return Ok(png);
+        }
+        let plane = bcifs::analysis::ParameterPlane { x, y, size: (size, size) };
+        let mut rows = Vec::new();
+        // Band by band, so that a newer map or the budget stops it between bands.
+        for start in (0..size).step_by(16) {
+            if cancel.is_cancelled() {
+                return Err(Answer::error(409, "cancelled: a newer request, or over the time budget"));
+            }
+            let band = bcifs::render::sweep(&self.design, &plane, kind, false, start..(start + 16).min(size))
+                .map_err(|e| Answer::error(422, e))?;
+            rows.push(band);
+        }
+        let values = match kind {
+            SweepKind::Verdict | SweepKind::Region => {
+                bcifs::render::SweepValues::Codes(rows.iter().flat_map(|r| r.to_f64()).map(|v| v as i8).collect())
+            }
+            _ => bcifs::render::SweepValues::Values(rows.iter().flat_map(|r| r.to_f64()).collect()),
+        };
+        let img = super::analyze::sweep_image(kind, &values, size);
+        let mut png = Vec::new();
+        image::codecs::png::PngEncoder::new(&mut png)
+            .write_image(img.as_raw(), img.width(), img.height(), image::ExtendedColorType::Rgb8)
+            .map_err(|e| Answer::error(500, e))?;
+        if let Ok(mut m) = self.maps.lock() {
+            m.insert(key, png.clone());
+        }
+        Ok(png)
+    }
+
+    /// The answer to `GET path?query`.
+    fn answer(&self, path: &str, query: &Query) -> Answer {
+        if path.contains("..") || path.contains('\\') {
+            return Answer::error(400, "`..` is not allowed in a path");
+        }
+        let slot = query.get("slot");
+        match path {
+            "/" | "/index.html" => {
+                Answer { status: 200, kind: "text/html; charset=utf-8", body: PAGE.into(), download: None }
+            }
+            "/explore.js" => {
+                Answer { status: 200, kind: "text/javascript; charset=utf-8", body: SCRIPT.into(), download: None }
+            }
+            "/api/design" => Answer::json(&self.design_json()),
+            "/api/check" => match self.values(query) {
+                Err(a) => a,
+                Ok(values) => match bcifs::render::check_report(&self.design, &values) {
+                    Err(e) => Answer::error(422, e),
+                    Ok(check) => {
+                        let exact: Vec<(String, bcifs::Num)> =
+                            values.iter().map(|(n, v)| (n.clone(), bcifs::Num::from_f64(*v))).collect();
+                        let curve = bcifs::render::curve_analysis(&self.design, &exact).ok().map(|c| c.to_json());
+                        Answer::json(&json!({"check": check, "curve": curve}))
+                    }
+                },
+            },
+            "/api/dimension" => match self.values(query) {
+                Err(a) => a,
+                Ok(values) => match bcifs::render::dimension_report(&self.design, &values) {
+                    Ok(d) => Answer::json(&d.to_json()),
+                    Err(e) => Answer::error(422, e),
+                },
+            },
+            "/api/picture.png" => {
+                let cancel = self.cancel_for(slot);
+                match self.options(query, cancel) {
+                    Err(a) => a,
+                    Ok(options) => match self.render_bytes(&options, "png") {
+                        Ok(body) => Answer { status: 200, kind: "image/png", body, download: None },
+                        Err(a) => a,
+                    },
+                }
+            }
+            "/api/map.png" => {
+                let cancel = self.cancel_for(slot);
+                match self.map(query, &cancel) {
+                    Ok(body) => Answer { status: 200, kind: "image/png", body, download: None },
+                    Err(a) => a,
+                }
+            }
+            _ => match path.strip_prefix("/api/export.") {
+                Some("toml") => match self.values(query) {
+                    Err(a) => a,
+                    Ok(values) => {
+                        let mut builder = self.design.to_builder();
+                        for (n, v) in &values {
+                            builder.default_value(n, *v);
+                        }
+                        match builder.build() {
+                            Ok(d) => Answer {
+                                status: 200,
+                                kind: "application/toml",
+                                body: bcifs::write_design(&d).into_bytes(),
+                                download: Some(format!("{}.toml", d.name())),
+                            },
+                            Err(e) => Answer::error(422, e),
+                        }
+                    }
+                },
+                Some(ext @ ("obj" | "ply" | "glb" | "png")) => {
+                    let cancel = self.cancel_for(None);
+                    match self.options(query, cancel) {
+                        Err(a) => a,
+                        Ok(options) => match self.render_bytes(&options, ext) {
+                            Ok(body) => Answer {
+                                status: 200,
+                                kind: if ext == "png" { "image/png" } else { "application/octet-stream" },
+                                body,
+                                download: Some(format!("{}.{ext}", self.design.name())),
+                            },
+                            Err(a) => a,
+                        },
+                    }
+                }
+                Some(other) => Answer::error(404, format!("no export to `.{other}`: obj, ply, glb, png or toml")),
+                None => Answer::error(404, format!("`{path}`: not found (the page is /, the API under /api/)")),
+            },
+        }
+    }
+}
+
+/// `WxH` within [`MAX_SIDE`].
+fn parse_size(size: &str) -> std::result::Result<(u32, u32), Answer> {
+    let bad = || Answer::error(400, format!("size `{size}`: expected WxH, 1 to {MAX_SIDE} pixels a side"));
+    let (w, h) = size.split_once('x').ok_or_else(bad)?;
+    let (w, h): (u32, u32) = (w.parse().map_err(|_| bad())?, h.parse().map_err(|_| bad())?);
+    if w == 0 || h == 0 || w > MAX_SIDE || h > MAX_SIDE {
+        return Err(bad());
+    }
+    Ok((w, h))
+}
+
+/// A URL's query, percent-decoded.
+struct Query {
+    pairs: Vec<(String, String)>,
+}
+
+impl Query {
+    fn parse(text: &str) -> Query {
+        let pairs = text
+            .split('&')
+            .filter(|p| !p.is_empty())
+            .map(|p| {
+                let (k, v) = p.split_once('=').unwrap_or((p, ""));
+                (decode(k), decode(v))
+            })
+            .collect();
+        Query { pairs }
+    }
+
+    fn get(&self, key: &str) -> Option<&str> {
+        self.pairs.iter().rev().find(|(k, _)| k == key).map(|(_, v)| v.as_str())
+    }
+}
+
+/// Percent-decoding (`+` is a space); invalid escapes are kept as they are.
+fn decode(text: &str) -> String {
+    let bytes = text.as_bytes();
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut i = 0;
+    while i < bytes.len() {
+        match bytes[i] {
+            b'+' => out.push(b' '),
+            b'%' if i + 2 < bytes.len() => {
+                match u8::from_str_radix(std::str::from_utf8(&bytes[i + 1..i + 3]).unwrap_or("zz"), 16) {
+                    Ok(b) => {
+                        out.push(b);
+                        i += 2;
+                    }
+                    Err(_) => out.push(b'%'),
+                }
+            }
+            b => out.push(b),
+        }
+        i += 1;
+    }
+    String::from_utf8_lossy(&out).into_owned()
+}
+
+/// Answers one request.
+fn serve(explorer: &Explorer, mut request: tiny_http::Request) {
+    let url = request.url().to_string();
+    let (path, query) = url.split_once('?').unwrap_or((&url, ""));
+    let path = decode(path);
+    let answer = if *request.method() != tiny_http::Method::Get {
+        // Drain what was sent, then refuse: the API only reads.
+        let _ = std::io::copy(&mut request.as_reader().take(1 << 20), &mut std::io::sink());
+        Answer::error(405, "only GET is served")
+    } else {
+        // A panic in a request is a 500, not a dead worker.
+        std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| explorer.answer(&path, &Query::parse(query))))
+            .unwrap_or_else(|_| Answer::error(500, "internal error"))
+    };
+    let mut response = tiny_http::Response::from_data(answer.body).with_status_code(answer.status);
+    let header = |k: &str, v: &str| tiny_http::Header::from_bytes(k.as_bytes(), v.as_bytes()).ok();
+    for h in [
+        header("Content-Type", answer.kind),
+        header("Cache-Control", "no-store"),
+        answer
+            .download
+            .as_deref()
+            .and_then(|name| header("Content-Disposition", &format!("attachment; filename=\"{name}\""))),
+    ]
+    .into_iter()
+    .flatten()
+    {
+        response.add_header(h);
+    }
+    let _ = request.respond(response);
+}
+
+/// `bcifs explore`.
+pub fn run(args: ExploreArgs) -> Result<u8> {
+    let design = super::load(&args.file)?;
+    let addr: std::net::IpAddr =
+        args.bind.parse().with_context(|| format!("--bind `{}`: expected an IP address", args.bind))?;
+    if !addr.is_loopback() {
+        eprintln!(
+            "warning: --bind {addr}: the explorer is reachable from other machines, and serves anyone who connects"
+        );
+    }
+    let explorer = Arc::new(Explorer::new(design)?);
+    let server = tiny_http::Server::http(SocketAddr::new(addr, args.port))
+        .map_err(|e| anyhow::anyhow!("cannot listen on {addr}:{}: {e}", args.port))?;
+    let port = server.server_addr().to_ip().map_or(args.port, |a| a.port());
+    let host = if addr.is_unspecified() { "127.0.0.1".to_string() } else { addr.to_string() };
+    let host = if host.contains(':') { format!("[{host}]") } else { host };
+    let url = format!("http://{host}:{port}/");
+    {
+        use std::io::Write as _;
+        let mut stdout = std::io::stdout().lock();
+        writeln!(stdout, "{url}")?;
+        writeln!(
+            stdout,
+            "{}: {} free parameters; Ctrl-C stops the server",
+            explorer.design.name(),
+            explorer.parameters.len()
+        )?;
+        stdout.flush()?;
+    }
+    if !args.no_open {
+        open_browser(&url);
+    }
+    let server = Arc::new(server);
+    let mut workers = Vec::new();
+    for _ in 0..WORKERS {
+        let (server, explorer) = (server.clone(), explorer.clone());
+        workers.push(std::thread::spawn(move || {
+            while !super::interrupt().is_cancelled() {
+                match server.recv_timeout(Duration::from_millis(200)) {
+                    Ok(Some(request)) => serve(&explorer, request),
+                    Ok(None) => {}
+                    Err(_) => break,
+                }
+            }
+        }));
+    }
+    while !super::interrupt().is_cancelled() {
+        explorer.expire();
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    server.unblock();
+    for w in workers {
+        let _ = w.join();
+    }
+    let _ = std::fs::remove_dir_all(&explorer.scratch);
+    bail!("stopped")
+}
+
+/// Opens `url` in the desktop's browser, quietly when there is none.
+fn open_browser(url: &str) {
+    for opener in ["xdg-open", "open"] {
+        if std::process::Command::new(opener)
+            .arg(url)
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .is_ok()
+        {
+            return;
+        }
+    }
+}

@@ -1,0 +1,228 @@
+//! `bcifs explore` over HTTP (std sockets, no client crate): the first line
+//! of stdout is the URL; the JSON and image API answers what the page asks;
+//! hostile requests get a 4xx with a JSON message; 50 concurrent requests
+//! are all answered; a newer request for the same slot cancels the older;
+//! Ctrl-C stops the server.
+
+use std::io::{BufRead as _, BufReader, Read as _, Write as _};
+use std::net::TcpStream;
+use std::process::{Child, Command, Stdio};
+
+/// A running explorer, stopped (SIGINT) when dropped.
+struct Server {
+    child: Child,
+    port: u16,
+}
+
+impl Server {
+    fn start(design: &str) -> Server {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_bcifs"))
+            .args(["explore", design, "--port", "0", "--no-open"])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("bcifs explore starts");
+        let mut line = String::new();
+        BufReader::new(child.stdout.as_mut().unwrap()).read_line(&mut line).unwrap();
+        let url = line.trim();
+        assert!(url.starts_with("http://127.0.0.1:") && url.ends_with('/'), "the URL first: {url:?}");
+        let port = url.trim_start_matches("http://127.0.0.1:").trim_end_matches('/').parse().unwrap();
+        Server { child, port }
+    }
+
+    /// `GET path` (the raw path, sent as is): status, headers, body.
+    fn get(&self, path: &str) -> (u16, String, Vec<u8>) {
+        let mut stream = TcpStream::connect(("127.0.0.1", self.port)).unwrap();
+        write!(stream, "GET {path} HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n").unwrap();
+        let mut raw = Vec::new();
+        stream.read_to_end(&mut raw).unwrap();
+        let split = raw.windows(4).position(|w| w == b"\r\n\r\n").expect("headers end");
+        let head = String::from_utf8_lossy(&raw[..split]).to_string();
+        let status = head.split_whitespace().nth(1).unwrap().parse().unwrap();
+        let mut body = raw[split + 4..].to_vec();
+        if head.to_lowercase().contains("transfer-encoding: chunked") {
+            body = unchunk(&body);
+        }
+        (status, head, body)
+    }
+
+    fn json(&self, path: &str) -> (u16, serde_json::Value) {
+        let (status, _, body) = self.get(path);
+        (
+            status,
+            serde_json::from_slice(&body)
+                .unwrap_or_else(|_| panic!("JSON from {path}: {:?}", String::from_utf8_lossy(&body))),
+        )
+    }
+}
+
+impl Drop for Server {
+    fn drop(&mut self) {
+        let _ = Command::new("kill").args(["-INT", &self.child.id().to_string()]).status();
+        let _ = self.child.wait();
+    }
+}
+
+fn unchunk(mut body: &[u8]) -> Vec<u8> {
+    let mut out = Vec::new();
+    loop {
+        let line_end = body.windows(2).position(|w| w == b"\r\n").unwrap_or(body.len());
+        let size = usize::from_str_radix(String::from_utf8_lossy(&body[..line_end]).trim(), 16).unwrap_or(0);
+        if size == 0 {
+            return out;
+        }
+        out.extend_from_slice(&body[line_end + 2..line_end + 2 + size]);
+        body = &body[line_end + 2 + size + 2..];
+    }
+}
+
+#[test]
+fn the_api_answers_the_page() {
+    let server = Server::start("corner_cutting");
+    let (status, design) = server.json("/api/design");
+    assert_eq!(status, 200);
+    assert_eq!(design["name"], "corner_cutting");
+    assert_eq!(design["curve"], true);
+    let a = &design["parameters"][0];
+    assert_eq!((a["name"].as_str(), a["default"].as_f64()), (Some("a"), Some(0.25)));
+    let (lo, hi) = (a["range"][0].as_f64().unwrap(), a["range"][1].as_f64().unwrap());
+    assert!(lo < 0.25 && 0.25 < hi, "the convergence range holds the default: {lo}..{hi}");
+    // The check is `bcifs check --json`'s object, with the curve's analysis beside it.
+    let (status, check) = server.json("/api/check?a=0.25&b=0.25");
+    assert_eq!(status, 200);
+    assert_eq!(check["check"]["converges"], true);
+    assert_eq!(check["curve"]["region"], "1", "Chaikin is tangent continuous");
+    let (_, dimension) = server.json("/api/dimension?a=0.25&b=0.25");
+    assert!((dimension["box_dimension"].as_f64().unwrap() - 1.0).abs() < 0.05);
+    // The picture equals the one `bcifs render` draws with the same options.
+    let (status, head, png) = server.get("/api/picture.png?a=0.3&depth=6&size=200x160");
+    assert_eq!(status, 200, "{head}");
+    assert!(head.contains("image/png"));
+    let dir = std::env::temp_dir().join(format!("bcifs-explore-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let cli = dir.join("cli.png");
+    let out = Command::new(env!("CARGO_BIN_EXE_bcifs"))
+        .args(["render", "corner_cutting", "--param", "a=0.3", "--depth", "6", "--size", "200x160", "-o"])
+        .arg(&cli)
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let (api, file) = (image::load_from_memory(&png).unwrap().to_rgb8(), image::open(&cli).unwrap().to_rgb8());
+    assert_eq!(api.dimensions(), (200, 160));
+    assert_eq!(api.as_raw(), file.as_raw(), "the same pixels as the CLI's PNG");
+    // Maps: the verdict map's pixels are the sweep's colours; a cached second map is the same.
+    let (status, _, map) = server.get("/api/map.png?x=a&y=b&kind=verdict&size=48");
+    assert_eq!(status, 200);
+    let map = image::load_from_memory(&map).unwrap().to_rgb8();
+    assert_eq!(map.dimensions(), (48, 48));
+    assert!(map.pixels().any(|p| p.0 == [150, 205, 150]), "converging pixels");
+    // Exports: the current member, as a download.
+    let (status, head, obj) = server.get("/api/export.obj?a=0.3&depth=4");
+    assert_eq!(status, 200);
+    assert!(head.contains("attachment; filename=\"corner_cutting.obj\""));
+    let cli_obj = dir.join("cli.obj");
+    let out = Command::new(env!("CARGO_BIN_EXE_bcifs"))
+        .args(["render", "corner_cutting", "--param", "a=0.3", "--depth", "4", "-o"])
+        .arg(&cli_obj)
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    assert_eq!(obj, std::fs::read(&cli_obj).unwrap(), "the same OBJ as `bcifs render`");
+    let (status, _, toml) = server.get("/api/export.toml?a=0.3");
+    assert_eq!(status, 200);
+    let again = bcifs::parse_design(&String::from_utf8_lossy(&toml), "export.toml", "x").unwrap();
+    assert_eq!(again.defaults()["a"], 0.3, "the parameters become the defaults");
+    for ext in ["ply", "glb", "png"] {
+        assert_eq!(server.get(&format!("/api/export.{ext}?depth=3")).0, 200, "{ext}");
+    }
+    // The page and its script.
+    let (status, head, page) = server.get("/");
+    assert_eq!(status, 200);
+    assert!(head.contains("text/html") && String::from_utf8_lossy(&page).contains("explore.js"));
+    assert_eq!(server.get("/explore.js").0, 200);
+}
+
+#[test]
+fn hostile_requests_get_a_4xx_with_a_message() {
+    let server = Server::start("corner_cutting");
+    for (path, status, says) in [
+        ("/api/picture.png?q=1", 400, "not a parameter"),
+        ("/api/picture.png?a=abc", 400, "finite number"),
+        ("/api/picture.png?a=inf", 400, "finite number"),
+        ("/api/picture.png?depth=99", 400, "at most"),
+        ("/api/picture.png?depth=-1", 400, "depth"),
+        ("/api/picture.png?size=100000x100000", 400, "pixels a side"),
+        ("/api/picture.png?size=0x10", 400, "pixels a side"),
+        ("/api/picture.png?view=a,b", 400, "YAW,PITCH"),
+        ("/api/picture.png?a=-0.9&b=0.95", 422, "diverges"),
+        ("/api/map.png?x=a&y=a", 400, "different"),
+        ("/api/map.png?x=a&y=b&size=100000", 400, "map size"),
+        ("/api/map.png?x=a&y=b&kind=colour", 400, "unknown sweep"),
+        ("/api/export.exe", 404, "no export"),
+        ("/../../etc/passwd", 400, "`..`"),
+        ("/%2e%2e/%2e%2e/etc/passwd", 400, "`..`"),
+        ("/Cargo.toml", 404, "not found"),
+        ("/api/nothing", 404, "not found"),
+    ] {
+        let (got, body) = server.json(path);
+        assert_eq!(got, status, "{path}: {body}");
+        assert!(body["error"].as_str().unwrap().contains(says), "{path}: {body}");
+    }
+    // A POST is refused; a request that is not HTTP does not stop the server.
+    let mut stream = TcpStream::connect(("127.0.0.1", server.port)).unwrap();
+    stream.write_all(b"\x00\x01garbage\r\n\r\n").unwrap();
+    drop(stream);
+    assert_eq!(server.json("/api/design").0, 200, "still serving");
+}
+
+#[test]
+fn fifty_concurrent_requests_are_answered_and_a_newer_one_cancels_the_older() {
+    let server = Server::start("doo_sabin_torus");
+    let port = server.port;
+    let threads: Vec<_> = (0..50)
+        .map(|k| {
+            std::thread::spawn(move || {
+                let path = if k % 2 == 0 {
+                    format!("/api/picture.png?alpha={}&depth=3&size=96x96", 0.55 + 0.001 * f64::from(k))
+                } else {
+                    "/api/check?beta=0.14".to_string()
+                };
+                let mut stream = TcpStream::connect(("127.0.0.1", port)).unwrap();
+                write!(stream, "GET {path} HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n").unwrap();
+                let mut raw = Vec::new();
+                stream.read_to_end(&mut raw).unwrap();
+                String::from_utf8_lossy(&raw[..12.min(raw.len())]).to_string()
+            })
+        })
+        .collect();
+    for t in threads {
+        assert_eq!(t.join().unwrap(), "HTTP/1.1 200", "every request answered");
+    }
+    // A slow picture in the slot `picture`, then a newer one in the same slot: the older is cancelled (409).
+    let slow = std::thread::spawn(move || {
+        let mut stream = TcpStream::connect(("127.0.0.1", port)).unwrap();
+        write!(
+            stream,
+            "GET /api/picture.png?depth=9&size=2000x2000&slot=picture HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n"
+        )
+        .unwrap();
+        let mut raw = Vec::new();
+        stream.read_to_end(&mut raw).unwrap();
+        String::from_utf8_lossy(&raw).to_string()
+    });
+    std::thread::sleep(std::time::Duration::from_millis(700));
+    assert_eq!(server.get("/api/picture.png?depth=2&size=64x64&slot=picture").0, 200);
+    let older = slow.join().unwrap();
+    assert!(older.starts_with("HTTP/1.1 409") && older.contains("cancelled"), "{}", &older[..older.len().min(300)]);
+}
+
+#[test]
+fn ctrl_c_stops_the_server() {
+    let mut server = Server::start("koch");
+    assert_eq!(server.get("/api/design").0, 200);
+    let _ = Command::new("kill").args(["-INT", &server.child.id().to_string()]).status();
+    let started = std::time::Instant::now();
+    let status = server.child.wait().unwrap();
+    assert!(started.elapsed() < std::time::Duration::from_secs(3), "stopped within seconds");
+    assert_eq!(status.code(), Some(130));
+}
