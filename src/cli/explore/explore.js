@@ -1,8 +1,10 @@
 // The explorer page: sliders → the URL's query → pictures and checks from the API.
 "use strict";
 
-const state = { design: null, values: {}, depth: 6, yaw: 30, pitch: 35, preview: 3, map: null };
+const state = { design: null, values: {}, depth: 6, yaw: 30, pitch: 35, preview: 3, map: null, seq: { picture: 0, map: 0 } };
 const $ = (id) => document.getElementById(id);
+// This page's slots on the server: a newer picture (or map) of this page cancels its older one.
+const session = Math.random().toString(36).slice(2);
 
 function query(extra) {
   const q = new URLSearchParams();
@@ -18,9 +20,10 @@ function saveUrl() {
 async function picture(coarse) {
   const depth = coarse ? Math.min(state.depth, state.preview) : state.depth;
   const side = Math.min(900, Math.round($("picture").clientWidth || 600));
-  const url = "api/picture.png?" + query({ depth, size: `${side}x${side}`, view: `${state.yaw},${state.pitch}`, slot: "picture" });
+  const seq = ++state.seq.picture;
+  const url = "api/picture.png?" + query({ depth, size: `${side}x${side}`, view: `${state.yaw},${state.pitch}`, slot: `picture-${session}`, seq });
   const response = await fetch(url);
-  if (response.status === 409) return; // a newer picture is coming
+  if (response.status === 409 || seq !== state.seq.picture) return; // a newer picture is coming
   if (!response.ok) {
     const { error } = await response.json();
     $("status").textContent = error;
@@ -104,8 +107,10 @@ async function map() {
   $("xlo").textContent = state.map.xr[0].toPrecision(3); $("xhi").textContent = state.map.xr[1].toPrecision(3);
   $("ylo").textContent = `${y} from ${state.map.yr[0].toPrecision(3)} (bottom)`; $("yhi").textContent = `to ${state.map.yr[1].toPrecision(3)} (top)`;
   $("mapnote").textContent = "Click to set the parameters.";
-  const url = `api/map.png?x=${x}&y=${y}&kind=${$("mapkind").value}&size=192&slot=map`;
+  const seq = ++state.seq.map;
+  const url = `api/map.png?x=${x}&y=${y}&kind=${$("mapkind").value}&size=192&slot=map-${session}&seq=${seq}`;
   const response = await fetch(url);
+  if (seq !== state.seq.map) return;
   if (!response.ok) { if (response.status !== 409) $("mapnote").textContent = (await response.json()).error; return; }
   $("map").src = URL.createObjectURL(await response.blob());
   marker();
@@ -123,7 +128,11 @@ $("map").addEventListener("click", (event) => {
   const { x, y, xr, yr } = state.map;
   state.values[x] = xr[0] + (event.clientX - box.left) / box.width * (xr[1] - xr[0]);
   state.values[y] = yr[1] - (event.clientY - box.top) / box.height * (yr[1] - yr[0]);
-  for (const n of [x, y]) { const input = $("param-" + n); if (input) input.value = state.values[n]; input && input.dispatchEvent(new Event("input")); }
+  for (const n of [x, y]) {
+    const input = $("param-" + n);
+    input.value = state.values[n];
+    input.previousSibling.textContent = Number(state.values[n]).toPrecision(5);
+  }
   update(false);
 });
 

@@ -8,7 +8,8 @@
 //! `/api/picture.png?…&depth=&size=WxH&view=YAW,PITCH`,
 //! `/api/map.png?x=&y=&kind=verdict|region|angle|dimension&size=`,
 //! `/api/export.{obj,ply,glb,png,toml}?…`. A request that names a `slot`
-//! (the page's picture, its map) cancels the older one of the same slot.
+//! (the page's picture, its map) cancels the older one of the same slot
+//! (older: a smaller `seq`, the page's counter, else an earlier arrival).
 
 use std::collections::HashMap;
 use std::io::Read as _;
@@ -66,7 +67,7 @@ struct Explorer {
     design: Design,
     parameters: Vec<Parameter>,
     scratch: PathBuf,
-    slots: Mutex<HashMap<String, Cancel>>,
+    slots: Mutex<HashMap<String, (u64, Cancel)>>,
     deadlines: Mutex<Vec<(Instant, Cancel)>>,
     maps: Mutex<HashMap<String, Vec<u8>>>,
     counter: std::sync::atomic::AtomicU64,
@@ -140,14 +141,23 @@ impl Explorer {
     }
 
     /// A cancel flag for a request: cancelled after the time budget, or
-    /// when a newer request names the same `slot`.
-    fn cancel_for(&self, slot: Option<&str>) -> Cancel {
+    /// when a newer request names the same `slot` (newer: a larger `seq`,
+    /// the page's counter, else the later arrival). A request older than
+    /// the slot's current one is cancelled at once.
+    fn cancel_for(&self, slot: Option<&str>, seq: Option<u64>) -> Cancel {
         let cancel = Cancel::new();
         if let Some(slot) = slot
             && let Ok(mut slots) = self.slots.lock()
-            && let Some(older) = slots.insert(slot.to_string(), cancel.clone())
         {
-            older.cancel();
+            let seq = seq.unwrap_or_else(|| slots.get(slot).map_or(0, |(s, _)| s + 1));
+            match slots.get(slot) {
+                Some((current, _)) if *current > seq => cancel.cancel(),
+                _ => {
+                    if let Some((_, older)) = slots.insert(slot.to_string(), (seq, cancel.clone())) {
+                        older.cancel();
+                    }
+                }
+            }
         }
         if let Ok(mut d) = self.deadlines.lock() {
             d.push((Instant::now() + TIME_BUDGET, cancel.clone()));
@@ -170,7 +180,7 @@ impl Explorer {
 
     /// The parameter values of a query: every free parameter it names (others: defaults).
     fn values(&self, query: &Query) -> std::result::Result<Vec<(String, f64)>, Answer> {
-        let reserved = ["depth", "size", "view", "slot", "x", "y", "kind", "xr", "yr"];
+        let reserved = ["depth", "size", "view", "slot", "seq", "x", "y", "kind", "xr", "yr"];
         let mut values = Vec::new();
         for (k, v) in &query.pairs {
             if reserved.contains(&k.as_str()) {
@@ -228,6 +238,9 @@ impl Explorer {
 
     /// Renders to a scratch file of extension `ext` and returns its bytes.
     fn render_bytes(&self, options: &Options, ext: &str) -> std::result::Result<Vec<u8>, Answer> {
+        if options.cancel.is_cancelled() {
+            return Err(Answer::error(409, "cancelled: a newer request, or over the time budget"));
+        }
         let id = self.counter.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         let path = self.scratch.join(format!("r{id}.{ext}"));
         let result = bcifs::render::render(&self.design, options, &path);
@@ -339,6 +352,7 @@ impl Explorer {
             return Answer::error(400, "`..` is not allowed in a path");
         }
         let slot = query.get("slot");
+        let seq = query.get("seq").and_then(|s| s.parse().ok());
         match path {
             "/" | "/index.html" => {
                 Answer { status: 200, kind: "text/html; charset=utf-8", body: PAGE.into(), download: None }
@@ -367,7 +381,7 @@ impl Explorer {
                 },
             },
             "/api/picture.png" => {
-                let cancel = self.cancel_for(slot);
+                let cancel = self.cancel_for(slot, seq);
                 match self.options(query, cancel) {
                     Err(a) => a,
                     Ok(options) => match self.render_bytes(&options, "png") {
@@ -377,7 +391,7 @@ impl Explorer {
                 }
             }
             "/api/map.png" => {
-                let cancel = self.cancel_for(slot);
+                let cancel = self.cancel_for(slot, seq);
                 match self.map(query, &cancel) {
                     Ok(body) => Answer { status: 200, kind: "image/png", body, download: None },
                     Err(a) => a,
@@ -403,7 +417,7 @@ impl Explorer {
                     }
                 },
                 Some(ext @ ("obj" | "ply" | "glb" | "png")) => {
-                    let cancel = self.cancel_for(None);
+                    let cancel = self.cancel_for(None, None);
                     match self.options(query, cancel) {
                         Err(a) => a,
                         Ok(options) => match self.render_bytes(&options, ext) {

@@ -1,0 +1,115 @@
+"""`bcifs explore` in a real browser: Debian's headless Chromium driven by
+selenium (chromium-driver). The page loads the design, draws the attractor
+and the map, follows a slider (the URL holds the parameters), sets the
+parameters from a click on the map, shows a divergent point as such, and a
+link reopens the same member. Skipped, with the reason, without Chromium,
+chromium-driver or selenium (`.ci/run` installs them)."""
+
+import shutil
+import subprocess
+import time
+import urllib.parse
+
+import pytest
+
+from test_module import cli
+
+
+def browser():
+    webdriver = pytest.importorskip("selenium.webdriver", reason="selenium is not installed (pip install selenium)")
+    binary = shutil.which("chromium")
+    driver = shutil.which("chromedriver")
+    if not binary or not driver:
+        pytest.skip("Chromium or chromium-driver is not installed (apt-get install chromium chromium-driver)")
+    from selenium.webdriver.chrome.service import Service
+
+    options = webdriver.ChromeOptions()
+    options.binary_location = binary
+    for flag in ["--headless=new", "--no-sandbox", "--disable-gpu", "--window-size=1400,900", "--disable-dev-shm-usage"]:
+        options.add_argument(flag)
+    return webdriver.Chrome(service=Service(driver), options=options)
+
+
+@pytest.fixture(scope="module")
+def server():
+    child = subprocess.Popen([cli(), "explore", "corner_cutting", "--port", "0", "--no-open"], stdout=subprocess.PIPE, text=True)
+    url = child.stdout.readline().strip()
+    assert url.startswith("http://127.0.0.1:")
+    yield url
+    child.send_signal(2)
+    child.wait(timeout=10)
+
+
+@pytest.fixture(scope="module")
+def page():
+    driver = browser()
+    yield driver
+    driver.quit()
+
+
+def wait(predicate, timeout=20.0):
+    started = time.monotonic()
+    while time.monotonic() - started < timeout:
+        value = predicate()
+        if value:
+            return value
+        time.sleep(0.1)
+    raise AssertionError("timed out")
+
+
+def loaded(page, element_id):
+    return page.execute_script(f"const i = document.getElementById('{element_id}'); return i.complete && i.naturalWidth > 0;")
+
+
+def params(page):
+    return dict(urllib.parse.parse_qsl(urllib.parse.urlparse(page.current_url).query))
+
+
+def test_the_page_follows_sliders_and_the_map(server, page, tmp_path):
+    page.get(server)
+    wait(lambda: page.execute_script("return document.body.dataset.ready === 'yes'"))
+    assert page.find_element("id", "name").text == "corner_cutting"
+    wait(lambda: loaded(page, "picture"))
+    wait(lambda: loaded(page, "map"))
+    sliders = page.find_elements("css selector", "#sliders input[type=range]")
+    assert [s.get_attribute("id") for s in sliders] == ["param-a", "param-b"]
+    wait(lambda: "converges" in page.find_element("id", "verdict").text)
+    assert "junction angle" in page.find_element("id", "check").text
+    # A slider moves: the URL holds the new value, the picture is redrawn.
+    before = page.execute_script("return document.getElementById('picture').src")
+    page.execute_script(
+        "const s = document.getElementById('param-a'); s.value = 0.4;"
+        "s.dispatchEvent(new Event('input')); s.dispatchEvent(new Event('change'));"
+    )
+    wait(lambda: abs(float(params(page).get("a", "nan")) - 0.4) < 1e-3)
+    wait(lambda: page.execute_script("return document.getElementById('picture').src") != before and loaded(page, "picture"))
+    # A click on the map sets both parameters (the map spans the ranges, widened by half each side).
+    image = page.find_element("id", "map")
+    from selenium.webdriver.common.action_chains import ActionChains
+
+    ActionChains(page).move_to_element_with_offset(image, 0, 0).click().perform()  # the centre
+    centre = wait(lambda: params(page) if abs(float(params(page)["a"]) - 0.4) > 1e-3 else None)
+    design = page.execute_script("return state.design.parameters")
+    for p in design:
+        lo, hi = p["range"]
+        assert abs(float(centre[p["name"]]) - (lo + hi) / 2) < 0.02 * (hi - lo) * 2, (centre, p)
+    marker = page.find_element("id", "marker").value_of_css_property("left")
+    assert marker.endswith("px") or marker.endswith("%")
+    wait(lambda: loaded(page, "picture"))
+    page.save_screenshot(str(tmp_path / "explore.png"))  # the README's picture
+    assert (tmp_path / "explore.png").stat().st_size > 10_000
+
+
+def test_a_divergent_point_is_shown_as_such_and_a_link_reopens_a_member(server, page):
+    page.get(server + "?a=-0.9&b=0.95&depth=5")
+    wait(lambda: page.execute_script("return document.body.dataset.ready === 'yes'"))
+    wait(lambda: "diverges" in page.find_element("id", "status").text)
+    assert page.execute_script("return document.getElementById('picture').style.opacity") == "0.25"
+    wait(lambda: "diverges" in page.find_element("id", "verdict").text)
+    assert page.find_element("id", "param-a").get_attribute("value").startswith("-0.1"), "the slider clamps, the value is kept"
+    assert page.execute_script("return state.values.a") == -0.9
+    page.get(server + "?a=0.3&b=0.2&depth=4")
+    wait(lambda: page.execute_script("return document.body.dataset.ready === 'yes'"))
+    assert page.execute_script("return [state.values.a, state.values.b, state.depth]") == [0.3, 0.2, 4]
+    href = page.find_element("id", "export-obj").get_attribute("href")
+    assert "a=0.3" in href and "depth=4" in href
