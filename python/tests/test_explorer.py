@@ -113,3 +113,24 @@ def test_a_divergent_point_is_shown_as_such_and_a_link_reopens_a_member(server, 
     assert page.execute_script("return [state.values.a, state.values.b, state.depth]") == [0.3, 0.2, 4]
     href = page.find_element("id", "export-obj").get_attribute("href")
     assert "a=0.3" in href and "depth=4" in href
+
+
+def test_a_surface_turns_when_dragged(page):
+    child = subprocess.Popen([cli(), "explore", "doo_sabin_torus", "--port", "0", "--no-open"], stdout=subprocess.PIPE, text=True)
+    try:
+        url = child.stdout.readline().strip()
+        page.get(url + "?depth=4")
+        wait(lambda: page.execute_script("return document.body.dataset.ready === 'yes'"))
+        wait(lambda: loaded(page, "picture"))
+        assert page.find_element("id", "mapbox").is_displayed(), "three parameters: a map of two of them"
+        before = page.execute_script("return document.getElementById('picture').src")
+        from selenium.webdriver.common.action_chains import ActionChains
+
+        ActionChains(page).drag_and_drop_by_offset(page.find_element("id", "picture"), 80, 30).perform()
+        view = wait(lambda: params(page).get("view") if params(page).get("view") != "30,35" else None)
+        yaw, pitch = (float(v) for v in view.split(","))
+        assert (yaw, pitch) == (70.0, 50.0), view
+        wait(lambda: page.execute_script("return document.getElementById('picture').src") != before and loaded(page, "picture"))
+    finally:
+        child.send_signal(2)
+        child.wait(timeout=10)

@@ -136,6 +136,21 @@ $("map").addEventListener("click", (event) => {
   update(false);
 });
 
+// Drag on the picture to turn a surface (yaw with x, pitch with y): coarse while dragging.
+function dragToTurn() {
+  let from = null;
+  $("picture").addEventListener("mousedown", (e) => { from = { x: e.clientX, y: e.clientY, yaw: state.yaw, pitch: state.pitch }; e.preventDefault(); });
+  window.addEventListener("mousemove", (e) => {
+    if (!from) return;
+    state.yaw = Math.round(((from.yaw + (e.clientX - from.x) / 2 + 540) % 360) - 180);
+    state.pitch = Math.round(Math.max(-89, Math.min(89, from.pitch + (e.clientY - from.y) / 2)));
+    $("yaw").value = state.yaw; $("pitch").value = state.pitch;
+    $("view-value").textContent = `${state.yaw}°, ${state.pitch}°`;
+    update(true);
+  });
+  window.addEventListener("mouseup", () => { if (from) { from = null; update(false); } });
+}
+
 async function start() {
   state.design = await (await fetch("api/design")).json();
   $("name").textContent = state.design.name;
@@ -162,6 +177,7 @@ async function start() {
     }
   }
   for (const id of ["mapx", "mapy", "mapkind"]) $(id).addEventListener("change", map);
+  dragToTurn();
   update(false);
   map();
   document.body.dataset.ready = "yes";
