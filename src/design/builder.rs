@@ -306,6 +306,21 @@ pub struct Design {
     pub(super) defaults: HashMap<String, f64>,
     pub(super) declared: Vec<String>,
     pub(super) spec: DesignBuilder,
+    /// The solved family, once asked ([`crate::solve`]): a design does not
+    /// change once built, so every render, check and request of a server
+    /// shares one solution (clones of the design too).
+    pub(crate) solved: SolveCache,
+}
+
+/// [`Design`]'s solution, computed once. Held as `Any`: the family layer
+/// sits above this one (it stores and reads its own type here).
+#[derive(Clone, Default)]
+pub(crate) struct SolveCache(pub(crate) std::sync::Arc<std::sync::OnceLock<Box<dyn std::any::Any + Send + Sync>>>);
+
+impl std::fmt::Debug for SolveCache {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(if self.0.get().is_some() { "solved" } else { "not solved yet" })
+    }
 }
 
 impl Design {

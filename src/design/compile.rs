@@ -115,7 +115,14 @@ impl<'a> Compiler<'a> {
             self.check_model(m)?;
         }
         let declared = self.spec.parameters.iter().map(|p| p.name.clone()).collect();
-        Ok(Design { automaton: self.automaton, variables: self.vars, defaults, declared, spec: self.spec.clone() })
+        Ok(Design {
+            automaton: self.automaton,
+            variables: self.vars,
+            defaults,
+            declared,
+            spec: self.spec.clone(),
+            solved: Default::default(),
+        })
     }
 
     fn states(&mut self) -> Result<(), BuildError> {

@@ -318,6 +318,15 @@ fn inconsistent(rows: &[&Row], key: &[(bool, usize)]) -> bool {
 /// assert_eq!(family.entry_text("T0", 0, 0), "1 - a");
 /// ```
 pub fn solve(design: &Design) -> Result<Family, SolveError> {
+    let cached = design.solved.0.get_or_init(|| Box::new(solve_now(design)));
+    match cached.downcast_ref::<Result<Family, SolveError>>() {
+        Some(solution) => solution.clone(),
+        None => solve_now(design),
+    }
+}
+
+/// [`solve`], computed.
+fn solve_now(design: &Design) -> Result<Family, SolveError> {
     let mut eqs = equations(design)?;
     // Equations between approximate constants (values outside the surds)
     // cannot be decided exactly: they hold or fail numerically, and then take

@@ -8,10 +8,11 @@ use std::io::{BufRead as _, BufReader, Read as _, Write as _};
 use std::net::TcpStream;
 use std::process::{Child, Command, Stdio};
 
-/// A running explorer, stopped (SIGINT) when dropped.
+/// A running explorer, stopped (SIGINT) when dropped; its stderr kept for failure messages.
 struct Server {
     child: Child,
     port: u16,
+    stderr: std::sync::Arc<std::sync::Mutex<String>>,
 }
 
 impl Server {
@@ -27,7 +28,14 @@ impl Server {
         let url = line.trim();
         assert!(url.starts_with("http://127.0.0.1:") && url.ends_with('/'), "the URL first: {url:?}");
         let port = url.trim_start_matches("http://127.0.0.1:").trim_end_matches('/').parse().unwrap();
-        Server { child, port }
+        let stderr = std::sync::Arc::new(std::sync::Mutex::new(String::new()));
+        let (mut pipe, kept) = (child.stderr.take().unwrap(), stderr.clone());
+        std::thread::spawn(move || {
+            let mut text = String::new();
+            let _ = pipe.read_to_string(&mut text);
+            kept.lock().unwrap().push_str(&text);
+        });
+        Server { child, port, stderr }
     }
 
     /// `GET path` (the raw path, sent as is): status, headers, body.
@@ -36,7 +44,16 @@ impl Server {
         write!(stream, "GET {path} HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n").unwrap();
         let mut raw = Vec::new();
         stream.read_to_end(&mut raw).unwrap();
-        let split = raw.windows(4).position(|w| w == b"\r\n\r\n").expect("headers end");
+        let Some(split) = raw.windows(4).position(|w| w == b"\r\n\r\n") else {
+            std::thread::sleep(std::time::Duration::from_millis(300));
+            panic!(
+                "GET {path}: no HTTP answer ({} bytes: {:?}); the server is {}; its stderr: {}",
+                raw.len(),
+                String::from_utf8_lossy(&raw[..raw.len().min(200)]),
+                if TcpStream::connect(("127.0.0.1", self.port)).is_ok() { "listening" } else { "gone" },
+                self.stderr.lock().unwrap()
+            );
+        };
         let head = String::from_utf8_lossy(&raw[..split]).to_string();
         let status = head.split_whitespace().nth(1).unwrap().parse().unwrap();
         let mut body = raw[split + 4..].to_vec();

@@ -567,7 +567,13 @@ pub fn run(args: ExploreArgs) -> Result<u8> {
         workers.push(std::thread::spawn(move || {
             while !super::interrupt().is_cancelled() {
                 match server.recv_timeout(Duration::from_millis(200)) {
-                    Ok(Some(request)) => serve(&explorer, request),
+                    // A panic while answering loses that answer, never the worker.
+                    Ok(Some(request)) => {
+                        if std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| serve(&explorer, request))).is_err()
+                        {
+                            eprintln!("explore: a request failed (internal error)");
+                        }
+                    }
                     Ok(None) => {}
                     Err(_) => break,
                 }
