@@ -7,7 +7,7 @@ use numpy::ndarray::Array3;
 use numpy::{IntoPyArray, PyArray2, PyReadonlyArray2};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyList};
 
 use bcifs::eval::{Depth, RandomSettings};
 use bcifs::mesh::{PolyMesh, Scheme};
@@ -210,19 +210,13 @@ impl Design {
         palette: Option<&str>,
         params: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, numpy::PyArray3<u8>>> {
-        let options = self.options(None, None, params)?;
-        let palette = palette.map(bcifs::export::Palette::parse).transpose().map_err(err)?;
-        let random = RandomSettings::default().with_points(samples).with_seed(seed);
-        let raster = bcifs::export::RasterSettings::default().with_size(size.0, size.1);
+        let mut options = self.options(None, None, params)?.with_size(size.0, size.1);
+        options.palette = palette.map(bcifs::export::Palette::parse).transpose().map_err(err)?;
+        options.random = Some(RandomSettings::default().with_points(samples).with_seed(seed));
         let design = self.inner.clone();
-        let img = cancellable(py, None, move |_, _| -> Result<_, String> {
-            let model = bcifs::render::model_of(&design).map_err(|e| e.to_string())?;
-            let instance = bcifs::instantiate(&design, &options.params).map_err(|e| e.to_string())?;
-            let game = bcifs::eval::ChaosGame::new(&instance.automaton, &model, &random).map_err(|e| e.to_string())?;
-            bcifs::export::density_image(&game, samples, &raster, &options.tone, palette.as_ref())
-                .map_err(|e| e.to_string())
-        })?
-        .map_err(err)?;
+        let img =
+            cancellable(py, None, move |cancel, _| bcifs::render::density(&design, &options.with_cancel(cancel)))?
+                .map_err(err)?;
         let (w, h) = img.dimensions();
         Ok(Array3::from_shape_vec((h as usize, w as usize, 3), img.into_raw()).expect("h × w × 3").into_pyarray(py))
     }
@@ -363,6 +357,23 @@ impl Design {
         })?
         .map_err(err)?;
         report_dict(py, &report)
+    }
+
+    /// The free parameters with their defaults and the interval around
+    /// each where the bounds prove convergence (the others at their
+    /// defaults): `[{"name", "default", "range": (lo, hi)}]`, a slider's range.
+    fn ranges<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+        let design = self.inner.clone();
+        let ranges = cancellable(py, None, move |_, _| bcifs::render::parameter_ranges(&design))?.map_err(err)?;
+        let list = PyList::empty(py);
+        for r in ranges {
+            let d = PyDict::new(py);
+            d.set_item("name", r.name)?;
+            d.set_item("default", r.default)?;
+            d.set_item("range", r.range)?;
+            list.append(d)?;
+        }
+        Ok(list)
     }
 
     /// The solved family: the object `bcifs solve --json` prints (a dict:

@@ -435,3 +435,16 @@ def test_render_pictures_take_the_tone_and_view_of_the_cli(tmp_path):
     with pytest.raises(bcifs.BcifsError, match="expected"):
         bcifs.load("koch").render(tmp_path / "x.obj", up="x")
     assert not (tmp_path / "x.png").exists() and not (tmp_path / "x.obj").exists()
+
+
+def test_ranges_hold_the_defaults_and_converge():
+    """The sliders' spans (the add-on's, the explorer's): each holds its
+    default, and `check` proves convergence at its ends."""
+    design = bcifs.load("corner_cutting")
+    ranges = design.ranges()
+    assert [r["name"] for r in ranges] == design.solve()["parameters"]
+    for r in ranges:
+        lo, hi = r["range"]
+        assert lo < r["default"] < hi
+        for end in (lo, hi):
+            assert design.check(**{r["name"]: end})["converges"] is True

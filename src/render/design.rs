@@ -273,6 +273,33 @@ fn flame_file(design: &Design, options: &Options, out: &Path, report: &mut Repor
     Ok(())
 }
 
+/// The density picture of the chaos game that [`render`] writes to a PNG
+/// (`options.random` samples, `options.raster`, `tone` and `palette`), in
+/// memory: for front ends that want pixels, not a file.
+///
+/// # Errors
+/// No chaos game asked (`options.random` is `None`), parameters, a system
+/// that does not converge, a picture over the memory limit, or
+/// [`RenderError::Cancelled`].
+pub fn density(design: &Design, options: &Options) -> Result<image::RgbImage, RenderError> {
+    let random = options.random_settings().ok_or_else(|| {
+        RenderError::Unsupported("a density picture needs chaos-game samples (Options::random)".into())
+    })?;
+    density_with(design, options, &random)
+}
+
+/// [`density`] with the chaos game's settings given.
+fn density_with(design: &Design, options: &Options, random: &RandomSettings) -> Result<image::RgbImage, RenderError> {
+    let model = model_of(design)?;
+    let instance = instantiate(design, &options.params)?;
+    let game = streaming_game(&instance.automaton, &model, random)?;
+    let img =
+        crate::export::density_image(&game, random.points, &options.raster, &options.tone, options.palette.as_ref())?;
+    // A cancelled fold stops early: its partial picture is not returned.
+    options.check_cancel()?;
+    Ok(img)
+}
+
 /// A density picture of the chaos game: the samples are counted per pixel, never stored.
 fn density_picture(
     design: &Design,
@@ -281,13 +308,8 @@ fn density_picture(
     out: &Path,
     report: &mut Report,
 ) -> Result<(), RenderError> {
-    let model = model_of(design)?;
-    let instance = instantiate(design, &options.params)?;
-    let game = streaming_game(&instance.automaton, &model, random)?;
+    let img = density_with(design, options, random)?;
     let palette = options.palette.as_ref();
-    let img = crate::export::density_image(&game, random.points, &options.raster, &options.tone, palette)?;
-    // A cancelled fold stops early: its partial picture is not written.
-    options.check_cancel()?;
     let matte = options.raster.transparent.then(|| options.tone.matte(palette.is_some()));
     crate::export::write_png_matte(out, &img, &options.png_text(design.name()), matte)
         .map_err(write_error(options, out))?;

@@ -32,10 +32,12 @@ mod shape;
 mod sweep;
 
 pub use curve::{CurveAnalysis, curve_analysis, curve_halves};
-pub use design::{evaluate_design, model_of, render};
+pub use design::{density, evaluate_design, model_of, render};
 pub use load::{LoadError, load};
 pub use mesh::{MeshJob, check_weights, render_mesh, rule_weights, subdivide_mesh};
 pub use options::{Format, Options, RenderError, Report, check_disk};
-pub use reports::{CheckReportError, DimensionReport, check_report, dimension_report, solve_report};
+pub use reports::{
+    CheckReportError, DimensionReport, ParameterRange, check_report, dimension_report, parameter_ranges, solve_report,
+};
 pub use shape::{control_net, write_shape};
 pub use sweep::{REGIONS, SweepKind, SweepValues, sweep, sweep_csv};

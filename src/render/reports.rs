@@ -168,3 +168,62 @@ pub(super) fn dimension_within(
         open_set,
     })
 }
+
+/// A free parameter of a family with its default and the interval around
+/// it where the bounds prove convergence (the other parameters at their
+/// defaults): the range of a front end's slider.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ParameterRange {
+    /// The parameter.
+    pub name: String,
+    /// Its default value.
+    pub default: f64,
+    /// The interval `(lo, hi)` holding the default, sampled 12 times each way
+    /// over `max(|default|, 1)`; a 1/12 of that each side where even the
+    /// next sample does not converge.
+    pub range: (f64, f64),
+}
+
+/// The free parameters of `design` with their convergence ranges (see [`ParameterRange`]).
+///
+/// # Errors
+/// A design that does not solve, or a free parameter without a default.
+///
+/// # Example
+/// ```
+/// let design = bcifs::builtin_design("corner_cutting").unwrap();
+/// let ranges = bcifs::render::parameter_ranges(&design).unwrap();
+/// assert_eq!(ranges[0].name, "a");
+/// assert!(ranges[0].range.0 < 0.25 && 0.25 < ranges[0].range.1);
+/// ```
+pub fn parameter_ranges(design: &Design) -> Result<Vec<ParameterRange>, RenderError> {
+    let family = solve(design).map_err(|e| RenderError::Unsupported(format!("{}: {e}", design.name())))?;
+    let defaults =
+        family.parameter_values(&[]).map_err(|e| RenderError::Unsupported(format!("{}: {e}", design.name())))?;
+    let converges = |name: &str, x: f64| {
+        check_report(design, &[(name.to_string(), x)])
+            .ok()
+            .and_then(|r| r.get("converges").and_then(Value::as_bool))
+            .unwrap_or(false)
+    };
+    Ok(family
+        .parameter_names()
+        .into_iter()
+        .zip(defaults)
+        .map(|(name, default)| {
+            let span = default.abs().max(1.0);
+            let (mut lo, mut hi) = (default, default);
+            for direction in [-1.0, 1.0] {
+                for k in 1..=12 {
+                    let x = default + direction * span * f64::from(k) / 12.0;
+                    if !converges(&name, x) {
+                        break;
+                    }
+                    (lo, hi) = (lo.min(x), hi.max(x));
+                }
+            }
+            let range = if lo == hi { (default - span / 12.0, default + span / 12.0) } else { (lo, hi) };
+            ParameterRange { name, default, range }
+        })
+        .collect())
+}

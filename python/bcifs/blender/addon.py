@@ -169,27 +169,6 @@ def check(obj):
     state.witness = " ".join(jsr.get("witness") or [])
 
 
-def parameter_range(design, name, values, span=1.0, steps=12):
-    """The interval around `values[name]` (others fixed) where the bounds
-    prove convergence, sampled `steps` times each way up to `span` (at
-    least the value itself ± 1/steps·span)."""
-    base = values[name]
-    lo = hi = base
-    for direction in (-1, 1):
-        for k in range(1, steps + 1):
-            x = base + direction * span * k / steps
-            try:
-                ok = design.check(**{**values, name: x}).get("converges") is True
-            except bcifs.BcifsError:
-                ok = False
-            if not ok:
-                break
-            lo, hi = min(lo, x), max(hi, x)
-    if lo == hi:
-        lo, hi = base - span / steps, base + span / steps
-    return lo, hi
-
-
 # ---------------------------------------------------------------- properties
 
 
@@ -306,16 +285,15 @@ class BCIFS_OT_add(bpy.types.Operator):
         state.source, state.toml, state.uv = self.source, design.to_toml(), self.uv
         state.depth = self.depth
         state.preview_depth = min(3, self.depth)
-        solved = design.solve()
-        free = solved.get("parameters", []) if solved.get("consistent") else []
-        defaults = design.check().get("parameters", {})
-        for pname in free:
-            if pname not in defaults:
-                continue
+        try:
+            ranges = design.ranges()  # the library's convergence ranges: the sliders' spans
+        except bcifs.BcifsError:
+            ranges = []
+        for r in ranges:
             p = state.params.add()
-            p.name = pname
-            p.lo, p.hi = parameter_range(design, pname, defaults)
-            p.value = defaults[pname]
+            p.name = r["name"]
+            p.lo, p.hi = r["range"]
+            p.value = r["default"]
         state.updating = False
         if is_curve and self.curve_as == "CURVE":
             fill_curve(data, mesh)

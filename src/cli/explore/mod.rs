@@ -54,13 +54,8 @@ pub struct ExploreArgs {
     no_open: bool,
 }
 
-/// A free parameter with its default and the range around it where the bounds prove convergence.
-#[derive(Clone, Debug)]
-struct Parameter {
-    name: String,
-    default: f64,
-    range: (f64, f64),
-}
+/// A free parameter with its default and its convergence range.
+type Parameter = bcifs::render::ParameterRange;
 
 /// What every request shares: the design, prepared once.
 struct Explorer {
@@ -91,42 +86,9 @@ impl Answer {
     }
 }
 
-/// The range around `default` where `design` converges (others at their defaults), in 12 steps each way of `span`.
-fn convergence_range(design: &Design, name: &str, default: f64) -> (f64, f64) {
-    let span = default.abs().max(1.0);
-    let converges = |x: f64| {
-        bcifs::render::check_report(design, &[(name.to_string(), x)])
-            .ok()
-            .and_then(|r| r.get("converges").and_then(Value::as_bool))
-            .unwrap_or(false)
-    };
-    let (mut lo, mut hi) = (default, default);
-    for direction in [-1.0, 1.0] {
-        for k in 1..=12 {
-            let x = default + direction * span * f64::from(k) / 12.0;
-            if !converges(x) {
-                break;
-            }
-            (lo, hi) = (lo.min(x), hi.max(x));
-        }
-    }
-    if lo == hi { (default - span / 12.0, default + span / 12.0) } else { (lo, hi) }
-}
-
 impl Explorer {
     fn new(design: Design) -> Result<Explorer> {
-        let family = bcifs::solve(&design).map_err(|e| anyhow::anyhow!("{}: {e}", design.name()))?;
-        let values = family.parameter_values(&[]).map_err(|e| anyhow::anyhow!("{}: {e}", design.name()))?;
-        let parameters = family
-            .parameter_names()
-            .iter()
-            .zip(values)
-            .map(|(name, default)| Parameter {
-                name: name.clone(),
-                default,
-                range: convergence_range(&design, name, default),
-            })
-            .collect();
+        let parameters = bcifs::render::parameter_ranges(&design)?;
         let scratch = std::env::temp_dir().join(format!("bcifs-explore-{}", std::process::id()));
         std::fs::create_dir_all(&scratch).with_context(|| format!("cannot create {}", scratch.display()))?;
         Ok(Explorer {
