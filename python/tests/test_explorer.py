@@ -2,7 +2,8 @@
 selenium (chromium-driver). The page loads the design, draws the attractor
 and the map, follows a slider (the URL holds the parameters), sets the
 parameters from a click on the map, shows a divergent point as such, and a
-link reopens the same member. Skipped, with the reason, without Chromium,
+link reopens the same member, a one-parameter family (the ternary scheme's
+tension) has a strip, the slider ranges are editable. Skipped, with the reason, without Chromium,
 chromium-driver or selenium (`.ci/run` installs them)."""
 
 import shutil
@@ -106,7 +107,8 @@ def test_a_divergent_point_is_shown_as_such_and_a_link_reopens_a_member(server, 
     wait(lambda: "diverges" in page.find_element("id", "status").text)
     assert page.execute_script("return document.getElementById('picture').style.opacity") == "0.25"
     wait(lambda: "diverges" in page.find_element("id", "verdict").text)
-    assert page.find_element("id", "param-a").get_attribute("value").startswith("-0.1"), "the slider clamps, the value is kept"
+    assert page.find_element("id", "param-a").get_attribute("value") == "-0.9", "the slider's range widens to the value given"
+    assert float(page.find_element("id", "range-a-0").get_attribute("value")) == -0.9
     assert page.execute_script("return state.values.a") == -0.9
     page.get(server + "?a=0.3&b=0.2&depth=4")
     wait(lambda: page.execute_script("return document.body.dataset.ready === 'yes'"))
@@ -131,6 +133,45 @@ def test_a_surface_turns_when_dragged(page):
         yaw, pitch = (float(v) for v in view.split(","))
         assert (yaw, pitch) == (70.0, 50.0), view
         wait(lambda: page.execute_script("return document.getElementById('picture').src") != before and loaded(page, "picture"))
+    finally:
+        child.send_signal(2)
+        child.wait(timeout=10)
+
+
+def test_a_one_parameter_family_has_a_strip_and_ranges_are_editable(page, tmp_path):
+    file = tmp_path / "ternary5_w.toml"
+    file.write_text(subprocess.run([cli(), "scheme", "ifs", "ternary5", "--omega", "w", "--print"], check=True, capture_output=True, text=True).stdout)
+    child = subprocess.Popen([cli(), "explore", str(file), "--port", "0", "--no-open"], stdout=subprocess.PIPE, text=True)
+    try:
+        url = child.stdout.readline().strip()
+        page.get(url + "?depth=5")
+        wait(lambda: page.execute_script("return document.body.dataset.ready === 'yes'"))
+        wait(lambda: loaded(page, "map") and loaded(page, "picture"))
+        assert not page.find_element("id", "mapy").is_displayed(), "one parameter: no y axis"
+        width, height = page.execute_script("const m = document.getElementById('map'); return [m.naturalWidth, m.naturalHeight]")
+        assert width > 4 * height, (width, height)
+        # A click at a quarter of the strip sets ω there (the strip spans the range widened by half each side).
+        from selenium.webdriver.common.action_chains import ActionChains
+
+        strip = page.find_element("id", "map")
+        lo, hi = page.execute_script("return state.map.xr")
+        box_width = strip.size["width"]
+        ActionChains(page).move_to_element_with_offset(strip, -box_width // 4, 0).click().perform()
+        w = wait(lambda: float(params(page)["w"]) if abs(float(params(page)["w"]) - 0.06) > 1e-6 else None)
+        assert abs(w - (lo + (hi - lo) / 4)) < 0.02 * (hi - lo), (w, lo, hi)
+        wait(lambda: page.find_element("id", "verdict").text != "")
+        # The slider's range is editable: the slider and the strip follow it.
+        before = page.execute_script("return document.getElementById('map').src")
+        page.execute_script(
+            "const b = document.getElementById('range-w-0'); b.value = -0.5; b.dispatchEvent(new Event('change'));"
+        )
+        assert page.find_element("id", "param-w").get_attribute("min") == "-0.5"
+        wait(lambda: page.execute_script("return document.getElementById('map').src") != before and loaded(page, "map"))
+        assert page.execute_script("return state.map.xr[0]") < -0.5
+        # The smooth map asks for its threshold.
+        page.execute_script("const k = document.getElementById('mapkind'); k.value = 'smooth'; k.dispatchEvent(new Event('change'));")
+        assert page.find_element("id", "threshold-box").is_displayed()
+        wait(lambda: loaded(page, "map") and "error" not in page.find_element("id", "mapnote").text)
     finally:
         child.send_signal(2)
         child.wait(timeout=10)

@@ -29,7 +29,9 @@ pub fn per_matrix_condition(automaton: &Automaton<f64>) -> bool {
     })
 }
 
-/// A rectangle of two free parameters of a family, sampled at pixel centres.
+/// A rectangle of two free parameters of a family, sampled at pixel centres;
+/// or a segment of one ([`ParameterPlane::line`]: y names the x parameter,
+/// and only x varies).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ParameterPlane {
     /// The parameter along x and its range.
@@ -41,6 +43,25 @@ pub struct ParameterPlane {
 }
 
 impl ParameterPlane {
+    /// The segment `from..to` of the parameter `name` in `n` pixels: a plane
+    /// of one row whose y is its x (one-parameter families such as the
+    /// ternary scheme's tension ω).
+    pub fn line(name: &str, from: f64, to: f64, n: usize) -> ParameterPlane {
+        ParameterPlane { x: (name.into(), from, to), y: (name.into(), from, to), size: (n, 1) }
+    }
+
+    /// Whether this is a [`ParameterPlane::line`]: only x varies.
+    pub fn is_line(&self) -> bool {
+        self.x.0 == self.y.0
+    }
+
+    /// The parameter values at the centre of pixel `(column, row)`, by name
+    /// (one value on a line).
+    pub fn values_at(&self, column: usize, row: usize) -> Vec<(String, f64)> {
+        let (x, y) = self.at(column, row);
+        if self.is_line() { vec![(self.x.0.clone(), x)] } else { vec![(self.x.0.clone(), x), (self.y.0.clone(), y)] }
+    }
+
     /// The parameter values at the centre of pixel `(column, row)`.
     pub fn at(&self, column: usize, row: usize) -> (f64, f64) {
         let (w, h) = (self.size.0.max(1) as f64, self.size.1.max(1) as f64);
@@ -119,7 +140,10 @@ fn over_rows<T: Send>(
             |(automaton, x), row| {
                 (0..w)
                     .map(|column| {
-                        (x[ix], x[iy]) = plane.at(column, row);
+                        // On a line (iy = ix) x is the value that stays.
+                        let (vx, vy) = plane.at(column, row);
+                        x[iy] = vy;
+                        x[ix] = vx;
                         numeric.fill(x, automaton);
                         cell(automaton)
                     })

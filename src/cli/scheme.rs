@@ -40,7 +40,9 @@ pub struct IfsArgs {
     /// Control points `x,y x,y ...` or `x,y,z ...` (default: the scheme's natural ones).
     #[arg(long, allow_hyphen_values = true)]
     points: Option<String>,
-    /// Tension ω of the ternary schemes, a constant such as 3/50 or -1/20.
+    /// Tension ω of the ternary schemes: a constant such as 3/50 or -1/20, or a
+    /// name (`w`): ω free, a one-parameter family of curves (default 3/50) for
+    /// `solve`, `check --param w=…` and `explore`.
     #[arg(long, allow_hyphen_values = true)]
     omega: Option<String>,
     /// Subdivision depth.
@@ -78,8 +80,16 @@ fn run_ifs(out: &mut String, args: IfsArgs) -> Result<u8> {
             Some(pts)
         }
     };
-    let omega = args.omega.as_deref().map(bcifs::Surd::parse).transpose()?;
-    let design = bcifs::schemes::ifs_preset(&args.name.replace('_', "-"), points, omega.as_ref())?;
+    let name = args.name.replace('_', "-");
+    let design = match args.omega.as_deref() {
+        Some(w) if w.starts_with(|c: char| c.is_alphabetic() || c == '_') && !w.starts_with("sqrt") => {
+            bcifs::schemes::ternary_family(&name, points, w)?
+        }
+        omega => {
+            let omega = omega.map(bcifs::Surd::parse).transpose()?;
+            bcifs::schemes::ifs_preset(&name, points, omega.as_ref())?
+        }
+    };
     if args.out.print {
         out.push_str(&bcifs::write_design(&design));
         return Ok(0);

@@ -255,6 +255,76 @@ impl DesignBuilder {
         self
     }
 
+    /// This builder (the design at `name = origin`) with every known entry
+    /// made affine in a new plain parameter `name`, from `next` and `third`,
+    /// the same design at `name = origin + 1` and `origin + 2`: an entry is
+    /// `e + (e' − e)·(name − origin)`, checked on the third. For families
+    /// whose entries are affine in one constant (the ternary scheme's
+    /// tension ω in its curves).
+    ///
+    /// # Errors
+    /// The designs differ in anything but their known entries, an entry is
+    /// already an expression, or an entry is not affine (the third differs).
+    pub(crate) fn affine_in(
+        mut self,
+        [next, third]: [&DesignBuilder; 2],
+        name: &str,
+        origin: &crate::Num,
+    ) -> Result<DesignBuilder, String> {
+        if self.arrows.len() != next.arrows.len() || self.arrows.len() != third.arrows.len() {
+            return Err("the designs have different arrows".into());
+        }
+        for ((a, b), c) in self.arrows.iter_mut().zip(&next.arrows).zip(&third.arrows) {
+            match (&mut a.matrix, &b.matrix, &c.matrix) {
+                (Matrix::Rows(ra), Matrix::Rows(rb), Matrix::Rows(rc))
+                    if ra.len() == rb.len() && ra.len() == rc.len() =>
+                {
+                    for ((row_a, row_b), row_c) in ra.iter_mut().zip(rb).zip(rc) {
+                        if row_a.len() != row_b.len() || row_a.len() != row_c.len() {
+                            return Err(format!("arrow `{}`: the matrices differ in shape", a.name));
+                        }
+                        for ((ea, eb), ec) in row_a.iter_mut().zip(row_b).zip(row_c) {
+                            let (Value::Num(e0), Value::Num(e1), Value::Num(e2)) = (&*ea, eb, ec) else {
+                                return Err(format!("arrow `{}`: an entry is already an expression", a.name));
+                            };
+                            let slope = e1.sub(e0);
+                            if e2.sub(e1) != slope {
+                                return Err(format!(
+                                    "arrow `{}`: its entries are not affine in {name} (products of blocks are not)",
+                                    a.name
+                                ));
+                            }
+                            if !slope.is_zero() {
+                                let constant = e0.sub(&slope.mul(origin));
+                                let slope = slope.to_string();
+                                let term = match slope.strip_prefix('-') {
+                                    Some("1") => format!("- {name}"),
+                                    Some(s) => format!("- {s}*{name}"),
+                                    None if slope == "1" => format!("+ {name}"),
+                                    None => format!("+ {slope}*{name}"),
+                                };
+                                let text = if constant.is_zero() {
+                                    term.trim_start_matches("+ ").replace("- ", "-")
+                                } else {
+                                    format!("{constant} {term}")
+                                };
+                                *ea = Value::Text(text);
+                            }
+                        }
+                    }
+                }
+                (ma, mb, mc) if ma == mb && mb == mc => {}
+                _ => return Err(format!("arrow `{}`: the designs differ in more than known entries", a.name)),
+            }
+        }
+        self.parameter(name);
+        Ok(self)
+    }
+
+    pub(crate) fn description_text(&self) -> &str {
+        &self.description
+    }
+
     pub(crate) fn model_ref(&self) -> Option<&Model> {
         self.model.as_ref()
     }

@@ -67,20 +67,9 @@ fn streaming_game(
 /// See [`RenderError`]; nothing is left half-written.
 pub fn render(design: &Design, options: &Options, out: &Path) -> Result<Report, RenderError> {
     let format = Format::of(out)?;
-    options.check_cancel()?;
-    // A model in a mesh file's (Y-up) axes is drawn standing and written without a turn.
-    let y_up = design.model().is_some_and(|m| m.y_up);
-    let mut options = options.clone();
-    options.raster = options.raster.with_y_up(y_up);
-    options.coordinates.y_up_input = y_up;
+    let options = &prepared(design, options)?;
     let mut report = Report { format: Some(format), ..Report::default() };
-    warn_unused(&options, format, &mut report.warnings);
-    if let Err(crate::family::SolveError::Inconsistent { conflicts }) = crate::family::solve(design)
-        && !options.eval.force
-    {
-        return Err(RenderError::Inconsistent { name: design.name().to_string(), conflicts });
-    }
-    let options = &options;
+    warn_unused(options, format, &mut report.warnings);
     match format {
         _ if options.colour.is_some() && options.random.is_none() => {
             coloured_file(design, options, format, out, &mut report)?
@@ -273,6 +262,54 @@ fn flame_file(design: &Design, options: &Options, out: &Path, report: &mut Repor
     Ok(())
 }
 
+/// The picture that [`render`] writes to a `.png`, in memory and RGB (the
+/// same pixels as the file without `--transparent`): a chaos game's density
+/// picture when `options.random` asks for one, the deterministic evaluation
+/// drawn otherwise. For front ends that show pixels (the explorer encodes
+/// them for the browser itself).
+///
+/// # Errors
+/// As [`render`]; per-point colours (`options.colour`) and deduplicated
+/// clouds are written by [`render`] only.
+///
+/// # Example
+/// ```
+/// let design = bcifs::builtin_design("koch").unwrap();
+/// let options = bcifs::render::Options::default();
+/// let img = bcifs::render::picture(&design, &options.clone().with_size(64, 48)).unwrap();
+/// assert_eq!(img.dimensions(), (64, 48));
+/// assert!(img.pixels().any(|p| p.0 != [255, 255, 255]));
+/// ```
+pub fn picture(design: &Design, options: &Options) -> Result<image::RgbImage, RenderError> {
+    if options.colour.is_some() || options.dedup {
+        return Err(RenderError::Unsupported(
+            "coloured and deduplicated clouds are drawn by render() into a .png file".into(),
+        ));
+    }
+    let options = &prepared(design, options)?;
+    match options.random_settings() {
+        Some(random) => density_with(design, options, &random),
+        None => Ok(deterministic_image(design, options, &mut Report::default())?.0),
+    }
+}
+
+/// The options of one output of `design`: not cancelled, a model in a mesh
+/// file's (Y-up) axes drawn standing and written without a turn, and a
+/// family that solves (or `force`).
+fn prepared(design: &Design, options: &Options) -> Result<Options, RenderError> {
+    options.check_cancel()?;
+    let y_up = design.model().is_some_and(|m| m.y_up);
+    let mut options = options.clone();
+    options.raster = options.raster.with_y_up(y_up);
+    options.coordinates.y_up_input = y_up;
+    if let Err(crate::family::SolveError::Inconsistent { conflicts }) = crate::family::solve(design)
+        && !options.eval.force
+    {
+        return Err(RenderError::Inconsistent { name: design.name().to_string(), conflicts });
+    }
+    Ok(options)
+}
+
 /// The density picture of the chaos game that [`render`] writes to a PNG
 /// (`options.random` samples, `options.raster`, `tone` and `palette`), in
 /// memory: for front ends that want pixels, not a file.
@@ -328,6 +365,19 @@ fn deterministic_picture(
     out: &Path,
     report: &mut Report,
 ) -> Result<(), RenderError> {
+    let (img, matte) = deterministic_image(design, options, report)?;
+    crate::export::write_png_matte(out, &img, &options.png_text(design.name()), matte)
+        .map_err(write_error(options, out))?;
+    report.bytes = std::fs::metadata(out).map_or(0, |m| m.len());
+    Ok(())
+}
+
+/// The pixels of [`deterministic_picture`] and the matte of `--transparent`.
+fn deterministic_image(
+    design: &Design,
+    options: &Options,
+    report: &mut Report,
+) -> Result<(image::RgbImage, Option<crate::export::Matte>), RenderError> {
     let model = model_of(design)?;
     let instance = instantiate(design, &options.params)?;
     let mut ev = evaluator(&instance.automaton, &model, options.eval_settings(), design.name(), &mut report.warnings)?;
@@ -355,12 +405,8 @@ fn deterministic_picture(
     }
     options.check_cancel()?;
     if let Some((img, vertices)) = crate::export::picture(&ev, raster)? {
-        let matte = raster.transparent.then(crate::export::Matte::default_ink);
-        crate::export::write_png_matte(out, &img, &options.png_text(design.name()), matte)
-            .map_err(write_error(options, out))?;
         report.vertices = vertices;
-        report.bytes = std::fs::metadata(out).map_or(0, |m| m.len());
-        return Ok(());
+        return Ok((img, raster.transparent.then(crate::export::Matte::default_ink)));
     }
     let depth = match options.eval.depth {
         Depth::Fixed(k) => Some(k),
@@ -382,9 +428,8 @@ fn deterministic_picture(
     }
     let shape = ev.evaluate()?;
     options.check_cancel()?;
-    let written = write_shape_text(&shape, design.name(), raster, out, &options.png_text(design.name()))?;
-    report.vertices = written.vertices;
-    report.faces = written.faces;
-    report.bytes = written.bytes;
-    Ok(())
+    report.vertices = shape.vertex_count();
+    report.faces = shape.quads.len() + shape.triangles.len();
+    let img = crate::export::raster(&shape, raster)?;
+    Ok((img, raster.transparent.then(|| crate::export::Matte::of_shape(&shape))))
 }

@@ -32,7 +32,7 @@ mod shape;
 mod sweep;
 
 pub use curve::{CurveAnalysis, curve_analysis, curve_halves};
-pub use design::{density, evaluate_design, model_of, render};
+pub use design::{density, evaluate_design, model_of, picture, render};
 pub use load::{LoadError, load};
 pub use mesh::{MeshJob, check_weights, render_mesh, rule_weights, subdivide_mesh};
 pub use options::{Format, Options, RenderError, Report, check_disk};

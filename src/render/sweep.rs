@@ -100,6 +100,18 @@ pub enum SweepValues {
 }
 
 impl SweepValues {
+    /// The pixels of consecutive bands as one sweep (`rest` after `self`);
+    /// bands of different kinds are joined as values.
+    pub fn append(self, rest: SweepValues) -> SweepValues {
+        match (self, rest) {
+            (SweepValues::Codes(mut a), SweepValues::Codes(b)) => {
+                a.extend(b);
+                SweepValues::Codes(a)
+            }
+            (a, b) => SweepValues::Values([a.to_f64(), b.to_f64()].concat()),
+        }
+    }
+
     /// Every pixel as a number.
     pub fn to_f64(&self) -> Vec<f64> {
         match self {
@@ -160,8 +172,7 @@ pub fn sweep(
                     if c.verdict != Verdict::Converges {
                         return f64::NAN;
                     }
-                    let (x, y) = plane.at(i % w, first + i / w);
-                    let at = [(plane.x.0.clone(), x), (plane.y.0.clone(), y)];
+                    let at = plane.values_at(i % w, first + i / w);
                     super::reports::dimension_within(design, &at, SWEEP_MEMORY)
                         .ok()
                         .and_then(|r| r.fit.map(|f| f.dimension))
@@ -172,7 +183,7 @@ pub fn sweep(
         }
         SweepKind::Region | SweepKind::Angle => {
             // The root must be a curve (checked on the plane's corner).
-            let corner = [(plane.x.0.clone(), plane.x.1), (plane.y.0.clone(), plane.y.1)];
+            let corner = plane.values_at(0, plane.size.1.saturating_sub(1));
             super::curve::curve_halves(design, &crate::family::instantiate(design, &corner)?)?;
             let root = design.model().map(|m| m.root(0).to_string()).unwrap_or_default();
             let cells = curve_map_rows(&family, plane, &settings, &root, rows).map_err(instantiate)?;

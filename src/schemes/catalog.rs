@@ -100,6 +100,50 @@ pub fn ifs_preset(name: &str, points: Option<Vec<Vec<f64>>>, omega: Option<&Surd
     }
 }
 
+/// A ternary 5-point curve preset (`ternary5`, `ternary5-closed`) whose
+/// tension ω is the free parameter `parameter` (default 3/50): every entry
+/// of eq. (1) is affine in ω, so one design holds the whole family, and
+/// `solve`, `analyze map` and `explore` walk it like any other. (The
+/// surfaces' blocks are tensor products, quadratic in ω: a known matrix
+/// holds affine entries only, so they are refused with that reason.)
+///
+/// # Errors
+/// A preset without a tension, a surface, a parameter name that is not a
+/// name, or control points that do not fit.
+///
+/// # Example
+/// ```
+/// let family = bcifs::schemes::ternary_family("ternary5", None, "w").unwrap();
+/// assert_eq!(family.declared(), ["w"]);
+/// let at = |w: f64| bcifs::instantiate(&family, &[("w".into(), w)]).unwrap();
+/// let fixed = bcifs::schemes::ifs_preset("ternary5", None, Some(&bcifs::Surd::frac(1, 20))).unwrap();
+/// let fixed = bcifs::instantiate(&fixed, &[]).unwrap();
+/// for ((_, a), (_, b)) in at(0.05).automaton.arrows().zip(fixed.automaton.arrows()) {
+///     assert!((&a.matrix - &b.matrix).amax() < 1e-15);
+/// }
+/// ```
+pub fn ternary_family(name: &str, points: Option<Vec<Vec<f64>>>, parameter: &str) -> Result<Design, CatalogError> {
+    if !name.starts_with("ternary5") {
+        return Err(CatalogError::Points(format!("`{name}` has no tension: a free ω is for the ternary5 presets")));
+    }
+    let valid = parameter.chars().next().is_some_and(|c| c.is_alphabetic() || c == '_')
+        && parameter.chars().all(|c| c.is_alphanumeric() || c == '_')
+        && parameter != "sqrt";
+    if !valid {
+        return Err(CatalogError::Points(format!("`{parameter}`: a parameter is a name (letters, digits, _)")));
+    }
+    // Two generic tensions one apart (ω = 0 would drop entries and change the ends' supports).
+    let origin = Surd::frac(DEFAULT_OMEGA.0, DEFAULT_OMEGA.1);
+    let at = |k: i64| ifs_preset(name, points.clone(), Some(&origin.add(&Surd::int(k)))).map(|d| d.to_builder());
+    let (base, next, third) = (at(0)?, at(1)?, at(2)?);
+    let mut builder = base
+        .affine_in([&next, &third], parameter, &crate::Num::from(origin.clone()))
+        .map_err(|e| CatalogError::Points(format!("{name} with a free tension: {e}")))?;
+    let description = builder.description_text().replace(&format!("ω = {origin}"), &format!("ω = {parameter} (free)"));
+    builder.description(description).default_value(parameter, &origin);
+    builder.build().map_err(|e| CatalogError::Points(e.to_string()))
+}
+
 /// A preset asked for: its name and the user's control points, if any.
 struct Request<'a> {
     name: &'a str,

@@ -20,7 +20,7 @@ mod stationary;
 mod ternary;
 mod topology;
 
-pub use catalog::{CatalogError, DEFAULT_OMEGA, IFS_NAMES, ifs_preset};
+pub use catalog::{CatalogError, DEFAULT_OMEGA, IFS_NAMES, ifs_preset, ternary_family};
 pub use contour::{RowMap, segment_ifs, segment_ifs_as_printed};
 pub use lattice::{
     Axial, LatticeIfs, LatticeScheme, NotClosed, SubPatch, box_spline_hexagon, hexagon_parts, lattice_ifs,

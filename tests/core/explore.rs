@@ -243,3 +243,95 @@ fn ctrl_c_stops_the_server() {
     assert!(started.elapsed() < std::time::Duration::from_secs(3), "stopped within seconds");
     assert_eq!(status.code(), Some(130));
 }
+
+#[test]
+fn a_one_parameter_family_has_a_strip_and_smooth_maps_follow_the_junction_angle() {
+    // The ternary 5-point scheme with its tension free: ω alone, as a strip whose
+    // columns are `bcifs check`'s verdicts at their centres.
+    let dir = std::env::temp_dir().join(format!("bcifs-explore-strip-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("ternary5_w.toml");
+    let out = Command::new(env!("CARGO_BIN_EXE_bcifs"))
+        .args(["scheme", "ifs", "ternary5", "--omega", "w", "--print"])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    std::fs::write(&file, &out.stdout).unwrap();
+    let server = Server::start(file.to_str().unwrap());
+    let (_, design) = server.json("/api/design");
+    assert_eq!(design["parameters"].as_array().unwrap().len(), 1);
+    assert_eq!(design["parameters"][0]["name"], "w");
+    assert_eq!(design["parameters"][0]["default"].as_f64(), Some(0.06));
+    let (status, head, png) = server.get("/api/map.png?x=w&xr=-0.2:0.3&kind=verdict&size=50");
+    assert_eq!(status, 200, "{head}");
+    let strip = image::load_from_memory(&png).unwrap().to_rgb8();
+    assert_eq!(strip.dimensions(), (50, 8), "one row of pixels, drawn 8 high");
+    let mut seen = std::collections::BTreeSet::new();
+    for column in [0u32, 10, 25, 26, 40, 49] {
+        let w = -0.2 + 0.5 * (f64::from(column) + 0.5) / 50.0;
+        let check = Command::new(env!("CARGO_BIN_EXE_bcifs"))
+            .args(["check", file.to_str().unwrap(), "--param", &format!("w={w}"), "--json"])
+            .output()
+            .unwrap();
+        let check: serde_json::Value = serde_json::from_slice(&check.stdout).unwrap();
+        let expected = match (check["converges"].as_bool(), check["per_matrix_condition"].as_bool()) {
+            (Some(true), _) => [150, 205, 150],
+            (Some(false), Some(false)) => [228, 228, 228],
+            (Some(false), _) => [215, 60, 60],
+            (None, _) => [240, 200, 80],
+        };
+        assert_eq!(strip.get_pixel(column, 4).0, expected, "ω = {w}: {check}");
+        assert_eq!(strip.get_pixel(column, 0), strip.get_pixel(column, 7), "a column is one value");
+        seen.insert(expected);
+    }
+    assert!(seen.contains(&[150, 205, 150]) && seen.len() > 1, "the strip crosses the convergence range's end");
+    assert_eq!(server.json("/api/map.png?x=w&y=w").0, 400, "a map needs two different parameters");
+    assert_eq!(server.json("/api/map.png?x=w&xr=1:0").0, 400, "an empty range");
+    // The smooth map of the corner cutting: Chaikin (a = b = 1/4) has a junction angle of 0,
+    // black; a divergent pixel keeps its verdict's colour.
+    let server = Server::start("corner_cutting");
+    let (status, _, png) = server.get("/api/map.png?x=a&y=b&xr=-1:1&yr=-1:1&kind=smooth&threshold=5&size=40");
+    assert_eq!(status, 200);
+    let smooth = image::load_from_memory(&png).unwrap().to_rgb8();
+    // Pixel (25, 14) has its centre at (0.275, 0.275), by Chaikin; (0, 39) at (−0.975, −0.975),
+    // where the eigenvalue 1 − a − b = 2.95 makes it diverge.
+    assert_eq!(smooth.get_pixel(25, 14).0, [20, 20, 20], "near Chaikin the curve is smooth");
+    let (_, far) = server.json("/api/check?a=-0.975&b=-0.975");
+    assert_eq!(far["check"]["converges"], false);
+    assert_eq!(smooth.get_pixel(0, 39).0, [228, 228, 228], "a divergent pixel keeps its verdict's colour");
+    assert!(smooth.pixels().all(|p| {
+        [[20, 20, 20], [255, 255, 255], [150, 205, 150], [215, 60, 60], [228, 228, 228], [240, 200, 80]].contains(&p.0)
+    }));
+    assert_eq!(server.json("/api/map.png?x=a&y=b&kind=smooth&threshold=-1").0, 400);
+}
+
+#[test]
+fn a_page_going_away_stops_its_requests() {
+    let server = Server::start("doo_sabin_torus");
+    let port = server.port;
+    let slow = std::thread::spawn(move || {
+        let mut stream = TcpStream::connect(("127.0.0.1", port)).unwrap();
+        write!(
+            stream,
+            "GET /api/picture.png?depth=9&size=2000x2000&slot=picture-s1&seq=1 HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n"
+        )
+        .unwrap();
+        let mut raw = Vec::new();
+        stream.read_to_end(&mut raw).unwrap();
+        String::from_utf8_lossy(&raw).to_string()
+    });
+    std::thread::sleep(std::time::Duration::from_millis(700));
+    // The page's beacon (a POST, as navigator.sendBeacon sends it).
+    let mut stream = TcpStream::connect(("127.0.0.1", port)).unwrap();
+    write!(stream, "POST /api/bye?session=s1 HTTP/1.1\r\nHost: x\r\nContent-Length: 0\r\nConnection: close\r\n\r\n")
+        .unwrap();
+    let mut raw = Vec::new();
+    stream.read_to_end(&mut raw).unwrap();
+    let raw = String::from_utf8_lossy(&raw);
+    assert!(raw.starts_with("HTTP/1.1 200") && raw.contains("\"cancelled\":1"), "{raw}");
+    let older = slow.join().unwrap();
+    assert!(older.starts_with("HTTP/1.1 409"), "{}", &older[..older.len().min(300)]);
+    // Another page's session is not touched; other POSTs are refused.
+    assert_eq!(server.json("/api/bye?session=nobody").1["cancelled"], 0);
+    assert_eq!(server.json("/api/bye").0, 400);
+}

@@ -100,3 +100,44 @@ fn two_fractal_ranges() {
         assert!(!r.fractal() && (r.growth - 1.0).abs() < 3e-3, "smooth at {omega}: growth {}", r.growth);
     }
 }
+
+/// With its tension free (`scheme ifs ternary5 --omega w`), a curve preset is
+/// one family whose members are the presets of fixed ω (surfaces, whose
+/// blocks are quadratic in ω, are refused with the reason),
+/// and its verdict along ω, a line sweep, diverges wherever the block's
+/// exact eigenvalue 11ω − 4/81 exceeds 1 (ω > 85/891, docs/errata.md), and
+/// converges at the paper's ω = 3/50.
+#[test]
+fn the_free_tension_family_holds_every_preset_and_its_line_sweep_diverges_past_85_891() {
+    let surface = bcifs::schemes::ternary_family("ternary5-torus", None, "w").unwrap_err().to_string();
+    assert!(surface.contains("not affine"), "{surface}");
+    for name in ["ternary5", "ternary5-closed"] {
+        let family = bcifs::schemes::ternary_family(name, None, "w").unwrap();
+        assert_eq!(family.declared(), ["w"]);
+        for omega in ["-1/20", "1/100", "3/50", "1/9"] {
+            let w = Surd::parse(omega).unwrap();
+            let fixed = bcifs::instantiate(&ifs_preset(name, None, Some(&w)).unwrap(), &[]).unwrap();
+            let member = bcifs::instantiate(&family, &[("w".into(), w.to_f64())]).unwrap();
+            for ((_, a), (_, b)) in member.automaton.arrows().zip(fixed.automaton.arrows()) {
+                assert!((&a.matrix - &b.matrix).amax() < 1e-15, "{name}, ω = {omega}, {}", a.name);
+            }
+        }
+    }
+    assert!(bcifs::schemes::ternary_family("bspline", None, "w").is_err(), "no tension");
+    assert!(bcifs::schemes::ternary_family("ternary5", None, "2w").is_err(), "not a name");
+    let family = bcifs::schemes::ternary_family("ternary5", None, "w").unwrap();
+    let plane = bcifs::analysis::ParameterPlane::line("w", 0.0, 0.2, 40);
+    let bcifs::render::SweepValues::Codes(codes) =
+        bcifs::render::sweep(&family, &plane, bcifs::render::SweepKind::Verdict, false, 0..1).unwrap()
+    else {
+        panic!("verdicts are codes")
+    };
+    assert_eq!(codes.len(), 40);
+    for (i, code) in codes.iter().enumerate() {
+        let w = plane.at(i, 0).0;
+        if w > 85.0 / 891.0 {
+            assert!(*code < 0, "ω = {w}: diverges ({code})");
+        }
+    }
+    assert_eq!(codes[(0.06f64 / 0.2 * 40.0) as usize], 1, "ω = 3/50 converges");
+}

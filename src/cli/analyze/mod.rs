@@ -155,7 +155,7 @@ fn write_framed_map(
 }
 
 /// The colour of a verdict code.
-fn verdict_colour(code: i8) -> [u8; 3] {
+pub(crate) fn verdict_colour(code: i8) -> [u8; 3] {
     match code {
         1 => [150, 205, 150],
         -1 => [215, 60, 60],
@@ -177,7 +177,7 @@ fn dimension_colour(d: f64) -> [u8; 3] {
 }
 
 /// The colour of a sweep's pixel value.
-fn sweep_colour(kind: bcifs::render::SweepKind, v: f64) -> [u8; 3] {
+pub(crate) fn sweep_colour(kind: bcifs::render::SweepKind, v: f64) -> [u8; 3] {
     use bcifs::render::{REGIONS, SweepKind};
     match kind {
         SweepKind::Verdict => verdict_colour(v as i8),
@@ -426,7 +426,7 @@ fn curve_text(out: &mut String, analysis: &bcifs::render::CurveAnalysis) -> Resu
 }
 
 /// A junction angle's colour: 0° red to 180° violet through the hues, as Fig. 11.
-fn angle_colour(degrees: f64) -> [u8; 3] {
+pub(crate) fn angle_colour(degrees: f64) -> [u8; 3] {
     let h = (degrees / 180.0).clamp(0.0, 1.0) * 0.8;
     let f = |n: f64| {
         let k = (n + h * 6.0) % 6.0;

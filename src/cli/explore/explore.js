@@ -1,7 +1,7 @@
 // The explorer page: sliders → the URL's query → pictures and checks from the API.
 "use strict";
 
-const state = { design: null, values: {}, depth: 6, yaw: 30, pitch: 35, preview: 3, map: null, seq: { picture: 0, map: 0 } };
+const state = { design: null, values: {}, ranges: {}, depth: 6, yaw: 30, pitch: 35, preview: 3, map: null, seq: { picture: 0, map: 0 } };
 const $ = (id) => document.getElementById(id);
 // This page's slots on the server: a newer picture (or map) of this page cancels its older one.
 const session = Math.random().toString(36).slice(2);
@@ -76,14 +76,39 @@ function update(coarse) {
   marker();
 }
 
+// A slider per parameter over its range (where the bounds prove convergence around the
+// default, from the server), the range editable: two number boxes under the slider.
 function slider(p) {
   const label = document.createElement("label");
   const value = document.createElement("span");
   value.className = "value";
   const input = document.createElement("input");
-  Object.assign(input, { type: "range", min: p.range[0], max: p.range[1], step: (p.range[1] - p.range[0]) / 1000, value: state.values[p.name] });
+  input.type = "range";
   input.id = "param-" + p.name;
-  label.append(p.name, value, input);
+  const setRange = () => {
+    const [lo, hi] = state.ranges[p.name];
+    Object.assign(input, { min: lo, max: hi, step: (hi - lo) / 1000 });
+    input.value = state.values[p.name];
+  };
+  setRange();
+  const bounds = document.createElement("span");
+  bounds.className = "range";
+  const box = (i) => {
+    const b = document.createElement("input");
+    Object.assign(b, { type: "number", step: "any", value: state.ranges[p.name][i], title: i ? "slider's upper end" : "slider's lower end" });
+    b.id = `range-${p.name}-${i}`;
+    b.addEventListener("change", () => {
+      const r = state.ranges[p.name].slice();
+      r[i] = Number(b.value);
+      if (!(Number.isFinite(r[0]) && Number.isFinite(r[1]) && r[0] < r[1])) { b.value = state.ranges[p.name][i]; return; }
+      state.ranges[p.name] = r;
+      setRange();
+      map();
+    });
+    return b;
+  };
+  bounds.append("range ", box(0), " to ", box(1));
+  label.append(p.name, value, input, bounds);
   const show = () => { value.textContent = Number(state.values[p.name]).toPrecision(5); };
   input.addEventListener("input", () => { state.values[p.name] = Number(input.value); show(); update(true); });
   input.addEventListener("change", () => update(false));
@@ -91,25 +116,36 @@ function slider(p) {
   return label;
 }
 
+// The map spans the slider's range and half as much again on each side (where it diverges).
 function mapRange(p) {
-  const w = p.range[1] - p.range[0];
-  return [p.range[0] - w / 2, p.range[1] + w / 2];
+  const [lo, hi] = state.ranges[p.name];
+  const w = hi - lo;
+  return [lo - w / 2, hi + w / 2];
 }
 
 async function map() {
-  const names = state.design.parameters.map((p) => p.name);
-  if (names.length < 2) { $("mapnote").textContent = "A map needs two free parameters."; $("mapbox").hidden = true; return; }
-  const [x, y] = [$("mapx").value, $("mapy").value];
+  const params = state.design.parameters;
+  if (params.length === 0) { $("mapnote").textContent = "This design has no free parameter."; $("mapbox").hidden = true; return; }
+  // One free parameter (the ternary scheme's ω): a strip over it.
+  const line = params.length === 1;
+  $("mapy").hidden = line;
+  const [x, y] = [$("mapx").value, line ? null : $("mapy").value];
   if (x === y) { $("mapnote").textContent = "Choose two different parameters."; return; }
-  const px = state.design.parameters.find((p) => p.name === x), py = state.design.parameters.find((p) => p.name === y);
-  state.map = { x, y, xr: mapRange(px), yr: mapRange(py) };
-  $("xname").textContent = x; $("yname").textContent = y;
+  const px = params.find((p) => p.name === x), py = params.find((p) => p.name === y);
+  state.map = { x, y, xr: mapRange(px), yr: line ? null : mapRange(py) };
+  $("xname").textContent = x;
   $("xlo").textContent = state.map.xr[0].toPrecision(3); $("xhi").textContent = state.map.xr[1].toPrecision(3);
-  $("ylo").textContent = `${y} from ${state.map.yr[0].toPrecision(3)} (bottom)`; $("yhi").textContent = `to ${state.map.yr[1].toPrecision(3)} (top)`;
+  $("yname").textContent = line ? "" : y;
+  $("ylo").textContent = line ? "" : `${y} from ${state.map.yr[0].toPrecision(3)} (bottom)`;
+  $("yhi").textContent = line ? "" : `to ${state.map.yr[1].toPrecision(3)} (top)`;
   $("mapnote").textContent = "Click to set the parameters.";
+  const kind = $("mapkind").value;
+  $("threshold-box").hidden = kind !== "smooth";
   const seq = ++state.seq.map;
-  const url = `api/map.png?x=${x}&y=${y}&kind=${$("mapkind").value}&size=192&slot=map-${session}&seq=${seq}`;
-  const response = await fetch(url);
+  const q = new URLSearchParams({ x, xr: state.map.xr.join(":"), kind, size: line ? 384 : 192, slot: `map-${session}`, seq });
+  if (!line) { q.set("y", y); q.set("yr", state.map.yr.join(":")); }
+  if (kind === "smooth") q.set("threshold", $("threshold").value);
+  const response = await fetch("api/map.png?" + q.toString());
   if (seq !== state.seq.map) return;
   if (!response.ok) { if (response.status !== 409) $("mapnote").textContent = (await response.json()).error; return; }
   $("map").src = URL.createObjectURL(await response.blob());
@@ -119,7 +155,7 @@ async function map() {
 function marker() {
   if (!state.map) return;
   const { x, y, xr, yr } = state.map;
-  const u = (state.values[x] - xr[0]) / (xr[1] - xr[0]), v = (yr[1] - state.values[y]) / (yr[1] - yr[0]);
+  const u = (state.values[x] - xr[0]) / (xr[1] - xr[0]), v = y === null ? 0.5 : (yr[1] - state.values[y]) / (yr[1] - yr[0]);
   Object.assign($("marker").style, { left: `${100 * u}%`, top: `${100 * v}%` });
 }
 
@@ -127,8 +163,8 @@ $("map").addEventListener("click", (event) => {
   const box = $("map").getBoundingClientRect();
   const { x, y, xr, yr } = state.map;
   state.values[x] = xr[0] + (event.clientX - box.left) / box.width * (xr[1] - xr[0]);
-  state.values[y] = yr[1] - (event.clientY - box.top) / box.height * (yr[1] - yr[0]);
-  for (const n of [x, y]) {
+  if (y !== null) state.values[y] = yr[1] - (event.clientY - box.top) / box.height * (yr[1] - yr[0]);
+  for (const n of y === null ? [x] : [x, y]) {
     const input = $("param-" + n);
     input.value = state.values[n];
     input.previousSibling.textContent = Number(state.values[n]).toPrecision(5);
@@ -157,7 +193,11 @@ async function start() {
   $("description").textContent = state.design.description;
   document.title = `bcifs explore: ${state.design.name}`;
   const given = new URLSearchParams(location.search);
-  for (const p of state.design.parameters) state.values[p.name] = given.has(p.name) ? Number(given.get(p.name)) : p.default;
+  for (const p of state.design.parameters) {
+    state.values[p.name] = given.has(p.name) ? Number(given.get(p.name)) : p.default;
+    // A value given outside the convergence range widens the slider to it.
+    state.ranges[p.name] = [Math.min(p.range[0], state.values[p.name]), Math.max(p.range[1], state.values[p.name])];
+  }
   if (given.has("depth")) state.depth = Number(given.get("depth"));
   if (given.has("view")) [state.yaw, state.pitch] = given.get("view").split(",").map(Number);
   for (const p of state.design.parameters) $("sliders").append(slider(p));
@@ -176,7 +216,9 @@ async function start() {
       $(select).append(option);
     }
   }
-  for (const id of ["mapx", "mapy", "mapkind"]) $(id).addEventListener("change", map);
+  for (const id of ["mapx", "mapy", "mapkind", "threshold"]) $(id).addEventListener("change", map);
+  // The page going away stops its pictures and maps on the server.
+  window.addEventListener("pagehide", () => navigator.sendBeacon("api/bye?session=" + session));
   dragToTurn();
   update(false);
   map();

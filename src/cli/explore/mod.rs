@@ -6,8 +6,10 @@
 //! The API (JSON errors `{"error": …}` with a 4xx status, never a panic):
 //! `GET /api/design`, `/api/check?NAME=VALUE…`, `/api/dimension?…`,
 //! `/api/picture.png?…&depth=&size=WxH&view=YAW,PITCH`,
-//! `/api/map.png?x=&y=&kind=verdict|region|angle|dimension&size=`,
-//! `/api/export.{obj,ply,glb,png,toml}?…`. A request that names a `slot`
+//! `/api/map.png?x=&y=&kind=verdict|region|angle|smooth|dimension&size=&xr=&yr=&threshold=`
+//! (without `y`: a strip over `x`, for one-parameter families),
+//! `/api/export.{obj,ply,glb,png,toml}?…`, `/api/bye?session=` (GET or the
+//! page's beacon POST: its requests stop). A request that names a `slot`
 //! (the page's picture, its map) cancels the older one of the same slot
 //! (older: a smaller `seq`, the page's counter, else an earlier arrival).
 
@@ -64,7 +66,7 @@ struct Explorer {
     scratch: PathBuf,
     slots: Mutex<HashMap<String, (u64, Cancel)>>,
     deadlines: Mutex<Vec<(Instant, Cancel)>>,
-    maps: Mutex<HashMap<String, Vec<u8>>>,
+    sweeps: Mutex<HashMap<String, bcifs::render::SweepValues>>,
     counter: std::sync::atomic::AtomicU64,
 }
 
@@ -97,7 +99,7 @@ impl Explorer {
             scratch,
             slots: Mutex::new(HashMap::new()),
             deadlines: Mutex::new(Vec::new()),
-            maps: Mutex::new(HashMap::new()),
+            sweeps: Mutex::new(HashMap::new()),
             counter: 0.into(),
         })
     }
@@ -127,6 +129,22 @@ impl Explorer {
         cancel
     }
 
+    /// Cancels every request of the page `session` (its slots end in
+    /// `-SESSION`): the page is going away. How many were running.
+    fn bye(&self, session: &str) -> usize {
+        let suffix = format!("-{session}");
+        let Ok(mut slots) = self.slots.lock() else { return 0 };
+        let gone: Vec<String> = slots.keys().filter(|k| k.ends_with(&suffix)).cloned().collect();
+        gone.iter()
+            .filter_map(|k| slots.remove(k))
+            .filter(|(_, cancel)| {
+                let running = !cancel.is_cancelled();
+                cancel.cancel();
+                running
+            })
+            .count()
+    }
+
     /// Cancels the requests past their budget (run every 100 ms).
     fn expire(&self) {
         if let Ok(mut d) = self.deadlines.lock() {
@@ -142,7 +160,7 @@ impl Explorer {
 
     /// The parameter values of a query: every free parameter it names (others: defaults).
     fn values(&self, query: &Query) -> std::result::Result<Vec<(String, f64)>, Answer> {
-        let reserved = ["depth", "size", "view", "slot", "seq", "x", "y", "kind", "xr", "yr"];
+        let reserved = ["depth", "size", "view", "slot", "seq", "x", "y", "kind", "xr", "yr", "threshold", "session"];
         let mut values = Vec::new();
         for (k, v) in &query.pairs {
             if reserved.contains(&k.as_str()) {
@@ -222,6 +240,29 @@ impl Explorer {
         answer
     }
 
+    /// The picture `render` would write, drawn in memory and encoded for the
+    /// browser (fast compression: the page is on this machine).
+    fn picture(&self, options: &Options) -> std::result::Result<Vec<u8>, Answer> {
+        let cancelled = || Answer::error(409, "cancelled: a newer request, or over the time budget");
+        let img = match bcifs::render::picture(&self.design, options) {
+            Err(bcifs::render::RenderError::Cancelled) => return Err(cancelled()),
+            Err(e) => return Err(Answer::error(422, e)),
+            // Superseded while it was evaluated (the in-memory evaluation of a picture looks
+            // at the flag between its stages only): the page wants the newer one.
+            Ok(_) if options.cancel.is_cancelled() => return Err(cancelled()),
+            Ok(img) => img,
+        };
+        let mut png = Vec::new();
+        image::codecs::png::PngEncoder::new_with_quality(
+            &mut png,
+            image::codecs::png::CompressionType::Fast,
+            image::codecs::png::FilterType::Adaptive,
+        )
+        .write_image(img.as_raw(), img.width(), img.height(), image::ExtendedColorType::Rgb8)
+        .map_err(|e| Answer::error(500, e))?;
+        Ok(png)
+    }
+
     fn design_json(&self) -> Value {
         let parameters: Vec<Value> = self
             .parameters
@@ -237,8 +278,22 @@ impl Explorer {
         })
     }
 
+    /// `/api/map.png`: a map of two parameters (`x`, `y`), or a strip of one
+    /// (`y` left out: a one-parameter family such as the ternary scheme's ω).
     fn map(&self, query: &Query, cancel: &Cancel) -> std::result::Result<Vec<u8>, Answer> {
-        let kind: SweepKind = query.get("kind").unwrap_or("verdict").parse().map_err(|e| Answer::error(400, e))?;
+        let asked = query.get("kind").unwrap_or("verdict");
+        let (kind, smooth) = match asked {
+            "smooth" => (SweepKind::Angle, true),
+            other => (other.parse::<SweepKind>().map_err(|e| Answer::error(400, format!("{e} (or smooth)")))?, false),
+        };
+        let threshold: f64 = match query.get("threshold") {
+            None => 5.0,
+            Some(t) => t
+                .parse()
+                .ok()
+                .filter(|t: &f64| t.is_finite() && *t > 0.0)
+                .ok_or_else(|| Answer::error(400, format!("threshold `{t}`: a positive angle in degrees")))?,
+        };
         let size: usize =
             query.get("size").unwrap_or("192").parse().map_err(|_| Answer::error(400, "size: a number of pixels"))?;
         if size == 0 || size > 512 {
@@ -253,18 +308,7 @@ impl Explorer {
                 .find(|p| p.name == name)
                 .ok_or_else(|| Answer::error(400, format!("`{name}` is not a parameter")))?;
             let (lo, hi) = match query.get(range_key) {
-                Some(r) => {
-                    let (a, b) =
-                        r.split_once(':').ok_or_else(|| Answer::error(400, format!("{range_key}: FROM:TO")))?;
-                    let (a, b): (f64, f64) = (
-                        a.parse().map_err(|_| Answer::error(400, "FROM"))?,
-                        b.parse().map_err(|_| Answer::error(400, "TO"))?,
-                    );
-                    if !(a.is_finite() && b.is_finite() && a < b) {
-                        return Err(Answer::error(400, format!("{range_key}: finite FROM < TO")));
-                    }
-                    (a, b)
-                }
+                Some(r) => parse_range(range_key, r)?,
                 None => {
                     let w = p.range.1 - p.range.0;
                     (p.range.0 - w / 2.0, p.range.1 + w / 2.0)
@@ -272,40 +316,73 @@ impl Explorer {
             };
             Ok((name.to_string(), lo, hi))
         };
-        let (x, y) = (axis("x", "xr")?, axis("y", "yr")?);
-        if x.0 == y.0 {
-            return Err(Answer::error(400, "x and y must be two different parameters"));
-        }
-        let key = format!("{}|{x:?}|{y:?}|{size}", kind.name());
-        if let Some(png) = self.maps.lock().ok().and_then(|m| m.get(&key).cloned()) {
-            return Ok(png);
-        }
-        let plane = bcifs::analysis::ParameterPlane { x, y, size: (size, size) };
-        let mut rows = Vec::new();
-        // Band by band, so that a newer map or the budget stops it between bands.
-        for start in (0..size).step_by(16) {
-            if cancel.is_cancelled() {
-                return Err(Answer::error(409, "cancelled: a newer request, or over the time budget"));
-            }
-            let band = bcifs::render::sweep(&self.design, &plane, kind, false, start..(start + 16).min(size))
-                .map_err(|e| Answer::error(422, e))?;
-            rows.push(band);
-        }
-        let values = match kind {
-            SweepKind::Verdict | SweepKind::Region => {
-                bcifs::render::SweepValues::Codes(rows.iter().flat_map(|r| r.to_f64()).map(|v| v as i8).collect())
-            }
-            _ => bcifs::render::SweepValues::Values(rows.iter().flat_map(|r| r.to_f64()).collect()),
+        let x = axis("x", "xr")?;
+        let plane = match query.get("y") {
+            None => bcifs::analysis::ParameterPlane::line(&x.0, x.1, x.2, size),
+            Some(y) if y == x.0 => return Err(Answer::error(400, "x and y must be two different parameters")),
+            Some(_) => bcifs::analysis::ParameterPlane { x, y: axis("y", "yr")?, size: (size, size) },
         };
-        let img = super::analyze::sweep_image(kind, &values, size);
+        let values = self.swept(&plane, kind, cancel)?.to_f64();
+        // Angles are drawn where the bounds prove convergence; elsewhere the verdict's colour.
+        let verdicts = match kind {
+            SweepKind::Angle => Some(self.swept(&plane, SweepKind::Verdict, cancel)?.to_f64()),
+            _ => None,
+        };
+        let colour = |i: usize| -> [u8; 3] {
+            match &verdicts {
+                Some(v) if v[i] != 1.0 => super::analyze::verdict_colour(v[i] as i8),
+                _ if smooth && values[i].is_nan() => [228, 228, 228],
+                _ if smooth => {
+                    if values[i] < threshold {
+                        [20, 20, 20]
+                    } else {
+                        [255, 255, 255]
+                    }
+                }
+                _ => super::analyze::sweep_colour(kind, values[i]),
+            }
+        };
+        let (w, h) = (size as u32, if plane.is_line() { (size as u32 / 6).max(8) } else { size as u32 });
+        let img = image::RgbImage::from_fn(w, h, |i, j| {
+            image::Rgb(colour(if plane.is_line() { i as usize } else { j as usize * size + i as usize }))
+        });
         let mut png = Vec::new();
         image::codecs::png::PngEncoder::new(&mut png)
             .write_image(img.as_raw(), img.width(), img.height(), image::ExtendedColorType::Rgb8)
             .map_err(|e| Answer::error(500, e))?;
-        if let Ok(mut m) = self.maps.lock() {
-            m.insert(key, png.clone());
-        }
         Ok(png)
+    }
+
+    /// The sweep of `kind` over `plane`, computed band by band (a newer map
+    /// or the budget stops it between bands) and kept for the next request.
+    fn swept(
+        &self,
+        plane: &bcifs::analysis::ParameterPlane,
+        kind: SweepKind,
+        cancel: &Cancel,
+    ) -> std::result::Result<bcifs::render::SweepValues, Answer> {
+        let key = format!("{}|{plane:?}", kind.name());
+        if let Some(values) = self.sweeps.lock().ok().and_then(|m| m.get(&key).cloned()) {
+            return Ok(values);
+        }
+        let rows = plane.size.1;
+        let mut values: Option<bcifs::render::SweepValues> = None;
+        for start in (0..rows).step_by(16) {
+            if cancel.is_cancelled() {
+                return Err(Answer::error(409, "cancelled: a newer request, or over the time budget"));
+            }
+            let band = bcifs::render::sweep(&self.design, plane, kind, false, start..(start + 16).min(rows))
+                .map_err(|e| Answer::error(422, e))?;
+            values = Some(match values {
+                None => band,
+                Some(v) => v.append(band),
+            });
+        }
+        let values = values.ok_or_else(|| Answer::error(400, "an empty map"))?;
+        if let Ok(mut m) = self.sweeps.lock() {
+            m.insert(key, values.clone());
+        }
+        Ok(values)
     }
 
     /// The answer to `GET path?query`.
@@ -323,6 +400,10 @@ impl Explorer {
                 Answer { status: 200, kind: "text/javascript; charset=utf-8", body: SCRIPT.into(), download: None }
             }
             "/api/design" => Answer::json(&self.design_json()),
+            "/api/bye" => match query.get("session").filter(|s| !s.is_empty()) {
+                Some(session) => Answer::json(&json!({ "cancelled": self.bye(session) })),
+                None => Answer::error(400, "`session`: the page whose requests stop"),
+            },
             "/api/check" => match self.values(query) {
                 Err(a) => a,
                 Ok(values) => match bcifs::render::check_report(&self.design, &values) {
@@ -344,12 +425,9 @@ impl Explorer {
             },
             "/api/picture.png" => {
                 let cancel = self.cancel_for(slot, seq);
-                match self.options(query, cancel) {
+                match self.options(query, cancel).and_then(|options| self.picture(&options)) {
+                    Ok(body) => Answer { status: 200, kind: "image/png", body, download: None },
                     Err(a) => a,
-                    Ok(options) => match self.render_bytes(&options, "png") {
-                        Ok(body) => Answer { status: 200, kind: "image/png", body, download: None },
-                        Err(a) => a,
-                    },
                 }
             }
             "/api/map.png" => {
@@ -398,6 +476,17 @@ impl Explorer {
             },
         }
     }
+}
+
+/// `FROM:TO`, finite and increasing.
+fn parse_range(key: &str, text: &str) -> std::result::Result<(f64, f64), Answer> {
+    let bad = || Answer::error(400, format!("{key} `{text}`: expected FROM:TO, finite, FROM < TO"));
+    let (a, b) = text.split_once(':').ok_or_else(bad)?;
+    let (a, b): (f64, f64) = (a.trim().parse().map_err(|_| bad())?, b.trim().parse().map_err(|_| bad())?);
+    if !(a.is_finite() && b.is_finite() && a < b) {
+        return Err(bad());
+    }
+    Ok((a, b))
 }
 
 /// `WxH` within [`MAX_SIDE`].
@@ -463,10 +552,15 @@ fn serve(explorer: &Explorer, mut request: tiny_http::Request) {
     let url = request.url().to_string();
     let (path, query) = url.split_once('?').unwrap_or((&url, ""));
     let path = decode(path);
-    let answer = if *request.method() != tiny_http::Method::Get {
-        // Drain what was sent, then refuse: the API only reads.
+    let method = request.method().clone();
+    // The page's goodbye comes as a beacon (a POST); everything else only reads.
+    let beacon = method == tiny_http::Method::Post && path == "/api/bye";
+    if method != tiny_http::Method::Get {
+        // Drain what was sent.
         let _ = std::io::copy(&mut request.as_reader().take(1 << 20), &mut std::io::sink());
-        Answer::error(405, "only GET is served")
+    }
+    let answer = if method != tiny_http::Method::Get && !beacon {
+        Answer::error(405, "only GET is served (and POST /api/bye)")
     } else {
         // A panic in a request is a 500, not a dead worker.
         std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| explorer.answer(&path, &Query::parse(query))))
