@@ -1,4 +1,4 @@
-//! The local corner-cutting curve of seed 004 §3 built in code: the same
+//! The local corner-cutting curve of Sokolov et al. 2010 §3 built in code: the same
 //! design as `automata/corner_cutting.toml`, solved exactly, instantiated
 //! at the parameters you pick, evaluated and written as OBJ.
 //!

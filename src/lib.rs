@@ -61,11 +61,11 @@
 //! [`Automaton`] → [`eval`] → [`geometry`] → [`export`].
 //!
 //! Automaton files ([`parse_design`], [`write_design`]) go through the same
-//! builder, and so do the seeds' schemes in [`schemes`]: each generator
+//! builder, and so do the papers' schemes in [`schemes`]: each generator
 //! returns a [`Design`] with a model.
 //!
 //! ```
-//! // The Koch curve of the normal-vector scheme (seed 000, eq. 5) as an automaton.
+//! // The Koch curve of the normal-vector scheme (Li et al. 2013, eq. 5) as an automaton.
 //! let koch = bcifs::schemes::normal_preset("koch").unwrap();
 //! let design = koch.design().unwrap();
 //! let instance = bcifs::instantiate(&design, &[]).unwrap();

@@ -542,7 +542,7 @@ fn exact_value(v: &Bound<'_, PyAny>) -> PyResult<bcifs::Num> {
 }
 
 /// A curve family's differential behaviour at the given parameter values
-/// (seed 004 §4): the object `bcifs analyze curve --json` prints
+/// (Sokolov et al. 2010 §4): the object `bcifs analyze curve --json` prints
 /// (convergence, eigenvalues, half-tangents, junction angle, region of
 /// Fig. 8, and the exact answers when the halves are rational 3 × 3).
 /// Values are read exactly: `a="1/20"`, `a=Fraction(1, 20)` and `a=0.05`

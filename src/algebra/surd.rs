@@ -3,7 +3,7 @@
 //! files whose entries are exact (`1/2 - sqrt(3)/6`, not `0.2113248654…`)
 //! and whose column sums are exactly 1.
 //!
-//! The seeds' parameters are all of this kind: `√3/4` (Sierpinski, seed 000
+//! The papers' parameters are all of this kind: `√3/4` (Sierpinski, Li et al. 2013
 //! eq. 3), `√3/6` (Koch, eq. 5), `-√3/18` (crown), rationals elsewhere.
 
 use std::fmt;

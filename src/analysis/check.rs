@@ -26,7 +26,7 @@ pub struct CheckReport {
     /// Eigenvalues of every square subdivision arrow, by arrow name.
     pub spectra: Vec<(String, Vec<Complex<f64>>)>,
     /// Whether every square subdivision arrow has, besides one eigenvalue 1,
-    /// only eigenvalues of modulus < 1: the per-matrix condition of seed 004
+    /// only eigenvalues of modulus < 1: the per-matrix condition of Sokolov et al. 2010
     /// §3, which is necessary for convergence but not sufficient.
     pub contractive: bool,
     /// Bounds on the joint spectral radius on the difference subspaces

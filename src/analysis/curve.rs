@@ -1,4 +1,4 @@
-//! Differential behaviour of a BC-IFS curve at a parameter point (seed 004
+//! Differential behaviour of a BC-IFS curve at a parameter point (Sokolov et al. 2010
 //! §4): eigenvalues, half-tangents, the junction angle, and the region of
 //! the cartography (Fig. 8).
 //!
@@ -19,7 +19,7 @@
 //! `d_in = T0 (β_R v_R¹)` (the image of the direction in which `F` arrives at
 //! `F(1)`) and the right piece `T1 F` leaves along `d_out = T1 (α_L v_L⁰)`;
 //! the junction angle is the angle between them in barycentric coordinates
-//! (0: a tangent, π: a cusp), as seed 004 §6 measures roughness.
+//! (0: a tangent, π: a cusp), as Sokolov et al. 2010 §6 measures roughness.
 //!
 //! Regions (§4.3, for three-point curves, the rule stated generally): a
 //! half-tangent is *inner* when its eigenvector has a zero coordinate (it
@@ -58,7 +58,7 @@ pub struct CurveReport {
     pub junction_angle_deg: Option<f64>,
     /// Half-tangents collinear at the junction (§4.2's necessary condition for C1).
     pub c1_necessary: bool,
-    /// The region of seed 004 Fig. 8 (before the convergence verdict is taken into account).
+    /// The region of Sokolov et al. 2010 Fig. 8 (before the convergence verdict is taken into account).
     pub region: Option<&'static str>,
 }
 
@@ -213,7 +213,7 @@ pub(crate) fn region(inner: [bool; 2], tangent: bool, alpha_negative: bool, smal
     }
 }
 
-/// The blending functions of a curve (seed 004 §5, Fig. 9).
+/// The blending functions of a curve (Sokolov et al. 2010 §5, Fig. 9).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Blending {
     /// The natural parameters `t = j / 2^depth`, `0..=1`.

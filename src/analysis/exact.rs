@@ -234,7 +234,7 @@ pub struct ExactCurveReport {
     pub junction_angle_deg: Option<f64>,
     /// The half-tangents at the junction are collinear (exactly).
     pub c1_necessary: bool,
-    /// The region of seed 004 Fig. 8, decided exactly.
+    /// The region of Sokolov et al. 2010 Fig. 8, decided exactly.
     pub region: Option<&'static str>,
 }
 

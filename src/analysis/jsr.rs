@@ -8,7 +8,7 @@
 //! the restricted matrices, over the admissible paths of each strongly
 //! connected part of the automaton, is below 1. It diverges when some cycle's
 //! product has a restricted spectral radius `ρ(P)^(1/length) ≥ 1`: its powers
-//! do not shrink the differences. Per-matrix eigenvalues (seed 004 §3) give a
+//! do not shrink the differences. Per-matrix eigenvalues (Sokolov et al. 2010 §3) give a
 //! necessary condition only.
 //!
 //! - **Lower bound**: `max ρ(P)^(1/|P|)` over the cycles of length up to

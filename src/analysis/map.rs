@@ -14,11 +14,11 @@ pub struct MapCell {
     /// What the joint spectral radius bounds prove.
     pub verdict: Verdict,
     /// Whether every square subdivision matrix passes the per-matrix
-    /// eigenvalue test (seed 004 §3: necessary, not sufficient).
+    /// eigenvalue test (Sokolov et al. 2010 §3: necessary, not sufficient).
     pub per_matrix: bool,
 }
 
-/// The per-matrix condition of seed 004 §3: every square subdivision arrow
+/// The per-matrix condition of Sokolov et al. 2010 §3: every square subdivision arrow
 /// has one eigenvalue 1 and all others of modulus below 1.
 pub fn per_matrix_condition(automaton: &Automaton<f64>) -> bool {
     automaton.arrows().all(|(id, a)| {
@@ -160,14 +160,14 @@ fn over_rows<T: Send>(
 pub struct CurveCell {
     /// The joint spectral radius verdict.
     pub verdict: Verdict,
-    /// Seed 004 §3's per-matrix condition.
+    /// Sokolov et al. 2010 §3's per-matrix condition.
     pub per_matrix: bool,
     /// Half-tangents, junction angle and region (`None` when the pixel does not instantiate).
     pub report: Option<super::curve::CurveReport>,
 }
 
 impl CurveCell {
-    /// The region of seed 004 Fig. 8 where the bounds prove convergence,
+    /// The region of Sokolov et al. 2010 Fig. 8 where the bounds prove convergence,
     /// `divergent` where they prove divergence, `None` where undecided.
     pub fn region(&self) -> Option<&'static str> {
         match self.verdict {

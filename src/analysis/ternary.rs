@@ -1,5 +1,5 @@
 //! Continuity and fractal ranges of the ternary 5-point scheme with tension
-//! ω (seed 003, [`crate::schemes::ternary_five_point`]): the derivation the
+//! ω (Siddiqi et al. 2014, [`crate::schemes::ternary_five_point`]): the derivation the
 //! paper's text breaks off.
 //!
 //! The paper's text stops after eq. (4), `U_{k+1} - 35/81 U_k = -4/81 Z_k`

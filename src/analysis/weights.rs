@@ -106,7 +106,7 @@ pub fn check_quad_weights(weights: &QuadWeights) -> Result<WeightsVerdict, Weigh
 /// have the valences `valences`: finite; at each valence the 1-ring's
 /// eigenvalues on the differences below 1 in modulus (necessary); the
 /// joint spectral radius bounds of the regular box-spline hexagon with
-/// these weights (seed 001 §3.2's six-map IFS; sufficient for the
+/// these weights (Schaefer et al. 2005 §3.2's six-map IFS; sufficient for the
 /// regular parts when they decide).
 ///
 /// # Errors

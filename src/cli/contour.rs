@@ -1,4 +1,4 @@
-//! `bcifs contour`: contours as Bézier fractals (seed 002).
+//! `bcifs contour`: contours as Bézier fractals (the Bézier-fractal contours paper).
 
 use std::fmt::Write as _;
 use std::path::PathBuf;

@@ -98,7 +98,7 @@ pub fn run_check(out: &mut String, file: &str, params: &[String], as_json: bool)
         }
         writeln!(
             out,
-            "  per-matrix condition (seed 004 §3, necessary only): {}",
+            "  per-matrix condition (Sokolov et al. 2010 §3, necessary only): {}",
             if report.contractive { "holds" } else { "fails" }
         )?;
         match &report.jsr {

@@ -21,8 +21,10 @@ fn render(design: &Design, options: &RenderOptions, out: &Path) -> Result<Render
     Ok(report)
 }
 
-/// In-memory output budget of a gallery picture.
-pub const GALLERY_BUDGET_BYTES: u128 = 12 << 20;
+/// In-memory output budget of a gallery entry (`gallery --full`: [`GALLERY_FULL_BUDGET_BYTES`]).
+pub const GALLERY_BUDGET_BYTES: u128 = 1 << 20;
+/// The deep versions' budget (`gallery --full`).
+pub const GALLERY_FULL_BUDGET_BYTES: u128 = 12 << 20;
 /// Deepest gallery depth.
 pub const GALLERY_MAX_DEPTH: usize = 16;
 
@@ -45,11 +47,11 @@ pub struct GalleryEntry {
 ///
 /// # Errors
 /// The design cannot be evaluated.
-pub fn gallery_depth(design: &Design) -> Result<usize, RenderError> {
+pub fn gallery_depth(design: &Design, budget: u128) -> Result<usize, RenderError> {
     let model = model_of(design)?;
     let instance = instantiate(design, &[])?;
     let ev = Evaluator::new(&instance.automaton, &model, EvalSettings::default())?;
-    Ok((1..=GALLERY_MAX_DEPTH).take_while(|&k| ev.estimate_bytes(k) <= GALLERY_BUDGET_BYTES).last().unwrap_or(1))
+    Ok((1..=GALLERY_MAX_DEPTH).take_while(|&k| ev.estimate_bytes(k) <= budget).last().unwrap_or(1))
 }
 
 /// The tolerance of a plain IFS picture (deterministic points within it
@@ -58,7 +60,7 @@ pub fn gallery_depth(design: &Design) -> Result<usize, RenderError> {
 ///
 /// # Errors
 /// The design cannot be evaluated.
-pub fn gallery_tolerance(design: &Design) -> Result<Option<f64>, RenderError> {
+pub fn gallery_tolerance(design: &Design, budget: u128) -> Result<Option<f64>, RenderError> {
     let model = model_of(design)?;
     let instance = instantiate(design, &[])?;
     let coarse = Evaluator::new(&instance.automaton, &model, EvalSettings::default().with_depth(4))?.evaluate()?;
@@ -68,7 +70,7 @@ pub fn gallery_tolerance(design: &Design) -> Result<Option<f64>, RenderError> {
         return Ok(None);
     }
     let eps = extent / 400.0;
-    let settings = EvalSettings::default().with_tolerance(eps).with_memory_limit(3 * GALLERY_BUDGET_BYTES as usize);
+    let settings = EvalSettings::default().with_tolerance(eps).with_memory_limit(3 * budget as usize);
     match Evaluator::new(&instance.automaton, &model, settings)?.evaluate() {
         Ok(_) => Ok(Some(eps)),
         Err(bcifs::eval::EvalError::TooLarge { .. }) => Ok(None),
@@ -102,7 +104,7 @@ fn mesh_textures(
     let mut items = Vec::new();
     let mut all = Shape::default();
     for (i, (w, label)) in textures.iter().enumerate() {
-        let Ok(shape) = mesh.limit_with(scheme, depth, Some(*w), GALLERY_BUDGET_BYTES as usize) else {
+        let Ok(shape) = mesh.limit_with(scheme, depth, Some(*w), GALLERY_FULL_BUDGET_BYTES as usize) else {
             continue;
         };
         let (dx, dy) = (3.5 * (i % 3) as f64, -3.5 * (i / 3) as f64);
@@ -116,7 +118,7 @@ fn mesh_textures(
         let _ = all.triangles(&triangles);
         items.push((
             format!("{name}-texture-{}", i + 1),
-            format!("{what}, weights {label} (seed 004 Fig. 12)"),
+            format!("{what}, weights {label} (Sokolov et al. 2010 Fig. 12)"),
             GallerySource::Shape(Box::new(shape), depth),
         ));
     }
@@ -124,7 +126,7 @@ fn mesh_textures(
         0,
         (
             format!("{name}-textures"),
-            format!("six geometric textures of {what}: weight sets of the family (seed 004 Fig. 12)"),
+            format!("six geometric textures of {what}: weight sets of the family (Sokolov et al. 2010 Fig. 12)"),
             GallerySource::Shape(Box::new(all), depth),
         ),
     );
@@ -169,7 +171,7 @@ fn mesh_automata() -> Vec<(String, String, GallerySource)> {
 /// The silhouette the contour example fits (drawn by a test: `docs/silhouette.png`).
 const SILHOUETTE: &[u8] = include_bytes!("../../docs/silhouette.png");
 
-/// Seed 002's pipeline on the shipped silhouette: the fitted contour's
+/// the Bézier-fractal contours paper's pipeline on the shipped silhouette: the fitted contour's
 /// automaton, the iterations 0, 3, 6, 9 of its maps from a rectangle (Figs.
 /// 5–6) and the chaos game after 10, 50, 300 points per map (Fig. 7), side
 /// by side. Pixel coordinates are turned y-up for the pictures.
@@ -188,7 +190,7 @@ fn contour_example() -> Vec<(String, String, GallerySource)> {
     if let Ok(design) = bcifs::contour::contour_design("contour-fitted", &segments) {
         let arcs = segments.iter().filter(|s| s.is_arc()).count();
         let what = format!(
-            "a silhouette fitted by {arcs} quadratic Bézier arcs and {} line segments (seed 002 §6)",
+            "a silhouette fitted by {arcs} quadratic Bézier arcs and {} line segments (the Bézier-fractal contours paper §6)",
             segments.len() - arcs
         );
         items.push(("contour-fitted".to_string(), what, GallerySource::Design(Box::new(design), Some(8))));
@@ -209,7 +211,7 @@ fn contour_example() -> Vec<(String, String, GallerySource)> {
     }
     items.push((
         "contour-iterations".into(),
-        "iterations 0, 3, 6, 9 of the fitted contour's maps from a rectangle (seed 002 Figs. 5–6)".into(),
+        "iterations 0, 3, 6, 9 of the fitted contour's maps from a rectangle (the Bézier-fractal contours paper Figs. 5–6)".into(),
         GallerySource::Shape(Box::new(iterations), 9),
     ));
     let mut chaos = Shape::default();
@@ -223,7 +225,7 @@ fn contour_example() -> Vec<(String, String, GallerySource)> {
     }
     items.push((
         "contour-chaos".into(),
-        "the chaos game of the fitted contour after 10, 50 and 300 points per map, p ∝ |det| (seed 002 Fig. 7)".into(),
+        "the chaos game of the fitted contour after 10, 50 and 300 points per map, p ∝ |det| (the Bézier-fractal contours paper Fig. 7)".into(),
         GallerySource::Shape(Box::new(chaos), 1),
     ));
     items
@@ -240,8 +242,8 @@ pub enum GallerySource {
 }
 
 /// The gallery: every shipped automaton with a model, every normal-vector
-/// preset of seed 000 at the paper's depth, every scheme of the catalogue
-/// (seeds 001 and 003): `(name, description, source)`.
+/// preset of Li et al. 2013 at the paper's depth, every scheme of the catalogue
+/// (Schaefer et al. 2005 and Siddiqi et al. 2014): `(name, description, source)`.
 pub fn gallery_items() -> Vec<(String, String, GallerySource)> {
     let mut items: Vec<(String, String, GallerySource)> = bcifs::BUILTIN_AUTOMATA
         .iter()
@@ -252,10 +254,11 @@ pub fn gallery_items() -> Vec<(String, String, GallerySource)> {
     for name in bcifs::schemes::PRESET_NAMES {
         let Ok(preset) = bcifs::schemes::normal_preset(name) else { continue };
         let entry = format!("normal-{name}");
-        let description = format!("{} (normal-vector scheme, seed 000)", preset.description);
+        let description = format!("{} (normal-vector scheme, Li et al. 2013)", preset.description);
         let source = match preset.scheme.design(&entry, &preset.polygon, preset.closed) {
             Ok(design) => GallerySource::Design(Box::new(design), Some(preset.depth)),
-            Err(_) => match normal_shape(&preset, preset.depth, SchemeForm::Direct, GALLERY_BUDGET_BYTES as usize) {
+            Err(_) => match normal_shape(&preset, preset.depth, SchemeForm::Direct, GALLERY_FULL_BUDGET_BYTES as usize)
+            {
                 Ok(shape) => GallerySource::Shape(Box::new(shape), preset.depth),
                 Err(_) => continue,
             },
@@ -278,7 +281,13 @@ pub fn gallery_items() -> Vec<(String, String, GallerySource)> {
 ///
 /// # Errors
 /// The first entry that fails, or an I/O error.
-pub fn gallery(dir: &Path, formats: &[String], progress: Option<&Progress>) -> Result<Vec<GalleryEntry>, RenderError> {
+pub fn gallery(
+    dir: &Path,
+    formats: &[String],
+    budget: u128,
+    progress: Option<&Progress>,
+    entry: &dyn Fn(&str),
+) -> Result<Vec<GalleryEntry>, RenderError> {
     check_gallery_dir(dir)?;
     let mut entries = Vec::new();
     let items = gallery_items();
@@ -287,6 +296,7 @@ pub fn gallery(dir: &Path, formats: &[String], progress: Option<&Progress>) -> R
         if let Some(p) = progress {
             p.report(done as u64, total);
         }
+        entry(&name);
         let png = format!("{name}.png");
         let (depth, summary, files) = match source {
             GallerySource::Shape(shape, depth) => {
@@ -299,7 +309,7 @@ pub fn gallery(dir: &Path, formats: &[String], progress: Option<&Progress>) -> R
                 }
                 (Depth::Fixed(depth), summary, files)
             }
-            GallerySource::Design(design, fixed) => design_entry(dir, &name, &design, fixed, formats)?,
+            GallerySource::Design(design, fixed) => design_entry(dir, &name, &design, (fixed, budget), formats)?,
         };
         entries.push(GalleryEntry { name, description, depth, files, summary });
     }
@@ -333,12 +343,12 @@ fn design_entry(
     dir: &Path,
     name: &str,
     design: &Design,
-    fixed: Option<usize>,
+    (fixed, budget): (Option<usize>, u128),
     formats: &[String],
 ) -> Result<(Depth, RenderSummary, Vec<String>), RenderError> {
     let depth = match fixed {
         Some(d) => d,
-        None => gallery_depth(design)?,
+        None => gallery_depth(design, budget)?,
     };
     let mut options = RenderOptions::default();
     options.eval.depth = Depth::Fixed(depth);
@@ -350,7 +360,7 @@ fn design_entry(
     let affine = root.is_some_and(|r| r.dim <= model.points[0].len() + 1);
     if plain_ifs
         && affine
-        && let Some(eps) = gallery_tolerance(design)?
+        && let Some(eps) = gallery_tolerance(design, budget)?
     {
         options.eval.depth = Depth::Tolerance(eps);
     }
@@ -384,19 +394,82 @@ fn write_index(dir: &Path, entries: &[GalleryEntry]) -> Result<(), RenderError> 
         }
         let obj: Vec<String> =
             e.files.iter().filter(|f| !f.ends_with(".png")).map(|f| format!("<a href=\"{f}\">{f}</a>")).collect();
+        let (command, paper) = caption(&e.name, e.depth);
         let _ = writeln!(
             html,
-            "<figcaption><b>{}</b> — {}<br>{}, {} vertices{}; {}</figcaption></figure>",
+            "<figcaption><b>{}</b> — {}<br>{}, {} vertices{}; {}<br><i>From:</i> {paper}<br><code>{}</code></figcaption></figure>",
             e.name,
             e.description,
             describe(e.depth),
             e.summary.vertices,
             if e.summary.faces > 0 { format!(", {} faces", e.summary.faces) } else { String::new() },
-            obj.join(" ")
+            obj.join(" "),
+            command.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
         );
     }
     html.push_str("</body></html>\n");
     write_atomic(&dir.join("index.html"), html.as_bytes()).map_err(|e| RenderError::Io(dir.join("index.html"), e))
+}
+
+/// The command that makes an entry's picture, and the paper and figure it reproduces.
+fn caption(name: &str, depth: Depth) -> (String, String) {
+    let how = match depth {
+        Depth::Fixed(k) => format!("--depth {k}"),
+        Depth::Tolerance(eps) => format!("--tolerance {eps:.4}"),
+    };
+    let texture = |scheme: &str, mesh: &str, params: String| {
+        format!("bcifs surface tests/data/{mesh} --scheme {scheme} {params}{how} -o {name}.png")
+    };
+    let numbered = |prefix: &str| name.strip_prefix(prefix).and_then(|k| k.parse::<usize>().ok()).filter(|k| *k >= 1);
+    let command = if let Some(k) = numbered("cube-texture-") {
+        let w = bcifs::mesh::QuadWeights::TEXTURES[(k - 1).min(5)];
+        texture(
+            "doo-sabin",
+            "cube.off",
+            format!("--param alpha={} --param beta={} --param gamma={} ", w.alpha, w.beta, w.gamma),
+        )
+    } else if let Some(k) = numbered("icosahedron-texture-") {
+        let w = bcifs::mesh::LoopWeights::TEXTURES[(k - 1).min(5)];
+        texture("loop", "icosahedron.off", format!("--param w={} --param sigma={} ", w.w, w.sigma))
+    } else if let Some(preset) = name.strip_prefix("normal-") {
+        format!(
+            "bcifs scheme normal --preset {preset} --depth {} -o {name}.png",
+            match depth {
+                Depth::Fixed(k) => k,
+                _ => 6,
+            }
+        )
+    } else if name == "cube-corners" {
+        format!(
+            "bcifs surface tests/data/cube.off --scheme doo-sabin --print -o cube.toml && bcifs render cube.toml --param a3_0=0.45 --param a3_2=0.45 {how} -o {name}.png"
+        )
+    } else if name == "contour-fitted" {
+        format!(
+            "bcifs contour fit docs/silhouette.png -o s.toml && bcifs contour automaton s.toml > c.toml && bcifs render c.toml {how} -o {name}.png (the gallery turns the picture's y up)"
+        )
+    } else if name.ends_with("-textures") || name.starts_with("contour-") || name == "density" {
+        "made by the gallery from the entries beside it (bcifs gallery)".to_string()
+    } else {
+        format!("bcifs render {name} {how} -o {name}.png")
+    };
+    let paper = match name {
+        "corner_cutting" => "Sokolov et al. 2010, §3 (the corner-cutting family)",
+        "curve_4_3" => "Sokolov et al. 2010, §2 (a BC-IFS curve of 4 control points)",
+        "doo_sabin_quad" | "doo_sabin_torus" => "Sokolov et al. 2010, §5 (Doo-Sabin-like patches)",
+        "fern_sierpinski" => "Sokolov et al. 2010, §2 (a controlled IFS of two states)",
+        "fern" | "gasket" => "a classic IFS (Barnsley's fern, Sierpinski's gasket)",
+        "koch" => "Li et al. 2013, Fig. 6a (Koch curve, scheme (5))",
+        "levy" => "Li et al. 2013, Fig. 2 (Lévy C curve, scheme (2))",
+        n if n.starts_with("normal-") => "Li et al. 2013 (the figure is in the description)",
+        n if n.starts_with("cube-") || n.starts_with("icosahedron-") => {
+            "Sokolov et al. 2010, Fig. 12 (geometric textures)"
+        }
+        n if n.starts_with("contour-") => "the Bézier-fractal contours paper (figure in the description)",
+        n if n.starts_with("ternary5") => "Siddiqi et al. 2014",
+        "density" => "the chaos game as density images (flame renderers' tone mapping)",
+        _ => "Schaefer et al. 2005 (section and figure in the description)",
+    };
+    (command, paper.to_string())
 }
 
 /// Sample counts of the density page.
@@ -473,23 +546,45 @@ fn density_page(dir: &Path) -> Result<GalleryEntry, RenderError> {
 }
 
 /// `bcifs gallery DIR`: renders the gallery and lists what it wrote.
-pub fn run(out: &mut String, dir: &Path, formats: &[String]) -> anyhow::Result<u8> {
+pub fn run(out: &mut String, dir: &Path, formats: &[String], full: bool) -> anyhow::Result<u8> {
     let started = std::time::Instant::now();
-    let entries = gallery(dir, formats, progress_bar().as_ref())?;
+    let budget = if full { GALLERY_FULL_BUDGET_BYTES } else { GALLERY_BUDGET_BYTES };
+    let count = gallery_items().len() + 1;
+    // What it will write, before it starts (measured: the default gallery is about 70 MB, --full 330 MB).
+    let (size, other) = if full { ("330", "") } else { ("70", "; --full: the deep versions, about 330 MB") };
+    eprintln!(
+        "bcifs gallery: {count} entries into {}: a PNG and {} each and index.html, about {size} MB{other}",
+        dir.display(),
+        formats.iter().map(|f| f.to_uppercase()).collect::<Vec<_>>().join(", ")
+    );
+    let bar = progress_bar();
+    let done = std::cell::Cell::new(0usize);
+    let terminal = bar.is_some();
+    let entries = gallery(dir, formats, budget, bar.as_ref(), &|name| {
+        done.set(done.get() + 1);
+        if terminal {
+            eprintln!("  [{}/{count}] {name}", done.get());
+        }
+    })?;
+    let mut bytes = 0u64;
     for e in &entries {
+        let size: u64 = e.files.iter().filter_map(|f| std::fs::metadata(dir.join(f)).ok()).map(|m| m.len()).sum();
+        bytes += size;
         writeln!(
             out,
-            "{:<20} {:<16} {:>9} vertices  {}",
+            "{:<20} {:<16} {:>9} vertices  {:>7.1} MB  {}",
             e.name,
             describe(e.depth),
             e.summary.vertices,
+            size as f64 / 1e6,
             e.files.join(", ")
         )?;
     }
     writeln!(
         out,
-        "{} automata → {} ({:.1} s)",
+        "{} entries, {:.0} MB → {} ({:.1} s)",
         entries.len(),
+        bytes as f64 / 1e6,
         dir.join("index.html").display(),
         started.elapsed().as_secs_f64()
     )?;

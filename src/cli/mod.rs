@@ -67,8 +67,12 @@ enum Command {
         /// that hold curves, surfaces and clouds alike).
         #[arg(long = "format", default_values_t = [String::from("obj")], value_parser = ["obj", "ply", "glb"])]
         formats: Vec<String>,
+        /// The deep versions: every entry to the depth whose output takes 12 MiB in memory
+        /// (about 330 MB on disk) instead of 1 MiB (about 70 MB).
+        #[arg(long)]
+        full: bool,
     },
-    /// Generate the seeds' subdivision schemes: render them or print their automaton.
+    /// Generate the papers' subdivision schemes: render them or print their automaton.
     Scheme {
         #[command(subcommand)]
         scheme: SchemeCommand,
@@ -78,7 +82,7 @@ enum Command {
         #[command(subcommand)]
         what: AnalyzeCommand,
     },
-    /// Contours as Bézier fractals (seed 002): the maps of a segments file, or its automaton.
+    /// Contours as Bézier fractals (the Bézier-fractal contours paper): the maps of a segments file, or its automaton.
     Contour {
         #[command(subcommand)]
         what: contour::ContourCommand,
@@ -98,6 +102,37 @@ enum Command {
     /// A local web page to explore a family: sliders for its parameters, its
     /// verdict and region maps, the attractor, checks and exports, live.
     Explore(explore::ExploreArgs),
+    /// Print the command-line reference as Markdown (the guide's `reference/cli.md`).
+    #[command(hide = true)]
+    Reference,
+}
+
+/// The command-line reference, every command's long help, as Markdown: the
+/// guide's page is this output (a test keeps them equal).
+fn reference_markdown() -> String {
+    use clap::CommandFactory as _;
+    fn walk(cmd: &mut clap::Command, path: &str, out: &mut String) {
+        let name = if path.is_empty() { cmd.get_name().to_string() } else { format!("{path} {}", cmd.get_name()) };
+        if cmd.is_hide_set() || cmd.get_name() == "help" {
+            return;
+        }
+        let level = "#".repeat((name.matches(' ').count() + 2).min(4));
+        let help = cmd.render_long_help().to_string();
+        let _ =
+            std::fmt::Write::write_fmt(out, format_args!("{level} `{name}`\n\n```text\n{}\n```\n\n", help.trim_end()));
+        let mut subs: Vec<clap::Command> = cmd.get_subcommands().cloned().collect();
+        for sub in &mut subs {
+            walk(sub, &name, out);
+        }
+    }
+    let mut out = String::from(
+        "# Command-line reference\n\nEvery command's `--help`, generated from the program itself (`bcifs reference`; \
+         a test checks that this page is its output).\n\n",
+    );
+    let mut cmd = Cli::command();
+    cmd.build();
+    walk(&mut cmd, "", &mut out);
+    out
 }
 
 fn keyword<T: Copy>(what: &str, value: &str, options: &[(&str, T)]) -> Result<T> {
@@ -257,7 +292,7 @@ fn run(out: &mut String, cli: Cli) -> Result<u8> {
         Command::Check { file, params, json } => core::run_check(out, &file, &params, json),
         Command::Render(args) => render::run(args),
         Command::Surface(args) => surface::run(out, args),
-        Command::Gallery { dir, formats } => gallery::run(out, &dir, &formats),
+        Command::Gallery { dir, formats, full } => gallery::run(out, &dir, &formats, full),
         Command::Analyze { what } => analyze::run(out, what),
         Command::Contour { what } => contour::run(out, what),
         Command::Scheme { scheme } => scheme::run(out, scheme),
@@ -265,6 +300,10 @@ fn run(out: &mut String, cli: Cli) -> Result<u8> {
         Command::List => core::run_list(out),
         Command::Show { name } => core::run_show(out, &name),
         Command::Explore(args) => explore::run(args),
+        Command::Reference => {
+            out.push_str(&reference_markdown());
+            Ok(0)
+        }
     }
 }
 

@@ -1,4 +1,4 @@
-//! `bcifs scheme`: the seeds' schemes, rendered or printed as automaton files.
+//! `bcifs scheme`: the papers' schemes, rendered or printed as automaton files.
 
 use std::path::PathBuf;
 
@@ -11,9 +11,9 @@ use bcifs::render::{Options as RenderOptions, render, write_shape};
 
 #[derive(Subcommand)]
 pub enum SchemeCommand {
-    /// The p-ary normal-vector scheme of Li, Zheng, Peng and Zhou (seed 000, eq. 1).
+    /// The p-ary normal-vector scheme of Li, Zheng, Peng and Zhou (Li et al. 2013, eq. 1).
     Normal(NormalArgs),
-    /// Stationary schemes as IFS (seed 001) and the ternary 5-point scheme (seed 003):
+    /// Stationary schemes as IFS (Schaefer et al. 2005) and the ternary 5-point scheme (Siddiqi et al. 2014):
     /// bspline, bspline-end, bezier, bezier-union, four-point, koch-control,
     /// sierpinski-control, bicubic, box-spline, box-spline-gasket, box-spline-quad,
     /// sqrt3-patch, ternary5, ternary5-closed, ternary5-surface, ternary5-torus.

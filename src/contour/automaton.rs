@@ -1,4 +1,4 @@
-//! The automaton of a whole contour (seed 002 §§4–6): its pieces chained
+//! The automaton of a whole contour (the Bézier-fractal contours paper §§4–6): its pieces chained
 //! into one curve, arcs as Bézier edge states (the de Casteljau halves `L`,
 //! `M` as column-stochastic barycentric matrices, so collinear control
 //! points need no inverse), line segments as two-point edge states, each
@@ -102,7 +102,7 @@ pub fn contour_design(name: &str, segments: &[Segment]) -> Result<Design, Contou
     let mut b = Design::builder(name);
     let arcs = pieces.iter().filter(|s| s.is_arc()).count();
     b.description(format!(
-        "{} contour of {arcs} quadratic Bézier arcs and {} line segments (seed 002)",
+        "{} contour of {arcs} quadratic Bézier arcs and {} line segments (the Bézier-fractal contours paper)",
         if closed { "closed" } else { "open" },
         pieces.len() - arcs
     ));

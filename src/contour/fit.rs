@@ -1,4 +1,4 @@
-//! From a picture to a segments file (seed 002 §6): threshold, the outer
+//! From a picture to a segments file (the Bézier-fractal contours paper §6): threshold, the outer
 //! contour of the largest shape, corners by IPAN99, and each piece between
 //! corners fitted by a line segment or a quadratic Bézier arc, split further
 //! where the fit is off by more than the tolerance.

@@ -1,4 +1,4 @@
-//! Contours as Bézier fractals (seed 002): segments files of quadratic
+//! Contours as Bézier fractals (the Bézier-fractal contours paper): segments files of quadratic
 //! Bézier arcs and line segments, their IFS in the paper's convention, and
 //! the automaton of a whole contour.
 

@@ -1,4 +1,4 @@
-//! Contour pieces (seed 002): quadratic Bézier arcs and line segments, the
+//! Contour pieces (the Bézier-fractal contours paper): quadratic Bézier arcs and line segments, the
 //! segments file that lists them, and their IFS in the paper's convention
 //! (homogeneous row vectors, `[x' y' 1] = [x y 1] F`, eq. 2).
 //!
@@ -96,7 +96,7 @@ fn mul(a: &RowMap, b: &RowMap) -> RowMap {
 /// `P` the rows `[xᵢ yᵢ 1]`; `None` when the points are collinear.
 ///
 /// ```
-/// // Seed 002 §5, the heart's first arc (-1, 0), (-1, 1), (0, 0): the printed L1.
+/// // the Bézier-fractal contours paper §5, the heart's first arc (-1, 0), (-1, 1), (0, 0): the printed L1.
 /// let [l, _] = bcifs::contour::arc_ifs([-1.0, 0.0], [-1.0, 1.0], [0.0, 0.0]).unwrap();
 /// assert_eq!(l, [[0.25, 0.5, 0.0], [0.0, 0.5, 0.0], [-0.75, 0.5, 1.0]]);
 /// ```
@@ -196,7 +196,7 @@ pub fn write_segments(segments: &[Segment]) -> String {
 }
 
 /// The images of the polygon `start` under every word of length `depth` of
-/// each piece's two maps (Figs. 5–6 of seed 002: iterations from a start
+/// each piece's two maps (Figs. 5–6 of the Bézier-fractal contours paper: iterations from a start
 /// set), piece by piece; pieces without maps of the plane (collinear arcs)
 /// are left out.
 pub fn iterate_polygon(segments: &[Segment], start: &[[f64; 2]], depth: usize) -> Vec<Vec<[f64; 2]>> {
@@ -214,9 +214,9 @@ pub fn iterate_polygon(segments: &[Segment], start: &[[f64; 2]], depth: usize) -
     out
 }
 
-/// The chaos game of each piece (Fig. 7 of seed 002): `per_map` points per
+/// The chaos game of each piece (Fig. 7 of the Bézier-fractal contours paper): `per_map` points per
 /// map, each the image of the last by a map drawn with probability `∝ |det|`
-/// (seed 002 §2.2), from the piece's start point; a fixed seed.
+/// (the Bézier-fractal contours paper §2.2), from the piece's start point; a fixed seed.
 pub fn chaos_points(segments: &[Segment], per_map: usize, seed: u64) -> Vec<[f64; 2]> {
     let apply = |p: [f64; 2], f: &RowMap| [0, 1].map(|j| p[0] * f[0][j] + p[1] * f[1][j] + f[2][j]);
     let det = |f: &RowMap| (f[0][0] * f[1][1] - f[0][1] * f[1][0]).abs();

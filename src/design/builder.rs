@@ -72,7 +72,7 @@ pub(super) enum Last {
 ///
 /// ```
 /// use bcifs::{CellKind, Design, Layout, Model};
-/// // The local corner-cutting curve of seed 004 §3, as in automata/corner_cutting.toml.
+/// // The local corner-cutting curve of Sokolov et al. 2010 §3, as in automata/corner_cutting.toml.
 /// let design = Design::builder("corner_cutting")
 ///     .state("e", 3, CellKind::Edge)
 ///     .state("v", 2, CellKind::Vertex)

@@ -50,7 +50,7 @@ pub enum Layout {
     /// Like `Frames`, closing the polygon.
     ClosedFrames,
     /// Separate pieces: piece `i` takes the next `dim(root_i)` control points
-    /// (a union of attractors, seed 001 §2.2); nothing is shared or joined.
+    /// (a union of attractors, Schaefer et al. 2005 §2.2); nothing is shared or joined.
     Union,
     /// Pieces cut by explicit lists of control points (`Model::patches`):
     /// piece `i` is a cell of `roots[i % roots.len()]` on the points
@@ -110,7 +110,7 @@ pub struct Model {
     /// Faces over a state's start set (indices into its points, at least 3
     /// each): every cell of the state at the leaves is meshed by these faces
     /// of its start points, and the images are welded; faces that two cells
-    /// both make are kept once. A patch triangulated by its maps (seed 001
+    /// both make are kept once. A patch triangulated by its maps (Schaefer et al. 2005
     /// §3.2): with the limit points of the cell's vertices as start set, the
     /// mesh's vertices lie on the limit surface.
     pub start_faces: Vec<(String, Vec<Vec<usize>>)>,

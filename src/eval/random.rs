@@ -5,7 +5,7 @@
 //! `X → Y` (DESIGN §1), so from `Y` the walk picks an incoming arrow with its
 //! probability, moves `λ` and the state, and emits `P λ` whenever it is at
 //! the root. Default probabilities are proportional to `|det M|` (the
-//! projected map's area ratio: seed 002 §2.2; on more control points than
+//! projected map's area ratio: the Bézier-fractal contours paper §2.2; on more control points than
 //! the dimension plus one, see [`det_weights`]), with a floor so that
 //! singular maps (the fern's stem) are still visited. When the automaton is
 //! not strongly connected the walk restarts now and then in a random state

@@ -151,7 +151,7 @@ impl PolyMesh {
     }
 
     /// The cube `[-1, 1]³`, faces counter-clockwise seen from outside
-    /// (seed 004 Fig. 12 subdivides it).
+    /// (Sokolov et al. 2010 Fig. 12 subdivides it).
     pub fn cube() -> PolyMesh {
         let positions = (0..8)
             .map(|i| {

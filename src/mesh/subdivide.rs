@@ -35,7 +35,7 @@ impl QuadWeights {
     /// The classic Doo-Sabin weights `(9/16, 3/16, 3/16)`, opposite `1/16`.
     pub const CLASSIC: QuadWeights = QuadWeights { alpha: 0.5625, beta: 0.1875, gamma: 0.1875 };
 
-    /// Seed 004 Fig. 12's "geometric textures" of the cube, as the gallery
+    /// Sokolov et al. 2010 Fig. 12's "geometric textures" of the cube, as the gallery
     /// draws them: the classic smooth surface, a bilinear corner cutting
     /// (`δ = 0`), a creased one, a bulging one, a negative opposite weight and
     /// a chiral rule (`β ≠ γ`, rough). Each passes [`QuadWeights::check`].
@@ -83,7 +83,7 @@ impl LoopWeights {
     pub const CLASSIC: LoopWeights = LoopWeights { w: 0.375, sigma: 1.0 };
 
     /// Geometric textures of a triangle mesh, as the gallery draws them on
-    /// the icosahedron (seed 004 Fig. 12's idea on triangles): Loop, a
+    /// the icosahedron (Sokolov et al. 2010 Fig. 12's idea on triangles): Loop, a
     /// flatter vertex rule, a sharper one, heavier edge ends (bulging),
     /// lighter edge ends (creased) and a negative vertex eigenvalue (rough).
     /// Each passes [`LoopWeights::check`] on the icosahedron.

@@ -1,4 +1,4 @@
-//! What `analyze curve` finds at one parameter point (seed 004 §4): the
+//! What `analyze curve` finds at one parameter point (Sokolov et al. 2010 §4): the
 //! one place the object is made; the command line prints it as text or
 //! JSON, the Python module returns it as a dict.
 
@@ -14,7 +14,7 @@ use crate::family::{Instance, instantiate, solve};
 use crate::space::CellKind;
 
 /// The differential behaviour of a curve family at one point: eigenvalues,
-/// half-tangents, junction angle and region of seed 004 Fig. 8, with the
+/// half-tangents, junction angle and region of Sokolov et al. 2010 Fig. 8, with the
 /// convergence verdict; decided in exact arithmetic where the halves are
 /// rational `3 × 3` matrices.
 #[derive(Clone, Debug)]
@@ -29,7 +29,7 @@ pub struct CurveAnalysis {
     pub report: CurveReport,
     /// The joint spectral radius verdict (`None`: undecided).
     pub converges: Option<bool>,
-    /// Seed 004 §3's per-matrix condition.
+    /// Sokolov et al. 2010 §3's per-matrix condition.
     pub per_matrix: bool,
     /// The region: `divergent` where the bounds prove divergence, none where undecided.
     pub region: Option<&'static str>,

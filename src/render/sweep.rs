@@ -22,7 +22,7 @@ pub const SWEEP_MEMORY: usize = 16 << 20;
 pub enum SweepKind {
     /// The convergence verdict ([`SweepKind::verdict_code`]).
     Verdict,
-    /// The region of seed 004 Fig. 8 of a curve family, an index into [`REGIONS`].
+    /// The region of Sokolov et al. 2010 Fig. 8 of a curve family, an index into [`REGIONS`].
     Region,
     /// The junction angle of a curve family's half-tangents, in degrees (NaN: none).
     Angle,
@@ -64,7 +64,7 @@ impl SweepKind {
     }
 
     /// The code of a verdict pixel: 1 converges, 0 undecided, -1 diverges
-    /// although every matrix passes seed 004 §3's per-matrix condition, -2
+    /// although every matrix passes Sokolov et al. 2010 §3's per-matrix condition, -2
     /// a subdivision matrix fails it.
     pub fn verdict_code(verdict: Verdict, per_matrix: bool) -> i8 {
         match (verdict, per_matrix) {

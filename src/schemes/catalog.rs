@@ -1,8 +1,8 @@
-//! The seeds' subdivision schemes as ready-made automata with natural
-//! control points: the curves and fractals of seed 001 (B-splines, Bézier
+//! The papers' subdivision schemes as ready-made automata with natural
+//! control points: the curves and fractals of Schaefer et al. 2005 (B-splines, Bézier
 //! curves and their union, the four-point scheme, Koch and Sierpinski with
 //! control points, the bicubic patch) and the ternary 5-point curves and
-//! surfaces of seed 003.
+//! surfaces of Siddiqi et al. 2014.
 
 use super::stationary::{
     BSpline, ExactMatrix, ModelSpec, Rules, ifs_design, koch_blocks, sierpinski_blocks, tensor_design,
@@ -184,7 +184,7 @@ impl Request<'_> {
     }
 }
 
-/// The presets of seed 001: B-splines, Bézier curves, the four-point
+/// The presets of Schaefer et al. 2005: B-splines, Bézier curves, the four-point
 /// scheme, Koch and Sierpinski with control points, the bicubic patch.
 fn seed1_preset(request: &Request<'_>) -> Result<Design, CatalogError> {
     match request.name {
@@ -200,10 +200,10 @@ fn seed1_preset(request: &Request<'_>) -> Result<Design, CatalogError> {
     }
 }
 
-/// The reference of seed 001.
-const SEED1: &str = "Schaefer, Levin, Goldman, Subdivision schemes and attractors (seed 001)";
+/// The reference of Schaefer et al. 2005.
+const SEED1: &str = "Schaefer, Levin, Goldman, Subdivision schemes and attractors (Schaefer et al. 2005)";
 
-/// A curve of seed 001: its blocks, default control points and layout,
+/// A curve of Schaefer et al. 2005: its blocks, default control points and layout,
 /// the points it needs, and what the automaton file says about it.
 struct Seed1Curve {
     blocks: Vec<ExactMatrix>,
@@ -235,12 +235,12 @@ impl Seed1Curve {
     }
 }
 
-/// The curves of seed 001 by name.
+/// The curves of Schaefer et al. 2005 by name.
 fn seed1_curve(name: &str) -> Option<Seed1Curve> {
     seed1_spline(name).or_else(|| seed1_fractal(name))
 }
 
-/// The spline curves of seed 001 (§2).
+/// The spline curves of Schaefer et al. 2005 (§2).
 fn seed1_spline(name: &str) -> Option<Seed1Curve> {
     let wave = || pts(&[[0.0, 0.0], [1.0, 2.0], [2.5, 2.2], [3.5, 0.4], [5.0, 1.2]]);
     let curve = Seed1Curve::new;
@@ -254,7 +254,7 @@ fn seed1_spline(name: &str) -> Option<Seed1Curve> {
                 Layout::Open,
                 "An open control polygon: windows of 5 points sliding by 2.",
                 n,
-                "uniform cubic B-spline, 5 control points, seed 001 §2.1 (Fig. 2)",
+                "uniform cubic B-spline, 5 control points, Schaefer et al. 2005 §2.1 (Fig. 2)",
                 "The uniform cubic B-spline as an IFS: S_1, S_2 are the 5×5 blocks of rules (4).",
             )
         }
@@ -264,7 +264,7 @@ fn seed1_spline(name: &str) -> Option<Seed1Curve> {
             Layout::Single,
             "Five control points; the curve interpolates the first and last.",
             5,
-            "end-interpolating cubic B-spline, knots {0,0,0,1,2,2,2}, seed 001 §2.1 (Fig. 3)",
+            "end-interpolating cubic B-spline, knots {0,0,0,1,2,2,2}, Schaefer et al. 2005 §2.1 (Fig. 3)",
             "Knot insertion by blossoming gives the printed S_1, S_2.",
         ),
         "bezier" => curve(
@@ -273,7 +273,7 @@ fn seed1_spline(name: &str) -> Option<Seed1Curve> {
             Layout::Single,
             "Three control points.",
             3,
-            "quadratic Bézier curve: de Casteljau at u = 1/2, seed 001 §2.2",
+            "quadratic Bézier curve: de Casteljau at u = 1/2, Schaefer et al. 2005 §2.2",
             "Goldman's IFS of a Bézier curve.",
         ),
         "bezier-union" => curve(
@@ -282,14 +282,14 @@ fn seed1_spline(name: &str) -> Option<Seed1Curve> {
             Layout::Union,
             "Two Bézier curves: points 0-2 and 3-5, drawn apart.",
             6,
-            "union of two quadratic Bézier curves, seed 001 §2.2 (Fig. 4)",
+            "union of two quadratic Bézier curves, Schaefer et al. 2005 §2.2 (Fig. 4)",
             "The union of attractors: one piece per control triangle (the paper's block-diagonal IFS).",
         ),
         _ => return None,
     })
 }
 
-/// The four-point scheme and the fractals with control points of seed 001 (§2.3, §4).
+/// The four-point scheme and the fractals with control points of Schaefer et al. 2005 (§2.3, §4).
 fn seed1_fractal(name: &str) -> Option<Seed1Curve> {
     let (s, h) = (3f64.sqrt() / 6.0, 3f64.sqrt() / 2.0);
     let curve = Seed1Curve::new;
@@ -300,7 +300,7 @@ fn seed1_fractal(name: &str) -> Option<Seed1Curve> {
             Layout::Single,
             "Seven control points: the attractor runs from P2 to P4.",
             7,
-            "interpolatory four-point scheme, 7×7 blocks, seed 001 §2.3 (Fig. 5)",
+            "interpolatory four-point scheme, 7×7 blocks, Schaefer et al. 2005 §2.3 (Fig. 5)",
             "The printed 7×7 blocks S_1, S_2 of the four-point rules.",
         ),
         "koch-control" => curve(
@@ -309,7 +309,7 @@ fn seed1_fractal(name: &str) -> Option<Seed1Curve> {
             Layout::Single,
             "The natural control points of the Koch curve (move them to deform it).",
             5,
-            "Koch curve with 5 control points, seed 001 §4.1 (Fig. 10)",
+            "Koch curve with 5 control points, Schaefer et al. 2005 §4.1 (Fig. 10)",
             "The printed S_1 … S_4: barycentric coordinates w.r.t. the closest control points.",
         ),
         "sierpinski-control" => curve(
@@ -318,14 +318,14 @@ fn seed1_fractal(name: &str) -> Option<Seed1Curve> {
             Layout::Single,
             "Corners 0, 2, 4 and edge points 1, 3, 5 (quadratic outer edges).",
             6,
-            "Sierpinski gasket with 6 control points, seed 001 §4.2 (Fig. 11)",
+            "Sierpinski gasket with 6 control points, Schaefer et al. 2005 §4.2 (Fig. 11)",
             "The printed S_1 … S_3: outer edges by Lagrange interpolation, inner edges linear.",
         ),
         _ => return None,
     })
 }
 
-/// Seed 001's bicubic B-spline patches (Fig. 6).
+/// Schaefer et al. 2005's bicubic B-spline patches (Fig. 6).
 fn bicubic_preset(request: &Request<'_>) -> Result<Design, CatalogError> {
     let b = BSpline::uniform(3, 4).expect("valid").blocks(2).expect("self-similar");
     let default =
@@ -333,7 +333,7 @@ fn bicubic_preset(request: &Request<'_>) -> Result<Design, CatalogError> {
     let model =
         spec(request.with(default), Layout::Grid, Some((6, 6)), "A 6×6 control grid: 3×3 bicubic patches, welded.");
     request.check(&model, 16)?;
-    let description = "bicubic B-spline patches: tensor product of the cubic IFS, seed 001 §3.1 (Fig. 6)";
+    let description = "bicubic B-spline patches: tensor product of the cubic IFS, Schaefer et al. 2005 §3.1 (Fig. 6)";
     tensor_design(
         request.name,
         description,
@@ -344,19 +344,19 @@ fn bicubic_preset(request: &Request<'_>) -> Result<Design, CatalogError> {
     .map_err(|e| CatalogError::Points(e.to_string()))
 }
 
-/// The triangle schemes of seed 001 §3.2–3.3 as IFS on lattice cells
+/// The triangle schemes of Schaefer et al. 2005 §3.2–3.3 as IFS on lattice cells
 /// ([`super::lattice`]): the box-spline's hexagon (six maps), the same
 /// with two maps left out, its parallelogram (four maps), and √3's
 /// triangle (nine maps of a ternary split).
 fn triangle_preset(request: &Request<'_>) -> Result<Design, CatalogError> {
     use super::lattice::{LatticeScheme, hexagon_parts, lattice_ifs, parallelogram_parts, ternary_triangle_parts};
-    let seed1 = "Schaefer, Levin, Goldman, Subdivision schemes and attractors (seed 001)";
+    let seed1 = "Schaefer, Levin, Goldman, Subdivision schemes and attractors (Schaefer et al. 2005)";
     let (scheme, parts, corners, description, comment) = match request.name {
         "box-spline" => (
             LatticeScheme::BoxSpline,
             hexagon_parts(),
             vec![(0, 0)],
-            "three-direction quartic box-spline (Loop) hexagonal patch, six maps, seed 001 §3.2 (Fig. 7)",
+            "three-direction quartic box-spline (Loop) hexagonal patch, six maps, Schaefer et al. 2005 §3.2 (Fig. 7)",
             "Loop's rules on the regular lattice: the six half-size hexagons around the centre.\n\
              19 control points (two rings around the centre); the attractor is the limit surface over\n\
              the hexagon of the first ring.",
@@ -365,7 +365,7 @@ fn triangle_preset(request: &Request<'_>) -> Result<Design, CatalogError> {
             LatticeScheme::BoxSpline,
             hexagon_parts(),
             vec![(0, 0)],
-            "box-spline patch with two of its six maps left out: a fractal on the surface, seed 001 §3.2 (Fig. 9)",
+            "box-spline patch with two of its six maps left out: a fractal on the surface, Schaefer et al. 2005 §3.2 (Fig. 9)",
             "The box-spline IFS without the sub-hexagons towards (0,-1) and (1,-1): G ⊂ F, so every point\n\
              lies on the box-spline surface of the same control points (which two the paper drops is not\n\
              printed; these four leave the largest holes).",
@@ -374,7 +374,7 @@ fn triangle_preset(request: &Request<'_>) -> Result<Design, CatalogError> {
             LatticeScheme::BoxSpline,
             parallelogram_parts(),
             vec![(0, 0), (1, 0), (0, 1), (1, 1)],
-            "box-spline patch over a lattice parallelogram, four maps, seed 001 §3.2",
+            "box-spline patch over a lattice parallelogram, four maps, Schaefer et al. 2005 §3.2",
             "The four-map split the seed mentions: the parallelogram (0,0), (1,0), (1,1), (0,1) into four\n\
              half-size copies; 14 control points. Its attractor looks rectangular.",
         ),
@@ -382,7 +382,7 @@ fn triangle_preset(request: &Request<'_>) -> Result<Design, CatalogError> {
             LatticeScheme::Sqrt3,
             ternary_triangle_parts(),
             vec![(0, 0), (1, 0), (0, 1)],
-            "Kobbelt's √3 scheme on one triangle: two steps are a ternary split, nine maps, seed 001 §3.3 (Fig. 8)",
+            "Kobbelt's √3 scheme on one triangle: two steps are a ternary split, nine maps, Schaefer et al. 2005 §3.3 (Fig. 8)",
             "Two rounds of √3 (valence-6 rules, α = 1/3) split the triangle (0,0), (1,0), (0,1) into six\n\
              upright and three half-turned thirds; 27 control points.",
         ),
@@ -438,7 +438,7 @@ fn cell_triangles(name: &str) -> Vec<[super::lattice::Axial; 3]> {
 /// one towards `(1, 0)`) the gasket preset leaves out.
 pub const GASKET_DROPPED: [usize; 2] = [4, 5];
 
-/// The ternary 5-point presets of seed 003: open and closed curves, a
+/// The ternary 5-point presets of Siddiqi et al. 2014: open and closed curves, a
 /// sheet and a torus, with tension `omega`.
 fn ternary_preset(request: &Request<'_>, omega: &Surd) -> Result<Design, CatalogError> {
     let name = request.name;
@@ -447,7 +447,7 @@ fn ternary_preset(request: &Request<'_>, omega: &Surd) -> Result<Design, Catalog
     let rules = ternary_five_point(omega);
     let b = rules.blocks(super::ternary::TERNARY_WINDOW).expect("7 points give blocks");
     let seed3 = format!(
-        "The ternary 5-point scheme of Siddiqi, Siddiqui and Ahmad (seed 003, eq. 1) with tension ω = {omega}:\n\
+        "The ternary 5-point scheme of Siddiqi, Siddiqui and Ahmad (Siddiqi et al. 2014, eq. 1) with tension ω = {omega}:\n\
          three 7×7 blocks; the attractor of one window is the curve around its middle point."
     );
     match name {
@@ -471,7 +471,7 @@ fn ternary_preset(request: &Request<'_>, omega: &Surd) -> Result<Design, Catalog
                 "Windows of 7 control points sliding by 1.",
             );
             check(&model, 7)?;
-            request.curve(b, &format!("ternary 5-point curve, ω = {omega}, seed 003"), &seed3, model)
+            request.curve(b, &format!("ternary 5-point curve, ω = {omega}, Siddiqi et al. 2014"), &seed3, model)
         }
         _ => {
             let torus = name == "ternary5-torus";
@@ -483,7 +483,7 @@ fn ternary_preset(request: &Request<'_>, omega: &Surd) -> Result<Design, Catalog
                 spec(with(default), Layout::Grid, Some((9, 9)), "A 9×9 control grid: 3×3 patches of 7×7 windows.")
             };
             check(&model, 49)?;
-            let description = format!("ternary 5-point tensor-product surface, ω = {omega}, seed 003");
+            let description = format!("ternary 5-point tensor-product surface, ω = {omega}, Siddiqi et al. 2014");
             tensor_design(name, &description, &seed3, &b, &model).map_err(|e| CatalogError::Points(e.to_string()))
         }
     }

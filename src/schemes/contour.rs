@@ -1,4 +1,4 @@
-//! Contour pieces as IFS (seed 002 §4): a line segment as two affine maps in
+//! Contour pieces as IFS (the Bézier-fractal contours paper §4): a line segment as two affine maps in
 //! the paper's convention (homogeneous row vectors, `[x' y' 1] = [x y 1] F`).
 
 /// A 3×3 matrix acting on homogeneous row vectors.

@@ -1,4 +1,4 @@
-//! Triangle subdivision schemes as IFS (seed 001 §3.2–3.3): the
+//! Triangle subdivision schemes as IFS (Schaefer et al. 2005 §3.2–3.3): the
 //! three-direction quartic box-spline (Loop's scheme on the regular
 //! triangular lattice) and Kobbelt's √3 scheme.
 //!

@@ -1,5 +1,5 @@
 //! A subdivision scheme's IFS on control points lifted to an ordinary IFS
-//! of the plane or space (seed 001, eq. 2): `P S_i P⁻¹` with `P` the
+//! of the plane or space (Schaefer et al. 2005, eq. 2): `P S_i P⁻¹` with `P` the
 //! control points made square by a row of ones.
 
 use nalgebra::DMatrix;

@@ -1,13 +1,13 @@
 //! Generators: functions that return automata (as files or designs) for the
-//! topologies and schemes of the seeds.
+//! topologies and schemes of the papers.
 //!
 //! - [`curve`], [`quad_patch`]: BC-IFS topologies with unknown
-//!   matrices, for the solver (seed 004);
-//! - [`NormalScheme`]: the normal-vector p-ary scheme of seed 000, direct and
+//!   matrices, for the solver (Sokolov et al. 2010);
+//! - [`NormalScheme`]: the normal-vector p-ary scheme of Li et al. 2013, direct and
 //!   as an automaton, with the paper's figures as [`normal_preset`]s;
 //! - [`Rules`], [`BSpline`], [`ifs_design`]: stationary subdivision schemes as
-//!   IFS (seed 001), lifted to ordinary IFS by [`LiftedIfs`];
-//! - [`segment_ifs`]: a line segment as two maps (seed 002 §4);
+//!   IFS (Schaefer et al. 2005), lifted to ordinary IFS by [`LiftedIfs`];
+//! - [`segment_ifs`]: a line segment as two maps (the Bézier-fractal contours paper §4);
 //! - [`crate::Surd`]: exact numbers `q + q'√r`, so generated files stay exact.
 
 mod catalog;

@@ -1,5 +1,5 @@
 //! Stationary subdivision schemes as IFS (Schaefer, Levin, Goldman,
-//! *Subdivision schemes and attractors*, seed 001).
+//! *Subdivision schemes and attractors*, Schaefer et al. 2005).
 //!
 //! A scheme refines control points `p^k → p^{k+1}` by fixed rules; the rows
 //! of its subdivision matrix `S` that depend on `n` consecutive control points
@@ -13,7 +13,7 @@
 //! Three ways to get blocks:
 //! - [`Rules`]: a uniform scheme given by its rules (masks), e.g. the cubic
 //!   B-spline rules of eq. (4), the four-point scheme (§2.3), the ternary
-//!   5-point scheme of seed 003;
+//!   5-point scheme of Siddiqi et al. 2014;
 //! - [`BSpline`]: a B-spline of any degree over a knot sequence that is
 //!   self-similar under p-adic refinement (uniform, end-interpolating,
 //!   Bézier), by blossoming, exactly over the rationals;
@@ -551,8 +551,8 @@ fn kron(a: &ExactMatrix, b: &ExactMatrix) -> ExactMatrix {
 /// with an `n × n` control grid (index `n · row + col`, rows along v) split
 /// into `p × p` sub-faces `T{u}{v}` (matrix `(S_v ⊗ S_u)ᵀ`), edges along u
 /// (`k` rows of `n`) and along v (`n` rows of `k`), and a `k × k` vertex,
-/// with every adjacency and incidence constraint (seed 001 §3.1 for the
-/// bicubic patch; the ternary 5-point surfaces of seed 003).
+/// with every adjacency and incidence constraint (Schaefer et al. 2005 §3.1 for the
+/// bicubic patch; the ternary 5-point surfaces of Siddiqi et al. 2014).
 ///
 /// # Errors
 /// [`StationaryError::Rules`] when the blocks are not a curve with the same

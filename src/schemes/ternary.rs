@@ -1,6 +1,6 @@
 //! The ternary 5-point interpolatory scheme with tension ω of Siddiqi,
 //! Siddiqui and Ahmad (*Fractal generation using ternary 5-point
-//! interpolatory subdivision scheme*, seed 003), eq. (1):
+//! interpolatory subdivision scheme*, Siddiqi et al. 2014), eq. (1):
 //!
 //! ```text
 //! P_{3i-1} = (ω - 4/81) P_{i-2} + (-4ω + 10/27) P_{i-1} + (6ω + 20/27) P_i + (-4ω - 5/81) P_{i+1} + ω P_{i+2}
@@ -8,7 +8,7 @@
 //! P_{3i+1} = ω P_{i-2} + (-4ω - 5/81) P_{i-1} + (6ω + 20/27) P_i + (-4ω + 10/27) P_{i+1} + (ω - 4/81) P_{i+2}
 //! ```
 //!
-//! As an IFS (seed 001's construction) the scheme has three 7×7 blocks on 7
+//! As an IFS (Schaefer et al. 2005's construction) the scheme has three 7×7 blocks on 7
 //! consecutive control points: the attractor is the piece of the curve
 //! around `P_3` (parameters `[2.5, 3.5]`), and its ends have a vertex support
 //! of 6 control points. Curves on open and closed polygons are unions of

@@ -119,7 +119,7 @@ fn name_free_entries(structure: &DesignBuilder) -> Result<Vec<(String, String, u
 /// ```
 /// let d = bcifs::schemes::curve(3, 2, 2).unwrap();
 /// let f = bcifs::solve(&d).unwrap();
-/// assert_eq!(f.parameter_names(), ["a", "b"]); // the corner-cutting family of seed 004 §3
+/// assert_eq!(f.parameter_names(), ["a", "b"]); // the corner-cutting family of Sokolov et al. 2010 §3
 /// ```
 ///
 /// # Errors

@@ -5,7 +5,7 @@ use bcifs::design::{Field, Locus};
 use bcifs::{BuildError, CellKind, Design, DesignBuilder, Layout, Model, builtin_design, solve};
 use proptest::prelude::*;
 
-/// The corner-cutting curve of seed 004 §3 as code.
+/// The corner-cutting curve of Sokolov et al. 2010 §3 as code.
 fn corner_cutting() -> DesignBuilder {
     let mut b = Design::builder("corner_cutting");
     b.state("e", 3, CellKind::Edge)

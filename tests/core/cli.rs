@@ -65,7 +65,7 @@ fn check_json_contract_and_exit_codes() {
         (true.into(), false.into(), false.into())
     );
 
-    // Seed 004's "iff" is false: each matrix passes, the JSR proves divergence.
+    // Sokolov et al. 2010's "iff" is false: each matrix passes, the JSR proves divergence.
     let (code, out, _) = bcifs(&["check", "corner_cutting", "--param", "a=-0.9", "--param", "b=0.95", "--json"]);
     assert_eq!(code, 1);
     let v = json(&out);
@@ -652,7 +652,7 @@ fn mauldin_williams_dimension_of_a_graph_directed_system() {
     assert!(s > 0.5 && s < 1.0, "{s}");
 }
 
-/// `analyze curve` on the corner cutting against seed 004 §4's closed
+/// `analyze curve` on the corner cutting against Sokolov et al. 2010 §4's closed
 /// forms, at points drawn over the convergence domain: eigenvalues
 /// (1, a, 1 − a − b) and (1, b, 1 − a − b); in case 1 (1 − a − b above |a|
 /// and |b|) region 1 with angle 0 exactly when α1 and β1 have the same sign,
@@ -823,7 +823,7 @@ fn curve_maps_cover_the_regions() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-/// Seed 004 §5: blending functions. They sum to 1; at Chaikin (a = b = 1/4)
+/// Sokolov et al. 2010 §5: blending functions. They sum to 1; at Chaikin (a = b = 1/4)
 /// they are the quadratic B-spline basis and u(t) is affine (linear
 /// precision); at the paper's a = 1/20, b = 1/8 (Gregory region) F is
 /// singular in t (its steepest chord grows with the depth) but not in u
@@ -1275,4 +1275,49 @@ fn a_mesh_automaton_renders_in_the_mesh_files_axes() {
         rendered.iter().filter(|p| !near(p, &mesh)).count() + mesh.iter().filter(|p| !near(p, &rendered)).count();
     assert_eq!(lost, 0, "points of one file missing from the other (the same surface in the same axes)");
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The first run: `bcifs gallery` says what it will write and how big before
+/// it starts, stays under 100 MB by default, captions every entry with what
+/// it shows, the paper and the command that makes it, and ends with the
+/// path of `index.html`.
+#[test]
+fn the_gallery_announces_itself_stays_small_and_captions_every_entry() {
+    let dir = std::env::temp_dir().join(format!("bcifs-gallery-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let (code, out, err) = bcifs(&["gallery", &dir.display().to_string()]);
+    assert_eq!(code, 0, "{err}");
+    let announced = err.lines().next().unwrap_or_default();
+    assert!(announced.starts_with("bcifs gallery: ") && announced.contains("MB"), "{announced}");
+    let last = out.lines().last().unwrap_or_default();
+    assert!(last.contains(&format!("→ {} (", dir.join("index.html").display())), "{last}");
+    let bytes: u64 = std::fs::read_dir(&dir).unwrap().flatten().map(|e| e.metadata().unwrap().len()).sum();
+    assert!(bytes < 100_000_000, "the default gallery is {bytes} bytes");
+    let said: f64 = announced.split("about ").nth(1).and_then(|s| s.split(' ').next()).unwrap().parse().unwrap();
+    assert!((said * 1e6 / 2.0..said * 1e6 * 2.0).contains(&(bytes as f64)), "announced {said} MB, wrote {bytes} bytes");
+    let index = std::fs::read_to_string(dir.join("index.html")).unwrap();
+    let captions: Vec<&str> = index.split("<figcaption>").skip(1).collect();
+    assert!(captions.len() > 50, "{} entries", captions.len());
+    for c in &captions {
+        assert!(c.contains("<i>From:</i>") && c.contains("<code>"), "{c}");
+    }
+    // An entry's command makes its picture: the corner cutting's, run here, draws the same pixels.
+    let code_of = |name: &str| {
+        let c = captions.iter().find(|c| c.starts_with(&format!("<b>{name}</b>"))).unwrap();
+        c.split("<code>").nth(1).unwrap().split("</code>").next().unwrap().to_string()
+    };
+    let command = code_of("corner_cutting");
+    let args: Vec<String> = command
+        .split(' ')
+        .skip(1)
+        .map(|a| a.replace("corner_cutting.png", &dir.join("again.png").display().to_string()))
+        .collect();
+    let (code, _, err) = bcifs(&args.iter().map(String::as_str).collect::<Vec<_>>());
+    assert_eq!(code, 0, "{command}: {err}");
+    let (a, b) = (
+        image::open(dir.join("again.png")).unwrap().to_rgb8(),
+        image::open(dir.join("corner_cutting.png")).unwrap().to_rgb8(),
+    );
+    assert_eq!(a, b, "`{command}` draws the gallery's picture");
+    let _ = std::fs::remove_dir_all(&dir);
 }

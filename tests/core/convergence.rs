@@ -47,7 +47,7 @@ fn schemes_of_seed_001_have_their_known_jsr() {
     }
 }
 
-/// Seed 004 §3 states convergence iff |a|, |b|, |1 − a − b| < 1. At
+/// Sokolov et al. 2010 §3 states convergence iff |a|, |b|, |1 − a − b| < 1. At
 /// a = −0.9, b = 0.95 each matrix passes, yet ρ(T0 T1³)^(1/4) = 1.2601 on the
 /// differences: the curve diverges (docs/errata.md).
 #[test]
@@ -113,7 +113,7 @@ fn evaluators_refuse_divergent_systems() {
     assert!(fine.warnings().is_empty());
 }
 
-/// Seed 004 §3: the intermediate T0 has `e_s` at (3, 3). Adjacency
+/// Sokolov et al. 2010 §3: the intermediate T0 has `e_s` at (3, 3). Adjacency
 /// `T0 b1 = T1 b0` compares T0's last two columns with T1's first two: at
 /// (3, 2) the paper's matrices give `e_s` and `d_s`, so the paper's T0 is
 /// admissible only when `e_s = d_s`; the solved family has `d_s` (= a) there.
@@ -130,7 +130,7 @@ fn the_intermediate_t0_of_seed_004_needs_d_s() {
     assert_ne!(family.entry_text("T0", 2, 2), family.entry_text("T0", 1, 1), "not e_s");
 }
 
-/// Seed 004 Fig. 11 lists `a = b` among the degenerate (piecewise linear)
+/// Sokolov et al. 2010 Fig. 11 lists `a = b` among the degenerate (piecewise linear)
 /// cases; the footnote of §4 says `a = 0`. At a = 0 every point of the curve
 /// lies on the control polygon; at a = b = 1/4 (Chaikin) it does not.
 #[test]

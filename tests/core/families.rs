@@ -16,7 +16,7 @@ fn rows(r: &[&[&str]]) -> Vec<Vec<String>> {
     r.iter().map(|row| row.iter().map(|s| s.to_string()).collect()).collect()
 }
 
-/// Seed 004 §3.1: the corner-cutting family, exactly as printed.
+/// Sokolov et al. 2010 §3.1: the corner-cutting family, exactly as printed.
 #[test]
 fn corner_cutting_family_is_the_papers() {
     let f = family("corner_cutting");
@@ -34,7 +34,7 @@ fn sorted_real_spectrum(m: &DMatrix<f64>) -> Vec<f64> {
     v
 }
 
-/// Seed 004 §3.1: T0 has eigenvalues (1, a, 1-a-b), T1 has (1, b, 1-a-b).
+/// Sokolov et al. 2010 §3.1: T0 has eigenvalues (1, a, 1-a-b), T1 has (1, b, 1-a-b).
 #[test]
 fn corner_cutting_eigenvalues() {
     let f = family("corner_cutting");
@@ -66,7 +66,7 @@ fn chaikin() -> [DMatrix<f64>; 2] {
     ]
 }
 
-/// DESIGN §2 and seed 004 §7: 3 degrees of freedom; (9/16, 3/16, 3/16) is the
+/// DESIGN §2 and Sokolov et al. 2010 §7: 3 degrees of freedom; (9/16, 3/16, 3/16) is the
 /// regular Doo-Sabin rule, i.e. every sub-face is the Kronecker product of
 /// Chaikin matrices (biquadratic B-spline).
 #[test]
@@ -113,7 +113,7 @@ fn cubic_curve_family_contains_the_cubic_bspline() {
     assert!((t0 - &b[0]).amax() < 1e-12 && (t1 - &b[1]).amax() < 1e-12);
 }
 
-/// Seed 000 eq. (5) on the rotated frame: fully known, dof 0, passes check,
+/// Li et al. 2013 eq. (5) on the rotated frame: fully known, dof 0, passes check,
 /// and each sub-segment is a similarity of ratio 1/3 (|λ| = 1/3).
 #[test]
 fn koch_scheme_passes_check() {

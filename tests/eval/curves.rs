@@ -94,7 +94,7 @@ fn points(shape: &bcifs::geometry::Shape) -> Vec<[f64; 3]> {
     shape.points()
 }
 
-/// Seed 001 §2 / seed 004 §2.1: any compact start set converges to the same
+/// Schaefer et al. 2005 §2 / Sokolov et al. 2010 §2.1: any compact start set converges to the same
 /// attractor. Koch from a single point (the centroid of the frame) against
 /// the curve's vertices: each depth-k cell is a similarity of ratio 3^-k of
 /// the root frame, so the distance is at most diam(frame) · 3^-k.
@@ -336,7 +336,7 @@ fn half_tangents_agree_with_the_rendered_curve() {
 }
 
 /// The exact query of the corner cutting at rational points: T0 has the
-/// eigenvalues (1, a, 1 − a − b) and T1 (1, b, 1 − a − b) exactly (seed 004
+/// eigenvalues (1, a, 1 − a − b) and T1 (1, b, 1 − a − b) exactly (Sokolov et al. 2010
 /// §4.1), and away from ties the region is the floating-point query's.
 #[test]
 fn exact_query_reproduces_the_closed_forms() {

@@ -170,7 +170,7 @@ fn other_weights_give_the_same_surface_as_the_mesh_code() {
     assert!(hausdorff(&attractor_corners(&design, &[], 2), &theirs) < 1e-9);
 }
 
-/// The self-similar structure of seed 001 §3: a patch next to an
+/// The self-similar structure of Schaefer et al. 2005 §3: a patch next to an
 /// extraordinary vertex has a child of its own state (the smaller patch
 /// around the same vertex), and the regular patch (the bicubic 4 × 4, the
 /// box-spline's 12 points, the biquadratic 3 × 3, √3's 27-point 2-ring split
@@ -278,9 +278,9 @@ fn spectrum(m: &DMatrix<f64>) -> Vec<(i64, i64)> {
 /// triangles half-turned): the regular Loop state's four maps are the
 /// box-spline's split of its 12-point patch and the regular √3 state's nine
 /// are √3's ternary split of its 27 points, as `schemes::lattice_ifs`
-/// derives them (seed 001 §3.2–3.3); the regular Catmull-Clark state's four
+/// derives them (Schaefer et al. 2005 §3.2–3.3); the regular Catmull-Clark state's four
 /// are the bicubic patch's (§3.1), the regular Doo-Sabin state's four are
-/// `doo_sabin_quad`'s with the classic weights (seed 004) — the same spectra,
+/// `doo_sabin_quad`'s with the classic weights (Sokolov et al. 2010) — the same spectra,
 /// map for map, up to the order of the maps and of the control points.
 #[test]
 fn regular_patches_use_the_seed_patch_maps() {

@@ -1,10 +1,10 @@
-//! Contours as Bézier fractals (seed 002): the heart's printed matrices,
+//! Contours as Bézier fractals (the Bézier-fractal contours paper): the heart's printed matrices,
 //! segments files and their errors, the automaton of a contour.
 
 use bcifs::contour::{Segment, arc_ifs, chain, contour_design, parse_segments, write_segments};
 use bcifs::schemes::RowMap;
 
-/// Seed 002 §5: the eight printed matrices of the heart.
+/// the Bézier-fractal contours paper §5: the eight printed matrices of the heart.
 fn printed_heart() -> [(RowMap, RowMap); 4] {
     [
         (
@@ -178,7 +178,7 @@ fn one_way(a: &[[f64; 2]], b: &[[f64; 2]]) -> f64 {
 
 /// Synthetic silhouettes (issue 13): a rotated square gives 4 line
 /// segments, a five-pointed star its 10 sides, a disc only arcs, and the
-/// heart of seed 002 drawn 60 times larger is fitted; each fit is within
+/// heart of the Bézier-fractal contours paper drawn 60 times larger is fitted; each fit is within
 /// 1.5 px of the true contour both ways (the contour runs through boundary
 /// pixel centres, within about half a pixel of the edge, plus the 1 px
 /// tolerance of the fit).

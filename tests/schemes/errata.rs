@@ -5,7 +5,7 @@ use bcifs::Surd;
 use bcifs::analysis::ternary::ternary5_analysis;
 use bcifs::schemes::{Rules, normal_preset, unit_segment};
 
-/// Seed 001 §2.1 splits "the 8×5 subdivision matrix S" of the cubic
+/// Schaefer et al. 2005 §2.1 splits "the 8×5 subdivision matrix S" of the cubic
 /// B-spline on five control points; five points determine 7 new points, and
 /// the two 5×5 blocks overlap in 3 rows: S is 7×5.
 #[test]
@@ -22,7 +22,7 @@ fn the_cubic_bspline_matrix_has_seven_rows() {
     assert_eq!(distinct.len(), 7);
 }
 
-/// Seed 003 states C0 for -1/81 < ω < 53/324. The difference scheme's
+/// Siddiqi et al. 2014 states C0 for -1/81 < ω < 53/324. The difference scheme's
 /// blocks have the exact eigenvalue 11ω − 4/81 (from ω = 85/891 ≈ 0.0954 on
 /// it is ≥ 1): the scheme is not C0 there, inside the paper's interval.
 #[test]
@@ -40,7 +40,7 @@ fn the_ternary_c0_bound_is_too_large() {
     assert!(ternary5_analysis(85.0 / 891.0 + 1e-6).fails());
 }
 
-/// Seed 000 calls its 7-ary preset (Fig. 9b) the Minkowski curve. One step
+/// Li et al. 2013 calls its 7-ary preset (Fig. 9b) the Minkowski curve. One step
 /// on the unit segment gives sub-segments of lengths ¼ ¼ ¼ ½ ¼ ¼ ¼, whose
 /// similarity dimension (Moran: 6·4^(−s) + 2^(−s) = 1) is log 3 / log 2 ≈
 /// 1.585, not the Minkowski sausage's 1.5 (eight segments of ¼).
@@ -74,7 +74,7 @@ fn the_minkowski_preset_is_not_the_minkowski_curve() {
     approx::assert_abs_diff_eq!(s, 3f64.log2(), epsilon = 1e-9);
 }
 
-/// Seed 002 eq. 13: with φ = arctan((y1 − y0)/s) the maps of the segment
+/// the Bézier-fractal contours paper eq. 13: with φ = arctan((y1 − y0)/s) the maps of the segment
 /// (0, 0) → (3, 4) have the attractor (0, 0) → (3.904, 3.124); with the
 /// segment's direction (atan2) each segment's two maps have exactly that
 /// segment as attractor, in every quadrant: F1 fixes P0, F2 fixes P1, and

@@ -1,4 +1,4 @@
-//! Subdivision schemes as IFS (seed 001): limit points equal closed forms,
+//! Subdivision schemes as IFS (Schaefer et al. 2005): limit points equal closed forms,
 //! the lifted IFS of eq. (2) has the same attractor, fractals with control
 //! points reproduce the classic ones and deform locally, dropped maps give subsets.
 
@@ -155,7 +155,7 @@ fn lifted_ifs_has_the_same_attractor() {
 }
 
 /// With its natural control points the Koch IFS of §4.1 is the classic Koch
-/// curve: the same points as the normal-vector Koch scheme (seed 000 eq. 5).
+/// curve: the same points as the normal-vector Koch scheme (Li et al. 2013 eq. 5).
 #[test]
 fn koch_with_control_points_is_the_classic_koch_curve() {
     let design = ifs_preset("koch-control", None, None).unwrap();

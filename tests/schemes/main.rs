@@ -1,4 +1,4 @@
-//! Integration tests of the scheme generators against the seeds' numbers.
+//! Integration tests of the scheme generators against the papers' numbers.
 #![allow(clippy::needless_range_loop)] // index loops mirror the formulas they check
 
 mod cli;

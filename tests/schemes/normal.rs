@@ -1,4 +1,4 @@
-//! The normal-vector p-ary scheme of seed 000: direct and automaton forms
+//! The normal-vector p-ary scheme of Li et al. 2013: direct and automaton forms
 //! agree, the automata pass `check`, and the paper's properties hold.
 
 use crate::hausdorff::hausdorff;
@@ -112,7 +112,7 @@ fn sign_patterns_become_two_state_automata() {
 }
 
 /// The generated Koch and Lévy automata have the matrices of the shipped,
-/// hand-written files (seed 000 eqs. 2 and 5).
+/// hand-written files (Li et al. 2013 eqs. 2 and 5).
 #[test]
 fn generated_matrices_equal_the_hand_written_files() {
     for name in ["koch", "levy"] {

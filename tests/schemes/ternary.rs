@@ -1,4 +1,4 @@
-//! The ternary 5-point scheme of seed 003: the IFS form agrees with the
+//! The ternary 5-point scheme of Siddiqi et al. 2014: the IFS form agrees with the
 //! rules, surfaces are closed manifolds, and the continuity and fractal
 //! ranges computed from the mask (see the README for the figures).
 

@@ -1,4 +1,4 @@
-//! The triangle schemes as IFS (seed 001 §3.2–3.3): every point of the
+//! The triangle schemes as IFS (Schaefer et al. 2005 §3.2–3.3): every point of the
 //! attractor is a point of the limit surface of Loop's (box-spline) or
 //! Kobbelt's √3 subdivision of the same control points, computed by the
 //! mesh subdivision (itself checked against CGAL in the mesh tests).

@@ -15,7 +15,7 @@ use ternary::run_ternary5;
 
 #[derive(Subcommand)]
 pub enum AnalyzeCommand {
-    /// A curve's differential behaviour at a parameter point (seed 004 §4):
+    /// A curve's differential behaviour at a parameter point (Sokolov et al. 2010 §4):
     /// convergence verdict, eigenvalues, half-tangents, junction angle, region.
     Curve {
         /// The automaton file (TOML), or the name of a shipped automaton; its
@@ -48,7 +48,7 @@ pub enum AnalyzeCommand {
         output: Option<PathBuf>,
     },
     /// The blending functions F(t) of a curve in the natural parameterization, the
-    /// non-singular parameterization u(t) and F in it: three panels (seed 004 Fig. 9).
+    /// non-singular parameterization u(t) and F in it: three panels (Sokolov et al. 2010 Fig. 9).
     Blend {
         /// The automaton file (TOML), or the name of a shipped automaton (a curve root with T0, T1).
         file: String,
@@ -75,7 +75,7 @@ pub enum AnalyzeCommand {
         #[arg(long)]
         json: bool,
     },
-    /// The ternary 5-point scheme with tension ω (seed 003): C0/C1/C2 bounds,
+    /// The ternary 5-point scheme with tension ω (Siddiqi et al. 2014): C0/C1/C2 bounds,
     /// polygon length growth, fractal ranges; a table and a PNG plot.
     Ternary5 {
         /// The ω interval, A B.
@@ -94,7 +94,7 @@ pub enum AnalyzeCommand {
     /// The convergence verdict over a plane of two free parameters of a
     /// family (the others at their defaults): a PNG map of where the joint
     /// spectral radius bounds prove convergence, prove divergence inside the
-    /// per-matrix domain of seed 004 §3, or leave it undecided.
+    /// per-matrix domain of Sokolov et al. 2010 §3, or leave it undecided.
     Map {
         /// The automaton file (TOML), or the name of a shipped automaton.
         file: String,
@@ -108,7 +108,7 @@ pub enum AnalyzeCommand {
         #[arg(long, default_value_t = 256)]
         size: usize,
         /// What each pixel shows: verdict, region or angle (curve families:
-        /// seed 004 Fig. 8 and Fig. 11), or dimension (box counting where it converges).
+        /// Sokolov et al. 2010 Fig. 8 and Fig. 11), or dimension (box counting where it converges).
         #[arg(long, default_value = "verdict")]
         what: String,
         /// Search the bounds with the full budget at every pixel (slower, fewer undecided pixels).
@@ -435,7 +435,7 @@ pub(crate) fn angle_colour(degrees: f64) -> [u8; 3] {
     [f(5.0), f(3.0), f(1.0)]
 }
 
-/// The colour of a region of seed 004 Fig. 8 (and of the verdicts around them).
+/// The colour of a region of Sokolov et al. 2010 Fig. 8 (and of the verdicts around them).
 fn region_colour(region: Option<&str>) -> [u8; 3] {
     match region {
         Some("1") => [40, 150, 70],

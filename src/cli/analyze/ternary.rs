@@ -1,4 +1,4 @@
-//! `bcifs analyze ternary5`: the ternary 5-point scheme's smoothness over ω (seed 003).
+//! `bcifs analyze ternary5`: the ternary 5-point scheme's smoothness over ω (Siddiqi et al. 2014).
 
 use std::fmt::Write as _;
 
@@ -50,7 +50,7 @@ pub fn run_ternary5(
 /// The table of rows and its legend.
 fn ternary5_table(rows: &[TernaryRow], (from, to): (f64, f64)) -> Result<String> {
     let mut table = String::new();
-    writeln!(table, "ternary 5-point scheme (seed 003, eq. 1), ω from {from} to {to}")?;
+    writeln!(table, "ternary 5-point scheme (Siddiqi et al. 2014, eq. 1), ω from {from} to {to}")?;
     writeln!(
         table,
         "{:>10}  {:>8}  {:>8}  {:>8}  {:>8}  {:>8}  {:>8}  verdict",
@@ -185,7 +185,7 @@ pub fn ternary5_plot(rows: &[bcifs::analysis::ternary::TernaryRow]) -> Plot {
     }
     let top = rows.iter().map(|r| r.growth.max(r.c0)).fold(1.5f64, f64::max).min(4.0);
     Plot {
-        title: "Ternary 5-point scheme (seed 003)".into(),
+        title: "Ternary 5-point scheme (Siddiqi et al. 2014)".into(),
         x_label: "tension ω".into(),
         y_label: "rate per step".into(),
         series: vec![
