@@ -269,7 +269,7 @@ impl DesignBuilder {
         mut self,
         [next, third]: [&DesignBuilder; 2],
         name: &str,
-        origin: &crate::Num,
+        origin: &crate::algebra::Num,
     ) -> Result<DesignBuilder, String> {
         if self.arrows.len() != next.arrows.len() || self.arrows.len() != third.arrows.len() {
             return Err("the designs have different arrows".into());

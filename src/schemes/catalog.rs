@@ -137,7 +137,7 @@ pub fn ternary_family(name: &str, points: Option<Vec<Vec<f64>>>, parameter: &str
     let at = |k: i64| ifs_preset(name, points.clone(), Some(&origin.add(&Surd::int(k)))).map(|d| d.to_builder());
     let (base, next, third) = (at(0)?, at(1)?, at(2)?);
     let mut builder = base
-        .affine_in([&next, &third], parameter, &crate::Num::from(origin.clone()))
+        .affine_in([&next, &third], parameter, &crate::algebra::Num::from(origin.clone()))
         .map_err(|e| CatalogError::Points(format!("{name} with a free tension: {e}")))?;
     let description = builder.description_text().replace(&format!("ω = {origin}"), &format!("ω = {parameter} (free)"));
     builder.description(description).default_value(parameter, &origin);

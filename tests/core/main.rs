@@ -9,5 +9,4 @@ mod families;
 mod fuzzed;
 mod layers;
 mod properties;
-mod readme;
 mod render_api;
