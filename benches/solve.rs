@@ -9,6 +9,20 @@ fn solve_benches(c: &mut Criterion) {
             b.iter(|| bcifs::solve(std::hint::black_box(&design)).expect("consistent"))
         });
     }
+    // Issue 29: the generated Catmull-Clark automaton of Suzanne (312 states, 2,055
+    // constraints), parsed and solved from its text as `bcifs solve` does (target ≤ 0.3 s).
+    let suzanne =
+        bcifs::mesh::read_mesh(std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/suzanne.obj")))
+            .expect("shipped mesh");
+    let automaton =
+        bcifs::schemes::mesh_automaton(&suzanne, bcifs::mesh::Scheme::CatmullClark, None).expect("generates");
+    let suzanne_text = bcifs::write_design(&automaton);
+    let mut g = c.benchmark_group("suzanne_catmull_clark");
+    g.sample_size(10);
+    g.bench_function("parse+solve", |b| {
+        b.iter(|| bcifs::solve(&bcifs::parse_design(&suzanne_text, "s", "s").expect("parses")).expect("consistent"))
+    });
+    g.finish();
     let text = bcifs::write_design(&bcifs::schemes::quad_patch(false).expect("generates"));
     c.bench_function("parse+solve/quad_patch_general", |b| {
         b.iter(|| bcifs::solve(&bcifs::parse_design(&text, "q", "q").expect("parses")).expect("consistent"))

@@ -194,6 +194,23 @@ impl Surd {
 
     /// `self + k · other` for a rational `k`.
     pub fn add_scaled(&self, other: &Surd, k: &BigRational) -> Surd {
+        // Fast paths (the solver's common cases): nothing to add, nothing to add to, k = ±1.
+        if k.is_zero() || other.is_zero() {
+            return self.clone();
+        }
+        if self.is_zero() {
+            return other.scale(k);
+        }
+        if self.roots.is_empty() && other.roots.is_empty() {
+            let rational = if k.is_one() {
+                &self.rational + &other.rational
+            } else if is_minus_one(k) {
+                &self.rational - &other.rational
+            } else {
+                &self.rational + k * &other.rational
+            };
+            return Surd { rational, roots: Vec::new() };
+        }
         Surd { rational: &self.rational + k * &other.rational, roots: self.merge(other, k) }
     }
 
@@ -214,8 +231,14 @@ impl Surd {
 
     /// `self · q` for a rational `q`.
     pub fn scale(&self, q: &BigRational) -> Surd {
-        if q.is_zero() {
+        if q.is_zero() || self.is_zero() {
             return Surd::zero();
+        }
+        if q.is_one() {
+            return self.clone();
+        }
+        if is_minus_one(q) {
+            return self.neg();
         }
         Surd { rational: &self.rational * q, roots: self.roots.iter().map(|(r, c)| (*r, c * q)).collect() }
     }
@@ -306,6 +329,11 @@ impl fmt::Display for Surd {
         }
         Ok(())
     }
+}
+
+/// Whether `q` is −1 (without allocating).
+fn is_minus_one(q: &BigRational) -> bool {
+    q.denom().is_one() && q.numer().sign() == num_bigint::Sign::Minus && q.numer().magnitude().is_one()
 }
 
 #[cfg(test)]

@@ -48,6 +48,9 @@ struct Compiler<'a> {
     /// The first variable of each unknown matrix (its entries follow row by row).
     unknown_base: HashMap<String, usize>,
     automaton: Automaton<Affine>,
+    /// Expressions already evaluated (a generated mesh automaton repeats a
+    /// few entry texts thousands of times): the text's value.
+    values: std::cell::RefCell<HashMap<String, Affine>>,
 }
 
 fn parse_entry(text: &str) -> Option<(String, usize, usize)> {
@@ -65,6 +68,7 @@ impl<'a> Compiler<'a> {
             var_by_name: HashMap::new(),
             unknown_base: HashMap::new(),
             automaton: Automaton::new(spec.name.clone()),
+            values: std::cell::RefCell::new(HashMap::new()),
         }
     }
 
@@ -251,6 +255,9 @@ impl<'a> Compiler<'a> {
         match value {
             Value::Num(n) => Ok(Affine::constant(n.clone())),
             Value::Text(text) => {
+                if let Some(known) = self.values.borrow().get(text) {
+                    return Ok(known.clone());
+                }
                 let expr = Expr::parse(text)
                     .map_err(|e| at.clone().with_message(format!("in {what}: {}", e.message)).at_offset(e.offset))?;
                 if let Some((arrow, row, col, off)) = expr.entries().first() {
@@ -260,7 +267,10 @@ impl<'a> Compiler<'a> {
                         ))
                         .at_offset(*off));
                 }
-                expr.eval(&Symbols { vars: &self.var_by_name }).map_err(|e| self.eval_error(at, e, what))
+                let value =
+                    expr.eval(&Symbols { vars: &self.var_by_name }).map_err(|e| self.eval_error(at, e, what))?;
+                self.values.borrow_mut().insert(text.clone(), value.clone());
+                Ok(value)
             }
         }
     }

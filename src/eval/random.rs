@@ -338,7 +338,8 @@ impl ChaosGame {
         let first = self.settings.chains.max(1) as u64;
         // One accumulator per thread; the threads take the next batch as they finish one.
         let next = std::sync::atomic::AtomicUsize::new(0);
-        let done = std::sync::atomic::AtomicUsize::new(0);
+        // Batches done, counted and reported under one lock: reports never go backwards.
+        let done = std::sync::Mutex::new(0u64);
         let partial = self.pool.broadcast(|_| {
             let mut acc = init();
             loop {
@@ -354,7 +355,10 @@ impl ChaosGame {
                     self.chain::<false>(first + k as u64, n, &mut emit);
                 }
                 if let Some(p) = &self.settings.progress {
-                    p.report(done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) as u64 + 1, batches as u64);
+                    if let Ok(mut done) = done.lock() {
+                        *done += 1;
+                        p.report(*done, batches as u64);
+                    }
                 }
             }
         });
