@@ -354,11 +354,11 @@ impl ChaosGame {
                 } else {
                     self.chain::<false>(first + k as u64, n, &mut emit);
                 }
-                if let Some(p) = &self.settings.progress {
-                    if let Ok(mut done) = done.lock() {
-                        *done += 1;
-                        p.report(*done, batches as u64);
-                    }
+                if let Some(p) = &self.settings.progress
+                    && let Ok(mut done) = done.lock()
+                {
+                    *done += 1;
+                    p.report(*done, batches as u64);
                 }
             }
         });
