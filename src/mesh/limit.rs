@@ -121,3 +121,142 @@ fn catmull_clark_limit(net: &PolyMesh, t: &Topology) -> (Vec<[f64; 3]>, Vec<[usi
     let quads = net.faces().map(|f| [f[0], f[1], f[2], f[3]]).collect();
     (points, quads)
 }
+
+/// The net after one more Catmull-Clark step, named from this net without
+/// being made: the quad of corner `k` is `[v'(k), e'(k), F'(face k),
+/// e'(prev k)]`, its corners `4k .. 4k + 3`, as [`PolyMesh::catmull_clark_into`]
+/// makes them; positions are computed when asked. Its topology (next, prev,
+/// twin, rotation, first corners) is the one [`Topology::trusted`] would
+/// find on the made net, so walks over it visit corners in the same order.
+struct NextNet<'a> {
+    net: &'a PolyMesh,
+    t: &'a Topology,
+}
+
+impl NextNet<'_> {
+    fn next(&self, x: usize) -> usize {
+        x - x % 4 + (x + 1) % 4
+    }
+
+    fn prev(&self, x: usize) -> usize {
+        x - x % 4 + (x + 3) % 4
+    }
+
+    fn twin(&self, x: usize) -> usize {
+        let (net, t, k) = (self.net, self.t, x / 4);
+        let wrap = |c: usize, j: usize| if c == BORDER { BORDER } else { 4 * c + j };
+        match x % 4 {
+            0 => match t.twin(k) {
+                BORDER => BORDER,
+                tw => 4 * t.next(net, tw) + 3,
+            },
+            1 => 4 * t.next(net, k) + 2,
+            2 => 4 * t.prev(net, k) + 1,
+            _ => wrap(t.twin(t.prev(net, k)), 0),
+        }
+    }
+
+    fn rotate(&self, x: usize) -> usize {
+        self.twin(self.prev(x))
+    }
+
+    /// The edge point of the edge of half-edge `k`.
+    fn edge(&self, k: usize) -> [f64; 3] {
+        let (net, t) = (self.net, self.t);
+        match t.twin(k) {
+            BORDER => net.border_midpoint(t, k),
+            tw => net.cc_edge_point(t, k.min(tw), k.max(tw), |f| net.centroid(f)),
+        }
+    }
+
+    /// The position of the vertex of corner `x`.
+    fn position(&self, x: usize) -> [f64; 3] {
+        let (net, t, k) = (self.net, self.t, x / 4);
+        match x % 4 {
+            0 => net.cc_vertex_point(t, net.indices[k], |f| net.centroid(f)),
+            1 => self.edge(k),
+            2 => net.centroid(t.face(k)),
+            _ => self.edge(t.prev(net, k)),
+        }
+    }
+
+    /// The limit point of the vertex whose first corner is `c0` (`on_border`:
+    /// a border vertex), as `catmull_clark_limit` computes it on the made net.
+    fn limit(&self, c0: usize, on_border: bool) -> [f64; 3] {
+        let x = self.position(c0);
+        let mut out = [0.0; 3];
+        if on_border {
+            let w = self.position(self.next(c0));
+            let mut last = c0;
+            while self.rotate(last) != BORDER {
+                last = self.rotate(last);
+            }
+            let u = self.position(self.prev(last));
+            (0..3).for_each(|a| out[a] = (u[a] + 4.0 * x[a] + w[a]) / 6.0);
+            return out;
+        }
+        let (mut e, mut f, mut n) = ([0.0; 3], [0.0; 3], 0usize);
+        let mut c = c0;
+        loop {
+            let (en, fn_) = (self.position(self.next(c)), self.position(self.next(self.next(c))));
+            (0..3).for_each(|a| {
+                e[a] += en[a];
+                f[a] += fn_[a];
+            });
+            n += 1;
+            c = self.rotate(c);
+            if c == c0 {
+                break;
+            }
+        }
+        let nf = n as f64;
+        (0..3).for_each(|a| out[a] = (nf * nf * x[a] + 4.0 * e[a] + f[a]) / (nf * (nf + 5.0)));
+        out
+    }
+}
+
+impl PolyMesh {
+    /// Catmull-Clark's limit after one more step, straight from this net:
+    /// the limit points of the next net's vertices (vertex, edge and face
+    /// points, numbered as [`PolyMesh::catmull_clark_into`] numbers them) and
+    /// its quads, the same numbers as [`PolyMesh::limit_with`] computes on
+    /// the made net, without making it: memory of this net only.
+    pub(crate) fn catmull_clark_limit_into(&self, t: &Topology, out: &mut Emit<'_>) -> std::io::Result<()> {
+        let next = NextNet { net: self, t };
+        for v in 0..self.positions.len() {
+            match t.first(v) {
+                BORDER => out.vertex(self.positions[v])?, // unused by any face: kept as is
+                c0 => out.vertex(next.limit(4 * c0, t.on_border(v)))?,
+            }
+        }
+        let mut edge_of = vec![0u32; self.corner_count()];
+        let mut edges = 0u32;
+        for c in 0..self.corner_count() {
+            let tw = t.twin(c);
+            if tw != BORDER && tw < c {
+                continue;
+            }
+            let nc = t.next(self, c);
+            let point = if tw == BORDER {
+                next.limit(4 * nc + 3, true)
+            } else {
+                let first = [4 * c + 1, 4 * nc + 3, 4 * tw + 1, 4 * t.next(self, tw) + 3];
+                edge_of[tw] = edges;
+                next.limit(first.into_iter().min().unwrap_or(4 * c + 1), false)
+            };
+            edge_of[c] = edges;
+            edges += 1;
+            out.vertex(point)?;
+        }
+        for f in 0..self.face_count() {
+            out.vertex(next.limit(4 * self.starts[f] + 2, false))?;
+        }
+        let (e0, f0) = (self.positions.len(), self.positions.len() + edges as usize);
+        for c in 0..self.corner_count() {
+            let quad =
+                [self.indices[c], e0 + edge_of[c] as usize, f0 + t.face(c), e0 + edge_of[t.prev(self, c)] as usize];
+            out.face(quad)?;
+        }
+        Ok(())
+    }
+}

@@ -1,6 +1,6 @@
 //! Subdivided meshes pushed into a sink as they are made: the net before
 //! the last step is held in memory, the last step (the net, or Doo-Sabin's
-//! limit) goes straight to the sink, so a depth-10 cube (6.3 million faces)
+//! and Catmull-Clark's limits) goes straight to the sink, so a depth-10 cube (6.3 million faces)
 //! written to a file needs the memory of depth 9 only.
 
 use super::emit::{Emit, Written};
@@ -52,6 +52,19 @@ impl PolyMesh {
         }
         let io = SubdivideError::Write;
         sink.object(name).map_err(io)?;
+        if limit && matches!(scheme, Scheme::CatmullClark | Scheme::Loop) {
+            // Limit points are a local mask on the next net: from the net before it, streamed.
+            let net = self.subdivide_with(scheme, depth - 1, weights, memory_limit)?;
+            let t = Topology::trusted(&net);
+            let mut out = Emit::into_sink(sink);
+            if scheme == Scheme::Loop {
+                net.loop_limit_into(&t, weights.and_then(RuleWeights::triangle), &mut out)
+            } else {
+                net.catmull_clark_limit_into(&t, &mut out)
+            }
+            .map_err(io)?;
+            return out.flush().map_err(io);
+        }
         if limit && scheme != Scheme::DooSabin {
             // Limit positions need the last net's neighbourhoods: in memory.
             let shape = self.limit_with(scheme, depth, weights, memory_limit)?;
@@ -188,6 +201,69 @@ mod tests {
             .collect();
         out.sort();
         out
+    }
+
+    /// Catmull-Clark's limit streamed from the net before the last step is
+    /// the limit computed on the made net, bit for bit and face for face:
+    /// closed and open meshes, quads, triangles and larger faces, an unused vertex.
+    #[test]
+    fn the_streamed_catmull_clark_limit_is_the_limit_in_memory() {
+        let ico = PolyMesh::icosahedron();
+        let open = PolyMesh::new(ico.positions.clone(), ico.faces().skip(3).map(<[usize]>::to_vec).collect()).unwrap();
+        let mut unused = PolyMesh::cube().positions.clone();
+        unused.push([5.0, 5.0, 5.0]);
+        let lonely = PolyMesh::new(unused, PolyMesh::cube().faces().map(<[usize]>::to_vec).collect()).unwrap();
+        let mixed = PolyMesh::new(
+            vec![
+                [0.0, 0.0, 0.0],
+                [2.0, 0.0, 0.3],
+                [3.0, 1.0, 0.0],
+                [2.0, 2.0, 0.5],
+                [0.0, 2.0, 0.0],
+                [1.0, 3.0, 0.2],
+                [-1.0, 1.0, 0.1],
+            ],
+            vec![vec![0, 1, 2, 3, 4], vec![4, 3, 5], vec![0, 4, 6]],
+        )
+        .unwrap();
+        for mesh in [PolyMesh::cube(), ico, open, lonely, mixed] {
+            for depth in 1..=3 {
+                let job = Subdivision { scheme: Scheme::CatmullClark, depth, weights: None, memory_limit: 1 << 30 };
+                let mut streamed = crate::geometry::Shape::default();
+                mesh.subdivide_into(&job, true, "x", &mut streamed).unwrap();
+                let memory = mesh.limit_with(Scheme::CatmullClark, depth, None, 1 << 30).unwrap();
+                assert_eq!(streamed.positions, memory.positions, "depth {depth}");
+                assert_eq!(streamed.quads, memory.quads, "depth {depth}");
+                assert!(streamed.triangles.is_empty() && memory.triangles.is_empty());
+            }
+        }
+    }
+
+    /// Loop's limit streamed from the net before the last step is the limit
+    /// computed on the made net, bit for bit and face for face: closed and
+    /// open meshes, Loop's and other weights.
+    #[test]
+    fn the_streamed_loop_limit_is_the_limit_in_memory() {
+        let ico = PolyMesh::icosahedron();
+        let open = PolyMesh::new(ico.positions.clone(), ico.faces().skip(3).map(<[usize]>::to_vec).collect()).unwrap();
+        let tet = PolyMesh::new(
+            vec![[1.0, 1.0, 1.0], [1.0, -1.0, -1.0], [-1.0, 1.0, -1.0], [-1.0, -1.0, 1.0]],
+            vec![vec![0, 1, 2], vec![0, 3, 1], vec![0, 2, 3], vec![1, 3, 2]],
+        )
+        .unwrap();
+        for mesh in [ico, open, tet, PolyMesh::cube().triangulated()] {
+            for weights in [None, Some(LoopWeights { w: 0.3, sigma: 0.9 })] {
+                for depth in 1..=3 {
+                    let weights = weights.map(Into::into);
+                    let job = Subdivision { scheme: Scheme::Loop, depth, weights, memory_limit: 1 << 30 };
+                    let mut streamed = crate::geometry::Shape::default();
+                    mesh.subdivide_into(&job, true, "x", &mut streamed).unwrap();
+                    let memory = mesh.limit_with(Scheme::Loop, depth, weights, 1 << 30).unwrap();
+                    assert_eq!(streamed.positions, memory.positions, "depth {depth}");
+                    assert_eq!(streamed.triangles, memory.triangles, "depth {depth}");
+                }
+            }
+        }
     }
 
     /// Two Loop steps written at once are two steps in memory, up to the

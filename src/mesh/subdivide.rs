@@ -385,38 +385,9 @@ impl PolyMesh {
         let (nv, nf, corners) = (self.positions.len(), self.face_count(), self.corner_count());
         let face_points: Vec<[f64; 3]> = (0..nf).map(|f| self.centroid(f)).collect();
         for v in 0..nv {
-            let p = self.positions[v];
-            let c0 = t.first(v);
-            if c0 == BORDER {
-                out.vertex(p)?; // unused by any face: kept as is
-                continue;
-            }
-            if t.on_border(v) {
-                out.vertex(border_curve_point(self, t, c0))?;
-                continue;
-            }
-            let (mut q, mut r, mut n) = ([0.0; 3], [0.0; 3], 0usize);
-            for c in (Rotation { mesh: self, t, first: c0, at: Some(c0) }) {
-                add(&mut q, face_points[t.face(c)], 1.0);
-                add(&mut r, p, 0.5);
-                add(&mut r, self.positions[self.indices[t.next(self, c)]], 0.5);
-                n += 1;
-            }
-            let nf64 = n as f64;
-            let mut o = [0.0; 3];
-            add(&mut o, q, 1.0 / nf64 / nf64);
-            add(&mut o, r, 2.0 / nf64 / nf64);
-            add(&mut o, p, (nf64 - 3.0) / nf64);
-            out.vertex(o)?;
+            out.vertex(self.cc_vertex_point(t, v, |f| face_points[f]))?;
         }
-        let (edge_of, edges) = self.edge_points(t, out, |c, tw| {
-            let mut e = [0.0; 3];
-            let ends = [self.positions[self.indices[c]], self.positions[self.indices[tw]]];
-            for q in [ends[0], ends[1], face_points[t.face(c)], face_points[t.face(tw)]] {
-                add(&mut e, q, 0.25);
-            }
-            e
-        })?;
+        let (edge_of, edges) = self.edge_points(t, out, |c, tw| self.cc_edge_point(t, c, tw, |f| face_points[f]))?;
         for p in &face_points {
             out.vertex(*p)?;
         }
@@ -427,6 +398,60 @@ impl PolyMesh {
             out.face(quad)?;
         }
         Ok(())
+    }
+}
+
+impl PolyMesh {
+    /// Catmull-Clark's new point of vertex `v` (`face_point(f)`: the centroid
+    /// of face `f`): `(Q + 2R + (n − 3)v)/n`, the cubic B-spline rule on the
+    /// border, `v` itself when no face uses it.
+    pub(crate) fn cc_vertex_point(&self, t: &Topology, v: usize, face_point: impl Fn(usize) -> [f64; 3]) -> [f64; 3] {
+        let p = self.positions[v];
+        let c0 = t.first(v);
+        if c0 == BORDER {
+            return p; // unused by any face: kept as is
+        }
+        if t.on_border(v) {
+            return border_curve_point(self, t, c0);
+        }
+        let (mut q, mut r, mut n) = ([0.0; 3], [0.0; 3], 0usize);
+        for c in (Rotation { mesh: self, t, first: c0, at: Some(c0) }) {
+            add(&mut q, face_point(t.face(c)), 1.0);
+            add(&mut r, p, 0.5);
+            add(&mut r, self.positions[self.indices[t.next(self, c)]], 0.5);
+            n += 1;
+        }
+        let nf64 = n as f64;
+        let mut o = [0.0; 3];
+        add(&mut o, q, 1.0 / nf64 / nf64);
+        add(&mut o, r, 2.0 / nf64 / nf64);
+        add(&mut o, p, (nf64 - 3.0) / nf64);
+        o
+    }
+
+    /// Catmull-Clark's point of the interior edge of the corners `c < tw`:
+    /// `(a + b + f + g)/4`.
+    pub(crate) fn cc_edge_point(
+        &self,
+        t: &Topology,
+        c: usize,
+        tw: usize,
+        face_point: impl Fn(usize) -> [f64; 3],
+    ) -> [f64; 3] {
+        let mut e = [0.0; 3];
+        let ends = [self.positions[self.indices[c]], self.positions[self.indices[tw]]];
+        for q in [ends[0], ends[1], face_point(t.face(c)), face_point(t.face(tw))] {
+            add(&mut e, q, 0.25);
+        }
+        e
+    }
+
+    /// The midpoint of the border half-edge `c`.
+    pub(crate) fn border_midpoint(&self, t: &Topology, c: usize) -> [f64; 3] {
+        let mut m = [0.0; 3];
+        add(&mut m, self.positions[self.indices[c]], 0.5);
+        add(&mut m, self.positions[self.indices[t.next(self, c)]], 0.5);
+        m
     }
 }
 
@@ -459,10 +484,7 @@ impl PolyMesh {
                 continue;
             }
             let p = if tw == BORDER {
-                let mut m = [0.0; 3];
-                add(&mut m, self.positions[self.indices[c]], 0.5);
-                add(&mut m, self.positions[self.indices[t.next(self, c)]], 0.5);
-                m
+                self.border_midpoint(t, c)
             } else {
                 edge_of[tw] = edges;
                 interior(c, tw)

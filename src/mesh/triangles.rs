@@ -74,6 +74,32 @@ fn ring<'a>(mesh: &'a PolyMesh, t: &'a Topology, c0: usize) -> impl Iterator<Ite
 }
 
 impl PolyMesh {
+    /// Loop's new point of vertex `v` (`custom`: weights other than Loop's).
+    pub(crate) fn loop_vertex_point(&self, t: &Topology, v: usize, custom: Option<LoopWeights>) -> [f64; 3] {
+        let p = self.positions[v];
+        let c0 = t.first(v);
+        if c0 == BORDER {
+            p
+        } else if t.on_border(v) {
+            border_curve_point(self, t, c0)
+        } else {
+            let (mut r, mut n) = ([0.0; 3], 0usize);
+            for u in ring(self, t, c0) {
+                add(&mut r, self.positions[u], 1.0);
+                n += 1;
+            }
+            loop_vertex(p, r, n, custom)
+        }
+    }
+
+    /// Loop's point of the interior edge of the corners `c < tw`.
+    pub(crate) fn loop_edge_point(&self, t: &Topology, c: usize, tw: usize, custom: Option<LoopWeights>) -> [f64; 3] {
+        let p = |c: usize| self.positions[self.indices[c]];
+        loop_edge([p(c), p(tw), p(t.prev(self, c)), p(t.prev(self, tw))], custom)
+    }
+}
+
+impl PolyMesh {
     /// One Loop step into `out`: vertex points, edge points (in corner
     /// order), four triangles per triangle.
     /// With weights other than Loop's, the general rules of [`LoopWeights`].
@@ -81,26 +107,9 @@ impl PolyMesh {
         let custom = weights.filter(|w| *w != LoopWeights::CLASSIC);
         let nv = self.positions.len();
         for v in 0..nv {
-            let p = self.positions[v];
-            let c0 = t.first(v);
-            let q = if c0 == BORDER {
-                p
-            } else if t.on_border(v) {
-                border_curve_point(self, t, c0)
-            } else {
-                let (mut r, mut n) = ([0.0; 3], 0usize);
-                for u in ring(self, t, c0) {
-                    add(&mut r, self.positions[u], 1.0);
-                    n += 1;
-                }
-                loop_vertex(p, r, n, custom)
-            };
-            out.vertex(q)?;
+            out.vertex(self.loop_vertex_point(t, v, custom))?;
         }
-        let (edge_of, _) = self.edge_points(t, out, |c, tw| {
-            let p = |c: usize| self.positions[self.indices[c]];
-            loop_edge([p(c), p(tw), p(t.prev(self, c)), p(t.prev(self, tw))], custom)
-        })?;
+        let (edge_of, _) = self.edge_points(t, out, |c, tw| self.loop_edge_point(t, c, tw, custom))?;
         for f in 0..self.face_count() {
             let s = self.starts[f];
             let (v, e) = ([0, 1, 2].map(|i| self.indices[s + i]), [0, 1, 2].map(|i| nv + edge_of[s + i] as usize));
@@ -482,6 +491,171 @@ impl TwoSteps<'_> {
                 split([mesh.indices[s + k], m(s + k), m(s + p)], [start_half(s + k), inner(f, p), end_half(s + p)])?;
             }
             split([m(s), m(s + 1), m(s + 2)], [inner(f, 0), inner(f, 1), inner(f, 2)])?;
+        }
+        Ok(())
+    }
+}
+
+/// The net after one more Loop step of a triangle mesh, named from this net
+/// without being made: face `f`'s children are `[v0, e0, e2]`, `[v1, e1, e0]`,
+/// `[v2, e2, e1]`, `[e0, e1, e2]`, their corners `12f .. 12f + 11`, as
+/// [`PolyMesh::loop_into`] makes them; positions are computed when asked, and
+/// the topology is the one [`Topology::trusted`] would find on the made net.
+struct NextLoop<'a> {
+    net: &'a PolyMesh,
+    t: &'a Topology,
+    custom: Option<LoopWeights>,
+}
+
+impl NextLoop<'_> {
+    fn next(&self, x: usize) -> usize {
+        x - x % 3 + (x + 1) % 3
+    }
+
+    fn prev(&self, x: usize) -> usize {
+        x - x % 3 + (x + 2) % 3
+    }
+
+    /// The fine corner `j` of child `i` of the face of coarse corner `c`.
+    fn at(c: usize, i: usize, j: usize) -> usize {
+        12 * (c / 3) + 3 * i + j
+    }
+
+    fn twin(&self, x: usize) -> usize {
+        let (f, i, j) = (x / 12, x % 12 / 3, x % 3);
+        let t = self.t;
+        match (i, j) {
+            (3, j) => 12 * f + 3 * ((j + 1) % 3) + 1,
+            (i, 0) => match t.twin(3 * f + i) {
+                BORDER => BORDER,
+                tw => Self::at(tw, (tw % 3 + 1) % 3, 2),
+            },
+            (i, 1) => 12 * f + 9 + (i + 2) % 3,
+            (i, _) => match t.twin(3 * f + (i + 2) % 3) {
+                BORDER => BORDER,
+                tp => Self::at(tp, tp % 3, 0),
+            },
+        }
+    }
+
+    fn rotate(&self, x: usize) -> usize {
+        self.twin(self.prev(x))
+    }
+
+    /// The edge point of the edge of half-edge `k`.
+    fn edge(&self, k: usize) -> [f64; 3] {
+        let (net, t) = (self.net, self.t);
+        match t.twin(k) {
+            BORDER => net.border_midpoint(t, k),
+            tw => net.loop_edge_point(t, k.min(tw), k.max(tw), self.custom),
+        }
+    }
+
+    /// The position of the vertex of fine corner `x`.
+    fn position(&self, x: usize) -> [f64; 3] {
+        let (f, i, j) = (x / 12, x % 12 / 3, x % 3);
+        match (i, j) {
+            (3, j) => self.edge(3 * f + j),
+            (i, 0) => self.net.loop_vertex_point(self.t, self.net.indices[3 * f + i], self.custom),
+            (i, 1) => self.edge(3 * f + i),
+            (i, _) => self.edge(3 * f + (i + 2) % 3),
+        }
+    }
+
+    /// The limit point of the fine vertex whose first corner is `c0`, as
+    /// [`PolyMesh::triangle_limit_points`] computes it on the made net.
+    fn limit(&self, c0: usize, on_border: bool, weights: Option<LoopWeights>) -> [f64; 3] {
+        let p = self.position(c0);
+        let mut out = [0.0; 3];
+        if on_border {
+            let w = self.position(self.next(c0));
+            let mut last = c0;
+            while self.rotate(last) != BORDER {
+                last = self.rotate(last);
+            }
+            let u = self.position(self.prev(last));
+            add(&mut out, u, 1.0 / 6.0);
+            add(&mut out, p, 4.0 / 6.0);
+            add(&mut out, w, 1.0 / 6.0);
+            return out;
+        }
+        let ring: Vec<usize> = {
+            let mut corners = vec![c0];
+            let mut c = self.rotate(c0);
+            while c != BORDER && c != c0 {
+                corners.push(c);
+                c = self.rotate(c);
+            }
+            corners
+        };
+        let n = ring.len();
+        let mut q = [0.0; 3];
+        ring.iter().for_each(|&c| add(&mut q, self.position(self.next(c)), 1.0 / n as f64));
+        let s = match weights.filter(|w| *w != LoopWeights::CLASSIC) {
+            Some(l) => l.ring(n) / l.w,
+            None => 8.0 * n as f64 * loop_beta(n) / 3.0,
+        };
+        add(&mut out, p, 1.0 / (1.0 + s));
+        add(&mut out, q, s / (1.0 + s));
+        out
+    }
+}
+
+impl PolyMesh {
+    /// Loop's limit after one more step, straight from this triangle net:
+    /// the limit points of the next net's vertices (vertex points, then edge
+    /// points in edge order, as [`PolyMesh::loop_into`] numbers them) and its
+    /// triangles, the same numbers as [`PolyMesh::limit_with`] computes on the
+    /// made net, without making it: memory of this net only.
+    pub(crate) fn loop_limit_into(
+        &self,
+        t: &Topology,
+        weights: Option<LoopWeights>,
+        out: &mut Emit<'_>,
+    ) -> io::Result<()> {
+        let custom = weights.filter(|w| *w != LoopWeights::CLASSIC);
+        let next = NextLoop { net: self, t, custom };
+        let nv = self.positions.len();
+        for v in 0..nv {
+            match t.first(v) {
+                BORDER => out.vertex(self.positions[v])?, // unused by any face: kept as is
+                c0 => out.vertex(next.limit(NextLoop::at(c0, c0 % 3, 0), t.on_border(v), weights))?,
+            }
+        }
+        let mut edge_of = vec![0u32; self.corner_count()];
+        let mut edges = 0u32;
+        for c in 0..self.corner_count() {
+            let tw = t.twin(c);
+            if tw != BORDER && tw < c {
+                continue;
+            }
+            let (i, second_half) = (c % 3, NextLoop::at(c, (c % 3 + 1) % 3, 2));
+            let point = if tw == BORDER {
+                next.limit(second_half, true, weights)
+            } else {
+                let i2 = tw % 3;
+                let corners = [
+                    NextLoop::at(c, i, 1),
+                    second_half,
+                    NextLoop::at(c, 3, i),
+                    NextLoop::at(tw, i2, 1),
+                    NextLoop::at(tw, (i2 + 1) % 3, 2),
+                    NextLoop::at(tw, 3, i2),
+                ];
+                edge_of[tw] = edges;
+                next.limit(corners.into_iter().min().unwrap_or(second_half), false, weights)
+            };
+            edge_of[c] = edges;
+            edges += 1;
+            out.vertex(point)?;
+        }
+        for f in 0..self.face_count() {
+            let s = self.starts[f];
+            let (v, e) = ([0, 1, 2].map(|i| self.indices[s + i]), [0, 1, 2].map(|i| nv + edge_of[s + i] as usize));
+            out.face([v[0], e[0], e[2]])?;
+            out.face([v[1], e[1], e[0]])?;
+            out.face([v[2], e[2], e[1]])?;
+            out.face([e[0], e[1], e[2]])?;
         }
         Ok(())
     }
