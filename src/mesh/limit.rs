@@ -122,18 +122,58 @@ fn catmull_clark_limit(net: &PolyMesh, t: &Topology) -> (Vec<[f64; 3]>, Vec<[usi
     (points, quads)
 }
 
-/// The net after one more Catmull-Clark step, named from this net without
-/// being made: the quad of corner `k` is `[v'(k), e'(k), F'(face k),
-/// e'(prev k)]`, its corners `4k .. 4k + 3`, as [`PolyMesh::catmull_clark_into`]
-/// makes them; positions are computed when asked. Its topology (next, prev,
-/// twin, rotation, first corners) is the one [`Topology::trusted`] would
-/// find on the made net, so walks over it visit corners in the same order.
+/// The net after one more step, named from this net without being made:
+/// its corners' next, previous and twin corners and their vertices'
+/// positions, as [`Topology::trusted`] and the step would find them on the
+/// made net, so walks over it visit corners in the same order and limit
+/// masks on it give the made net's numbers bit for bit.
+pub(crate) trait NextMesh {
+    /// The corner after `x` in its face.
+    fn next(&self, x: usize) -> usize;
+    /// The corner before `x` in its face.
+    fn prev(&self, x: usize) -> usize;
+    /// The twin of half-edge `x`, or [`BORDER`].
+    fn twin(&self, x: usize) -> usize;
+    /// The position of the vertex of corner `x`.
+    fn position(&self, x: usize) -> [f64; 3];
+
+    /// The next outgoing corner around the vertex of `x`, or [`BORDER`].
+    fn rotate(&self, x: usize) -> usize {
+        self.twin(self.prev(x))
+    }
+
+    /// The positions of the border neighbours `(u, w)` of the border vertex
+    /// whose first corner is `c0` ([`Topology::border_neighbours`]).
+    fn border_neighbours(&self, c0: usize) -> ([f64; 3], [f64; 3]) {
+        let w = self.position(self.next(c0));
+        let mut last = c0;
+        while self.rotate(last) != BORDER {
+            last = self.rotate(last);
+        }
+        (self.position(self.prev(last)), w)
+    }
+
+    /// The outgoing corners around the interior vertex whose first corner is `c0`, in order.
+    fn fan(&self, c0: usize) -> Vec<usize> {
+        let mut corners = vec![c0];
+        let mut c = self.rotate(c0);
+        while c != BORDER && c != c0 {
+            corners.push(c);
+            c = self.rotate(c);
+        }
+        corners
+    }
+}
+
+/// The net after one more Catmull-Clark step: the quad of corner `k` is
+/// `[v'(k), e'(k), F'(face k), e'(prev k)]`, its corners `4k .. 4k + 3`, as
+/// [`PolyMesh::catmull_clark_into`] makes them.
 struct NextNet<'a> {
     net: &'a PolyMesh,
     t: &'a Topology,
 }
 
-impl NextNet<'_> {
+impl NextMesh for NextNet<'_> {
     fn next(&self, x: usize) -> usize {
         x - x % 4 + (x + 1) % 4
     }
@@ -144,32 +184,18 @@ impl NextNet<'_> {
 
     fn twin(&self, x: usize) -> usize {
         let (net, t, k) = (self.net, self.t, x / 4);
-        let wrap = |c: usize, j: usize| if c == BORDER { BORDER } else { 4 * c + j };
-        match x % 4 {
-            0 => match t.twin(k) {
+        match (x % 4, t.twin(k)) {
+            (0, BORDER) => BORDER,
+            (0, tw) => 4 * t.next(net, tw) + 3,
+            (1, _) => 4 * t.next(net, k) + 2,
+            (2, _) => 4 * t.prev(net, k) + 1,
+            _ => match t.twin(t.prev(net, k)) {
                 BORDER => BORDER,
-                tw => 4 * t.next(net, tw) + 3,
+                tp => 4 * tp,
             },
-            1 => 4 * t.next(net, k) + 2,
-            2 => 4 * t.prev(net, k) + 1,
-            _ => wrap(t.twin(t.prev(net, k)), 0),
         }
     }
 
-    fn rotate(&self, x: usize) -> usize {
-        self.twin(self.prev(x))
-    }
-
-    /// The edge point of the edge of half-edge `k`.
-    fn edge(&self, k: usize) -> [f64; 3] {
-        let (net, t) = (self.net, self.t);
-        match t.twin(k) {
-            BORDER => net.border_midpoint(t, k),
-            tw => net.cc_edge_point(t, k.min(tw), k.max(tw), |f| net.centroid(f)),
-        }
-    }
-
-    /// The position of the vertex of corner `x`.
     fn position(&self, x: usize) -> [f64; 3] {
         let (net, t, k) = (self.net, self.t, x / 4);
         match x % 4 {
@@ -179,6 +205,17 @@ impl NextNet<'_> {
             _ => self.edge(t.prev(net, k)),
         }
     }
+}
+
+impl NextNet<'_> {
+    /// The edge point of the edge of half-edge `k`.
+    fn edge(&self, k: usize) -> [f64; 3] {
+        let (net, t) = (self.net, self.t);
+        match t.twin(k) {
+            BORDER => net.border_midpoint(t, k),
+            tw => net.cc_edge_point(t, k.min(tw), k.max(tw), |f| net.centroid(f)),
+        }
+    }
 
     /// The limit point of the vertex whose first corner is `c0` (`on_border`:
     /// a border vertex), as `catmull_clark_limit` computes it on the made net.
@@ -186,30 +223,20 @@ impl NextNet<'_> {
         let x = self.position(c0);
         let mut out = [0.0; 3];
         if on_border {
-            let w = self.position(self.next(c0));
-            let mut last = c0;
-            while self.rotate(last) != BORDER {
-                last = self.rotate(last);
-            }
-            let u = self.position(self.prev(last));
+            let (u, w) = self.border_neighbours(c0);
             (0..3).for_each(|a| out[a] = (u[a] + 4.0 * x[a] + w[a]) / 6.0);
             return out;
         }
-        let (mut e, mut f, mut n) = ([0.0; 3], [0.0; 3], 0usize);
-        let mut c = c0;
-        loop {
+        let (mut e, mut f) = ([0.0; 3], [0.0; 3]);
+        let fan = self.fan(c0);
+        for &c in &fan {
             let (en, fn_) = (self.position(self.next(c)), self.position(self.next(self.next(c))));
             (0..3).for_each(|a| {
                 e[a] += en[a];
                 f[a] += fn_[a];
             });
-            n += 1;
-            c = self.rotate(c);
-            if c == c0 {
-                break;
-            }
         }
-        let nf = n as f64;
+        let nf = fan.len() as f64;
         (0..3).for_each(|a| out[a] = (nf * nf * x[a] + 4.0 * e[a] + f[a]) / (nf * (nf + 5.0)));
         out
     }
@@ -229,34 +256,20 @@ impl PolyMesh {
                 c0 => out.vertex(next.limit(4 * c0, t.on_border(v)))?,
             }
         }
-        let mut edge_of = vec![0u32; self.corner_count()];
-        let mut edges = 0u32;
-        for c in 0..self.corner_count() {
-            let tw = t.twin(c);
-            if tw != BORDER && tw < c {
-                continue;
-            }
+        let (edge_of, edges) = self.edge_numbering(t, out, |c, tw| {
             let nc = t.next(self, c);
-            let point = if tw == BORDER {
-                next.limit(4 * nc + 3, true)
-            } else {
-                let first = [4 * c + 1, 4 * nc + 3, 4 * tw + 1, 4 * t.next(self, tw) + 3];
-                edge_of[tw] = edges;
-                next.limit(first.into_iter().min().unwrap_or(4 * c + 1), false)
-            };
-            edge_of[c] = edges;
-            edges += 1;
-            out.vertex(point)?;
-        }
+            match tw {
+                None => next.limit(4 * nc + 3, true),
+                Some(tw) => {
+                    let first = [4 * c + 1, 4 * nc + 3, 4 * tw + 1, 4 * t.next(self, tw) + 3];
+                    next.limit(first.into_iter().min().unwrap_or(4 * c + 1), false)
+                }
+            }
+        })?;
         for f in 0..self.face_count() {
             out.vertex(next.limit(4 * self.starts[f] + 2, false))?;
         }
-        let (e0, f0) = (self.positions.len(), self.positions.len() + edges as usize);
-        for c in 0..self.corner_count() {
-            let quad =
-                [self.indices[c], e0 + edge_of[c] as usize, f0 + t.face(c), e0 + edge_of[t.prev(self, c)] as usize];
-            out.face(quad)?;
-        }
-        Ok(())
+        let nv = self.positions.len();
+        self.cc_quads(t, (nv, nv + edges), &edge_of, out)
     }
 }

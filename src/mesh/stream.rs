@@ -203,6 +203,29 @@ mod tests {
         out
     }
 
+    /// Triangle meshes with valences 3 to 6, closed and open.
+    fn triangle_meshes() -> [PolyMesh; 4] {
+        let ico = PolyMesh::icosahedron();
+        let open = PolyMesh::new(ico.positions.clone(), ico.faces().skip(3).map(<[usize]>::to_vec).collect()).unwrap();
+        let tet = PolyMesh::new(
+            vec![[1.0, 1.0, 1.0], [1.0, -1.0, -1.0], [-1.0, 1.0, -1.0], [-1.0, -1.0, 1.0]],
+            vec![vec![0, 1, 2], vec![0, 3, 1], vec![0, 2, 3], vec![1, 3, 2]],
+        )
+        .unwrap();
+        [ico, open, tet, PolyMesh::cube().triangulated()]
+    }
+
+    /// The limit streamed by [`PolyMesh::subdivide_into`] is [`PolyMesh::limit_with`]'s, bit for bit.
+    fn assert_streamed_limit_is_in_memory(mesh: &PolyMesh, scheme: Scheme, weights: Option<RuleWeights>, depth: usize) {
+        let job = Subdivision { scheme, depth, weights, memory_limit: 1 << 30 };
+        let mut streamed = crate::geometry::Shape::default();
+        mesh.subdivide_into(&job, true, "x", &mut streamed).unwrap();
+        let memory = mesh.limit_with(scheme, depth, weights, 1 << 30).unwrap();
+        assert_eq!(streamed.positions, memory.positions, "{scheme:?} depth {depth}");
+        assert_eq!(streamed.quads, memory.quads, "{scheme:?} depth {depth}");
+        assert_eq!(streamed.triangles, memory.triangles, "{scheme:?} depth {depth}");
+    }
+
     /// Catmull-Clark's limit streamed from the net before the last step is
     /// the limit computed on the made net, bit for bit and face for face:
     /// closed and open meshes, quads, triangles and larger faces, an unused vertex.
@@ -228,13 +251,7 @@ mod tests {
         .unwrap();
         for mesh in [PolyMesh::cube(), ico, open, lonely, mixed] {
             for depth in 1..=3 {
-                let job = Subdivision { scheme: Scheme::CatmullClark, depth, weights: None, memory_limit: 1 << 30 };
-                let mut streamed = crate::geometry::Shape::default();
-                mesh.subdivide_into(&job, true, "x", &mut streamed).unwrap();
-                let memory = mesh.limit_with(Scheme::CatmullClark, depth, None, 1 << 30).unwrap();
-                assert_eq!(streamed.positions, memory.positions, "depth {depth}");
-                assert_eq!(streamed.quads, memory.quads, "depth {depth}");
-                assert!(streamed.triangles.is_empty() && memory.triangles.is_empty());
+                assert_streamed_limit_is_in_memory(&mesh, Scheme::CatmullClark, None, depth);
             }
         }
     }
@@ -244,23 +261,10 @@ mod tests {
     /// open meshes, Loop's and other weights.
     #[test]
     fn the_streamed_loop_limit_is_the_limit_in_memory() {
-        let ico = PolyMesh::icosahedron();
-        let open = PolyMesh::new(ico.positions.clone(), ico.faces().skip(3).map(<[usize]>::to_vec).collect()).unwrap();
-        let tet = PolyMesh::new(
-            vec![[1.0, 1.0, 1.0], [1.0, -1.0, -1.0], [-1.0, 1.0, -1.0], [-1.0, -1.0, 1.0]],
-            vec![vec![0, 1, 2], vec![0, 3, 1], vec![0, 2, 3], vec![1, 3, 2]],
-        )
-        .unwrap();
-        for mesh in [ico, open, tet, PolyMesh::cube().triangulated()] {
+        for mesh in triangle_meshes() {
             for weights in [None, Some(LoopWeights { w: 0.3, sigma: 0.9 })] {
                 for depth in 1..=3 {
-                    let weights = weights.map(Into::into);
-                    let job = Subdivision { scheme: Scheme::Loop, depth, weights, memory_limit: 1 << 30 };
-                    let mut streamed = crate::geometry::Shape::default();
-                    mesh.subdivide_into(&job, true, "x", &mut streamed).unwrap();
-                    let memory = mesh.limit_with(Scheme::Loop, depth, weights, 1 << 30).unwrap();
-                    assert_eq!(streamed.positions, memory.positions, "depth {depth}");
-                    assert_eq!(streamed.triangles, memory.triangles, "depth {depth}");
+                    assert_streamed_limit_is_in_memory(&mesh, Scheme::Loop, weights.map(Into::into), depth);
                 }
             }
         }
@@ -271,14 +275,7 @@ mod tests {
     /// orientation): closed and open meshes, valences 3 to 6, Loop's and other weights.
     #[test]
     fn two_loop_steps_at_once_are_two_steps() {
-        let ico = PolyMesh::icosahedron();
-        let open = PolyMesh::new(ico.positions.clone(), ico.faces().skip(3).map(<[usize]>::to_vec).collect()).unwrap();
-        let tet = PolyMesh::new(
-            vec![[1.0, 1.0, 1.0], [1.0, -1.0, -1.0], [-1.0, 1.0, -1.0], [-1.0, -1.0, 1.0]],
-            vec![vec![0, 1, 2], vec![0, 3, 1], vec![0, 2, 3], vec![1, 3, 2]],
-        )
-        .unwrap();
-        for mesh in [ico, open, tet, PolyMesh::cube().triangulated()] {
+        for mesh in triangle_meshes() {
             for weights in [None, Some(LoopWeights { w: 0.3, sigma: 0.9 })] {
                 let once = mesh.subdivide_with(Scheme::Loop, 1, weights.map(Into::into), 1 << 30).unwrap();
                 let t = Topology::trusted(&once);

@@ -382,7 +382,7 @@ impl PolyMesh {
     /// One Catmull-Clark step into `out`: vertex points, edge points (in
     /// corner order), face points; a quad per corner.
     pub(crate) fn catmull_clark_into(&self, t: &Topology, out: &mut Emit<'_>) -> io::Result<()> {
-        let (nv, nf, corners) = (self.positions.len(), self.face_count(), self.corner_count());
+        let (nv, nf) = (self.positions.len(), self.face_count());
         let face_points: Vec<[f64; 3]> = (0..nf).map(|f| self.centroid(f)).collect();
         for v in 0..nv {
             out.vertex(self.cc_vertex_point(t, v, |f| face_points[f]))?;
@@ -391,13 +391,7 @@ impl PolyMesh {
         for p in &face_points {
             out.vertex(*p)?;
         }
-        let (e0, f0) = (nv, nv + edges);
-        for c in 0..corners {
-            let quad =
-                [self.indices[c], e0 + edge_of[c] as usize, f0 + t.face(c), e0 + edge_of[t.prev(self, c)] as usize];
-            out.face(quad)?;
-        }
-        Ok(())
+        self.cc_quads(t, (nv, nv + edges), &edge_of, out)
     }
 }
 
@@ -476,6 +470,21 @@ impl PolyMesh {
         out: &mut Emit<'_>,
         interior: impl Fn(usize, usize) -> [f64; 3],
     ) -> io::Result<(Vec<u32>, usize)> {
+        self.edge_numbering(t, out, |c, tw| match tw {
+            None => self.border_midpoint(t, c),
+            Some(tw) => interior(c, tw),
+        })
+    }
+
+    /// One point per edge into `out`, numbered in corner order (the smaller
+    /// corner of an interior edge): `point(c, twin)` (`None`: a border edge).
+    /// Returns each corner's edge number, and the number of edges.
+    pub(crate) fn edge_numbering(
+        &self,
+        t: &Topology,
+        out: &mut Emit<'_>,
+        point: impl Fn(usize, Option<usize>) -> [f64; 3],
+    ) -> io::Result<(Vec<u32>, usize)> {
         let mut edge_of = vec![0u32; self.corner_count()];
         let mut edges = 0u32;
         for c in 0..self.corner_count() {
@@ -483,17 +492,31 @@ impl PolyMesh {
             if tw != BORDER && tw < c {
                 continue;
             }
-            let p = if tw == BORDER {
-                self.border_midpoint(t, c)
-            } else {
+            if tw != BORDER {
                 edge_of[tw] = edges;
-                interior(c, tw)
-            };
+            }
             edge_of[c] = edges;
             edges += 1;
-            out.vertex(p)?;
+            out.vertex(point(c, (tw != BORDER).then_some(tw)))?;
         }
         Ok((edge_of, edges as usize))
+    }
+
+    /// Catmull-Clark's quads, one per corner `[v, e(c), f, e(prev c)]`, the
+    /// edge points numbered from `e0` (`edge_of`) and the face points from `f0`.
+    pub(crate) fn cc_quads(
+        &self,
+        t: &Topology,
+        (e0, f0): (usize, usize),
+        edge_of: &[u32],
+        out: &mut Emit<'_>,
+    ) -> io::Result<()> {
+        for c in 0..self.corner_count() {
+            let quad =
+                [self.indices[c], e0 + edge_of[c] as usize, f0 + t.face(c), e0 + edge_of[t.prev(self, c)] as usize];
+            out.face(quad)?;
+        }
+        Ok(())
     }
 }
 

@@ -17,6 +17,7 @@ use std::f64::consts::PI;
 use std::io;
 
 use super::emit::Emit;
+use super::limit::NextMesh;
 use super::polymesh::PolyMesh;
 use super::subdivide::{LoopWeights, add, border_curve_point};
 use super::topology::{BORDER, Topology};
@@ -110,16 +111,7 @@ impl PolyMesh {
             out.vertex(self.loop_vertex_point(t, v, custom))?;
         }
         let (edge_of, _) = self.edge_points(t, out, |c, tw| self.loop_edge_point(t, c, tw, custom))?;
-        for f in 0..self.face_count() {
-            let s = self.starts[f];
-            let (v, e) = ([0, 1, 2].map(|i| self.indices[s + i]), [0, 1, 2].map(|i| nv + edge_of[s + i] as usize));
-            // Corners a, b, c with edges e0 = ab, e1 = bc, e2 = ca.
-            out.face([v[0], e[0], e[2]])?;
-            out.face([v[1], e[1], e[0]])?;
-            out.face([v[2], e[2], e[1]])?;
-            out.face([e[0], e[1], e[2]])?;
-        }
-        Ok(())
+        self.loop_faces(&edge_of, out)
     }
 
     /// Two Loop steps into `out` without the net between them, which would
@@ -496,29 +488,22 @@ impl TwoSteps<'_> {
     }
 }
 
-/// The net after one more Loop step of a triangle mesh, named from this net
-/// without being made: face `f`'s children are `[v0, e0, e2]`, `[v1, e1, e0]`,
-/// `[v2, e2, e1]`, `[e0, e1, e2]`, their corners `12f .. 12f + 11`, as
-/// [`PolyMesh::loop_into`] makes them; positions are computed when asked, and
-/// the topology is the one [`Topology::trusted`] would find on the made net.
+/// The net after one more Loop step of a triangle mesh: face `f`'s children
+/// are `[v0, e0, e2]`, `[v1, e1, e0]`, `[v2, e2, e1]`, `[e0, e1, e2]`, their
+/// corners `12f .. 12f + 11`, as [`PolyMesh::loop_into`] makes them.
 struct NextLoop<'a> {
     net: &'a PolyMesh,
     t: &'a Topology,
     custom: Option<LoopWeights>,
 }
 
-impl NextLoop<'_> {
+impl NextMesh for NextLoop<'_> {
     fn next(&self, x: usize) -> usize {
         x - x % 3 + (x + 1) % 3
     }
 
     fn prev(&self, x: usize) -> usize {
         x - x % 3 + (x + 2) % 3
-    }
-
-    /// The fine corner `j` of child `i` of the face of coarse corner `c`.
-    fn at(c: usize, i: usize, j: usize) -> usize {
-        12 * (c / 3) + 3 * i + j
     }
 
     fn twin(&self, x: usize) -> usize {
@@ -538,8 +523,21 @@ impl NextLoop<'_> {
         }
     }
 
-    fn rotate(&self, x: usize) -> usize {
-        self.twin(self.prev(x))
+    fn position(&self, x: usize) -> [f64; 3] {
+        let (f, i, j) = (x / 12, x % 12 / 3, x % 3);
+        match (i, j) {
+            (3, j) => self.edge(3 * f + j),
+            (i, 0) => self.net.loop_vertex_point(self.t, self.net.indices[3 * f + i], self.custom),
+            (i, 1) => self.edge(3 * f + i),
+            (i, _) => self.edge(3 * f + (i + 2) % 3),
+        }
+    }
+}
+
+impl NextLoop<'_> {
+    /// The fine corner `j` of child `i` of the face of coarse corner `c`.
+    fn at(c: usize, i: usize, j: usize) -> usize {
+        12 * (c / 3) + 3 * i + j
     }
 
     /// The edge point of the edge of half-edge `k`.
@@ -551,43 +549,19 @@ impl NextLoop<'_> {
         }
     }
 
-    /// The position of the vertex of fine corner `x`.
-    fn position(&self, x: usize) -> [f64; 3] {
-        let (f, i, j) = (x / 12, x % 12 / 3, x % 3);
-        match (i, j) {
-            (3, j) => self.edge(3 * f + j),
-            (i, 0) => self.net.loop_vertex_point(self.t, self.net.indices[3 * f + i], self.custom),
-            (i, 1) => self.edge(3 * f + i),
-            (i, _) => self.edge(3 * f + (i + 2) % 3),
-        }
-    }
-
     /// The limit point of the fine vertex whose first corner is `c0`, as
     /// [`PolyMesh::triangle_limit_points`] computes it on the made net.
     fn limit(&self, c0: usize, on_border: bool, weights: Option<LoopWeights>) -> [f64; 3] {
         let p = self.position(c0);
         let mut out = [0.0; 3];
         if on_border {
-            let w = self.position(self.next(c0));
-            let mut last = c0;
-            while self.rotate(last) != BORDER {
-                last = self.rotate(last);
-            }
-            let u = self.position(self.prev(last));
+            let (u, w) = self.border_neighbours(c0);
             add(&mut out, u, 1.0 / 6.0);
             add(&mut out, p, 4.0 / 6.0);
             add(&mut out, w, 1.0 / 6.0);
             return out;
         }
-        let ring: Vec<usize> = {
-            let mut corners = vec![c0];
-            let mut c = self.rotate(c0);
-            while c != BORDER && c != c0 {
-                corners.push(c);
-                c = self.rotate(c);
-            }
-            corners
-        };
+        let ring = self.fan(c0);
         let n = ring.len();
         let mut q = [0.0; 3];
         ring.iter().for_each(|&c| add(&mut q, self.position(self.next(c)), 1.0 / n as f64));
@@ -615,43 +589,40 @@ impl PolyMesh {
     ) -> io::Result<()> {
         let custom = weights.filter(|w| *w != LoopWeights::CLASSIC);
         let next = NextLoop { net: self, t, custom };
-        let nv = self.positions.len();
-        for v in 0..nv {
+        for v in 0..self.positions.len() {
             match t.first(v) {
                 BORDER => out.vertex(self.positions[v])?, // unused by any face: kept as is
                 c0 => out.vertex(next.limit(NextLoop::at(c0, c0 % 3, 0), t.on_border(v), weights))?,
             }
         }
-        let mut edge_of = vec![0u32; self.corner_count()];
-        let mut edges = 0u32;
-        for c in 0..self.corner_count() {
-            let tw = t.twin(c);
-            if tw != BORDER && tw < c {
-                continue;
-            }
+        let (edge_of, _) = self.edge_numbering(t, out, |c, tw| {
             let (i, second_half) = (c % 3, NextLoop::at(c, (c % 3 + 1) % 3, 2));
-            let point = if tw == BORDER {
-                next.limit(second_half, true, weights)
-            } else {
-                let i2 = tw % 3;
-                let corners = [
-                    NextLoop::at(c, i, 1),
-                    second_half,
-                    NextLoop::at(c, 3, i),
-                    NextLoop::at(tw, i2, 1),
-                    NextLoop::at(tw, (i2 + 1) % 3, 2),
-                    NextLoop::at(tw, 3, i2),
-                ];
-                edge_of[tw] = edges;
-                next.limit(corners.into_iter().min().unwrap_or(second_half), false, weights)
-            };
-            edge_of[c] = edges;
-            edges += 1;
-            out.vertex(point)?;
-        }
+            match tw {
+                None => next.limit(second_half, true, weights),
+                Some(tw) => {
+                    let i2 = tw % 3;
+                    let corners = [
+                        NextLoop::at(c, i, 1),
+                        second_half,
+                        NextLoop::at(c, 3, i),
+                        NextLoop::at(tw, i2, 1),
+                        NextLoop::at(tw, (i2 + 1) % 3, 2),
+                        NextLoop::at(tw, 3, i2),
+                    ];
+                    next.limit(corners.into_iter().min().unwrap_or(second_half), false, weights)
+                }
+            }
+        })?;
+        self.loop_faces(&edge_of, out)
+    }
+
+    /// Loop's four triangles per triangle, the edge points numbered after the vertices (`edge_of`).
+    fn loop_faces(&self, edge_of: &[u32], out: &mut Emit<'_>) -> io::Result<()> {
+        let nv = self.positions.len();
         for f in 0..self.face_count() {
             let s = self.starts[f];
             let (v, e) = ([0, 1, 2].map(|i| self.indices[s + i]), [0, 1, 2].map(|i| nv + edge_of[s + i] as usize));
+            // Corners a, b, c with edges e0 = ab, e1 = bc, e2 = ca.
             out.face([v[0], e[0], e[2]])?;
             out.face([v[1], e[1], e[0]])?;
             out.face([v[2], e[2], e[1]])?;

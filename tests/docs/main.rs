@@ -131,20 +131,25 @@ fn normalised(text: &str) -> String {
     out
 }
 
+/// `sh -c command` started in `dir` with `PATH`, its output piped.
+fn shell(command: &str, dir: &Path, path: &str) -> Result<std::process::Child, String> {
+    Command::new("sh")
+        .arg("-c")
+        .arg(command)
+        .current_dir(dir)
+        .env("PATH", path)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .map_err(|e| e.to_string())
+}
+
 /// Runs `command` in `dir` through `sh`, `bcifs` being this build; its stdout.
 fn run(command: &str, dir: &Path) -> Result<String, String> {
     let path = format!("{}:{}", Path::new(BIN).parent().unwrap().display(), std::env::var("PATH").unwrap_or_default());
     if command.contains("bcifs explore ") {
         // A server: it starts, prints its URL, and is stopped.
-        let mut child = Command::new("sh")
-            .arg("-c")
-            .arg(format!("exec {command} --no-open --port 0"))
-            .current_dir(dir)
-            .env("PATH", &path)
-            .stdout(Stdio::piped())
-            .stderr(Stdio::piped())
-            .spawn()
-            .map_err(|e| e.to_string())?;
+        let mut child = shell(&format!("exec {command} --no-open --port 0"), dir, &path)?;
         let mut line = String::new();
         BufReader::new(child.stdout.as_mut().unwrap()).read_line(&mut line).map_err(|e| e.to_string())?;
         let _ = child.kill();
@@ -155,15 +160,7 @@ fn run(command: &str, dir: &Path) -> Result<String, String> {
             Err(format!("no URL: {line:?}"))
         };
     }
-    let mut child = Command::new("sh")
-        .arg("-c")
-        .arg(command)
-        .current_dir(dir)
-        .env("PATH", &path)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .map_err(|e| e.to_string())?;
+    let mut child = shell(command, dir, &path)?;
     let started = Instant::now();
     let (mut stdout, mut stderr) = (child.stdout.take().unwrap(), child.stderr.take().unwrap());
     let out = std::thread::spawn(move || {
