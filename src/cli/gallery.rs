@@ -231,6 +231,9 @@ fn contour_example() -> Vec<(String, String, GallerySource)> {
     items
 }
 
+/// A gallery entry to make: its name, its description and what it is made from.
+pub type GalleryItem = (String, String, GallerySource);
+
 /// What a gallery entry is made from.
 #[derive(Clone, Debug)]
 pub enum GallerySource {
@@ -276,7 +279,8 @@ pub fn gallery_items() -> Vec<(String, String, GallerySource)> {
     items
 }
 
-/// Renders the gallery ([`gallery_items`]) into `dir`: a PNG and an OBJ each
+/// Renders the gallery's `items` ([`gallery_items`]) into `dir`, telling
+/// `entry` each one's name as it starts: a PNG and an OBJ each
 /// (plus a chaos-game picture for plain IFS), and an `index.html`.
 ///
 /// # Errors
@@ -286,11 +290,11 @@ pub fn gallery(
     formats: &[String],
     budget: u128,
     progress: Option<&Progress>,
+    items: Vec<GalleryItem>,
     entry: &dyn Fn(&str),
 ) -> Result<Vec<GalleryEntry>, RenderError> {
     check_gallery_dir(dir)?;
     let mut entries = Vec::new();
-    let items = gallery_items();
     let total = items.len() as u64;
     for (done, (name, description, source)) in items.into_iter().enumerate() {
         if let Some(p) = progress {
@@ -549,7 +553,8 @@ fn density_page(dir: &Path) -> Result<GalleryEntry, RenderError> {
 pub fn run(out: &mut String, dir: &Path, formats: &[String], full: bool) -> anyhow::Result<u8> {
     let started = std::time::Instant::now();
     let budget = if full { GALLERY_FULL_BUDGET_BYTES } else { GALLERY_BUDGET_BYTES };
-    let count = gallery_items().len() + 1;
+    let items = gallery_items();
+    let count = items.len() + 1;
     // What it will write, before it starts (measured: the default gallery is about 70 MB, --full 330 MB).
     let (size, other) = if full { ("330", "") } else { ("70", "; --full: the deep versions, about 330 MB") };
     eprintln!(
@@ -560,7 +565,7 @@ pub fn run(out: &mut String, dir: &Path, formats: &[String], full: bool) -> anyh
     let bar = progress_bar();
     let done = std::cell::Cell::new(0usize);
     let terminal = bar.is_some();
-    let entries = gallery(dir, formats, budget, bar.as_ref(), &|name| {
+    let entries = gallery(dir, formats, budget, bar.as_ref(), items, &|name| {
         done.set(done.get() + 1);
         if terminal {
             eprintln!("  [{}/{count}] {name}", done.get());

@@ -80,6 +80,15 @@ impl Drop for Server {
     }
 }
 
+/// Sends `request` (raw HTTP) to the server on `port` and reads the whole answer.
+fn exchange(port: u16, request: &str) -> String {
+    let mut stream = TcpStream::connect(("127.0.0.1", port)).unwrap();
+    stream.write_all(request.as_bytes()).unwrap();
+    let mut raw = Vec::new();
+    stream.read_to_end(&mut raw).unwrap();
+    String::from_utf8_lossy(&raw).to_string()
+}
+
 fn unchunk(mut body: &[u8]) -> Vec<u8> {
     let mut out = Vec::new();
     loop {
@@ -217,15 +226,10 @@ fn fifty_concurrent_requests_are_answered_and_a_newer_one_cancels_the_older() {
     }
     // A slow picture in the slot `picture`, then a newer one in the same slot: the older is cancelled (409).
     let slow = std::thread::spawn(move || {
-        let mut stream = TcpStream::connect(("127.0.0.1", port)).unwrap();
-        write!(
-            stream,
-            "GET /api/picture.png?depth=9&size=2000x2000&slot=picture HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n"
+        exchange(
+            port,
+            "GET /api/picture.png?depth=9&size=2000x2000&slot=picture HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n",
         )
-        .unwrap();
-        let mut raw = Vec::new();
-        stream.read_to_end(&mut raw).unwrap();
-        String::from_utf8_lossy(&raw).to_string()
     });
     std::thread::sleep(std::time::Duration::from_millis(700));
     assert_eq!(server.get("/api/picture.png?depth=2&size=64x64&slot=picture").0, 200);
@@ -310,24 +314,17 @@ fn a_page_going_away_stops_its_requests() {
     let server = Server::start("doo_sabin_torus");
     let port = server.port;
     let slow = std::thread::spawn(move || {
-        let mut stream = TcpStream::connect(("127.0.0.1", port)).unwrap();
-        write!(
-            stream,
-            "GET /api/picture.png?depth=9&size=2000x2000&slot=picture-s1&seq=1 HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n"
+        exchange(
+            port,
+            "GET /api/picture.png?depth=9&size=2000x2000&slot=picture-s1&seq=1 HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n",
         )
-        .unwrap();
-        let mut raw = Vec::new();
-        stream.read_to_end(&mut raw).unwrap();
-        String::from_utf8_lossy(&raw).to_string()
     });
     std::thread::sleep(std::time::Duration::from_millis(700));
     // The page's beacon (a POST, as navigator.sendBeacon sends it).
-    let mut stream = TcpStream::connect(("127.0.0.1", port)).unwrap();
-    write!(stream, "POST /api/bye?session=s1 HTTP/1.1\r\nHost: x\r\nContent-Length: 0\r\nConnection: close\r\n\r\n")
-        .unwrap();
-    let mut raw = Vec::new();
-    stream.read_to_end(&mut raw).unwrap();
-    let raw = String::from_utf8_lossy(&raw);
+    let raw = exchange(
+        port,
+        "POST /api/bye?session=s1 HTTP/1.1\r\nHost: x\r\nContent-Length: 0\r\nConnection: close\r\n\r\n",
+    );
     assert!(raw.starts_with("HTTP/1.1 200") && raw.contains("\"cancelled\":1"), "{raw}");
     let older = slow.join().unwrap();
     assert!(older.starts_with("HTTP/1.1 409"), "{}", &older[..older.len().min(300)]);

@@ -82,6 +82,10 @@ impl Answer {
     fn json(value: &Value) -> Answer {
         Answer { status: 200, kind: "application/json", body: value.to_string().into_bytes(), download: None }
     }
+    /// 409: superseded by a newer request of the same slot, or over the time budget.
+    fn cancelled() -> Answer {
+        Answer::error(409, "cancelled: a newer request, or over the time budget")
+    }
     fn error(status: u16, message: impl std::fmt::Display) -> Answer {
         let body = json!({ "error": message.to_string() }).to_string().into_bytes();
         Answer { status, kind: "application/json", body, download: None }
@@ -219,23 +223,12 @@ impl Explorer {
     /// Renders to a scratch file of extension `ext` and returns its bytes.
     fn render_bytes(&self, options: &Options, ext: &str) -> std::result::Result<Vec<u8>, Answer> {
         if options.cancel.is_cancelled() {
-            return Err(Answer::error(409, "cancelled: a newer request, or over the time budget"));
+            return Err(Answer::cancelled());
         }
         let id = self.counter.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         let path = self.scratch.join(format!("r{id}.{ext}"));
-        let result = bcifs::render::render(&self.design, options, &path);
-        let answer = match result {
-            // Superseded while it was evaluated (the in-memory evaluation of a picture looks at
-            // the flag between its stages only): the page wants the newer one.
-            Ok(_) if options.cancel.is_cancelled() => {
-                Err(Answer::error(409, "cancelled: a newer request, or over the time budget"))
-            }
-            Ok(_) => std::fs::read(&path).map_err(|e| Answer::error(500, e)),
-            Err(bcifs::render::RenderError::Cancelled) => {
-                Err(Answer::error(409, "cancelled: a newer request, or over the time budget"))
-            }
-            Err(e) => Err(Answer::error(422, e)),
-        };
+        let answer = rendered(bcifs::render::render(&self.design, options, &path), options)
+            .and_then(|_| std::fs::read(&path).map_err(|e| Answer::error(500, e)));
         let _ = std::fs::remove_file(&path);
         answer
     }
@@ -243,15 +236,7 @@ impl Explorer {
     /// The picture `render` would write, drawn in memory and encoded for the
     /// browser (fast compression: the page is on this machine).
     fn picture(&self, options: &Options) -> std::result::Result<Vec<u8>, Answer> {
-        let cancelled = || Answer::error(409, "cancelled: a newer request, or over the time budget");
-        let img = match bcifs::render::picture(&self.design, options) {
-            Err(bcifs::render::RenderError::Cancelled) => return Err(cancelled()),
-            Err(e) => return Err(Answer::error(422, e)),
-            // Superseded while it was evaluated (the in-memory evaluation of a picture looks
-            // at the flag between its stages only): the page wants the newer one.
-            Ok(_) if options.cancel.is_cancelled() => return Err(cancelled()),
-            Ok(img) => img,
-        };
+        let img = rendered(bcifs::render::picture(&self.design, options), options)?;
         let mut png = Vec::new();
         image::codecs::png::PngEncoder::new_with_quality(
             &mut png,
@@ -369,7 +354,7 @@ impl Explorer {
         let mut values: Option<bcifs::render::SweepValues> = None;
         for start in (0..rows).step_by(16) {
             if cancel.is_cancelled() {
-                return Err(Answer::error(409, "cancelled: a newer request, or over the time budget"));
+                return Err(Answer::cancelled());
             }
             let band = bcifs::render::sweep(&self.design, plane, kind, false, start..(start + 16).min(rows))
                 .map_err(|e| Answer::error(422, e))?;
@@ -475,6 +460,21 @@ impl Explorer {
                 None => Answer::error(404, format!("`{path}`: not found (the page is /, the API under /api/)")),
             },
         }
+    }
+}
+
+/// A render's result as an answer: 409 when cancelled, or superseded while
+/// it was evaluated (an in-memory evaluation looks at the flag between its
+/// stages only: the page wants the newer one), 422 for the library's errors.
+fn rendered<T>(
+    result: std::result::Result<T, bcifs::render::RenderError>,
+    options: &Options,
+) -> std::result::Result<T, Answer> {
+    match result {
+        Ok(_) if options.cancel.is_cancelled() => Err(Answer::cancelled()),
+        Ok(value) => Ok(value),
+        Err(bcifs::render::RenderError::Cancelled) => Err(Answer::cancelled()),
+        Err(e) => Err(Answer::error(422, e)),
     }
 }
 
