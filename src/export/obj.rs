@@ -34,19 +34,19 @@ pub struct ObjWriter {
     vertices: usize,
     normals: bool,
     bytes: u64,
-    ints: itoa::Buffer,
     /// Elements go straight to the file (every vertex is already written).
     direct: bool,
     /// Colours of the next vertices (MeshLab's `v x y z r g b`), if given.
     colours: Vec<[u8; 3]>,
-    /// Text buffers, reused call after call (one per chunk formatted in parallel).
+    /// Text buffers, reused call after call (one per piece in flight).
     texts: Vec<Vec<u8>>,
     /// Threads formatting large calls in parallel (`None`: one).
     pool: Option<rayon::ThreadPool>,
 }
 
-/// Vertices below which a call is formatted on one thread.
-const PARALLEL_VERTICES: usize = 8192;
+/// Items (vertices, faces) per piece of text formatted at once: a large
+/// call is formatted piece by piece on the pool's threads.
+const PIECE: usize = 8192;
 
 impl ObjWriter {
     /// The same writer, with the model's axes mapped as `up` says.
@@ -79,10 +79,9 @@ impl ObjWriter {
             vertices: 0,
             normals: false,
             bytes: 0,
-            ints: itoa::Buffer::new(),
             direct: false,
             colours: Vec::new(),
-            texts: vec![Vec::new()],
+            texts: Vec::new(),
             pool: None,
         })
     }
@@ -97,7 +96,6 @@ impl ObjWriter {
             0 | 1 => None,
             n => Some(rayon::ThreadPoolBuilder::new().num_threads(n).build().map_err(io::Error::other)?),
         };
-        self.texts.resize(threads.max(1) * 2, Vec::new());
         Ok(self)
     }
 
@@ -225,6 +223,7 @@ impl Sink for Pass<'_> {
         self.faces += triangles.len();
         self.writer.triangles(triangles)
     }
+
     fn polygons(&mut self, starts: &[usize], corners: &[usize]) -> io::Result<()> {
         self.check()?;
         if !self.elements {
@@ -267,7 +266,8 @@ fn format_vertices(
 /// One `f` record: the corners 1-based, each with its texture index when
 /// given and its normal index when the vertices have normals.
 #[inline]
-fn push_face(line: &mut Vec<u8>, ints: &mut itoa::Buffer, corners: &[usize], uvs: Option<&[usize]>, normals: bool) {
+fn push_face(line: &mut Vec<u8>, corners: &[usize], uvs: Option<&[usize]>, normals: bool) {
+    let mut ints = itoa::Buffer::new();
     line.push(b'f');
     for (k, &v) in corners.iter().enumerate() {
         line.push(b' ');
@@ -298,14 +298,13 @@ fn format_polygons(
     uvs: Option<&[usize]>,
     normals: bool,
 ) -> usize {
-    let mut ints = itoa::Buffer::new();
     let mut written = 0;
     for w in starts.windows(2) {
         let face = &corners[w[0]..w[1]];
         if face.len() < 3 {
             continue;
         }
-        push_face(line, &mut ints, face, uvs.map(|t| &t[w[0]..w[1]]), normals);
+        push_face(line, face, uvs.map(|t| &t[w[0]..w[1]]), normals);
         written += 1;
     }
     written
@@ -313,56 +312,89 @@ fn format_polygons(
 
 /// The OBJ text of quads, with texture and normal indices as the writer has them.
 fn format_quads(line: &mut Vec<u8>, quads: &[[usize; 4]], uvs: Option<&[[usize; 4]]>, normals: bool) {
-    let mut ints = itoa::Buffer::new();
     for (k, q) in quads.iter().enumerate() {
-        push_face(line, &mut ints, q, uvs.map(|t| &t[k][..]), normals);
+        push_face(line, q, uvs.map(|t| &t[k][..]), normals);
     }
 }
 
 impl ObjWriter {
-    /// Formats `count` items by `format(text, range)` into the reused text
-    /// buffers, in parallel chunks when the call is large, and returns how
-    /// many buffers hold the text, in order.
-    fn format_chunks(&mut self, count: usize, format: impl Fn(&mut Vec<u8>, std::ops::Range<usize>) + Sync) -> usize {
-        let chunks = match &self.pool {
-            Some(_) if count >= PARALLEL_VERTICES => self.texts.len(),
-            _ => 1,
-        };
-        let per = count.div_ceil(chunks).max(1);
-        let texts = &mut self.texts[..chunks];
-        let job = |(k, text): (usize, &mut Vec<u8>)| {
+    /// Formats `count` items by `format(text, range)` and writes the text in
+    /// order, to the vertex file (counted in [`ObjWriter::bytes_written`]) or
+    /// to the elements' spool. A large call is cut into pieces formatted by
+    /// the pool's threads while this thread writes the finished ones: at
+    /// most a few pieces are in flight (a bounded queue), and the text is
+    /// the same whatever the threads.
+    fn write_formatted(
+        &mut self,
+        count: usize,
+        spool: bool,
+        format: impl Fn(&mut Vec<u8>, std::ops::Range<usize>) + Sync,
+    ) -> io::Result<()> {
+        let pieces = count.div_ceil(PIECE);
+        let Some(pool) = self.pool.take().filter(|_| pieces > 1) else {
+            let mut text = self.texts.pop().unwrap_or_default();
             text.clear();
-            format(text, (k * per).min(count)..((k + 1) * per).min(count));
+            format(&mut text, 0..count);
+            let result = self.write_text(&text, spool);
+            self.keep(text);
+            return result;
         };
-        match &self.pool {
-            Some(pool) if chunks > 1 => {
-                use rayon::prelude::*;
-                pool.install(|| texts.par_iter_mut().enumerate().for_each(job));
+        let in_flight = 2 * pool.current_num_threads() + 2;
+        let (done, finished) = std::sync::mpsc::channel::<(usize, Vec<u8>)>();
+        let format = &format;
+        let result = pool.in_place_scope(|scope| {
+            let spawn = |k: usize, mut text: Vec<u8>| {
+                let done = done.clone();
+                scope.spawn(move |_| {
+                    text.clear();
+                    format(&mut text, k * PIECE..((k + 1) * PIECE).min(count));
+                    // The receiver waits for every piece it spawned.
+                    let _ = done.send((k, text));
+                });
+            };
+            let (mut spawned, mut received, mut written) = (0, 0, 0);
+            while spawned < pieces.min(in_flight) {
+                spawn(spawned, self.texts.pop().unwrap_or_default());
+                spawned += 1;
             }
-            _ => texts.iter_mut().enumerate().for_each(job),
-        }
-        chunks
+            let mut ready: std::collections::BTreeMap<usize, Vec<u8>> = std::collections::BTreeMap::new();
+            let mut result = Ok(());
+            while received < spawned {
+                let Ok((k, text)) = finished.recv() else { break };
+                received += 1;
+                ready.insert(k, text);
+                while let Some(text) = ready.remove(&written) {
+                    written += 1;
+                    if result.is_ok() {
+                        result = self.write_text(&text, spool);
+                    }
+                    if result.is_ok() && spawned < pieces {
+                        spawn(spawned, text);
+                        spawned += 1;
+                    } else {
+                        self.keep(text);
+                    }
+                }
+            }
+            result
+        });
+        self.pool = Some(pool);
+        result
     }
 
-    /// Writes the first `chunks` text buffers to the vertex file (counted
-    /// in [`ObjWriter::bytes_written`]), or to the elements' spool.
-    fn write_texts(&mut self, chunks: usize, spool: bool) -> io::Result<()> {
-        let mut texts = std::mem::take(&mut self.texts);
-        let result = texts[..chunks].iter().try_for_each(|t| {
-            if spool {
-                return self.spool().write_all(t);
-            }
-            self.bytes += t.len() as u64;
-            self.main().write_all(t)
-        });
-        // Large buffers are kept for the next call; a huge one is not hoarded.
-        for t in &mut texts {
-            if t.capacity() > 64 << 20 {
-                *t = Vec::new();
-            }
+    fn write_text(&mut self, text: &[u8], spool: bool) -> io::Result<()> {
+        if spool {
+            return self.spool().write_all(text);
         }
-        self.texts = texts;
-        result
+        self.bytes += text.len() as u64;
+        self.main().write_all(text)
+    }
+
+    /// Keeps a text buffer for the next call (a few, and no huge one).
+    fn keep(&mut self, text: Vec<u8>) {
+        if text.capacity() <= 64 << 20 && self.texts.len() < 16 {
+            self.texts.push(text);
+        }
     }
 }
 
@@ -384,14 +416,13 @@ impl Sink for ObjWriter {
         let coordinates = self.coordinates;
         let colours = std::mem::take(&mut self.colours);
         let colours = (colours.len() == count).then_some(colours);
-        let chunks = self.format_chunks(count, |text, r| {
+        self.normals |= normals.is_some();
+        self.vertices += count;
+        self.write_formatted(count, false, |text, r| {
             let n = normals.map(|n| &n[r.start * 3..r.end * 3]);
             let c = colours.as_deref().map(|c| &c[r.clone()]);
             format_vertices(text, dim, &positions[r.start * dim..r.end * dim], n, c, turn, &coordinates);
-        });
-        self.normals |= normals.is_some();
-        self.vertices += count;
-        self.write_texts(chunks, false)
+        })
     }
 
     fn colours(&mut self, rgb: &[[u8; 3]]) -> io::Result<()> {
@@ -405,10 +436,9 @@ impl Sink for ObjWriter {
         }
         let normals = self.normals;
         let faces = starts.len() - 1;
-        let chunks = self.format_chunks(faces, |text, r| {
+        self.write_formatted(faces, true, |text, r| {
             format_polygons(text, &starts[r.start..=r.end], corners, None, normals);
-        });
-        self.write_texts(chunks, true)
+        })
     }
 
     fn textured_polygons(&mut self, starts: &[usize], corners: &[usize], uv_corners: &[usize]) -> io::Result<()> {
@@ -417,15 +447,14 @@ impl Sink for ObjWriter {
         }
         let normals = self.normals;
         let faces = starts.len() - 1;
-        let chunks = self.format_chunks(faces, |text, r| {
+        self.write_formatted(faces, true, |text, r| {
             format_polygons(text, &starts[r.start..=r.end], corners, Some(uv_corners), normals);
-        });
-        self.write_texts(chunks, true)
+        })
     }
 
     fn uvs(&mut self, uvs: &[f64]) -> io::Result<()> {
         let digits = self.coordinates.precision;
-        let chunks = self.format_chunks(uvs.len() / 2, |text, r| {
+        self.write_formatted(uvs.len() / 2, false, |text, r| {
             let mut ryu = ryu::Buffer::new();
             for t in uvs[r.start * 2..r.end * 2].chunks_exact(2) {
                 text.extend_from_slice(b"vt ");
@@ -434,15 +463,13 @@ impl Sink for ObjWriter {
                 push_f64(text, &mut ryu, t[1], digits);
                 text.push(b'\n');
             }
-        });
-        self.write_texts(chunks, false)
+        })
     }
 
     /// One `l a b` record per segment: MeshLab (vcglib) and Blender's
     /// importer keep only the first segment of a longer `l` record, and
     /// trimesh drops them; two-vertex records load whole in all of them.
     fn polyline(&mut self, first: usize, count: usize, closed: bool) -> io::Result<()> {
-        let mut ints = std::mem::replace(&mut self.ints, itoa::Buffer::new());
         let mut line = Vec::with_capacity(1 << 16);
         let segments = if closed && count > 2 { count } else { count.saturating_sub(1) };
         for k in 0..segments {
@@ -453,12 +480,11 @@ impl Sink for ObjWriter {
             }
             let (a, b) = (first + k + 1, first + (k + 1) % count + 1);
             line.extend_from_slice(b"l ");
-            line.extend_from_slice(ints.format(a).as_bytes());
+            line.extend_from_slice(itoa::Buffer::new().format(a).as_bytes());
             line.push(b' ');
-            line.extend_from_slice(ints.format(b).as_bytes());
+            line.extend_from_slice(itoa::Buffer::new().format(b).as_bytes());
             line.push(b'\n');
         }
-        self.ints = ints;
         self.spool().write_all(&line)
     }
 
@@ -466,20 +492,17 @@ impl Sink for ObjWriter {
         // Texture indices count only when there is one quad of them per face.
         let uvs = uvs.filter(|t| t.len() == quads.len());
         let normals = self.normals;
-        let chunks = self.format_chunks(quads.len(), |text, r| {
+        self.write_formatted(quads.len(), true, |text, r| {
             format_quads(text, &quads[r.clone()], uvs.map(|t| &t[r]), normals);
-        });
-        self.write_texts(chunks, true)
+        })
     }
 
     fn triangles(&mut self, triangles: &[[usize; 3]]) -> io::Result<()> {
-        let mut ints = std::mem::replace(&mut self.ints, itoa::Buffer::new());
         let normals = self.normals;
-        let mut line = Vec::with_capacity(triangles.len() * 40);
-        for t in triangles {
-            push_face(&mut line, &mut ints, t, None, normals);
-        }
-        self.ints = ints;
-        self.spool().write_all(&line)
+        self.write_formatted(triangles.len(), true, |text, r| {
+            for t in &triangles[r] {
+                push_face(text, t, None, normals);
+            }
+        })
     }
 }

@@ -451,6 +451,17 @@ fn obj_formatting_in_parallel_and_to_a_precision() {
     };
     let (one, two, three) = (write("one.obj", 1, None), write("two.obj", 2, None), write("three.obj", 3, None));
     assert!(one == two && one == three, "the same text with 1, 2 and 3 threads");
+    // The whole shape in one call per kind: cut into pieces formatted on the
+    // pool's threads while the finished ones are written, in order.
+    let replayed = |name: &str, threads: usize| {
+        let path = dir.join(name);
+        let mut w = ObjWriter::create(&path).unwrap().with_threads(threads).unwrap();
+        shape.replay(&mut w).unwrap();
+        w.finish().unwrap();
+        std::fs::read(&path).unwrap()
+    };
+    let serial = replayed("replayed1.obj", 1);
+    assert!(serial == replayed("replayed2.obj", 2) && serial == replayed("replayed5.obj", 5));
     let short = write("short.obj", 2, Some(5));
     assert!(short.len() < one.len() * 3 / 4, "{} vs {} bytes", short.len(), one.len());
     let (models, _) = tobj::load_obj(
