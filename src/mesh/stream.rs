@@ -1,7 +1,8 @@
 //! Subdivided meshes pushed into a sink as they are made: the net before
-//! the last step is held in memory, the last step (the net, or Doo-Sabin's
-//! and Catmull-Clark's limits) goes straight to the sink, so a depth-10 cube (6.3 million faces)
-//! written to a file needs the memory of depth 9 only.
+//! the last step is held in memory, the last step (the net, or Doo-Sabin's,
+//! Catmull-Clark's and Loop's limits) goes straight to the sink, so a depth-10 cube (6.3 million faces)
+//! written to a file needs the memory of depth 9 only. √3's limit points
+//! are computed from the last net and streamed with its faces.
 
 use super::emit::{Emit, Written};
 use super::error::SubdivideError;
@@ -65,15 +66,14 @@ impl PolyMesh {
             .map_err(io)?;
             return out.flush().map_err(io);
         }
-        if limit && scheme != Scheme::DooSabin {
-            // Limit positions need the last net's neighbourhoods: in memory.
-            let shape = self.limit_with(scheme, depth, weights, memory_limit)?;
-            let flat = shape.positions.as_slice();
-            sink.vertices(3, flat, None).map_err(io)?;
-            let quads: Vec<[usize; 4]> = shape.quads.iter().map(|q| q.map(|v| v as usize)).collect();
-            sink.faces(&quads, None).map_err(io)?;
-            sink.triangles(&shape.triangles).map_err(io)?;
-            return Ok(Written { vertices: shape.vertex_count(), faces: quads.len() + shape.triangles.len() });
+        if limit && scheme == Scheme::Sqrt3 {
+            // √3's limit points are a mask on the last net's rings: that net
+            // in memory, its points and faces streamed (no copy of it made).
+            let net = self.subdivide_with(scheme, depth, weights, memory_limit)?;
+            let t = Topology::trusted(&net);
+            let mut out = Emit::into_sink(sink);
+            net.triangle_limit_into(&t, true, None, &mut out).map_err(io)?;
+            return out.flush().map_err(io);
         }
         if depth == 0 {
             return self.push_into(sink).map_err(io);
@@ -266,6 +266,18 @@ mod tests {
                 for depth in 1..=3 {
                     assert_streamed_limit_is_in_memory(&mesh, Scheme::Loop, weights.map(Into::into), depth);
                 }
+            }
+        }
+    }
+
+    /// √3's limit streamed from the last net is the limit computed in
+    /// memory, bit for bit and face for face: closed and open meshes
+    /// (√3 refines the border every other step), odd and even depths.
+    #[test]
+    fn the_streamed_sqrt3_limit_is_the_limit_in_memory() {
+        for mesh in triangle_meshes() {
+            for depth in 1..=4 {
+                assert_streamed_limit_is_in_memory(&mesh, Scheme::Sqrt3, None, depth);
             }
         }
     }

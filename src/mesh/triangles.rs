@@ -267,34 +267,50 @@ impl PolyMesh {
         sqrt3: bool,
         weights: Option<LoopWeights>,
     ) -> Vec<[f64; 3]> {
-        (0..self.positions.len())
-            .map(|v| {
-                let p = self.positions[v];
-                let c0 = t.first(v);
-                if c0 == BORDER {
-                    return p;
-                }
-                let mut out = [0.0; 3];
-                if t.on_border(v) {
-                    let (u, w) = t.border_neighbours(self, c0);
-                    add(&mut out, self.positions[u], 1.0 / 6.0);
-                    add(&mut out, p, 4.0 / 6.0);
-                    add(&mut out, self.positions[w], 1.0 / 6.0);
-                    return out;
-                }
-                let n = ring(self, t, c0).count();
-                let mut q = [0.0; 3];
-                ring(self, t, c0).for_each(|u| add(&mut q, self.positions[u], 1.0 / n as f64));
-                let s = match weights.filter(|w| !sqrt3 && *w != LoopWeights::CLASSIC) {
-                    Some(l) => l.ring(n) / l.w,
-                    None if sqrt3 => 3.0 * sqrt3_alpha(n),
-                    None => 8.0 * n as f64 * loop_beta(n) / 3.0,
-                };
-                add(&mut out, p, 1.0 / (1.0 + s));
-                add(&mut out, q, s / (1.0 + s));
-                out
-            })
-            .collect()
+        (0..self.positions.len()).map(|v| self.triangle_limit_point(t, v, sqrt3, weights)).collect()
+    }
+
+    /// The limit point of vertex `v` (see [`PolyMesh::triangle_limit_points`]).
+    fn triangle_limit_point(&self, t: &Topology, v: usize, sqrt3: bool, weights: Option<LoopWeights>) -> [f64; 3] {
+        let p = self.positions[v];
+        let c0 = t.first(v);
+        if c0 == BORDER {
+            return p;
+        }
+        let mut out = [0.0; 3];
+        if t.on_border(v) {
+            let (u, w) = t.border_neighbours(self, c0);
+            add(&mut out, self.positions[u], 1.0 / 6.0);
+            add(&mut out, p, 4.0 / 6.0);
+            add(&mut out, self.positions[w], 1.0 / 6.0);
+            return out;
+        }
+        let n = ring(self, t, c0).count();
+        let mut q = [0.0; 3];
+        ring(self, t, c0).for_each(|u| add(&mut q, self.positions[u], 1.0 / n as f64));
+        let s = match weights.filter(|w| !sqrt3 && *w != LoopWeights::CLASSIC) {
+            Some(l) => l.ring(n) / l.w,
+            None if sqrt3 => 3.0 * sqrt3_alpha(n),
+            None => 8.0 * n as f64 * loop_beta(n) / 3.0,
+        };
+        add(&mut out, p, 1.0 / (1.0 + s));
+        add(&mut out, q, s / (1.0 + s));
+        out
+    }
+
+    /// The limit points of this (last) net's vertices, then its triangles,
+    /// into `out` as they are computed: no copy of the net is made.
+    pub(crate) fn triangle_limit_into(
+        &self,
+        t: &Topology,
+        sqrt3: bool,
+        weights: Option<LoopWeights>,
+        out: &mut Emit<'_>,
+    ) -> io::Result<()> {
+        for v in 0..self.positions.len() {
+            out.vertex(self.triangle_limit_point(t, v, sqrt3, weights))?;
+        }
+        self.faces().try_for_each(|f| out.face(f.iter().copied()))
     }
 
     /// The mesh with every face of more than three vertices split into a fan
