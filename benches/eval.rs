@@ -51,6 +51,17 @@ fn chaos(c: &mut Criterion) {
     // then two): the fern in ink, the gasket coloured by its maps (flam3's benchmark).
     let raster = bcifs::export::RasterSettings::default().with_size(1024, 1024);
     let fire = bcifs::export::Palette::named("fire");
+    // Issue 29: the gasket into a 4096² picture (64 MiB of counts per thread, 384 MiB
+    // with colours: most increments miss the caches), one thread, ink and coloured.
+    let large = bcifs::export::RasterSettings::default().with_size(4096, 4096);
+    for (name, palette) in [("gasket", None), ("gasket_colour", fire.as_ref())] {
+        let (a, model) = setup("gasket");
+        let settings = RandomSettings::default().with_points(1 << 16).with_threads(1);
+        let game = ChaosGame::new(&a, &model, &settings).expect("ok");
+        g.bench_function(BenchmarkId::new("density_4096_threads_1", name), |b| {
+            b.iter(|| bcifs::export::density(&game, n, &large, 1, palette).expect("fits"))
+        });
+    }
     for (name, palette) in [("fern", None), ("gasket_colour", fire.as_ref())] {
         let (a, model) = setup(name.trim_end_matches("_colour"));
         for threads in [1, 2] {

@@ -2,7 +2,7 @@
 //! Doo-Sabin and Catmull-Clark, the net and the limit surface written as
 //! OBJ files through the render API (what `bcifs surface` does), and the
 //! in-memory net alone; Loop on the
-//! icosahedron at depth 8, written two steps at once; faces of 3,000 and
+//! icosahedron at depths 7 and 8 written as OBJ files; faces of 3,000 and
 //! 30,000 corners (linear in a face's size). The peers
 //! (CGAL, OpenSubdiv) are measured side by side, end to end, by
 //! `benches/peers/compare.sh`.
@@ -40,21 +40,24 @@ fn subdivision(c: &mut Criterion) {
     g.finish();
 }
 
-/// Loop on the icosahedron at depth 8 (1.3M triangles) as an OBJ file:
-/// written two steps from depth 6 (the streamed path of large nets)
-/// against the in-memory net of depth 8 alone.
-fn loop_two_steps(c: &mut Criterion) {
+/// Loop on the icosahedron at depths 7 and 8 (328k and 1.3M triangles) as
+/// OBJ files through the render API (the rows of `compare.sh` against
+/// CGAL), against the in-memory net of depth 8 alone.
+fn loop_obj(c: &mut Criterion) {
     let ico = PolyMesh::icosahedron();
-    let mut g = c.benchmark_group("icosahedron_depth8");
+    let mut g = c.benchmark_group("icosahedron_loop");
     g.sample_size(10);
     g.throughput(Throughput::Elements(20 * 4u64.pow(8)));
-    g.bench_function("loop_net_in_memory", |b| b.iter(|| black_box(ico.subdivide(Scheme::Loop, 8).expect("fits"))));
-    let job = MeshJob { net: true, ..MeshJob::new(Scheme::Loop, 8) };
-    let path = scratch("loop");
-    g.bench_function("loop_net_obj_two_steps", |b| {
-        b.iter(|| black_box(render_mesh(&ico, &job, &Options::default(), &path).expect("writes")))
-    });
-    let _ = std::fs::remove_file(&path);
+    g.bench_function("net_in_memory_depth8", |b| b.iter(|| black_box(ico.subdivide(Scheme::Loop, 8).expect("fits"))));
+    for depth in [7, 8] {
+        g.throughput(Throughput::Elements(20 * 4u64.pow(depth as u32)));
+        let job = MeshJob { net: true, ..MeshJob::new(Scheme::Loop, depth) };
+        let path = scratch("loop");
+        g.bench_function(BenchmarkId::new("net_obj_depth", depth), |b| {
+            b.iter(|| black_box(render_mesh(&ico, &job, &Options::default(), &path).expect("writes")))
+        });
+        let _ = std::fs::remove_file(&path);
+    }
     g.finish();
 }
 
@@ -95,6 +98,6 @@ fn large_faces(c: &mut Criterion) {
 criterion_group! {
     name = benches;
     config = Criterion::default().without_plots();
-    targets = subdivision, loop_two_steps, large_faces
+    targets = subdivision, loop_obj, large_faces
 }
 criterion_main!(benches);
