@@ -121,7 +121,9 @@ impl ObjWriter {
     /// An I/O error; the target is then left as it was.
     pub fn finish(mut self) -> io::Result<()> {
         let mut main = self.main.take().expect("finish once");
-        self.spool.take().expect("finish once").append_to(&mut main)?;
+        if let Some(spool) = self.spool.take() {
+            spool.append_to(&mut main)?;
+        }
         main.commit()
     }
 
@@ -135,10 +137,10 @@ impl ObjWriter {
     }
 
     fn spool(&mut self) -> &mut BufWriter<std::fs::File> {
-        if self.direct {
+        if self.direct || self.spool.is_none() {
             return self.main();
         }
-        self.spool.as_mut().expect("not finished").writer()
+        self.spool.as_mut().expect("checked above").writer()
     }
 }
 
@@ -386,6 +388,11 @@ impl ObjWriter {
         if spool {
             return self.spool().write_all(text);
         }
+        if self.spool.is_none() {
+            return Err(io::Error::other(
+                "OBJ vertices after the last ones were announced: they would follow the faces",
+            ));
+        }
         self.bytes += text.len() as u64;
         self.main().write_all(text)
     }
@@ -427,6 +434,16 @@ impl Sink for ObjWriter {
 
     fn colours(&mut self, rgb: &[[u8; 3]]) -> io::Result<()> {
         self.colours = rgb.to_vec();
+        Ok(())
+    }
+
+    /// The elements kept apart so far go after the vertices now, and the
+    /// next ones straight after them: the same file, without copying the
+    /// elements from the side file at the end.
+    fn vertices_complete(&mut self) -> io::Result<()> {
+        if let (Some(spool), Some(main)) = (self.spool.take(), self.main.as_mut()) {
+            spool.append_to(main)?;
+        }
         Ok(())
     }
 

@@ -75,6 +75,15 @@ pub trait Sink {
         let _ = rgb;
         Ok(())
     }
+
+    /// No vertex nor texture coordinate follows: only elements (objects,
+    /// groups, polylines, faces) come next. A writer that keeps elements
+    /// apart until the end (OBJ's elements after every vertex) may then
+    /// write them in place; vertices after this are an error there. The
+    /// default does nothing.
+    fn vertices_complete(&mut self) -> io::Result<()> {
+        Ok(())
+    }
 }
 
 /// Area-weighted unit vertex normals of the polygons `faces` over

@@ -27,6 +27,8 @@ pub(crate) struct Emit<'s> {
     faces: bool,
     sink: Option<&'s mut dyn Sink>,
     written: Written,
+    /// The sink was told that every vertex was pushed.
+    sealed: bool,
 }
 
 /// Vertices (and faces) pushed into a sink at a time.
@@ -44,6 +46,7 @@ impl<'s> Emit<'s> {
             faces: true,
             sink: None,
             written: Written::default(),
+            sealed: false,
         }
     }
 
@@ -63,6 +66,7 @@ impl<'s> Emit<'s> {
             faces: true,
             sink: Some(sink),
             written: Written::default(),
+            sealed: false,
         }
     }
 
@@ -99,12 +103,17 @@ impl<'s> Emit<'s> {
         Ok(())
     }
 
-    /// Pushes the faces (after the vertices, so that every face's vertices came first).
+    /// Pushes the faces (after the vertices, so that every face's vertices
+    /// came first; the first time, the sink hears that no vertex follows).
     fn push_faces(&mut self) -> io::Result<()> {
         self.push_vertices()?;
         if let Some(sink) = self.sink.as_deref_mut()
             && self.starts.len() > 1
         {
+            if !self.sealed {
+                sink.vertices_complete()?;
+                self.sealed = true;
+            }
             sink.polygons(&self.starts, &self.indices)?;
             self.starts.truncate(1);
             self.indices.clear();

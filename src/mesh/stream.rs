@@ -156,6 +156,7 @@ impl PolyMesh {
             let flat: Vec<f64> = uv.positions.iter().flat_map(|t| [t[0], t[1]]).collect();
             sink.uvs(&flat).map_err(io)?;
         }
+        sink.vertices_complete().map_err(io)?;
         // The input's groups of faces, where the scheme's faces follow them (two or more: one is the object).
         let face_count = starts.len() - 1;
         let groups = self.groups_after(scheme, steps).filter(|g| g.len() > 1 && !(limit && scheme == Scheme::DooSabin));

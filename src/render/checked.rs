@@ -156,6 +156,9 @@ impl Sink for Checked<'_> {
     fn colours(&mut self, rgb: &[[u8; 3]]) -> io::Result<()> {
         self.sink.colours(rgb)
     }
+    fn vertices_complete(&mut self) -> io::Result<()> {
+        self.sink.vertices_complete()
+    }
 }
 
 /// The error of a write into `out`: [`RenderError::Cancelled`] when the

@@ -2,6 +2,7 @@
 
 use bcifs::eval::{EvalSettings, Evaluator};
 use bcifs::export::{ObjWriter, RasterSettings, ascii, raster, svg};
+use bcifs::geometry::Sink as _;
 
 use super::{eval, load};
 
@@ -462,6 +463,26 @@ fn obj_formatting_in_parallel_and_to_a_precision() {
     };
     let serial = replayed("replayed1.obj", 1);
     assert!(serial == replayed("replayed2.obj", 2) && serial == replayed("replayed5.obj", 5));
+    // Told that every vertex is written, the writer puts the elements in
+    // place instead of in its side file: the same bytes; a vertex after that is refused.
+    let quads: Vec<[usize; 4]> = shape.quads.iter().map(|q| q.map(|v| v as usize)).collect();
+    let sealed = |name: &str, seal: bool| {
+        let path = dir.join(name);
+        let mut w = ObjWriter::create(&path).unwrap().with_threads(2).unwrap();
+        w.object("torus").unwrap();
+        w.vertices(3, &shape.positions, None).unwrap();
+        if seal {
+            w.vertices_complete().unwrap();
+        }
+        w.group("all").unwrap();
+        w.faces(&quads, None).unwrap();
+        if seal {
+            assert!(w.vertices(3, &shape.positions[..3], None).is_err(), "a vertex after the faces");
+        }
+        w.finish().unwrap();
+        std::fs::read(&path).unwrap()
+    };
+    assert!(sealed("spooled.obj", false) == sealed("in_place.obj", true));
     let short = write("short.obj", 2, Some(5));
     assert!(short.len() < one.len() * 3 / 4, "{} vs {} bytes", short.len(), one.len());
     let (models, _) = tobj::load_obj(
