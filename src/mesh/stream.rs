@@ -112,6 +112,32 @@ impl PolyMesh {
         if !limit {
             return self.subdivide_with(scheme, depth, weights, memory_limit);
         }
+        match scheme {
+            Scheme::CatmullClark | Scheme::Loop => {
+                // Made from the net before the last step, as the streamed limit is
+                // (the same numbers): the last net is never held beside the output.
+                let depth = depth.max(1);
+                self.check_size(scheme, depth, memory_limit)?;
+                let net = self.subdivide_with(scheme, depth - 1, weights, memory_limit)?;
+                let t = Topology::trusted(&net);
+                let (nv, nc) = (net.positions.len(), net.corner_count());
+                let mut out = Emit::memory(nv + nc + net.face_count(), 4 * nc);
+                // Writing into memory cannot fail.
+                let _ = match scheme {
+                    Scheme::Loop => net.loop_limit_into(&t, weights.and_then(RuleWeights::triangle), &mut out),
+                    _ => net.catmull_clark_limit_into(&t, &mut out),
+                };
+                return Ok(out.finish());
+            }
+            Scheme::Sqrt3 => {
+                // The last net's points replaced by their limits, in place.
+                let mut net = self.subdivide_with(scheme, depth.max(1), weights, memory_limit)?;
+                let points = net.triangle_limit_points(&Topology::trusted(&net), true, None);
+                net.positions = points;
+                return Ok(net);
+            }
+            Scheme::DooSabin => {}
+        }
         let shape = self.limit_with(scheme, depth, weights, memory_limit)?;
         let mut starts = vec![0];
         let mut indices = Vec::with_capacity(4 * shape.quads.len() + 3 * shape.triangles.len());
@@ -225,6 +251,12 @@ mod tests {
         assert_eq!(streamed.positions, memory.positions, "{scheme:?} depth {depth}");
         assert_eq!(streamed.quads, memory.quads, "{scheme:?} depth {depth}");
         assert_eq!(streamed.triangles, memory.triangles, "{scheme:?} depth {depth}");
+        // And the limit made in memory as a mesh (what outputs with normals write).
+        let made = mesh.subdivided(&job, true).unwrap();
+        assert_eq!(made.positions.as_flattened(), memory.positions.as_slice(), "{scheme:?} depth {depth}");
+        let quads = memory.quads.iter().map(|q| q.iter().map(|&v| v as usize).collect::<Vec<_>>());
+        let faces: Vec<Vec<usize>> = quads.chain(memory.triangles.iter().map(|t| t.to_vec())).collect();
+        assert_eq!(made.faces().map(<[usize]>::to_vec).collect::<Vec<_>>(), faces, "{scheme:?} depth {depth}");
     }
 
     /// Catmull-Clark's limit streamed from the net before the last step is

@@ -202,6 +202,21 @@ impl PolyMesh {
         {
             return Err(SubdivideError::NotTriangles { scheme: scheme.name(), face, degree: f.len() });
         }
+        self.check_size(scheme, depth, memory_limit)?;
+        let mut mesh = self.clone();
+        for step in 0..depth {
+            let topology = Topology::trusted(&mesh);
+            mesh = mesh.step(scheme, step, &topology, weights);
+        }
+        Ok(mesh)
+    }
+
+    /// The mesh after `depth` steps of `scheme` fits `memory_limit` bytes
+    /// ([`PolyMesh::estimate`]) and numbers its corners in 32 bits.
+    ///
+    /// # Errors
+    /// [`SubdivideError::TooLarge`] with the estimate.
+    pub(crate) fn check_size(&self, scheme: Scheme, depth: usize, memory_limit: usize) -> Result<(), SubdivideError> {
         let (faces, bytes) = self.estimate(scheme, depth);
         // Corners are numbered in 32 bits: a mesh with 2³² of them is refused whatever the memory.
         if bytes > memory_limit as u128 || faces.saturating_mul(4) >= u128::from(u32::MAX) {
@@ -213,12 +228,7 @@ impl PolyMesh {
                 limit: memory_limit,
             });
         }
-        let mut mesh = self.clone();
-        for step in 0..depth {
-            let topology = Topology::trusted(&mesh);
-            mesh = mesh.step(scheme, step, &topology, weights);
-        }
-        Ok(mesh)
+        Ok(())
     }
 
     /// Faces and bytes of the mesh after `depth` steps (every step multiplies
