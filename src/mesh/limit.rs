@@ -41,15 +41,7 @@ impl PolyMesh {
     ) -> Result<Shape, SubdivideError> {
         let (points, quads) = match scheme {
             Scheme::DooSabin => {
-                if !self.has_interior_vertex() {
-                    return Err(SubdivideError::NoInteriorVertex);
-                }
-                let net = self.subdivide_with(scheme, depth.max(1) - 1, weights, memory_limit)?;
-                let t = Topology::trusted(&net);
-                let mut out = Emit::memory(net.face_count() * 3, 4 * net.corner_count());
-                // Writing into memory cannot fail.
-                let _ = net.doo_sabin_limit_into(&t, weights.and_then(RuleWeights::quad), &mut out);
-                let dual = out.finish();
+                let dual = self.doo_sabin_limit(depth, weights, memory_limit)?;
                 (dual.positions.clone(), dual.faces().map(|f| [f[0], f[1], f[2], f[3]]).collect())
             }
             Scheme::CatmullClark => {
@@ -80,6 +72,30 @@ impl PolyMesh {
         let _ = shape.vertices(3, &flat, None);
         let _ = shape.faces(&quads, None);
         Ok(shape)
+    }
+}
+
+impl PolyMesh {
+    /// Doo-Sabin's limit surface after `depth` steps as a mesh: the limit
+    /// points of the dual of the net before the last step, and its quads.
+    ///
+    /// # Errors
+    /// That net over `memory_limit`, or a mesh without interior vertex.
+    pub(crate) fn doo_sabin_limit(
+        &self,
+        depth: usize,
+        weights: Option<RuleWeights>,
+        memory_limit: usize,
+    ) -> Result<PolyMesh, SubdivideError> {
+        if !self.has_interior_vertex() {
+            return Err(SubdivideError::NoInteriorVertex);
+        }
+        let net = self.subdivide_with(Scheme::DooSabin, depth.max(1) - 1, weights, memory_limit)?;
+        let t = Topology::trusted(&net);
+        let mut out = Emit::memory(net.face_count() * 3, 4 * net.corner_count());
+        // Writing into memory cannot fail.
+        let _ = net.doo_sabin_limit_into(&t, weights.and_then(RuleWeights::quad), &mut out);
+        Ok(out.finish())
     }
 }
 

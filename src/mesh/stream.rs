@@ -127,26 +127,17 @@ impl PolyMesh {
                     Scheme::Loop => net.loop_limit_into(&t, weights.and_then(RuleWeights::triangle), &mut out),
                     _ => net.catmull_clark_limit_into(&t, &mut out),
                 };
-                return Ok(out.finish());
+                Ok(out.finish())
             }
             Scheme::Sqrt3 => {
                 // The last net's points replaced by their limits, in place.
                 let mut net = self.subdivide_with(scheme, depth.max(1), weights, memory_limit)?;
                 let points = net.triangle_limit_points(&Topology::trusted(&net), true, None);
                 net.positions = points;
-                return Ok(net);
+                Ok(net)
             }
-            Scheme::DooSabin => {}
+            Scheme::DooSabin => self.doo_sabin_limit(depth, weights, memory_limit),
         }
-        let shape = self.limit_with(scheme, depth, weights, memory_limit)?;
-        let mut starts = vec![0];
-        let mut indices = Vec::with_capacity(4 * shape.quads.len() + 3 * shape.triangles.len());
-        let quads = shape.quads.iter().map(|q| q.map(|v| v as usize).to_vec());
-        for face in quads.chain(shape.triangles.iter().map(|t| t.to_vec())) {
-            indices.extend(face);
-            starts.push(indices.len());
-        }
-        Ok(PolyMesh::from_flat(shape.points(), starts, indices))
     }
 
     /// [`PolyMesh::subdivide_into`], with area-weighted vertex normals
@@ -299,6 +290,19 @@ mod tests {
                 for depth in 1..=3 {
                     assert_streamed_limit_is_in_memory(&mesh, Scheme::Loop, weights.map(Into::into), depth);
                 }
+            }
+        }
+    }
+
+    /// Doo-Sabin's limit streamed, and made as a mesh, is the limit of
+    /// [`PolyMesh::limit_with`]: closed and open meshes, depths 1 to 3.
+    #[test]
+    fn the_streamed_doo_sabin_limit_is_the_limit_in_memory() {
+        let ico = PolyMesh::icosahedron();
+        let open = PolyMesh::new(ico.positions.clone(), ico.faces().skip(3).map(<[usize]>::to_vec).collect()).unwrap();
+        for mesh in [PolyMesh::cube(), ico, open] {
+            for depth in 1..=3 {
+                assert_streamed_limit_is_in_memory(&mesh, Scheme::DooSabin, None, depth);
             }
         }
     }
