@@ -23,6 +23,28 @@ fn solve_benches(c: &mut Criterion) {
         b.iter(|| bcifs::solve(&bcifs::parse_design(&suzanne_text, "s", "s").expect("parses")).expect("consistent"))
     });
     g.finish();
+    // The Loop automaton of an irregular closed mesh of 5,120 triangles (852 states,
+    // 6,585 constraints), parsed and solved, then checked: the "bunny".
+    let irregular = bcifs::mesh::read_mesh(std::path::Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/irregular5120.obj"
+    )))
+    .expect("shipped mesh");
+    let design = bcifs::schemes::mesh_automaton(&irregular, bcifs::mesh::Scheme::Loop, None).expect("generates");
+    let irregular_text = bcifs::write_design(&design);
+    let instance = bcifs::instantiate(&design, &[]).expect("defaults");
+    let mut g = c.benchmark_group("irregular5120_loop");
+    g.sample_size(10);
+    g.bench_function("parse+solve", |b| {
+        b.iter(|| bcifs::solve(&bcifs::parse_design(&irregular_text, "i", "i").expect("parses")).expect("consistent"))
+    });
+    g.bench_function("check", |b| {
+        b.iter(|| {
+            bcifs::analysis::check(&instance.automaton, &instance.values, bcifs::analysis::DEFAULT_CHECK_TOLERANCE)
+                .expect("checks")
+        })
+    });
+    g.finish();
     let text = bcifs::write_design(&bcifs::schemes::quad_patch(false).expect("generates"));
     c.bench_function("parse+solve/quad_patch_general", |b| {
         b.iter(|| bcifs::solve(&bcifs::parse_design(&text, "q", "q").expect("parses")).expect("consistent"))

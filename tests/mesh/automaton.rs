@@ -325,3 +325,25 @@ fn a_generated_automaton_too_deep_for_memory_is_refused() {
     }
     assert!(started.elapsed().as_secs() < 5);
 }
+
+/// A large irregular mesh (issue 29: "the bunny's generated automaton solved
+/// and checked"): the Loop automaton of a closed triangle mesh of 5,120 faces
+/// and valences 4 to 16 (852 states, 6,585 constraints) keeps every weight
+/// free, every constraint at an exact zero, and its check proves convergence
+/// (the upper bound of the joint spectral radius is below 1). Its time is
+/// measured by `benches/solve.rs`, not here.
+#[test]
+fn a_large_irregular_mesh_is_solved_and_checked() {
+    let path = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/irregular5120.obj"));
+    let mesh = bcifs::mesh::read_mesh(path).unwrap();
+    assert_eq!(mesh.face_count(), 5120);
+    let design = mesh_automaton(&mesh, Scheme::Loop, None).unwrap();
+    assert!(design.automaton().constraints().len() > 6000);
+    let family = bcifs::solve(&design).unwrap();
+    assert_eq!(family.dof(), design.declared().len());
+    let instance = bcifs::instantiate(&design, &[]).unwrap();
+    let report = check(&instance.automaton, &instance.values, DEFAULT_CHECK_TOLERANCE).unwrap();
+    assert!(report.ok && report.contractive);
+    assert!(report.constraints.iter().all(|(_, r)| *r == 0.0));
+    assert_eq!(report.converges, Some(true), "{:?}", report.jsr);
+}
