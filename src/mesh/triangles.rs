@@ -154,14 +154,10 @@ impl PolyMesh {
         if c0 == BORDER || (t.on_border(v) && !refine_border) {
             return p;
         }
-        let mut q = [0.0; 3];
         if t.on_border(v) {
-            let (u, w) = t.border_neighbours(self, c0);
-            add(&mut q, self.positions[u], 4.0 / 27.0);
-            add(&mut q, p, 19.0 / 27.0);
-            add(&mut q, self.positions[w], 4.0 / 27.0);
-            return q;
+            return self.border_mix(t, c0, 4.0 / 27.0, 19.0 / 27.0);
         }
+        let mut q = [0.0; 3];
         let n = ring(self, t, c0).count();
         let a = sqrt3_alpha(n);
         add(&mut q, p, 1.0 - a);
@@ -277,14 +273,10 @@ impl PolyMesh {
         if c0 == BORDER {
             return p;
         }
-        let mut out = [0.0; 3];
         if t.on_border(v) {
-            let (u, w) = t.border_neighbours(self, c0);
-            add(&mut out, self.positions[u], 1.0 / 6.0);
-            add(&mut out, p, 4.0 / 6.0);
-            add(&mut out, self.positions[w], 1.0 / 6.0);
-            return out;
+            return self.border_mix(t, c0, 1.0 / 6.0, 4.0 / 6.0);
         }
+        let mut out = [0.0; 3];
         let n = ring(self, t, c0).count();
         let mut q = [0.0; 3];
         ring(self, t, c0).for_each(|u| add(&mut q, self.positions[u], 1.0 / n as f64));
@@ -296,6 +288,17 @@ impl PolyMesh {
         add(&mut out, p, 1.0 / (1.0 + s));
         add(&mut out, q, s / (1.0 + s));
         out
+    }
+
+    /// `side · u + middle · p + side · w` for the border vertex `p` of corner
+    /// `c0` between its border neighbours `u` and `w` (summed in that order).
+    fn border_mix(&self, t: &Topology, c0: usize, side: f64, middle: f64) -> [f64; 3] {
+        let (u, w) = t.border_neighbours(self, c0);
+        let mut q = [0.0; 3];
+        add(&mut q, self.positions[u], side);
+        add(&mut q, self.positions[self.indices[c0]], middle);
+        add(&mut q, self.positions[w], side);
+        q
     }
 
     /// The limit points of this (last) net's vertices, then its triangles,
