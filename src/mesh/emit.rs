@@ -78,6 +78,35 @@ impl<'s> Emit<'s> {
         if self.sink.is_some() && self.positions.len() >= BATCH { self.push_vertices() } else { Ok(()) }
     }
 
+    /// Vertices `point(0)`, …, `point(n − 1)`, in that order: computed a
+    /// batch at a time on the threads of the current pool (the same numbers
+    /// as one by one: each point is computed on its own).
+    pub(crate) fn vertices_with(&mut self, n: usize, point: impl Fn(usize) -> [f64; 3] + Sync) -> io::Result<()> {
+        self.vertices_of(0..n, |k| Some(point(k)))
+    }
+
+    /// The vertices `point(k)` of the `k` in `range` where it is `Some`, in
+    /// order, computed as [`Emit::vertices_with`] computes them.
+    pub(crate) fn vertices_of(
+        &mut self,
+        range: std::ops::Range<usize>,
+        point: impl Fn(usize) -> Option<[f64; 3]> + Sync,
+    ) -> io::Result<()> {
+        use rayon::prelude::*;
+        let mut at = range.start;
+        while at < range.end {
+            let end = (at + BATCH).min(range.end);
+            let before = self.positions.len();
+            self.positions.par_extend((at..end).into_par_iter().filter_map(&point));
+            self.written.vertices += self.positions.len() - before;
+            if self.sink.is_some() && self.positions.len() >= BATCH {
+                self.push_vertices()?;
+            }
+            at = end;
+        }
+        Ok(())
+    }
+
     /// A face, its vertices counter-clockwise.
     #[inline]
     pub(crate) fn face(&mut self, vertices: impl IntoIterator<Item = usize>) -> io::Result<()> {

@@ -266,12 +266,10 @@ impl PolyMesh {
     /// the made net, without making it: memory of this net only.
     pub(crate) fn catmull_clark_limit_into(&self, t: &Topology, out: &mut Emit<'_>) -> std::io::Result<()> {
         let next = NextNet { net: self, t };
-        for v in 0..self.positions.len() {
-            match t.first(v) {
-                BORDER => out.vertex(self.positions[v])?, // unused by any face: kept as is
-                c0 => out.vertex(next.limit(4 * c0, t.on_border(v)))?,
-            }
-        }
+        out.vertices_with(self.positions.len(), |v| match t.first(v) {
+            BORDER => self.positions[v], // unused by any face: kept as is
+            c0 => next.limit(4 * c0, t.on_border(v)),
+        })?;
         let (edge_of, edges) = self.edge_numbering(t, out, |c, tw| {
             let nc = t.next(self, c);
             match tw {
@@ -282,9 +280,7 @@ impl PolyMesh {
                 }
             }
         })?;
-        for f in 0..self.face_count() {
-            out.vertex(next.limit(4 * self.starts[f] + 2, false))?;
-        }
+        out.vertices_with(self.face_count(), |f| next.limit(4 * self.starts[f] + 2, false))?;
         let nv = self.positions.len();
         self.cc_quads(t, (nv, nv + edges), &edge_of, out)
     }

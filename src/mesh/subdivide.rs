@@ -478,7 +478,7 @@ impl PolyMesh {
         &self,
         t: &Topology,
         out: &mut Emit<'_>,
-        interior: impl Fn(usize, usize) -> [f64; 3],
+        interior: impl Fn(usize, usize) -> [f64; 3] + Sync,
     ) -> io::Result<(Vec<u32>, usize)> {
         self.edge_numbering(t, out, |c, tw| match tw {
             None => self.border_midpoint(t, c),
@@ -493,7 +493,7 @@ impl PolyMesh {
         &self,
         t: &Topology,
         out: &mut Emit<'_>,
-        point: impl Fn(usize, Option<usize>) -> [f64; 3],
+        point: impl Fn(usize, Option<usize>) -> [f64; 3] + Sync,
     ) -> io::Result<(Vec<u32>, usize)> {
         let mut edge_of = vec![0u32; self.corner_count()];
         let mut edges = 0u32;
@@ -507,8 +507,13 @@ impl PolyMesh {
             }
             edge_of[c] = edges;
             edges += 1;
-            out.vertex(point(c, (tw != BORDER).then_some(tw)))?;
         }
+        // One point per edge, from its numbering corner, in corner order.
+        out.vertices_of(0..self.corner_count(), |c| match t.twin(c) {
+            BORDER => Some(point(c, None)),
+            tw if tw < c => None,
+            tw => Some(point(c, Some(tw))),
+        })?;
         Ok((edge_of, edges as usize))
     }
 

@@ -608,12 +608,10 @@ impl PolyMesh {
     ) -> io::Result<()> {
         let custom = weights.filter(|w| *w != LoopWeights::CLASSIC);
         let next = NextLoop { net: self, t, custom };
-        for v in 0..self.positions.len() {
-            match t.first(v) {
-                BORDER => out.vertex(self.positions[v])?, // unused by any face: kept as is
-                c0 => out.vertex(next.limit(NextLoop::at(c0, c0 % 3, 0), t.on_border(v), weights))?,
-            }
-        }
+        out.vertices_with(self.positions.len(), |v| match t.first(v) {
+            BORDER => self.positions[v], // unused by any face: kept as is
+            c0 => next.limit(NextLoop::at(c0, c0 % 3, 0), t.on_border(v), weights),
+        })?;
         let (edge_of, _) = self.edge_numbering(t, out, |c, tw| {
             let (i, second_half) = (c % 3, NextLoop::at(c, (c % 3 + 1) % 3, 2));
             match tw {
