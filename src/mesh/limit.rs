@@ -42,7 +42,8 @@ impl PolyMesh {
         let (points, quads) = match scheme {
             Scheme::DooSabin => {
                 let dual = self.doo_sabin_limit(depth, weights, memory_limit)?;
-                (dual.positions.clone(), dual.faces().map(|f| [f[0], f[1], f[2], f[3]]).collect())
+                let quads = dual.faces().map(|f| [f[0], f[1], f[2], f[3]]).collect();
+                (dual.positions, quads)
             }
             Scheme::CatmullClark => {
                 let net = self.subdivide_with(scheme, depth.max(1), weights, memory_limit)?;
@@ -94,8 +95,30 @@ impl PolyMesh {
         let t = Topology::trusted(&net);
         let mut out = Emit::memory(net.face_count() * 3, 4 * net.corner_count());
         // Writing into memory cannot fail.
-        let _ = net.doo_sabin_limit_into(&t, weights.and_then(RuleWeights::quad), &mut out);
+        let _ = net.limit_step_into(&t, Scheme::DooSabin, weights, &mut out);
         Ok(out.finish())
+    }
+
+    /// The limit surface of Doo-Sabin, Catmull-Clark or Loop after one more
+    /// step of this net (its points and faces, numbered as that step numbers
+    /// them) into `out`, the next net named but not made. √3 has none: its
+    /// limit points are a mask on the last net ([`PolyMesh::triangle_limit_into`]).
+    ///
+    /// # Errors
+    /// `out`'s error; √3.
+    pub(crate) fn limit_step_into(
+        &self,
+        t: &Topology,
+        scheme: Scheme,
+        weights: Option<RuleWeights>,
+        out: &mut Emit<'_>,
+    ) -> std::io::Result<()> {
+        match scheme {
+            Scheme::DooSabin => self.doo_sabin_limit_into(t, weights.and_then(RuleWeights::quad), out),
+            Scheme::CatmullClark => self.catmull_clark_limit_into(t, out),
+            Scheme::Loop => self.loop_limit_into(t, weights.and_then(RuleWeights::triangle), out),
+            Scheme::Sqrt3 => Err(std::io::Error::other("√3's limit is taken on the last net, not after one more step")),
+        }
     }
 }
 

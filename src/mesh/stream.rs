@@ -53,19 +53,6 @@ impl PolyMesh {
         }
         let io = SubdivideError::Write;
         sink.object(name).map_err(io)?;
-        if limit && matches!(scheme, Scheme::CatmullClark | Scheme::Loop) {
-            // Limit points are a local mask on the next net: from the net before it, streamed.
-            let net = self.subdivide_with(scheme, depth - 1, weights, memory_limit)?;
-            let t = Topology::trusted(&net);
-            let mut out = Emit::into_sink(sink);
-            if scheme == Scheme::Loop {
-                net.loop_limit_into(&t, weights.and_then(RuleWeights::triangle), &mut out)
-            } else {
-                net.catmull_clark_limit_into(&t, &mut out)
-            }
-            .map_err(io)?;
-            return out.flush().map_err(io);
-        }
         if limit && scheme == Scheme::Sqrt3 {
             // √3's limit points are a mask on the last net's rings: that net
             // in memory, its points and faces streamed (no copy of it made).
@@ -89,7 +76,8 @@ impl PolyMesh {
         let net = self.subdivide_with(scheme, depth - 1, weights, memory_limit)?;
         let t = Topology::trusted(&net);
         if limit {
-            net.doo_sabin_limit_into(&t, weights.and_then(RuleWeights::quad), &mut out)
+            // Limit points are a local mask on the next net: from the net before it, streamed.
+            net.limit_step_into(&t, scheme, weights, &mut out)
         } else {
             net.step_into(scheme, depth - 1, &t, weights, &mut out)
         }
@@ -123,10 +111,7 @@ impl PolyMesh {
                 let (nv, nc) = (net.positions.len(), net.corner_count());
                 let mut out = Emit::memory(nv + nc + net.face_count(), 4 * nc);
                 // Writing into memory cannot fail.
-                let _ = match scheme {
-                    Scheme::Loop => net.loop_limit_into(&t, weights.and_then(RuleWeights::triangle), &mut out),
-                    _ => net.catmull_clark_limit_into(&t, &mut out),
-                };
+                let _ = net.limit_step_into(&t, scheme, weights, &mut out);
                 Ok(out.finish())
             }
             Scheme::Sqrt3 => {
@@ -221,16 +206,21 @@ mod tests {
         out
     }
 
+    /// The icosahedron without three of its faces (a border of valences 3 to 5).
+    fn open_icosahedron() -> PolyMesh {
+        let ico = PolyMesh::icosahedron();
+        PolyMesh::new(ico.positions.clone(), ico.faces().skip(3).map(<[usize]>::to_vec).collect()).unwrap()
+    }
+
     /// Triangle meshes with valences 3 to 6, closed and open.
     fn triangle_meshes() -> [PolyMesh; 4] {
-        let ico = PolyMesh::icosahedron();
-        let open = PolyMesh::new(ico.positions.clone(), ico.faces().skip(3).map(<[usize]>::to_vec).collect()).unwrap();
+        let open = open_icosahedron();
         let tet = PolyMesh::new(
             vec![[1.0, 1.0, 1.0], [1.0, -1.0, -1.0], [-1.0, 1.0, -1.0], [-1.0, -1.0, 1.0]],
             vec![vec![0, 1, 2], vec![0, 3, 1], vec![0, 2, 3], vec![1, 3, 2]],
         )
         .unwrap();
-        [ico, open, tet, PolyMesh::cube().triangulated()]
+        [PolyMesh::icosahedron(), open, tet, PolyMesh::cube().triangulated()]
     }
 
     /// The limit streamed by [`PolyMesh::subdivide_into`] is [`PolyMesh::limit_with`]'s, bit for bit.
@@ -255,8 +245,7 @@ mod tests {
     /// closed and open meshes, quads, triangles and larger faces, an unused vertex.
     #[test]
     fn the_streamed_catmull_clark_limit_is_the_limit_in_memory() {
-        let ico = PolyMesh::icosahedron();
-        let open = PolyMesh::new(ico.positions.clone(), ico.faces().skip(3).map(<[usize]>::to_vec).collect()).unwrap();
+        let (ico, open) = (PolyMesh::icosahedron(), open_icosahedron());
         let mut unused = PolyMesh::cube().positions.clone();
         unused.push([5.0, 5.0, 5.0]);
         let lonely = PolyMesh::new(unused, PolyMesh::cube().faces().map(<[usize]>::to_vec).collect()).unwrap();
@@ -298,9 +287,7 @@ mod tests {
     /// [`PolyMesh::limit_with`]: closed and open meshes, depths 1 to 3.
     #[test]
     fn the_streamed_doo_sabin_limit_is_the_limit_in_memory() {
-        let ico = PolyMesh::icosahedron();
-        let open = PolyMesh::new(ico.positions.clone(), ico.faces().skip(3).map(<[usize]>::to_vec).collect()).unwrap();
-        for mesh in [PolyMesh::cube(), ico, open] {
+        for mesh in [PolyMesh::cube(), PolyMesh::icosahedron(), open_icosahedron()] {
             for depth in 1..=3 {
                 assert_streamed_limit_is_in_memory(&mesh, Scheme::DooSabin, None, depth);
             }
