@@ -30,6 +30,7 @@ use std::fmt;
 use nalgebra::DMatrix;
 use petgraph::algo::tarjan_scc;
 use petgraph::graph::DiGraph;
+use rayon::prelude::*;
 
 use crate::algebra::tolerance::{SLACK, STOCHASTIC};
 use crate::automaton::{ArrowKind, Automaton};
@@ -377,22 +378,28 @@ fn kronecker_parts(part: &Part) -> Option<(Part, Part)> {
 /// assert_eq!(jsr.verdict(), bcifs::analysis::Verdict::Converges);
 /// ```
 pub fn jsr(automaton: &Automaton<f64>, settings: &JsrSettings) -> Result<Jsr, JsrError> {
-    let parts = parts(automaton)?;
+    // The parts are bounded independently (on the pool's threads), then combined in their order.
+    let bounds: Vec<(f64, Vec<String>, f64)> = parts(automaton)?
+        .par_iter()
+        .map(|part| {
+            let (lower, witness) = part.lower_bound(settings, false);
+            let upper = if lower >= 1.0 - ROUNDING {
+                part.norm_bound(settings)
+            } else {
+                // A tensor-product part is bounded by its factors' small systems first; the branch
+                // and bound over its large matrices runs only when that does not prove convergence.
+                let factors = part.kronecker_bound(settings);
+                if factors < 1.0 { factors } else { part.upper_bound(lower, settings).min(factors) }
+            };
+            (lower, witness, upper)
+        })
+        .collect();
     let mut out = Jsr { lower: 0.0, upper: 0.0, witness: Vec::new() };
-    for part in &parts {
-        let (lower, witness) = part.lower_bound(settings, false);
+    for (lower, witness, upper) in bounds {
         if lower > out.lower || out.witness.is_empty() && !witness.is_empty() {
             out.lower = out.lower.max(lower);
             out.witness = witness;
         }
-        let upper = if lower >= 1.0 - ROUNDING {
-            part.norm_bound(settings)
-        } else {
-            // A tensor-product part is bounded by its factors' small systems first; the branch
-            // and bound over its large matrices runs only when that does not prove convergence.
-            let factors = part.kronecker_bound(settings);
-            if factors < 1.0 { factors } else { part.upper_bound(lower, settings).min(factors) }
-        };
         out.upper = out.upper.max(upper.max(lower));
     }
     Ok(out)
@@ -408,34 +415,16 @@ pub fn jsr(automaton: &Automaton<f64>, settings: &JsrSettings) -> Result<Jsr, Js
 /// # Errors
 /// [`JsrError::NotStochastic`] for a subdivision arrow whose columns do not sum to 1.
 pub fn jsr_verdict(automaton: &Automaton<f64>, settings: &JsrSettings) -> Result<Verdict, JsrError> {
-    let mut verdict = Verdict::Converges;
-    for part in &parts(automaton)? {
-        // Contracting in the Euclidean norm already settles it, without adapting the norm.
-        if part.edges.iter().all(|e| spectral_norm(&e.matrix) < 1.0) {
-            continue;
-        }
-        if part.kronecker_bound(settings) < 1.0 {
-            continue;
-        }
-        let mut work = Work(settings.norm_work);
-        let bases = part.bases(&mut work);
-        let norms: Vec<Vec<f64>> = bases.iter().map(|b| b.matrices.iter().map(b.norm).collect()).collect();
-        if norms.iter().any(|n| n.iter().all(|&x| x < 1.0)) {
-            continue;
-        }
-        let (lower, _) = part.lower_bound(settings, true);
-        if lower >= 1.0 - ROUNDING {
-            return Ok(Verdict::Diverges);
-        }
-        let gamma = 1.0 - SLACK;
-        let share = work.0 / bases.len() as f64;
-        let closed =
-            gamma > lower && bases.iter().zip(&norms).any(|(basis, n)| part.closes(basis, n, gamma, &mut Work(share)));
-        if !closed {
-            verdict = Verdict::Undecided;
-        }
-    }
-    Ok(verdict)
+    // Diverges if a part diverges, else Undecided if one is, else Converges: the parts are
+    // settled independently, on the pool's threads.
+    let verdicts: Vec<Verdict> = parts(automaton)?.par_iter().map(|part| part.verdict(settings)).collect();
+    Ok(if verdicts.contains(&Verdict::Diverges) {
+        Verdict::Diverges
+    } else if verdicts.contains(&Verdict::Undecided) {
+        Verdict::Undecided
+    } else {
+        Verdict::Converges
+    })
 }
 
 /// The strongly connected parts with an edge, their matrices restricted.
@@ -481,6 +470,32 @@ fn parts(automaton: &Automaton<f64>) -> Result<Vec<Part>, JsrError> {
 }
 
 impl Part {
+    /// This part's verdict, for [`jsr_verdict`].
+    fn verdict(&self, settings: &JsrSettings) -> Verdict {
+        // Contracting in the Euclidean norm already settles it, without adapting the norm.
+        if self.edges.iter().all(|e| spectral_norm(&e.matrix) < 1.0) {
+            return Verdict::Converges;
+        }
+        if self.kronecker_bound(settings) < 1.0 {
+            return Verdict::Converges;
+        }
+        let mut work = Work(settings.norm_work);
+        let bases = self.bases(&mut work);
+        let norms: Vec<Vec<f64>> = bases.iter().map(|b| b.matrices.iter().map(b.norm).collect()).collect();
+        if norms.iter().any(|n| n.iter().all(|&x| x < 1.0)) {
+            return Verdict::Converges;
+        }
+        let (lower, _) = self.lower_bound(settings, true);
+        if lower >= 1.0 - ROUNDING {
+            return Verdict::Diverges;
+        }
+        let gamma = 1.0 - SLACK;
+        let share = work.0 / bases.len() as f64;
+        let closed =
+            gamma > lower && bases.iter().zip(&norms).any(|(basis, n)| self.closes(basis, n, gamma, &mut Work(share)));
+        if closed { Verdict::Converges } else { Verdict::Undecided }
+    }
+
     /// `max ρ(P)^(1/|P|)` over the cycles of length up to `max_cycle`, by a
     /// depth-first walk from every state; the cycle that attains it. With
     /// `stop_at_one`, the first cycle that proves divergence ends the search.
