@@ -25,6 +25,14 @@ pub trait Entry: nalgebra::Scalar + ExprValue {
     /// Whether this entry is (exactly) one: a product by it is a copy
     /// (selection matrices, the common factor of constraint paths).
     fn is_one_entry(&self) -> bool;
+    /// `self + a · b`, the step of a matrix product.
+    ///
+    /// # Errors
+    /// [`ExprError::Nonlinear`] when `a` and `b` both depend on unknowns.
+    fn add_product(&self, a: &Self, b: &Self) -> Result<Self, ExprError> {
+        let term = if b.is_one_entry() { a.clone() } else { a.times(b)? };
+        Ok(if self.is_zero_entry() { term } else { self.plus(&term) })
+    }
 }
 
 impl Entry for f64 {
@@ -55,6 +63,14 @@ impl Entry for Affine {
     fn is_one_entry(&self) -> bool {
         self.is_one()
     }
+    fn add_product(&self, a: &Affine, b: &Affine) -> Result<Affine, ExprError> {
+        // One merge of sorted terms, no product formed apart (exact: the same form).
+        match (a.as_constant(), b.as_constant()) {
+            (_, Some(k)) => Ok(self.add_scaled(a, k)),
+            (Some(k), _) => Ok(self.add_scaled(b, k)),
+            _ => Err(ExprError::Nonlinear),
+        }
+    }
 }
 
 /// `a · b` for matrices of any [`Entry`] type.
@@ -76,8 +92,7 @@ pub fn mat_mul<E: Entry>(a: &DMatrix<E>, b: &DMatrix<E>) -> Result<DMatrix<E>, E
                 if bkj.is_zero_entry() {
                     continue;
                 }
-                let term = if bkj.is_one_entry() { aik.clone() } else { aik.times(bkj)? };
-                out[(i, j)] = if out[(i, j)].is_zero_entry() { term } else { out[(i, j)].plus(&term) };
+                out[(i, j)] = out[(i, j)].add_product(aik, bkj)?;
             }
         }
     }
@@ -402,8 +417,9 @@ impl<E: Entry> Automaton<E> {
     /// [`ExprError::Nonlinear`] when two factors depend on unknowns.
     pub fn product(&self, path: &[EdgeIndex]) -> Result<DMatrix<E>, ExprError> {
         let mut iter = path.iter();
-        let first = iter.next().expect("paths are checked to be non-empty");
-        let mut acc = self.graph[*first].matrix.clone();
+        let first = &self.graph[*iter.next().expect("paths are checked to be non-empty")].matrix;
+        let Some(second) = iter.next() else { return Ok(first.clone()) };
+        let mut acc = mat_mul(first, &self.graph[*second].matrix)?;
         for id in iter {
             acc = mat_mul(&acc, &self.graph[*id].matrix)?;
         }

@@ -2,6 +2,8 @@
 
 use std::fmt;
 
+use num_traits::One;
+
 use super::expr::{ExprError, ExprValue};
 use super::num::Num;
 
@@ -199,18 +201,22 @@ impl fmt::Display for AffineDisplay<'_> {
             }
             first = false;
             let magnitude = c.abs();
-            match magnitude.as_rational() {
-                Some(r) => {
-                    let (n, d) = (r.numer(), r.denom());
-                    let one = num_bigint::BigInt::from(1);
-                    match (n == &one, d == &one) {
-                        (true, true) => write!(f, "{name}")?,
-                        (false, true) => write!(f, "{n}*{name}")?,
-                        (true, false) => write!(f, "{name}/{d}")?,
-                        (false, false) => write!(f, "{n}*{name}/{d}")?,
+            let write_ratio =
+                |f: &mut fmt::Formatter<'_>, n: &dyn fmt::Display, n_one: bool, d: &dyn fmt::Display, d_one: bool| {
+                    match (n_one, d_one) {
+                        (true, true) => write!(f, "{name}"),
+                        (false, true) => write!(f, "{n}*{name}"),
+                        (true, false) => write!(f, "{name}/{d}"),
+                        (false, false) => write!(f, "{n}*{name}/{d}"),
                     }
-                }
-                None => write!(f, "({magnitude})*{name}")?,
+                };
+            if let Some((n, d)) = magnitude.as_small_rational() {
+                write_ratio(f, &n, n == 1, &d, d == 1)?;
+            } else if let Some(r) = magnitude.as_rational() {
+                let (n, d) = (r.numer(), r.denom());
+                write_ratio(f, n, n.is_one(), d, d.is_one())?;
+            } else {
+                write!(f, "({magnitude})*{name}")?;
             }
         }
         Ok(())

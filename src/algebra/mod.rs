@@ -5,6 +5,7 @@
 mod affine;
 mod expr;
 mod num;
+mod rat;
 mod spectrum;
 mod surd;
 pub mod tolerance;

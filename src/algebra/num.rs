@@ -72,9 +72,22 @@ impl Num {
         if !int_part.chars().chain(frac_part.chars()).all(|c| c.is_ascii_digit()) {
             return None;
         }
+        let scale = exponent.checked_sub(i32::try_from(frac_part.len()).ok()?)?;
+        // Up to 18 digits and a power of ten up to 10^18: machine integers, no text built.
+        if int_part.len() + frac_part.len() <= 18 && scale.unsigned_abs() <= 18 {
+            let digits = int_part.bytes().chain(frac_part.bytes()).fold(0i64, |acc, b| acc * 10 + i64::from(b - b'0'));
+            let power = 10i64.pow(scale.unsigned_abs());
+            return Some(if scale >= 0 {
+                match digits.checked_mul(power) {
+                    Some(n) => Num::frac(n, 1),
+                    None => Num::rational(BigRational::from_integer(BigInt::from(digits) * BigInt::from(power))),
+                }
+            } else {
+                Num::frac(digits, power)
+            });
+        }
         let digits: BigInt = format!("{int_part}{frac_part}0").parse().ok()?;
         let digits = digits / BigInt::from(10);
-        let scale = exponent.checked_sub(i32::try_from(frac_part.len()).ok()?)?;
         if scale.unsigned_abs() > MAX_EXPONENT {
             return None;
         }
@@ -121,9 +134,18 @@ impl Num {
     }
 
     /// The rational value, if the number is an exact rational.
-    pub fn as_rational(&self) -> Option<&BigRational> {
+    pub fn as_rational(&self) -> Option<BigRational> {
         match self {
-            Num::Exact(s) => s.rational_ref(),
+            Num::Exact(s) => s.as_rational(),
+            Num::Approx(_) => None,
+        }
+    }
+
+    /// The rational value as `(numerator, denominator)` machine integers
+    /// (denominator positive, reduced), if the number is an exact rational that fits.
+    pub fn as_small_rational(&self) -> Option<(i64, i64)> {
+        match self {
+            Num::Exact(s) => s.as_small_rational(),
             Num::Approx(_) => None,
         }
     }
@@ -203,7 +225,7 @@ impl Num {
             return None;
         }
         if let Some(q) = self.as_rational()
-            && let Some(s) = Surd::sqrt_of(q)
+            && let Some(s) = Surd::sqrt_of(&q)
         {
             return Some(Num::Exact(s));
         }

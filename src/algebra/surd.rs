@@ -8,9 +8,10 @@
 
 use std::fmt;
 
-use num_bigint::BigInt;
 use num_rational::BigRational;
-use num_traits::{One, Signed, ToPrimitive, Zero};
+use num_traits::{Signed, ToPrimitive, Zero};
+
+use super::rat::Rat;
 
 /// Largest radicand handled exactly (square-free factorisation by trial division).
 const MAX_RADICAND: u64 = 1 << 40;
@@ -28,11 +29,12 @@ const MAX_RADICAND: u64 = 1 << 40;
 /// ```
 #[derive(Clone, Debug, PartialEq, Eq, Hash, Default)]
 pub struct Surd {
-    /// The rational part.
-    rational: BigRational,
+    /// The rational part (machine integers while they fit: no allocation in the solver's
+    /// common case).
+    rational: Rat,
     /// `(radicand, coefficient)`: square-free radicands > 1, increasing, coefficients non-zero.
-    /// Empty for a rational (no allocation: the solver's common case stays cheap).
-    roots: Vec<(u64, BigRational)>,
+    /// Empty for a rational (no allocation).
+    roots: Vec<(u64, Rat)>,
 }
 
 /// Why a text or expression is not an exact surd.
@@ -59,10 +61,6 @@ pub enum SurdError {
     DivisionByZero(String),
 }
 
-fn rational(n: i64, d: i64) -> BigRational {
-    BigRational::new(BigInt::from(n), BigInt::from(d))
-}
-
 /// `(s, f)` with `n = s · f²` and `s` square-free.
 fn square_free(mut n: u64) -> (u64, u64) {
     let (mut s, mut f) = (1u64, 1u64);
@@ -81,6 +79,11 @@ fn square_free(mut n: u64) -> (u64, u64) {
     (s * n, f)
 }
 
+/// `u` as a rational (radicands and factors are at most `2^40`).
+fn rat_of(u: u64) -> Rat {
+    Rat::frac(i64::try_from(u).expect("radicands are below 2^40"), 1)
+}
+
 impl Surd {
     /// Zero.
     pub fn zero() -> Surd {
@@ -94,27 +97,31 @@ impl Surd {
 
     /// The rational `q`.
     pub fn rational(q: BigRational) -> Surd {
+        Surd::of(Rat::from_big(q))
+    }
+
+    fn of(q: Rat) -> Surd {
         Surd { rational: q, roots: Vec::new() }
     }
 
     /// The integer `n`.
     pub fn int(n: i64) -> Surd {
-        Surd::rational(rational(n, 1))
+        Surd::of(Rat::frac(n, 1))
     }
 
     /// The fraction `p / q` (`q ≠ 0`).
     pub fn frac(p: i64, q: i64) -> Surd {
-        Surd::rational(rational(p, q))
+        Surd::of(Rat::frac(p, q))
     }
 
     /// `q·√radicand` for a square-free `radicand`.
-    fn term(radicand: u64, q: BigRational) -> Surd {
+    fn term(radicand: u64, q: Rat) -> Surd {
         if radicand == 1 {
-            Surd::rational(q)
+            Surd::of(q)
         } else if q.is_zero() || radicand == 0 {
             Surd::zero()
         } else {
-            Surd { rational: BigRational::zero(), roots: vec![(radicand, q)] }
+            Surd { rational: Rat::ZERO, roots: vec![(radicand, q)] }
         }
     }
 
@@ -130,7 +137,7 @@ impl Surd {
         let (a, b) = (q.numer().to_u64()?, q.denom().to_u64()?);
         let ab = a.checked_mul(b).filter(|x| *x <= MAX_RADICAND)?;
         let (s, f) = square_free(ab);
-        Some(Surd::term(s, BigRational::new(BigInt::from(f), BigInt::from(b))))
+        Some(Surd::term(s, rat_of(f).mul(&rat_of(b).recip()?)))
     }
 
     /// Whether it is zero.
@@ -150,15 +157,19 @@ impl Surd {
 
     /// The rational value, if there is no square-root term.
     pub fn as_rational(&self) -> Option<BigRational> {
-        self.roots.is_empty().then(|| self.rational.clone())
+        self.roots.is_empty().then(|| self.rational.to_big())
     }
 
-    /// The rational value by reference, if there is no square-root term.
-    pub fn rational_ref(&self) -> Option<&BigRational> {
-        self.roots.is_empty().then_some(&self.rational)
+    /// The rational value as `(numerator, denominator)` machine integers
+    /// (denominator positive, reduced), if it is a rational that fits.
+    pub fn as_small_rational(&self) -> Option<(i64, i64)> {
+        match (&self.rational, self.roots.is_empty()) {
+            (Rat::Small(n, d), true) => Some((*n, *d)),
+            _ => None,
+        }
     }
 
-    fn merge(&self, other: &Surd, k: &BigRational) -> Vec<(u64, BigRational)> {
+    fn merge(&self, other: &Surd, k: &Rat) -> Vec<(u64, Rat)> {
         if other.roots.is_empty() {
             return self.roots.clone();
         }
@@ -167,7 +178,7 @@ impl Surd {
         while i < self.roots.len() || j < other.roots.len() {
             match (self.roots.get(i), other.roots.get(j)) {
                 (Some(a), Some(b)) if a.0 == b.0 => {
-                    let c = &a.1 + k * &b.1;
+                    let c = a.1.add(&k.mul(&b.1));
                     if !c.is_zero() {
                         out.push((a.0, c));
                     }
@@ -183,7 +194,7 @@ impl Surd {
                     i += 1;
                 }
                 (_, Some(b)) => {
-                    out.push((b.0, k * &b.1));
+                    out.push((b.0, k.mul(&b.1)));
                     j += 1;
                 }
                 (None, None) => break,
@@ -194,56 +205,58 @@ impl Surd {
 
     /// `self + k · other` for a rational `k`.
     pub fn add_scaled(&self, other: &Surd, k: &BigRational) -> Surd {
-        // Fast paths (the solver's common cases): nothing to add, nothing to add to, k = ±1.
+        self.add_scaled_rat(other, &Rat::from_big(k.clone()))
+    }
+
+    fn add_scaled_rat(&self, other: &Surd, k: &Rat) -> Surd {
+        // Fast paths (the solver's common cases): nothing to add, nothing to add to, rationals.
         if k.is_zero() || other.is_zero() {
             return self.clone();
         }
         if self.is_zero() {
-            return other.scale(k);
+            return other.scale_rat(k);
         }
+        let rational = self.rational.add(&k.mul(&other.rational));
         if self.roots.is_empty() && other.roots.is_empty() {
-            let rational = if k.is_one() {
-                &self.rational + &other.rational
-            } else if is_minus_one(k) {
-                &self.rational - &other.rational
-            } else {
-                &self.rational + k * &other.rational
-            };
-            return Surd { rational, roots: Vec::new() };
+            return Surd::of(rational);
         }
-        Surd { rational: &self.rational + k * &other.rational, roots: self.merge(other, k) }
+        Surd { rational, roots: self.merge(other, k) }
     }
 
     /// `self + other`.
     pub fn add(&self, other: &Surd) -> Surd {
-        self.add_scaled(other, &BigRational::one())
+        self.add_scaled_rat(other, &Rat::ONE)
     }
 
     /// `-self`.
     pub fn neg(&self) -> Surd {
-        Surd { rational: -&self.rational, roots: self.roots.iter().map(|(r, q)| (*r, -q)).collect() }
+        Surd { rational: self.rational.neg(), roots: self.roots.iter().map(|(r, q)| (*r, q.neg())).collect() }
     }
 
     /// `self - other`.
     pub fn sub(&self, other: &Surd) -> Surd {
-        self.add_scaled(other, &-BigRational::one())
+        self.add_scaled_rat(other, &Rat::frac(-1, 1))
     }
 
     /// `self · q` for a rational `q`.
     pub fn scale(&self, q: &BigRational) -> Surd {
+        self.scale_rat(&Rat::from_big(q.clone()))
+    }
+
+    fn scale_rat(&self, q: &Rat) -> Surd {
         if q.is_zero() || self.is_zero() {
             return Surd::zero();
         }
         if q.is_one() {
             return self.clone();
         }
-        if is_minus_one(q) {
+        if q.is_minus_one() {
             return self.neg();
         }
-        Surd { rational: &self.rational * q, roots: self.roots.iter().map(|(r, c)| (*r, c * q)).collect() }
+        Surd { rational: self.rational.mul(q), roots: self.roots.iter().map(|(r, c)| (*r, c.mul(q))).collect() }
     }
 
-    fn terms(&self) -> impl Iterator<Item = (u64, &BigRational)> {
+    fn terms(&self) -> impl Iterator<Item = (u64, &Rat)> {
         std::iter::once((1, &self.rational))
             .filter(|(_, q)| !q.is_zero())
             .chain(self.roots.iter().map(|(r, q)| (*r, q)))
@@ -251,17 +264,17 @@ impl Surd {
 
     /// `self · other`: `√a·√b = √(ab)`, reduced to square-free form.
     pub fn mul(&self, other: &Surd) -> Surd {
-        if let Some(q) = other.rational_ref() {
-            return self.scale(q);
+        if other.roots.is_empty() {
+            return self.scale_rat(&other.rational);
         }
-        if let Some(q) = self.rational_ref() {
-            return other.scale(q);
+        if self.roots.is_empty() {
+            return other.scale_rat(&self.rational);
         }
         let mut out = Surd::zero();
         for (ra, qa) in self.terms() {
             for (rb, qb) in other.terms() {
                 let (s, f) = square_free(ra * rb);
-                out = out.add(&Surd::term(s, qa * qb * BigRational::from_integer(BigInt::from(f))));
+                out = out.add(&Surd::term(s, qa.mul(qb).mul(&rat_of(f))));
             }
         }
         out
@@ -275,22 +288,19 @@ impl Surd {
             return None;
         }
         // 1 / (q√r) = √r / (q r).
-        let inv = Surd::term(r, BigRational::one() / (q * BigRational::from_integer(BigInt::from(r))));
+        let inv = Surd::term(r, q.mul(&rat_of(r)).recip()?);
         Some(self.mul(&inv))
     }
 
     /// The nearest `f64`.
     pub fn to_f64(&self) -> f64 {
-        let rational = self.rational.to_f64().unwrap_or(f64::NAN);
-        self.roots.iter().fold(rational, |acc, (r, q)| acc + q.to_f64().unwrap_or(f64::NAN) * (*r as f64).sqrt())
+        let rational = self.rational.to_f64();
+        self.roots.iter().fold(rational, |acc, (r, q)| acc + q.to_f64() * (*r as f64).sqrt())
     }
 
     /// Whether it is negative (exact for rationals; by its `f64` value otherwise).
     pub fn is_negative(&self) -> bool {
-        match self.rational_ref() {
-            Some(q) => q.is_negative(),
-            None => self.to_f64() < 0.0,
-        }
+        if self.roots.is_empty() { self.rational.is_negative() } else { self.to_f64() < 0.0 }
     }
 }
 
@@ -314,8 +324,7 @@ impl fmt::Display for Surd {
                 (_, true) => f.write_str(" - ")?,
                 (_, false) => f.write_str(" + ")?,
             }
-            let a = q.abs();
-            let (n, d) = (a.numer(), a.denom());
+            let (n, d) = q.abs_parts();
             if r == 1 {
                 write!(f, "{n}")?;
             } else if n.is_one() {
@@ -329,11 +338,6 @@ impl fmt::Display for Surd {
         }
         Ok(())
     }
-}
-
-/// Whether `q` is −1 (without allocating).
-fn is_minus_one(q: &BigRational) -> bool {
-    q.denom().is_one() && q.numer().sign() == num_bigint::Sign::Minus && q.numer().magnitude().is_one()
 }
 
 #[cfg(test)]

@@ -135,7 +135,7 @@ pub fn check_loop_weights(weights: &LoopWeights, valences: &[usize]) -> Result<W
         }
     }
     // The regular hexagon's IFS, exact from the decimals given.
-    let exact = |x: f64| crate::algebra::Num::from_f64(x).as_rational().cloned();
+    let exact = |x: f64| crate::algebra::Num::from_f64(x).as_rational();
     let (Some(w), Some(ring6)) = (exact(weights.w), exact(weights.ring(6))) else {
         return Ok(WeightsVerdict::Undecided(format!("{named}: not a decimal")));
     };

@@ -23,7 +23,30 @@ impl DesignBuilder {
     /// states, defaults that are not constants, and models that do not fit
     /// the automaton.
     pub fn build(&self) -> Result<Design, BuildError> {
-        Compiler::new(self).run()
+        Ok(Compiler::new(self).run()?.with_spec(self.clone()))
+    }
+
+    /// [`DesignBuilder::build`], keeping this builder in the design without a copy.
+    ///
+    /// # Errors
+    /// As [`DesignBuilder::build`].
+    pub fn into_design(self) -> Result<Design, BuildError> {
+        Ok(Compiler::new(&self).run()?.with_spec(self))
+    }
+}
+
+/// What the compiler makes: a [`Design`] but its builder.
+struct Compiled {
+    automaton: Automaton<Affine>,
+    variables: Vec<Variable>,
+    defaults: HashMap<String, f64>,
+    declared: Vec<String>,
+}
+
+impl Compiled {
+    fn with_spec(self, spec: DesignBuilder) -> Design {
+        let Compiled { automaton, variables, defaults, declared } = self;
+        Design { automaton, variables, defaults, declared, spec, solved: Default::default() }
     }
 }
 
@@ -103,7 +126,7 @@ impl<'a> Compiler<'a> {
         self.spec.states.iter().map(|s| s.name.as_str())
     }
 
-    fn run(mut self) -> Result<Design, BuildError> {
+    fn run(mut self) -> Result<Compiled, BuildError> {
         self.states()?;
         let named = self.named_entries()?;
         self.unknowns(named)?;
@@ -119,14 +142,7 @@ impl<'a> Compiler<'a> {
             self.check_model(m)?;
         }
         let declared = self.spec.parameters.iter().map(|p| p.name.clone()).collect();
-        Ok(Design {
-            automaton: self.automaton,
-            variables: self.vars,
-            defaults,
-            declared,
-            spec: self.spec.clone(),
-            solved: Default::default(),
-        })
+        Ok(Compiled { automaton: self.automaton, variables: self.vars, defaults, declared })
     }
 
     fn states(&mut self) -> Result<(), BuildError> {
@@ -251,13 +267,21 @@ impl<'a> Compiler<'a> {
     }
 
     /// An expression of constants and parameters (no matrix entries).
-    fn value(&self, value: &Value, at: BuildError, what: &str) -> Result<Affine, BuildError> {
+    /// The value of an entry or a default; `at` and `what` (where it is, what it is) are made
+    /// only for an error.
+    fn value(
+        &self,
+        value: &Value,
+        at: impl Fn() -> BuildError,
+        what: impl Fn() -> String,
+    ) -> Result<Affine, BuildError> {
         match value {
             Value::Num(n) => Ok(Affine::constant(n.clone())),
             Value::Text(text) => {
                 if let Some(known) = self.values.borrow().get(text) {
                     return Ok(known.clone());
                 }
+                let (at, what) = (at(), what());
                 let expr = Expr::parse(text)
                     .map_err(|e| at.clone().with_message(format!("in {what}: {}", e.message)).at_offset(e.offset))?;
                 if let Some((arrow, row, col, off)) = expr.entries().first() {
@@ -268,7 +292,7 @@ impl<'a> Compiler<'a> {
                         .at_offset(*off));
                 }
                 let value =
-                    expr.eval(&Symbols { vars: &self.var_by_name }).map_err(|e| self.eval_error(at, e, what))?;
+                    expr.eval(&Symbols { vars: &self.var_by_name }).map_err(|e| self.eval_error(at, e, &what))?;
                 self.values.borrow_mut().insert(text.clone(), value.clone());
                 Ok(value)
             }
@@ -335,8 +359,11 @@ impl<'a> Compiler<'a> {
                 let mut entries = Vec::with_capacity(rows * cols);
                 for (r, row) in data.iter().enumerate() {
                     for (c, e) in row.iter().enumerate() {
-                        let at = self.arrow_error(index, Field::Entry(r, c), "");
-                        entries.push(self.value(e, at, &format!("entry [{r}][{c}] of `{name}`"))?);
+                        entries.push(self.value(
+                            e,
+                            || self.arrow_error(index, Field::Entry(r, c), ""),
+                            || format!("entry [{r}][{c}] of `{name}`"),
+                        )?);
                     }
                 }
                 DMatrix::from_row_iterator(rows, cols, entries)
@@ -445,8 +472,8 @@ impl<'a> Compiler<'a> {
         let mut defaults = HashMap::new();
         for (index, p) in self.spec.parameters.iter().enumerate() {
             if let Some(d) = &p.default {
-                let at = self.param_error(index, Field::Default, "");
-                let value = self.value(d, at, &format!("the default of `{}`", p.name))?;
+                let at = || self.param_error(index, Field::Default, "");
+                let value = self.value(d, at, || format!("the default of `{}`", p.name))?;
                 let value = value
                     .as_constant()
                     .ok_or_else(|| self.param_error(index, Field::Default, "a default must be a constant"))?;

@@ -131,34 +131,47 @@ impl Env<Affine> for Symbols<'_> {
 /// # Errors
 /// [`SolveError::Nonlinear`] or [`SolveError::Eval`] naming the constraint.
 pub fn equations(design: &Design) -> Result<Vec<Equation>, SolveError> {
+    use rayon::prelude::*;
     let a = &design.automaton();
-    let mut out = Vec::new();
-    for c in a.constraints() {
-        match &c.relation {
-            Relation::Paths { lhs, rhs } => {
-                let side = |path: &[_], side| {
-                    a.product(path).map_err(|_| SolveError::Nonlinear { constraint: c.to_string(), side })
-                };
-                let (l, r) = (side(lhs, "left")?, side(rhs, "right")?);
-                for i in 0..l.nrows() {
-                    for j in 0..l.ncols() {
-                        let form = l[(i, j)].sub(&r[(i, j)]);
-                        if !form.is_zero() {
-                            out.push(Equation { label: format!("{c} (row {i}, column {j})"), form });
+    // Each constraint's equations on the pool's threads, gathered in the constraints' order (the
+    // first error in that order is the one reported).
+    let per_constraint: Vec<Result<Vec<Equation>, SolveError>> = a
+        .constraints()
+        .par_iter()
+        .map(|c| {
+            let mut out = Vec::new();
+            match &c.relation {
+                Relation::Paths { lhs, rhs } => {
+                    let side = |path: &[_], side| {
+                        a.product(path).map_err(|_| SolveError::Nonlinear { constraint: c.to_string(), side })
+                    };
+                    let (l, r) = (side(lhs, "left")?, side(rhs, "right")?);
+                    let name = c.to_string();
+                    for i in 0..l.nrows() {
+                        for j in 0..l.ncols() {
+                            let form = l[(i, j)].sub(&r[(i, j)]);
+                            if !form.is_zero() {
+                                out.push(Equation { label: format!("{name} (row {i}, column {j})"), form });
+                            }
                         }
                     }
                 }
-            }
-            Relation::Entries { lhs, rhs } => {
-                let env = Symbols { design };
-                let eval =
-                    |e: &Expr| e.eval(&env).map_err(|error| SolveError::Eval { constraint: c.to_string(), error });
-                let form = eval(lhs)?.sub(&eval(rhs)?);
-                if !form.is_zero() {
-                    out.push(Equation { label: c.to_string(), form });
+                Relation::Entries { lhs, rhs } => {
+                    let env = Symbols { design };
+                    let eval =
+                        |e: &Expr| e.eval(&env).map_err(|error| SolveError::Eval { constraint: c.to_string(), error });
+                    let form = eval(lhs)?.sub(&eval(rhs)?);
+                    if !form.is_zero() {
+                        out.push(Equation { label: c.to_string(), form });
+                    }
                 }
             }
-        }
+            Ok(out)
+        })
+        .collect();
+    let mut out = Vec::new();
+    for equations in per_constraint {
+        out.extend(equations?);
     }
     for (_, arrow) in a.arrows() {
         for j in 0..arrow.matrix.ncols() {
@@ -517,7 +530,7 @@ impl Family {
     /// order of [`Family::parameter_names`]), when every entry is rational.
     pub fn exact_matrix(&self, arrow: &str, x: &[Num]) -> Option<Vec<Vec<BigRational>>> {
         let m = &self.automaton.arrow(self.automaton.arrow_id(arrow)?).matrix;
-        (0..m.nrows()).map(|r| (0..m.ncols()).map(|c| m[(r, c)].eval_num(x).as_rational().cloned()).collect()).collect()
+        (0..m.nrows()).map(|r| (0..m.ncols()).map(|c| m[(r, c)].eval_num(x).as_rational()).collect()).collect()
     }
 
     /// The value of every free parameter, in order: `values` where given,

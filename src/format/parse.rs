@@ -236,7 +236,7 @@ fn parse_in_chain(text: &str, file: &str, default_name: &str, chain: &mut Vec<St
         Some(base) => extend(&src, &spec, base, default_name, chain)?,
         None => Reader { src: &src, spans: Spans::default() }.read(&spec, default_name)?,
     };
-    builder.build().map_err(|e| spans.locate(&src, e))
+    builder.into_design().map_err(|e| spans.locate(&src, e))
 }
 
 /// Where the items given to the builder are in the file.

@@ -33,7 +33,7 @@ pub(super) fn add_lin(l: &mut Lin, o: &Lin, k: &BigRational) {
 
 /// The constant term of a form whose coefficients are rational (every form here).
 fn constant_of(l: &Lin) -> BigRational {
-    l.constant_term().as_rational().cloned().unwrap_or_else(BigRational::zero)
+    l.constant_term().as_rational().unwrap_or_else(BigRational::zero)
 }
 
 /// A form as a matrix entry of the automaton file: a number, or `c + k*name + …`.
@@ -62,7 +62,7 @@ pub(super) fn value(l: &Lin, names: &[String]) -> Value {
         push(&c, None);
     }
     for (p, q) in l.terms() {
-        push(q.as_rational().expect("rational weights"), Some(&names[*p]));
+        push(&q.as_rational().expect("rational weights"), Some(&names[*p]));
     }
     Value::Text(text)
 }
@@ -202,7 +202,7 @@ pub(super) fn exact_weight(x: f64) -> BigRational {
             return rat(p as i64, q);
         }
     }
-    Num::from_f64(x).as_rational().cloned().unwrap_or_default()
+    Num::from_f64(x).as_rational().unwrap_or_default()
 }
 
 /// One √3 step of a closed neighbourhood: vertex points `(1 − a) v + a/n Σ`
