@@ -80,6 +80,19 @@ impl Affine {
 
     /// `self + k · other`, merging the sorted term lists.
     pub fn add_scaled(&self, other: &Affine, k: &Num) -> Affine {
+        // The common cases of matrix products: adding to nothing, adding a constant.
+        let constant = || self.constant.add(&other.constant.mul(k));
+        if self.terms.is_empty() {
+            let terms = if k.is_one() {
+                other.terms.clone()
+            } else {
+                other.terms.iter().map(|(v, c)| (*v, c.mul(k))).filter(|(_, c)| !c.is_zero()).collect()
+            };
+            return Affine { constant: constant(), terms };
+        }
+        if other.terms.is_empty() {
+            return Affine { constant: constant(), terms: self.terms.clone() };
+        }
         let mut terms = Vec::with_capacity(self.terms.len() + other.terms.len());
         let (mut i, mut j) = (0, 0);
         while i < self.terms.len() || j < other.terms.len() {
@@ -101,7 +114,7 @@ impl Affine {
             }
         }
         terms.retain(|(_, c)| !c.is_zero());
-        Affine { constant: self.constant.add(&other.constant.mul(k)), terms }
+        Affine { constant: constant(), terms }
     }
 
     /// `k · self`.

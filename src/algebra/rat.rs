@@ -27,6 +27,27 @@ impl Default for Rat {
     }
 }
 
+fn gcd_u64(mut a: u64, mut b: u64) -> u64 {
+    if a == 0 {
+        return b;
+    }
+    if b == 0 {
+        return a;
+    }
+    let shift = (a | b).trailing_zeros();
+    a >>= a.trailing_zeros();
+    loop {
+        b >>= b.trailing_zeros();
+        if a > b {
+            std::mem::swap(&mut a, &mut b);
+        }
+        b -= a;
+        if b == 0 {
+            return a << shift;
+        }
+    }
+}
+
 fn gcd_u128(mut a: u128, mut b: u128) -> u128 {
     if a == 0 {
         return b;
@@ -57,6 +78,14 @@ impl Rat {
     /// `n / d` (`d ≠ 0`) from 128-bit parts, reduced.
     fn from_i128(n: i128, d: i128) -> Rat {
         debug_assert!(d != 0);
+        if let (Ok(n), Ok(d)) = (i64::try_from(n), i64::try_from(d))
+            && n != i64::MIN
+            && d > 0
+        {
+            // The common case, in 64-bit arithmetic (a 128-bit division is several times slower).
+            let g = gcd_u64(n.unsigned_abs(), d as u64) as i64;
+            return Rat::Small(n / g, d / g);
+        }
         let g = gcd_u128(n.unsigned_abs(), d.unsigned_abs()) as i128;
         let (mut n, mut d) = (n / g, d / g);
         if d < 0 {

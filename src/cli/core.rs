@@ -5,9 +5,9 @@ use std::fmt::Write as _;
 use anyhow::{Result, bail};
 use clap::Subcommand;
 
+use bcifs::SolveError;
 use bcifs::analysis::{DEFAULT_CHECK_TOLERANCE, check};
 use bcifs::schemes::{curve, quad_patch};
-use bcifs::{SolveError, solve};
 
 use super::{load, parse_params};
 
@@ -41,7 +41,7 @@ pub fn run_solve(out: &mut String, file: &str, as_json: bool) -> Result<u8> {
         writeln!(out, "{}", serde_json::to_string_pretty(&report)?)?;
         return Ok(if report["consistent"] == true { 0 } else { 1 });
     }
-    match solve(&design) {
+    match bcifs::family::solution(&design) {
         Ok(family) => {
             writeln!(out, "{name}: {} free parameter(s): {}", family.dof(), family.parameter_names().join(", "))?;
             writeln!(out, "({} scalar equations, rank {})", family.equations, family.rank)?;
@@ -57,7 +57,7 @@ pub fn run_solve(out: &mut String, file: &str, as_json: bool) -> Result<u8> {
         }
         Err(SolveError::Inconsistent { conflicts }) => {
             writeln!(out, "{name}: the constraints are inconsistent; these equations conflict:")?;
-            for c in &conflicts {
+            for c in conflicts {
                 writeln!(out, "  {c}")?;
             }
             Ok(1)

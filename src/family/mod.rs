@@ -4,5 +4,5 @@ mod solve;
 
 pub use solve::{
     DesignInstantiateError, Equation, Family, Instance, InstantiateError, NumericFamily, Parameter, SolveError,
-    equations, instantiate, numeric, solve,
+    equations, instantiate, numeric, solution, solve,
 };

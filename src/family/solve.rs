@@ -331,11 +331,21 @@ fn inconsistent(rows: &[&Row], key: &[(bool, usize)]) -> bool {
 /// assert_eq!(family.entry_text("T0", 0, 0), "1 - a");
 /// ```
 pub fn solve(design: &Design) -> Result<Family, SolveError> {
+    solution(design).clone()
+}
+
+/// [`solve`] without a copy: the solution the design keeps (it is solved once).
+///
+/// # Example
+/// ```
+/// let design = bcifs::builtin_design("corner_cutting").unwrap();
+/// let family = bcifs::family::solution(&design).as_ref().unwrap();
+/// assert_eq!(family.dof(), 2);
+/// ```
+pub fn solution(design: &Design) -> &Result<Family, SolveError> {
     let cached = design.solved.0.get_or_init(|| Box::new(solve_now(design)));
-    match cached.downcast_ref::<Result<Family, SolveError>>() {
-        Some(solution) => solution.clone(),
-        None => solve_now(design),
-    }
+    // The cache holds only what this function puts in it.
+    cached.downcast_ref::<Result<Family, SolveError>>().expect("a design's cache holds its solution")
 }
 
 /// [`solve`], computed.
@@ -418,10 +428,25 @@ fn family_of(design: &Design, elim: &Eliminator, equations: usize) -> Result<Fam
             value: variables[v].1.display(&free_names).to_string(),
         });
     }
+    // Every matrix with the variables replaced, on the pool's threads.
+    let mut substituted: Vec<Option<DMatrix<Affine>>> = {
+        use rayon::prelude::*;
+        let arrows: Vec<_> = design.automaton().arrows().collect();
+        let size = arrows.iter().map(|(id, _)| id.index() + 1).max().unwrap_or(0);
+        let matrices: Vec<(usize, DMatrix<Affine>)> = arrows
+            .par_iter()
+            .map(|(id, arrow)| (id.index(), arrow.matrix.map(|e| e.substitute(&|v| variables[v].1.clone()))))
+            .collect();
+        let mut by_index = vec![None; size];
+        for (i, m) in matrices {
+            by_index[i] = Some(m);
+        }
+        by_index
+    };
     let automaton = design
         .automaton()
-        .map_matrices(|_, arrow| Ok::<_, ()>(arrow.matrix.map(|e| e.substitute(&|v| variables[v].1.clone()))))
-        .expect("substitution does not fail");
+        .map_matrices(|id, _| substituted[id.index()].take().ok_or(()))
+        .expect("every arrow was substituted");
     let parameters = free
         .iter()
         .map(|&v| {
@@ -503,9 +528,11 @@ impl Family {
 
     /// Every matrix printed with the parameter names: `(arrow, rows of entries)`.
     pub fn matrices_text(&self) -> Vec<(String, Vec<Vec<String>>)> {
+        use rayon::prelude::*;
         let names = self.parameter_names();
-        self.automaton
-            .arrows()
+        let arrows: Vec<_> = self.automaton.arrows().collect();
+        arrows
+            .par_iter()
             .map(|(_, a)| {
                 let rows = (0..a.matrix.nrows())
                     .map(|i| (0..a.matrix.ncols()).map(|j| a.matrix[(i, j)].display(&names).to_string()).collect())
@@ -639,7 +666,7 @@ pub enum DesignInstantiateError {
 /// # Errors
 /// A solver error for a design with unknowns, or bad parameter values.
 pub fn instantiate(design: &Design, values: &[(String, f64)]) -> Result<Instance, DesignInstantiateError> {
-    match solve(design) {
+    match solution(design) {
         Ok(family) => Ok(family.instantiate(values)?),
         Err(SolveError::Inconsistent { .. }) if design.variables().iter().all(|v| v.origin == Origin::Parameter) => {
             let family = Family {
@@ -664,6 +691,6 @@ pub fn instantiate(design: &Design, values: &[(String, f64)]) -> Result<Instance
             };
             Ok(family.instantiate(values)?)
         }
-        Err(e) => Err(e.into()),
+        Err(e) => Err(e.clone().into()),
     }
 }
