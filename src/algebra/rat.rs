@@ -288,6 +288,32 @@ mod tests {
                 canonical(&ra.mul(&rc), &(&qa * &qc));
             }
         }
+        // Pseudo-random values of every magnitude, chained so that results feed later operations
+        // (sums and products that overflow 64 bits and come back).
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut next = |bits: u32| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            let v = (seed >> (64 - bits)) as i64;
+            if seed & 1 == 0 { v } else { -v }
+        };
+        let (mut r, mut q) = (Rat::ONE, BigRational::one());
+        for step in 0..20_000u32 {
+            let bits = 1 + step % 63;
+            let (n, d) = (next(bits), next(bits).unsigned_abs().max(1) as i64);
+            let (rb, qb) = (Rat::frac(n, d), big(n.into(), d.into()));
+            canonical(&rb, &qb);
+            let (r2, q2) = match step % 3 {
+                0 => (r.add(&rb), &q + &qb),
+                1 => (r.mul(&rb), &q * &qb),
+                _ => (r.add(&rb.neg()), &q - &qb),
+            };
+            canonical(&r2, &q2);
+            assert_eq!(r2.to_f64(), q2.to_f64().unwrap());
+            // Keep the chain's values from growing without bound.
+            (r, q) = if q2.numer().bits() > 300 || q2.denom().bits() > 300 { (rb, qb) } else { (r2, q2) };
+        }
         assert_eq!(Rat::frac(6, -4), Rat::Small(-3, 2));
         let q = Rat::frac(-7, 2);
         let (n, d) = q.abs_parts();
