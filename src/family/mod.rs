@@ -3,6 +3,6 @@
 mod solve;
 
 pub use solve::{
-    DesignInstantiateError, Equation, Family, Instance, InstantiateError, NumericFamily, Parameter, SolveError,
+    DesignInstantiateError, Equation, Family, Instance, InstantiateError, Label, NumericFamily, Parameter, SolveError,
     equations, instantiate, numeric, solution, solve,
 };

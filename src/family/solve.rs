@@ -12,6 +12,8 @@
 //! surfaces*, §3.1 (incidence and adjacency constraints).
 
 use std::collections::HashMap;
+use std::fmt;
+use std::sync::Arc;
 
 use nalgebra::DMatrix;
 use num_rational::BigRational;
@@ -105,9 +107,43 @@ pub struct Family {
 #[derive(Clone, Debug)]
 pub struct Equation {
     /// `group: text (row i, column j)` or `column sums: T0 column j`.
-    pub label: String,
+    pub label: Label,
     /// The affine form that must vanish.
     pub form: Affine,
+}
+
+/// The name of an [`Equation`], printed only when it is needed (an error names
+/// it): a generated automaton has hundreds of thousands of scalar equations.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Label {
+    /// A constraint's name (`group: text`) as written.
+    Constraint(Arc<str>),
+    /// The entry `(row, column)` of a path constraint.
+    Entry {
+        /// The constraint's name.
+        constraint: Arc<str>,
+        /// The row.
+        row: usize,
+        /// The column.
+        column: usize,
+    },
+    /// The column sum of an arrow's matrix.
+    ColumnSum {
+        /// The arrow.
+        arrow: Arc<str>,
+        /// The column.
+        column: usize,
+    },
+}
+
+impl fmt::Display for Label {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Label::Constraint(c) => f.write_str(c),
+            Label::Entry { constraint, row, column } => write!(f, "{constraint} (row {row}, column {column})"),
+            Label::ColumnSum { arrow, column } => write!(f, "column sums: {arrow} column {column} sums to 1"),
+        }
+    }
 }
 
 struct Symbols<'a> {
@@ -146,12 +182,13 @@ pub fn equations(design: &Design) -> Result<Vec<Equation>, SolveError> {
                         a.product(path).map_err(|_| SolveError::Nonlinear { constraint: c.to_string(), side })
                     };
                     let (l, r) = (side(lhs, "left")?, side(rhs, "right")?);
-                    let name = c.to_string();
-                    for i in 0..l.nrows() {
-                        for j in 0..l.ncols() {
-                            let form = l[(i, j)].sub(&r[(i, j)]);
+                    let name: Arc<str> = c.to_string().into();
+                    for row in 0..l.nrows() {
+                        for column in 0..l.ncols() {
+                            let form = l[(row, column)].sub(&r[(row, column)]);
                             if !form.is_zero() {
-                                out.push(Equation { label: format!("{name} (row {i}, column {j})"), form });
+                                let label = Label::Entry { constraint: name.clone(), row, column };
+                                out.push(Equation { label, form });
                             }
                         }
                     }
@@ -162,7 +199,7 @@ pub fn equations(design: &Design) -> Result<Vec<Equation>, SolveError> {
                         |e: &Expr| e.eval(&env).map_err(|error| SolveError::Eval { constraint: c.to_string(), error });
                     let form = eval(lhs)?.sub(&eval(rhs)?);
                     if !form.is_zero() {
-                        out.push(Equation { label: c.to_string(), form });
+                        out.push(Equation { label: Label::Constraint(c.to_string().into()), form });
                     }
                 }
             }
@@ -174,11 +211,12 @@ pub fn equations(design: &Design) -> Result<Vec<Equation>, SolveError> {
         out.extend(equations?);
     }
     for (_, arrow) in a.arrows() {
-        for j in 0..arrow.matrix.ncols() {
-            let sum = arrow.matrix.column(j).iter().fold(Affine::zero(), |acc, e| acc.add(e));
+        let name: Arc<str> = arrow.name.as_str().into();
+        for column in 0..arrow.matrix.ncols() {
+            let sum = arrow.matrix.column(column).iter().fold(Affine::zero(), |acc, e| acc.add(e));
             let form = sum.sub(&Affine::one());
             if !form.is_zero() {
-                out.push(Equation { label: format!("column sums: {} column {j} sums to 1", arrow.name), form });
+                out.push(Equation { label: Label::ColumnSum { arrow: name.clone(), column }, form });
             }
         }
     }
@@ -291,12 +329,12 @@ impl Eliminator {
 }
 
 fn to_row(eq: &Equation, index: usize, words: usize) -> Result<Row, SolveError> {
-    let irrational = || SolveError::Irrational { equation: eq.label.clone() };
+    let irrational = || SolveError::Irrational { equation: eq.label.to_string() };
     let terms = eq
         .form
         .terms()
         .iter()
-        .map(|(v, c)| Ok((*v, c.as_rational().ok_or_else(irrational)?.clone())))
+        .map(|(v, c)| Ok((*v, c.as_rational().ok_or_else(irrational)?)))
         .collect::<Result<_, _>>()?;
     let constant = match eq.form.constant_term() {
         Num::Exact(s) => s.clone(),
@@ -359,7 +397,7 @@ fn solve_now(design: &Design) -> Result<Family, SolveError> {
             && !e.form.constant_term().is_exact()
             && e.form.constant_term().to_f64().abs() > APPROX_TOLERANCE
     }) {
-        return Err(SolveError::Inconsistent { conflicts: vec![bad.label.clone()] });
+        return Err(SolveError::Inconsistent { conflicts: vec![bad.label.to_string()] });
     }
     eqs.retain(|e| !e.form.terms().is_empty() || e.form.constant_term().is_exact());
     let elim = eliminate(design, &eqs)?;
@@ -387,7 +425,9 @@ fn eliminate(design: &Design, eqs: &[Equation]) -> Result<Eliminator, SolveError
                     i += 1;
                 }
             }
-            return Err(SolveError::Inconsistent { conflicts: subset.iter().map(|&e| eqs[e].label.clone()).collect() });
+            return Err(SolveError::Inconsistent {
+                conflicts: subset.iter().map(|&e| eqs[e].label.to_string()).collect(),
+            });
         }
     }
     Ok(elim)
