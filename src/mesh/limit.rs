@@ -46,16 +46,13 @@ impl PolyMesh {
                 (dual.positions, quads)
             }
             Scheme::CatmullClark => {
-                let net = self.subdivide_with(scheme, depth.max(1), weights, memory_limit)?;
-                catmull_clark_limit(&net, &Topology::trusted(&net))
+                let (net, t) = self.net_and_topology(scheme, depth.max(1), weights, memory_limit)?;
+                catmull_clark_limit(&net, &t)
             }
             Scheme::Loop | Scheme::Sqrt3 => {
-                let net = self.subdivide_with(scheme, depth.max(1), weights, memory_limit)?;
-                let points = net.triangle_limit_points(
-                    &Topology::trusted(&net),
-                    scheme == Scheme::Sqrt3,
-                    weights.and_then(RuleWeights::triangle),
-                );
+                let (net, t) = self.net_and_topology(scheme, depth.max(1), weights, memory_limit)?;
+                let points =
+                    net.triangle_limit_points(&t, scheme == Scheme::Sqrt3, weights.and_then(RuleWeights::triangle));
                 let mut shape = Shape::default();
                 let flat: Vec<f64> = points.iter().flatten().copied().collect();
                 let triangles: Vec<[usize; 3]> = net.faces().map(|f| [f[0], f[1], f[2]]).collect();
@@ -91,8 +88,7 @@ impl PolyMesh {
         if !self.has_interior_vertex() {
             return Err(SubdivideError::NoInteriorVertex);
         }
-        let net = self.subdivide_with(Scheme::DooSabin, depth.max(1) - 1, weights, memory_limit)?;
-        let t = Topology::trusted(&net);
+        let (net, t) = self.net_and_topology(Scheme::DooSabin, depth.max(1) - 1, weights, memory_limit)?;
         let mut out = Emit::memory(net.face_count() * 3, 4 * net.corner_count());
         // Writing into memory cannot fail.
         let _ = net.limit_step_into(&t, Scheme::DooSabin, weights, &mut out);

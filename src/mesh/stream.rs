@@ -8,7 +8,6 @@ use super::emit::{Emit, Written};
 use super::error::SubdivideError;
 use super::polymesh::{PolyMesh, Scheme};
 use super::subdivide::RuleWeights;
-use super::topology::Topology;
 use crate::geometry::Sink;
 
 /// Loop nets of more faces than this before the last step are written two
@@ -56,8 +55,7 @@ impl PolyMesh {
         if limit && scheme == Scheme::Sqrt3 {
             // √3's limit points are a mask on the last net's rings: that net
             // in memory, its points and faces streamed (no copy of it made).
-            let net = self.subdivide_with(scheme, depth, weights, memory_limit)?;
-            let t = Topology::trusted(&net);
+            let (net, t) = self.net_and_topology(scheme, depth, weights, memory_limit)?;
             let mut out = Emit::into_sink(sink);
             net.triangle_limit_into(&t, true, None, &mut out).map_err(io)?;
             return out.flush().map_err(io);
@@ -68,13 +66,11 @@ impl PolyMesh {
         let mut out = Emit::into_sink(sink);
         if scheme == Scheme::Loop && !limit && depth >= 2 && self.estimate(scheme, depth - 1).0 > TWO_STEPS_FROM {
             // The last two steps from the net before them: a quarter of the memory.
-            let net = self.subdivide_with(scheme, depth - 2, weights, memory_limit)?;
-            let t = Topology::trusted(&net);
+            let (net, t) = self.net_and_topology(scheme, depth - 2, weights, memory_limit)?;
             net.loop_twice_into(&t, weights.and_then(RuleWeights::triangle), &mut out).map_err(io)?;
             return out.flush().map_err(io);
         }
-        let net = self.subdivide_with(scheme, depth - 1, weights, memory_limit)?;
-        let t = Topology::trusted(&net);
+        let (net, t) = self.net_and_topology(scheme, depth - 1, weights, memory_limit)?;
         if limit {
             // Limit points are a local mask on the next net: from the net before it, streamed.
             net.limit_step_into(&t, scheme, weights, &mut out)
@@ -106,8 +102,7 @@ impl PolyMesh {
                 // (the same numbers): the last net is never held beside the output.
                 let depth = depth.max(1);
                 self.check_size(scheme, depth, memory_limit)?;
-                let net = self.subdivide_with(scheme, depth - 1, weights, memory_limit)?;
-                let t = Topology::trusted(&net);
+                let (net, t) = self.net_and_topology(scheme, depth - 1, weights, memory_limit)?;
                 let (nv, nc) = (net.positions.len(), net.corner_count());
                 let mut out = Emit::memory(nv + nc + net.face_count(), 4 * nc);
                 // Writing into memory cannot fail.
@@ -116,8 +111,8 @@ impl PolyMesh {
             }
             Scheme::Sqrt3 => {
                 // The last net's points replaced by their limits, in place.
-                let mut net = self.subdivide_with(scheme, depth.max(1), weights, memory_limit)?;
-                let points = net.triangle_limit_points(&Topology::trusted(&net), true, None);
+                let (mut net, t) = self.net_and_topology(scheme, depth.max(1), weights, memory_limit)?;
+                let points = net.triangle_limit_points(&t, true, None);
                 net.positions = points;
                 Ok(net)
             }
@@ -188,6 +183,7 @@ impl PolyMesh {
 mod tests {
     use super::*;
     use crate::mesh::LoopWeights;
+    use crate::mesh::topology::Topology;
 
     /// The faces of a mesh as position triples, each rotated to start at its
     /// smallest vertex (positions rounded to 1e-12), sorted.
@@ -223,6 +219,68 @@ mod tests {
         [PolyMesh::icosahedron(), open, tet, PolyMesh::cube().triangulated()]
     }
 
+    /// A Loop net's topology read off the step before is the one searched for,
+    /// array for array (twins, first corners, border flags): closed and open
+    /// meshes, and an irregular mesh of 5,120 triangles with and without holes.
+    #[test]
+    fn loop_topology_read_off_the_step_before_is_the_one_searched_for() {
+        let meshes = triangle_meshes().into_iter().map(|m| (m, 4)).chain(irregular_and_holes().map(|m| (m, 2)));
+        for (mesh, depth) in meshes {
+            for d in 0..=depth {
+                let (net, t) = mesh.net_and_topology(Scheme::Loop, d, None, 1 << 30).unwrap();
+                assert_eq!(t, Topology::trusted(&net), "depth {d}");
+            }
+        }
+    }
+
+    /// The same for Catmull-Clark: quads, triangles and larger faces, closed
+    /// and open, the irregular mesh with its holes.
+    #[test]
+    fn catmull_clark_topology_read_off_the_step_before_is_the_one_searched_for() {
+        let mut meshes: Vec<(PolyMesh, usize)> = triangle_meshes().into_iter().map(|m| (m, 3)).collect();
+        meshes.extend([(PolyMesh::cube(), 4), (open_mixed(), 3)]);
+        meshes.extend(irregular_and_holes().map(|m| (m, 2)));
+        for (mesh, depth) in meshes {
+            for d in 0..=depth {
+                let (net, t) = mesh.net_and_topology(Scheme::CatmullClark, d, None, 1 << 30).unwrap();
+                assert_eq!(t, Topology::trusted(&net), "depth {d}");
+            }
+        }
+    }
+
+    /// An open mesh of a pentagon and two triangles.
+    fn open_mixed() -> PolyMesh {
+        PolyMesh::new(
+            vec![
+                [0.0, 0.0, 0.0],
+                [2.0, 0.0, 0.3],
+                [3.0, 1.0, 0.0],
+                [2.0, 2.0, 0.5],
+                [0.0, 2.0, 0.0],
+                [1.0, 3.0, 0.2],
+                [-1.0, 1.0, 0.1],
+            ],
+            vec![vec![0, 1, 2, 3, 4], vec![4, 3, 5], vec![0, 4, 6]],
+        )
+        .unwrap()
+    }
+
+    /// An irregular mesh of 5,120 triangles (valences 4 to 16), and the same
+    /// with the faces around four vertices far apart cut out (four border loops).
+    fn irregular_and_holes() -> [PolyMesh; 2] {
+        let irregular = crate::mesh::read_mesh(std::path::Path::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/tests/data/irregular5120.obj"
+        )))
+        .unwrap();
+        let cut = [0, 700, 1400, 2100];
+        let kept: Vec<Vec<usize>> =
+            irregular.faces().filter(|f| !f.iter().any(|v| cut.contains(v))).map(<[usize]>::to_vec).collect();
+        let holes = PolyMesh::new(irregular.positions.clone(), kept).unwrap();
+        assert!(Topology::trusted(&holes).boundary_edges() > 20);
+        [irregular, holes]
+    }
+
     /// The limit streamed by [`PolyMesh::subdivide_into`] is [`PolyMesh::limit_with`]'s, bit for bit.
     fn assert_streamed_limit_is_in_memory(mesh: &PolyMesh, scheme: Scheme, weights: Option<RuleWeights>, depth: usize) {
         let job = Subdivision { scheme, depth, weights, memory_limit: 1 << 30 };
@@ -249,20 +307,7 @@ mod tests {
         let mut unused = PolyMesh::cube().positions.clone();
         unused.push([5.0, 5.0, 5.0]);
         let lonely = PolyMesh::new(unused, PolyMesh::cube().faces().map(<[usize]>::to_vec).collect()).unwrap();
-        let mixed = PolyMesh::new(
-            vec![
-                [0.0, 0.0, 0.0],
-                [2.0, 0.0, 0.3],
-                [3.0, 1.0, 0.0],
-                [2.0, 2.0, 0.5],
-                [0.0, 2.0, 0.0],
-                [1.0, 3.0, 0.2],
-                [-1.0, 1.0, 0.1],
-            ],
-            vec![vec![0, 1, 2, 3, 4], vec![4, 3, 5], vec![0, 4, 6]],
-        )
-        .unwrap();
-        for mesh in [PolyMesh::cube(), ico, open, lonely, mixed] {
+        for mesh in [PolyMesh::cube(), ico, open, lonely, open_mixed()] {
             for depth in 1..=3 {
                 assert_streamed_limit_is_in_memory(&mesh, Scheme::CatmullClark, None, depth);
             }

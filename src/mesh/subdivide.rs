@@ -197,18 +197,61 @@ impl PolyMesh {
         weights: Option<RuleWeights>,
         memory_limit: usize,
     ) -> Result<PolyMesh, SubdivideError> {
+        self.check_input(scheme, depth, memory_limit)?;
+        if depth == 0 {
+            return Ok(self.clone());
+        }
+        let (net, t) = self.steps(scheme, depth - 1, weights);
+        Ok(net.step(scheme, depth - 1, &t, weights))
+    }
+
+    /// A mesh `scheme` applies to (triangles for Loop and √3), whose net after
+    /// `depth` steps fits `memory_limit`.
+    fn check_input(&self, scheme: Scheme, depth: usize, memory_limit: usize) -> Result<(), SubdivideError> {
         if scheme.triangles_only()
             && let Some((face, f)) = self.faces().enumerate().find(|(_, f)| f.len() != 3)
         {
             return Err(SubdivideError::NotTriangles { scheme: scheme.name(), face, degree: f.len() });
         }
-        self.check_size(scheme, depth, memory_limit)?;
+        self.check_size(scheme, depth, memory_limit)
+    }
+
+    /// [`PolyMesh::subdivide_with`] and the net's topology (Loop's read off
+    /// the step before, the others' found).
+    pub(crate) fn net_and_topology(
+        &self,
+        scheme: Scheme,
+        depth: usize,
+        weights: Option<RuleWeights>,
+        memory_limit: usize,
+    ) -> Result<(PolyMesh, Topology), SubdivideError> {
+        self.check_input(scheme, depth, memory_limit)?;
+        Ok(self.steps(scheme, depth, weights))
+    }
+
+    /// The net after `depth` steps and its topology, unchecked.
+    fn steps(&self, scheme: Scheme, depth: usize, weights: Option<RuleWeights>) -> (PolyMesh, Topology) {
         let mut mesh = self.clone();
+        let mut t = Topology::trusted(&mesh);
         for step in 0..depth {
-            let topology = Topology::trusted(&mesh);
-            mesh = mesh.step(scheme, step, &topology, weights);
+            // Loop's and Catmull-Clark's topologies are read off the step before; the others' are
+            // found once the net before is dropped (a quarter of the memory).
+            let next = mesh.step(scheme, step, &t, weights);
+            let derived = match scheme {
+                Scheme::Loop => Some(t.loop_child(&next)),
+                Scheme::CatmullClark => Some(t.catmull_clark_child(&mesh, &next)),
+                Scheme::DooSabin | Scheme::Sqrt3 => None,
+            };
+            mesh = next;
+            t = match derived {
+                Some(child) => child,
+                None => {
+                    drop(t);
+                    Topology::trusted(&mesh)
+                }
+            };
         }
-        Ok(mesh)
+        (mesh, t)
     }
 
     /// The mesh after `depth` steps of `scheme` fits `memory_limit` bytes

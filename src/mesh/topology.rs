@@ -14,7 +14,7 @@ pub const BORDER: usize = usize::MAX;
 const NONE: u32 = u32::MAX;
 
 /// Half-edges of a mesh.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Topology {
     /// Face of each corner.
     face: Vec<u32>,
@@ -202,9 +202,19 @@ impl Topology {
                 _ => pair_multi_edge(&mut twin, &by.face, by.ends(a, b).collect(), by.ends(b, a).collect()),
             }
         }
-        let face = std::mem::take(&mut by.face);
+        let topology = Topology::with_fans(mesh, std::mem::take(&mut by.face), twin);
+        if check.is_some() {
+            topology.check_fans(mesh, &by)?;
+        }
+        Ok(topology)
+    }
+
+    /// The topology of `mesh` from its corners' faces and twins: each vertex's
+    /// first corner and whether it is on the border.
+    fn with_fans(mesh: &PolyMesh, face: Vec<u32>, twin: Vec<u32>) -> Topology {
+        let nv = mesh.positions.len();
         let mut topology = Topology { face, twin, first: vec![NONE; nv], on_border: vec![false; nv] };
-        for c in 0..corners {
+        for c in 0..mesh.corner_count() {
             let v = mesh.indices[c];
             if topology.twin[c] == NONE {
                 // The outgoing half-edge is on the border: the fan starts here.
@@ -214,10 +224,62 @@ impl Topology {
                 topology.first[v] = c as u32;
             }
         }
-        if check.is_some() {
-            topology.check_fans(mesh, &by)?;
+        topology
+    }
+
+    /// The topology of `child`, the Loop step of the triangle mesh this is the
+    /// topology of, read off this one instead of searched for (the same
+    /// arrays as [`Topology::trusted`] finds: a mesh made by subdividing a
+    /// checked one has at most one half-edge each way between two vertices,
+    /// so its twins are unique). Child `k` of face `f` is `4f + k`, corners
+    /// `[v_k, m_k, m_{k−1}]`; the middle one `4f + 3` is `[m_0, m_1, m_2]`
+    /// ([`PolyMesh::loop_into`]).
+    pub(crate) fn loop_child(&self, child: &PolyMesh) -> Topology {
+        let corners = child.corner_count();
+        debug_assert_eq!(corners, 4 * self.twin.len());
+        let face: Vec<u32> = (0..corners as u32).map(|c| c / 3).collect();
+        let mut twin = vec![NONE; corners];
+        for (parent, &tw) in self.twin.iter().enumerate() {
+            let (f, k) = (parent / 3, parent % 3);
+            let base = 12 * f;
+            // The middle triangle's sides: child k's corner 1 (m_k → m_{k−1}) and the middle's
+            // corner (k + 2) % 3 (m_{k−1} → m_k).
+            let (side, middle) = (base + 3 * k + 1, base + 9 + (k + 2) % 3);
+            (twin[side], twin[middle]) = (middle as u32, side as u32);
+            // The halves of the edge v_k → v_{k+1}: child k's corner 0 and child (k+1)'s corner 2;
+            // the twin edge's halves run back, first half against second.
+            if tw != NONE {
+                let (g, j) = (tw as usize / 3, tw as usize % 3);
+                let (first, second) = (base + 3 * k, base + 3 * ((k + 1) % 3) + 2);
+                let (twin_first, twin_second) = (12 * g + 3 * j, 12 * g + 3 * ((j + 1) % 3) + 2);
+                (twin[first], twin[second]) = (twin_second as u32, twin_first as u32);
+            }
         }
-        Ok(topology)
+        Topology::with_fans(child, face, twin)
+    }
+
+    /// The topology of `child`, the Catmull-Clark step of `parent` (whose
+    /// topology this is), read off this one as [`Topology::loop_child`] is:
+    /// the quad of parent corner `c` is `4c..4c + 4`, `[v_c, m(e_c), F,
+    /// m(e_prev(c))]` ([`PolyMesh::cc_quads`]).
+    pub(crate) fn catmull_clark_child(&self, parent: &PolyMesh, child: &PolyMesh) -> Topology {
+        let corners = child.corner_count();
+        debug_assert_eq!(corners, 4 * self.twin.len());
+        let face: Vec<u32> = (0..corners as u32).map(|c| c / 4).collect();
+        let mut twin = vec![NONE; corners];
+        for (c, &tw) in self.twin.iter().enumerate() {
+            let next = self.next(parent, c);
+            // Across the face: m(e_c) → F in quad c, F → m(e_c) in quad next(c).
+            (twin[4 * c + 1], twin[4 * next + 2]) = ((4 * next + 2) as u32, (4 * c + 1) as u32);
+            // The halves of e_c = v_c → v_next: quad c's corner 0 and quad next(c)'s corner 3,
+            // against the halves of its twin (corner 0 of quad tw, corner 3 of quad next(tw)).
+            if tw != NONE {
+                let tw = tw as usize;
+                let tw_next = self.next(parent, tw);
+                (twin[4 * c], twin[4 * next + 3]) = ((4 * tw_next + 3) as u32, (4 * tw) as u32);
+            }
+        }
+        Topology::with_fans(child, face, twin)
     }
 
     /// One fan per vertex: walks of the rotation, from the border corners
