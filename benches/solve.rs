@@ -20,7 +20,20 @@ fn solve_benches(c: &mut Criterion) {
     let mut g = c.benchmark_group("suzanne_catmull_clark");
     g.sample_size(10);
     g.bench_function("parse+solve", |b| {
-        b.iter(|| bcifs::solve(&bcifs::parse_design(&suzanne_text, "s", "s").expect("parses")).expect("consistent"))
+        b.iter(|| {
+            let design = bcifs::parse_design(&suzanne_text, "s", "s").expect("parses");
+            bcifs::family::solution(&design).as_ref().expect("consistent").dof()
+        })
+    });
+    // `bcifs check`: parsed, solved, instantiated at the defaults, checked (its joint spectral
+    // radius bounds included).
+    g.bench_function("parse+check", |b| {
+        b.iter(|| {
+            let design = bcifs::parse_design(&suzanne_text, "s", "s").expect("parses");
+            let instance = bcifs::instantiate(&design, &[]).expect("defaults");
+            bcifs::analysis::check(&instance.automaton, &instance.values, bcifs::analysis::DEFAULT_CHECK_TOLERANCE)
+                .expect("checks")
+        })
     });
     g.finish();
     // The Loop automaton of an irregular closed mesh of 5,120 triangles (852 states,
