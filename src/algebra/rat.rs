@@ -8,7 +8,7 @@ use std::fmt;
 
 use num_bigint::{BigInt, BigUint};
 use num_rational::BigRational;
-use num_traits::{One, Signed, ToPrimitive};
+use num_traits::{One, PrimInt, Signed, ToPrimitive, Unsigned};
 
 /// A rational number, canonical: `Small(n, d)` with `d > 0`, `gcd(n, d) = 1`
 /// and `n ≠ i64::MIN` whenever the value has such a form, `Big` only when it
@@ -27,43 +27,24 @@ impl Default for Rat {
     }
 }
 
-fn gcd_u64(mut a: u64, mut b: u64) -> u64 {
-    if a == 0 {
+/// The greatest common divisor (binary: shifts and subtractions, no division), for
+/// `u64` (the common case) and `u128` (the products of two `i64`).
+fn gcd<T: PrimInt + Unsigned>(mut a: T, mut b: T) -> T {
+    if a.is_zero() {
         return b;
     }
-    if b == 0 {
+    if b.is_zero() {
         return a;
     }
-    let shift = (a | b).trailing_zeros();
-    a >>= a.trailing_zeros();
+    let shift = (a | b).trailing_zeros() as usize;
+    a = a >> a.trailing_zeros() as usize;
     loop {
-        b >>= b.trailing_zeros();
+        b = b >> b.trailing_zeros() as usize;
         if a > b {
             std::mem::swap(&mut a, &mut b);
         }
-        b -= a;
-        if b == 0 {
-            return a << shift;
-        }
-    }
-}
-
-fn gcd_u128(mut a: u128, mut b: u128) -> u128 {
-    if a == 0 {
-        return b;
-    }
-    if b == 0 {
-        return a;
-    }
-    let shift = (a | b).trailing_zeros();
-    a >>= a.trailing_zeros();
-    loop {
-        b >>= b.trailing_zeros();
-        if a > b {
-            std::mem::swap(&mut a, &mut b);
-        }
-        b -= a;
-        if b == 0 {
+        b = b - a;
+        if b.is_zero() {
             return a << shift;
         }
     }
@@ -83,10 +64,10 @@ impl Rat {
             && d > 0
         {
             // The common case, in 64-bit arithmetic (a 128-bit division is several times slower).
-            let g = gcd_u64(n.unsigned_abs(), d as u64) as i64;
+            let g = gcd(n.unsigned_abs(), d as u64) as i64;
             return Rat::Small(n / g, d / g);
         }
-        let g = gcd_u128(n.unsigned_abs(), d.unsigned_abs()) as i128;
+        let g = gcd(n.unsigned_abs(), d.unsigned_abs()) as i128;
         let (mut n, mut d) = (n / g, d / g);
         if d < 0 {
             // |n|, |d| ≤ 2^127 - 1 after a gcd ≥ 1 unless one is i128::MIN, which products of
