@@ -49,8 +49,12 @@ pub fn run_solve(out: &mut String, file: &str, as_json: bool) -> Result<u8> {
                 let width = rows.iter().flatten().map(String::len).max().unwrap_or(1);
                 writeln!(out, "\n{n} =")?;
                 for row in rows {
-                    let cells: Vec<String> = row.iter().map(|c| format!("{c:>width$}")).collect();
-                    writeln!(out, "  [ {} ]", cells.join("  "))?;
+                    out.push_str("  [ ");
+                    for (k, cell) in row.iter().enumerate() {
+                        let gap = if k == 0 { "" } else { "  " };
+                        write!(out, "{gap}{cell:>width$}")?;
+                    }
+                    out.push_str(" ]\n");
                 }
             }
             Ok(0)
