@@ -460,6 +460,26 @@ impl<E: Entry> Automaton<E> {
         })
     }
 
+    /// [`Automaton::map_matrices`] for a map that cannot fail, the matrices
+    /// computed on the pool's threads.
+    pub fn par_map_matrices<F: Entry + Send>(&self, f: impl Fn(&Arrow<E>) -> DMatrix<F> + Sync) -> Automaton<F>
+    where
+        E: Sync,
+    {
+        use rayon::prelude::*;
+        let arrows: Vec<(EdgeIndex, &Arrow<E>)> = self.arrows().collect();
+        let mut matrices: HashMap<EdgeIndex, DMatrix<F>> =
+            arrows.par_iter().map(|(id, arrow)| (*id, f(arrow))).collect::<Vec<_>>().into_iter().collect();
+        // Every arrow's matrix was made above (`f` again for one missing would give the same).
+        let mapped = self.map_matrices(|id, arrow| {
+            Ok::<_, std::convert::Infallible>(matrices.remove(&id).unwrap_or_else(|| f(arrow)))
+        });
+        match mapped {
+            Ok(automaton) => automaton,
+            Err(never) => match never {},
+        }
+    }
+
     /// The path as text, `T0·b1`.
     pub fn path_text(&self, path: &[EdgeIndex]) -> String {
         path.iter().map(|id| self.graph[*id].name.as_str()).collect::<Vec<_>>().join("·")

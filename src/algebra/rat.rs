@@ -94,6 +94,11 @@ impl Rat {
         Rat::from_i128(p.into(), q.into())
     }
 
+    /// The integer `u`.
+    pub(crate) fn from_u64(u: u64) -> Rat {
+        Rat::from_i128(u.into(), 1)
+    }
+
     /// The value as a [`BigRational`].
     pub(crate) fn to_big(&self) -> BigRational {
         match self {

@@ -79,11 +79,6 @@ fn square_free(mut n: u64) -> (u64, u64) {
     (s * n, f)
 }
 
-/// `u` as a rational (radicands and factors are at most `2^40`).
-fn rat_of(u: u64) -> Rat {
-    Rat::frac(i64::try_from(u).expect("radicands are below 2^40"), 1)
-}
-
 impl Surd {
     /// Zero.
     pub fn zero() -> Surd {
@@ -137,7 +132,7 @@ impl Surd {
         let (a, b) = (q.numer().to_u64()?, q.denom().to_u64()?);
         let ab = a.checked_mul(b).filter(|x| *x <= MAX_RADICAND)?;
         let (s, f) = square_free(ab);
-        Some(Surd::term(s, rat_of(f).mul(&rat_of(b).recip()?)))
+        Some(Surd::term(s, Rat::from_u64(f).mul(&Rat::from_u64(b).recip()?)))
     }
 
     /// Whether it is zero.
@@ -274,7 +269,7 @@ impl Surd {
         for (ra, qa) in self.terms() {
             for (rb, qb) in other.terms() {
                 let (s, f) = square_free(ra * rb);
-                out = out.add(&Surd::term(s, qa.mul(qb).mul(&rat_of(f))));
+                out = out.add(&Surd::term(s, qa.mul(qb).mul(&Rat::from_u64(f))));
             }
         }
         out
@@ -288,7 +283,7 @@ impl Surd {
             return None;
         }
         // 1 / (q√r) = √r / (q r).
-        let inv = Surd::term(r, q.mul(&rat_of(r)).recip()?);
+        let inv = Surd::term(r, q.mul(&Rat::from_u64(r)).recip()?);
         Some(self.mul(&inv))
     }
 

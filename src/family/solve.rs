@@ -469,24 +469,8 @@ fn family_of(design: &Design, elim: &Eliminator, equations: usize) -> Result<Fam
         });
     }
     // Every matrix with the variables replaced, on the pool's threads.
-    let mut substituted: Vec<Option<DMatrix<Affine>>> = {
-        use rayon::prelude::*;
-        let arrows: Vec<_> = design.automaton().arrows().collect();
-        let size = arrows.iter().map(|(id, _)| id.index() + 1).max().unwrap_or(0);
-        let matrices: Vec<(usize, DMatrix<Affine>)> = arrows
-            .par_iter()
-            .map(|(id, arrow)| (id.index(), arrow.matrix.map(|e| e.substitute(&|v| variables[v].1.clone()))))
-            .collect();
-        let mut by_index = vec![None; size];
-        for (i, m) in matrices {
-            by_index[i] = Some(m);
-        }
-        by_index
-    };
-    let automaton = design
-        .automaton()
-        .map_matrices(|id, _| substituted[id.index()].take().ok_or(()))
-        .expect("every arrow was substituted");
+    let automaton =
+        design.automaton().par_map_matrices(|arrow| arrow.matrix.map(|e| e.substitute(&|v| variables[v].1.clone())));
     let parameters = free
         .iter()
         .map(|&v| {

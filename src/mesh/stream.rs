@@ -225,10 +225,16 @@ mod tests {
     #[test]
     fn loop_topology_read_off_the_step_before_is_the_one_searched_for() {
         let meshes = triangle_meshes().into_iter().map(|m| (m, 4)).chain(irregular_and_holes().map(|m| (m, 2)));
+        assert_topology_read_off(Scheme::Loop, meshes);
+    }
+
+    /// The topology [`PolyMesh::net_and_topology`] hands on, at every depth up
+    /// to each mesh's, is the one [`Topology::trusted`] searches for.
+    fn assert_topology_read_off(scheme: Scheme, meshes: impl IntoIterator<Item = (PolyMesh, usize)>) {
         for (mesh, depth) in meshes {
             for d in 0..=depth {
-                let (net, t) = mesh.net_and_topology(Scheme::Loop, d, None, 1 << 30).unwrap();
-                assert_eq!(t, Topology::trusted(&net), "depth {d}");
+                let (net, t) = mesh.net_and_topology(scheme, d, None, 1 << 30).unwrap();
+                assert_eq!(t, Topology::trusted(&net), "{scheme:?} depth {d}");
             }
         }
     }
@@ -240,12 +246,7 @@ mod tests {
         let mut meshes: Vec<(PolyMesh, usize)> = triangle_meshes().into_iter().map(|m| (m, 3)).collect();
         meshes.extend([(PolyMesh::cube(), 4), (open_mixed(), 3)]);
         meshes.extend(irregular_and_holes().map(|m| (m, 2)));
-        for (mesh, depth) in meshes {
-            for d in 0..=depth {
-                let (net, t) = mesh.net_and_topology(Scheme::CatmullClark, d, None, 1 << 30).unwrap();
-                assert_eq!(t, Topology::trusted(&net), "depth {d}");
-            }
-        }
+        assert_topology_read_off(Scheme::CatmullClark, meshes);
     }
 
     /// An open mesh of a pentagon and two triangles.

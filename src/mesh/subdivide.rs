@@ -216,8 +216,8 @@ impl PolyMesh {
         self.check_size(scheme, depth, memory_limit)
     }
 
-    /// [`PolyMesh::subdivide_with`] and the net's topology (Loop's read off
-    /// the step before, the others' found).
+    /// [`PolyMesh::subdivide_with`] and the net's topology (Loop's and
+    /// Catmull-Clark's read off the step before, the others' found).
     pub(crate) fn net_and_topology(
         &self,
         scheme: Scheme,
