@@ -25,6 +25,7 @@
 mod emit;
 mod error;
 mod limit;
+mod named;
 mod polymesh;
 mod read;
 mod stream;

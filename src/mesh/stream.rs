@@ -1,7 +1,8 @@
 //! Subdivided meshes pushed into a sink as they are made: the net before
 //! the last step is held in memory, the last step (the net, or Doo-Sabin's,
 //! Catmull-Clark's and Loop's limits) goes straight to the sink, so a depth-10 cube (6.3 million faces)
-//! written to a file needs the memory of depth 9 only. √3's limit points
+//! written to a file needs the memory of depth 9 only. Loop's deep nets and
+//! limits come from the net two steps before (depth 8 of 10). √3's limit points
 //! are computed from the last net and streamed with its faces.
 
 use super::emit::{Emit, Written};
@@ -10,9 +11,10 @@ use super::polymesh::{PolyMesh, Scheme};
 use super::subdivide::RuleWeights;
 use crate::geometry::Sink;
 
-/// Loop nets of more faces than this before the last step are written two
-/// steps from the net before them (at depth 10 on the icosahedron: the
-/// 1.3 million faces of depth 8 held instead of the 5.2 million of depth 9).
+/// Loop nets and limits of more faces than this before the last step are
+/// written two steps from the net before them (at depth 10 on the
+/// icosahedron: the 1.3 million faces of depth 8 held instead of the 5.2
+/// million of depth 9).
 pub(crate) const TWO_STEPS_FROM: u128 = 1 << 18;
 
 /// A subdivision to run: the scheme, the steps, Doo-Sabin quad weights
@@ -64,10 +66,15 @@ impl PolyMesh {
             return self.push_into(sink).map_err(io);
         }
         let mut out = Emit::into_sink(sink);
-        if scheme == Scheme::Loop && !limit && depth >= 2 && self.estimate(scheme, depth - 1).0 > TWO_STEPS_FROM {
-            // The last two steps from the net before them: a quarter of the memory.
+        if self.two_loop_steps(scheme, depth) {
+            // The last two steps (or the limit after them) from the net before them: a quarter of the memory.
             let (net, t) = self.net_and_topology(scheme, depth - 2, weights, memory_limit)?;
-            net.loop_twice_into(&t, weights.and_then(RuleWeights::triangle), &mut out).map_err(io)?;
+            let triangle = weights.and_then(RuleWeights::triangle);
+            match limit {
+                true => net.loop_limit_twice_into(&t, triangle, &mut out),
+                false => net.loop_twice_into(&t, triangle, &mut out),
+            }
+            .map_err(io)?;
             return out.flush().map_err(io);
         }
         let (net, t) = self.net_and_topology(scheme, depth - 1, weights, memory_limit)?;
@@ -83,6 +90,12 @@ impl PolyMesh {
 }
 
 impl PolyMesh {
+    /// Whether the last two Loop steps of `depth` are made from the net
+    /// before them ([`TWO_STEPS_FROM`]).
+    fn two_loop_steps(&self, scheme: Scheme, depth: usize) -> bool {
+        scheme == Scheme::Loop && depth >= 2 && self.estimate(scheme, depth - 1).0 > TWO_STEPS_FROM
+    }
+
     /// The output of [`PolyMesh::subdivide_into`] in memory: the net after
     /// `job.depth` steps, or with `limit` the limit surface's points at the
     /// last net's vertices with its faces, in order (Doo-Sabin's: the dual's
@@ -102,11 +115,16 @@ impl PolyMesh {
                 // (the same numbers): the last net is never held beside the output.
                 let depth = depth.max(1);
                 self.check_size(scheme, depth, memory_limit)?;
-                let (net, t) = self.net_and_topology(scheme, depth - 1, weights, memory_limit)?;
-                let (nv, nc) = (net.positions.len(), net.corner_count());
-                let mut out = Emit::memory(nv + nc + net.face_count(), 4 * nc);
+                let two = self.two_loop_steps(scheme, depth);
+                let (net, t) = self.net_and_topology(scheme, depth - 1 - usize::from(two), weights, memory_limit)?;
+                let grow = if two { 4 } else { 1 };
+                let (nv, nc) = (grow * net.positions.len(), grow * net.corner_count());
+                let mut out = Emit::memory(nv + nc + grow * net.face_count(), 4 * nc);
                 // Writing into memory cannot fail.
-                let _ = net.limit_step_into(&t, scheme, weights, &mut out);
+                let _ = match two {
+                    true => net.loop_limit_twice_into(&t, weights.and_then(RuleWeights::triangle), &mut out),
+                    false => net.limit_step_into(&t, scheme, weights, &mut out),
+                };
                 Ok(out.finish())
             }
             Scheme::Sqrt3 => {
@@ -348,6 +366,60 @@ mod tests {
         for mesh in triangle_meshes() {
             for depth in 1..=4 {
                 assert_streamed_limit_is_in_memory(&mesh, Scheme::Sqrt3, None, depth);
+            }
+        }
+    }
+
+    /// A Loop net named from the net before it ([`LoopChild`]) is the made
+    /// net, corner for corner and bit for bit: vertices, twins, first corners,
+    /// border flags, edge numbers and points; closed and open meshes,
+    /// valences 3 to 16, holes, Loop's and other weights.
+    #[test]
+    fn a_named_loop_net_is_the_made_one() {
+        use crate::mesh::named::LoopChild;
+        use crate::mesh::topology::Net;
+        let meshes = triangle_meshes().into_iter().chain(irregular_and_holes());
+        for (k, mesh) in meshes.enumerate() {
+            for weights in [None, Some(LoopWeights { w: 0.3, sigma: 0.9 })] {
+                let t = Topology::trusted(&mesh);
+                let named = LoopChild::new(&mesh, &t, weights);
+                let made = mesh.subdivide_with(Scheme::Loop, 1, weights.map(Into::into), 1 << 30).unwrap();
+                let made_t = Topology::trusted(&made);
+                let (edge_of, _) = made.edge_numbering(&made_t, &mut Emit::points(), |_, _| [0.0; 3]).unwrap();
+                assert_eq!((named.vertex_count(), named.corner_count()), (made.positions.len(), made.corner_count()));
+                for (x, &v) in made.indices.iter().enumerate() {
+                    assert_eq!(named.vertex(x), v, "mesh {k} corner {x}");
+                    assert_eq!(named.twin(x), made_t.twin(x), "mesh {k} corner {x}");
+                    assert_eq!(named.edge(x), edge_of[x] as usize, "mesh {k} corner {x}");
+                }
+                for v in 0..made.positions.len() {
+                    assert_eq!(named.first(v), made_t.first(v), "mesh {k} vertex {v}");
+                    assert_eq!(named.on_border(v), made_t.on_border(v), "mesh {k} vertex {v}");
+                    assert_eq!(named.point(v).map(f64::to_bits), made.positions[v].map(f64::to_bits));
+                }
+            }
+        }
+    }
+
+    /// Loop's limit two steps from a net (the step between named) is the
+    /// limit one step from the made net between, bit for bit and face for
+    /// face: closed and open meshes, holes, Loop's and other weights.
+    #[test]
+    fn loops_limit_two_steps_away_is_the_limit_one_step_away() {
+        let meshes = triangle_meshes().into_iter().map(|m| (m, 3)).chain(irregular_and_holes().map(|m| (m, 2)));
+        for (mesh, depth) in meshes {
+            for weights in [None, Some(LoopWeights { w: 0.3, sigma: 0.9 })] {
+                for d in 0..depth {
+                    let net = |d| mesh.net_and_topology(Scheme::Loop, d, weights.map(Into::into), 1 << 30).unwrap();
+                    let ((far, far_t), (near, near_t)) = (net(d), net(d + 1));
+                    let (mut two, mut one) = (Emit::memory(0, 0), Emit::memory(0, 0));
+                    far.loop_limit_twice_into(&far_t, weights, &mut two).unwrap();
+                    near.loop_limit_into(&near_t, weights, &mut one).unwrap();
+                    let (two, one) = (two.finish(), one.finish());
+                    let bits = |m: &PolyMesh| m.positions.iter().map(|p| p.map(f64::to_bits)).collect::<Vec<_>>();
+                    assert_eq!(bits(&two), bits(&one), "depth {d}");
+                    assert_eq!((&two.starts, &two.indices), (&one.starts, &one.indices), "depth {d}");
+                }
             }
         }
     }

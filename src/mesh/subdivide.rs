@@ -17,7 +17,7 @@ use std::io;
 use super::emit::Emit;
 use super::error::SubdivideError;
 use super::polymesh::{PolyMesh, Scheme};
-use super::topology::{BORDER, Topology};
+use super::topology::{BORDER, Made, Net, Topology};
 
 /// Weights of the Doo-Sabin-like quad rule: the corner, the next corner,
 /// the previous corner; the opposite one gets `1 − α − β − γ`.
@@ -459,7 +459,7 @@ impl PolyMesh {
             return p; // unused by any face: kept as is
         }
         if t.on_border(v) {
-            return border_curve_point(self, t, c0);
+            return border_curve_point(&Made { mesh: self, t }, c0);
         }
         let (mut q, mut r, mut n) = ([0.0; 3], [0.0; 3], 0usize);
         for c in (Rotation { mesh: self, t, first: c0, at: Some(c0) }) {
@@ -495,22 +495,43 @@ impl PolyMesh {
 
     /// The midpoint of the border half-edge `c`.
     pub(crate) fn border_midpoint(&self, t: &Topology, c: usize) -> [f64; 3] {
-        let mut m = [0.0; 3];
-        add(&mut m, self.positions[self.indices[c]], 0.5);
-        add(&mut m, self.positions[self.indices[t.next(self, c)]], 0.5);
-        m
+        border_midpoint(&Made { mesh: self, t }, c)
     }
+}
+
+/// One point per edge of a net of `corners` corners (twins `twin`) into
+/// `out`, from its numbering corner (the smaller of an interior edge's), in
+/// corner order: `point(c, twin)` (`None`: a border edge).
+pub(crate) fn edge_points_into(
+    corners: usize,
+    twin: impl Fn(usize) -> usize + Sync,
+    point: impl Fn(usize, Option<usize>) -> [f64; 3] + Sync,
+    out: &mut Emit<'_>,
+) -> io::Result<()> {
+    out.vertices_of(0..corners, |c| match twin(c) {
+        BORDER => Some(point(c, None)),
+        tw if tw < c => None,
+        tw => Some(point(c, Some(tw))),
+    })
 }
 
 /// The cubic B-spline point `(u + 6v + w)/8` of the border vertex `v` whose
 /// first corner is `c0` (Catmull-Clark's and Loop's border rule).
-pub(crate) fn border_curve_point(mesh: &PolyMesh, t: &Topology, c0: usize) -> [f64; 3] {
-    let (u, w) = t.border_neighbours(mesh, c0);
+pub(crate) fn border_curve_point<N: Net>(net: &N, c0: usize) -> [f64; 3] {
+    let (u, w) = net.border_neighbours(c0);
     let mut q = [0.0; 3];
-    add(&mut q, mesh.positions[u], 1.0 / 8.0);
-    add(&mut q, mesh.positions[mesh.indices[c0]], 6.0 / 8.0);
-    add(&mut q, mesh.positions[w], 1.0 / 8.0);
+    add(&mut q, net.point(u), 1.0 / 8.0);
+    add(&mut q, net.point(net.vertex(c0)), 6.0 / 8.0);
+    add(&mut q, net.point(w), 1.0 / 8.0);
     q
+}
+
+/// The midpoint of the border half-edge `c` of `net`.
+pub(crate) fn border_midpoint<N: Net>(net: &N, c: usize) -> [f64; 3] {
+    let mut m = [0.0; 3];
+    add(&mut m, net.point(net.vertex(c)), 0.5);
+    add(&mut m, net.point(net.vertex(net.next(c))), 0.5);
+    m
 }
 
 impl PolyMesh {
@@ -551,12 +572,7 @@ impl PolyMesh {
             edge_of[c] = edges;
             edges += 1;
         }
-        // One point per edge, from its numbering corner, in corner order.
-        out.vertices_of(0..self.corner_count(), |c| match t.twin(c) {
-            BORDER => Some(point(c, None)),
-            tw if tw < c => None,
-            tw => Some(point(c, Some(tw))),
-        })?;
+        edge_points_into(self.corner_count(), |c| t.twin(c), point, out)?;
         Ok((edge_of, edges as usize))
     }
 

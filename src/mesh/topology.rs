@@ -3,7 +3,11 @@
 //! the next one of the face. Its twin runs the other way in the
 //! neighbouring face, or is [`BORDER`]. Stored in 32 bits (a mesh in memory
 //! has fewer than 2³² corners), so a deep net's structure costs 9 bytes a
-//! corner.
+//! corner. [`Net`] is a net seen through its half-edges, whether made in
+//! memory ([`Made`]: a mesh and its topology) or named from the net before it
+//! without its faces being made (`named::LoopChild`): the rules of a step
+//! and the limit masks written once on it give a named net the made one's
+//! numbers bit for bit.
 
 use super::error::MeshCheckError;
 use super::polymesh::{Place, PolyMesh};
@@ -392,12 +396,7 @@ impl Topology {
     /// corner is `c0`: `w` ends the border half-edge going out, `u` starts the
     /// one coming in.
     pub fn border_neighbours(&self, mesh: &PolyMesh, c0: usize) -> (usize, usize) {
-        let w = mesh.indices[self.next(mesh, c0)];
-        let mut last = c0;
-        while self.rotate(mesh, last) != BORDER {
-            last = self.rotate(mesh, last);
-        }
-        (mesh.indices[self.prev(mesh, last)], w)
+        Made { mesh, t: self }.border_neighbours(c0)
     }
 
     /// The number of faces around the interior vertex `v` (its outgoing
@@ -418,6 +417,104 @@ impl Topology {
     /// Number of border half-edges.
     pub fn boundary_edges(&self) -> usize {
         self.twin.iter().filter(|t| **t == NONE).count()
+    }
+}
+
+/// A net: vertices with positions, corners (half-edges) with their vertex,
+/// the next and previous corner of their face and their twin.
+pub(crate) trait Net: Sync {
+    /// Vertices.
+    fn vertex_count(&self) -> usize;
+    /// Corners.
+    fn corner_count(&self) -> usize;
+    /// The vertex of corner `c`.
+    fn vertex(&self, c: usize) -> usize;
+    /// The position of vertex `v`.
+    fn point(&self, v: usize) -> [f64; 3];
+    /// The twin of half-edge `c`, or [`BORDER`].
+    fn twin(&self, c: usize) -> usize;
+    /// An outgoing corner of `v` (the border one for a border vertex), or [`BORDER`] when unused.
+    fn first(&self, v: usize) -> usize;
+    /// Whether `v` is on the border.
+    fn on_border(&self, v: usize) -> bool;
+    /// The corner after `c` in its face.
+    fn next(&self, c: usize) -> usize;
+    /// The corner before `c` in its face.
+    fn prev(&self, c: usize) -> usize;
+
+    /// The next outgoing corner around the vertex of `c`, or [`BORDER`] ([`Topology::rotate`]).
+    #[inline]
+    fn rotate(&self, c: usize) -> usize {
+        self.twin(self.prev(c))
+    }
+
+    /// The border neighbours `(u, w)` of the border vertex whose first corner
+    /// is `c0`: `w` ends the border half-edge going out, `u` starts the one
+    /// coming in.
+    fn border_neighbours(&self, c0: usize) -> (usize, usize) {
+        let w = self.vertex(self.next(c0));
+        let mut last = c0;
+        while self.rotate(last) != BORDER {
+            last = self.rotate(last);
+        }
+        (self.vertex(self.prev(last)), w)
+    }
+}
+
+/// The ring of the interior vertex whose first corner is `c0`: its neighbours in rotation order.
+pub(crate) fn ring<N: Net>(net: &N, c0: usize) -> impl Iterator<Item = usize> + '_ {
+    let mut at = Some(c0);
+    std::iter::from_fn(move || {
+        let c = at?;
+        let r = net.rotate(c);
+        at = (r != BORDER && r != c0).then_some(r);
+        Some(net.vertex(net.next(c)))
+    })
+}
+
+/// A net in memory.
+#[derive(Clone, Copy)]
+pub(crate) struct Made<'a> {
+    pub(crate) mesh: &'a PolyMesh,
+    pub(crate) t: &'a Topology,
+}
+
+impl Net for Made<'_> {
+    #[inline]
+    fn vertex_count(&self) -> usize {
+        self.mesh.positions.len()
+    }
+    #[inline]
+    fn corner_count(&self) -> usize {
+        self.mesh.indices.len()
+    }
+    #[inline]
+    fn vertex(&self, c: usize) -> usize {
+        self.mesh.indices[c]
+    }
+    #[inline]
+    fn point(&self, v: usize) -> [f64; 3] {
+        self.mesh.positions[v]
+    }
+    #[inline]
+    fn twin(&self, c: usize) -> usize {
+        self.t.twin(c)
+    }
+    #[inline]
+    fn first(&self, v: usize) -> usize {
+        self.t.first(v)
+    }
+    #[inline]
+    fn on_border(&self, v: usize) -> bool {
+        self.t.on_border(v)
+    }
+    #[inline]
+    fn next(&self, c: usize) -> usize {
+        self.t.next(self.mesh, c)
+    }
+    #[inline]
+    fn prev(&self, c: usize) -> usize {
+        self.t.prev(self.mesh, c)
     }
 }
 

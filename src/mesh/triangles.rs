@@ -18,9 +18,10 @@ use std::io;
 
 use super::emit::Emit;
 use super::limit::NextMesh;
+use super::named::{LoopChild, loop_child_twin, loop_corner};
 use super::polymesh::PolyMesh;
-use super::subdivide::{LoopWeights, add, border_curve_point};
-use super::topology::{BORDER, Topology};
+use super::subdivide::{LoopWeights, add, border_curve_point, border_midpoint, edge_points_into};
+use super::topology::{BORDER, Made, Net, Topology, ring};
 
 /// Loop's vertex weight `β` at valence `n`.
 pub fn loop_beta(n: usize) -> f64 {
@@ -63,41 +64,28 @@ fn loop_edge(points: [[f64; 3]; 4], custom: Option<LoopWeights>) -> [f64; 3] {
     e
 }
 
-/// The ring of interior vertex `v` (first corner `c0`): its neighbours in rotation order.
-fn ring<'a>(mesh: &'a PolyMesh, t: &'a Topology, c0: usize) -> impl Iterator<Item = usize> + 'a {
-    let mut at = Some(c0);
-    std::iter::from_fn(move || {
-        let c = at?;
-        let r = t.rotate(mesh, c);
-        at = (r != BORDER && r != c0).then_some(r);
-        Some(mesh.indices[t.next(mesh, c)])
-    })
+/// Loop's new point of vertex `v` of `net` (`custom`: weights other than Loop's).
+pub(crate) fn loop_vertex_point<N: Net>(net: &N, v: usize, custom: Option<LoopWeights>) -> [f64; 3] {
+    let p = net.point(v);
+    let c0 = net.first(v);
+    if c0 == BORDER {
+        p
+    } else if net.on_border(v) {
+        border_curve_point(net, c0)
+    } else {
+        let (mut r, mut n) = ([0.0; 3], 0usize);
+        for u in ring(net, c0) {
+            add(&mut r, net.point(u), 1.0);
+            n += 1;
+        }
+        loop_vertex(p, r, n, custom)
+    }
 }
 
-impl PolyMesh {
-    /// Loop's new point of vertex `v` (`custom`: weights other than Loop's).
-    pub(crate) fn loop_vertex_point(&self, t: &Topology, v: usize, custom: Option<LoopWeights>) -> [f64; 3] {
-        let p = self.positions[v];
-        let c0 = t.first(v);
-        if c0 == BORDER {
-            p
-        } else if t.on_border(v) {
-            border_curve_point(self, t, c0)
-        } else {
-            let (mut r, mut n) = ([0.0; 3], 0usize);
-            for u in ring(self, t, c0) {
-                add(&mut r, self.positions[u], 1.0);
-                n += 1;
-            }
-            loop_vertex(p, r, n, custom)
-        }
-    }
-
-    /// Loop's point of the interior edge of the corners `c < tw`.
-    pub(crate) fn loop_edge_point(&self, t: &Topology, c: usize, tw: usize, custom: Option<LoopWeights>) -> [f64; 3] {
-        let p = |c: usize| self.positions[self.indices[c]];
-        loop_edge([p(c), p(tw), p(t.prev(self, c)), p(t.prev(self, tw))], custom)
-    }
+/// Loop's point of the interior edge of the corners `c < tw` of `net`.
+pub(crate) fn loop_edge_point<N: Net>(net: &N, c: usize, tw: usize, custom: Option<LoopWeights>) -> [f64; 3] {
+    let p = |c: usize| net.point(net.vertex(c));
+    loop_edge([p(c), p(tw), p(net.prev(c)), p(net.prev(tw))], custom)
 }
 
 impl PolyMesh {
@@ -105,13 +93,26 @@ impl PolyMesh {
     /// order), four triangles per triangle.
     /// With weights other than Loop's, the general rules of [`LoopWeights`].
     pub(crate) fn loop_into(&self, t: &Topology, weights: Option<LoopWeights>, out: &mut Emit<'_>) -> io::Result<()> {
-        let custom = weights.filter(|w| *w != LoopWeights::CLASSIC);
+        let (edge_of, _) = self.loop_points_into(t, weights, out)?;
         let nv = self.positions.len();
-        for v in 0..nv {
-            out.vertex(self.loop_vertex_point(t, v, custom))?;
+        loop_faces(self.face_count(), |c| self.indices[c], |c| nv + edge_of[c] as usize, out)
+    }
+
+    /// The points of one Loop step into `out`: vertex points, then edge
+    /// points in corner order. Returns each corner's edge number and the
+    /// number of edges.
+    pub(crate) fn loop_points_into(
+        &self,
+        t: &Topology,
+        weights: Option<LoopWeights>,
+        out: &mut Emit<'_>,
+    ) -> io::Result<(Vec<u32>, usize)> {
+        let custom = weights.filter(|w| *w != LoopWeights::CLASSIC);
+        let net = Made { mesh: self, t };
+        for v in 0..self.positions.len() {
+            out.vertex(loop_vertex_point(&net, v, custom))?;
         }
-        let (edge_of, _) = self.edge_points(t, out, |c, tw| self.loop_edge_point(t, c, tw, custom))?;
-        self.loop_faces(&edge_of, out)
+        self.edge_points(t, out, |c, tw| loop_edge_point(&net, c, tw, custom))
     }
 
     /// Two Loop steps into `out` without the net between them, which would
@@ -131,8 +132,7 @@ impl PolyMesh {
         out: &mut Emit<'_>,
     ) -> io::Result<()> {
         let mut mid = Emit::points();
-        self.loop_into(t, weights, &mut mid)?;
-        let (edge_of, edges) = self.edge_points(t, &mut Emit::points(), |_, _| [0.0; 3])?;
+        let (edge_of, edges) = self.loop_points_into(t, weights, &mut mid)?;
         let two = TwoSteps {
             mesh: self,
             t,
@@ -158,10 +158,10 @@ impl PolyMesh {
             return self.border_mix(t, c0, 4.0 / 27.0, 19.0 / 27.0);
         }
         let mut q = [0.0; 3];
-        let n = ring(self, t, c0).count();
+        let n = ring(&Made { mesh: self, t }, c0).count();
         let a = sqrt3_alpha(n);
         add(&mut q, p, 1.0 - a);
-        for u in ring(self, t, c0) {
+        for u in ring(&Made { mesh: self, t }, c0) {
             add(&mut q, self.positions[u], a / n as f64);
         }
         q
@@ -277,9 +277,9 @@ impl PolyMesh {
             return self.border_mix(t, c0, 1.0 / 6.0, 4.0 / 6.0);
         }
         let mut out = [0.0; 3];
-        let n = ring(self, t, c0).count();
+        let n = ring(&Made { mesh: self, t }, c0).count();
         let mut q = [0.0; 3];
-        ring(self, t, c0).for_each(|u| add(&mut q, self.positions[u], 1.0 / n as f64));
+        ring(&Made { mesh: self, t }, c0).for_each(|u| add(&mut q, self.positions[u], 1.0 / n as f64));
         let s = match weights.filter(|w| !sqrt3 && *w != LoopWeights::CLASSIC) {
             Some(l) => l.ring(n) / l.w,
             None if sqrt3 => 3.0 * sqrt3_alpha(n),
@@ -507,16 +507,16 @@ impl TwoSteps<'_> {
     }
 }
 
-/// The net after one more Loop step of a triangle mesh: face `f`'s children
-/// are `[v0, e0, e2]`, `[v1, e1, e0]`, `[v2, e2, e1]`, `[e0, e1, e2]`, their
-/// corners `12f .. 12f + 11`, as [`PolyMesh::loop_into`] makes them.
-struct NextLoop<'a> {
-    net: &'a PolyMesh,
-    t: &'a Topology,
+/// The net after one more Loop step of a triangle net, named from it
+/// without being made: face `f`'s children are `[v0, e0, e2]`, `[v1, e1, e0]`,
+/// `[v2, e2, e1]`, `[e0, e1, e2]`, their corners `12f .. 12f + 11`, as
+/// [`PolyMesh::loop_into`] makes them ([`loop_corner`]).
+struct NextLoop<'a, N> {
+    net: &'a N,
     custom: Option<LoopWeights>,
 }
 
-impl NextMesh for NextLoop<'_> {
+impl<N: Net> NextMesh for NextLoop<'_, N> {
     fn next(&self, x: usize) -> usize {
         x - x % 3 + (x + 1) % 3
     }
@@ -526,45 +526,26 @@ impl NextMesh for NextLoop<'_> {
     }
 
     fn twin(&self, x: usize) -> usize {
-        let (f, i, j) = (x / 12, x % 12 / 3, x % 3);
-        let t = self.t;
-        match (i, j) {
-            (3, j) => 12 * f + 3 * ((j + 1) % 3) + 1,
-            (i, 0) => match t.twin(3 * f + i) {
-                BORDER => BORDER,
-                tw => Self::at(tw, (tw % 3 + 1) % 3, 2),
-            },
-            (i, 1) => 12 * f + 9 + (i + 2) % 3,
-            (i, _) => match t.twin(3 * f + (i + 2) % 3) {
-                BORDER => BORDER,
-                tp => Self::at(tp, tp % 3, 0),
-            },
-        }
+        loop_child_twin(|c| self.net.twin(c), x)
     }
 
     fn position(&self, x: usize) -> [f64; 3] {
         let (f, i, j) = (x / 12, x % 12 / 3, x % 3);
         match (i, j) {
             (3, j) => self.edge(3 * f + j),
-            (i, 0) => self.net.loop_vertex_point(self.t, self.net.indices[3 * f + i], self.custom),
+            (i, 0) => loop_vertex_point(self.net, self.net.vertex(3 * f + i), self.custom),
             (i, 1) => self.edge(3 * f + i),
             (i, _) => self.edge(3 * f + (i + 2) % 3),
         }
     }
 }
 
-impl NextLoop<'_> {
-    /// The fine corner `j` of child `i` of the face of coarse corner `c`.
-    fn at(c: usize, i: usize, j: usize) -> usize {
-        12 * (c / 3) + 3 * i + j
-    }
-
+impl<N: Net> NextLoop<'_, N> {
     /// The edge point of the edge of half-edge `k`.
     fn edge(&self, k: usize) -> [f64; 3] {
-        let (net, t) = (self.net, self.t);
-        match t.twin(k) {
-            BORDER => net.border_midpoint(t, k),
-            tw => net.loop_edge_point(t, k.min(tw), k.max(tw), self.custom),
+        match self.net.twin(k) {
+            BORDER => border_midpoint(self.net, k),
+            tw => loop_edge_point(self.net, k.min(tw), k.max(tw), self.custom),
         }
     }
 
@@ -592,6 +573,36 @@ impl NextLoop<'_> {
         add(&mut out, q, s / (1.0 + s));
         out
     }
+
+    /// The limit point of the next net's vertex point of `v`.
+    fn vertex_limit(&self, v: usize, weights: Option<LoopWeights>) -> [f64; 3] {
+        match self.net.first(v) {
+            BORDER => self.net.point(v), // unused by any face: kept as is
+            c0 => self.limit(loop_corner(c0, c0 % 3, 0), self.net.on_border(v), weights),
+        }
+    }
+
+    /// The limit point of the next net's edge point of the edge of corner
+    /// `c` (its twin `tw`, `None` on the border), from the first of its
+    /// corners there.
+    fn edge_limit(&self, c: usize, tw: Option<usize>, weights: Option<LoopWeights>) -> [f64; 3] {
+        let (i, second_half) = (c % 3, loop_corner(c, (c % 3 + 1) % 3, 2));
+        match tw {
+            None => self.limit(second_half, true, weights),
+            Some(tw) => {
+                let i2 = tw % 3;
+                let corners = [
+                    loop_corner(c, i, 1),
+                    second_half,
+                    loop_corner(c, 3, i),
+                    loop_corner(tw, i2, 1),
+                    loop_corner(tw, (i2 + 1) % 3, 2),
+                    loop_corner(tw, 3, i2),
+                ];
+                self.limit(corners.into_iter().min().unwrap_or(second_half), false, weights)
+            }
+        }
+    }
 }
 
 impl PolyMesh {
@@ -606,45 +617,49 @@ impl PolyMesh {
         weights: Option<LoopWeights>,
         out: &mut Emit<'_>,
     ) -> io::Result<()> {
-        let custom = weights.filter(|w| *w != LoopWeights::CLASSIC);
-        let next = NextLoop { net: self, t, custom };
-        out.vertices_with(self.positions.len(), |v| match t.first(v) {
-            BORDER => self.positions[v], // unused by any face: kept as is
-            c0 => next.limit(NextLoop::at(c0, c0 % 3, 0), t.on_border(v), weights),
-        })?;
-        let (edge_of, _) = self.edge_numbering(t, out, |c, tw| {
-            let (i, second_half) = (c % 3, NextLoop::at(c, (c % 3 + 1) % 3, 2));
-            match tw {
-                None => next.limit(second_half, true, weights),
-                Some(tw) => {
-                    let i2 = tw % 3;
-                    let corners = [
-                        NextLoop::at(c, i, 1),
-                        second_half,
-                        NextLoop::at(c, 3, i),
-                        NextLoop::at(tw, i2, 1),
-                        NextLoop::at(tw, (i2 + 1) % 3, 2),
-                        NextLoop::at(tw, 3, i2),
-                    ];
-                    next.limit(corners.into_iter().min().unwrap_or(second_half), false, weights)
-                }
-            }
-        })?;
-        self.loop_faces(&edge_of, out)
+        let net = Made { mesh: self, t };
+        let next = NextLoop { net: &net, custom: weights.filter(|w| *w != LoopWeights::CLASSIC) };
+        out.vertices_with(self.positions.len(), |v| next.vertex_limit(v, weights))?;
+        let (edge_of, _) = self.edge_numbering(t, out, |c, tw| next.edge_limit(c, tw, weights))?;
+        let nv = self.positions.len();
+        loop_faces(self.face_count(), |c| self.indices[c], |c| nv + edge_of[c] as usize, out)
     }
 
-    /// Loop's four triangles per triangle, the edge points numbered after the vertices (`edge_of`).
-    fn loop_faces(&self, edge_of: &[u32], out: &mut Emit<'_>) -> io::Result<()> {
-        let nv = self.positions.len();
-        for f in 0..self.face_count() {
-            let s = self.starts[f];
-            let (v, e) = ([0, 1, 2].map(|i| self.indices[s + i]), [0, 1, 2].map(|i| nv + edge_of[s + i] as usize));
-            // Corners a, b, c with edges e0 = ab, e1 = bc, e2 = ca.
-            out.face([v[0], e[0], e[2]])?;
-            out.face([v[1], e[1], e[0]])?;
-            out.face([v[2], e[2], e[1]])?;
-            out.face([e[0], e[1], e[2]])?;
-        }
-        Ok(())
+    /// Loop's limit after two more steps of this triangle net, the same
+    /// points and triangles in the same order as [`PolyMesh::loop_limit_into`]
+    /// on the net after one step, with that net named ([`LoopChild`]) instead
+    /// of made: a quarter of its memory.
+    pub(crate) fn loop_limit_twice_into(
+        &self,
+        t: &Topology,
+        weights: Option<LoopWeights>,
+        out: &mut Emit<'_>,
+    ) -> io::Result<()> {
+        let net = LoopChild::new(self, t, weights);
+        let next = NextLoop { net: &net, custom: weights.filter(|w| *w != LoopWeights::CLASSIC) };
+        out.vertices_with(net.vertex_count(), |v| next.vertex_limit(v, weights))?;
+        edge_points_into(net.corner_count(), |c| net.twin(c), |c, tw| next.edge_limit(c, tw, weights), out)?;
+        let nv = net.vertex_count();
+        loop_faces(net.corner_count() / 3, |c| net.vertex(c), |c| nv + net.edge(c), out)
     }
+}
+
+/// Loop's four triangles per triangle of a net of `faces` triangles
+/// (corner `c` of vertex `vertex(c)`), the edge points numbered `edge(c)`.
+fn loop_faces(
+    faces: usize,
+    vertex: impl Fn(usize) -> usize,
+    edge: impl Fn(usize) -> usize,
+    out: &mut Emit<'_>,
+) -> io::Result<()> {
+    for f in 0..faces {
+        let s = 3 * f;
+        let (v, e) = ([0, 1, 2].map(|i| vertex(s + i)), [0, 1, 2].map(|i| edge(s + i)));
+        // Corners a, b, c with edges e0 = ab, e1 = bc, e2 = ca.
+        out.face([v[0], e[0], e[2]])?;
+        out.face([v[1], e[1], e[0]])?;
+        out.face([v[2], e[2], e[1]])?;
+        out.face([e[0], e[1], e[2]])?;
+    }
+    Ok(())
 }
