@@ -558,8 +558,10 @@ impl Family {
         arrows
             .par_iter()
             .map(|(_, a)| {
+                // Most entries of a large automaton's matrices are 0: printed without the formatter.
+                let text = |e: &Affine| if e.is_zero() { "0".to_owned() } else { e.display(&names).to_string() };
                 let rows = (0..a.matrix.nrows())
-                    .map(|i| (0..a.matrix.ncols()).map(|j| a.matrix[(i, j)].display(&names).to_string()).collect())
+                    .map(|i| (0..a.matrix.ncols()).map(|j| text(&a.matrix[(i, j)])).collect())
                     .collect();
                 (a.name.clone(), rows)
             })
