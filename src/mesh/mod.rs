@@ -40,6 +40,6 @@ pub use error::{MeshCheckError, MeshReadError, SubdivideError};
 pub use polymesh::{DEFAULT_MESH_MEMORY, Place, PolyMesh, Scheme};
 pub use read::{read_mesh, read_obj, read_off};
 pub use stream::Subdivision;
-pub use subdivide::{LoopWeights, QuadWeights, RuleWeights, doo_sabin_weights};
+pub use subdivide::{LoopWeights, QuadWeights, RuleWeights, doo_sabin_weights, sqrt3_alpha};
 pub use topology::{BORDER, Topology};
-pub use triangles::{loop_beta, sqrt3_alpha};
+pub use triangles::loop_beta;

@@ -162,3 +162,229 @@ impl Net for LoopChild<'_> {
         x - x % 3 + (x + 2) % 3
     }
 }
+
+/// One √3 step of a triangle net (made or itself named), named from it:
+/// the step [`PolyMesh::sqrt3_into`] makes, without its faces being made.
+/// A face of the step is numbered by the parent corner that emits it and
+/// its slot: corner `6e + 3s + j` is corner `j` of the `s`-th face emitted
+/// for parent corner `e` (a border corner emits one face, the smaller corner
+/// of an interior edge two, the other none), so the order of these numbers
+/// is the made net's corner order and the first corner of a vertex is the
+/// smallest of its numbers, as [`Topology`] picks it. Only the vertices'
+/// first corners, the parent faces' first new points and (for the parent
+/// named once) the points are kept.
+pub(crate) struct Sqrt3Child<'a, P> {
+    parent: &'a P,
+    /// This step splits the border (CGAL's odd steps, counted from 0).
+    refine: bool,
+    /// Per parent face (corner / 3): the number of its first new point.
+    first_point: Vec<u32>,
+    /// Per parent face: its border corner (0 to 2) when this step splits it, else 3.
+    split: Vec<u8>,
+    /// Per new point (vertex number minus the parent's vertices): its parent face.
+    point_face: Vec<u32>,
+    /// The points, when kept (else computed when asked).
+    points: Vec<[f64; 3]>,
+    /// Per vertex: an outgoing corner (the border one), as [`Topology`] picks it.
+    first: Vec<u32>,
+    /// Per vertex: on the border.
+    on_border: Vec<bool>,
+}
+
+impl<'a, P: Net> Sqrt3Child<'a, P> {
+    /// The √3 step of `parent` (`refine`: a border-splitting step), its
+    /// points kept when `keep_points`. `None` when a face of `parent` has
+    /// two border edges on a splitting step (the made step is used then).
+    pub(crate) fn new(parent: &'a P, refine: bool, keep_points: bool) -> Option<Sqrt3Child<'a, P>> {
+        let faces = parent.corner_count() / 3;
+        let mut child = Sqrt3Child {
+            parent,
+            refine,
+            first_point: vec![NONE; faces],
+            split: vec![3; faces],
+            point_face: Vec::new(),
+            points: Vec::new(),
+            first: Vec::new(),
+            on_border: Vec::new(),
+        };
+        let mut next_point = parent.vertex_count();
+        for f in (0..faces).filter(|&f| parent.is_corner(3 * f)) {
+            let borders = (0..3).filter(|&i| parent.twin(3 * f + i) == BORDER).count();
+            if refine && borders > 1 {
+                return None;
+            }
+            child.first_point[f] = u32::try_from(next_point).ok()?;
+            let border = (0..3u8).find(|&i| parent.twin(3 * f + usize::from(i)) == BORDER);
+            if let Some(i) = border.filter(|_| refine) {
+                child.split[f] = i;
+            }
+            let new = if refine && borders == 1 { 2 } else { 1 };
+            child.point_face.extend(std::iter::repeat_n(f as u32, new));
+            next_point += new;
+        }
+        let nv = next_point;
+        let (mut first, mut on_border) = (vec![NONE; nv], vec![false; nv]);
+        for x in (0..child.corner_count()).filter(|&x| child.is_corner(x)) {
+            let (v, tw) = (child.vertex(x), child.twin(x));
+            if tw == BORDER {
+                on_border[v] = true;
+                first[v] = u32::try_from(x).ok()?;
+            } else if first[v] == NONE {
+                first[v] = u32::try_from(x).ok()?;
+            }
+        }
+        (child.first, child.on_border) = (first, on_border);
+        if keep_points {
+            use rayon::prelude::*;
+            child.points = (0..nv).into_par_iter().map(|v| child.point(v)).collect();
+        }
+        Some(child)
+    }
+
+    /// The border corner of parent face `f` when this step splits it.
+    #[inline]
+    fn split(&self, f: usize) -> Option<usize> {
+        match self.split[f] {
+            3 => None,
+            i => Some(3 * f + usize::from(i)),
+        }
+    }
+
+    /// The new point across from parent half-edge `e` in its face: the
+    /// centroid, or on a split face the border point beside `e`'s end.
+    #[inline]
+    fn opposite(&self, e: usize) -> usize {
+        let f = e / 3;
+        let first = self.first_point[f] as usize;
+        match self.split(f) {
+            Some(cb) if e == self.parent.next(cb) => first + 1,
+            _ => first,
+        }
+    }
+
+    /// The corner of the new half-edge from `e`'s new point to `e`'s start (`e` not a split border corner).
+    #[inline]
+    fn out_corner(&self, e: usize) -> usize {
+        match self.parent.twin(e) {
+            BORDER => 6 * e + 2,
+            tw if e < tw => 6 * e + 3,
+            tw => 6 * tw,
+        }
+    }
+
+    /// The corner of the new half-edge from `e`'s end to `e`'s new point.
+    #[inline]
+    fn in_corner(&self, e: usize) -> usize {
+        match self.parent.twin(e) {
+            BORDER => 6 * e + 1,
+            tw if e < tw => 6 * e + 1,
+            tw => 6 * tw + 4,
+        }
+    }
+
+    /// The twin of [`Sqrt3Child::out_corner`]`(e)`.
+    #[inline]
+    fn twin_of_out(&self, e: usize) -> usize {
+        let p = self.parent;
+        match self.split(e / 3) {
+            Some(cb) if e == p.next(cb) => BORDER,
+            Some(cb) if e == p.prev(cb) => 6 * cb + 2,
+            _ => self.in_corner(p.prev(e)),
+        }
+    }
+
+    /// The twin of [`Sqrt3Child::in_corner`]`(e)`.
+    #[inline]
+    fn twin_of_in(&self, e: usize) -> usize {
+        let p = self.parent;
+        match self.split(e / 3) {
+            Some(cb) if e == p.next(cb) => 6 * cb + 1,
+            Some(cb) if e == p.prev(cb) => BORDER,
+            _ => self.out_corner(p.next(e)),
+        }
+    }
+}
+
+impl<P: Net> Net for Sqrt3Child<'_, P> {
+    fn vertex_count(&self) -> usize {
+        self.parent.vertex_count() + self.point_face.len()
+    }
+    fn corner_count(&self) -> usize {
+        6 * self.parent.corner_count()
+    }
+    fn is_corner(&self, x: usize) -> bool {
+        let (e, s) = (x / 6, x % 6 / 3);
+        self.parent.is_corner(e)
+            && match self.parent.twin(e) {
+                BORDER => s == 0,
+                tw => e < tw,
+            }
+    }
+    fn vertex(&self, x: usize) -> usize {
+        let (e, s, j) = (x / 6, x % 6 / 3, x % 3);
+        let p = self.parent;
+        match p.twin(e) {
+            BORDER => match self.split(e / 3) {
+                Some(_) => {
+                    let first = self.first_point[e / 3] as usize;
+                    [first, first + 1, p.vertex(p.prev(e))][j]
+                }
+                None => [p.vertex(e), p.vertex(p.next(e)), self.opposite(e)][j],
+            },
+            tw if s == 0 => [self.opposite(tw), p.vertex(p.next(e)), self.opposite(e)][j],
+            tw => [self.opposite(e), p.vertex(e), self.opposite(tw)][j],
+        }
+    }
+    fn point(&self, v: usize) -> [f64; 3] {
+        if let Some(p) = self.points.get(v) {
+            return *p;
+        }
+        let nv = self.parent.vertex_count();
+        if v < nv {
+            return super::subdivide::sqrt3_vertex(self.parent, self.refine, v);
+        }
+        let f = self.point_face[v - nv] as usize;
+        match self.split(f) {
+            Some(cb) => super::subdivide::sqrt3_border_points(self.parent, cb)[v - self.first_point[f] as usize],
+            None => {
+                let mut c = [0.0; 3];
+                for k in 3 * f..3 * f + 3 {
+                    let q = self.parent.point(self.parent.vertex(k));
+                    (0..3).for_each(|a| c[a] += q[a] / 3.0);
+                }
+                c
+            }
+        }
+    }
+    fn twin(&self, x: usize) -> usize {
+        let (e, s, j) = (x / 6, x % 6 / 3, x % 3);
+        let p = self.parent;
+        match (p.twin(e), s, j) {
+            (_, _, 0) if p.twin(e) == BORDER => BORDER,
+            (BORDER, _, 1) if self.split(e / 3).is_some() => self.in_corner(p.next(e)),
+            (BORDER, _, _) if self.split(e / 3).is_some() => self.out_corner(p.prev(e)),
+            (BORDER, _, 1) => self.twin_of_in(e),
+            (BORDER, _, _) => self.twin_of_out(e),
+            (tw, 0, 0) => self.twin_of_out(tw),
+            (_, 0, 1) => self.twin_of_in(e),
+            (_, 1, 0) => self.twin_of_out(e),
+            (tw, 1, 1) => self.twin_of_in(tw),
+            (_, s, _) => 6 * e + 3 * (1 - s) + 2,
+        }
+    }
+    fn first(&self, v: usize) -> usize {
+        match self.first[v] {
+            NONE => BORDER,
+            c => c as usize,
+        }
+    }
+    fn on_border(&self, v: usize) -> bool {
+        self.on_border[v]
+    }
+    fn next(&self, x: usize) -> usize {
+        x - x % 3 + (x + 1) % 3
+    }
+    fn prev(&self, x: usize) -> usize {
+        x - x % 3 + (x + 2) % 3
+    }
+}

@@ -2,8 +2,10 @@
 //! the last step is held in memory, the last step (the net, or Doo-Sabin's,
 //! Catmull-Clark's and Loop's limits) goes straight to the sink, so a depth-10 cube (6.3 million faces)
 //! written to a file needs the memory of depth 9 only. Loop's deep nets and
-//! limits come from the net two steps before (depth 8 of 10). √3's limit points
-//! are computed from the last net and streamed with its faces.
+//! limits come from the net two steps before (depth 8 of 10), the net
+//! between named ([`super::named::LoopChild`]). √3's limit points are a mask
+//! on the last net: small ones are computed on it, large ones from the net
+//! two steps before with both nets after it named ([`super::named::Sqrt3Child`]).
 
 use super::emit::{Emit, Written};
 use super::error::SubdivideError;
@@ -55,6 +57,15 @@ impl PolyMesh {
         let io = SubdivideError::Write;
         sink.object(name).map_err(io)?;
         if limit && scheme == Scheme::Sqrt3 {
+            if depth >= 2 && self.estimate(scheme, depth - 1).0 > TWO_STEPS_FROM {
+                // The last two nets named from the one before them (a tenth of the memory), unless a
+                // face of a border-splitting step has two border edges.
+                let (net, t) = self.net_and_topology(scheme, depth - 2, weights, memory_limit)?;
+                let mut out = Emit::into_sink(sink);
+                if net.sqrt3_limit_twice_into(&t, depth - 2, &mut out).map_err(io)? {
+                    return out.flush().map_err(io);
+                }
+            }
             // √3's limit points are a mask on the last net's rings: that net
             // in memory, its points and faces streamed (no copy of it made).
             let (net, t) = self.net_and_topology(scheme, depth, weights, memory_limit)?;
@@ -201,7 +212,7 @@ impl PolyMesh {
 mod tests {
     use super::*;
     use crate::mesh::LoopWeights;
-    use crate::mesh::topology::Topology;
+    use crate::mesh::topology::{BORDER, Topology};
 
     /// The faces of a mesh as position triples, each rotated to start at its
     /// smallest vertex (positions rounded to 1e-12), sorted.
@@ -401,6 +412,92 @@ mod tests {
         }
     }
 
+    /// A named net is the made one: its corners, in the order of their
+    /// numbers, are the made net's corners in order, with the same vertices
+    /// and twins; its vertices' first corners, border flags and points are
+    /// the made net's (points bit for bit).
+    fn assert_named_is_made<N: crate::mesh::topology::Net>(named: &N, made: &PolyMesh, what: &str) {
+        let t = Topology::trusted(made);
+        let corners: Vec<usize> = (0..named.corner_count()).filter(|&x| named.is_corner(x)).collect();
+        assert_eq!(corners.len(), made.corner_count(), "{what}");
+        let mut real = std::collections::HashMap::new();
+        real.insert(BORDER, BORDER);
+        real.extend(corners.iter().enumerate().map(|(k, &x)| (x, k)));
+        for (k, &x) in corners.iter().enumerate() {
+            assert_eq!(named.vertex(x), made.indices[k], "{what}: corner {k}");
+            assert_eq!(real.get(&named.twin(x)), Some(&t.twin(k)), "{what}: twin of corner {k}");
+            assert_eq!(real[&named.next(x)], t.next(made, k), "{what}: next of corner {k}");
+        }
+        assert_eq!(named.vertex_count(), made.positions.len(), "{what}");
+        for v in 0..made.positions.len() {
+            assert_eq!(real.get(&named.first(v)), Some(&t.first(v)), "{what}: first corner of vertex {v}");
+            assert_eq!(named.on_border(v), t.on_border(v), "{what}: vertex {v}");
+            assert_eq!(named.point(v).map(f64::to_bits), made.positions[v].map(f64::to_bits), "{what}: vertex {v}");
+        }
+    }
+
+    /// √3 steps named from the net before them, once and twice (the first
+    /// kept points, the second computes them), are the made steps: closed
+    /// and open meshes, holes, border-splitting steps and the others.
+    #[test]
+    fn named_sqrt3_steps_are_the_made_ones() {
+        use crate::mesh::named::Sqrt3Child;
+        use crate::mesh::topology::Made;
+        let meshes = triangle_meshes().into_iter().chain(irregular_and_holes());
+        let mut named = 0;
+        for (k, mesh) in meshes.enumerate() {
+            for d in 0..2 {
+                let net = |d| mesh.net_and_topology(Scheme::Sqrt3, d, None, 1 << 30).unwrap();
+                let (parent, t) = net(d);
+                let made = Made { mesh: &parent, t: &t };
+                let Some(once) = Sqrt3Child::new(&made, d % 2 == 1, true) else { continue };
+                assert_named_is_made(&once, &net(d + 1).0, &format!("mesh {k}, step {d}"));
+                let Some(twice) = Sqrt3Child::new(&once, d % 2 == 0, false) else { continue };
+                assert_named_is_made(&twice, &net(d + 2).0, &format!("mesh {k}, steps {d} and {}", d + 1));
+                named += 1;
+            }
+        }
+        assert!(named >= 8, "{named} cases named twice");
+        // A face with two border edges on a splitting step (CGAL's rule splits it twice): not
+        // named, and the streamed limit is made from the last net, with nothing written before.
+        let square = PolyMesh::new(
+            vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]],
+            vec![vec![0, 1, 2], vec![0, 2, 3]],
+        )
+        .unwrap();
+        let t = Topology::trusted(&square);
+        assert!(Sqrt3Child::new(&Made { mesh: &square, t: &t }, true, true).is_none());
+        let mut out = Emit::memory(0, 0);
+        assert!(!square.sqrt3_limit_twice_into(&t, 1, &mut out).unwrap());
+        assert_eq!(out.finish().positions.len(), 0);
+    }
+
+    /// Two meshes made in memory are the same: points bit for bit, faces.
+    fn assert_same_mesh(a: Emit<'_>, b: Emit<'_>, what: &str) {
+        let (a, b) = (a.finish(), b.finish());
+        let bits = |m: &PolyMesh| m.positions.iter().map(|p| p.map(f64::to_bits)).collect::<Vec<_>>();
+        assert_eq!(bits(&a), bits(&b), "{what}");
+        assert_eq!((&a.starts, &a.indices), (&b.starts, &b.indices), "{what}");
+    }
+
+    /// √3's limit two steps from a net (both nets between named) is the
+    /// limit on the made net, bit for bit and face for face: closed and open
+    /// meshes, holes, both parities of the border-splitting steps.
+    #[test]
+    fn sqrt3s_limit_two_steps_away_is_the_limit_on_the_made_net() {
+        let meshes = triangle_meshes().into_iter().chain(irregular_and_holes());
+        for (k, mesh) in meshes.enumerate() {
+            for d in 0..3 {
+                let net = |d| mesh.net_and_topology(Scheme::Sqrt3, d, None, 1 << 30).unwrap();
+                let ((far, far_t), (last, last_t)) = (net(d), net(d + 2));
+                let (mut two, mut made) = (Emit::memory(0, 0), Emit::memory(0, 0));
+                assert!(far.sqrt3_limit_twice_into(&far_t, d, &mut two).unwrap(), "mesh {k} depth {d}");
+                last.triangle_limit_into(&last_t, true, None, &mut made).unwrap();
+                assert_same_mesh(two, made, &format!("mesh {k} depth {d}"));
+            }
+        }
+    }
+
     /// Loop's limit two steps from a net (the step between named) is the
     /// limit one step from the made net between, bit for bit and face for
     /// face: closed and open meshes, holes, Loop's and other weights.
@@ -415,10 +512,7 @@ mod tests {
                     let (mut two, mut one) = (Emit::memory(0, 0), Emit::memory(0, 0));
                     far.loop_limit_twice_into(&far_t, weights, &mut two).unwrap();
                     near.loop_limit_into(&near_t, weights, &mut one).unwrap();
-                    let (two, one) = (two.finish(), one.finish());
-                    let bits = |m: &PolyMesh| m.positions.iter().map(|p| p.map(f64::to_bits)).collect::<Vec<_>>();
-                    assert_eq!(bits(&two), bits(&one), "depth {d}");
-                    assert_eq!((&two.starts, &two.indices), (&one.starts, &one.indices), "depth {d}");
+                    assert_same_mesh(two, one, &format!("depth {d}"));
                 }
             }
         }

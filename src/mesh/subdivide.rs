@@ -17,7 +17,7 @@ use std::io;
 use super::emit::Emit;
 use super::error::SubdivideError;
 use super::polymesh::{PolyMesh, Scheme};
-use super::topology::{BORDER, Made, Net, Topology};
+use super::topology::{BORDER, Made, Net, Topology, ring};
 
 /// Weights of the Doo-Sabin-like quad rule: the corner, the next corner,
 /// the previous corner; the opposite one gets `1 − α − β − γ`.
@@ -38,7 +38,7 @@ impl QuadWeights {
     /// Sokolov et al. 2010 Fig. 12's "geometric textures" of the cube, as the gallery
     /// draws them: the classic smooth surface, a bilinear corner cutting
     /// (`δ = 0`), a creased one, a bulging one, a negative opposite weight and
-    /// a chiral rule (`β ≠ γ`, rough). Each passes [`QuadWeights::check`].
+    /// a chiral rule (`β ≠ γ`, rough). Each passes [`check_quad_weights`](crate::analysis::check_quad_weights).
     pub const TEXTURES: [QuadWeights; 6] = [
         QuadWeights::CLASSIC,
         QuadWeights { alpha: 0.5, beta: 0.25, gamma: 0.25 },
@@ -86,7 +86,7 @@ impl LoopWeights {
     /// the icosahedron (Sokolov et al. 2010 Fig. 12's idea on triangles): Loop, a
     /// flatter vertex rule, a sharper one, heavier edge ends (bulging),
     /// lighter edge ends (creased) and a negative vertex eigenvalue (rough).
-    /// Each passes [`LoopWeights::check`] on the icosahedron.
+    /// Each passes [`check_loop_weights`](crate::analysis::check_loop_weights) on the icosahedron.
     pub const TEXTURES: [LoopWeights; 6] = [
         LoopWeights::CLASSIC,
         LoopWeights { w: 0.375, sigma: 3.0 },
@@ -515,6 +515,76 @@ pub(crate) fn edge_points_into(
     })
 }
 
+/// √3's vertex weight `a` at valence `n`.
+pub fn sqrt3_alpha(n: usize) -> f64 {
+    (4.0 - 2.0 * (2.0 * PI / n as f64).cos()) / 9.0
+}
+
+/// √3's new position of vertex `v` of `net` (kept on the border on steps that do not refine it).
+pub(crate) fn sqrt3_vertex<N: Net>(net: &N, refine_border: bool, v: usize) -> [f64; 3] {
+    let p = net.point(v);
+    let c0 = net.first(v);
+    if c0 == BORDER || (net.on_border(v) && !refine_border) {
+        return p;
+    }
+    if net.on_border(v) {
+        return border_mix(net, c0, 4.0 / 27.0, 19.0 / 27.0);
+    }
+    with_ring(net, c0, |ring| {
+        let mut q = [0.0; 3];
+        let n = ring.len();
+        let a = sqrt3_alpha(n);
+        add(&mut q, p, 1.0 - a);
+        for &u in ring {
+            add(&mut q, net.point(u), a / n as f64);
+        }
+        q
+    })
+}
+
+/// `f` of the ring of the interior vertex whose first corner is `c0`
+/// ([`ring`]), walked once (into a buffer on the stack unless the valence is large).
+pub(crate) fn with_ring<N: Net, T>(net: &N, c0: usize, f: impl FnOnce(&[usize]) -> T) -> T {
+    let mut buffer = [0usize; 16];
+    let mut n = 0;
+    for u in ring(net, c0) {
+        if n == buffer.len() {
+            return f(&ring(net, c0).collect::<Vec<_>>());
+        }
+        buffer[n] = u;
+        n += 1;
+    }
+    f(&buffer[..n])
+}
+
+/// √3's two points on the border edge of corner `cb` of `net` (a face split on a border-refining step).
+pub(crate) fn sqrt3_border_points<N: Net>(net: &N, cb: usize) -> [[f64; 3]; 2] {
+    let (a, b) = (net.vertex(cb), net.vertex(net.next(cb)));
+    let (a2, _) = net.border_neighbours(net.first(a));
+    let (_, b2) = net.border_neighbours(net.first(b));
+    let (pa, pb) = (net.point(a), net.point(b));
+    let mut x1 = [0.0; 3];
+    add(&mut x1, net.point(a2), 1.0 / 27.0);
+    add(&mut x1, pa, 16.0 / 27.0);
+    add(&mut x1, pb, 10.0 / 27.0);
+    let mut x2 = [0.0; 3];
+    add(&mut x2, pa, 10.0 / 27.0);
+    add(&mut x2, pb, 16.0 / 27.0);
+    add(&mut x2, net.point(b2), 1.0 / 27.0);
+    [x1, x2]
+}
+
+/// `side · u + middle · p + side · w` for the border vertex `p` of corner
+/// `c0` of `net` between its border neighbours `u` and `w` (summed in that order).
+pub(crate) fn border_mix<N: Net>(net: &N, c0: usize, side: f64, middle: f64) -> [f64; 3] {
+    let (u, w) = net.border_neighbours(c0);
+    let mut q = [0.0; 3];
+    add(&mut q, net.point(u), side);
+    add(&mut q, net.point(net.vertex(c0)), middle);
+    add(&mut q, net.point(w), side);
+    q
+}
+
 /// The cubic B-spline point `(u + 6v + w)/8` of the border vertex `v` whose
 /// first corner is `c0` (Catmull-Clark's and Loop's border rule).
 pub(crate) fn border_curve_point<N: Net>(net: &N, c0: usize) -> [f64; 3] {
@@ -559,6 +629,14 @@ impl PolyMesh {
         out: &mut Emit<'_>,
         point: impl Fn(usize, Option<usize>) -> [f64; 3] + Sync,
     ) -> io::Result<(Vec<u32>, usize)> {
+        let numbers = self.edge_numbers(t);
+        edge_points_into(self.corner_count(), |c| t.twin(c), point, out)?;
+        Ok(numbers)
+    }
+
+    /// Each corner's edge number, in corner order (the smaller corner of an
+    /// interior edge numbers it), and the number of edges.
+    pub(crate) fn edge_numbers(&self, t: &Topology) -> (Vec<u32>, usize) {
         let mut edge_of = vec![0u32; self.corner_count()];
         let mut edges = 0u32;
         for c in 0..self.corner_count() {
@@ -572,8 +650,7 @@ impl PolyMesh {
             edge_of[c] = edges;
             edges += 1;
         }
-        edge_points_into(self.corner_count(), |c| t.twin(c), point, out)?;
-        Ok((edge_of, edges as usize))
+        (edge_of, edges as usize)
     }
 
     /// Catmull-Clark's quads, one per corner `[v, e(c), f, e(prev c)]`, the

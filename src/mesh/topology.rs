@@ -425,8 +425,13 @@ impl Topology {
 pub(crate) trait Net: Sync {
     /// Vertices.
     fn vertex_count(&self) -> usize;
-    /// Corners.
+    /// Corners: the numbers of corners are below this (all of them are
+    /// corners unless [`Net::is_corner`] says otherwise).
     fn corner_count(&self) -> usize;
+    /// Whether `c` numbers a corner (a named net may skip numbers; a face's three are all corners or none).
+    fn is_corner(&self, _c: usize) -> bool {
+        true
+    }
     /// The vertex of corner `c`.
     fn vertex(&self, c: usize) -> usize;
     /// The position of vertex `v`.

@@ -18,20 +18,18 @@ use std::io;
 
 use super::emit::Emit;
 use super::limit::NextMesh;
-use super::named::{LoopChild, loop_child_twin, loop_corner};
+use super::named::{LoopChild, Sqrt3Child, loop_child_twin, loop_corner};
 use super::polymesh::PolyMesh;
-use super::subdivide::{LoopWeights, add, border_curve_point, border_midpoint, edge_points_into};
+use super::subdivide::{
+    LoopWeights, add, border_curve_point, border_midpoint, border_mix, edge_points_into, sqrt3_alpha,
+    sqrt3_border_points, sqrt3_vertex, with_ring,
+};
 use super::topology::{BORDER, Made, Net, Topology, ring};
 
 /// Loop's vertex weight `β` at valence `n`.
 pub fn loop_beta(n: usize) -> f64 {
     let c = 3.0 + 2.0 * (2.0 * PI / n as f64).cos();
     (5.0 / 8.0 - c * c / 64.0) / n as f64
-}
-
-/// √3's vertex weight `a` at valence `n`.
-pub fn sqrt3_alpha(n: usize) -> f64 {
-    (4.0 - 2.0 * (2.0 * PI / n as f64).cos()) / 9.0
 }
 
 /// Loop's interior vertex point of `p` of valence `n` whose neighbours sum to `r`.
@@ -86,6 +84,33 @@ pub(crate) fn loop_vertex_point<N: Net>(net: &N, v: usize, custom: Option<LoopWe
 pub(crate) fn loop_edge_point<N: Net>(net: &N, c: usize, tw: usize, custom: Option<LoopWeights>) -> [f64; 3] {
     let p = |c: usize| net.point(net.vertex(c));
     loop_edge([p(c), p(tw), p(net.prev(c)), p(net.prev(tw))], custom)
+}
+
+/// The limit point of vertex `v` of a Loop (`sqrt3` false) or √3 net (see
+/// [`PolyMesh::triangle_limit_points`]).
+pub(crate) fn triangle_limit_point<N: Net>(net: &N, v: usize, sqrt3: bool, weights: Option<LoopWeights>) -> [f64; 3] {
+    let p = net.point(v);
+    let c0 = net.first(v);
+    if c0 == BORDER {
+        return p;
+    }
+    if net.on_border(v) {
+        return border_mix(net, c0, 1.0 / 6.0, 4.0 / 6.0);
+    }
+    let mut out = [0.0; 3];
+    let (q, n) = with_ring(net, c0, |ring| {
+        let mut q = [0.0; 3];
+        ring.iter().for_each(|&u| add(&mut q, net.point(u), 1.0 / ring.len() as f64));
+        (q, ring.len())
+    });
+    let s = match weights.filter(|w| !sqrt3 && *w != LoopWeights::CLASSIC) {
+        Some(l) => l.ring(n) / l.w,
+        None if sqrt3 => 3.0 * sqrt3_alpha(n),
+        None => 8.0 * n as f64 * loop_beta(n) / 3.0,
+    };
+    add(&mut out, p, 1.0 / (1.0 + s));
+    add(&mut out, q, s / (1.0 + s));
+    out
 }
 
 impl PolyMesh {
@@ -147,43 +172,6 @@ impl PolyMesh {
         two.faces(out)
     }
 
-    /// √3's new position of vertex `v` (kept on the border on steps that do not refine it).
-    fn sqrt3_vertex(&self, t: &Topology, refine_border: bool, v: usize) -> [f64; 3] {
-        let p = self.positions[v];
-        let c0 = t.first(v);
-        if c0 == BORDER || (t.on_border(v) && !refine_border) {
-            return p;
-        }
-        if t.on_border(v) {
-            return self.border_mix(t, c0, 4.0 / 27.0, 19.0 / 27.0);
-        }
-        let mut q = [0.0; 3];
-        let n = ring(&Made { mesh: self, t }, c0).count();
-        let a = sqrt3_alpha(n);
-        add(&mut q, p, 1.0 - a);
-        for u in ring(&Made { mesh: self, t }, c0) {
-            add(&mut q, self.positions[u], a / n as f64);
-        }
-        q
-    }
-
-    /// √3's two points on the border edge of corner `cb` (a face split on a border-refining step).
-    fn sqrt3_border_points(&self, t: &Topology, cb: usize) -> [[f64; 3]; 2] {
-        let (a, b) = (self.indices[cb], self.indices[t.next(self, cb)]);
-        let (a2, _) = t.border_neighbours(self, t.first(a));
-        let (_, b2) = t.border_neighbours(self, t.first(b));
-        let (pa, pb) = (self.positions[a], self.positions[b]);
-        let mut x1 = [0.0; 3];
-        add(&mut x1, self.positions[a2], 1.0 / 27.0);
-        add(&mut x1, pa, 16.0 / 27.0);
-        add(&mut x1, pb, 10.0 / 27.0);
-        let mut x2 = [0.0; 3];
-        add(&mut x2, pa, 10.0 / 27.0);
-        add(&mut x2, pb, 16.0 / 27.0);
-        add(&mut x2, self.positions[b2], 1.0 / 27.0);
-        [x1, x2]
-    }
-
     /// One √3 step into `out`: vertex points, a centroid per face, and every
     /// interior edge flipped to join the points of its two faces. With
     /// `refine_border` (CGAL's even steps), a face on the border gets two
@@ -194,7 +182,7 @@ impl PolyMesh {
     pub(crate) fn sqrt3_into(&self, t: &Topology, refine_border: bool, out: &mut Emit<'_>) -> io::Result<()> {
         let (nv, nf) = (self.positions.len(), self.face_count());
         for v in 0..nv {
-            out.vertex(self.sqrt3_vertex(t, refine_border, v))?;
+            out.vertex(sqrt3_vertex(&Made { mesh: self, t }, refine_border, v))?;
         }
         // Per face: its border corner when it is split, and the number of its first new point.
         let mut split = vec![BORDER; nf];
@@ -205,7 +193,7 @@ impl PolyMesh {
             let s = self.starts[f];
             if let Some(cb) = (s..s + 3).find(|&c| refine_border && t.twin(c) == BORDER) {
                 split[f] = cb;
-                let [x1, x2] = self.sqrt3_border_points(t, cb);
+                let [x1, x2] = sqrt3_border_points(&Made { mesh: self, t }, cb);
                 out.vertex(x1)?;
                 out.vertex(x2)?;
                 next_point += 2;
@@ -263,42 +251,8 @@ impl PolyMesh {
         sqrt3: bool,
         weights: Option<LoopWeights>,
     ) -> Vec<[f64; 3]> {
-        (0..self.positions.len()).map(|v| self.triangle_limit_point(t, v, sqrt3, weights)).collect()
-    }
-
-    /// The limit point of vertex `v` (see [`PolyMesh::triangle_limit_points`]).
-    fn triangle_limit_point(&self, t: &Topology, v: usize, sqrt3: bool, weights: Option<LoopWeights>) -> [f64; 3] {
-        let p = self.positions[v];
-        let c0 = t.first(v);
-        if c0 == BORDER {
-            return p;
-        }
-        if t.on_border(v) {
-            return self.border_mix(t, c0, 1.0 / 6.0, 4.0 / 6.0);
-        }
-        let mut out = [0.0; 3];
-        let n = ring(&Made { mesh: self, t }, c0).count();
-        let mut q = [0.0; 3];
-        ring(&Made { mesh: self, t }, c0).for_each(|u| add(&mut q, self.positions[u], 1.0 / n as f64));
-        let s = match weights.filter(|w| !sqrt3 && *w != LoopWeights::CLASSIC) {
-            Some(l) => l.ring(n) / l.w,
-            None if sqrt3 => 3.0 * sqrt3_alpha(n),
-            None => 8.0 * n as f64 * loop_beta(n) / 3.0,
-        };
-        add(&mut out, p, 1.0 / (1.0 + s));
-        add(&mut out, q, s / (1.0 + s));
-        out
-    }
-
-    /// `side · u + middle · p + side · w` for the border vertex `p` of corner
-    /// `c0` between its border neighbours `u` and `w` (summed in that order).
-    fn border_mix(&self, t: &Topology, c0: usize, side: f64, middle: f64) -> [f64; 3] {
-        let (u, w) = t.border_neighbours(self, c0);
-        let mut q = [0.0; 3];
-        add(&mut q, self.positions[u], side);
-        add(&mut q, self.positions[self.indices[c0]], middle);
-        add(&mut q, self.positions[w], side);
-        q
+        let net = Made { mesh: self, t };
+        (0..self.positions.len()).map(|v| triangle_limit_point(&net, v, sqrt3, weights)).collect()
     }
 
     /// The limit points of this (last) net's vertices, then its triangles,
@@ -311,9 +265,26 @@ impl PolyMesh {
         out: &mut Emit<'_>,
     ) -> io::Result<()> {
         for v in 0..self.positions.len() {
-            out.vertex(self.triangle_limit_point(t, v, sqrt3, weights))?;
+            out.vertex(triangle_limit_point(&Made { mesh: self, t }, v, sqrt3, weights))?;
         }
         self.faces().try_for_each(|f| out.face(f.iter().copied()))
+    }
+
+    /// √3's limit after two more steps of this net (step numbers `step` and
+    /// `step + 1`, from 0), the same points and triangles in the same order
+    /// as [`PolyMesh::triangle_limit_into`] on the net after them, with the
+    /// two nets between named ([`Sqrt3Child`]) instead of made. `false`, and
+    /// nothing written, when a face of a border-splitting step has two
+    /// border edges.
+    pub(crate) fn sqrt3_limit_twice_into(&self, t: &Topology, step: usize, out: &mut Emit<'_>) -> io::Result<bool> {
+        let net = Made { mesh: self, t };
+        let Some(once) = Sqrt3Child::new(&net, !step.is_multiple_of(2), true) else { return Ok(false) };
+        let Some(twice) = Sqrt3Child::new(&once, step.is_multiple_of(2), false) else { return Ok(false) };
+        out.vertices_with(twice.vertex_count(), |v| triangle_limit_point(&twice, v, true, None))?;
+        for x in (0..twice.corner_count()).step_by(3).filter(|&x| twice.is_corner(x)) {
+            out.face([x, x + 1, x + 2].map(|x| twice.vertex(x)))?;
+        }
+        Ok(true)
     }
 
     /// The mesh with every face of more than three vertices split into a fan
@@ -617,12 +588,8 @@ impl PolyMesh {
         weights: Option<LoopWeights>,
         out: &mut Emit<'_>,
     ) -> io::Result<()> {
-        let net = Made { mesh: self, t };
-        let next = NextLoop { net: &net, custom: weights.filter(|w| *w != LoopWeights::CLASSIC) };
-        out.vertices_with(self.positions.len(), |v| next.vertex_limit(v, weights))?;
-        let (edge_of, _) = self.edge_numbering(t, out, |c, tw| next.edge_limit(c, tw, weights))?;
-        let nv = self.positions.len();
-        loop_faces(self.face_count(), |c| self.indices[c], |c| nv + edge_of[c] as usize, out)
+        let (edge_of, _) = self.edge_numbers(t);
+        loop_limit_of(&Made { mesh: self, t }, weights, |c| edge_of[c] as usize, out)
     }
 
     /// Loop's limit after two more steps of this triangle net, the same
@@ -636,12 +603,25 @@ impl PolyMesh {
         out: &mut Emit<'_>,
     ) -> io::Result<()> {
         let net = LoopChild::new(self, t, weights);
-        let next = NextLoop { net: &net, custom: weights.filter(|w| *w != LoopWeights::CLASSIC) };
-        out.vertices_with(net.vertex_count(), |v| next.vertex_limit(v, weights))?;
-        edge_points_into(net.corner_count(), |c| net.twin(c), |c, tw| next.edge_limit(c, tw, weights), out)?;
-        let nv = net.vertex_count();
-        loop_faces(net.corner_count() / 3, |c| net.vertex(c), |c| nv + net.edge(c), out)
+        loop_limit_of(&net, weights, |c| net.edge(c), out)
     }
+}
+
+/// Loop's limit after one more step of `net` (its corners' edge numbers
+/// `edge`): the limit points of the next net's vertex points, then of its
+/// edge points in edge order, then its triangles, as [`PolyMesh::loop_into`]
+/// numbers and makes them.
+fn loop_limit_of<N: Net>(
+    net: &N,
+    weights: Option<LoopWeights>,
+    edge: impl Fn(usize) -> usize,
+    out: &mut Emit<'_>,
+) -> io::Result<()> {
+    let next = NextLoop { net, custom: weights.filter(|w| *w != LoopWeights::CLASSIC) };
+    out.vertices_with(net.vertex_count(), |v| next.vertex_limit(v, weights))?;
+    edge_points_into(net.corner_count(), |c| net.twin(c), |c, tw| next.edge_limit(c, tw, weights), out)?;
+    let nv = net.vertex_count();
+    loop_faces(net.corner_count() / 3, |c| net.vertex(c), |c| nv + edge(c), out)
 }
 
 /// Loop's four triangles per triangle of a net of `faces` triangles

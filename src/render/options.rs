@@ -81,7 +81,7 @@ impl Format {
     }
 }
 
-/// How to render: what [`render`] and [`render_mesh`] take.
+/// How to render: what [`render`](super::render) and [`render_mesh`](super::render_mesh) take.
 #[derive(Clone, Debug, Default)]
 pub struct Options {
     /// Parameter values (others: the design's defaults).

@@ -28,7 +28,7 @@ pub enum SweepKind {
     Angle,
     /// The box-counting dimension of the attractor where the bounds prove
     /// convergence (NaN elsewhere, with too few scales, or where the points
-    /// would take more than [`SWEEP_MEMORY`]).
+    /// would take more than 16 MiB, `SWEEP_MEMORY`).
     Dimension,
 }
 
