@@ -2,7 +2,8 @@
 //! Doo-Sabin and Catmull-Clark, the net and the limit surface written as
 //! OBJ files through the render API (what `bcifs surface` does), and the
 //! in-memory net alone; Loop on the
-//! icosahedron at depths 7 and 8 written as OBJ files; faces of 3,000 and
+//! icosahedron at depths 7 and 8 written as OBJ files; Loop's and √3's
+//! limits streamed from named nets (OFF); faces of 3,000 and
 //! 30,000 corners (linear in a face's size). The peers
 //! (CGAL, OpenSubdiv) are measured side by side, end to end, by
 //! `benches/peers/compare.sh`.
@@ -61,6 +62,25 @@ fn loop_obj(c: &mut Criterion) {
     g.finish();
 }
 
+/// The limits streamed from the net two steps back, the nets between named
+/// (OFF, no normals: nothing of the output held): Loop on the icosahedron at
+/// depth 8 (1.3M triangles) and √3 at depth 10 (1.2M triangles).
+fn named_limits(c: &mut Criterion) {
+    let ico = PolyMesh::icosahedron();
+    let mut g = c.benchmark_group("icosahedron_limit_off");
+    g.sample_size(10);
+    for (scheme, depth, faces) in [(Scheme::Loop, 8, 20 * 4u64.pow(8)), (Scheme::Sqrt3, 10, 20 * 3u64.pow(10))] {
+        g.throughput(Throughput::Elements(faces));
+        let job = MeshJob::new(scheme, depth);
+        let path = scratch(scheme.name()).with_extension("off");
+        g.bench_function(BenchmarkId::new(scheme.name(), depth), |b| {
+            b.iter(|| black_box(render_mesh(&ico, &job, &Options::default(), &path).expect("writes")))
+        });
+        let _ = std::fs::remove_file(&path);
+    }
+    g.finish();
+}
+
 /// A prism over an `n`-gon: two `n`-gon faces and `n` quads.
 fn prism(n: usize) -> PolyMesh {
     let mut positions = Vec::with_capacity(2 * n);
@@ -98,6 +118,6 @@ fn large_faces(c: &mut Criterion) {
 criterion_group! {
     name = benches;
     config = Criterion::default().without_plots();
-    targets = subdivision, loop_obj, large_faces
+    targets = subdivision, loop_obj, named_limits, large_faces
 }
 criterion_main!(benches);
