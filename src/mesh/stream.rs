@@ -19,6 +19,13 @@ use crate::geometry::Sink;
 /// million of depth 9).
 pub(crate) const TWO_STEPS_FROM: u128 = 1 << 18;
 
+/// √3 nets and limits whose made net (the last one for the limit, the one
+/// before for the net) would have more faces than this are written from
+/// the net two steps back, the nets after it named: made, they take about
+/// 100 bytes a face (under 256 MiB up to here), named a fifth of that but
+/// about 1.5 times the time (the last net's points are computed when asked).
+pub(crate) const SQRT3_NAMED_FROM: u128 = 1 << 21;
+
 /// A subdivision to run: the scheme, the steps, Doo-Sabin quad weights
 /// (`None`: classic) and the in-memory limit in bytes.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -56,16 +63,17 @@ impl PolyMesh {
         }
         let io = SubdivideError::Write;
         sink.object(name).map_err(io)?;
-        if limit && scheme == Scheme::Sqrt3 {
-            if depth >= 2 && self.estimate(scheme, depth - 1).0 > TWO_STEPS_FROM {
-                // The last two nets named from the one before them (a tenth of the memory), unless a
-                // face of a border-splitting step has two border edges.
-                let (net, t) = self.net_and_topology(scheme, depth - 2, weights, memory_limit)?;
-                let mut out = Emit::into_sink(sink);
-                if net.sqrt3_limit_twice_into(&t, depth - 2, &mut out).map_err(io)? {
-                    return out.flush().map_err(io);
-                }
+        let held = if limit { depth } else { depth.saturating_sub(1) };
+        if scheme == Scheme::Sqrt3 && depth >= 2 && self.estimate(scheme, held).0 > SQRT3_NAMED_FROM {
+            // The last two nets named from the one before them (a tenth of the memory), unless a
+            // face of a border-splitting step has two border edges.
+            let (net, t) = self.net_and_topology(scheme, depth - 2, weights, memory_limit)?;
+            let mut out = Emit::into_sink(sink);
+            if net.sqrt3_twice_into(&t, depth - 2, limit, &mut out).map_err(io)? {
+                return out.flush().map_err(io);
             }
+        }
+        if limit && scheme == Scheme::Sqrt3 {
             // √3's limit points are a mask on the last net's rings: that net
             // in memory, its points and faces streamed (no copy of it made).
             let (net, t) = self.net_and_topology(scheme, depth, weights, memory_limit)?;
@@ -468,7 +476,7 @@ mod tests {
         let t = Topology::trusted(&square);
         assert!(Sqrt3Child::new(&Made { mesh: &square, t: &t }, true, true).is_none());
         let mut out = Emit::memory(0, 0);
-        assert!(!square.sqrt3_limit_twice_into(&t, 1, &mut out).unwrap());
+        assert!(!square.sqrt3_twice_into(&t, 1, true, &mut out).unwrap());
         assert_eq!(out.finish().positions.len(), 0);
     }
 
@@ -480,20 +488,28 @@ mod tests {
         assert_eq!((&a.starts, &a.indices), (&b.starts, &b.indices), "{what}");
     }
 
-    /// √3's limit two steps from a net (both nets between named) is the
-    /// limit on the made net, bit for bit and face for face: closed and open
-    /// meshes, holes, both parities of the border-splitting steps.
+    /// √3's limit and net two steps from a net (both nets between named)
+    /// are the limit on the made net and the made net, bit for bit and face
+    /// for face: closed and open meshes, holes, both parities of the
+    /// border-splitting steps.
     #[test]
-    fn sqrt3s_limit_two_steps_away_is_the_limit_on_the_made_net() {
+    fn sqrt3s_limit_and_net_two_steps_away_are_the_made_ones() {
         let meshes = triangle_meshes().into_iter().chain(irregular_and_holes());
         for (k, mesh) in meshes.enumerate() {
             for d in 0..3 {
                 let net = |d| mesh.net_and_topology(Scheme::Sqrt3, d, None, 1 << 30).unwrap();
                 let ((far, far_t), (last, last_t)) = (net(d), net(d + 2));
                 let (mut two, mut made) = (Emit::memory(0, 0), Emit::memory(0, 0));
-                assert!(far.sqrt3_limit_twice_into(&far_t, d, &mut two).unwrap(), "mesh {k} depth {d}");
+                assert!(far.sqrt3_twice_into(&far_t, d, true, &mut two).unwrap(), "mesh {k} depth {d}");
                 last.triangle_limit_into(&last_t, true, None, &mut made).unwrap();
                 assert_same_mesh(two, made, &format!("mesh {k} depth {d}"));
+                // And the net itself.
+                let mut two = Emit::memory(0, 0);
+                assert!(far.sqrt3_twice_into(&far_t, d, false, &mut two).unwrap(), "mesh {k} depth {d}");
+                let (before, before_t) = net(d + 1);
+                let mut made = Emit::memory(0, 0);
+                before.sqrt3_into(&before_t, d % 2 == 0, &mut made).unwrap();
+                assert_same_mesh(two, made, &format!("mesh {k} net depth {}", d + 2));
             }
         }
     }

@@ -270,17 +270,27 @@ impl PolyMesh {
         self.faces().try_for_each(|f| out.face(f.iter().copied()))
     }
 
-    /// √3's limit after two more steps of this net (step numbers `step` and
-    /// `step + 1`, from 0), the same points and triangles in the same order
-    /// as [`PolyMesh::triangle_limit_into`] on the net after them, with the
+    /// √3's net after two more steps of this net (step numbers `step` and
+    /// `step + 1`, from 0), or with `limit` its limit points, the same points
+    /// and triangles in the same order as [`PolyMesh::sqrt3_into`] on the net
+    /// before (or [`PolyMesh::triangle_limit_into`] on that net), with the
     /// two nets between named ([`Sqrt3Child`]) instead of made. `false`, and
     /// nothing written, when a face of a border-splitting step has two
     /// border edges.
-    pub(crate) fn sqrt3_limit_twice_into(&self, t: &Topology, step: usize, out: &mut Emit<'_>) -> io::Result<bool> {
+    pub(crate) fn sqrt3_twice_into(
+        &self,
+        t: &Topology,
+        step: usize,
+        limit: bool,
+        out: &mut Emit<'_>,
+    ) -> io::Result<bool> {
         let net = Made { mesh: self, t };
         let Some(once) = Sqrt3Child::new(&net, !step.is_multiple_of(2), true) else { return Ok(false) };
         let Some(twice) = Sqrt3Child::new(&once, step.is_multiple_of(2), false) else { return Ok(false) };
-        out.vertices_with(twice.vertex_count(), |v| triangle_limit_point(&twice, v, true, None))?;
+        out.vertices_with(twice.vertex_count(), |v| match limit {
+            true => triangle_limit_point(&twice, v, true, None),
+            false => twice.point(v),
+        })?;
         for x in (0..twice.corner_count()).step_by(3).filter(|&x| twice.is_corner(x)) {
             out.face([x, x + 1, x + 2].map(|x| twice.vertex(x)))?;
         }
