@@ -5,7 +5,7 @@
 
 use super::polymesh::PolyMesh;
 use super::subdivide::LoopWeights;
-use super::topology::{BORDER, Made, Net, Topology};
+use super::topology::{BORDER, Made, Net, Topology, fans, triangle_next, triangle_prev, wide};
 
 /// The corner of the Loop step of a triangle net that is corner `j` of
 /// child `i` of the face of coarse corner `c`: face `f`'s children are
@@ -77,19 +77,12 @@ impl<'a> LoopChild<'a> {
             numbering: Vec::new(),
             edges_before: Vec::new(),
         };
-        let (nv, nc, faces) = (child.points.len(), child.corner_count(), mesh.face_count());
-        // First corners as `Topology` finds them: the border corner, else the first one.
-        let (mut first, mut on_border) = (vec![NONE; nv], vec![false; nv]);
+        let (nc, faces) = (child.corner_count(), mesh.face_count());
+        (child.first, child.on_border) = fans(child.points.len(), 0..nc, |x| child.vertex(x), |x| child.twin(x));
         let (mut numbering, mut edges_before) = (vec![0u16; faces], vec![0u32; faces]);
         let mut edges = 0u32;
         for x in 0..nc {
-            let (v, tw) = (child.vertex(x), child.twin(x));
-            if tw == BORDER {
-                on_border[v] = true;
-                first[v] = x as u32;
-            } else if first[v] == NONE {
-                first[v] = x as u32;
-            }
+            let tw = child.twin(x);
             if x % 12 == 0 {
                 edges_before[x / 12] = edges;
             }
@@ -98,8 +91,7 @@ impl<'a> LoopChild<'a> {
                 edges += 1;
             }
         }
-        (child.first, child.on_border, child.numbering, child.edges_before) =
-            (first, on_border, numbering, edges_before);
+        (child.numbering, child.edges_before) = (numbering, edges_before);
         child
     }
 
@@ -144,10 +136,7 @@ impl Net for LoopChild<'_> {
     }
     #[inline]
     fn first(&self, v: usize) -> usize {
-        match self.first[v] {
-            NONE => BORDER,
-            c => c as usize,
-        }
+        wide(self.first[v])
     }
     #[inline]
     fn on_border(&self, v: usize) -> bool {
@@ -155,11 +144,11 @@ impl Net for LoopChild<'_> {
     }
     #[inline]
     fn next(&self, x: usize) -> usize {
-        x - x % 3 + (x + 1) % 3
+        triangle_next(x)
     }
     #[inline]
     fn prev(&self, x: usize) -> usize {
-        x - x % 3 + (x + 2) % 3
+        triangle_prev(x)
     }
 }
 
@@ -208,32 +197,25 @@ impl<'a, P: Net> Sqrt3Child<'a, P> {
             on_border: Vec::new(),
         };
         let mut next_point = parent.vertex_count();
+        // Corner and vertex numbers are kept in 32 bits.
+        u32::try_from(child.corner_count()).ok()?;
         for f in (0..faces).filter(|&f| parent.is_corner(3 * f)) {
-            let borders = (0..3).filter(|&i| parent.twin(3 * f + i) == BORDER).count();
-            if refine && borders > 1 {
-                return None;
-            }
+            let mut borders = (0..3u8).filter(|&i| parent.twin(3 * f + usize::from(i)) == BORDER);
+            let new = match (refine, borders.next(), borders.next()) {
+                (true, Some(_), Some(_)) => return None,
+                (true, Some(i), None) => {
+                    child.split[f] = i;
+                    2
+                }
+                _ => 1,
+            };
             child.first_point[f] = u32::try_from(next_point).ok()?;
-            let border = (0..3u8).find(|&i| parent.twin(3 * f + usize::from(i)) == BORDER);
-            if let Some(i) = border.filter(|_| refine) {
-                child.split[f] = i;
-            }
-            let new = if refine && borders == 1 { 2 } else { 1 };
             child.point_face.extend(std::iter::repeat_n(f as u32, new));
             next_point += new;
         }
         let nv = next_point;
-        let (mut first, mut on_border) = (vec![NONE; nv], vec![false; nv]);
-        for x in (0..child.corner_count()).filter(|&x| child.is_corner(x)) {
-            let (v, tw) = (child.vertex(x), child.twin(x));
-            if tw == BORDER {
-                on_border[v] = true;
-                first[v] = u32::try_from(x).ok()?;
-            } else if first[v] == NONE {
-                first[v] = u32::try_from(x).ok()?;
-            }
-        }
-        (child.first, child.on_border) = (first, on_border);
+        let corners = (0..child.corner_count()).filter(|&x| child.is_corner(x));
+        (child.first, child.on_border) = fans(nv, corners, |x| child.vertex(x), |x| child.twin(x));
         if keep_points {
             use rayon::prelude::*;
             child.points = (0..nv).into_par_iter().map(|v| child.point(v)).collect();
@@ -359,32 +341,36 @@ impl<P: Net> Net for Sqrt3Child<'_, P> {
     fn twin(&self, x: usize) -> usize {
         let (e, s, j) = (x / 6, x % 6 / 3, x % 3);
         let p = self.parent;
-        match (p.twin(e), s, j) {
-            (_, _, 0) if p.twin(e) == BORDER => BORDER,
-            (BORDER, _, 1) if self.split(e / 3).is_some() => self.in_corner(p.next(e)),
-            (BORDER, _, _) if self.split(e / 3).is_some() => self.out_corner(p.prev(e)),
-            (BORDER, _, 1) => self.twin_of_in(e),
-            (BORDER, _, _) => self.twin_of_out(e),
-            (tw, 0, 0) => self.twin_of_out(tw),
-            (_, 0, 1) => self.twin_of_in(e),
-            (_, 1, 0) => self.twin_of_out(e),
-            (tw, 1, 1) => self.twin_of_in(tw),
-            (_, s, _) => 6 * e + 3 * (1 - s) + 2,
+        let tw = p.twin(e);
+        if tw == BORDER {
+            // `[a, b, F]` (or split: `[X1, X2, w]`): its first side is on the border.
+            return match (j, self.split(e / 3).is_some()) {
+                (0, _) => BORDER,
+                (1, true) => self.in_corner(p.next(e)),
+                (_, true) => self.out_corner(p.prev(e)),
+                (1, false) => self.twin_of_in(e),
+                (_, false) => self.twin_of_out(e),
+            };
+        }
+        // `[F(tw), b, F(e)]` and `[F(e), a, F(tw)]`: spokes, then the flipped edge.
+        match (s, j) {
+            (0, 0) => self.twin_of_out(tw),
+            (0, 1) => self.twin_of_in(e),
+            (1, 0) => self.twin_of_out(e),
+            (1, 1) => self.twin_of_in(tw),
+            (s, _) => 6 * e + 3 * (1 - s) + 2,
         }
     }
     fn first(&self, v: usize) -> usize {
-        match self.first[v] {
-            NONE => BORDER,
-            c => c as usize,
-        }
+        wide(self.first[v])
     }
     fn on_border(&self, v: usize) -> bool {
         self.on_border[v]
     }
     fn next(&self, x: usize) -> usize {
-        x - x % 3 + (x + 1) % 3
+        triangle_next(x)
     }
     fn prev(&self, x: usize) -> usize {
-        x - x % 3 + (x + 2) % 3
+        triangle_prev(x)
     }
 }

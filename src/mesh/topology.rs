@@ -5,7 +5,7 @@
 //! has fewer than 2³² corners), so a deep net's structure costs 9 bytes a
 //! corner. [`Net`] is a net seen through its half-edges, whether made in
 //! memory ([`Made`]: a mesh and its topology) or named from the net before it
-//! without its faces being made (`named::LoopChild`): the rules of a step
+//! without its faces being made (`named::LoopChild`, `named::Sqrt3Child`): the rules of a step
 //! and the limit masks written once on it give a named net the made one's
 //! numbers bit for bit.
 
@@ -63,9 +63,46 @@ impl Faces {
     }
 }
 
+/// A stored corner number, [`BORDER`] for none.
 #[inline]
-fn wide(x: u32) -> usize {
+pub(crate) fn wide(x: u32) -> usize {
     if x == NONE { BORDER } else { x as usize }
+}
+
+/// Each vertex's first corner (the one whose half-edge is on the border,
+/// else the first in order) and whether it is on the border, from the
+/// `corners` in order (numbers below 2³²), their vertices and twins: the
+/// fans of [`Topology`], for made and named nets alike.
+pub(crate) fn fans(
+    vertices: usize,
+    corners: impl Iterator<Item = usize>,
+    vertex: impl Fn(usize) -> usize,
+    twin: impl Fn(usize) -> usize,
+) -> (Vec<u32>, Vec<bool>) {
+    let (mut first, mut on_border) = (vec![NONE; vertices], vec![false; vertices]);
+    for c in corners {
+        let v = vertex(c);
+        if twin(c) == BORDER {
+            // The outgoing half-edge is on the border: the fan starts here.
+            on_border[v] = true;
+            first[v] = c as u32;
+        } else if first[v] == NONE {
+            first[v] = c as u32;
+        }
+    }
+    (first, on_border)
+}
+
+/// The corner after `c` in its triangle (corners `3f .. 3f + 2`).
+#[inline]
+pub(crate) fn triangle_next(c: usize) -> usize {
+    c - c % 3 + (c + 1) % 3
+}
+
+/// The corner before `c` in its triangle.
+#[inline]
+pub(crate) fn triangle_prev(c: usize) -> usize {
+    c - c % 3 + (c + 2) % 3
 }
 
 /// Pairs the half-edges `forth` (a → b) with `back` (b → a) when the pair
@@ -249,19 +286,9 @@ impl Topology {
     /// The topology of `mesh` from its corners' faces and twins: each vertex's
     /// first corner and whether it is on the border.
     fn with_fans(mesh: &PolyMesh, face: Faces, twin: Vec<u32>) -> Topology {
-        let nv = mesh.positions.len();
-        let mut topology = Topology { face, twin, first: vec![NONE; nv], on_border: vec![false; nv] };
-        for c in 0..mesh.corner_count() {
-            let v = mesh.indices[c];
-            if topology.twin[c] == NONE {
-                // The outgoing half-edge is on the border: the fan starts here.
-                topology.on_border[v] = true;
-                topology.first[v] = c as u32;
-            } else if topology.first[v] == NONE {
-                topology.first[v] = c as u32;
-            }
-        }
-        topology
+        let (first, on_border) =
+            fans(mesh.positions.len(), 0..mesh.corner_count(), |c| mesh.indices[c], |c| wide(twin[c]));
+        Topology { face, twin, first, on_border }
     }
 
     /// The topology of `child`, the Loop step of the triangle mesh this is the

@@ -24,7 +24,7 @@ use super::subdivide::{
     LoopWeights, add, border_curve_point, border_midpoint, border_mix, edge_points_into, sqrt3_alpha,
     sqrt3_border_points, sqrt3_vertex, with_ring,
 };
-use super::topology::{BORDER, Made, Net, Topology, ring};
+use super::topology::{BORDER, Made, Net, Topology, ring, triangle_next, triangle_prev};
 
 /// Loop's vertex weight `β` at valence `n`.
 pub fn loop_beta(n: usize) -> f64 {
@@ -499,11 +499,11 @@ struct NextLoop<'a, N> {
 
 impl<N: Net> NextMesh for NextLoop<'_, N> {
     fn next(&self, x: usize) -> usize {
-        x - x % 3 + (x + 1) % 3
+        triangle_next(x)
     }
 
     fn prev(&self, x: usize) -> usize {
-        x - x % 3 + (x + 2) % 3
+        triangle_prev(x)
     }
 
     fn twin(&self, x: usize) -> usize {
