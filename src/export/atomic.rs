@@ -48,7 +48,7 @@ fn sweep_stale(target: &Path) {
         let parts: Vec<&str> = rest.rsplitn(4, '.').collect();
         // Reversed: N, PID, TAG, NAME.
         let [n, pid, tag, _name] = parts[..] else { continue };
-        if !matches!(tag, "partial" | "elements" | "vertices") || n.parse::<u64>().is_err() {
+        if !matches!(tag, "partial" | "elements" | "vertices" | "normals") || n.parse::<u64>().is_err() {
             continue;
         }
         let Ok(pid) = pid.parse::<u32>() else { continue };
@@ -177,6 +177,13 @@ impl Spool {
     /// The writer.
     pub(crate) fn writer(&mut self) -> &mut BufWriter<File> {
         self.writer.as_mut().expect("not appended")
+    }
+
+    /// The side file opened for reading from its start, what was written
+    /// so far flushed first (writing may go on after).
+    pub(crate) fn reader(&mut self) -> io::Result<File> {
+        self.writer().flush()?;
+        File::open(&self.path)
     }
 
     /// Appends the side file to `out` (file to file: the kernel copies) and removes it.

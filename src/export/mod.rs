@@ -8,6 +8,7 @@ mod density;
 mod draw;
 mod flame;
 mod gltf;
+mod normals;
 mod number;
 mod obj;
 mod off;
@@ -24,6 +25,7 @@ pub use density::{Density, Palette, Tone, density, density_bytes, density_image,
 pub use draw::{SEGMENTS_PER_PIXEL, curve_picture_depth, picture, picture_bytes, picture_depth};
 pub use flame::{FlameError, flame_text, write_flame};
 pub use gltf::GltfWriter;
+pub(crate) use normals::{NormalSpill, Replay};
 pub use obj::{ObjWriter, write_evaluation, write_obj};
 pub use off::OffWriter;
 pub use picture::{PictureError, PictureKind, PictureWriter, write_picture};

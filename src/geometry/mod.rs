@@ -100,22 +100,36 @@ pub trait Sink {
 pub fn area_normals<'a>(points: &[[f64; 3]], faces: impl Iterator<Item = &'a [usize]>) -> Vec<[f64; 3]> {
     let mut sums = vec![[0.0f64; 3]; points.len()];
     for face in faces.filter(|f| f.len() >= 3) {
-        let mut n = [0.0; 3];
-        for (k, &a) in face.iter().enumerate() {
-            let (p, q) = (points[a], points[face[(k + 1) % face.len()]]);
-            n[0] += (p[1] - q[1]) * (p[2] + q[2]);
-            n[1] += (p[2] - q[2]) * (p[0] + q[0]);
-            n[2] += (p[0] - q[0]) * (p[1] + q[1]);
-        }
+        let n = area_vector(face.len(), |k| points[face[k]]);
         for &a in face {
             (0..3).for_each(|c| sums[a][c] += n[c]);
         }
     }
-    for n in &mut sums {
-        let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
-        *n = if len > 0.0 && len.is_finite() { n.map(|x| x / len) } else { [0.0; 3] };
-    }
+    sums.iter_mut().for_each(|n| *n = unit_or_zero(*n));
     sums
+}
+
+/// The area vector (Newell's) of the polygon whose `k`-th corner is at
+/// `corner(k)`, for `k` below `n`: the sum over its edges, in order from
+/// the first corner, that [`area_normals`] gives each face.
+#[inline]
+pub fn area_vector(n: usize, corner: impl Fn(usize) -> [f64; 3]) -> [f64; 3] {
+    let mut v = [0.0; 3];
+    for k in 0..n {
+        let (p, q) = (corner(k), corner((k + 1) % n));
+        v[0] += (p[1] - q[1]) * (p[2] + q[2]);
+        v[1] += (p[2] - q[2]) * (p[0] + q[0]);
+        v[2] += (p[0] - q[0]) * (p[1] + q[1]);
+    }
+    v
+}
+
+/// `n` divided by its length, or zero when that length is zero or not finite
+/// (a vertex no face of positive area touches), as [`area_normals`] ends.
+#[inline]
+pub fn unit_or_zero(n: [f64; 3]) -> [f64; 3] {
+    let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+    if len > 0.0 && len.is_finite() { n.map(|x| x / len) } else { [0.0; 3] }
 }
 
 /// A quad of an in-memory mesh: four vertex (or texture) indices, counter-clockwise.

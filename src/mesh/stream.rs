@@ -56,6 +56,37 @@ impl PolyMesh {
         name: &str,
         sink: &mut dyn Sink,
     ) -> Result<Written, SubdivideError> {
+        self.stream_into(job, limit, name, sink, true)
+    }
+
+    /// [`PolyMesh::subdivide_into`] with the vertices numbered as in the
+    /// output in memory ([`PolyMesh::subdivided`]) and the same numbers, bit
+    /// for bit: Loop's deep nets made from the net before the last step (four
+    /// times the memory of the net two steps back, which numbers the two
+    /// nets' new vertices its own way and sums some rings in another order).
+    ///
+    /// # Errors
+    /// As [`PolyMesh::subdivide_into`].
+    pub fn subdivide_as_made_into(
+        &self,
+        job: &Subdivision,
+        limit: bool,
+        name: &str,
+        sink: &mut dyn Sink,
+    ) -> Result<Written, SubdivideError> {
+        self.stream_into(job, limit, name, sink, false)
+    }
+
+    /// [`PolyMesh::subdivide_into`]; `two_loop_nets`: Loop's deep nets from
+    /// the net two steps back.
+    fn stream_into(
+        &self,
+        job: &Subdivision,
+        limit: bool,
+        name: &str,
+        sink: &mut dyn Sink,
+        two_loop_nets: bool,
+    ) -> Result<Written, SubdivideError> {
         let Subdivision { scheme, depth, weights, memory_limit } = *job;
         let depth = if limit { depth.max(1) } else { depth };
         if limit && scheme == Scheme::DooSabin && !self.has_interior_vertex() {
@@ -85,7 +116,7 @@ impl PolyMesh {
             return self.push_into(sink).map_err(io);
         }
         let mut out = Emit::into_sink(sink);
-        if self.two_loop_steps(scheme, depth) {
+        if (limit || two_loop_nets) && self.two_loop_steps(scheme, depth) {
             // The last two steps (or the limit after them) from the net before them: a quarter of the memory.
             let (net, t) = self.net_and_topology(scheme, depth - 2, weights, memory_limit)?;
             let triangle = weights.and_then(RuleWeights::triangle);
@@ -157,6 +188,26 @@ impl PolyMesh {
         }
     }
 
+    /// Where the input's groups of faces start in the output of `depth`
+    /// steps of `scheme` (`limit`: the limit surface's faces), in order:
+    /// `None` for the faces before the first group; one entry, unnamed,
+    /// when the output keeps no groups (fewer than two: the object is
+    /// one; Doo-Sabin's limit, the dual's faces; Doo-Sabin's and √3's nets,
+    /// whose faces come from edges and vertices too). A face number may be
+    /// past the last face (an empty group).
+    pub fn group_cuts(&self, scheme: Scheme, depth: usize, limit: bool) -> Vec<(Option<String>, usize)> {
+        let steps = if limit { depth.max(1) } else { depth };
+        let groups = self.groups_after(scheme, steps).filter(|g| g.len() > 1 && !(limit && scheme == Scheme::DooSabin));
+        let mut cuts: Vec<(Option<String>, usize)> = match groups {
+            Some(g) => g.into_iter().map(|(n, at)| (Some(n), at)).collect(),
+            None => vec![(None, 0)],
+        };
+        if cuts.first().is_some_and(|c| c.1 > 0) {
+            cuts.insert(0, (None, 0));
+        }
+        cuts
+    }
+
     /// [`PolyMesh::subdivide_into`], with area-weighted vertex normals
     /// ([`crate::geometry::area_normals`]) and, when `texture` is asked and
     /// the mesh has texture coordinates, the texture mesh subdivided alike
@@ -191,18 +242,11 @@ impl PolyMesh {
             sink.uvs(&flat).map_err(io)?;
         }
         sink.vertices_complete().map_err(io)?;
-        // The input's groups of faces, where the scheme's faces follow them (two or more: one is the object).
         let face_count = starts.len() - 1;
-        let groups = self.groups_after(scheme, steps).filter(|g| g.len() > 1 && !(limit && scheme == Scheme::DooSabin));
-        let mut cuts: Vec<(Option<&str>, usize)> = match &groups {
-            Some(g) => g.iter().map(|(n, at)| (Some(n.as_str()), (*at).min(face_count))).collect(),
-            None => vec![(None, 0)],
-        };
-        if cuts.first().is_some_and(|c| c.1 > 0) {
-            cuts.insert(0, (None, 0));
-        }
-        for (k, &(group, at)) in cuts.iter().enumerate() {
-            let end = cuts.get(k + 1).map_or(face_count, |c| c.1);
+        let cuts: Vec<(Option<String>, usize)> =
+            self.group_cuts(scheme, depth, limit).into_iter().map(|(g, at)| (g, at.min(face_count))).collect();
+        for (k, (group, at)) in cuts.iter().enumerate() {
+            let (at, end) = (*at, cuts.get(k + 1).map_or(face_count, |c| c.1));
             if let Some(group) = group {
                 sink.group(group).map_err(io)?;
             }
@@ -532,6 +576,24 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// Loop's deep nets streamed as made (the path of the outputs with
+    /// normals) are the net in memory bit for bit, numbering included, where
+    /// the net streamed by default comes from two steps back (numbered its own way).
+    #[test]
+    fn loop_nets_streamed_as_made_are_the_nets_in_memory() {
+        let ico = PolyMesh::icosahedron();
+        assert!(ico.two_loop_steps(Scheme::Loop, 8));
+        let job = Subdivision { scheme: Scheme::Loop, depth: 8, weights: None, memory_limit: 1 << 30 };
+        let made = ico.subdivided(&job, false).unwrap();
+        let mut streamed = crate::geometry::Shape::default();
+        let written = ico.subdivide_as_made_into(&job, false, "ico", &mut streamed).unwrap();
+        assert_eq!((written.vertices, written.faces), (made.positions.len(), made.face_count()));
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&streamed.positions), bits(made.positions.as_flattened()));
+        let faces: Vec<[usize; 3]> = made.faces().map(|f| [f[0], f[1], f[2]]).collect();
+        assert_eq!(streamed.triangles, faces);
     }
 
     /// Two Loop steps written at once are two steps in memory, up to the

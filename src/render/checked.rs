@@ -67,7 +67,7 @@ impl FileWriter {
             FileWriter::Glb(w) => w,
             FileWriter::Picture(w) => w,
         };
-        Checked { sink, cancel, vertices: 0, faces: 0 }
+        Checked::new(sink, cancel)
     }
 
     /// Completes the file; its size in bytes.
@@ -106,7 +106,12 @@ pub(crate) struct Checked<'a> {
     pub(crate) faces: usize,
 }
 
-impl Checked<'_> {
+impl<'a> Checked<'a> {
+    /// `sink` behind `cancel`.
+    pub(crate) fn new(sink: &'a mut dyn Sink, cancel: &'a Cancel) -> Checked<'a> {
+        Checked { sink, cancel, vertices: 0, faces: 0 }
+    }
+
     fn check(&self) -> io::Result<()> {
         if self.cancel.is_cancelled() { Err(io::Error::new(io::ErrorKind::Interrupted, "cancelled")) } else { Ok(()) }
     }

@@ -156,7 +156,7 @@ fn stream_file(
     let mut writer = FileWriter::create(out, format, &settings)?;
     if let (Some(random), false) = (options.random_settings(), options.dedup) {
         let game = streaming_game(&instance.automaton, &model, &random)?;
-        check_disk(out, random.points as u128 * (3 + 22 * game.dim() as u128), options.max_output)?;
+        check_disk(out, random.points as u128 * (3 + 22 * game.dim() as u128), 0, options.max_output)?;
         let mut sink = writer.checked(&options.cancel);
         sink.object(design.name()).map_err(&io)?;
         match &options.palette {
@@ -186,7 +186,7 @@ fn stream_file(
             report.warnings.push("--uv gives texture coordinates to surfaces; this curve or point set has none".into());
         }
         if let Depth::Fixed(k) = options.eval.depth {
-            check_disk(out, ev.estimate_obj_bytes(k), options.max_output)?;
+            check_disk(out, ev.estimate_obj_bytes(k), 0, options.max_output)?;
         }
         let eval_error = |e: EvalError| match e {
             EvalError::Io(e) => io(e),

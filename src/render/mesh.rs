@@ -3,11 +3,13 @@
 
 use std::path::Path;
 
-use super::checked::{FileWriter, WriteSettings, write_error};
+use super::checked::{Checked, FileWriter, WriteSettings, write_error};
 use super::options::{Format, Options, RenderError, Report, check_disk};
 use super::shape::write_shape_text;
 use crate::analysis::{WeightsError, WeightsVerdict, check_loop_weights, check_quad_weights};
-use crate::mesh::{LoopWeights, PolyMesh, QuadWeights, RuleWeights, Scheme, SubdivideError, Subdivision};
+use crate::export::{NormalSpill, Replay};
+use crate::geometry::Sink;
+use crate::mesh::{LoopWeights, PolyMesh, QuadWeights, RuleWeights, Scheme, SubdivideError, Subdivision, Written};
 
 /// A subdivision of a polygon mesh to render.
 #[derive(Clone, Debug, PartialEq)]
@@ -102,6 +104,41 @@ pub fn check_weights(mesh: &PolyMesh, weights: Option<RuleWeights>) -> Result<Op
     })
 }
 
+/// Outputs with vertex normals are made in memory up to this estimate
+/// ([`PolyMesh::estimate`]; about a third of it taken), larger ones streamed
+/// through side files ([`NormalSpill`]).
+const NORMALS_IN_MEMORY: u128 = 256 << 20;
+
+/// Bytes per face of the side files of normals streamed: a vertex's position
+/// (about one vertex a face), a face's area vector, its corners and their count.
+const SPILL_PER_FACE: u128 = 24 + 24 + 4 * 5;
+
+/// Bytes the normals streamed take once the mesh is made (a quarter for a
+/// chunk of faces, the rest for the sums of a block of vertices: the
+/// 10.5 million vertices of Loop's depth 10 on the icosahedron in three blocks).
+const SPILL_BUDGET: usize = 128 << 20;
+
+/// [`PolyMesh::subdivide_as_made_into`] through side files beside `out`,
+/// then replayed into `sink` with vertex normals: the numbers and bytes
+/// [`PolyMesh::subdivide_smooth_into`] gives, in bounded memory.
+fn spilled_into(
+    mesh: &PolyMesh,
+    job: &MeshJob,
+    subdivision: &Subdivision,
+    out: &Path,
+    options: &Options,
+    sink: &mut dyn Sink,
+) -> Result<Written, SubdivideError> {
+    let io = SubdivideError::Write;
+    let mut spill = NormalSpill::create(out).map_err(io)?;
+    let mut checked = Checked::new(&mut spill, &options.cancel);
+    let written = mesh.subdivide_as_made_into(subdivision, !job.net, &job.name, &mut checked)?;
+    let groups = mesh.group_cuts(job.scheme, job.depth, !job.net);
+    let budget = SPILL_BUDGET.min(options.eval.memory_limit / 2).max(1 << 20);
+    spill.replay(Replay { sink, groups: &groups, cancel: &options.cancel, budget }).map_err(io)?;
+    Ok(written)
+}
+
 /// The output of `job` on `mesh` in memory (what [`render_mesh`] writes,
 /// as a mesh: the net, or the limit surface's points with the net's faces),
 /// the rule weights checked first and [`Options`]' memory limit applied:
@@ -158,37 +195,37 @@ pub fn render_mesh(mesh: &PolyMesh, job: &MeshJob, options: &Options, out: &Path
         let written = write_shape_text(&shape, &job.name, &options.raster.with_y_up(true), out, &text)?;
         return Ok(Report { warnings: report.warnings, depth: report.depth, ..written });
     }
-    let faces = mesh.estimate(job.scheme, job.depth).0;
-    check_disk(out, faces.saturating_mul(BYTES_PER_FACE), options.max_output)?;
+    let (faces, in_memory) = mesh.estimate(job.scheme, job.depth);
+    // Vertex normals need every face around a vertex: small outputs are made in memory, large ones
+    // streamed through side files (the same numbers); texture coordinates only in memory.
+    let textured = job.uv && format.has_uvs() && mesh.texture().is_some();
+    let follows = matches!(job.scheme, Scheme::CatmullClark | Scheme::Loop);
+    let smooth = format.has_normals()
+        && (in_memory <= NORMALS_IN_MEMORY.min(memory as u128) || textured && follows && in_memory <= memory as u128);
+    let spilled = format.has_normals() && !smooth;
+    let side = if spilled { faces.saturating_mul(SPILL_PER_FACE) } else { 0 };
+    check_disk(out, faces.saturating_mul(BYTES_PER_FACE), side, options.max_output)?;
     let coordinates = crate::export::Coordinates { y_up_input: true, ..options.coordinates };
     let threads = options.eval.threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
     let settings = WriteSettings { coordinates, threads, raster: &options.raster, ascii: options.ascii };
     let mut writer = FileWriter::create(out, format, &settings)?;
     let mut sink = writer.checked(&options.cancel);
-    // Vertex normals need every face around a vertex: the output in memory when it fits, streamed without them otherwise.
-    let in_memory = mesh.estimate(job.scheme, job.depth).1;
-    let smooth = format.has_normals() && in_memory <= memory as u128;
-    if format.has_normals() && !smooth {
+    if textured && !follows {
         report.notes.push(format!(
-            "written without vertex normals: the mesh would take {:.1} GiB in memory to compute them, over the limit of {:.1} GiB (--memory-mib); it is streamed",
+            "texture coordinates follow Catmull-Clark and Loop, whose faces split the input's; {}'s faces come from edges and vertices too: the output has none",
+            job.scheme.name()
+        ));
+    } else if textured && !smooth {
+        report.notes.push(format!(
+            "texture coordinates are written by the output made in memory, which would take {:.1} GiB, over the limit of {:.1} GiB (--memory-mib): this streamed output has none",
             in_memory as f64 / f64::from(1u32 << 30),
             memory as f64 / f64::from(1u32 << 30)
         ));
     }
-    if job.uv && format.has_uvs() && mesh.texture().is_some() {
-        if !matches!(job.scheme, Scheme::CatmullClark | Scheme::Loop) {
-            report.notes.push(format!(
-                "texture coordinates follow Catmull-Clark and Loop, whose faces split the input's; {}'s faces come from edges and vertices too: the output has none",
-                job.scheme.name()
-            ));
-        } else if !smooth {
-            report.notes.push(
-                "texture coordinates are written with the normals, in memory: this streamed output has none".into(),
-            );
-        }
-    }
     let written = if smooth {
         mesh.subdivide_smooth_into(&subdivision, !job.net, job.uv && format.has_uvs(), &job.name, &mut sink)
+    } else if spilled {
+        spilled_into(mesh, job, &subdivision, out, options, &mut sink)
     } else {
         mesh.subdivide_into(&subdivision, !job.net, &job.name, &mut sink)
     };

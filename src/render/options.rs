@@ -284,11 +284,12 @@ impl From<crate::export::PictureError> for RenderError {
 
 /// Refuses an output whose estimated size is over `max` (0: no limit) or
 /// over the free space of the target's disk (with its side files, a
-/// streamed file peaks at about 1.5 times its size).
+/// streamed file peaks at about 1.5 times its size), plus `side` bytes of
+/// other side files it needs while it is written (vertex normals streamed).
 ///
 /// # Errors
 /// [`RenderError::TooBig`] with the estimate and the limit.
-pub fn check_disk(out: &Path, estimate: u128, max: u128) -> Result<(), RenderError> {
+pub fn check_disk(out: &Path, estimate: u128, side: u128, max: u128) -> Result<(), RenderError> {
     let gib = |b: u128| b as f64 / (1u64 << 30) as f64;
     if max > 0 && estimate > max {
         return Err(RenderError::TooBig(format!(
@@ -299,11 +300,12 @@ pub fn check_disk(out: &Path, estimate: u128, max: u128) -> Result<(), RenderErr
     }
     let dir = out.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
     if let Ok(free) = fs4::available_space(dir)
-        && estimate.saturating_mul(3) / 2 > u128::from(free)
+        && (estimate.saturating_mul(3) / 2).saturating_add(side) > u128::from(free)
     {
         return Err(RenderError::TooBig(format!(
-            "the file would take about {:.1} GiB (and half as much again while it is written); {} has {:.1} GiB free",
+            "the file would take about {:.1} GiB (and half as much again while it is written, {:.1} GiB of side files); {} has {:.1} GiB free",
             gib(estimate),
+            gib(side),
             dir.display(),
             gib(u128::from(free))
         )));
