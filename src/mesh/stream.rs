@@ -56,37 +56,6 @@ impl PolyMesh {
         name: &str,
         sink: &mut dyn Sink,
     ) -> Result<Written, SubdivideError> {
-        self.stream_into(job, limit, name, sink, true)
-    }
-
-    /// [`PolyMesh::subdivide_into`] with the vertices numbered as in the
-    /// output in memory ([`PolyMesh::subdivided`]) and the same numbers, bit
-    /// for bit: Loop's deep nets made from the net before the last step (four
-    /// times the memory of the net two steps back, which numbers the two
-    /// nets' new vertices its own way and sums some rings in another order).
-    ///
-    /// # Errors
-    /// As [`PolyMesh::subdivide_into`].
-    pub fn subdivide_as_made_into(
-        &self,
-        job: &Subdivision,
-        limit: bool,
-        name: &str,
-        sink: &mut dyn Sink,
-    ) -> Result<Written, SubdivideError> {
-        self.stream_into(job, limit, name, sink, false)
-    }
-
-    /// [`PolyMesh::subdivide_into`]; `two_loop_nets`: Loop's deep nets from
-    /// the net two steps back.
-    fn stream_into(
-        &self,
-        job: &Subdivision,
-        limit: bool,
-        name: &str,
-        sink: &mut dyn Sink,
-        two_loop_nets: bool,
-    ) -> Result<Written, SubdivideError> {
         let Subdivision { scheme, depth, weights, memory_limit } = *job;
         let depth = if limit { depth.max(1) } else { depth };
         if limit && scheme == Scheme::DooSabin && !self.has_interior_vertex() {
@@ -116,7 +85,7 @@ impl PolyMesh {
             return self.push_into(sink).map_err(io);
         }
         let mut out = Emit::into_sink(sink);
-        if (limit || two_loop_nets) && self.two_loop_steps(scheme, depth) {
+        if self.two_loop_steps(scheme, depth) {
             // The last two steps (or the limit after them) from the net before them: a quarter of the memory.
             let (net, t) = self.net_and_topology(scheme, depth - 2, weights, memory_limit)?;
             let triangle = weights.and_then(RuleWeights::triangle);
@@ -265,23 +234,6 @@ mod tests {
     use super::*;
     use crate::mesh::LoopWeights;
     use crate::mesh::topology::{BORDER, Topology};
-
-    /// The faces of a mesh as position triples, each rotated to start at its
-    /// smallest vertex (positions rounded to 1e-12), sorted.
-    fn faces_by_position(m: &PolyMesh) -> Vec<Vec<[i64; 3]>> {
-        let key = |v: usize| m.positions[v].map(|x| (x * 1e12).round() as i64);
-        let mut out: Vec<Vec<[i64; 3]>> = m
-            .faces()
-            .map(|f| {
-                let mut k: Vec<[i64; 3]> = f.iter().map(|&v| key(v)).collect();
-                let first = (0..k.len()).min_by_key(|&i| k[i]).unwrap_or(0);
-                k.rotate_left(first);
-                k
-            })
-            .collect();
-        out.sort();
-        out
-    }
 
     /// The icosahedron without three of its faces (a border of valences 3 to 5).
     fn open_icosahedron() -> PolyMesh {
@@ -525,10 +477,9 @@ mod tests {
     }
 
     /// Two meshes made in memory are the same: points bit for bit, faces.
-    fn assert_same_mesh(a: Emit<'_>, b: Emit<'_>, what: &str) {
-        let (a, b) = (a.finish(), b.finish());
+    fn assert_same_mesh(a: &PolyMesh, b: &PolyMesh, what: &str) {
         let bits = |m: &PolyMesh| m.positions.iter().map(|p| p.map(f64::to_bits)).collect::<Vec<_>>();
-        assert_eq!(bits(&a), bits(&b), "{what}");
+        assert_eq!(bits(a), bits(b), "{what}");
         assert_eq!((&a.starts, &a.indices), (&b.starts, &b.indices), "{what}");
     }
 
@@ -546,14 +497,14 @@ mod tests {
                 let (mut two, mut made) = (Emit::memory(0, 0), Emit::memory(0, 0));
                 assert!(far.sqrt3_twice_into(&far_t, d, true, &mut two).unwrap(), "mesh {k} depth {d}");
                 last.triangle_limit_into(&last_t, true, None, &mut made).unwrap();
-                assert_same_mesh(two, made, &format!("mesh {k} depth {d}"));
+                assert_same_mesh(&two.finish(), &made.finish(), &format!("mesh {k} depth {d}"));
                 // And the net itself.
                 let mut two = Emit::memory(0, 0);
                 assert!(far.sqrt3_twice_into(&far_t, d, false, &mut two).unwrap(), "mesh {k} depth {d}");
                 let (before, before_t) = net(d + 1);
                 let mut made = Emit::memory(0, 0);
                 before.sqrt3_into(&before_t, d % 2 == 0, &mut made).unwrap();
-                assert_same_mesh(two, made, &format!("mesh {k} net depth {}", d + 2));
+                assert_same_mesh(&two.finish(), &made.finish(), &format!("mesh {k} net depth {}", d + 2));
             }
         }
     }
@@ -572,23 +523,22 @@ mod tests {
                     let (mut two, mut one) = (Emit::memory(0, 0), Emit::memory(0, 0));
                     far.loop_limit_twice_into(&far_t, weights, &mut two).unwrap();
                     near.loop_limit_into(&near_t, weights, &mut one).unwrap();
-                    assert_same_mesh(two, one, &format!("depth {d}"));
+                    assert_same_mesh(&two.finish(), &one.finish(), &format!("depth {d}"));
                 }
             }
         }
     }
 
-    /// Loop's deep nets streamed as made (the path of the outputs with
-    /// normals) are the net in memory bit for bit, numbering included, where
-    /// the net streamed by default comes from two steps back (numbered its own way).
+    /// Loop's deep nets streamed (from two steps back, the net between
+    /// named) are the net in memory bit for bit, numbering included.
     #[test]
-    fn loop_nets_streamed_as_made_are_the_nets_in_memory() {
+    fn loop_nets_streamed_are_the_nets_in_memory() {
         let ico = PolyMesh::icosahedron();
         assert!(ico.two_loop_steps(Scheme::Loop, 8));
         let job = Subdivision { scheme: Scheme::Loop, depth: 8, weights: None, memory_limit: 1 << 30 };
         let made = ico.subdivided(&job, false).unwrap();
         let mut streamed = crate::geometry::Shape::default();
-        let written = ico.subdivide_as_made_into(&job, false, "ico", &mut streamed).unwrap();
+        let written = ico.subdivide_into(&job, false, "ico", &mut streamed).unwrap();
         assert_eq!((written.vertices, written.faces), (made.positions.len(), made.face_count()));
         let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
         assert_eq!(bits(&streamed.positions), bits(made.positions.as_flattened()));
@@ -596,9 +546,9 @@ mod tests {
         assert_eq!(streamed.triangles, faces);
     }
 
-    /// Two Loop steps written at once are two steps in memory, up to the
-    /// numbering of the vertices (positions to 1e-12, faces and their
-    /// orientation): closed and open meshes, valences 3 to 6, Loop's and other weights.
+    /// Two Loop steps written at once are two steps in memory, vertex for
+    /// vertex and bit for bit: closed and open meshes, valences 3 to 6,
+    /// Loop's and other weights.
     #[test]
     fn two_loop_steps_at_once_are_two_steps() {
         for mesh in triangle_meshes() {
@@ -609,8 +559,7 @@ mod tests {
                 once.loop_twice_into(&t, weights, &mut out).unwrap();
                 let ours = out.finish();
                 let theirs = mesh.subdivide_with(Scheme::Loop, 3, weights.map(Into::into), 1 << 30).unwrap();
-                assert_eq!(ours.positions.len(), theirs.positions.len());
-                assert_eq!(faces_by_position(&ours), faces_by_position(&theirs));
+                assert_same_mesh(&ours, &theirs, &format!("{weights:?}"));
             }
         }
     }

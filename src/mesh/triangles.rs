@@ -80,6 +80,23 @@ pub(crate) fn loop_vertex_point<N: Net>(net: &N, v: usize, custom: Option<LoopWe
     }
 }
 
+/// The points of one Loop step of `net` into `out`: its vertices' new
+/// points, then a point per edge in corner order (the smaller corner of an
+/// interior edge; [`edge_points_into`]), the numbering of [`PolyMesh::edge_numbers`].
+fn loop_points_of<N: Net>(net: &N, weights: Option<LoopWeights>, out: &mut Emit<'_>) -> io::Result<()> {
+    let custom = weights.filter(|w| *w != LoopWeights::CLASSIC);
+    out.vertices_with(net.vertex_count(), |v| loop_vertex_point(net, v, custom))?;
+    edge_points_into(
+        net.corner_count(),
+        |c| net.twin(c),
+        |c, tw| match tw {
+            None => border_midpoint(net, c),
+            Some(tw) => loop_edge_point(net, c, tw, custom),
+        },
+        out,
+    )
+}
+
 /// Loop's point of the interior edge of the corners `c < tw` of `net`.
 pub(crate) fn loop_edge_point<N: Net>(net: &N, c: usize, tw: usize, custom: Option<LoopWeights>) -> [f64; 3] {
     let p = |c: usize| net.point(net.vertex(c));
@@ -132,44 +149,25 @@ impl PolyMesh {
         weights: Option<LoopWeights>,
         out: &mut Emit<'_>,
     ) -> io::Result<(Vec<u32>, usize)> {
-        let custom = weights.filter(|w| *w != LoopWeights::CLASSIC);
-        let net = Made { mesh: self, t };
-        for v in 0..self.positions.len() {
-            out.vertex(loop_vertex_point(&net, v, custom))?;
-        }
-        self.edge_points(t, out, |c, tw| loop_edge_point(&net, c, tw, custom))
+        loop_points_of(&Made { mesh: self, t }, weights, out)?;
+        Ok(self.edge_numbers(t))
     }
 
     /// Two Loop steps into `out` without the net between them, which would
-    /// take four times this net's memory: that net's points are made by
-    /// [`PolyMesh::loop_into`] (vertex points, then edge points in edge
-    /// order) and its connectivity is read off this net's corners (child `k`
-    /// of a face is `[v_k, m(e_k), m(e_{k−1})]`, the middle one
-    /// `[m(e_0), m(e_1), m(e_2)]`). The output has the same points and faces,
-    /// in the same face order, as two steps in memory; its vertices are that
-    /// net's vertex points, then two per edge of this net (its halves, from
-    /// the edge's numbering corner) and three per face (the middle
-    /// triangle's edges).
+    /// take four times this net's memory: that net is named from this one
+    /// ([`LoopChild`]: its points made, its corners read off this net's), and
+    /// the second step runs on it with the rules of a made net, so the
+    /// output is two steps in memory, vertex for vertex and bit for bit.
     pub(crate) fn loop_twice_into(
         &self,
         t: &Topology,
         weights: Option<LoopWeights>,
         out: &mut Emit<'_>,
     ) -> io::Result<()> {
-        let mut mid = Emit::points();
-        let (edge_of, edges) = self.loop_points_into(t, weights, &mut mid)?;
-        let two = TwoSteps {
-            mesh: self,
-            t,
-            mid: mid.into_points(),
-            edge_of,
-            edges,
-            custom: weights.filter(|w| *w != LoopWeights::CLASSIC),
-        };
-        let numbering: Vec<usize> = (0..self.corner_count()).filter(|&c| two.canonical(c)).collect();
-        two.vertex_points(&numbering, out)?;
-        two.edge_points(&numbering, out)?;
-        two.faces(out)
+        let net = LoopChild::new(self, t, weights);
+        loop_points_of(&net, weights, out)?;
+        let nv = net.vertex_count();
+        loop_faces(net.corner_count() / 3, |c| net.vertex(c), |c| nv + net.edge(c), out)
     }
 
     /// One √3 step into `out`: vertex points, a centroid per face, and every
@@ -352,142 +350,6 @@ impl PolyMesh {
         }
     }
 }
-/// Two Loop steps from a net at once: the middle net's points (`mid`: one
-/// step's vertex points, then its edge points numbered by `edge_of`) and
-/// the rules of the second step on them.
-struct TwoSteps<'a> {
-    mesh: &'a PolyMesh,
-    t: &'a Topology,
-    mid: Vec<[f64; 3]>,
-    edge_of: Vec<u32>,
-    edges: usize,
-    custom: Option<LoopWeights>,
-}
-
-impl TwoSteps<'_> {
-    /// The middle net's point on the edge of corner `c`.
-    fn m(&self, c: usize) -> usize {
-        self.mesh.positions.len() + self.edge_of[c] as usize
-    }
-
-    /// Whether corner `c` numbers its edge.
-    fn canonical(&self, c: usize) -> bool {
-        self.t.twin(c) == BORDER || c < self.t.twin(c)
-    }
-
-    fn sum(&self, ids: &[usize]) -> [f64; 3] {
-        let mut r = [0.0; 3];
-        ids.iter().for_each(|&i| add(&mut r, self.mid[i], 1.0));
-        r
-    }
-
-    /// The border rule `(u + 6v + w)/8` on middle points.
-    fn border(&self, u: usize, v: usize, w: usize) -> [f64; 3] {
-        let mut q = [0.0; 3];
-        add(&mut q, self.mid[u], 1.0 / 8.0);
-        add(&mut q, self.mid[v], 6.0 / 8.0);
-        add(&mut q, self.mid[w], 1.0 / 8.0);
-        q
-    }
-
-    fn half(&self, a: usize, b: usize) -> [f64; 3] {
-        let mut q = [0.0; 3];
-        add(&mut q, self.mid[a], 0.5);
-        add(&mut q, self.mid[b], 0.5);
-        q
-    }
-
-    /// The middle net's vertex points: its old vertices, then its edge points.
-    fn vertex_points(&self, numbering: &[usize], out: &mut Emit<'_>) -> io::Result<()> {
-        let (mesh, t) = (self.mesh, self.t);
-        for (v, &p) in self.mid.iter().enumerate().take(mesh.positions.len()) {
-            let c0 = t.first(v);
-            let q = if c0 == BORDER {
-                p
-            } else if t.on_border(v) {
-                let mut last = c0;
-                while t.rotate(mesh, last) != BORDER {
-                    last = t.rotate(mesh, last);
-                }
-                self.border(self.m(t.prev(mesh, last)), v, self.m(c0))
-            } else {
-                let mut ring = vec![self.m(c0)];
-                let mut c = t.rotate(mesh, c0);
-                while c != c0 {
-                    ring.push(self.m(c));
-                    c = t.rotate(mesh, c);
-                }
-                loop_vertex(p, self.sum(&ring), ring.len(), self.custom)
-            };
-            out.vertex(q)?;
-        }
-        for &c in numbering {
-            let (tw, a, b) = (t.twin(c), mesh.indices[c], mesh.indices[t.next(mesh, c)]);
-            let q = if tw == BORDER {
-                self.border(a, self.m(c), b)
-            } else {
-                let m = |c| self.m(c);
-                let ring = [a, b, m(t.next(mesh, c)), m(t.prev(mesh, c)), m(t.next(mesh, tw)), m(t.prev(mesh, tw))];
-                loop_vertex(self.mid[m(c)], self.sum(&ring), 6, self.custom)
-            };
-            out.vertex(q)?;
-        }
-        Ok(())
-    }
-
-    /// The middle net's edge points: the halves of this net's edges, the middle triangles' edges.
-    fn edge_points(&self, numbering: &[usize], out: &mut Emit<'_>) -> io::Result<()> {
-        let (mesh, t, mid, custom) = (self.mesh, self.t, &self.mid, self.custom);
-        let m = |c| self.m(c);
-        for &c in numbering {
-            let (tw, a, b) = (t.twin(c), mesh.indices[c], mesh.indices[t.next(mesh, c)]);
-            if tw == BORDER {
-                out.vertex(self.half(a, m(c)))?;
-                out.vertex(self.half(m(c), b))?;
-            } else {
-                let (p, n) = (m(t.prev(mesh, c)), m(t.next(mesh, c)));
-                let (tp, tn) = (m(t.prev(mesh, tw)), m(t.next(mesh, tw)));
-                out.vertex(loop_edge([mid[a], mid[m(c)], mid[p], mid[tn]], custom))?;
-                out.vertex(loop_edge([mid[m(c)], mid[b], mid[n], mid[tp]], custom))?;
-            }
-        }
-        for f in 0..mesh.face_count() {
-            let s = mesh.starts[f];
-            for k in 0..3 {
-                let (k1, k2) = (s + (k + 1) % 3, s + (k + 2) % 3);
-                let e = [mid[m(s + k)], mid[m(k1)], mid[mesh.indices[k1]], mid[m(k2)]];
-                out.vertex(loop_edge(e, custom))?;
-            }
-        }
-        Ok(())
-    }
-
-    /// Sixteen triangles per face: each child `[A, B, C]` split as one step splits it.
-    fn faces(&self, out: &mut Emit<'_>) -> io::Result<()> {
-        let mesh = self.mesh;
-        let base = mesh.positions.len() + self.edges;
-        let start_half = |c: usize| base + 2 * self.edge_of[c] as usize + usize::from(!self.canonical(c));
-        let end_half = |c: usize| base + 2 * self.edge_of[c] as usize + usize::from(self.canonical(c));
-        let inner = |f: usize, k: usize| base + 2 * self.edges + 3 * f + k;
-        let m = |c| self.m(c);
-        for f in 0..mesh.face_count() {
-            let s = mesh.starts[f];
-            let mut split = |[a, b, c]: [usize; 3], [ab, bc, ca]: [usize; 3]| -> io::Result<()> {
-                out.face([a, ab, ca])?;
-                out.face([b, bc, ab])?;
-                out.face([c, ca, bc])?;
-                out.face([ab, bc, ca])
-            };
-            for k in 0..3 {
-                let p = (k + 2) % 3;
-                split([mesh.indices[s + k], m(s + k), m(s + p)], [start_half(s + k), inner(f, p), end_half(s + p)])?;
-            }
-            split([m(s), m(s + 1), m(s + 2)], [inner(f, 0), inner(f, 1), inner(f, 2)])?;
-        }
-        Ok(())
-    }
-}
-
 /// The net after one more Loop step of a triangle net, named from it
 /// without being made: face `f`'s children are `[v0, e0, e2]`, `[v1, e1, e0]`,
 /// `[v2, e2, e1]`, `[e0, e1, e2]`, their corners `12f .. 12f + 11`, as

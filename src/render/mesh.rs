@@ -118,7 +118,7 @@ const SPILL_PER_FACE: u128 = 24 + 24 + 4 * 5;
 /// 10.5 million vertices of Loop's depth 10 on the icosahedron in three blocks).
 const SPILL_BUDGET: usize = 128 << 20;
 
-/// [`PolyMesh::subdivide_as_made_into`] through side files beside `out`,
+/// [`PolyMesh::subdivide_into`] through side files beside `out`,
 /// then replayed into `sink` with vertex normals: the numbers and bytes
 /// [`PolyMesh::subdivide_smooth_into`] gives, in bounded memory.
 fn spilled_into(
@@ -132,7 +132,7 @@ fn spilled_into(
     let io = SubdivideError::Write;
     let mut spill = NormalSpill::create(out).map_err(io)?;
     let mut checked = Checked::new(&mut spill, &options.cancel);
-    let written = mesh.subdivide_as_made_into(subdivision, !job.net, &job.name, &mut checked)?;
+    let written = mesh.subdivide_into(subdivision, !job.net, &job.name, &mut checked)?;
     let groups = mesh.group_cuts(job.scheme, job.depth, !job.net);
     let budget = SPILL_BUDGET.min(options.eval.memory_limit / 2).max(1 << 20);
     spill.replay(Replay { sink, groups: &groups, cancel: &options.cancel, budget }).map_err(io)?;
