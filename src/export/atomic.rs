@@ -179,6 +179,13 @@ impl Spool {
         self.writer.as_mut().expect("not appended")
     }
 
+    /// Empties the side file, to be written again from its start.
+    pub(crate) fn clear(&mut self) -> io::Result<()> {
+        self.writer = None;
+        self.writer = Some(BufWriter::with_capacity(1 << 20, File::create(&self.path)?));
+        Ok(())
+    }
+
     /// The side file opened for reading from its start, what was written
     /// so far flushed first (writing may go on after).
     pub(crate) fn reader(&mut self) -> io::Result<File> {

@@ -1,7 +1,8 @@
 //! glTF 2.0 binary (`.glb`: what web viewers, Blender's preferred importer
 //! and game engines read): the one place glTF records are formatted.
 
-use std::io::{self, Write};
+use std::io::{self, BufReader, Read, Seek, SeekFrom, Write};
+use std::ops::Range;
 use std::path::Path;
 
 use serde_json::{Value, json};
@@ -40,9 +41,13 @@ const NO_UV: u32 = u32::MAX;
 /// only). Coordinates are `float`, Y-up as
 /// glTF requires whatever [`Coordinates::up`] says.
 ///
-/// The current object is held in memory (about 40 bytes a vertex); finished
-/// objects go to a side file, and the file is assembled at
-/// [`GltfWriter::finish`]. A `.glb` holds at most 4 GiB: larger output is
+/// The current object's positions, normals and triangles go to side files
+/// as they come (glTF's arrays as they will be written: 28 bytes a vertex,
+/// 12 a triangle; its colours, texture coordinates and lines are held, 4
+/// bytes a vertex with colours), so a mesh of any size is written in
+/// bounded memory; a textured object is read back into memory when it
+/// ends, to split its seams. Finished objects go to another side file, and
+/// the file is assembled at [`GltfWriter::finish`]. A `.glb` holds at most 4 GiB: larger output is
 /// refused, nothing written.
 ///
 /// ```
@@ -75,6 +80,11 @@ pub struct GltfWriter {
     material: bool,
     /// The object being written.
     current: Part,
+    /// Its positions, normals (as given: normalised when written) and
+    /// triangle corners' vertices, little-endian `f32` and `u32`.
+    positions: Spool,
+    normals: Spool,
+    corners: Spool,
     /// Vertices of the objects before the current one.
     base: usize,
     /// Texture vertices of the objects before the current one.
@@ -82,20 +92,75 @@ pub struct GltfWriter {
     colours: Vec<[u8; 3]>,
 }
 
-/// One object, in memory until the next begins.
-#[derive(Default)]
+/// One object until the next begins: its vertices and triangle corners in
+/// the writer's side files (glTF's arrays as they are written), the rest in memory.
 struct Part {
     name: String,
-    positions: Vec<[f32; 3]>,
-    normals: Vec<[f32; 3]>,
+    /// Vertices.
+    count: usize,
+    /// The positions' bounds.
+    lo: [f32; 3],
+    hi: [f32; 3],
+    /// Every vertex so far came with a normal.
+    normals: bool,
     colours: Vec<[u8; 4]>,
     /// Texture vertices, `v` already turned.
     uvs: Vec<[f32; 2]>,
-    /// Triangle corners: vertex and texture vertex (or [`NO_UV`]).
-    corners: Vec<[u32; 2]>,
+    /// Triangle corners.
+    corners: usize,
+    /// The largest vertex of a corner or line.
+    largest: Option<u32>,
+    /// Each corner's texture vertex (or [`NO_UV`]), once a corner has one.
+    corner_uvs: Vec<u32>,
     /// Named groups of triangles: each from its first corner on (a primitive each).
     groups: Vec<(String, usize)>,
     lines: Vec<u32>,
+}
+
+impl Default for Part {
+    fn default() -> Part {
+        Part {
+            name: String::new(),
+            count: 0,
+            lo: [f32::INFINITY; 3],
+            hi: [f32::NEG_INFINITY; 3],
+            normals: true,
+            colours: Vec::new(),
+            uvs: Vec::new(),
+            corners: 0,
+            largest: None,
+            corner_uvs: Vec::new(),
+            groups: Vec::new(),
+            lines: Vec::new(),
+        }
+    }
+}
+
+/// A textured object, in memory: glTF's texture coordinates are per vertex,
+/// so the vertices at seams are split ([`Held::split_seams`]) before it is written.
+#[derive(Default)]
+struct Held {
+    positions: Vec<[f32; 3]>,
+    normals: Vec<[f32; 3]>,
+    colours: Vec<[u8; 4]>,
+    uvs: Vec<[f32; 2]>,
+    /// Triangle corners: vertex and texture vertex (or [`NO_UV`]).
+    corners: Vec<[u32; 2]>,
+}
+
+/// Where the bytes of a buffer view come from: memory, or a range of bytes
+/// of a side file (`normalise`: `f32` triples made unit vectors on the way).
+enum Bytes<'a> {
+    Memory(&'a [u8]),
+    Side { file: Side, from: u64, len: u64, normalise: bool },
+}
+
+/// The writer's side files.
+#[derive(Clone, Copy)]
+enum Side {
+    Positions,
+    Normals,
+    Corners,
 }
 
 fn invalid(what: String) -> io::Error {
@@ -119,6 +184,9 @@ impl GltfWriter {
             nodes: Vec::new(),
             material: false,
             current: Part::default(),
+            positions: Spool::create(path, "elements")?,
+            normals: Spool::create(path, "elements")?,
+            corners: Spool::create(path, "elements")?,
             base: 0,
             uv_base: 0,
             colours: Vec::new(),
@@ -182,108 +250,223 @@ impl GltfWriter {
     }
 
     /// Appends `bytes` (padded to 4) to the binary chunk as a buffer view; its index.
-    fn view(&mut self, bytes: &[u8], target: u32) -> io::Result<usize> {
-        let padded = bytes.len().next_multiple_of(4);
-        if self.bin_len + padded as u64 + 1024 > GLB_LIMIT {
-            return Err(too_large(self.bin_len + padded as u64));
+    fn view(&mut self, bytes: Bytes<'_>, target: u32) -> io::Result<usize> {
+        let len = match &bytes {
+            Bytes::Memory(b) => b.len() as u64,
+            Bytes::Side { len, .. } => *len,
+        };
+        let padded = len.next_multiple_of(4);
+        if self.bin_len + padded + 1024 > GLB_LIMIT {
+            return Err(too_large(self.bin_len + padded));
         }
         let w = self.bin.as_mut().expect("not finished").writer();
-        w.write_all(bytes)?;
-        w.write_all(&[0; 3][..padded - bytes.len()])?;
+        match bytes {
+            Bytes::Memory(b) => w.write_all(b)?,
+            Bytes::Side { file, from, len, normalise } => {
+                let side = match file {
+                    Side::Positions => &mut self.positions,
+                    Side::Normals => &mut self.normals,
+                    Side::Corners => &mut self.corners,
+                };
+                let mut reader = side.reader()?;
+                reader.seek(SeekFrom::Start(from))?;
+                let mut reader = BufReader::with_capacity(1 << 20, reader).take(len);
+                if normalise {
+                    let mut v = [0u8; 12];
+                    for _ in 0..len / 12 {
+                        reader.read_exact(&mut v)?;
+                        let x = |k: usize| f32::from_le_bytes(v[4 * k..4 * k + 4].try_into().expect("4 bytes"));
+                        let mut u = [0u8; 12];
+                        for (k, x) in unit([x(0), x(1), x(2)]).into_iter().enumerate() {
+                            u[4 * k..4 * k + 4].copy_from_slice(&x.to_le_bytes());
+                        }
+                        w.write_all(&u)?;
+                    }
+                } else if io::copy(&mut reader, w)? != len {
+                    return Err(io::Error::new(io::ErrorKind::UnexpectedEof, "a glTF side file ended early"));
+                }
+            }
+        }
+        w.write_all(&[0; 3][..(padded - len) as usize])?;
         self.buffer_views.push(json!({
-            "buffer": 0, "byteOffset": self.bin_len, "byteLength": bytes.len(), "target": target,
+            "buffer": 0, "byteOffset": self.bin_len, "byteLength": len, "target": target,
         }));
-        self.bin_len += padded as u64;
+        self.bin_len += padded;
         Ok(self.buffer_views.len() - 1)
     }
 
     /// An accessor over a new buffer view of `bytes`; its index.
-    fn accessor(&mut self, bytes: &[u8], target: u32, mut description: Value) -> io::Result<usize> {
+    fn accessor(&mut self, bytes: Bytes<'_>, target: u32, mut description: Value) -> io::Result<usize> {
         description["bufferView"] = self.view(bytes, target)?.into();
         self.accessors.push(description);
         Ok(self.accessors.len() - 1)
     }
 
-    /// Writes the current object as a mesh and a node, and starts the next.
+    /// Writes the current object as a mesh and a node, and starts the next
+    /// (its side files emptied).
     fn end_object(&mut self) -> io::Result<()> {
         let part = std::mem::take(&mut self.current);
-        self.base += part.positions.len();
+        let written = self.write_part(part);
+        self.positions.clear()?;
+        self.normals.clear()?;
+        self.corners.clear()?;
+        written
+    }
+
+    fn write_part(&mut self, part: Part) -> io::Result<()> {
+        self.base += part.count;
         self.uv_base += part.uvs.len();
-        if part.positions.is_empty() {
+        if part.count == 0 {
             return Ok(());
         }
-        let n = part.positions.len() as u32;
-        if let Some(v) = part.corners.iter().map(|c| c[0]).chain(part.lines.iter().copied()).find(|&v| v >= n) {
+        let n = part.count;
+        if part.largest.is_some_and(|v| v as usize >= n) {
+            let v = self.first_outside(&part)?;
             return Err(invalid(format!(
                 "a glTF element refers to vertex {}, outside its object (vertices {} to {})",
-                self.base - part.positions.len() + v as usize,
-                self.base - part.positions.len(),
+                self.base - n + v as usize,
+                self.base - n,
                 self.base
             )));
         }
-        let part = part.split_seams();
-        let n = part.positions.len();
+        if !part.uvs.is_empty() && part.corner_uvs.iter().any(|&t| t != NO_UV) {
+            return self.write_held(part);
+        }
         let mut attributes = serde_json::Map::new();
-        let (lo, hi) = part.positions.iter().fold(([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]), |(lo, hi), p| {
+        let side = |file, len, normalise| Bytes::Side { file, from: 0, len, normalise };
+        let position = self.accessor(
+            side(Side::Positions, 12 * n as u64, false),
+            ARRAY_BUFFER,
+            json!({ "componentType": FLOAT, "count": n, "type": "VEC3", "min": part.lo, "max": part.hi }),
+        )?;
+        attributes.insert("POSITION".into(), position.into());
+        if part.normals {
+            let description = json!({ "componentType": FLOAT, "count": n, "type": "VEC3" });
+            let normal = self.accessor(side(Side::Normals, 12 * n as u64, true), ARRAY_BUFFER, description)?;
+            attributes.insert("NORMAL".into(), normal.into());
+        }
+        self.colour_accessor(&part.colours, n, &mut attributes)?;
+        let pieces = triangle_pieces(&part.groups, part.corners)
+            .map(|(range, group)| {
+                let bytes = Bytes::Side {
+                    file: Side::Corners,
+                    from: 4 * range.start as u64,
+                    len: 4 * range.len() as u64,
+                    normalise: false,
+                };
+                (bytes, range.len(), TRIANGLES, group)
+            })
+            .collect();
+        self.primitives(attributes, pieces, &part.lines, part.name)
+    }
+
+    /// The first vertex of a corner (else a line) of `part` outside it.
+    fn first_outside(&mut self, part: &Part) -> io::Result<u32> {
+        let mut corners = BufReader::with_capacity(1 << 20, self.corners.reader()?);
+        let mut word = [0u8; 4];
+        for _ in 0..part.corners {
+            corners.read_exact(&mut word)?;
+            let v = u32::from_le_bytes(word);
+            if v as usize >= part.count {
+                return Ok(v);
+            }
+        }
+        Ok(part.lines.iter().copied().find(|&v| v as usize >= part.count).unwrap_or(u32::MAX))
+    }
+
+    /// A textured object: read back into memory, its seams split, written.
+    fn write_held(&mut self, part: Part) -> io::Result<()> {
+        let n = part.count;
+        let read = |spool: &mut Spool, words: usize| -> io::Result<Vec<u32>> {
+            let mut bytes = vec![0u8; 4 * words];
+            spool.reader()?.read_exact(&mut bytes)?;
+            Ok(bytes.chunks_exact(4).map(|w| u32::from_le_bytes(w.try_into().expect("4 bytes"))).collect())
+        };
+        let triples = |words: Vec<u32>| -> Vec<[f32; 3]> {
+            words.chunks_exact(3).map(|t| [t[0], t[1], t[2]].map(f32::from_bits)).collect()
+        };
+        let positions = triples(read(&mut self.positions, 3 * n)?);
+        let normals = if part.normals { triples(read(&mut self.normals, 3 * n)?) } else { Vec::new() };
+        let vertices = read(&mut self.corners, part.corners)?;
+        let corners = vertices.iter().zip(&part.corner_uvs).map(|(&v, &t)| [v, t]).collect();
+        let held = Held { positions, normals, colours: part.colours, uvs: part.uvs, corners }.split_seams();
+        let n = held.positions.len();
+        let mut attributes = serde_json::Map::new();
+        let (lo, hi) = held.positions.iter().fold(([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]), |(lo, hi), p| {
             ([0, 1, 2].map(|a| lo[a].min(p[a])), [0, 1, 2].map(|a| hi[a].max(p[a])))
         });
         let position = self.accessor(
-            &floats(part.positions.iter().flatten().copied()),
+            Bytes::Memory(&floats(held.positions.iter().flatten().copied())),
             ARRAY_BUFFER,
             json!({ "componentType": FLOAT, "count": n, "type": "VEC3", "min": lo, "max": hi }),
         )?;
         attributes.insert("POSITION".into(), position.into());
-        if part.normals.len() == n {
-            let unit = part.normals.iter().flat_map(|v| unit(*v));
+        if held.normals.len() == n {
+            let unit = held.normals.iter().flat_map(|v| unit(*v));
             let normal = self.accessor(
-                &floats(unit),
+                Bytes::Memory(&floats(unit)),
                 ARRAY_BUFFER,
                 json!({ "componentType": FLOAT, "count": n, "type": "VEC3" }),
             )?;
             attributes.insert("NORMAL".into(), normal.into());
         }
-        if part.uvs.len() == n {
+        if held.uvs.len() == n {
             let uv = self.accessor(
-                &floats(part.uvs.iter().flatten().copied()),
+                Bytes::Memory(&floats(held.uvs.iter().flatten().copied())),
                 ARRAY_BUFFER,
                 json!({ "componentType": FLOAT, "count": n, "type": "VEC2" }),
             )?;
             attributes.insert("TEXCOORD_0".into(), uv.into());
         }
-        if part.colours.len() == n {
-            let bytes: Vec<u8> = part.colours.iter().flatten().copied().collect();
+        self.colour_accessor(&held.colours, n, &mut attributes)?;
+        let triangles: Vec<u8> = held.corners.iter().flat_map(|c| c[0].to_le_bytes()).collect();
+        let pieces = triangle_pieces(&part.groups, held.corners.len())
+            .map(|(range, group)| {
+                (Bytes::Memory(&triangles[4 * range.start..4 * range.end]), range.len(), TRIANGLES, group)
+            })
+            .collect();
+        self.primitives(attributes, pieces, &part.lines, part.name)
+    }
+
+    /// The `COLOR_0` accessor, when every one of the `n` vertices has a colour.
+    fn colour_accessor(
+        &mut self,
+        colours: &[[u8; 4]],
+        n: usize,
+        attributes: &mut serde_json::Map<String, Value>,
+    ) -> io::Result<()> {
+        if colours.len() == n {
+            let bytes: Vec<u8> = colours.iter().flatten().copied().collect();
             let colour = self.accessor(
-                &bytes,
+                Bytes::Memory(&bytes),
                 ARRAY_BUFFER,
                 json!({ "componentType": UNSIGNED_BYTE, "normalized": true, "count": n, "type": "VEC4" }),
             )?;
             attributes.insert("COLOR_0".into(), colour.into());
         }
+        Ok(())
+    }
+
+    /// The object's primitives (`pieces`: indices, their count, mode and
+    /// group; then the lines), its mesh and its node.
+    fn primitives(
+        &mut self,
+        attributes: serde_json::Map<String, Value>,
+        pieces: Vec<(Bytes<'_>, usize, u32, Option<&str>)>,
+        lines: &[u32],
+        name: String,
+    ) -> io::Result<()> {
+        let line_bytes: Vec<u8> = lines.iter().flat_map(|i| i.to_le_bytes()).collect();
+        let lines = (Bytes::Memory(&line_bytes), lines.len(), LINES, None);
         let mut primitives = Vec::new();
-        // One primitive per group of triangles (named in its extras), then the lines.
-        let triangles: Vec<u32> = part.corners.iter().map(|c| c[0]).collect();
-        let mut cuts: Vec<(Option<&str>, usize)> = vec![(None, 0)];
-        for (name, at) in &part.groups {
-            if *at == cuts[cuts.len() - 1].1 {
-                cuts.pop();
-            }
-            cuts.push((Some(name), *at));
-        }
-        let mut pieces = Vec::new();
-        for (k, &(name, at)) in cuts.iter().enumerate() {
-            let end = cuts.get(k + 1).map_or(triangles.len(), |c| c.1).min(triangles.len());
-            pieces.push((triangles[at.min(end)..end].to_vec(), TRIANGLES, name));
-        }
-        pieces.push((part.lines.clone(), LINES, None));
-        for (indices, mode, group) in pieces {
-            if indices.is_empty() {
+        for (indices, count, mode, group) in pieces.into_iter().chain([lines]) {
+            if count == 0 {
                 continue;
             }
-            let bytes: Vec<u8> = indices.iter().flat_map(|i| i.to_le_bytes()).collect();
             let accessor = self.accessor(
-                &bytes,
+                indices,
                 ELEMENT_ARRAY_BUFFER,
-                json!({ "componentType": UNSIGNED_INT, "count": indices.len(), "type": "SCALAR" }),
+                json!({ "componentType": UNSIGNED_INT, "count": count, "type": "SCALAR" }),
             )?;
             let mut primitive = json!({ "attributes": attributes, "indices": accessor, "mode": mode });
             if mode == TRIANGLES && attributes.contains_key("TEXCOORD_0") {
@@ -300,9 +483,9 @@ impl GltfWriter {
         }
         let mut mesh = json!({ "primitives": primitives });
         let mut node = json!({ "mesh": self.meshes.len() });
-        if !part.name.is_empty() {
-            mesh["name"] = part.name.clone().into();
-            node["name"] = part.name.into();
+        if !name.is_empty() {
+            mesh["name"] = name.clone().into();
+            node["name"] = name.into();
         }
         self.meshes.push(mesh);
         self.nodes.push(node);
@@ -336,7 +519,16 @@ impl GltfWriter {
                         }
                         None => NO_UV,
                     };
-                    self.current.corners.push([v, t]);
+                    self.corners.writer().write_all(&v.to_le_bytes())?;
+                    let part = &mut self.current;
+                    part.largest = part.largest.max(Some(v));
+                    if t != NO_UV && part.corner_uvs.is_empty() {
+                        part.corner_uvs.resize(part.corners, NO_UV);
+                    }
+                    if t != NO_UV || !part.corner_uvs.is_empty() {
+                        part.corner_uvs.push(t);
+                    }
+                    part.corners += 1;
                 }
             }
         }
@@ -344,11 +536,11 @@ impl GltfWriter {
     }
 }
 
-impl Part {
+impl Held {
     /// The same object with one vertex per (vertex, texture vertex) pair
     /// its triangles use, when it has texture coordinates (glTF's are per
     /// vertex): seams split, texture coordinates per vertex.
-    fn split_seams(mut self) -> Part {
+    fn split_seams(mut self) -> Held {
         if self.uvs.is_empty() || self.corners.iter().all(|c| c[1] == NO_UV) {
             self.uvs.clear();
             return self;
@@ -386,8 +578,26 @@ impl Part {
             Vec::new()
         };
         let uvs = uv_of.iter().map(|&t| if t == NO_UV { [0.0, 0.0] } else { self.uvs[t as usize] }).collect();
-        Part { positions, normals, colours, uvs, ..self }
+        Held { positions, normals, colours, uvs, ..self }
     }
+}
+
+/// The triangles' corners by group: a range of corners and its group's
+/// name (none for the corners before the first group), in order; a group
+/// that starts where the next does is left out.
+fn triangle_pieces(groups: &[(String, usize)], corners: usize) -> impl Iterator<Item = (Range<usize>, Option<&str>)> {
+    let mut cuts: Vec<(Option<&str>, usize)> = vec![(None, 0)];
+    for (name, at) in groups {
+        if *at == cuts[cuts.len() - 1].1 {
+            cuts.pop();
+        }
+        cuts.push((Some(name), *at));
+    }
+    (0..cuts.len()).map(move |k| {
+        let (name, at) = cuts[k];
+        let end = cuts.get(k + 1).map_or(corners, |c| c.1).min(corners);
+        (at.min(end)..end, name)
+    })
 }
 
 /// The little-endian bytes of `values`.
@@ -420,17 +630,32 @@ impl Sink for GltfWriter {
         let dim = dim.max(1);
         let count = positions.len() / dim;
         let turn = self.coordinates.turn(dim);
-        let before = self.current.positions.len();
-        let part = &mut self.current;
-        part.positions.extend(positions.chunks_exact(dim).map(|p| {
-            turn.apply([p[0], p.get(1).copied().unwrap_or(0.0), p.get(2).copied().unwrap_or(0.0)]).map(|x| x as f32)
-        }));
+        let before = self.current.count;
+        let triple = |v: [f32; 3]| {
+            let mut bytes = [0u8; 12];
+            for (k, x) in v.iter().enumerate() {
+                bytes[4 * k..4 * k + 4].copy_from_slice(&x.to_le_bytes());
+            }
+            bytes
+        };
+        let (part, w) = (&mut self.current, self.positions.writer());
+        for p in positions.chunks_exact(dim) {
+            let p = turn
+                .apply([p[0], p.get(1).copied().unwrap_or(0.0), p.get(2).copied().unwrap_or(0.0)])
+                .map(|x| x as f32);
+            (part.lo, part.hi) = ([0, 1, 2].map(|a| part.lo[a].min(p[a])), [0, 1, 2].map(|a| part.hi[a].max(p[a])));
+            w.write_all(&triple(p))?;
+        }
+        part.count += count;
         // Normals and colours are kept only while every vertex of the object has them.
-        match normals {
-            Some(n) if part.normals.len() == before => part
-                .normals
-                .extend(n.chunks_exact(3).take(count).map(|n| turn.apply([n[0], n[1], n[2]]).map(|x| x as f32))),
-            _ => part.normals.clear(),
+        match normals.filter(|n| n.len() >= 3 * count) {
+            Some(n) if part.normals => {
+                let w = self.normals.writer();
+                for n in n.chunks_exact(3).take(count) {
+                    w.write_all(&triple(turn.apply([n[0], n[1], n[2]]).map(|x| x as f32)))?;
+                }
+            }
+            _ => part.normals = false,
         }
         let colours = std::mem::take(&mut self.colours);
         if colours.len() == count && part.colours.len() == before {
@@ -476,7 +701,7 @@ impl Sink for GltfWriter {
     }
 
     fn group(&mut self, name: &str) -> io::Result<()> {
-        self.current.groups.push((name.to_string(), self.current.corners.len()));
+        self.current.groups.push((name.to_string(), self.current.corners));
         Ok(())
     }
 
@@ -485,5 +710,100 @@ impl Sink for GltfWriter {
             return self.polygons(starts, corners);
         }
         self.fans(starts.windows(2).map(|w| (&corners[w[0]..w[1]], Some(&uv_corners[w[0]..w[1]]))))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The JSON and binary chunks of a `.glb`.
+    fn chunks(bytes: &[u8]) -> (Value, Vec<u8>) {
+        let word = |at: usize| u32::from_le_bytes(bytes[at..at + 4].try_into().unwrap()) as usize;
+        assert_eq!((&bytes[..4], word(8)), (&b"glTF"[..], bytes.len()));
+        let json_len = word(12);
+        let json = serde_json::from_slice(&bytes[20..20 + json_len]).unwrap();
+        let bin = bytes.get(28 + json_len..).unwrap_or_default().to_vec();
+        (json, bin)
+    }
+
+    /// The `f32` or `u32` words of accessor `a`.
+    fn words(json: &Value, bin: &[u8], a: &Value) -> Vec<u32> {
+        let view = &json["bufferViews"][a["bufferView"].as_u64().unwrap() as usize];
+        let (at, len) = (view["byteOffset"].as_u64().unwrap() as usize, view["byteLength"].as_u64().unwrap() as usize);
+        bin[at..at + len].chunks_exact(4).map(|w| u32::from_le_bytes(w.try_into().unwrap())).collect()
+    }
+
+    /// Objects streamed through the side files come out whole: positions
+    /// as `f32` with their bounds, normals only when every vertex has one
+    /// (and normalised), each object's faces fanned and numbered from its
+    /// first vertex, groups as primitives; the side files are gone after.
+    #[test]
+    fn objects_stream_through_side_files() {
+        let dir = std::env::temp_dir().join(format!("bcifs-glb-stream-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("two.glb");
+        let mut glb =
+            GltfWriter::create(&path).unwrap().with_coordinates(Coordinates { up: Up::Z, ..Default::default() });
+        let n = 3000;
+        let points: Vec<f64> = (0..3 * n).map(|k| (k % 7) as f64 * 0.5 - (k % 11) as f64).collect();
+        let normals: Vec<f64> = (0..3 * n).map(|k| 1.0 + (k % 5) as f64).collect();
+        glb.object("a").unwrap();
+        glb.vertices(3, &points[..3 * 1000], Some(&normals[..3 * 1000])).unwrap();
+        glb.vertices(3, &points[3 * 1000..], Some(&normals[3 * 1000..])).unwrap();
+        let quads: Vec<usize> = (0..n - 3).step_by(2).flat_map(|v| [v, v + 1, v + 3, v + 2]).collect();
+        let starts: Vec<usize> = (0..=quads.len() / 4).map(|k| 4 * k).collect();
+        glb.polygons(&starts[..11], &quads).unwrap();
+        glb.group("rest").unwrap();
+        glb.polygons(&starts[10..].iter().map(|s| s - 40).collect::<Vec<_>>(), &quads[40..]).unwrap();
+        glb.object("b").unwrap();
+        glb.vertices(3, &points[..9], Some(&normals[..9])).unwrap();
+        glb.vertices(3, &points[9..12], None).unwrap();
+        glb.triangles(&[[n, n + 1, n + 3]]).unwrap();
+        glb.finish().unwrap();
+        assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1, "side files left");
+        let (json, bin) = chunks(&std::fs::read(&path).unwrap());
+        let meshes = json["meshes"].as_array().unwrap();
+        assert_eq!(meshes.len(), 2);
+        let [a, b] = [0, 1].map(|m| &meshes[m]["primitives"]);
+        assert_eq!((a.as_array().unwrap().len(), a[1]["extras"]["group"].as_str()), (2, Some("rest")));
+        let accessor = |k: &Value| &json["accessors"][k.as_u64().unwrap() as usize];
+        let position = accessor(&a[0]["attributes"]["POSITION"]);
+        let floats: Vec<f32> = words(&json, &bin, position).into_iter().map(f32::from_bits).collect();
+        // Z-up input: the file's (x, y, z) is the model's (x, z, −y).
+        let turned: Vec<f32> = points.chunks(3).flat_map(|p| [p[0] as f32, p[2] as f32, -p[1] as f32]).collect();
+        assert_eq!(floats, turned);
+        let lo: Vec<f32> =
+            (0..3).map(|a| turned.iter().skip(a).step_by(3).copied().fold(f32::INFINITY, f32::min)).collect();
+        assert_eq!(position["min"], json!(lo));
+        let normal: Vec<f32> =
+            words(&json, &bin, accessor(&a[0]["attributes"]["NORMAL"])).into_iter().map(f32::from_bits).collect();
+        assert!(normal.chunks(3).all(|v| (v.iter().map(|x| x * x).sum::<f32>() - 1.0).abs() < 1e-6));
+        let fans: Vec<u32> =
+            quads.chunks(4).flat_map(|q| [q[0], q[1], q[2], q[0], q[2], q[3]]).map(|v| v as u32).collect();
+        let mut indices = words(&json, &bin, accessor(&a[0]["indices"]));
+        indices.extend(words(&json, &bin, accessor(&a[1]["indices"])));
+        assert_eq!(indices, fans);
+        assert!(b[0]["attributes"].get("NORMAL").is_none(), "b's last vertex has no normal");
+        assert_eq!(words(&json, &bin, accessor(&b[0]["indices"])), [0, 1, 3]);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// A face naming a vertex of no object is refused when the object ends,
+    /// naming the first such vertex, and nothing is written.
+    #[test]
+    fn a_vertex_outside_its_object_is_refused() {
+        let dir = std::env::temp_dir().join(format!("bcifs-glb-outside-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("bad.glb");
+        let mut glb = GltfWriter::create(&path).unwrap();
+        glb.object("a").unwrap();
+        glb.vertices(3, &[0.0; 9], None).unwrap();
+        glb.triangles(&[[0, 1, 2], [0, 5, 4]]).unwrap();
+        let e = glb.object("b").unwrap_err();
+        assert!(e.to_string().contains("refers to vertex 5, outside its object (vertices 0 to 3)"), "{e}");
+        drop(glb);
+        assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0);
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -20,7 +20,7 @@ pub(crate) enum FileWriter {
     Off(OffWriter),
     Ply(PlyWriter),
     Stl(StlWriter),
-    Glb(GltfWriter),
+    Glb(Box<GltfWriter>),
     Picture(PictureWriter),
 }
 
@@ -50,7 +50,9 @@ impl FileWriter {
                 FileWriter::Ply(PlyWriter::create(out, settings.ascii).map_err(io)?.with_coordinates(coordinates))
             }
             Format::Stl => FileWriter::Stl(StlWriter::create(out).map_err(io)?.with_coordinates(coordinates)),
-            Format::Glb => FileWriter::Glb(GltfWriter::create(out).map_err(io)?.with_coordinates(coordinates)),
+            Format::Glb => {
+                FileWriter::Glb(Box::new(GltfWriter::create(out).map_err(io)?.with_coordinates(coordinates)))
+            }
             Format::Svg => FileWriter::Picture(PictureWriter::create(out, PictureKind::Svg, raster).map_err(io)?),
             Format::Png => FileWriter::Picture(PictureWriter::create(out, PictureKind::Png, raster).map_err(io)?),
             Format::Flame => return Err(RenderError::Unsupported(FLAME_HOLDS.into())),
@@ -64,7 +66,7 @@ impl FileWriter {
             FileWriter::Off(w) => w,
             FileWriter::Ply(w) => w,
             FileWriter::Stl(w) => w,
-            FileWriter::Glb(w) => w,
+            FileWriter::Glb(w) => w.as_mut(),
             FileWriter::Picture(w) => w,
         };
         Checked::new(sink, cancel)
