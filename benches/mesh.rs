@@ -81,6 +81,25 @@ fn named_limits(c: &mut Criterion) {
     g.finish();
 }
 
+/// Vertex normals made in memory against streamed through side files (a
+/// 64 MiB memory limit: the same bytes), Loop's limit on the icosahedron at
+/// depth 8 into OBJ (1.3M triangles, 0.65M vertices): the cost of bounded memory.
+fn normals_streamed(c: &mut Criterion) {
+    let ico = PolyMesh::icosahedron();
+    let mut g = c.benchmark_group("icosahedron_loop8_obj_normals");
+    g.sample_size(10);
+    g.throughput(Throughput::Elements(20 * 4u64.pow(8)));
+    let job = MeshJob::new(Scheme::Loop, 8);
+    let path = scratch("normals").with_extension("obj");
+    let mut streamed = Options::default();
+    streamed.eval.memory_limit = 64 << 20;
+    for (name, options) in [("in_memory", Options::default()), ("streamed", streamed)] {
+        g.bench_function(name, |b| b.iter(|| black_box(render_mesh(&ico, &job, &options, &path).expect("writes"))));
+    }
+    let _ = std::fs::remove_file(&path);
+    g.finish();
+}
+
 /// A prism over an `n`-gon: two `n`-gon faces and `n` quads.
 fn prism(n: usize) -> PolyMesh {
     let mut positions = Vec::with_capacity(2 * n);
@@ -118,6 +137,6 @@ fn large_faces(c: &mut Criterion) {
 criterion_group! {
     name = benches;
     config = Criterion::default().without_plots();
-    targets = subdivision, loop_obj, named_limits, large_faces
+    targets = subdivision, loop_obj, named_limits, normals_streamed, large_faces
 }
 criterion_main!(benches);
