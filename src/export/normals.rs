@@ -545,6 +545,27 @@ mod tests {
         }
     }
 
+    /// A cancelled replay stops with [`io::ErrorKind::Interrupted`] before
+    /// the sink hears anything, and its side files are removed.
+    #[test]
+    fn a_cancelled_replay_stops_and_leaves_nothing() {
+        let dir = std::env::temp_dir().join(format!("bcifs-normals-cancel-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let (points, faces) = scattered(500, 400);
+        let mut spill = NormalSpill::create(&dir.join("out.obj")).unwrap();
+        spill.vertices(3, points.as_flattened(), None).unwrap();
+        for f in &faces {
+            spill.polygons(&[0, f.len()], f).unwrap();
+        }
+        let (cancel, mut record) = (Cancel::new(), Record::default());
+        cancel.cancel();
+        let e = spill.replay(Replay { sink: &mut record, groups: &[], cancel: &cancel, budget: 1 << 20 }).unwrap_err();
+        assert_eq!(e.kind(), io::ErrorKind::Interrupted);
+        assert!(record.object.is_empty() && record.positions.is_empty());
+        assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
     /// A face that names a vertex not pushed is an error, not a panic later.
     #[test]
     fn a_face_past_the_vertices_is_refused() {
