@@ -91,6 +91,7 @@ pub fn run(out: &mut String, args: SurfaceArgs) -> anyhow::Result<u8> {
     options.raster = args.picture.raster();
     options.max_output = (args.max_output_gib * (1u64 << 30) as f64) as u128;
     options.cancel = super::interrupt().clone();
+    options.progress = super::progress_bar();
     options.ascii = args.ascii;
     options.provenance = Some(super::command_line());
     let report = render_mesh(&mesh, &job, &options, &output)?;

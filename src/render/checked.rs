@@ -8,7 +8,7 @@ use crate::export::{
     Coordinates, GltfWriter, ObjWriter, OffWriter, PictureKind, PictureWriter, PlyWriter, RasterSettings, StlWriter,
 };
 use crate::geometry::Sink;
-use crate::progress::Cancel;
+use crate::progress::{Cancel, Progress};
 
 /// Why only designs go to `.flame`.
 pub(crate) const FLAME_HOLDS: &str =
@@ -106,16 +106,32 @@ pub(crate) struct Checked<'a> {
     pub(crate) vertices: usize,
     /// Faces pushed (digons, which files leave out, not counted).
     pub(crate) faces: usize,
+    /// Where the faces pushed are reported: `(done + faces, total)`.
+    progress: Option<(&'a Progress, u64, u64)>,
 }
 
 impl<'a> Checked<'a> {
     /// `sink` behind `cancel`.
     pub(crate) fn new(sink: &'a mut dyn Sink, cancel: &'a Cancel) -> Checked<'a> {
-        Checked { sink, cancel, vertices: 0, faces: 0 }
+        Checked { sink, cancel, vertices: 0, faces: 0, progress: None }
+    }
+
+    /// The same, its faces reported to `progress` as `(done + faces, total)`.
+    pub(crate) fn with_progress(mut self, progress: Option<&'a Progress>, done: u64, total: u64) -> Checked<'a> {
+        self.progress = progress.map(|p| (p, done, total));
+        self
     }
 
     fn check(&self) -> io::Result<()> {
         if self.cancel.is_cancelled() { Err(io::Error::new(io::ErrorKind::Interrupted, "cancelled")) } else { Ok(()) }
+    }
+
+    /// Counts `n` more faces (and reports them).
+    fn count(&mut self, n: usize) {
+        self.faces += n;
+        if let Some((progress, done, total)) = self.progress {
+            progress.report((done + self.faces as u64).min(total), total);
+        }
     }
 }
 
@@ -139,17 +155,17 @@ impl Sink for Checked<'_> {
     }
     fn faces(&mut self, quads: &[[usize; 4]], uvs: Option<&[[usize; 4]]>) -> io::Result<()> {
         self.check()?;
-        self.faces += quads.len();
+        self.count(quads.len());
         self.sink.faces(quads, uvs)
     }
     fn triangles(&mut self, triangles: &[[usize; 3]]) -> io::Result<()> {
         self.check()?;
-        self.faces += triangles.len();
+        self.count(triangles.len());
         self.sink.triangles(triangles)
     }
     fn polygons(&mut self, starts: &[usize], corners: &[usize]) -> io::Result<()> {
         self.check()?;
-        self.faces += starts.windows(2).filter(|w| w[1] - w[0] >= 3).count();
+        self.count(starts.windows(2).filter(|w| w[1] - w[0] >= 3).count());
         self.sink.polygons(starts, corners)
     }
     fn group(&mut self, name: &str) -> io::Result<()> {
@@ -157,7 +173,7 @@ impl Sink for Checked<'_> {
     }
     fn textured_polygons(&mut self, starts: &[usize], corners: &[usize], uv_corners: &[usize]) -> io::Result<()> {
         self.check()?;
-        self.faces += starts.windows(2).filter(|w| w[1] - w[0] >= 3).count();
+        self.count(starts.windows(2).filter(|w| w[1] - w[0] >= 3).count());
         self.sink.textured_polygons(starts, corners, uv_corners)
     }
     fn colours(&mut self, rgb: &[[u8; 3]]) -> io::Result<()> {

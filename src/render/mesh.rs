@@ -131,7 +131,8 @@ fn spilled_into(
 ) -> Result<Written, SubdivideError> {
     let io = SubdivideError::Write;
     let mut spill = NormalSpill::create(out).map_err(io)?;
-    let mut checked = Checked::new(&mut spill, &options.cancel);
+    let total = u64::try_from(mesh.estimate(job.scheme, job.depth).0).unwrap_or(u64::MAX).saturating_mul(2);
+    let mut checked = Checked::new(&mut spill, &options.cancel).with_progress(options.progress.as_ref(), 0, total);
     let written = mesh.subdivide_into(subdivision, !job.net, &job.name, &mut checked)?;
     let groups = mesh.group_cuts(job.scheme, job.depth, !job.net);
     let budget = SPILL_BUDGET.min(options.eval.memory_limit / 2).max(1 << 20);
@@ -209,7 +210,10 @@ pub fn render_mesh(mesh: &PolyMesh, job: &MeshJob, options: &Options, out: &Path
     let threads = options.eval.threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
     let settings = WriteSettings { coordinates, threads, raster: &options.raster, ascii: options.ascii };
     let mut writer = FileWriter::create(out, format, &settings)?;
-    let mut sink = writer.checked(&options.cancel);
+    // Progress: the faces written against the estimate (streamed normals: the side files' half, then the file's).
+    let total = u64::try_from(faces).unwrap_or(u64::MAX);
+    let (total, done) = if spilled { (total.saturating_mul(2), total) } else { (total, 0) };
+    let mut sink = writer.checked(&options.cancel).with_progress(options.progress.as_ref(), done, total);
     if textured && !follows {
         report.notes.push(format!(
             "texture coordinates follow Catmull-Clark and Loop, whose faces split the input's; {}'s faces come from edges and vertices too: the output has none",
@@ -236,5 +240,9 @@ pub fn render_mesh(mesh: &PolyMesh, job: &MeshJob, options: &Options, out: &Path
     report.vertices = written.vertices;
     report.faces = written.faces;
     report.bytes = writer.finish(out)?;
+    if let Some(progress) = &options.progress {
+        // Done, whatever the estimate (digons are not counted).
+        progress.report(total, total);
+    }
     Ok(report)
 }

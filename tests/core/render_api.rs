@@ -228,3 +228,33 @@ fn normals_streamed_are_the_normals_made_in_memory() {
     no_temporaries(&dir);
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A mesh render reports the faces it has written against the estimate,
+/// never backwards, and ends with the whole: streamed (OFF), with normals
+/// made in memory (OBJ), with normals streamed through side files (OBJ over a
+/// 2 MiB memory limit: the side files' half, then the file's).
+#[test]
+fn mesh_renders_report_progress() {
+    let dir = scratch("progress");
+    let mesh = PolyMesh::cube();
+    let job = MeshJob::new(Scheme::CatmullClark, 6);
+    for (file, memory) in [("c.off", 4 << 30), ("c.obj", 4 << 30), ("s.obj", 2 << 20)] {
+        let seen = Arc::new(std::sync::Mutex::new(Vec::new()));
+        let log = seen.clone();
+        let mut options = Options::default().with_progress(Progress::new(move |done, total| {
+            log.lock().unwrap().push((done, total));
+        }));
+        options.eval.memory_limit = memory;
+        render_mesh(&mesh, &job, &options, &dir.join(file)).unwrap();
+        let seen = seen.lock().unwrap();
+        assert!(seen.len() > 1, "{file}: {seen:?}");
+        assert!(seen.windows(2).all(|w| w[0].0 <= w[1].0 && w[0].1 == w[1].1), "{file}: {seen:?}");
+        let (done, total) = *seen.last().unwrap();
+        assert_eq!(done, total, "{file}");
+        if memory < 1 << 30 {
+            assert!(seen.iter().any(|&(d, t)| d > 0 && d <= t / 2), "{file}: the side files' half");
+        }
+    }
+    no_temporaries(&dir);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
