@@ -105,9 +105,11 @@ pub fn check_weights(mesh: &PolyMesh, weights: Option<RuleWeights>) -> Result<Op
 }
 
 /// Outputs with vertex normals are made in memory up to this estimate
-/// ([`PolyMesh::estimate`]; about a third of it taken), larger ones streamed
-/// through side files ([`NormalSpill`]).
-const NORMALS_IN_MEMORY: u128 = 256 << 20;
+/// ([`PolyMesh::estimate`]: about two million faces, which take a third to a
+/// half of it, under 200 MiB), larger ones streamed through side files
+/// ([`NormalSpill`]): Catmull-Clark's and Doo-Sabin's depth 9 on the cube
+/// are made, Loop's depth 9 on the icosahedron streamed.
+const NORMALS_IN_MEMORY: u128 = 384 << 20;
 
 /// Bytes per face of the side files of normals streamed: a vertex's position
 /// (about one vertex a face), a face's area vector, its corners and their count.
