@@ -8,13 +8,14 @@
 //! vertex sums its faces' in face order, and the sums are normalised alike
 //! ([`unit_or_zero`]). The passes over the side files:
 //!
-//! 1. the faces a chunk at a time: the chunk's corners sorted by vertex,
-//!    their points read from the positions file in that order (only the
-//!    stretches of it they fall in: a subdivided mesh's faces in a row use
-//!    vertices in a few runs), each face's area vector appended to a third
-//!    side file and added to the sums of its corners in the first block of
-//!    vertices, whose vertices are then pushed into the sink with their normals;
-//! 2. for each further block of vertices (a depth-10 mesh has one or two),
+//! 1. the faces a chunk at a time: the chunk's corners sorted by stretch of
+//!    the positions file (a counting sort), their points read from it in
+//!    that order (only the stretches they fall in, each once: a subdivided
+//!    mesh's faces in a row use vertices in a few runs), each face's area
+//!    vector appended to a third side file and added to the sums of its
+//!    corners in the first block of vertices, whose vertices are then pushed
+//!    into the sink with their normals;
+//! 2. for each further block of vertices (Loop's depth 10 on the icosahedron has two more),
 //!    the faces and their area vectors read in order, each added to the
 //!    sums of its corners in the block, the block pushed;
 //! 3. the faces pushed into the sink, the groups between them.
