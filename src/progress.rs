@@ -105,4 +105,17 @@ impl Cancel {
     pub fn is_cancelled(&self) -> bool {
         self.0.load(std::sync::atomic::Ordering::Relaxed)
     }
+
+    /// An [`std::io::ErrorKind::Interrupted`] error once the flag is set:
+    /// how writers stop.
+    ///
+    /// # Errors
+    /// The flag is set.
+    pub fn check_io(&self) -> std::io::Result<()> {
+        if self.is_cancelled() {
+            Err(std::io::Error::new(std::io::ErrorKind::Interrupted, "cancelled"))
+        } else {
+            Ok(())
+        }
+    }
 }

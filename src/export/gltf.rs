@@ -108,7 +108,7 @@ struct Part {
     uvs: Vec<[f32; 2]>,
     /// Triangle corners.
     corners: usize,
-    /// The largest vertex of a corner or line.
+    /// The largest vertex of a triangle corner.
     largest: Option<u32>,
     /// Each corner's texture vertex (or [`NO_UV`]), once a corner has one.
     corner_uvs: Vec<u32>,
@@ -276,11 +276,7 @@ impl GltfWriter {
                     for _ in 0..len / 12 {
                         reader.read_exact(&mut v)?;
                         let x = |k: usize| f32::from_le_bytes(v[4 * k..4 * k + 4].try_into().expect("4 bytes"));
-                        let mut u = [0u8; 12];
-                        for (k, x) in unit([x(0), x(1), x(2)]).into_iter().enumerate() {
-                            u[4 * k..4 * k + 4].copy_from_slice(&x.to_le_bytes());
-                        }
-                        w.write_all(&u)?;
+                        w.write_all(&triple(unit([x(0), x(1), x(2)])))?;
                     }
                 } else if io::copy(&mut reader, w)? != len {
                     return Err(io::Error::new(io::ErrorKind::UnexpectedEof, "a glTF side file ended early"));
@@ -320,7 +316,7 @@ impl GltfWriter {
             return Ok(());
         }
         let n = part.count;
-        if part.largest.is_some_and(|v| v as usize >= n) {
+        if part.largest.is_some_and(|v| v as usize >= n) || part.lines.iter().any(|&v| v as usize >= n) {
             let v = self.first_outside(&part)?;
             return Err(invalid(format!(
                 "a glTF element refers to vertex {}, outside its object (vertices {} to {})",
@@ -605,6 +601,15 @@ fn floats(values: impl Iterator<Item = f32>) -> Vec<u8> {
     values.flat_map(f32::to_le_bytes).collect()
 }
 
+/// The little-endian bytes of a vector.
+fn triple(v: [f32; 3]) -> [u8; 12] {
+    let mut bytes = [0u8; 12];
+    for (k, x) in v.iter().enumerate() {
+        bytes[4 * k..4 * k + 4].copy_from_slice(&x.to_le_bytes());
+    }
+    bytes
+}
+
 /// `v` normalised (glTF requires unit normals); a zero or non-finite normal
 /// (a vertex no face gives a direction) becomes the up axis.
 fn unit(v: [f32; 3]) -> [f32; 3] {
@@ -631,13 +636,6 @@ impl Sink for GltfWriter {
         let count = positions.len() / dim;
         let turn = self.coordinates.turn(dim);
         let before = self.current.count;
-        let triple = |v: [f32; 3]| {
-            let mut bytes = [0u8; 12];
-            for (k, x) in v.iter().enumerate() {
-                bytes[4 * k..4 * k + 4].copy_from_slice(&x.to_le_bytes());
-            }
-            bytes
-        };
         let (part, w) = (&mut self.current, self.positions.writer());
         for p in positions.chunks_exact(dim) {
             let p = turn
@@ -789,8 +787,8 @@ mod tests {
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
-    /// A face naming a vertex of no object is refused when the object ends,
-    /// naming the first such vertex, and nothing is written.
+    /// A face or polyline naming a vertex of no object is refused when the
+    /// object ends, naming the first such vertex, and nothing is written.
     #[test]
     fn a_vertex_outside_its_object_is_refused() {
         let dir = std::env::temp_dir().join(format!("bcifs-glb-outside-{}", std::process::id()));
@@ -803,6 +801,13 @@ mod tests {
         let e = glb.object("b").unwrap_err();
         assert!(e.to_string().contains("refers to vertex 5, outside its object (vertices 0 to 3)"), "{e}");
         drop(glb);
+        // A polyline's too.
+        let mut glb = GltfWriter::create(&path).unwrap();
+        glb.object("a").unwrap();
+        glb.vertices(3, &[0.0; 6], None).unwrap();
+        glb.polyline(1, 2, false).unwrap();
+        let e = glb.finish().unwrap_err();
+        assert!(e.to_string().contains("refers to vertex 2, outside its object (vertices 0 to 2)"), "{e}");
         assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0);
         std::fs::remove_dir_all(&dir).unwrap();
     }

@@ -79,10 +79,6 @@ fn too_many(what: &str) -> io::Error {
     )
 }
 
-fn cancelled(cancel: &Cancel) -> io::Result<()> {
-    if cancel.is_cancelled() { Err(io::Error::new(io::ErrorKind::Interrupted, "cancelled")) } else { Ok(()) }
-}
-
 /// Reads `buf.len()` bytes or up to the end of `file`: how many.
 fn fill(file: &mut impl Read, buf: &mut [u8]) -> io::Result<usize> {
     let mut at = 0;
@@ -205,7 +201,7 @@ impl NormalSpill {
         let mut positions = BufReader::with_capacity(1 << 20, self.positions.reader()?);
         let mut first = 0;
         while first < self.vertices {
-            cancelled(to.cancel)?;
+            to.cancel.check_io()?;
             let end = (first + block).min(self.vertices);
             if first > 0 {
                 self.sum_block(first..end, &mut sums)?;
@@ -235,7 +231,7 @@ impl NormalSpill {
             corners.extend_from_slice(face);
             starts.push(corners.len());
             if starts.len() > FACE_BATCH {
-                cancelled(to.cancel)?;
+                to.cancel.check_io()?;
                 to.sink.polygons(&starts, &corners)?;
                 starts.truncate(1);
                 corners.clear();
@@ -261,7 +257,7 @@ impl NormalSpill {
         let mut stretch = vec![0u8; POINT * STRETCH];
         let mut left = self.face_count;
         while left > 0 {
-            cancelled(cancel)?;
+            cancel.check_io()?;
             sizes.clear();
             vertices.clear();
             while left > 0 && vertices.len() + self.widest <= chunk {

@@ -180,10 +180,7 @@ struct Pass<'w> {
 
 impl Pass<'_> {
     fn check(&self) -> io::Result<()> {
-        match self.cancel {
-            Some(c) if c.is_cancelled() => Err(io::Error::new(io::ErrorKind::Interrupted, "cancelled")),
-            _ => Ok(()),
-        }
+        self.cancel.map_or(Ok(()), crate::progress::Cancel::check_io)
     }
 }
 

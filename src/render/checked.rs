@@ -123,7 +123,7 @@ impl<'a> Checked<'a> {
     }
 
     fn check(&self) -> io::Result<()> {
-        if self.cancel.is_cancelled() { Err(io::Error::new(io::ErrorKind::Interrupted, "cancelled")) } else { Ok(()) }
+        self.cancel.check_io()
     }
 
     /// Counts `n` more faces (and reports them).

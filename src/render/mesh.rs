@@ -122,18 +122,19 @@ const SPILL_BUDGET: usize = 128 << 20;
 
 /// [`PolyMesh::subdivide_into`] through side files beside `out`,
 /// then replayed into `sink` with vertex normals: the numbers and bytes
-/// [`PolyMesh::subdivide_smooth_into`] gives, in bounded memory.
+/// [`PolyMesh::subdivide_smooth_into`] gives, in bounded memory. The faces
+/// written to the side files are reported as the first half of `total`.
 fn spilled_into(
     mesh: &PolyMesh,
     job: &MeshJob,
     subdivision: &Subdivision,
     out: &Path,
+    total: u64,
     options: &Options,
     sink: &mut dyn Sink,
 ) -> Result<Written, SubdivideError> {
     let io = SubdivideError::Write;
     let mut spill = NormalSpill::create(out).map_err(io)?;
-    let total = u64::try_from(mesh.estimate(job.scheme, job.depth).0).unwrap_or(u64::MAX).saturating_mul(2);
     let mut checked = Checked::new(&mut spill, &options.cancel).with_progress(options.progress.as_ref(), 0, total);
     let written = mesh.subdivide_into(subdivision, !job.net, &job.name, &mut checked)?;
     let groups = mesh.group_cuts(job.scheme, job.depth, !job.net);
@@ -231,7 +232,7 @@ pub fn render_mesh(mesh: &PolyMesh, job: &MeshJob, options: &Options, out: &Path
     let written = if smooth {
         mesh.subdivide_smooth_into(&subdivision, !job.net, job.uv && format.has_uvs(), &job.name, &mut sink)
     } else if spilled {
-        spilled_into(mesh, job, &subdivision, out, options, &mut sink)
+        spilled_into(mesh, job, &subdivision, out, total, options, &mut sink)
     } else {
         mesh.subdivide_into(&subdivision, !job.net, &job.name, &mut sink)
     };
