@@ -51,8 +51,8 @@ fn chaos(c: &mut Criterion) {
     // then two): the fern in ink, the gasket coloured by its maps (flam3's benchmark).
     let raster = bcifs::export::RasterSettings::default().with_size(1024, 1024);
     let fire = bcifs::export::Palette::named("fire");
-    // Issue 29: the gasket into a 4096² picture (64 MiB of counts per thread, 384 MiB
-    // with colours: most increments miss the caches), one thread, ink and coloured.
+    // Issue 29: the gasket into a 4096² picture (16 MiB of byte counts per thread, 128 MiB
+    // of colour lanes: those miss the caches), one thread, ink and coloured.
     let large = bcifs::export::RasterSettings::default().with_size(4096, 4096);
     for (name, palette) in [("gasket", None), ("gasket_colour", fire.as_ref())] {
         let (a, model) = setup("gasket");

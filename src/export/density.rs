@@ -226,10 +226,11 @@ pub struct Density {
     pub shift: u32,
 }
 
-/// Bytes per cell of one thread's accumulator: a count, or with colours a
-/// word of 16-bit lanes and (touched only where cells spill) 32-bit sums.
+/// Bytes per cell of one thread's accumulator: a byte of count and (touched
+/// only where cells spill) a 32-bit count, or with colours a word of 16-bit
+/// lanes and (touched only where cells spill) 32-bit sums.
 fn cell_bytes(colour: bool) -> u128 {
-    if colour { 24 } else { 4 }
+    if colour { 24 } else { 5 }
 }
 
 /// What [`density`] and [`Density::image`] allocate for a picture.
@@ -239,7 +240,7 @@ pub fn density_bytes(settings: &RasterSettings, supersample: u32, colour: bool, 
     let cells = pixels * s * s;
     let threads = rayon::current_num_threads().max(2) as u128;
     let accumulators = cells * cell_bytes(colour) * threads;
-    let result = if colour { cells * 16 } else { 0 };
+    let result = cells * if colour { 16 } else { 4 };
     let blurred = if blur { cells * 16 } else { 0 };
     accumulators + result + blurred + pixels * 19 + crate::eval::CHUNK as u128 * 32 * threads
 }
@@ -405,9 +406,9 @@ fn too_large(settings: &RasterSettings, points: usize, needed: u128) -> RasterTo
 /// colour coordinate, see [`crate::eval::RandomSettings::colours`]), one
 /// buffer per thread merged by summing integers (so the same seed gives
 /// the same picture with any number of threads), never stored: memory is
-/// `4 · pixels · s²` bytes per thread (8 with a palette, and up to 16 more
-/// where cells pass 255 samples), whatever
-/// `points`. The frame is fitted on the first batch of points (with a
+/// `pixels · s²` bytes per thread and up to 4 more where cells pass 255
+/// samples (with a palette 8, and up to 16 more), whatever `points`, and
+/// the merged counts (4 bytes a cell, 16 with a palette). The frame is fitted on the first batch of points (with a
 /// margin of 3%); samples outside it are left out.
 ///
 /// ```
@@ -499,26 +500,87 @@ impl Frame {
 }
 
 /// The samples counted per cell. Cells of a chunk first, then the
-/// increments in a tight loop (many cache misses in flight); a sample
+/// increments in a tight loop (many cache misses in flight), each into a
+/// byte per cell that carries 256 into the cell's 32-bit count when it
+/// wraps: a quarter of the memory of 32-bit counts, so that a 4096²
+/// picture's counts (16 MiB) stay in the last-level cache, and the 32-bit
+/// counts' pages are touched only where cells pass 255 samples. A sample
 /// outside the frame goes to the extra cell at the end, dropped.
 fn count_points(game: &ChaosGame, points: usize, frame: &Frame) -> Vec<u32> {
     let (trash, d) = (frame.sw * frame.sh, frame.d);
-    let mut counts = game.fold(
+    let partials = game.fold(
         points,
         false,
-        || vec![0u32; trash + 1],
-        |acc, xs, _| {
+        || vec![Spilling::<u8, u32>::new(trash + 1)],
+        |parts, xs, _| {
+            let acc = &mut parts[0];
             let mut cells = [0u32; crate::eval::CHUNK];
             frame.cells(xs, &mut cells);
             for &i in &cells[..xs.len() / d] {
-                let c = &mut acc[i as usize];
-                *c = c.saturating_add(1);
+                let c = &mut acc.low[i as usize];
+                *c = c.wrapping_add(1);
+                if *c == 0 {
+                    acc.spill(i as usize, |h| *h = h.saturating_add(256));
+                }
             }
         },
-        add_counts,
+        |mut a, b| {
+            a.extend(b);
+            a
+        },
     );
-    counts.pop();
+    let mut counts = vec![0u32; trash];
+    per_cell(&mut counts, |i| {
+        partials.iter().fold(0u32, |t, a| t.saturating_add(a.high(i)).saturating_add(a.low[i].into()))
+    });
     counts
+}
+
+/// One thread's cells: a small number per cell (a byte of count, or a word
+/// of 16-bit lanes), carried into large ones when it would overflow. The
+/// large numbers' pages are touched only where cells carry (zeroed memory
+/// that is never written is never mapped), and flagged, so that summing
+/// reads only those.
+struct Spilling<L, H> {
+    low: Vec<L>,
+    high: Vec<H>,
+    spilled: Vec<bool>,
+}
+
+/// log2 of the cells per flag of [`Spilling::spilled`].
+const SPILL_BLOCK: u32 = 10;
+
+impl<L: Clone + Default, H: Clone + Default> Spilling<L, H> {
+    /// Zeros for `cells` cells.
+    fn new(cells: usize) -> Self {
+        Spilling {
+            low: vec![L::default(); cells],
+            high: vec![H::default(); cells],
+            spilled: vec![false; (cells >> SPILL_BLOCK) + 1],
+        }
+    }
+
+    /// Carries into the large numbers of cell `i`.
+    #[inline(always)]
+    fn spill(&mut self, i: usize, carry: impl FnOnce(&mut H)) {
+        carry(&mut self.high[i]);
+        self.spilled[i >> SPILL_BLOCK] = true;
+    }
+
+    /// The large numbers of cell `i` (zero, unread, where its block never carried).
+    #[inline(always)]
+    fn high(&self, i: usize) -> H {
+        if self.spilled[i >> SPILL_BLOCK] { self.high[i].clone() } else { H::default() }
+    }
+}
+
+/// Each cell of `out` set to `value` of its index, in parallel.
+fn per_cell<T: Send>(out: &mut [T], value: impl Fn(usize) -> T + Sync) {
+    use rayon::prelude::*;
+    const ROWS: usize = 1 << 16;
+    out.par_chunks_mut(ROWS).enumerate().for_each(|(r, o)| {
+        o.iter_mut().enumerate().for_each(|(j, x)| *x = value(r * ROWS + j));
+    });
 }
 
 /// The samples counted per cell with their colour sums (the palette's
@@ -542,8 +604,7 @@ fn paint_points(
     // of one word (8 bytes: twice as many cells stay in the caches as with
     // 32-bit sums), added in one addition: no lane carries into the next,
     // since a cell is spilled into the 32-bit sums when its count reaches
-    // 255 (its channels are then at most 255 · 255 < 2^16). The 32-bit
-    // buffer's pages are touched only where cells spill.
+    // 255 (its channels are then at most 255 · 255 < 2^16).
     let lane = |c: u8| u64::from(c >> shift);
     let table: Vec<u64> =
         palette.0.iter().map(|c| 1 | lane(c[0]) << 16 | lane(c[1]) << 32 | lane(c[2]) << 48).collect();
@@ -552,18 +613,19 @@ fn paint_points(
     let partials = game.fold(
         points,
         true,
-        || vec![(vec![0u64; trash + 1], vec![[0u32; 4]; trash + 1])],
+        || vec![Spilling::<u64, [u32; 4]>::new(trash + 1)],
         |parts, xs, cs| {
-            let (acc, spill) = &mut parts[0];
+            let acc = &mut parts[0];
             let mut cells = [0u32; crate::eval::CHUNK];
             frame.cells(xs, &mut cells);
             for (&i, c) in cells.iter().zip(cs) {
-                let a = &mut acc[i as usize];
+                let a = &mut acc.low[i as usize];
                 *a += table[index(*c)];
                 if *a & 0xffff == 255 {
-                    let s = &mut spill[i as usize];
-                    (0..4).for_each(|k| s[k] = s[k].saturating_add((*a >> (16 * k)) as u32 & 0xffff));
-                    *a = 0;
+                    let lanes = std::mem::take(a);
+                    acc.spill(i as usize, |s| {
+                        (0..4).for_each(|k| s[k] = s[k].saturating_add((lanes >> (16 * k)) as u32 & 0xffff))
+                    });
                 }
             }
         },
@@ -574,10 +636,9 @@ fn paint_points(
     );
     let sum = |i: usize| -> [u32; 4] {
         let mut t = [0u32; 4];
-        for (cells, spill) in &partials {
-            (0..4).for_each(|k| {
-                t[k] = t[k].saturating_add(spill[i][k]).saturating_add((cells[i] >> (16 * k)) as u32 & 0xffff)
-            });
+        for a in &partials {
+            let (low, high) = (a.low[i], a.high(i));
+            (0..4).for_each(|k| t[k] = t[k].saturating_add(high[k]).saturating_add((low >> (16 * k)) as u32 & 0xffff));
         }
         t
     };
@@ -639,9 +700,4 @@ impl Frame {
             }
         }
     }
-}
-
-fn add_counts(mut a: Vec<u32>, b: Vec<u32>) -> Vec<u32> {
-    a.iter_mut().zip(&b).for_each(|(x, y)| *x = x.saturating_add(*y));
-    a
 }

@@ -270,6 +270,40 @@ fn density_pictures_count_every_sample_once() {
     assert!(e.contains("4000×4000"), "{e}");
 }
 
+/// Counts carried past a byte (issue 29: a thread counts a cell in a byte
+/// and carries 256 into a 32-bit count when it wraps; the coloured path
+/// counts in 16-bit lanes and carries at 255): on pictures so small that
+/// cells get from a few to a million samples, the plain and the coloured
+/// counts of the same samples agree cell by cell, with one thread and two,
+/// and add up to the samples in the frame.
+#[test]
+fn density_counts_carry_past_a_byte() {
+    use bcifs::eval::{ChaosGame, RandomSettings};
+    use bcifs::export::{Palette, RasterSettings, density};
+    let fire = Palette::named("fire").unwrap();
+    for (name, (w, h), s) in [("fern", (37, 53), 1), ("gasket", (2, 2), 1), ("gasket", (64, 64), 3)] {
+        let design = bcifs::builtin_design(name).unwrap();
+        let inst = bcifs::instantiate(&design, &[]).unwrap();
+        let model = design.model().unwrap().clone();
+        let points = 2_500_000;
+        let raster = RasterSettings::default().with_size(w, h);
+        let run = |threads: usize, palette: Option<&Palette>| {
+            let settings = RandomSettings::default().with_points(1000).with_seed(11).with_threads(threads);
+            let game = ChaosGame::new(&inst.automaton, &model, &settings).unwrap();
+            density(&game, points, &raster, s, palette).unwrap().counts
+        };
+        let plain = run(1, None);
+        assert_eq!(plain, run(2, None), "{name}: one thread and two");
+        assert_eq!(plain, run(1, Some(&fire)), "{name}: the plain and the coloured counts");
+        assert_eq!(plain, run(2, Some(&fire)), "{name}: the coloured counts with two threads");
+        let total: u64 = plain.iter().map(|&c| u64::from(c)).sum();
+        assert!(total as f64 >= 0.999 * points as f64 && total <= points as u64, "{name}: {total}");
+        let most = plain.iter().max().copied().unwrap_or(0);
+        assert!(most > 256, "{name}: some cell carries ({most})");
+        assert!(plain.iter().any(|&c| c % 256 != 0 && c > 256), "{name}: a carried cell has a low byte too");
+    }
+}
+
 /// Colour by the last map (issue 11), checked where the answer is known:
 /// with colour speed 1 a sample's colour coordinate is that of the last
 /// arrow applied, and the gasket's part towards corner `i` is the image of
