@@ -530,9 +530,18 @@ fn count_points(game: &ChaosGame, points: usize, frame: &Frame) -> Vec<u32> {
         },
     );
     let mut counts = vec![0u32; trash];
-    per_cell(&mut counts, |i| {
-        partials.iter().fold(0u32, |t, a| t.saturating_add(a.high(i)).saturating_add(a.low[i].into()))
-    });
+    {
+        use rayon::prelude::*;
+        counts.par_chunks_mut(1 << SPILL_BLOCK).enumerate().for_each(|(b, n)| {
+            // Written before it is read: a zeroed page read first would be
+            // mapped to the zero page and copied on the first write, with a
+            // TLB shootdown across the threads each time.
+            n.fill(0);
+            for a in &partials {
+                a.for_block(b, n.len(), |j, low, high| n[j] = n[j].saturating_add(low.into()).saturating_add(high));
+            }
+        });
+    }
     counts
 }
 
@@ -567,20 +576,24 @@ impl<L: Clone + Default, H: Clone + Default> Spilling<L, H> {
         self.spilled[i >> SPILL_BLOCK] = true;
     }
 
-    /// The large numbers of cell `i` (zero, unread, where its block never carried).
+    /// The first `len` cells of block `b` (of `2^SPILL_BLOCK` cells), each
+    /// handed to `add` with its place in the block, its small numbers and
+    /// its large ones (zero, unread, where the block never carried).
     #[inline(always)]
-    fn high(&self, i: usize) -> H {
-        if self.spilled[i >> SPILL_BLOCK] { self.high[i].clone() } else { H::default() }
+    fn for_block(&self, b: usize, len: usize, mut add: impl FnMut(usize, L, H))
+    where
+        L: Copy,
+        H: Copy,
+    {
+        let start = b << SPILL_BLOCK;
+        let low = &self.low[start..start + len];
+        if self.spilled[b] {
+            let high = &self.high[start..start + len];
+            low.iter().zip(high).enumerate().for_each(|(j, (l, h))| add(j, *l, *h));
+        } else {
+            low.iter().enumerate().for_each(|(j, l)| add(j, *l, H::default()));
+        }
     }
-}
-
-/// Each cell of `out` set to `value` of its index, in parallel.
-fn per_cell<T: Send>(out: &mut [T], value: impl Fn(usize) -> T + Sync) {
-    use rayon::prelude::*;
-    const ROWS: usize = 1 << 16;
-    out.par_chunks_mut(ROWS).enumerate().for_each(|(r, o)| {
-        o.iter_mut().enumerate().for_each(|(j, x)| *x = value(r * ROWS + j));
-    });
 }
 
 /// The samples counted per cell with their colour sums (the palette's
@@ -634,23 +647,19 @@ fn paint_points(
             a
         },
     );
-    let sum = |i: usize| -> [u32; 4] {
-        let mut t = [0u32; 4];
-        for a in &partials {
-            let (low, high) = (a.low[i], a.high(i));
-            (0..4).for_each(|k| t[k] = t[k].saturating_add(high[k]).saturating_add((low >> (16 * k)) as u32 & 0xffff));
-        }
-        t
-    };
     let mut counts = vec![0u32; trash];
     let mut colours = vec![[0u32; 3]; trash];
     {
         use rayon::prelude::*;
-        let rows = frame.sw.max(1) * 64;
-        counts.par_chunks_mut(rows).zip(colours.par_chunks_mut(rows)).enumerate().for_each(|(r, (n, c))| {
-            for (j, (n, c)) in n.iter_mut().zip(c.iter_mut()).enumerate() {
-                let t = sum(r * rows + j);
-                (*n, *c) = (t[0], [t[1], t[2], t[3]]);
+        let block = 1 << SPILL_BLOCK;
+        counts.par_chunks_mut(block).zip(colours.par_chunks_mut(block)).enumerate().for_each(|(b, (n, c))| {
+            (n.fill(0), c.fill([0; 3]));
+            for a in &partials {
+                a.for_block(b, n.len(), |j, low, high| {
+                    let lane = |k: usize| (low >> (16 * k)) as u32 & 0xffff;
+                    n[j] = n[j].saturating_add(high[0]).saturating_add(lane(0));
+                    (1..4).for_each(|k| c[j][k - 1] = c[j][k - 1].saturating_add(high[k]).saturating_add(lane(k)));
+                });
             }
         });
     }
