@@ -653,7 +653,8 @@ fn paint_points(
         use rayon::prelude::*;
         let block = 1 << SPILL_BLOCK;
         counts.par_chunks_mut(block).zip(colours.par_chunks_mut(block)).enumerate().for_each(|(b, (n, c))| {
-            (n.fill(0), c.fill([0; 3]));
+            n.fill(0);
+            c.fill([0; 3]);
             for a in &partials {
                 a.for_block(b, n.len(), |j, low, high| {
                     let lane = |k: usize| (low >> (16 * k)) as u32 & 0xffff;
