@@ -231,7 +231,9 @@ fn spectral_radius(m: &DMatrix<f64>) -> f64 {
         }
         _ => {}
     }
-    match crate::algebra::eigenvalues(m) {
+    // Eigenvalues without Schur vectors first (thousands of cycles per part);
+    // the Schur decomposition with its retries where that iteration stalls.
+    match crate::algebra::hessenberg_eigenvalues(m).or_else(|| crate::algebra::eigenvalues(m)) {
         Some(eig) => eig.iter().map(|l| l.norm()).fold(0.0, f64::max),
         // A stalled eigenvalue iteration proves nothing: no lower bound from it.
         None => 0.0,
@@ -394,15 +396,23 @@ pub fn jsr(automaton: &Automaton<f64>, settings: &JsrSettings) -> Result<Jsr, Js
             (lower, witness, upper)
         })
         .collect();
+    Ok(combined(bounds))
+}
+
+/// The parts' bounds `(lower, witness, upper)` combined in their order. As
+/// within a part, the first cycle that attains the lower bound within
+/// rounding is the witness: parts that tie (the same patch rotated) do not
+/// hand it on by their last bits.
+fn combined(bounds: Vec<(f64, Vec<String>, f64)>) -> Jsr {
     let mut out = Jsr { lower: 0.0, upper: 0.0, witness: Vec::new() };
     for (lower, witness, upper) in bounds {
-        if lower > out.lower || out.witness.is_empty() && !witness.is_empty() {
+        if lower > out.lower + ROUNDING || out.witness.is_empty() && !witness.is_empty() {
             out.lower = out.lower.max(lower);
             out.witness = witness;
         }
         out.upper = out.upper.max(upper.max(lower));
     }
-    Ok(out)
+    out
 }
 
 /// The convergence verdict alone, as [`jsr`] would prove it but with early
@@ -711,6 +721,20 @@ mod tests {
             assert!((spectral_radius(&m) - rho).abs() < 1e-9 * (1.0 + rho), "{m}");
             assert!((spectral_norm(&m) - sigma).abs() < 1e-12 * (1.0 + sigma), "{m}");
         }
+    }
+
+    /// Parts whose lower bounds tie within rounding keep the first one's
+    /// witness; a larger bound beyond rounding takes it; the upper bound is
+    /// the largest.
+    #[test]
+    fn tied_parts_keep_the_first_witness() {
+        let part = |lower: f64, name: &str, upper: f64| (lower, vec![name.to_string()], upper);
+        let tie = combined(vec![part(0.5, "A", 0.6), part(0.5 + 4e-16, "B", 0.7), part(0.5 - 1e-16, "C", 0.5)]);
+        assert_eq!((tie.witness, tie.upper), (vec!["A".to_string()], 0.7));
+        let more = combined(vec![part(0.5, "A", 0.6), part(0.5 + 1e-9, "B", 0.6)]);
+        assert_eq!((more.witness, more.lower), (vec!["B".to_string()], 0.5 + 1e-9));
+        let first = combined(vec![(0.0, Vec::new(), 0.0), part(0.3, "D", 0.4)]);
+        assert_eq!(first.witness, vec!["D".to_string()]);
     }
 
     #[test]

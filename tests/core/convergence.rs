@@ -47,6 +47,29 @@ fn schemes_of_seed_001_have_their_known_jsr() {
     }
 }
 
+/// Where cycles tie, the witness is the first cycle that attains the bound
+/// (in the parts' order, then the search's), not the one whose last bits
+/// happen to be largest: the bicubic patch's ρ = 1/2 is attained by each
+/// single map (the first part's first map is the witness, as before this
+/// rule a cycle of ten maps could be), and the Catmull-Clark cube's generated
+/// automaton (parts repeating the same patch, rotated) names a single
+/// arrow too; the bound itself is the same.
+#[test]
+fn the_witness_of_a_tie_is_the_first_cycle() {
+    let bicubic = bcifs::schemes::ifs_preset("bicubic", None, None).unwrap();
+    let j = jsr(&instantiate(&bicubic, &[]).unwrap().automaton, &JsrSettings::default()).unwrap();
+    approx::assert_abs_diff_eq!(j.lower, 0.5, epsilon = 1e-12);
+    assert_eq!(j.witness.len(), 1, "{}", j.witness_text());
+    let cube =
+        bcifs::mesh::read_mesh(std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/cube.off")))
+            .unwrap();
+    let design = bcifs::schemes::mesh_automaton(&cube, bcifs::mesh::Scheme::CatmullClark, None).unwrap();
+    let design = bcifs::parse_design(&bcifs::write_design(&design), "cube", "cube").unwrap();
+    let j = jsr(&instantiate(&design, &[]).unwrap().automaton, &JsrSettings::default()).unwrap();
+    approx::assert_abs_diff_eq!(j.lower, 0.5, epsilon = 1e-12);
+    assert_eq!(j.witness.len(), 1, "{}", j.witness_text());
+}
+
 /// Sokolov et al. 2010 §3 states convergence iff |a|, |b|, |1 − a − b| < 1. At
 /// a = −0.9, b = 0.95 each matrix passes, yet ρ(T0 T1³)^(1/4) = 1.2601 on the
 /// differences: the curve diverges (docs/errata.md).
