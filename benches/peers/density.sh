@@ -5,6 +5,8 @@
 #    coloured by its maps, as flam3 colours) against flam3-render on the same
 #    three Sierpinski maps (quality 100: 1024² · 100 samples, density
 #    estimation and log filtering) and a plain C chaos loop writing nothing;
+#  - the gasket in ink into a 4096² PNG, one thread, 10⁸ samples (issue 29:
+#    at least 10⁸ samples/s per core; the PNG's encoding is counted too);
 #  - Lévy's curve at depth 24 to PNG; the Doo-Sabin torus at depth 8 to OBJ.
 #
 #   benches/peers/density.sh [ROUNDS]     (installs flam3-utils with apt when missing)
@@ -51,6 +53,7 @@ for _ in $(seq "$rounds"); do
     done
     run c-loop-fern target/peers/chaos_loop fern 100000000
     run c-loop-gasket target/peers/chaos_loop gasket $samples
+    run bcifs-gasket-4096-t1 $b render gasket --random 100000000 --size 4096x4096 --threads 1 -o "$out/k.png"
     run bcifs-levy24-png $b render levy --depth 24 -o "$out/l.png"
 done
 $b render doo_sabin_torus --depth 8 -o "$out/t.obj" >/dev/null 2>&1
@@ -64,6 +67,8 @@ awk -v bytes="$obj_bytes" -v n="$samples" '
       best["flam3-gasket-t1"] / best["bcifs-gasket-colour-t1"], best["flam3-gasket-t2"] / best["bcifs-gasket-colour-t2"]
     printf "fern 1e8 to PNG vs the C loop writing nothing: %.2fx its time (1 thread), %.2fx (2 threads)\n", \
       best["bcifs-fern-t1"] / best["c-loop-fern"], best["bcifs-fern-t2"] / best["c-loop-fern"]
+    printf "gasket 1e8 in ink at 4096^2, 1 thread, end to end: %.0f M samples/s (the C loop writing nothing: %.0f M/s)\n", \
+      100 / best["bcifs-gasket-4096-t1"], n / 1e6 / best["c-loop-gasket"]
     printf "torus depth 8 OBJ (%.0f MB): %.2f GB/s (1 thread), %.2f GB/s (2 threads)\n", bytes / 1e6, \
       bytes / 1e9 / best["bcifs-torus8-obj-t1"], bytes / 1e9 / best["bcifs-torus8-obj-t2"]
   }' "$out/times"
