@@ -408,8 +408,9 @@ fn too_large(settings: &RasterSettings, points: usize, needed: u128) -> RasterTo
 /// the same picture with any number of threads), never stored: memory is
 /// `pixels · s²` bytes per thread and up to 4 more where cells pass 255
 /// samples (with a palette 8, and up to 16 more), whatever `points`, and
-/// the merged counts (4 bytes a cell, 16 with a palette). The frame is fitted on the first batch of points (with a
-/// margin of 3%); samples outside it are left out.
+/// the merged counts (4 bytes a cell, 16 with a palette). The frame is
+/// fitted on the first batch of points (with a margin of 3%); samples
+/// outside it are left out.
 ///
 /// ```
 /// use bcifs::eval::{ChaosGame, RandomSettings};
@@ -653,6 +654,7 @@ fn paint_points(
         use rayon::prelude::*;
         let block = 1 << SPILL_BLOCK;
         counts.par_chunks_mut(block).zip(colours.par_chunks_mut(block)).enumerate().for_each(|(b, (n, c))| {
+            // Written before read, as in `count_points`.
             n.fill(0);
             c.fill([0; 3]);
             for a in &partials {
