@@ -45,18 +45,7 @@ pub fn run_solve(out: &mut String, file: &str, as_json: bool) -> Result<u8> {
         Ok(family) => {
             writeln!(out, "{name}: {} free parameter(s): {}", family.dof(), family.parameter_names().join(", "))?;
             writeln!(out, "({} scalar equations, rank {})", family.equations, family.rank)?;
-            for (n, rows) in &family.matrices_text() {
-                let width = rows.iter().flatten().map(String::len).max().unwrap_or(1);
-                writeln!(out, "\n{n} =")?;
-                for row in rows {
-                    out.push_str("  [ ");
-                    for (k, cell) in row.iter().enumerate() {
-                        let gap = if k == 0 { "" } else { "  " };
-                        write!(out, "{gap}{cell:>width$}")?;
-                    }
-                    out.push_str(" ]\n");
-                }
-            }
+            out.push_str(&family.matrices_report());
             Ok(0)
         }
         Err(SolveError::Inconsistent { conflicts }) => {

@@ -568,6 +568,64 @@ impl Family {
             .collect()
     }
 
+    /// Every matrix as `bcifs solve` prints it: per arrow a blank line,
+    /// `NAME =`, then its rows as `  [ a  b  c ]`, each entry right-aligned
+    /// to the matrix's longest ([`Family::matrices_text`]'s entries, laid
+    /// out). Each matrix is written into one buffer, on the pool's threads:
+    /// a large generated automaton has hundreds of thousands of entries.
+    ///
+    /// ```
+    /// let design = bcifs::builtin_design("corner_cutting").unwrap();
+    /// let family = bcifs::solve(&design).unwrap();
+    /// let text = family.matrices_report();
+    /// assert!(text.starts_with("\nT0 =\n  [ "), "{text}");
+    /// assert_eq!(text.lines().filter(|l| l.ends_with(" =")).count(), family.matrices_text().len());
+    /// ```
+    pub fn matrices_report(&self) -> String {
+        use rayon::prelude::*;
+        use std::fmt::Write;
+        let names = self.parameter_names();
+        let arrows: Vec<_> = self.automaton.arrows().collect();
+        let blocks: Vec<String> = arrows
+            .par_iter()
+            .map(|(_, a)| {
+                let m = &a.matrix;
+                // The entries one after another, and where each ends.
+                let (mut cells, mut ends) = (String::new(), Vec::with_capacity(m.len()));
+                for i in 0..m.nrows() {
+                    for j in 0..m.ncols() {
+                        let e = &m[(i, j)];
+                        if e.is_zero() {
+                            cells.push('0');
+                        } else {
+                            let _ = write!(cells, "{}", e.display(&names));
+                        }
+                        ends.push(cells.len());
+                    }
+                }
+                let cell = |k: usize| &cells[if k == 0 { 0 } else { ends[k - 1] }..ends[k]];
+                // Aligned as `{:>width$}` aligns (in characters) to the longest entry in bytes.
+                let width = (0..ends.len()).map(|k| cell(k).len()).max().unwrap_or(1);
+                let mut out = String::with_capacity(a.name.len() + 4 + m.nrows() * (6 + m.ncols() * (width + 2)));
+                let _ = writeln!(out, "\n{} =", a.name);
+                for i in 0..m.nrows() {
+                    out.push_str("  [ ");
+                    for j in 0..m.ncols() {
+                        let text = cell(i * m.ncols() + j);
+                        if j > 0 {
+                            out.push_str("  ");
+                        }
+                        out.extend(std::iter::repeat_n(' ', width.saturating_sub(text.chars().count())));
+                        out.push_str(text);
+                    }
+                    out.push_str(" ]\n");
+                }
+                out
+            })
+            .collect();
+        blocks.concat()
+    }
+
     /// Instantiates the family: given values, then the file's defaults.
     ///
     /// # Errors

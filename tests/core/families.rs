@@ -196,3 +196,32 @@ fn generators_equal_the_hand_written_files() {
         }
     }
 }
+
+/// `solve`'s layout of the matrices (`Family::matrices_report`, written a
+/// matrix at a time) is the entries of `Family::matrices_text` right-aligned
+/// to each matrix's longest, for families with parameters, surds and
+/// several states, and for a generated mesh automaton.
+#[test]
+fn the_matrices_report_lays_out_the_matrices_text() {
+    let cube =
+        bcifs::mesh::read_mesh(std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/cube.off")))
+            .unwrap();
+    let generated = bcifs::schemes::mesh_automaton(&cube, bcifs::mesh::Scheme::DooSabin, None).unwrap();
+    let generated = bcifs::parse_design(&bcifs::write_design(&generated), "cube", "cube").unwrap();
+    let sqrt3 = bcifs::schemes::ifs_preset("sqrt3-patch", None, None).unwrap();
+    for design in
+        [builtin_design("corner_cutting").unwrap(), builtin_design("fern_sierpinski").unwrap(), sqrt3, generated]
+    {
+        let f = solve(&design).unwrap();
+        let mut expected = String::new();
+        for (n, rows) in f.matrices_text() {
+            let width = rows.iter().flatten().map(String::len).max().unwrap_or(1);
+            expected.push_str(&format!("\n{n} =\n"));
+            for row in rows {
+                let cells: Vec<String> = row.iter().map(|c| format!("{c:>width$}")).collect();
+                expected.push_str(&format!("  [ {} ]\n", cells.join("  ")));
+            }
+        }
+        assert_eq!(f.matrices_report(), expected, "{}", design.name());
+    }
+}
