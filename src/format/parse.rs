@@ -466,7 +466,15 @@ impl Reader<'_> {
         let span = spec.span();
         match spec.get_ref() {
             EntrySpec::Number => {
-                let raw: String = self.src.text[span.clone()].chars().filter(|c| *c != '_').collect();
+                // Most numbers of a large file are a bare `0`: no copy unless digits are grouped.
+                let text = &self.src.text[span.clone()];
+                let grouped: String;
+                let raw = if text.contains('_') {
+                    grouped = text.chars().filter(|c| *c != '_').collect();
+                    grouped.as_str()
+                } else {
+                    text
+                };
                 let raw = raw.trim_start_matches('+');
                 let (neg, digits) = match raw.strip_prefix('-') {
                     Some(d) => (true, d),
