@@ -33,8 +33,16 @@ pub enum Topology {
     },
 }
 
+/// A design the command uses until it ends: its memory (each matrix twice,
+/// as written and as affine forms, and the solved family) goes back to the
+/// system with the process instead of entry by entry (14 ms of `check`'s
+/// 0.33 s on Suzanne's 430,000 entries).
+fn kept_to_the_end(design: bcifs::Design) -> std::mem::ManuallyDrop<bcifs::Design> {
+    std::mem::ManuallyDrop::new(design)
+}
+
 pub fn run_solve(out: &mut String, file: &str, as_json: bool) -> Result<u8> {
-    let design = load(file)?;
+    let design = kept_to_the_end(load(file)?);
     let name = design.name().to_string();
     if as_json {
         let report = bcifs::render::solve_report(&design).map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
@@ -60,7 +68,7 @@ pub fn run_solve(out: &mut String, file: &str, as_json: bool) -> Result<u8> {
 }
 
 pub fn run_check(out: &mut String, file: &str, params: &[String], as_json: bool) -> Result<u8> {
-    let design = load(file)?;
+    let design = kept_to_the_end(load(file)?);
     let values = parse_params(params)?;
     let instance = bcifs::instantiate(&design, &values).map_err(|e| anyhow::anyhow!("{}: {e}", design.name()))?;
     let report = check(&instance.automaton, &instance.values, DEFAULT_CHECK_TOLERANCE)?;
