@@ -5,6 +5,7 @@ use std::ops::Range;
 use std::path::Path;
 
 use indexmap::IndexMap;
+use rayon::prelude::*;
 use serde::Deserialize;
 use serde::de::{self, Deserializer, SeqAccess, Visitor};
 use toml::Spanned;
@@ -28,10 +29,10 @@ struct FileSpec {
     states: Vec<StateSpec>,
     #[serde(default, rename = "arrow")]
     arrows: Vec<ArrowSpec>,
-    #[serde(default)]
-    constraints: IndexMap<String, Vec<Spanned<String>>>,
-    #[serde(default)]
-    parameters: IndexMap<String, Spanned<ParamSpec>>,
+    /// `None` when the file has no `[constraints]` (told apart from an
+    /// empty one, which two pieces of a file may not both define).
+    constraints: Option<IndexMap<String, Vec<Spanned<String>>>>,
+    parameters: Option<IndexMap<String, Spanned<ParamSpec>>>,
     model: Option<Spanned<ModelSpec>>,
 }
 
@@ -228,15 +229,92 @@ const MAX_EXTENDS: usize = 16;
 /// [`parse_design`] inside a chain of `extends` (the files being read, outermost first).
 fn parse_in_chain(text: &str, file: &str, default_name: &str, chain: &mut Vec<String>) -> Result<Design, FormatError> {
     let src = Source { file, text };
-    let spec: FileSpec = toml::from_str(text).map_err(|e| {
-        let offset = e.span().map_or(0, |s| s.start);
-        src.error(offset, e.message().trim().to_string())
-    })?;
+    let spec = match in_pieces(text) {
+        Some(spec) => spec,
+        None => toml::from_str(text).map_err(|e| {
+            let offset = e.span().map_or(0, |s| s.start);
+            src.error(offset, e.message().trim().to_string())
+        })?,
+    };
     let (builder, spans) = match &spec.extends {
         Some(base) => extend(&src, &spec, base, default_name, chain)?,
         None => Reader { src: &src, spans: Spans::default() }.read(&spec, default_name)?,
     };
     builder.into_design().map_err(|e| spans.locate(&src, e))
+}
+
+/// Files shorter than this are read in one piece.
+const PIECE: usize = 256 << 10;
+
+/// A long file (a mesh's generated automaton: Suzanne's is 2.2 MB, four
+/// tenths of `check`'s time in reading it) read as pieces on the pool's
+/// threads: cut before `[[arrow]]` lines, each piece read as TOML with the
+/// text before it blanked (so that its spans are the file's), the arrays of
+/// tables joined in order. `None` (read the file whole, which also reports
+/// its errors) when it cannot be cut (multi-line strings), a piece does not
+/// read, or the pieces would not make the file's document: a table defined
+/// by two of them, or states after the first (which a static `state = [...]`
+/// before them would forbid).
+fn in_pieces(text: &str) -> Option<FileSpec> {
+    let pieces = (text.len() / PIECE).min(rayon::current_num_threads());
+    if pieces < 2 || text.contains("\"\"\"") || text.contains("'''") {
+        return None;
+    }
+    // Line starts of `[[arrow]]` after the first (so that the first piece holds one:
+    // a static `arrow = [...]` and a `[[arrow]]` do not read together).
+    let heads: Vec<usize> = text
+        .match_indices("\n[[arrow]]")
+        .map(|(at, _)| at + 1)
+        .filter(|&at| text[at + 9..].starts_with(['\n', '\r']))
+        .skip(1)
+        .collect();
+    let mut cuts = vec![0];
+    for k in 1..pieces {
+        let want = text.len() * k / pieces;
+        match heads.iter().find(|&&at| at >= want && at > *cuts.last().unwrap_or(&0)) {
+            Some(&at) => cuts.push(at),
+            None => break,
+        }
+    }
+    cuts.dedup();
+    if cuts.len() < 2 {
+        return None;
+    }
+    cuts.push(text.len());
+    let specs: Vec<Option<FileSpec>> = cuts
+        .windows(2)
+        .collect::<Vec<_>>()
+        .into_par_iter()
+        .map(|w| {
+            let piece = if w[0] == 0 { text[..w[1]].to_string() } else { " ".repeat(w[0]) + &text[w[0]..w[1]] };
+            toml::from_str(&piece).ok()
+        })
+        .collect();
+    let mut specs = specs.into_iter();
+    let mut whole = specs.next()??;
+    for spec in specs {
+        let spec = spec?;
+        if !spec.states.is_empty() {
+            return None;
+        }
+        whole.arrows.extend(spec.arrows);
+        once(&mut whole.constraints, spec.constraints)?;
+        once(&mut whole.parameters, spec.parameters)?;
+        once(&mut whole.model, spec.model)?;
+    }
+    Some(whole)
+}
+
+/// Keeps the one piece's table, `None` when two pieces define it.
+fn once<T>(whole: &mut Option<T>, piece: Option<T>) -> Option<()> {
+    match (whole.is_some(), piece) {
+        (true, Some(_)) => None,
+        (_, piece @ Some(_)) => {
+            *whole = piece;
+            Some(())
+        }
+        (_, None) => Some(()),
+    }
 }
 
 /// Where the items given to the builder are in the file.
@@ -365,7 +443,7 @@ fn extend(
     default_name: &str,
     chain: &mut Vec<String>,
 ) -> Result<(DesignBuilder, Spans), FormatError> {
-    if !spec.states.is_empty() || !spec.arrows.is_empty() || !spec.constraints.is_empty() {
+    if !spec.states.is_empty() || !spec.arrows.is_empty() || spec.constraints.as_ref().is_some_and(|c| !c.is_empty()) {
         return Err(src.at(&base.span(), "a file that extends another may only add a model and parameter defaults"));
     }
     let name = base.get_ref();
@@ -410,7 +488,7 @@ fn extend(
     }
     let mut reader = Reader { src, spans: Spans::default() };
     reader.spans.params = vec![ParamSpans::default(); design.declared().len()];
-    for (pname, p) in &spec.parameters {
+    for (pname, p) in spec.parameters.iter().flatten() {
         if p.get_ref().entry.is_some() {
             return Err(src.at(&p.span(), "a file that extends another may only give parameter defaults"));
         }
@@ -527,13 +605,13 @@ impl Reader<'_> {
         for arrow in &spec.arrows {
             self.arrow(&mut b, arrow)?;
         }
-        for (group, equations) in &spec.constraints {
+        for (group, equations) in spec.constraints.iter().flatten() {
             for eq in equations {
                 b.constraint(group.clone(), eq.get_ref().clone());
                 self.spans.equations.push(eq.span());
             }
         }
-        for (name, p) in &spec.parameters {
+        for (name, p) in spec.parameters.iter().flatten() {
             let ParamSpec { entry, default } = p.get_ref();
             match entry {
                 Some(e) => b.name_entry(name.clone(), e.get_ref().clone()),

@@ -347,3 +347,54 @@ fn a_large_irregular_mesh_is_solved_and_checked() {
     assert!(report.constraints.iter().all(|(_, r)| *r == 0.0));
     assert_eq!(report.converges, Some(true), "{:?}", report.jsr);
 }
+
+/// A long file (Suzanne's generated Catmull-Clark automaton, 2.2 MB) is read
+/// in pieces on the pool's threads: the design, and every error with its
+/// `file:line:column`, are those of the file read whole (a `'''` in a
+/// trailing comment makes a file that is read whole), also where the pieces
+/// alone would read but the file does not (a table defined twice, a static
+/// array of arrows) and where states come after arrows.
+#[test]
+fn a_long_file_reads_in_pieces_as_it_reads_whole() {
+    let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    let suzanne = bcifs::mesh::read_mesh(&data.join("suzanne.obj")).unwrap();
+    let text = bcifs::write_design(&mesh_automaton(&suzanne, Scheme::CatmullClark, None).unwrap());
+    assert!(text.len() > 2_000_000 && text.matches("\n[[arrow]]\n").count() > 1000);
+    let whole = |t: &str| format!("{t}\n# ''' (read whole)\n");
+    let read =
+        |t: &str| bcifs::parse_design(t, "s.toml", "s").map(|d| bcifs::write_design(&d)).map_err(|e| e.to_string());
+    let same = |t: &str| {
+        let (pieces, one) = (read(t), read(&whole(t)));
+        assert_eq!(pieces, one);
+        pieces
+    };
+    let written = same(&text).unwrap();
+    assert_eq!(same(&written).unwrap(), written);
+
+    // A line near the end, in the last piece, and one in the middle.
+    let late = text.rfind("\n[[arrow]]\n").unwrap() + 1;
+    let middle = late / 2 + text[late / 2..].find("\n[[arrow]]\n").unwrap() + 1;
+    let insert = |at: usize, what: &str| format!("{}{what}{}", &text[..at], &text[at..]);
+    let e = same(&insert(late, "[[arrow]]\nname = \"x\"\nfrom = \"face0\"\nto = \"nowhere\"\nmatrix = \"unknown\"\n"))
+        .unwrap_err();
+    assert!(e.contains("no state named `nowhere`"), "{e}");
+    let line = text[..late].matches('\n').count() + 4;
+    assert!(e.starts_with(&format!("s.toml:{line}:6: ")), "{e}");
+    let e = same(&insert(late, "x = [1, \n")).unwrap_err();
+    assert!(e.starts_with(&format!("s.toml:{}:1: ", line - 1)), "{e}");
+    // `[constraints]` and `[model]` also at the end: the file defines them twice.
+    for table in ["[constraints]\n", "[model]\n"] {
+        let e = same(&insert(middle, table)).unwrap_err();
+        assert!(e.ends_with(": duplicate key"), "{table}: {e}");
+    }
+    // A sub-table before its table (which TOML allows): pieces that both define `parameters`.
+    let design = same(&insert(middle, "[parameters.a]\n")).unwrap();
+    assert!(design.contains("\na = {  }\n"), "the parameter `a` is read");
+    // A static array of arrows, which the `[[arrow]]` tables may not extend.
+    let first = text.find("\n[[state]]\n").unwrap() + 1;
+    let e = same(&insert(first, "arrow = []\n")).unwrap_err();
+    assert!(e.starts_with("s.toml:"), "{e}");
+    // A state after the arrows reads, in the file's order.
+    let design = same(&insert(middle, "[[state]]\nname = \"late\"\ndim = 1\n")).unwrap();
+    assert!(design.contains("name = \"late\""));
+}
