@@ -33,6 +33,14 @@ pub trait Entry: nalgebra::Scalar + ExprValue {
         let term = if b.is_one_entry() { a.clone() } else { a.times(b)? };
         Ok(if self.is_zero_entry() { term } else { self.plus(&term) })
     }
+    /// `self += a · b`, in place where the type can.
+    ///
+    /// # Errors
+    /// As [`Entry::add_product`].
+    fn add_product_to(&mut self, a: &Self, b: &Self) -> Result<(), ExprError> {
+        *self = self.add_product(a, b)?;
+        Ok(())
+    }
 }
 
 impl Entry for f64 {
@@ -64,12 +72,18 @@ impl Entry for Affine {
         self.is_one()
     }
     fn add_product(&self, a: &Affine, b: &Affine) -> Result<Affine, ExprError> {
+        let mut out = self.clone();
+        out.add_product_to(a, b)?;
+        Ok(out)
+    }
+    fn add_product_to(&mut self, a: &Affine, b: &Affine) -> Result<(), ExprError> {
         // One merge of sorted terms, no product formed apart (exact: the same form).
         match (a.as_constant(), b.as_constant()) {
-            (_, Some(k)) => Ok(self.add_scaled(a, k)),
-            (Some(k), _) => Ok(self.add_scaled(b, k)),
-            _ => Err(ExprError::Nonlinear),
+            (_, Some(k)) => self.add_scaled_to(a, k),
+            (Some(k), _) => self.add_scaled_to(b, k),
+            _ => return Err(ExprError::Nonlinear),
         }
+        Ok(())
     }
 }
 
@@ -92,7 +106,7 @@ pub fn mat_mul<E: Entry>(a: &DMatrix<E>, b: &DMatrix<E>) -> Result<DMatrix<E>, E
                 if bkj.is_zero_entry() {
                     continue;
                 }
-                out[(i, j)] = out[(i, j)].add_product(aik, bkj)?;
+                out[(i, j)].add_product_to(aik, bkj)?;
             }
         }
     }

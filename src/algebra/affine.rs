@@ -17,6 +17,32 @@ pub struct Affine {
     terms: Vec<(usize, Num)>,
 }
 
+/// The sorted terms of `left + k · right`, without zero coefficients.
+fn merge_scaled(left: &[(usize, Num)], right: &[(usize, Num)], k: &Num) -> Vec<(usize, Num)> {
+    let mut terms = Vec::with_capacity(left.len() + right.len());
+    let (mut i, mut j) = (0, 0);
+    while i < left.len() || j < right.len() {
+        let take_left = j >= right.len() || (i < left.len() && left[i].0 < right[j].0);
+        let take_right = i >= left.len() || (j < right.len() && right[j].0 < left[i].0);
+        if take_left {
+            terms.push(left[i].clone());
+            i += 1;
+        } else if take_right {
+            terms.push((right[j].0, right[j].1.mul(k)));
+            j += 1;
+        } else {
+            let c = left[i].1.add(&right[j].1.mul(k));
+            if !c.is_zero() {
+                terms.push((left[i].0, c));
+            }
+            i += 1;
+            j += 1;
+        }
+    }
+    terms.retain(|(_, c)| !c.is_zero());
+    terms
+}
+
 /// A product of two non-constant affine forms: the system would not be linear.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 #[error("product of two expressions that both depend on unknowns is not linear")]
@@ -80,41 +106,39 @@ impl Affine {
 
     /// `self + k · other`, merging the sorted term lists.
     pub fn add_scaled(&self, other: &Affine, k: &Num) -> Affine {
-        // The common cases of matrix products: adding to nothing, adding a constant.
-        let constant = || self.constant.add(&other.constant.mul(k));
-        if self.terms.is_empty() {
-            let terms = if k.is_one() {
+        if self.terms.is_empty() || other.terms.is_empty() {
+            // The common cases of matrix products, adding to nothing or adding a constant: no merge.
+            let mut out = self.clone();
+            out.add_scaled_to(other, k);
+            return out;
+        }
+        Affine {
+            constant: self.constant.add(&other.constant.mul(k)),
+            terms: merge_scaled(&self.terms, &other.terms, k),
+        }
+    }
+
+    /// `self += k · other`: a matrix product's step, which allocates only
+    /// when `other` has terms (none when it is a constant, as selection
+    /// matrices' and most subdivision matrices' entries are).
+    pub fn add_scaled_to(&mut self, other: &Affine, k: &Num) {
+        // Adding an exact zero to an exact constant changes nothing (an approximate one would make it approximate).
+        if !(other.constant.is_zero() && other.constant.is_exact() && self.constant.is_exact() && k.is_exact()) {
+            self.constant =
+                if k.is_one() { self.constant.add(&other.constant) } else { self.constant.add(&other.constant.mul(k)) };
+        }
+        if other.terms.is_empty() {
+            return;
+        }
+        self.terms = if self.terms.is_empty() {
+            if k.is_one() {
                 other.terms.clone()
             } else {
                 other.terms.iter().map(|(v, c)| (*v, c.mul(k))).filter(|(_, c)| !c.is_zero()).collect()
-            };
-            return Affine { constant: constant(), terms };
-        }
-        if other.terms.is_empty() {
-            return Affine { constant: constant(), terms: self.terms.clone() };
-        }
-        let mut terms = Vec::with_capacity(self.terms.len() + other.terms.len());
-        let (mut i, mut j) = (0, 0);
-        while i < self.terms.len() || j < other.terms.len() {
-            let take_left = j >= other.terms.len() || (i < self.terms.len() && self.terms[i].0 < other.terms[j].0);
-            let take_right = i >= self.terms.len() || (j < other.terms.len() && other.terms[j].0 < self.terms[i].0);
-            if take_left {
-                terms.push(self.terms[i].clone());
-                i += 1;
-            } else if take_right {
-                terms.push((other.terms[j].0, other.terms[j].1.mul(k)));
-                j += 1;
-            } else {
-                let c = self.terms[i].1.add(&other.terms[j].1.mul(k));
-                if !c.is_zero() {
-                    terms.push((self.terms[i].0, c));
-                }
-                i += 1;
-                j += 1;
             }
-        }
-        terms.retain(|(_, c)| !c.is_zero());
-        Affine { constant: constant(), terms }
+        } else {
+            merge_scaled(&self.terms, &other.terms, k)
+        };
     }
 
     /// `k · self`.
@@ -138,7 +162,7 @@ impl Affine {
     pub fn substitute(&self, subst: &dyn Fn(usize) -> Affine) -> Affine {
         let mut out = Affine::constant(self.constant.clone());
         for (v, c) in &self.terms {
-            out = out.add_scaled(&subst(*v), c);
+            out.add_scaled_to(&subst(*v), c);
         }
         out
     }
@@ -261,6 +285,35 @@ mod tests {
         let e = Affine::var(0).add(&Affine::var(1)).sub(&Affine::var(0));
         assert_eq!(e, Affine::var(1));
         assert!(Affine::var(0).sub(&Affine::var(0)).is_zero());
+    }
+
+    /// The in-place step of a product is the form `add_scaled` makes, exact
+    /// stays exact and an approximate constant makes the sum approximate.
+    #[test]
+    fn adding_in_place_is_adding() {
+        let forms = [
+            Affine::zero(),
+            Affine::one(),
+            Affine::var(1),
+            Affine::var(0).scale(&Num::frac(1, 4)).add(&Affine::constant(Num::frac(1, 2))),
+            Affine::var(0).add(&Affine::var(1)).scale(&Num::frac(-1, 8)),
+            Affine::constant(Num::Approx(0.0)),
+            Affine::constant(Num::Approx(0.25)).add(&Affine::var(1)),
+        ];
+        for a in &forms {
+            for b in &forms {
+                for k in [Num::one(), Num::zero(), Num::frac(-1, 3), Num::Approx(0.5)] {
+                    let mut c = a.clone();
+                    c.add_scaled_to(b, &k);
+                    let d = a.add_scaled(b, &k);
+                    assert_eq!(c, d, "{a:?} + {k:?} {b:?}");
+                    assert_eq!(c.constant.is_exact(), d.constant.is_exact(), "{a:?} + {k:?} {b:?}");
+                }
+            }
+        }
+        let mut c = Affine::constant(Num::frac(1, 2));
+        c.add_scaled_to(&Affine::constant(Num::Approx(0.0)), &Num::one());
+        assert!(!c.constant.is_exact());
     }
 
     #[test]

@@ -185,6 +185,10 @@ pub fn equations(design: &Design) -> Result<Vec<Equation>, SolveError> {
                     let name: Arc<str> = c.to_string().into();
                     for row in 0..l.nrows() {
                         for column in 0..l.ncols() {
+                            // Most entries of a constraint that holds are equal forms: no difference made.
+                            if l[(row, column)] == r[(row, column)] {
+                                continue;
+                            }
                             let form = l[(row, column)].sub(&r[(row, column)]);
                             if !form.is_zero() {
                                 let label = Label::Entry { constraint: name.clone(), row, column };
