@@ -71,10 +71,11 @@ struct Compiler<'a> {
     /// The first variable of each unknown matrix (its entries follow row by row).
     unknown_base: HashMap<String, usize>,
     automaton: Automaton<Affine>,
-    /// Expressions already evaluated (a generated mesh automaton repeats a
-    /// few entry texts thousands of times): the text's value.
-    values: std::cell::RefCell<HashMap<String, Affine>>,
 }
+
+/// Expressions already evaluated (a generated mesh automaton repeats a few
+/// entry texts thousands of times): the text's value. One a thread.
+type Known = HashMap<String, Affine>;
 
 fn parse_entry(text: &str) -> Option<(String, usize, usize)> {
     match Expr::parse(text) {
@@ -91,7 +92,6 @@ impl<'a> Compiler<'a> {
             var_by_name: HashMap::new(),
             unknown_base: HashMap::new(),
             automaton: Automaton::new(spec.name.clone()),
-            values: std::cell::RefCell::new(HashMap::new()),
         }
     }
 
@@ -130,8 +130,15 @@ impl<'a> Compiler<'a> {
         self.states()?;
         let named = self.named_entries()?;
         self.unknowns(named)?;
-        for index in 0..self.spec.arrows.len() {
-            self.arrow(index)?;
+        // The matrices on the pool's threads, added in order (the first error in that order is the one
+        // reported, as if they were made one by one).
+        let matrices: Vec<Result<DMatrix<Affine>, BuildError>> = {
+            use rayon::prelude::*;
+            let this = &self;
+            (0..self.spec.arrows.len()).into_par_iter().map_init(Known::new, |known, i| this.matrix(i, known)).collect()
+        };
+        for (index, matrix) in matrices.into_iter().enumerate() {
+            self.add_arrow(index, matrix?)?;
         }
         for index in 0..self.spec.equations.len() {
             let c = self.equation(index)?;
@@ -271,6 +278,7 @@ impl<'a> Compiler<'a> {
     /// only for an error.
     fn value(
         &self,
+        known: &mut Known,
         value: &Value,
         at: impl Fn() -> BuildError,
         what: impl Fn() -> String,
@@ -278,8 +286,8 @@ impl<'a> Compiler<'a> {
         match value {
             Value::Num(n) => Ok(Affine::constant(n.clone())),
             Value::Text(text) => {
-                if let Some(known) = self.values.borrow().get(text) {
-                    return Ok(known.clone());
+                if let Some(value) = known.get(text) {
+                    return Ok(value.clone());
                 }
                 let (at, what) = (at(), what());
                 let expr = Expr::parse(text)
@@ -293,13 +301,14 @@ impl<'a> Compiler<'a> {
                 }
                 let value =
                     expr.eval(&Symbols { vars: &self.var_by_name }).map_err(|e| self.eval_error(at, e, &what))?;
-                self.values.borrow_mut().insert(text.clone(), value.clone());
+                known.insert(text.clone(), value.clone());
                 Ok(value)
             }
         }
     }
 
-    fn arrow(&mut self, index: usize) -> Result<(), BuildError> {
+    /// The matrix of arrow `index`, checked against its endpoints.
+    fn matrix(&self, index: usize, known: &mut Known) -> Result<DMatrix<Affine>, BuildError> {
         let arrow = &self.spec.arrows[index];
         let name = &arrow.name;
         let rows = self.endpoint(index, Field::From, &arrow.from)?;
@@ -311,7 +320,7 @@ impl<'a> Compiler<'a> {
                 format!("its matrix would be {rows}×{cols}: at most {MAX_MATRIX_ENTRIES} entries (is a dim mistyped?)"),
             ));
         }
-        let matrix = match &arrow.matrix {
+        Ok(match &arrow.matrix {
             Matrix::Unknown => {
                 let Some(&base) = self.unknown_base.get(name) else {
                     return Err(self.arrow_error(index, Field::Whole, "internal error: no unknowns (please report)"));
@@ -360,6 +369,7 @@ impl<'a> Compiler<'a> {
                 for (r, row) in data.iter().enumerate() {
                     for (c, e) in row.iter().enumerate() {
                         entries.push(self.value(
+                            known,
                             e,
                             || self.arrow_error(index, Field::Entry(r, c), ""),
                             || format!("entry [{r}][{c}] of `{name}`"),
@@ -368,7 +378,12 @@ impl<'a> Compiler<'a> {
                 }
                 DMatrix::from_row_iterator(rows, cols, entries)
             }
-        };
+        })
+    }
+
+    fn add_arrow(&mut self, index: usize, matrix: DMatrix<Affine>) -> Result<(), BuildError> {
+        let arrow = &self.spec.arrows[index];
+        let name = &arrow.name;
         let (from, to) = (self.automaton.state_id(&arrow.from), self.automaton.state_id(&arrow.to));
         let (Some(from), Some(to)) = (from, to) else {
             return Err(self.arrow_error(index, Field::Whole, "internal error: endpoints vanished (please report)"));
@@ -473,7 +488,7 @@ impl<'a> Compiler<'a> {
         for (index, p) in self.spec.parameters.iter().enumerate() {
             if let Some(d) = &p.default {
                 let at = || self.param_error(index, Field::Default, "");
-                let value = self.value(d, at, || format!("the default of `{}`", p.name))?;
+                let value = self.value(&mut Known::new(), d, at, || format!("the default of `{}`", p.name))?;
                 let value = value
                     .as_constant()
                     .ok_or_else(|| self.param_error(index, Field::Default, "a default must be a constant"))?;

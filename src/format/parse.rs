@@ -602,8 +602,22 @@ impl Reader<'_> {
             b.state(s.name.get_ref().clone(), dim as usize, kind);
             self.spans.states.push(StateSpans { name: s.name.span(), dim: s.dim.span() });
         }
-        for arrow in &spec.arrows {
-            self.arrow(&mut b, arrow)?;
+        // The arrows' entries on the pool's threads, given to the builder in order (the first error in
+        // that order is the one reported).
+        let arrows: Vec<_> = {
+            let this = &self;
+            spec.arrows.par_iter().map(|arrow| this.arrow(arrow)).collect()
+        };
+        for (arrow, read) in spec.arrows.iter().zip(arrows) {
+            let (kind, matrix, spans) = read?;
+            b.arrow(
+                arrow.name.get_ref().clone(),
+                arrow.from.get_ref().clone(),
+                arrow.to.get_ref().clone(),
+                kind,
+                matrix,
+            );
+            self.spans.arrows.push(spans);
         }
         for (group, equations) in spec.constraints.iter().flatten() {
             for eq in equations {
@@ -633,7 +647,8 @@ impl Reader<'_> {
         Ok((b, self.spans))
     }
 
-    fn arrow(&mut self, b: &mut DesignBuilder, arrow: &ArrowSpec) -> Result<(), FormatError> {
+    /// An arrow's kind, matrix and spans.
+    fn arrow(&self, arrow: &ArrowSpec) -> Result<(ArrowKind, Matrix, ArrowSpans), FormatError> {
         let src = self.src;
         let name = arrow.name.get_ref();
         let kind = match &arrow.kind {
@@ -695,9 +710,7 @@ impl Reader<'_> {
                 }
             }
         };
-        b.arrow(name.clone(), arrow.from.get_ref().clone(), arrow.to.get_ref().clone(), kind, matrix);
-        self.spans.arrows.push(spans);
-        Ok(())
+        Ok((kind, matrix, spans))
     }
 
     fn model(&mut self, m: &Spanned<ModelSpec>) -> Result<Model, FormatError> {
