@@ -11,6 +11,7 @@
 //! Seed: Sokolov, Gentil, Bensoudane, *Tangents to fractal curves and
 //! surfaces*, §3.1 (incidence and adjacency constraints).
 
+use std::borrow::Cow;
 use std::collections::HashMap;
 use std::fmt;
 use std::sync::Arc;
@@ -18,6 +19,7 @@ use std::sync::Arc;
 use nalgebra::DMatrix;
 use num_rational::BigRational;
 use num_traits::{One, Zero};
+use petgraph::stable_graph::EdgeIndex;
 
 use crate::algebra::{Affine, Env, Expr, ExprError, Num, Surd};
 use crate::automaton::{Automaton, Relation};
@@ -169,6 +171,7 @@ impl Env<Affine> for Symbols<'_> {
 pub fn equations(design: &Design) -> Result<Vec<Equation>, SolveError> {
     use rayon::prelude::*;
     let a = &design.automaton();
+    let picks = selections(a);
     // Each constraint's equations on the pool's threads, gathered in the constraints' order (the
     // first error in that order is the one reported).
     let per_constraint: Vec<Result<Vec<Equation>, SolveError>> = a
@@ -179,17 +182,19 @@ pub fn equations(design: &Design) -> Result<Vec<Equation>, SolveError> {
             match &c.relation {
                 Relation::Paths { lhs, rhs } => {
                     let side = |path: &[_], side| {
-                        a.product(path).map_err(|_| SolveError::Nonlinear { constraint: c.to_string(), side })
+                        product_view(a, path, &picks)
+                            .map_err(|_| SolveError::Nonlinear { constraint: c.to_string(), side })
                     };
                     let (l, r) = (side(lhs, "left")?, side(rhs, "right")?);
                     let name: Arc<str> = c.to_string().into();
-                    for row in 0..l.nrows() {
+                    for row in 0..l.matrix.nrows() {
                         for column in 0..l.ncols() {
+                            let (l, r) = (l.at(row, column), r.at(row, column));
                             // Most entries of a constraint that holds are equal forms: no difference made.
-                            if l[(row, column)] == r[(row, column)] {
+                            if l == r {
                                 continue;
                             }
-                            let form = l[(row, column)].sub(&r[(row, column)]);
+                            let form = l.sub(r);
                             if !form.is_zero() {
                                 let label = Label::Entry { constraint: name.clone(), row, column };
                                 out.push(Equation { label, form });
@@ -225,6 +230,70 @@ pub fn equations(design: &Design) -> Result<Vec<Equation>, SolveError> {
         }
     }
     Ok(out)
+}
+
+/// The arrows whose matrices select columns (one entry exactly one in each
+/// column, the others exactly zero: the boundary and turning arrows of a
+/// generated automaton): the row each column picks.
+fn selections(a: &Automaton<Affine>) -> HashMap<EdgeIndex, Vec<usize>> {
+    use rayon::prelude::*;
+    let arrows: Vec<_> = a.arrows().collect();
+    arrows
+        .par_iter()
+        .filter_map(|(id, arrow)| {
+            let m = &arrow.matrix;
+            let pick = (0..m.ncols()).map(|j| {
+                let column = m.column(j);
+                let one = column.iter().position(Affine::is_one)?;
+                column.iter().enumerate().all(|(i, e)| i == one || e.is_zero()).then_some(one)
+            });
+            Some((*id, pick.collect::<Option<Vec<usize>>>()?))
+        })
+        .collect()
+}
+
+/// A path's product as a matrix and the columns of it that its trailing
+/// selections keep (composed, not multiplied out): entry `(i, j)` of the
+/// product is the matrix's `(i, pick[j])`. A constraint `T0 b1 = T1 b0`
+/// compares entries of `T0` and `T1` in place.
+struct PathView<'a> {
+    matrix: Cow<'a, DMatrix<Affine>>,
+    pick: Option<Vec<usize>>,
+}
+
+impl PathView<'_> {
+    fn ncols(&self) -> usize {
+        self.pick.as_ref().map_or(self.matrix.ncols(), Vec::len)
+    }
+
+    fn at(&self, row: usize, column: usize) -> &Affine {
+        &self.matrix[(row, self.pick.as_ref().map_or(column, |p| p[column]))]
+    }
+}
+
+/// The [`PathView`] of `path`.
+///
+/// # Errors
+/// A product of two matrices with unknowns.
+fn product_view<'a>(
+    a: &'a Automaton<Affine>,
+    path: &[EdgeIndex],
+    picks: &HashMap<EdgeIndex, Vec<usize>>,
+) -> Result<PathView<'a>, ExprError> {
+    let tail = path.iter().rev().take_while(|id| picks.contains_key(id)).count();
+    let head = &path[..path.len() - tail];
+    if tail == 0 || head.is_empty() {
+        return Ok(PathView { matrix: Cow::Owned(a.product(path)?), pick: None });
+    }
+    let matrix = match head {
+        [one] => Cow::Borrowed(&a.arrow(*one).matrix),
+        _ => Cow::Owned(a.product(head)?),
+    };
+    let mut pick = picks[&path[path.len() - 1]].clone();
+    for id in path[head.len()..path.len() - 1].iter().rev() {
+        pick = pick.iter().map(|&j| picks[id][j]).collect();
+    }
+    Ok(PathView { matrix, pick: Some(pick) })
 }
 
 /// A sparse row `Σ c_v x_v + constant = 0` with the set of input equations
@@ -780,5 +849,42 @@ pub fn instantiate(design: &Design, values: &[(String, f64)]) -> Result<Instance
             Ok(family.instantiate(values)?)
         }
         Err(e) => Err(e.clone().into()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::{PolyMesh, Scheme};
+
+    /// A path's view (trailing selections and turns composed, not multiplied
+    /// out) has the entries of its product, on shipped automata with
+    /// selections and on generated ones whose paths end in a boundary and a turn.
+    #[test]
+    fn a_path_view_is_its_product() {
+        let cube = PolyMesh::cube();
+        let mut designs: Vec<Design> =
+            ["corner_cutting", "doo_sabin_quad", "koch"].map(|n| crate::format::builtin_design(n).unwrap()).into();
+        for scheme in [Scheme::CatmullClark, Scheme::DooSabin] {
+            designs.push(crate::schemes::mesh_automaton(&cube, scheme, None).unwrap());
+        }
+        let mut composed = 0;
+        for design in &designs {
+            let a = design.automaton();
+            let picks = selections(a);
+            assert!(!picks.is_empty(), "{}", design.name());
+            for c in a.constraints() {
+                let Relation::Paths { lhs, rhs } = &c.relation else { continue };
+                for path in [lhs, rhs] {
+                    let (view, product) = (product_view(a, path, &picks).unwrap(), a.product(path).unwrap());
+                    assert_eq!(view.ncols(), product.ncols());
+                    for (i, j) in (0..product.nrows()).flat_map(|i| (0..product.ncols()).map(move |j| (i, j))) {
+                        assert_eq!(view.at(i, j), &product[(i, j)], "{}: {c} at ({i}, {j})", design.name());
+                    }
+                    composed += usize::from(path.iter().rev().take_while(|id| picks.contains_key(*id)).count() > 1);
+                }
+            }
+        }
+        assert!(composed > 0, "no path ends in two selections");
     }
 }
