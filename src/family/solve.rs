@@ -541,9 +541,13 @@ fn family_of(design: &Design, elim: &Eliminator, equations: usize) -> Result<Fam
             value: variables[v].1.display(&free_names).to_string(),
         });
     }
-    // Every matrix with the variables replaced, on the pool's threads.
-    let automaton =
-        design.automaton().par_map_matrices(|arrow| arrow.matrix.map(|e| e.substitute(&|v| variables[v].1.clone())));
+    // Every matrix with the variables replaced, on the pool's threads; copied when every variable
+    // is free and keeps its number (a generated mesh automaton's weights), as the substitution
+    // would give the same forms.
+    let identity = variables.iter().enumerate().all(|(v, (_, form))| *form == Affine::var(v));
+    let automaton = design.automaton().par_map_matrices(|arrow| {
+        if identity { arrow.matrix.clone() } else { arrow.matrix.map(|e| e.substitute(&|v| variables[v].1.clone())) }
+    });
     let parameters = free
         .iter()
         .map(|&v| {
@@ -886,5 +890,19 @@ mod tests {
             }
         }
         assert!(composed > 0, "no path ends in two selections");
+    }
+
+    /// A family whose variables are all free and keep their numbers (a
+    /// generated automaton's weights) has the matrices the substitution gives.
+    #[test]
+    fn an_identity_substitution_is_a_copy() {
+        let design = crate::schemes::mesh_automaton(&PolyMesh::cube(), Scheme::CatmullClark, None).unwrap();
+        let family = solve(&design).unwrap();
+        assert!(family.variables.iter().enumerate().all(|(v, (_, form))| *form == Affine::var(v)));
+        assert!(!family.variables.is_empty());
+        for (id, arrow) in design.automaton().arrows() {
+            let substituted = arrow.matrix.map(|e| e.substitute(&|v| family.variables[v].1.clone()));
+            assert_eq!(family.automaton.arrow(id).matrix, substituted, "{}", arrow.name);
+        }
     }
 }
