@@ -371,7 +371,7 @@ impl DesignBuilder {
 /// parameter is declared, the model's roots and start sets name states.
 #[derive(Clone, Debug)]
 pub struct Design {
-    pub(super) automaton: Automaton<Affine>,
+    pub(super) automaton: std::sync::Arc<Automaton<Affine>>,
     pub(super) variables: Vec<Variable>,
     pub(super) defaults: HashMap<String, f64>,
     pub(super) declared: Vec<String>,
@@ -402,6 +402,11 @@ impl Design {
     /// The automaton; unknown entries are variables, known entries may use parameters.
     pub fn automaton(&self) -> &Automaton<Affine> {
         &self.automaton
+    }
+
+    /// The automaton, shared (a family whose forms are the design's holds it too).
+    pub(crate) fn shared_automaton(&self) -> std::sync::Arc<Automaton<Affine>> {
+        self.automaton.clone()
     }
 
     /// The name.

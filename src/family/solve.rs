@@ -94,7 +94,7 @@ pub struct Parameter {
 #[derive(Clone, Debug)]
 pub struct Family {
     /// The automaton, with entries affine in the free parameters (indexed as [`Family::parameters`]).
-    pub automaton: Automaton<Affine>,
+    pub automaton: std::sync::Arc<Automaton<Affine>>,
     /// The free parameters (degrees of freedom).
     pub parameters: Vec<Parameter>,
     /// Every variable of the design (name, expression in the free parameters).
@@ -541,13 +541,18 @@ fn family_of(design: &Design, elim: &Eliminator, equations: usize) -> Result<Fam
             value: variables[v].1.display(&free_names).to_string(),
         });
     }
-    // Every matrix with the variables replaced, on the pool's threads; copied when every variable
+    // Every matrix with the variables replaced, on the pool's threads; the design's, shared, when every variable
     // is free and keeps its number (a generated mesh automaton's weights), as the substitution
     // would give the same forms.
     let identity = variables.iter().enumerate().all(|(v, (_, form))| *form == Affine::var(v));
-    let automaton = design.automaton().par_map_matrices(|arrow| {
-        if identity { arrow.matrix.clone() } else { arrow.matrix.map(|e| e.substitute(&|v| variables[v].1.clone())) }
-    });
+    let automaton = if identity {
+        design.shared_automaton()
+    } else {
+        design
+            .automaton()
+            .par_map_matrices(|arrow| arrow.matrix.map(|e| e.substitute(&|v| variables[v].1.clone())))
+            .into()
+    };
     let parameters = free
         .iter()
         .map(|&v| {
@@ -831,7 +836,7 @@ pub fn instantiate(design: &Design, values: &[(String, f64)]) -> Result<Instance
         Ok(family) => Ok(family.instantiate(values)?),
         Err(SolveError::Inconsistent { .. }) if design.variables().iter().all(|v| v.origin == Origin::Parameter) => {
             let family = Family {
-                automaton: design.automaton().clone(),
+                automaton: design.shared_automaton(),
                 parameters: design
                     .variables()
                     .iter()
@@ -893,12 +898,14 @@ mod tests {
     }
 
     /// A family whose variables are all free and keep their numbers (a
-    /// generated automaton's weights) has the matrices the substitution gives.
+    /// generated automaton's weights) shares the design's matrices, which are
+    /// those the substitution gives.
     #[test]
-    fn an_identity_substitution_is_a_copy() {
+    fn an_identity_substitution_shares_the_design() {
         let design = crate::schemes::mesh_automaton(&PolyMesh::cube(), Scheme::CatmullClark, None).unwrap();
         let family = solve(&design).unwrap();
         assert!(family.variables.iter().enumerate().all(|(v, (_, form))| *form == Affine::var(v)));
+        assert!(std::sync::Arc::ptr_eq(&family.automaton, &design.shared_automaton()));
         assert!(!family.variables.is_empty());
         for (id, arrow) in design.automaton().arrows() {
             let substituted = arrow.matrix.map(|e| e.substitute(&|v| family.variables[v].1.clone()));
