@@ -31,10 +31,7 @@ fn merge_scaled(left: &[(usize, Num)], right: &[(usize, Num)], k: &Num) -> Vec<(
             terms.push((right[j].0, right[j].1.mul(k)));
             j += 1;
         } else {
-            let c = left[i].1.add(&right[j].1.mul(k));
-            if !c.is_zero() {
-                terms.push((left[i].0, c));
-            }
+            terms.push((left[i].0, left[i].1.add(&right[j].1.mul(k))));
             i += 1;
             j += 1;
         }
@@ -130,12 +127,8 @@ impl Affine {
         if other.terms.is_empty() {
             return;
         }
-        self.terms = if self.terms.is_empty() {
-            if k.is_one() {
-                other.terms.clone()
-            } else {
-                other.terms.iter().map(|(v, c)| (*v, c.mul(k))).filter(|(_, c)| !c.is_zero()).collect()
-            }
+        self.terms = if self.terms.is_empty() && k.is_one() {
+            other.terms.clone()
         } else {
             merge_scaled(&self.terms, &other.terms, k)
         };

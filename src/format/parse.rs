@@ -243,7 +243,8 @@ fn parse_in_chain(text: &str, file: &str, default_name: &str, chain: &mut Vec<St
     builder.into_design().map_err(|e| spans.locate(&src, e))
 }
 
-/// Files shorter than this are read in one piece.
+/// The least length of a piece of a file read in pieces (a file under
+/// twice this is read whole).
 const PIECE: usize = 256 << 10;
 
 /// A long file (a mesh's generated automaton: Suzanne's is 2.2 MB, four
@@ -268,23 +269,21 @@ fn in_pieces(text: &str) -> Option<FileSpec> {
         .filter(|&at| text[at + 9..].starts_with(['\n', '\r']))
         .skip(1)
         .collect();
+    // The first `[[arrow]]` past each equal share of the text.
     let mut cuts = vec![0];
     for k in 1..pieces {
-        let want = text.len() * k / pieces;
-        match heads.iter().find(|&&at| at >= want && at > *cuts.last().unwrap_or(&0)) {
+        let want = (text.len() * k / pieces).max(cuts[cuts.len() - 1] + 1);
+        match heads.iter().find(|&&at| at >= want) {
             Some(&at) => cuts.push(at),
             None => break,
         }
     }
-    cuts.dedup();
     if cuts.len() < 2 {
         return None;
     }
     cuts.push(text.len());
     let specs: Vec<Option<FileSpec>> = cuts
-        .windows(2)
-        .collect::<Vec<_>>()
-        .into_par_iter()
+        .par_windows(2)
         .map(|w| {
             let piece = if w[0] == 0 { text[..w[1]].to_string() } else { " ".repeat(w[0]) + &text[w[0]..w[1]] };
             toml::from_str(&piece).ok()
@@ -307,14 +306,13 @@ fn in_pieces(text: &str) -> Option<FileSpec> {
 
 /// Keeps the one piece's table, `None` when two pieces define it.
 fn once<T>(whole: &mut Option<T>, piece: Option<T>) -> Option<()> {
-    match (whole.is_some(), piece) {
-        (true, Some(_)) => None,
-        (_, piece @ Some(_)) => {
-            *whole = piece;
-            Some(())
+    if piece.is_some() {
+        if whole.is_some() {
+            return None;
         }
-        (_, None) => Some(()),
+        *whole = piece;
     }
+    Some(())
 }
 
 /// Where the items given to the builder are in the file.
