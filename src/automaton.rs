@@ -508,7 +508,8 @@ impl Automaton<f64> {
     pub fn check_embeddings(&self) -> Result<(), AutomatonError> {
         for (_, arrow) in self.arrows() {
             if arrow.kind == ArrowKind::Boundary {
-                let rank = arrow.matrix.clone().svd(false, false).rank(crate::algebra::tolerance::RANK);
+                let rank =
+                    crate::algebra::svd(&arrow.matrix, false).map_or(0, |s| s.rank(crate::algebra::tolerance::RANK));
                 if rank < arrow.matrix.ncols() {
                     return Err(AutomatonError::NotEmbedding(arrow.name.clone()));
                 }

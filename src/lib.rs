@@ -110,5 +110,5 @@ pub use nalgebra;
 pub use names::suggest;
 /// Re-exported: its indices appear in bcifs signatures.
 pub use petgraph;
-pub use progress::{Cancel, Progress};
+pub use progress::{Cancel, Progress, bytes_text};
 pub use space::{CellKind, State};

@@ -119,3 +119,20 @@ impl Cancel {
         }
     }
 }
+
+/// A size in bytes as people read it: `512 bytes`, `12 KiB`, `340 MiB`,
+/// `2.5 GiB` (what error messages about memory and disk say).
+///
+/// ```
+/// assert_eq!(bcifs::bytes_text(1 << 20), "1 MiB");
+/// assert_eq!(bcifs::bytes_text(5 << 29), "2.5 GiB");
+/// ```
+pub fn bytes_text(bytes: u128) -> String {
+    const KIB: u128 = 1 << 10;
+    match bytes {
+        b if b < KIB => format!("{b} bytes"),
+        b if b < KIB << 10 => format!("{} KiB", b.div_ceil(KIB)),
+        b if b < KIB << 20 => format!("{} MiB", b.div_ceil(KIB << 10)),
+        b => format!("{:.1} GiB", b as f64 / (1u64 << 30) as f64),
+    }
+}

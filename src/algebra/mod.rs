@@ -13,5 +13,5 @@ pub mod tolerance;
 pub use affine::{Affine, AffineDisplay, Nonlinear};
 pub use expr::{Env, Expr, ExprError, ExprSyntaxError, ExprValue};
 pub use num::Num;
-pub use spectrum::{contractive_spectrum, eigenvalues, hessenberg_eigenvalues};
+pub use spectrum::{all_finite, contractive_spectrum, eigenvalues, hessenberg_eigenvalues, svd};
 pub use surd::{Surd, SurdError};

@@ -17,6 +17,9 @@ pub fn eigenvalues(m: &nalgebra::DMatrix<f64>) -> Option<Vec<Complex<f64>>> {
     if n == 0 || !m.is_square() {
         return Some(Vec::new());
     }
+    if !all_finite(m) {
+        return None;
+    }
     let budget = 200 * n + 1000;
     for (attempt, eps) in SCHUR_TOLERANCES.into_iter().enumerate() {
         let mut a = m.clone();
@@ -34,6 +37,27 @@ pub fn eigenvalues(m: &nalgebra::DMatrix<f64>) -> Option<Vec<Complex<f64>>> {
         }
     }
     None
+}
+
+/// Whether every entry of `m` is finite: nalgebra's iterations on a matrix
+/// with an infinite or NaN entry never converge (its SVD loops for ever).
+pub fn all_finite(m: &nalgebra::DMatrix<f64>) -> bool {
+    m.iter().all(|x| x.is_finite())
+}
+
+/// The singular value decomposition of `m` (with `V` when `with_v`), with
+/// a bounded iteration count; `None` when an entry is not finite or the
+/// iteration does not converge (nalgebra's unbounded one spins for ever on
+/// entries near `f64::MAX`, whose products overflow).
+pub fn svd(
+    m: &nalgebra::DMatrix<f64>,
+    with_v: bool,
+) -> Option<nalgebra::linalg::SVD<f64, nalgebra::Dyn, nalgebra::Dyn>> {
+    if !all_finite(m) {
+        return None;
+    }
+    let budget = 200 * m.nrows().max(m.ncols()) + 1000;
+    m.clone().try_svd(false, with_v, f64::EPSILON, budget)
 }
 
 /// Whether a spectrum is that of a contractive stochastic map: one

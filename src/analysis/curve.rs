@@ -66,7 +66,7 @@ pub struct CurveReport {
 /// eigenvalue is complex or the eigenvectors are not a basis.
 fn eigen(m: &DMatrix<f64>) -> Option<(Vec<f64>, DMatrix<f64>)> {
     let n = m.nrows();
-    let values = m.complex_eigenvalues();
+    let values = crate::algebra::eigenvalues(m)?;
     if values.iter().any(|z| z.im.abs() > ACCURACY * (1.0 + z.re.abs())) {
         return None;
     }
@@ -103,7 +103,7 @@ fn null_vector(a: &DMatrix<f64>) -> Option<DVector<f64>> {
             return Some(DVector::from_column_slice(v.as_slice()));
         }
     }
-    let svd = a.clone().svd(false, true);
+    let svd = crate::algebra::svd(a, true)?;
     let vt = svd.v_t?;
     let (i, _) = svd.singular_values.iter().enumerate().min_by(|x, y| x.1.total_cmp(y.1))?;
     Some(vt.row(i).transpose())

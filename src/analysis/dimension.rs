@@ -13,8 +13,6 @@
 //! cell met from it; another choice conjugates the matrix of `rₑˢ` by a
 //! diagonal one and leaves its spectral radius, hence the dimension, as is.
 
-use std::collections::HashSet;
-
 use nalgebra::DMatrix;
 use petgraph::graph::NodeIndex;
 
@@ -41,10 +39,45 @@ pub struct BoxCount {
 /// to within `resolution`, every part of it); coarser scales are listed but
 /// left out of the fit, where boundaries still weigh. `None` when the points
 /// span nothing or the resolution leaves fewer than four scales.
+///
+/// Memory: one box key (24 bytes) a point, besides the points.
 pub fn box_dimension(points: &[[f64; 3]], resolution: f64) -> Option<BoxCount> {
-    let first = *points.first()?;
+    box_dimension_of(|| points.iter().copied(), resolution, &crate::Cancel::new()).ok().flatten()
+}
+
+/// The memory of one sample's key in [`box_dimension_of`].
+pub const BOX_KEY_BYTES: usize = 8;
+
+/// The largest box index along an axis (21 bits).
+const FIELD: u64 = (1 << 21) - 1;
+
+/// Stopped by its [`crate::Cancel`] flag.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("cancelled")]
+pub struct Cancelled;
+
+/// [`box_dimension`] of samples made twice by `samples` (once for the
+/// bounding box, once for the boxes), so that they need not be held: one
+/// key of [`BOX_KEY_BYTES`] a sample is. Stops between scales when `cancel` is set.
+///
+/// The boxes of side `E/2^k` are counted at the finest scale first; a box
+/// index at the next coarser scale is the finer one halved (rounded down),
+/// exactly: the sides are the extent scaled by powers of two, so the
+/// quotients are too. Each scale sorts the keys left by the finer one.
+/// A key packs the three indices in 21 bits each (2²¹ boxes a side: finer
+/// than any resolution asked here; a finer scale is left out of the count).
+///
+/// # Errors
+/// [`Cancelled`] when the flag was set.
+pub fn box_dimension_of<I: Iterator<Item = [f64; 3]>>(
+    samples: impl Fn() -> I,
+    resolution: f64,
+    cancel: &crate::Cancel,
+) -> Result<Option<BoxCount>, Cancelled> {
+    let mut it = samples();
+    let Some(first) = it.next() else { return Ok(None) };
     let (mut lo, mut hi) = (first, first);
-    for p in points {
+    for p in it {
         for a in 0..3 {
             lo[a] = lo[a].min(p[a]);
             hi[a] = hi[a].max(p[a]);
@@ -52,23 +85,31 @@ pub fn box_dimension(points: &[[f64; 3]], resolution: f64) -> Option<BoxCount> {
     }
     let extent = (0..3).map(|a| hi[a] - lo[a]).fold(0.0, f64::max);
     if !(extent > 0.0 && extent.is_finite()) {
-        return None;
+        return Ok(None);
     }
+    // The finest scale: the last k ≤ 20 whose side is at least 2 · resolution
+    // (indices up to 2^20, within a key's 21 bits).
+    let finest = (2..=20).take_while(|&k| extent * 0.5f64.powi(k) >= 2.0 * resolution).last();
+    let Some(finest) = finest.filter(|k| k - 2 + 1 >= 4) else { return Ok(None) };
+    let eps = extent * 0.5f64.powi(finest);
+    let index = |p: [f64; 3], a: usize| (((p[a] - lo[a]) / eps).floor() as u64).min(FIELD);
+    let mut keys: Vec<u64> = samples().map(|p| index(p, 0) << 42 | index(p, 1) << 21 | index(p, 2)).collect();
     let mut scales = Vec::new();
-    for k in 2..=40 {
-        let eps = extent * 0.5f64.powi(k);
-        if eps < 2.0 * resolution {
-            break;
+    for k in (2..=finest).rev() {
+        if cancel.is_cancelled() {
+            return Err(Cancelled);
         }
-        let mut boxes: HashSet<[i64; 3]> = HashSet::with_capacity(points.len().min(1 << 22));
-        for p in points {
-            boxes.insert([0, 1, 2].map(|a| ((p[a] - lo[a]) / eps).floor() as i64));
+        if k < finest {
+            // Each field halved: the bit shifted out of a field's bottom into the next one's top is cleared.
+            for key in &mut keys {
+                *key = (*key >> 1) & !(1 << 20 | 1 << 41);
+            }
         }
-        scales.push((eps, boxes.len() as u64));
+        keys.sort_unstable();
+        keys.dedup();
+        scales.push((extent * 0.5f64.powi(k), keys.len() as u64));
     }
-    if scales.len() < 4 {
-        return None;
-    }
+    scales.reverse();
     let fitted = &scales[scales.len().saturating_sub(FITTED)..];
     let xy: Vec<(f64, f64)> = fitted.iter().map(|(e, n)| ((1.0 / e).ln(), (*n as f64).ln())).collect();
     let n = xy.len() as f64;
@@ -78,7 +119,7 @@ pub fn box_dimension(points: &[[f64; 3]], resolution: f64) -> Option<BoxCount> {
     let syy: f64 = xy.iter().map(|p| (p.1 - my).powi(2)).sum();
     let slope = sxy / sxx;
     let r2 = if syy > 0.0 { sxy * sxy / (sxx * syy) } else { 1.0 };
-    Some(BoxCount { dimension: slope, r2, scales })
+    Ok(Some(BoxCount { dimension: slope, r2, scales }))
 }
 
 /// The ratio of a similarity taking the points `x` onto `y` (columns of
@@ -157,7 +198,7 @@ pub fn similarity_dimension(automaton: &Automaton<f64>, root: NodeIndex, control
         for &(u, v, r) in &edges {
             m[(u, v)] += r.powf(s);
         }
-        m.complex_eigenvalues().iter().map(|z| z.norm()).fold(0.0, f64::max)
+        crate::algebra::eigenvalues(&m).map_or(f64::INFINITY, |e| e.iter().map(|z| z.norm()).fold(0.0, f64::max))
     };
     // ρ(s) decreases from the number of arrows of a cycle (s = 0) to 0: bisect for ρ = 1.
     if rho(0.0) <= 1.0 {

@@ -252,7 +252,8 @@ fn spectral_norm(m: &DMatrix<f64>) -> f64 {
         }
         _ => {}
     }
-    m.clone().svd(false, false).singular_values.iter().copied().fold(0.0, f64::max)
+    // Not finite, or no convergence: no bound (infinite).
+    crate::algebra::svd(m, false).map_or(f64::INFINITY, |s| s.singular_values.iter().copied().fold(0.0, f64::max))
 }
 
 /// The ∞-norm (largest absolute row sum): an operator norm, cheap.

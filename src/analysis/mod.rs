@@ -12,7 +12,10 @@ mod weights;
 
 pub use check::{CheckReport, DEFAULT_CHECK_TOLERANCE, check};
 pub use curve::{Blending, CurveReport, blending, curve_query};
-pub use dimension::{BoxCount, OpenSet, box_dimension, open_set_condition, similarity_dimension};
+pub use dimension::{
+    BOX_KEY_BYTES, BoxCount, Cancelled, OpenSet, box_dimension, box_dimension_of, open_set_condition,
+    similarity_dimension,
+};
 pub use exact::{ExactCurveReport, curve_query_exact};
 pub use jsr::{Jsr, JsrError, JsrSettings, ROUNDING, Verdict, jsr, jsr_verdict};
 pub use map::{

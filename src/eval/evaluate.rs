@@ -33,7 +33,13 @@ impl Evaluator {
     /// # Errors
     /// As [`Evaluator::evaluate`].
     pub fn evaluate_into(&self, shape: &mut Shape) -> Result<(), EvalError> {
-        if let Depth::Fixed(k) = self.settings.depth {
+        // A mesh's tolerance is a uniform depth: its size is known before any work.
+        let depth = match self.settings.depth {
+            Depth::Fixed(k) => Some(k),
+            Depth::Tolerance(eps) if self.polygon_faces() || self.meshes() => Some(self.depth_for_tolerance(eps)?),
+            Depth::Tolerance(_) => None,
+        };
+        if let Some(k) = depth {
             let estimate = self.estimate_bytes(k);
             if estimate > self.settings.memory_limit as u128 {
                 return Err(EvalError::TooLarge { estimate, limit: self.settings.memory_limit });

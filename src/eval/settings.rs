@@ -126,7 +126,7 @@ pub enum EvalError {
     #[error(transparent)]
     Model(#[from] ModelError),
     /// The output would not fit the memory limit.
-    #[error("the output would take about {estimate} bytes ({:.1} GiB), over the in-memory limit of {:.1} GiB (--memory-mib): lower the depth or the number of points, or stream a fixed depth to `-o FILE.obj`", *estimate as f64 / (1u64 << 30) as f64, *limit as f64 / (1u64 << 30) as f64)]
+    #[error("the output would take about {estimate} bytes ({}), over the in-memory limit of {} (--memory-mib): lower the depth or the number of points, or stream a fixed depth to `-o FILE.obj`", crate::progress::bytes_text(*estimate), crate::progress::bytes_text(*limit as u128))]
     TooLarge {
         /// Estimated bytes.
         estimate: u128,

@@ -62,9 +62,9 @@ impl Default for RasterSettings {
 /// A picture that would not fit the memory limit.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 #[error(
-    "a {width}×{height} picture of {vertices} points needs about {:.1} GiB to draw, over the in-memory limit of {:.1} GiB (--memory-mib): make it smaller",
-    *needed as f64 / (1u64 << 30) as f64,
-    *limit as f64 / (1u64 << 30) as f64
+    "a {width}×{height} picture of {vertices} points needs about {} to draw, over the in-memory limit of {} (--memory-mib): make it smaller",
+    crate::progress::bytes_text(*needed as u128),
+    crate::progress::bytes_text(*limit as u128)
 )]
 pub struct RasterTooLarge {
     /// Width asked for.

@@ -121,7 +121,7 @@ pub enum SubdivideError {
         degree: usize,
     },
     /// A depth whose output would not fit memory.
-    #[error("{what} at depth {depth} would have about {faces} faces ({:.1} GiB): over the in-memory limit of {:.1} GiB (--memory-mib) or the 2^32 corners a mesh can number; lower the depth", *bytes as f64 / (1u64 << 30) as f64, *limit as f64 / (1u64 << 30) as f64)]
+    #[error("{what} at depth {depth} would have about {faces} faces ({}): over the in-memory limit of {} (--memory-mib) or the 2^32 corners a mesh can number; lower the depth", crate::progress::bytes_text(*bytes as u128), crate::progress::bytes_text(*limit as u128))]
     TooLarge {
         /// What.
         what: &'static str,

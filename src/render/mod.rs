@@ -37,7 +37,8 @@ pub use load::{LoadError, load};
 pub use mesh::{MeshJob, check_weights, render_mesh, rule_weights, subdivide_mesh};
 pub use options::{Format, Options, RenderError, Report, check_disk};
 pub use reports::{
-    CheckReportError, DimensionReport, ParameterRange, check_report, dimension_report, parameter_ranges, solve_report,
+    CheckReportError, DIMENSION_MEMORY, DimensionReport, ParameterRange, check_report, dimension_report,
+    dimension_within, parameter_ranges, solve_report,
 };
 pub use shape::{control_net, write_shape};
-pub use sweep::{REGIONS, SweepKind, SweepValues, sweep, sweep_csv};
+pub use sweep::{REGIONS, SweepKind, SweepValues, sweep, sweep_cancellable, sweep_csv};

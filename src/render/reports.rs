@@ -9,6 +9,7 @@ use crate::algebra::ExprError;
 use crate::analysis::{DEFAULT_CHECK_TOLERANCE, check};
 use crate::design::Design;
 use crate::family::{DesignInstantiateError, SolveError, instantiate, solve};
+use crate::progress::Cancel;
 
 /// The solved family of `design`: `{automaton, consistent: true, dof,
 /// parameters, matrices}` (entries as exact text), or `{automaton,
@@ -115,21 +116,34 @@ impl DimensionReport {
     }
 }
 
+/// The memory of [`dimension_report`]: the default in-memory limit of meshes.
+pub const DIMENSION_MEMORY: usize = crate::mesh::DEFAULT_MESH_MEMORY;
+
 /// The dimensions of `design`'s attractor at `params` (see [`DimensionReport`]).
 ///
 /// # Errors
-/// Parameters that do not instantiate, no model, an evaluation error, an empty attractor.
+/// Parameters that do not instantiate, no model, an evaluation error, an
+/// empty attractor, points and boxes over [`DIMENSION_MEMORY`].
 pub fn dimension_report(design: &Design, params: &[(String, f64)]) -> Result<DimensionReport, RenderError> {
-    dimension_within(design, params, 1 << 30)
+    dimension_within(design, params, DIMENSION_MEMORY, &Cancel::new())
 }
 
-/// [`dimension_report`] with the points' evaluation refused over `memory` bytes.
-pub(super) fn dimension_within(
+/// [`dimension_report`] within `memory` bytes (the points' evaluation and
+/// the box keys, estimated before either is made), stopped when `cancel`
+/// is set: what a server answering many requests calls.
+///
+/// # Errors
+/// As [`dimension_report`]; [`RenderError::Eval`] with
+/// [`crate::eval::EvalError::TooLarge`] over the budget;
+/// [`RenderError::Cancelled`].
+pub fn dimension_within(
     design: &Design,
     params: &[(String, f64)],
     memory: usize,
+    cancel: &Cancel,
 ) -> Result<DimensionReport, RenderError> {
-    use crate::eval::{EvalSettings, Evaluator};
+    use crate::eval::{EvalError, EvalSettings, Evaluator};
+    let stop = || if cancel.is_cancelled() { Err(RenderError::Cancelled) } else { Ok(()) };
     let instance = instantiate(design, params)?;
     let model = super::design::model_of(design)?;
     // The extent from a coarse evaluation, then points within 1/1024 of it.
@@ -142,22 +156,47 @@ pub(super) fn dimension_within(
     let open_set = first
         .zip(similarity)
         .map(|(p, s)| crate::analysis::open_set_condition(&instance.automaton, root(p), &p.control, pieces.dim, s));
+    stop()?;
     let coarse = coarse_ev.evaluate()?;
     let (lo, hi) = coarse.bounds().ok_or_else(|| RenderError::Unsupported("the attractor is empty".into()))?;
     let extent = (0..3).map(|a| hi[a] - lo[a]).fold(0.0, f64::max);
     // Surfaces have many more cells per unit of resolution: a quarter of it, and
     // the quads' centres and edge midpoints as samples too (within O(h²) of a smooth sheet).
     let surface = !coarse.quads.is_empty();
-    let resolution = extent / if surface { 256.0 } else { 1024.0 };
-    let settings = EvalSettings::default().with_tolerance(resolution).with_memory_limit(memory);
-    let shape = Evaluator::new(&instance.automaton, &model, settings)?.evaluate()?;
-    let mut samples = shape.points();
-    for q in &shape.quads {
-        let p = q.map(|i| shape.point(i as usize));
-        let mid = |a: [f64; 3], b: [f64; 3]| [0, 1, 2].map(|k| (a[k] + b[k]) / 2.0);
-        samples.extend([mid(p[0], p[1]), mid(p[1], p[2]), mid(p[2], p[3]), mid(p[3], p[0]), mid(p[0], p[2])]);
+    let mut resolution = extent / if surface { 256.0 } else { 1024.0 };
+    // Three fifths of the budget for the points: the box keys (8 bytes a
+    // sample, six samples a quad) take a little over a third as much.
+    let points_budget = memory / 5 * 3;
+    // A surface's points are a uniform depth, known before they are made:
+    // the finest resolution whose points fit (down to four scales); the
+    // report gives the resolution used.
+    while surface && resolution < extent / 32.0 {
+        let k = coarse_ev.depth_for_tolerance(resolution)?;
+        if coarse_ev.estimate_bytes(k) <= points_budget as u128 {
+            break;
+        }
+        resolution *= 2.0;
     }
-    let fit = crate::analysis::box_dimension(&samples, if surface { resolution / 2.0 } else { resolution });
+    stop()?;
+    let settings = EvalSettings::default().with_tolerance(resolution).with_memory_limit(points_budget);
+    let shape = Evaluator::new(&instance.automaton, &model, settings)?.evaluate()?;
+    stop()?;
+    let samples = shape.vertex_count() + 5 * shape.quads.len();
+    let keys = (samples * crate::analysis::BOX_KEY_BYTES) as u128;
+    let held = shape.vertex_count() as u128 * 48 + shape.quads.len() as u128 * 32;
+    if keys + held > memory as u128 {
+        return Err(EvalError::TooLarge { estimate: keys + held, limit: memory }.into());
+    }
+    let shape = &shape;
+    let points = || {
+        let mid = |a: [f64; 3], b: [f64; 3]| [0, 1, 2].map(|k| (a[k] + b[k]) / 2.0);
+        (0..shape.vertex_count()).map(|i| shape.point(i)).chain(shape.quads.iter().flat_map(move |q| {
+            let p = q.map(|i| shape.point(i as usize));
+            [mid(p[0], p[1]), mid(p[1], p[2]), mid(p[2], p[3]), mid(p[3], p[0]), mid(p[0], p[2])]
+        }))
+    };
+    let fit = crate::analysis::box_dimension_of(points, if surface { resolution / 2.0 } else { resolution }, cancel)
+        .map_err(|_| RenderError::Cancelled)?;
     Ok(DimensionReport {
         automaton: design.name().to_string(),
         parameters: instance.parameters.clone(),

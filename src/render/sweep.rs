@@ -11,6 +11,7 @@ use super::options::RenderError;
 use crate::analysis::{JsrSettings, ParameterPlane, Verdict, curve_map_rows, verdict_map_rows};
 use crate::design::Design;
 use crate::family::solve;
+use crate::progress::Cancel;
 
 /// The memory one pixel of a dimension sweep may take (the points of its
 /// evaluation): a pixel near the edge of the convergence domain contracts
@@ -147,6 +148,22 @@ pub fn sweep(
     thorough: bool,
     rows: Range<usize>,
 ) -> Result<SweepValues, RenderError> {
+    sweep_cancellable(design, plane, kind, thorough, rows, &Cancel::new())
+}
+
+/// [`sweep`], stopped when `cancel` is set: between pixels of a dimension
+/// sweep (each evaluates an attractor), after the bounds of the others.
+///
+/// # Errors
+/// As [`sweep`]; [`RenderError::Cancelled`].
+pub fn sweep_cancellable(
+    design: &Design,
+    plane: &ParameterPlane,
+    kind: SweepKind,
+    thorough: bool,
+    rows: Range<usize>,
+    cancel: &Cancel,
+) -> Result<SweepValues, RenderError> {
     let name = design.name();
     let family = solve(design).map_err(|e| RenderError::Unsupported(format!("{name}: {e}")))?;
     let settings = if thorough { JsrSettings::default() } else { JsrSettings::quick() };
@@ -165,20 +182,21 @@ pub fn sweep(
             // One pixel after another, each evaluation parallel inside: pixels in
             // parallel nest evaluations on the stacks of rayon's workers (a worker
             // waiting in one steals another's), which overflowed them.
-            let values = cells
-                .iter()
-                .enumerate()
-                .map(|(i, c)| {
-                    if c.verdict != Verdict::Converges {
-                        return f64::NAN;
-                    }
-                    let at = plane.values_at(i % w, first + i / w);
-                    super::reports::dimension_within(design, &at, SWEEP_MEMORY)
-                        .ok()
-                        .and_then(|r| r.fit.map(|f| f.dimension))
-                        .unwrap_or(f64::NAN)
-                })
-                .collect();
+            let mut values = Vec::with_capacity(cells.len());
+            for (i, c) in cells.iter().enumerate() {
+                if cancel.is_cancelled() {
+                    return Err(RenderError::Cancelled);
+                }
+                if c.verdict != Verdict::Converges {
+                    values.push(f64::NAN);
+                    continue;
+                }
+                let at = plane.values_at(i % w, first + i / w);
+                values.push(match super::reports::dimension_within(design, &at, SWEEP_MEMORY, cancel) {
+                    Err(RenderError::Cancelled) => return Err(RenderError::Cancelled),
+                    r => r.ok().and_then(|r| r.fit.map(|f| f.dimension)).unwrap_or(f64::NAN),
+                });
+            }
             Ok(SweepValues::Values(values))
         }
         SweepKind::Region | SweepKind::Angle => {

@@ -126,8 +126,9 @@ fn axis(text: &str) -> Result<(String, f64, f64)> {
     let (name, range) = text.split_once('=').ok_or_else(bad)?;
     let (from, to) = range.split_once(':').ok_or_else(bad)?;
     let (from, to): (f64, f64) = (from.trim().parse().map_err(|_| bad())?, to.trim().parse().map_err(|_| bad())?);
-    if !(from.is_finite() && to.is_finite() && from < to) {
-        bail!("`{text}`: the range needs finite FROM < TO");
+    // The width too: the axes' ticks and the pixels' steps divide it.
+    if !(from.is_finite() && to.is_finite() && from < to && (to - from).is_finite()) {
+        bail!("`{text}`: the range needs finite FROM < TO, and TO - FROM finite");
     }
     Ok((name.trim().to_string(), from, to))
 }

@@ -1,7 +1,9 @@
 // The explorer page: sliders → the URL's query → pictures and checks from the API.
 "use strict";
 
-const state = { design: null, values: {}, ranges: {}, depth: 6, yaw: 30, pitch: 35, preview: 3, map: null, seq: { picture: 0, map: 0 } };
+const state = { design: null, values: {}, ranges: {}, depth: 6, yaw: 30, pitch: 35, preview: 3, map: null, seq: { picture: 0, map: 0, dimension: 0 } };
+// The deepest evaluation the server takes (its MAX_DEPTH); the depth slider's end.
+const MAX_DEPTH = 16;
 const $ = (id) => document.getElementById(id);
 // This page's slots on the server: a newer picture (or map) of this page cancels its older one.
 const session = Math.random().toString(36).slice(2);
@@ -17,26 +19,50 @@ function saveUrl() {
   history.replaceState(null, "", "?" + query({ depth: state.depth, view: `${state.yaw},${state.pitch}` }));
 }
 
+// The reason of a refused request (its JSON `error`, else its status).
+async function reason(response) {
+  try { return (await response.json()).error || `HTTP ${response.status}`; } catch (e) { return `HTTP ${response.status}`; }
+}
+
+// A refusal or a time-out shown where the picture (or map) would be, with its reason; null hides it.
+function refusal(id, message) {
+  const box = $(id + "-refusal");
+  box.hidden = message === null;
+  box.textContent = message === null ? "" : message;
+  if (message !== null && !$(id).src) $(id).style.visibility = "hidden"; // no broken image behind it
+}
+
+// A request's answer, or null when it failed to reach the server at all.
+async function get(url) {
+  try { return await fetch(url); } catch (e) { return null; }
+}
+
 async function picture(coarse) {
   const depth = coarse ? Math.min(state.depth, state.preview) : state.depth;
   const side = Math.min(900, Math.round($("picture").clientWidth || 600));
   const seq = ++state.seq.picture;
   const url = "api/picture.png?" + query({ depth, size: `${side}x${side}`, view: `${state.yaw},${state.pitch}`, slot: `picture-${session}`, seq });
-  const response = await fetch(url);
-  if (response.status === 409 || seq !== state.seq.picture) return; // a newer picture is coming
+  const response = await get(url);
+  if (seq !== state.seq.picture) return; // a newer picture is coming
+  if (response === null) { refusal("picture", "the server does not answer (is bcifs explore still running?)"); return; }
+  if (response.status === 409) return; // superseded
   if (!response.ok) {
-    const { error } = await response.json();
+    const error = await reason(response);
     $("status").textContent = error;
     $("picture").style.opacity = 0.25; // a divergent point is shown as such, not drawn
+    refusal("picture", error);
     return;
   }
   $("status").textContent = coarse && depth < state.depth ? `preview at depth ${depth}` : "";
   $("picture").style.opacity = 1;
+  $("picture").style.visibility = "visible";
+  refusal("picture", null);
   $("picture").src = URL.createObjectURL(await response.blob());
 }
 
 async function check() {
-  const response = await fetch("api/check?" + query());
+  const response = await get("api/check?" + query());
+  if (response === null) { $("verdict").textContent = "the server does not answer"; return; }
   const body = await response.json();
   if (!response.ok) { $("verdict").textContent = body.error; $("verdict").className = "diverges"; return; }
   const c = body.check;
@@ -53,10 +79,15 @@ async function check() {
     lines.push(`region ${k.region === null ? "undecided" : k.region}; C1 necessary condition ${k.c1_necessary}`);
   }
   $("check").textContent = lines.join("\n");
-  const d = await fetch("api/dimension?" + query());
+  // One dimension at a time for this page: a newer one cancels the older on the server.
+  const seq = ++state.seq.dimension;
+  const d = await get("api/dimension?" + query({ slot: `dimension-${session}`, seq }));
+  if (seq !== state.seq.dimension || d === null || d.status === 409) return;
   if (d.ok) {
     const dim = await d.json();
     if (dim.box_dimension !== null) $("check").textContent += `\nbox-counting dimension ${dim.box_dimension.toFixed(4)}`;
+  } else {
+    $("check").textContent += `\nbox-counting dimension: ${await reason(d)}`;
   }
 }
 
@@ -145,9 +176,18 @@ async function map() {
   const q = new URLSearchParams({ x, xr: state.map.xr.join(":"), kind, size: line ? 384 : 192, slot: `map-${session}`, seq });
   if (!line) { q.set("y", y); q.set("yr", state.map.yr.join(":")); }
   if (kind === "smooth") q.set("threshold", $("threshold").value);
-  const response = await fetch("api/map.png?" + q.toString());
+  const response = await get("api/map.png?" + q.toString());
   if (seq !== state.seq.map) return;
-  if (!response.ok) { if (response.status !== 409) $("mapnote").textContent = (await response.json()).error; return; }
+  if (response === null) { refusal("map", "the server does not answer (is bcifs explore still running?)"); return; }
+  if (response.status === 409) return; // superseded
+  if (!response.ok) {
+    const error = await reason(response);
+    $("mapnote").textContent = error;
+    refusal("map", error);
+    return;
+  }
+  refusal("map", null);
+  $("map").style.visibility = "visible";
   $("map").src = URL.createObjectURL(await response.blob());
   marker();
 }
@@ -193,13 +233,18 @@ async function start() {
   $("description").textContent = state.design.description;
   document.title = `bcifs explore: ${state.design.name}`;
   const given = new URLSearchParams(location.search);
+  // A value of the URL that is not a finite number is left for the default.
+  const number = (key) => (given.has(key) && given.get(key).trim() !== "" && Number.isFinite(Number(given.get(key))) ? Number(given.get(key)) : null);
   for (const p of state.design.parameters) {
-    state.values[p.name] = given.has(p.name) ? Number(given.get(p.name)) : p.default;
+    state.values[p.name] = number(p.name) ?? p.default;
     // A value given outside the convergence range widens the slider to it.
     state.ranges[p.name] = [Math.min(p.range[0], state.values[p.name]), Math.max(p.range[1], state.values[p.name])];
   }
-  if (given.has("depth")) state.depth = Number(given.get("depth"));
-  if (given.has("view")) [state.yaw, state.pitch] = given.get("view").split(",").map(Number);
+  const depth = number("depth");
+  if (Number.isInteger(depth) && depth >= 0 && depth <= MAX_DEPTH) state.depth = depth;
+  const view = (given.get("view") || "").split(",").map((t) => (t.trim() === "" ? NaN : Number(t)));
+  if (view.length === 2 && view.every(Number.isFinite)) [state.yaw, state.pitch] = [view[0], Math.max(-89, Math.min(89, view[1]))];
+  $("depth").max = MAX_DEPTH;
   for (const p of state.design.parameters) $("sliders").append(slider(p));
   $("depth").value = state.depth; $("yaw").value = state.yaw; $("pitch").value = state.pitch;
   const showDepth = () => { $("depth-value").textContent = state.depth; $("view-value").textContent = `${state.yaw}°, ${state.pitch}°`; };
@@ -216,6 +261,8 @@ async function start() {
       $(select).append(option);
     }
   }
+  // Regions, angles and their smoothness are of curve families: not offered for a surface.
+  if (!state.design.curve) for (const kind of ["region", "angle", "smooth"]) $("mapkind").querySelector(`option[value="${kind}"]`).remove();
   for (const id of ["mapx", "mapy", "mapkind", "threshold"]) $(id).addEventListener("change", map);
   // The page going away stops its pictures and maps on the server.
   window.addEventListener("pagehide", () => navigator.sendBeacon("api/bye?session=" + session));

@@ -29,6 +29,9 @@ use bcifs::{Cancel, Design};
 
 const PAGE: &str = include_str!("index.html");
 const SCRIPT: &str = include_str!("explore.js");
+/// The tab's icon: the Sierpiński gasket at depth 2, three triangles of three.
+const ICON: &str = "<svg xmlns='http://www.w3.org/2000/svg' viewBox='0 0 8 7'><path fill='#2d3e50' \
+d='M0 7h2l1-2zM2 7h2l-1-2zM1 5h2l-1-2zM4 7h2l1-2zM6 7h2l-1-2zM5 5h2l-1-2zM2 3h2l1-2zM4 3h2l-1-2zM3 1h2l-1-1z'/></svg>";
 
 /// Every request's budget: its time, then it is cancelled.
 const TIME_BUDGET: Duration = Duration::from_secs(20);
@@ -82,9 +85,22 @@ impl Answer {
     fn json(value: &Value) -> Answer {
         Answer { status: 200, kind: "application/json", body: value.to_string().into_bytes(), download: None }
     }
-    /// 409: superseded by a newer request of the same slot, or over the time budget.
+    /// 409: superseded by a newer request of the same slot (over the time
+    /// budget, [`Explorer::answer`] makes it a 408).
     fn cancelled() -> Answer {
-        Answer::error(409, "cancelled: a newer request, or over the time budget")
+        Answer::error(409, "cancelled: a newer request of the same slot")
+    }
+    /// A library refusal: 409 cancelled, 413 over the memory budget (with
+    /// the estimate), 422 anything else the design or its parameters cause.
+    fn refused(e: &bcifs::render::RenderError) -> Answer {
+        use bcifs::render::RenderError as E;
+        match e {
+            E::Cancelled => Answer::cancelled(),
+            E::Eval(bcifs::eval::EvalError::TooLarge { .. }) | E::Raster(_) | E::TooBig(_) => {
+                Answer::error(413, format!("over the memory budget of {} MiB: {e}", MEMORY_BUDGET >> 20))
+            }
+            _ => Answer::error(422, e),
+        }
     }
     fn error(status: u16, message: impl std::fmt::Display) -> Answer {
         let body = json!({ "error": message.to_string() }).to_string().into_bytes();
@@ -165,7 +181,7 @@ impl Explorer {
     /// The parameter values of a query: every free parameter it names (others: defaults).
     fn values(&self, query: &Query) -> std::result::Result<Vec<(String, f64)>, Answer> {
         let reserved = ["depth", "size", "view", "slot", "seq", "x", "y", "kind", "xr", "yr", "threshold", "session"];
-        let mut values = Vec::new();
+        let mut values: Vec<(String, f64)> = Vec::new();
         for (k, v) in &query.pairs {
             if reserved.contains(&k.as_str()) {
                 continue;
@@ -174,14 +190,15 @@ impl Explorer {
                 let names: Vec<&str> = self.parameters.iter().map(|p| p.name.as_str()).collect();
                 return Err(Answer::error(
                     400,
-                    format!("`{k}` is not a parameter of {}: {names:?}", self.design.name()),
+                    format!("`{}` is not a parameter of {}: {names:?}", clip(k), self.design.name()),
                 ));
             }
-            let x: f64 = v
-                .parse()
-                .ok()
-                .filter(|x: &f64| x.is_finite())
-                .ok_or_else(|| Answer::error(400, format!("parameter `{k}` = `{v}`: expected a finite number")))?;
+            if values.iter().any(|(n, _)| n == k) {
+                return Err(Answer::error(400, format!("parameter `{k}` is given twice: give it once")));
+            }
+            let x: f64 = v.parse().ok().filter(|x: &f64| x.is_finite()).ok_or_else(|| {
+                Answer::error(400, format!("parameter `{k}` = `{}`: expected a finite number", clip(v)))
+            })?;
             values.push((k.clone(), x));
         }
         Ok(values)
@@ -191,9 +208,12 @@ impl Explorer {
     fn options(&self, query: &Query, cancel: Cancel) -> std::result::Result<Options, Answer> {
         let mut options = Options { params: self.values(query)?, ..Options::default() }.with_cancel(cancel);
         options.eval.memory_limit = MEMORY_BUDGET;
+        // Exports are read back into memory to be sent.
+        options.max_output = MEMORY_BUDGET as u128;
         if let Some(depth) = query.get("depth") {
-            let depth: usize =
-                depth.parse().map_err(|_| Answer::error(400, format!("depth `{depth}`: expected 0 to {MAX_DEPTH}")))?;
+            let depth: usize = depth
+                .parse()
+                .map_err(|_| Answer::error(400, format!("depth `{}`: expected 0 to {MAX_DEPTH}", clip(depth))))?;
             if depth > MAX_DEPTH {
                 return Err(Answer::error(400, format!("depth {depth}: at most {MAX_DEPTH}")));
             }
@@ -208,7 +228,9 @@ impl Explorer {
                 let parts: Vec<f64> = view.split(',').filter_map(|t| t.trim().parse().ok()).collect();
                 match parts[..] {
                     [yaw, pitch] if yaw.is_finite() && pitch.is_finite() => (yaw, pitch),
-                    _ => return Err(Answer::error(400, format!("view `{view}`: expected YAW,PITCH in degrees"))),
+                    _ => {
+                        return Err(Answer::error(400, format!("view `{}`: expected YAW,PITCH in degrees", clip(view))));
+                    }
                 }
             }
             None => (30.0, 35.0),
@@ -271,14 +293,13 @@ impl Explorer {
             "smooth" => (SweepKind::Angle, true),
             other => (other.parse::<SweepKind>().map_err(|e| Answer::error(400, format!("{e} (or smooth)")))?, false),
         };
-        let threshold: f64 = match query.get("threshold") {
-            None => 5.0,
-            Some(t) => t
-                .parse()
-                .ok()
-                .filter(|t: &f64| t.is_finite() && *t > 0.0)
-                .ok_or_else(|| Answer::error(400, format!("threshold `{t}`: a positive angle in degrees")))?,
-        };
+        let threshold: f64 =
+            match query.get("threshold") {
+                None => 5.0,
+                Some(t) => t.parse().ok().filter(|t: &f64| t.is_finite() && *t > 0.0).ok_or_else(|| {
+                    Answer::error(400, format!("threshold `{}`: a positive angle in degrees", clip(t)))
+                })?,
+            };
         let size: usize =
             query.get("size").unwrap_or("192").parse().map_err(|_| Answer::error(400, "size: a number of pixels"))?;
         if size == 0 || size > 512 {
@@ -291,7 +312,7 @@ impl Explorer {
                 .parameters
                 .iter()
                 .find(|p| p.name == name)
-                .ok_or_else(|| Answer::error(400, format!("`{name}` is not a parameter")))?;
+                .ok_or_else(|| Answer::error(400, format!("`{}` is not a parameter", clip(name))))?;
             let (lo, hi) = match query.get(range_key) {
                 Some(r) => parse_range(range_key, r)?,
                 None => {
@@ -351,13 +372,16 @@ impl Explorer {
             return Ok(values);
         }
         let rows = plane.size.1;
+        // A dimension pixel evaluates an attractor: a row at a time.
+        let band = if kind == SweepKind::Dimension { 1 } else { 16 };
         let mut values: Option<bcifs::render::SweepValues> = None;
-        for start in (0..rows).step_by(16) {
+        for start in (0..rows).step_by(band) {
             if cancel.is_cancelled() {
                 return Err(Answer::cancelled());
             }
-            let band = bcifs::render::sweep(&self.design, plane, kind, false, start..(start + 16).min(rows))
-                .map_err(|e| Answer::error(422, e))?;
+            let rows = start..(start + band).min(rows);
+            let band = bcifs::render::sweep_cancellable(&self.design, plane, kind, false, rows, cancel)
+                .map_err(|e| Answer::refused(&e))?;
             values = Some(match values {
                 None => band,
                 Some(v) => v.append(band),
@@ -370,14 +394,28 @@ impl Explorer {
         Ok(values)
     }
 
-    /// The answer to `GET path?query`.
+    /// The answer to `GET path?query`; a request cancelled after the time
+    /// budget is a 408 that says so (the page shows it where the picture was).
     fn answer(&self, path: &str, query: &Query) -> Answer {
+        let started = Instant::now();
+        let answer = self.answer_now(path, query);
+        if answer.status == 409 && started.elapsed() >= TIME_BUDGET {
+            let budget = TIME_BUDGET.as_secs();
+            return Answer::error(408, format!("over the time budget of {budget} s: lower the depth, size or range"));
+        }
+        answer
+    }
+
+    fn answer_now(&self, path: &str, query: &Query) -> Answer {
         if path.contains("..") || path.contains('\\') {
             return Answer::error(400, "`..` is not allowed in a path");
         }
         let slot = query.get("slot");
         let seq = query.get("seq").and_then(|s| s.parse().ok());
         match path {
+            "/favicon.ico" | "/favicon.svg" => {
+                Answer { status: 200, kind: "image/svg+xml", body: ICON.into(), download: None }
+            }
             "/" | "/index.html" => {
                 Answer { status: 200, kind: "text/html; charset=utf-8", body: PAGE.into(), download: None }
             }
@@ -403,10 +441,14 @@ impl Explorer {
             },
             "/api/dimension" => match self.values(query) {
                 Err(a) => a,
-                Ok(values) => match bcifs::render::dimension_report(&self.design, &values) {
-                    Ok(d) => Answer::json(&d.to_json()),
-                    Err(e) => Answer::error(422, e),
-                },
+                Ok(values) => {
+                    let cancel = self.cancel_for(slot, seq);
+                    match bcifs::render::dimension_within(&self.design, &values, MEMORY_BUDGET, &cancel) {
+                        Ok(_) if cancel.is_cancelled() => Answer::cancelled(),
+                        Ok(d) => Answer::json(&d.to_json()),
+                        Err(e) => Answer::refused(&e),
+                    }
+                }
             },
             "/api/picture.png" => {
                 let cancel = self.cancel_for(slot, seq);
@@ -456,8 +498,10 @@ impl Explorer {
                         },
                     }
                 }
-                Some(other) => Answer::error(404, format!("no export to `.{other}`: obj, ply, glb, png or toml")),
-                None => Answer::error(404, format!("`{path}`: not found (the page is /, the API under /api/)")),
+                Some(other) => {
+                    Answer::error(404, format!("no export to `.{}`: obj, ply, glb, png or toml", clip(other)))
+                }
+                None => Answer::error(404, format!("`{}`: not found (the page is /, the API under /api/)", clip(path))),
             },
         }
     }
@@ -473,17 +517,16 @@ fn rendered<T>(
     match result {
         Ok(_) if options.cancel.is_cancelled() => Err(Answer::cancelled()),
         Ok(value) => Ok(value),
-        Err(bcifs::render::RenderError::Cancelled) => Err(Answer::cancelled()),
-        Err(e) => Err(Answer::error(422, e)),
+        Err(e) => Err(Answer::refused(&e)),
     }
 }
 
 /// `FROM:TO`, finite and increasing.
 fn parse_range(key: &str, text: &str) -> std::result::Result<(f64, f64), Answer> {
-    let bad = || Answer::error(400, format!("{key} `{text}`: expected FROM:TO, finite, FROM < TO"));
+    let bad = || Answer::error(400, format!("{key} `{}`: expected FROM:TO, finite, FROM < TO", clip(text)));
     let (a, b) = text.split_once(':').ok_or_else(bad)?;
     let (a, b): (f64, f64) = (a.trim().parse().map_err(|_| bad())?, b.trim().parse().map_err(|_| bad())?);
-    if !(a.is_finite() && b.is_finite() && a < b) {
+    if !(a.is_finite() && b.is_finite() && a < b && (b - a).is_finite()) {
         return Err(bad());
     }
     Ok((a, b))
@@ -491,13 +534,21 @@ fn parse_range(key: &str, text: &str) -> std::result::Result<(f64, f64), Answer>
 
 /// `WxH` within [`MAX_SIDE`].
 fn parse_size(size: &str) -> std::result::Result<(u32, u32), Answer> {
-    let bad = || Answer::error(400, format!("size `{size}`: expected WxH, 1 to {MAX_SIDE} pixels a side"));
+    let bad = || Answer::error(400, format!("size `{}`: expected WxH, 1 to {MAX_SIDE} pixels a side", clip(size)));
     let (w, h) = size.split_once('x').ok_or_else(bad)?;
     let (w, h): (u32, u32) = (w.parse().map_err(|_| bad())?, h.parse().map_err(|_| bad())?);
     if w == 0 || h == 0 || w > MAX_SIDE || h > MAX_SIDE {
         return Err(bad());
     }
     Ok((w, h))
+}
+
+/// `text` as an error message quotes it: at most 40 characters, then how long it was.
+fn clip(text: &str) -> String {
+    match text.char_indices().nth(40) {
+        None => text.to_string(),
+        Some((at, _)) => format!("{}… ({} bytes)", &text[..at], text.len()),
+    }
 }
 
 /// A URL's query, percent-decoded.
@@ -547,20 +598,47 @@ fn decode(text: &str) -> String {
     String::from_utf8_lossy(&out).into_owned()
 }
 
+/// Whether a request's `Host` may be served: `localhost`, a loopback
+/// address or the bound one, with any port; any address literal when bound
+/// to all interfaces. Never another name: a page of another site whose
+/// name was made to point here (DNS rebinding) would read the design and
+/// start the costly endpoints. No `Host` (HTTP/1.0, no browser) is served.
+fn host_allowed(host: Option<&str>, bound: std::net::IpAddr) -> bool {
+    let Some(host) = host else { return true };
+    let name = match host.strip_prefix('[') {
+        Some(rest) => rest.split(']').next().unwrap_or(""),
+        None => {
+            host.rsplit_once(':').map_or(host, |(name, port)| if port.parse::<u16>().is_ok() { name } else { host })
+        }
+    };
+    if name.eq_ignore_ascii_case("localhost") {
+        return true;
+    }
+    match name.parse::<std::net::IpAddr>() {
+        Ok(ip) => ip.is_loopback() || ip == bound || bound.is_unspecified(),
+        Err(_) => false,
+    }
+}
+
 /// Answers one request.
-fn serve(explorer: &Explorer, mut request: tiny_http::Request) {
+fn serve(explorer: &Explorer, mut request: tiny_http::Request, bound: std::net::IpAddr) {
     let url = request.url().to_string();
     let (path, query) = url.split_once('?').unwrap_or((&url, ""));
     let path = decode(path);
     let method = request.method().clone();
     // The page's goodbye comes as a beacon (a POST); everything else only reads.
     let beacon = method == tiny_http::Method::Post && path == "/api/bye";
-    if method != tiny_http::Method::Get {
+    let reads = matches!(method, tiny_http::Method::Get | tiny_http::Method::Head);
+    if !reads {
         // Drain what was sent.
         let _ = std::io::copy(&mut request.as_reader().take(1 << 20), &mut std::io::sink());
     }
-    let answer = if method != tiny_http::Method::Get && !beacon {
-        Answer::error(405, "only GET is served (and POST /api/bye)")
+    let host = request.headers().iter().find(|h| h.field.equiv("Host")).map(|h| h.value.as_str().to_string());
+    let answer = if !host_allowed(host.as_deref(), bound) {
+        let shown = clip(host.as_deref().unwrap_or(""));
+        Answer::error(403, format!("Host `{shown}` is not served: open the page at localhost or {bound}"))
+    } else if !reads && !beacon {
+        Answer::error(405, "only GET and HEAD are served (and POST /api/bye)")
     } else {
         // A panic in a request is a 500, not a dead worker.
         std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| explorer.answer(&path, &Query::parse(query))))
@@ -607,9 +685,10 @@ pub fn run(args: ExploreArgs) -> Result<u8> {
         writeln!(stdout, "{url}")?;
         writeln!(
             stdout,
-            "{}: {} free parameters; Ctrl-C stops the server",
+            "{}: {} free parameter{}; Ctrl-C stops the server",
             explorer.design.name(),
-            explorer.parameters.len()
+            explorer.parameters.len(),
+            if explorer.parameters.len() == 1 { "" } else { "s" }
         )?;
         stdout.flush()?;
     }
@@ -625,7 +704,8 @@ pub fn run(args: ExploreArgs) -> Result<u8> {
                 match server.recv_timeout(Duration::from_millis(200)) {
                     // A panic while answering loses that answer, never the worker.
                     Ok(Some(request)) => {
-                        if std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| serve(&explorer, request))).is_err()
+                        if std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| serve(&explorer, request, addr)))
+                            .is_err()
                         {
                             eprintln!("explore: a request failed (internal error)");
                         }
