@@ -440,10 +440,21 @@ fn index_lists(faces: &Bound<'_, PyAny>) -> PyResult<Vec<Vec<usize>>> {
         .collect()
 }
 
-/// A design by name (a shipped automaton or scheme preset) or path.
+/// A design by name (a shipped automaton or scheme preset) or path; a
+/// polygon mesh file (OBJ, OFF) with `scheme` (`doo-sabin`,
+/// `catmull-clark`, `loop`, `sqrt3`): the automaton it generates, as
+/// `bcifs surface FILE --scheme S --print` writes it.
 #[pyfunction]
-fn load(name_or_path: &str) -> PyResult<Design> {
-    Ok(Design { inner: bcifs::render::load(name_or_path).map_err(err)? })
+#[pyo3(signature = (name_or_path, scheme=None))]
+fn load(name_or_path: &str, scheme: Option<&str>) -> PyResult<Design> {
+    let scheme = scheme.map(scheme_of).transpose()?;
+    Ok(Design { inner: bcifs::render::load_with_scheme(name_or_path, scheme).map_err(err)? })
+}
+
+/// A subdivision scheme by name (`_` for `-` accepted).
+fn scheme_of(name: &str) -> PyResult<Scheme> {
+    Scheme::from_name(&name.replace('_', "-"))
+        .ok_or_else(|| err(format!("unknown scheme `{name}`: doo-sabin, catmull-clark, loop or sqrt3")))
 }
 
 /// A user's polygon mesh (`vertices` (n, 3), `faces` an (m, k) array or a
@@ -475,13 +486,7 @@ fn subdivide(
     }
     let positions: Vec<[f64; 3]> = v.rows().into_iter().map(|r| [r[0], r[1], r[2]]).collect();
     let faces = index_lists(faces)?;
-    let scheme = match scheme.replace('_', "-").as_str() {
-        "doo-sabin" => Scheme::DooSabin,
-        "catmull-clark" => Scheme::CatmullClark,
-        "loop" => Scheme::Loop,
-        "sqrt3" => Scheme::Sqrt3,
-        other => return Err(err(format!("unknown scheme `{other}`: doo-sabin, catmull-clark, loop or sqrt3"))),
-    };
+    let scheme = scheme_of(scheme)?;
     let mut mesh = PolyMesh::new(positions, faces).map_err(err)?;
     match (uv, uv_faces) {
         (Some(uv), Some(uv_faces)) => {

@@ -22,6 +22,39 @@ pub enum LoadError {
     /// A preset that could not be made.
     #[error(transparent)]
     Preset(#[from] crate::schemes::CatalogError),
+    /// A polygon mesh (OBJ, OFF) opened without a scheme.
+    #[error(
+        "{0} is a polygon mesh, not an automaton: give the scheme that makes its automaton (`bcifs explore {0} --scheme catmull-clark`, `bcifs.load(\"{0}\", scheme=\"catmull-clark\")`; doo-sabin, catmull-clark, loop or sqrt3), or write it with `bcifs surface {0} --scheme catmull-clark --print -o {0}.toml`"
+    )]
+    MeshWithoutScheme(String),
+    /// A polygon mesh that could not be read.
+    #[error(transparent)]
+    Mesh(#[from] crate::mesh::MeshReadError),
+    /// A mesh whose automaton could not be generated.
+    #[error(transparent)]
+    Generate(#[from] crate::schemes::MeshAutomatonError),
+}
+
+/// Whether `path` names a polygon mesh file (by its extension: `.obj`, `.off`).
+pub fn is_mesh_path(path: &Path) -> bool {
+    path.extension().is_some_and(|e| e.eq_ignore_ascii_case("obj") || e.eq_ignore_ascii_case("off"))
+}
+
+/// [`load`], and a polygon mesh file (`.obj`, `.off`) as the automaton
+/// `scheme` generates from it with the classic weights (what `bcifs
+/// surface FILE --scheme S --print` writes).
+///
+/// # Errors
+/// As [`load`]; a mesh without a scheme, unreadable, or whose automaton the
+/// scheme cannot make.
+pub fn load_with_scheme(name_or_path: &str, scheme: Option<crate::mesh::Scheme>) -> Result<Design, LoadError> {
+    let path = Path::new(name_or_path);
+    if !(path.is_file() && is_mesh_path(path)) {
+        return load(name_or_path);
+    }
+    let Some(scheme) = scheme else { return Err(LoadError::MeshWithoutScheme(name_or_path.to_string())) };
+    let mesh = crate::mesh::read_mesh(path)?;
+    Ok(crate::schemes::mesh_automaton(&mesh, scheme, None)?)
 }
 
 /// The design in the file `name_or_path`, or, when no such file exists, the
@@ -41,6 +74,9 @@ pub enum LoadError {
 /// [`LoadError`]: an unknown name (with the closest one), a malformed file.
 pub fn load(name_or_path: &str) -> Result<Design, LoadError> {
     let path = Path::new(name_or_path);
+    if path.is_file() && is_mesh_path(path) {
+        return Err(LoadError::MeshWithoutScheme(name_or_path.to_string()));
+    }
     if path.exists() {
         return Ok(crate::format::read_design(path)?);
     }

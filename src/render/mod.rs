@@ -33,7 +33,7 @@ mod sweep;
 
 pub use curve::{CurveAnalysis, curve_analysis, curve_halves};
 pub use design::{density, evaluate_design, model_of, picture, render};
-pub use load::{LoadError, load};
+pub use load::{LoadError, is_mesh_path, load, load_with_scheme};
 pub use mesh::{MeshJob, check_weights, render_mesh, rule_weights, subdivide_mesh};
 pub use options::{Format, Options, RenderError, Report, check_disk};
 pub use reports::{

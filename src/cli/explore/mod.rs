@@ -57,6 +57,10 @@ pub struct ExploreArgs {
     /// Do not open the browser.
     #[arg(long)]
     no_open: bool,
+    /// For a polygon mesh (OBJ, OFF): the scheme whose generated automaton is
+    /// explored (doo-sabin, catmull-clark, loop, sqrt3), its weights the parameters.
+    #[arg(long, value_enum)]
+    scheme: Option<bcifs::mesh::Scheme>,
 }
 
 /// A free parameter with its default and its convergence range.
@@ -110,6 +114,12 @@ impl Answer {
 
 impl Explorer {
     fn new(design: Design) -> Result<Explorer> {
+        if design.automaton().states().count() > 64 {
+            eprintln!(
+                "explore: {}: finding each free parameter's convergence range (a minute on a large mesh)…",
+                design.name()
+            );
+        }
         let parameters = bcifs::render::parameter_ranges(&design)?;
         let scratch = std::env::temp_dir().join(format!("bcifs-explore-{}", std::process::id()));
         std::fs::create_dir_all(&scratch).with_context(|| format!("cannot create {}", scratch.display()))?;
@@ -664,7 +674,7 @@ fn serve(explorer: &Explorer, mut request: tiny_http::Request, bound: std::net::
 
 /// `bcifs explore`.
 pub fn run(args: ExploreArgs) -> Result<u8> {
-    let design = super::load(&args.file)?;
+    let design = bcifs::render::load_with_scheme(&args.file, args.scheme)?;
     let addr: std::net::IpAddr =
         args.bind.parse().with_context(|| format!("--bind `{}`: expected an IP address", args.bind))?;
     if !addr.is_loopback() {
