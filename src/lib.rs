@@ -93,6 +93,7 @@ pub mod export;
 pub mod family;
 mod format;
 pub mod geometry;
+mod input;
 pub mod mesh;
 mod names;
 mod progress;
@@ -105,6 +106,7 @@ pub use automaton::{Arrow, ArrowKind, Automaton, AutomatonError, Constraint, Ent
 pub use design::{BuildError, Design, DesignBuilder, Layout, Matrix, Model, Value};
 pub use family::{DesignInstantiateError, Family, Instance, InstantiateError, SolveError, instantiate, solve};
 pub use format::{BUILTIN_AUTOMATA, FormatError, ReadError, builtin_design, parse_design, read_design, write_design};
+pub use input::{TEXT_FILE_LIMIT, read_text};
 /// Re-exported: its matrices appear in bcifs signatures.
 pub use nalgebra;
 pub use names::suggest;

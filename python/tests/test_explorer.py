@@ -175,3 +175,84 @@ def test_a_one_parameter_family_has_a_strip_and_ranges_are_editable(page, tmp_pa
     finally:
         child.send_signal(2)
         child.wait(timeout=10)
+
+
+def _refusal_shown(page, element_id):
+    """The reason shown where the picture or map would be, or ''."""
+    return page.execute_script(
+        f"const r = document.getElementById('{element_id}-refusal'); return r && !r.hidden ? r.textContent : '';"
+    )
+
+
+def test_a_surface_page_driven_for_a_minute_stays_within_its_budget(page):
+    """The torus page left open and driven (sliders, turns, depth 16, maps of
+    every kind) brought the machine down: every request now estimates its
+    memory, stops at its time budget and gives way to the page's newer one.
+    The server runs under a 3 GiB address-space limit (`prlimit --as`), as the
+    report that found it did, and must stay alive and answer throughout."""
+    prlimit = shutil.which("prlimit")
+    if not prlimit:
+        pytest.skip("prlimit (util-linux) is not installed")
+    child = subprocess.Popen(
+        [prlimit, f"--as={3 << 30}", cli(), "explore", "doo_sabin_torus", "--port", "0", "--no-open"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        url = child.stdout.readline().strip()
+        assert url.startswith("http://127.0.0.1:"), child.stderr.read()
+        # Sloppy URL values open with the defaults, not NaN.
+        page.get(url + "?alpha=abc&depth=zz&view=1,x")
+        wait(lambda: page.execute_script("return document.body.dataset.ready === 'yes'"))
+        defaults = page.execute_script("return [state.values.alpha, state.depth, state.yaw, state.pitch, state.design.parameters[0].default]")
+        assert defaults[:4] == [defaults[4], 6, 30, 35], defaults
+        assert page.find_element("id", "depth").get_attribute("max") == "16"
+        kinds = page.execute_script("return [...document.getElementById('mapkind').options].map((o) => o.value)")
+        assert kinds == ["verdict", "dimension"], "a surface is offered no curve maps: %s" % kinds
+        started = time.monotonic()
+        step = 0
+        while time.monotonic() - started < 60:
+            step += 1
+            value = 0.5 + 0.02 * (step % 10)
+            page.execute_script(
+                f"const s = document.getElementById('param-alpha'); s.value = {value};"
+                "s.dispatchEvent(new Event('input')); s.dispatchEvent(new Event('change'));"
+            )
+            if step % 4 == 0:
+                page.execute_script(
+                    f"const d = document.getElementById('depth'); d.value = {16 if step % 8 == 0 else 5};"
+                    "d.dispatchEvent(new Event('input')); d.dispatchEvent(new Event('change'));"
+                )
+            if step % 6 == 0:
+                kind = "dimension" if step % 12 == 0 else "verdict"
+                page.execute_script(
+                    f"const k = document.getElementById('mapkind'); k.value = '{kind}'; k.dispatchEvent(new Event('change'));"
+                )
+            if step % 3 == 0:
+                page.execute_script(
+                    f"const y = document.getElementById('yaw'); y.value = {(step * 15) % 360 - 180};"
+                    "y.dispatchEvent(new Event('input')); y.dispatchEvent(new Event('change'));"
+                )
+            time.sleep(0.5)
+            assert child.poll() is None, "the server died: %s" % child.stderr.read()
+        with open(f"/proc/{child.pid}/status") as status:
+            peak = next(int(line.split()[1]) for line in status if line.startswith("VmHWM:")) << 10
+        assert peak < 3 << 30, f"peak resident memory {peak >> 20} MiB"
+        # The page settles: a picture, or the reason there is none, where the picture is.
+        page.execute_script(
+            "const d = document.getElementById('depth'); d.value = 5; d.dispatchEvent(new Event('input')); d.dispatchEvent(new Event('change'));"
+        )
+        wait(lambda: loaded(page, "picture") and not _refusal_shown(page, "picture"), timeout=60)
+        # A map over the time budget says so where the map would be, not a broken image.
+        page.execute_script("const k = document.getElementById('mapkind'); k.value = 'dimension'; k.dispatchEvent(new Event('change'));")
+        shown = wait(lambda: _refusal_shown(page, "map") or (loaded(page, "map") and "map"), timeout=90)
+        assert shown == "map" or "budget" in shown, shown
+        import urllib.request
+
+        with urllib.request.urlopen(url + "api/design", timeout=20) as answer:
+            assert answer.status == 200
+        assert child.poll() is None
+    finally:
+        child.send_signal(2)
+        child.wait(timeout=30)

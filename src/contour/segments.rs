@@ -180,7 +180,8 @@ pub fn parse_segments(text: &str, file: &str) -> Result<Vec<Segment>, FormatErro
 /// to point at), or as [`parse_segments`].
 pub fn read_segments(path: &Path) -> Result<Vec<Segment>, ReadError> {
     let file = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|error| ReadError::Io { path: file.clone(), error })?;
+    let text = crate::input::read_text(path, crate::input::TEXT_FILE_LIMIT)
+        .map_err(|error| ReadError::Io { path: file.clone(), error })?;
     Ok(parse_segments(&text, &file)?)
 }
 

@@ -188,8 +188,8 @@ pub enum ReadError {
 /// [`ReadError::Io`] if it cannot be read, [`ReadError::Format`] with
 /// `file:line:column` if it is malformed.
 pub fn read_design(path: &Path) -> Result<Design, ReadError> {
-    let text =
-        std::fs::read_to_string(path).map_err(|error| ReadError::Io { path: path.display().to_string(), error })?;
+    let text = crate::input::read_text(path, crate::input::TEXT_FILE_LIMIT)
+        .map_err(|error| ReadError::Io { path: path.display().to_string(), error })?;
     let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
     Ok(parse_design(&text, &path.display().to_string(), &stem)?)
 }
@@ -468,7 +468,7 @@ fn extend(
                     ),
                 ));
             }
-            let text = std::fs::read_to_string(&path).map_err(|e| {
+            let text = crate::input::read_text(&path, crate::input::TEXT_FILE_LIMIT).map_err(|e| {
                 let mut err = src.at(&base.span(), format!("cannot read `{}`: {e}", path.display()));
                 err.help =
                     suggest(name, BUILTIN_AUTOMATA.iter().map(|(n, _)| *n)).map(|s| format!("did you mean `{s}`?"));

@@ -19,7 +19,10 @@ use super::polymesh::{Place, PolyMesh};
 pub fn read_mesh(path: &Path) -> Result<PolyMesh, MeshReadError> {
     let name = path.display().to_string();
     let ext = path.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
-    let text = || std::fs::read_to_string(path).map_err(|e| MeshReadError::Io { file: name.clone(), source: e });
+    let text = || {
+        crate::input::read_text(path, crate::input::TEXT_FILE_LIMIT)
+            .map_err(|e| MeshReadError::Io { file: name.clone(), source: e })
+    };
     match ext.as_str() {
         "obj" => read_obj(&text()?, &name),
         "off" => read_off(&text()?, &name),

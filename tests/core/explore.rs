@@ -214,7 +214,7 @@ fn fifty_concurrent_requests_are_answered_and_a_newer_one_cancels_the_older() {
                     "/api/check?beta=0.14".to_string()
                 };
                 let mut stream = TcpStream::connect(("127.0.0.1", port)).unwrap();
-                write!(stream, "GET {path} HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n").unwrap();
+                write!(stream, "GET {path} HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n").unwrap();
                 let mut raw = Vec::new();
                 stream.read_to_end(&mut raw).unwrap();
                 String::from_utf8_lossy(&raw[..12.min(raw.len())]).to_string()
@@ -228,7 +228,7 @@ fn fifty_concurrent_requests_are_answered_and_a_newer_one_cancels_the_older() {
     let slow = std::thread::spawn(move || {
         exchange(
             port,
-            "GET /api/picture.png?depth=9&size=2000x2000&slot=picture HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n",
+            "GET /api/picture.png?depth=9&size=2000x2000&slot=picture HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n",
         )
     });
     std::thread::sleep(std::time::Duration::from_millis(700));
@@ -316,14 +316,14 @@ fn a_page_going_away_stops_its_requests() {
     let slow = std::thread::spawn(move || {
         exchange(
             port,
-            "GET /api/picture.png?depth=9&size=2000x2000&slot=picture-s1&seq=1 HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n",
+            "GET /api/picture.png?depth=9&size=2000x2000&slot=picture-s1&seq=1 HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n",
         )
     });
     std::thread::sleep(std::time::Duration::from_millis(700));
     // The page's beacon (a POST, as navigator.sendBeacon sends it).
     let raw = exchange(
         port,
-        "POST /api/bye?session=s1 HTTP/1.1\r\nHost: x\r\nContent-Length: 0\r\nConnection: close\r\n\r\n",
+        "POST /api/bye?session=s1 HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Length: 0\r\nConnection: close\r\n\r\n",
     );
     assert!(raw.starts_with("HTTP/1.1 200") && raw.contains("\"cancelled\":1"), "{raw}");
     let older = slow.join().unwrap();
@@ -331,4 +331,136 @@ fn a_page_going_away_stops_its_requests() {
     // Another page's session is not touched; other POSTs are refused.
     assert_eq!(server.json("/api/bye?session=nobody").1["cancelled"], 0);
     assert_eq!(server.json("/api/bye").0, 400);
+}
+
+/// `GET path` with the raw `Host` header `host` (None: no such header), HTTP/1.1.
+fn get_as(port: u16, path: &str, host: Option<&str>) -> String {
+    let host = host.map(|h| format!("Host: {h}\r\n")).unwrap_or_default();
+    exchange(port, &format!("GET {path} HTTP/1.1\r\n{host}Connection: close\r\n\r\n"))
+}
+
+#[test]
+fn only_this_machine_s_names_are_served_and_sloppy_queries_are_refused_briefly() {
+    let server = Server::start("corner_cutting");
+    let port = server.port;
+    // DNS rebinding: a page of another site whose name points here gets nothing, not even the page.
+    for path in ["/", "/api/export.toml", "/api/dimension"] {
+        for host in ["evil.example", "evil.example:80", &format!("evil.example:{port}"), "127.0.0.1.evil.example"] {
+            let raw = get_as(port, path, Some(host));
+            assert!(raw.starts_with("HTTP/1.1 403") && raw.contains("is not served"), "{host}{path}: {raw}");
+            assert!(!raw.contains("[[arrow]]") && !raw.to_lowercase().contains("access-control-allow-origin"));
+        }
+    }
+    for host in [format!("127.0.0.1:{port}"), format!("localhost:{port}"), "LOCALHOST".into(), format!("[::1]:{port}")]
+    {
+        assert!(get_as(port, "/api/design", Some(&host)).starts_with("HTTP/1.1 200"), "{host}");
+    }
+    // HEAD answers as GET without a body; the tab's icon is there.
+    let head = exchange(port, "HEAD / HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n");
+    assert!(head.starts_with("HTTP/1.1 200") && !head.contains("<html"), "{head}");
+    let (status, headers, icon) = server.get("/favicon.ico");
+    assert_eq!(status, 200);
+    assert!(headers.contains("image/svg+xml") && String::from_utf8_lossy(&icon).starts_with("<svg"));
+    // A parameter given twice is refused; a long value is not echoed back whole.
+    let (status, body) = server.json("/api/check?a=0.2&a=0.3");
+    assert_eq!(status, 400);
+    assert!(body["error"].as_str().unwrap().contains("given twice"), "{body}");
+    let long = "9".repeat(100_000) + "x";
+    let (status, _, body) = server.get(&format!("/api/check?a={long}"));
+    assert_eq!(status, 400);
+    assert!(body.len() < 300, "{} bytes: {}", body.len(), String::from_utf8_lossy(&body[..200]));
+    assert!(String::from_utf8_lossy(&body).contains("(100001 bytes)"));
+    // Ranges whose width overflows are refused at once (their axes never ended).
+    let (status, body) = server.json("/api/map.png?x=a&y=b&xr=-1e308:1e308");
+    assert_eq!(status, 400, "{body}");
+}
+
+#[test]
+fn huge_parameters_are_answered_not_spun_on() {
+    // nalgebra's SVD of matrices near f64::MAX never converged: the check stayed busy for ever.
+    let server = Server::start("corner_cutting");
+    let port = server.port;
+    let answers: Vec<_> = ["/api/check?a=1e308&b=-1e308", "/api/check?a=1e308", "/api/check?a=-1e300&b=1e300"]
+        .into_iter()
+        .map(|path| {
+            std::thread::spawn(move || {
+                let mut stream = TcpStream::connect(("127.0.0.1", port)).unwrap();
+                stream.set_read_timeout(Some(std::time::Duration::from_secs(30))).unwrap();
+                write!(stream, "GET {path} HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n").unwrap();
+                let mut raw = Vec::new();
+                stream.read_to_end(&mut raw).map(|_| String::from_utf8_lossy(&raw).to_string())
+            })
+        })
+        .collect();
+    for a in answers {
+        let raw = a.join().unwrap().expect("answered within 30 s");
+        assert!(raw.starts_with("HTTP/1.1 200"), "{}", &raw[..raw.len().min(300)]);
+        assert!(raw.contains("\"converges\":false") || raw.contains("\"converges\":null"), "no proof of convergence");
+    }
+    let out = Command::new(env!("CARGO_BIN_EXE_bcifs"))
+        .args(["analyze", "curve", "corner_cutting", "--param", "a=1e308"])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let out = Command::new(env!("CARGO_BIN_EXE_bcifs"))
+        .args(["analyze", "map", "corner_cutting", "--x", "a=-1e308:1e308", "--y", "b=-1:1", "-o"])
+        .arg(std::env::temp_dir().join("bcifs-never-written.png"))
+        .output()
+        .unwrap();
+    assert!(!out.status.success() && String::from_utf8_lossy(&out.stderr).contains("TO - FROM finite"));
+}
+
+#[test]
+fn a_surface_s_dimension_keeps_to_its_budget_and_its_slot() {
+    // The torus at its defaults took 37 s and 3.6 GB; a page asks it after every check.
+    let server = Server::start("doo_sabin_torus");
+    let port = server.port;
+    let started = std::time::Instant::now();
+    let (status, dimension) = server.json("/api/dimension");
+    assert_eq!(status, 200, "{dimension}");
+    assert!(started.elapsed() < std::time::Duration::from_secs(20), "within the time budget");
+    // The finest resolution within 768 MiB: fewer scales than the 1 GiB-plus CLI's, a surface's 2 all the same.
+    let d = dimension["box_dimension"].as_f64().unwrap();
+    assert!((d - 2.0).abs() < 0.2, "{dimension}");
+    assert!(dimension["fit"]["scales"].as_array().unwrap().len() >= 4);
+    // A newer dimension of the same slot cancels the older: 409, and the newer is answered.
+    let older =
+        std::thread::spawn(move || get_as(port, "/api/dimension?alpha=0.55&slot=dimension-p&seq=1", Some("127.0.0.1")));
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    let (status, newer) = server.json("/api/dimension?alpha=0.58&slot=dimension-p&seq=2");
+    assert_eq!(status, 200, "{newer}");
+    let older = older.join().unwrap();
+    assert!(older.starts_with("HTTP/1.1 409"), "{}", &older[..older.len().min(300)]);
+    // Maps that need a curve are refused for a surface with their reason, at once.
+    let started = std::time::Instant::now();
+    let (status, body) = server.json("/api/map.png?x=alpha&y=beta&kind=region&size=16");
+    assert_eq!(status, 422, "{body}");
+    assert!(started.elapsed() < std::time::Duration::from_secs(5));
+}
+
+#[test]
+fn a_polygon_mesh_is_explored_with_its_scheme_or_refused_with_what_to_do() {
+    let out = Command::new(env!("CARGO_BIN_EXE_bcifs"))
+        .args(["explore", "tests/data/cube.off", "--no-open", "--port", "0"])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(stderr.contains("is a polygon mesh") && stderr.contains("--scheme"), "{stderr}");
+    assert!(!stderr.contains("TOML") && !stderr.contains("3:3"), "{stderr}");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_bcifs"))
+        .args(["explore", "tests/data/cube.off", "--scheme", "catmull-clark", "--port", "0", "--no-open"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut line = String::new();
+    BufReader::new(child.stdout.as_mut().unwrap()).read_line(&mut line).unwrap();
+    let port: u16 = line.trim().trim_start_matches("http://127.0.0.1:").trim_end_matches('/').parse().unwrap();
+    let design = get_as(port, "/api/design", Some("127.0.0.1"));
+    let picture = get_as(port, "/api/picture.png?depth=3&size=64x64", Some("127.0.0.1"));
+    let _ = Command::new("kill").args(["-INT", &child.id().to_string()]).status();
+    let _ = child.wait();
+    assert!(design.starts_with("HTTP/1.1 200") && design.contains("catmull-clark on a mesh of 8 vertices"), "{design}");
+    assert!(picture.starts_with("HTTP/1.1 200"), "{}", &picture[..picture.len().min(300)]);
 }

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 /// The library's top-level modules, bottom first.
 const LAYERS: [&[&str]; 14] = [
-    &["algebra", "names", "progress"],
+    &["algebra", "input", "names", "progress"],
     &["space"],
     &["automaton"],
     &["design"],

@@ -43,6 +43,10 @@ const MAX_SIDE: u32 = 2048;
 const MAX_DEPTH: usize = 16;
 /// Worker threads answering requests.
 const WORKERS: usize = 8;
+/// Requests that may hold [`MEMORY_BUDGET`] at once (pictures, maps,
+/// dimensions, exports); the others wait their turn, within their time
+/// budget: the server stays under this many budgets whatever the pages ask.
+const HEAVY_AT_ONCE: usize = 2;
 
 #[derive(clap::Args)]
 pub struct ExploreArgs {
@@ -75,6 +79,21 @@ struct Explorer {
     deadlines: Mutex<Vec<(Instant, Cancel)>>,
     sweeps: Mutex<HashMap<String, bcifs::render::SweepValues>>,
     counter: std::sync::atomic::AtomicU64,
+    /// Heavy requests running, and its signal when one ends.
+    heavy: (Mutex<usize>, std::sync::Condvar),
+}
+
+/// A heavy request's turn ([`Explorer::admit`]), given back when dropped.
+struct Turn<'a>(&'a Explorer);
+
+impl Drop for Turn<'_> {
+    fn drop(&mut self) {
+        let (running, ended) = &self.0.heavy;
+        if let Ok(mut running) = running.lock() {
+            *running -= 1;
+        }
+        ended.notify_one();
+    }
 }
 
 /// An answer: status, content type, body, and a file name for downloads.
@@ -131,7 +150,26 @@ impl Explorer {
             deadlines: Mutex::new(Vec::new()),
             sweeps: Mutex::new(HashMap::new()),
             counter: 0.into(),
+            heavy: (Mutex::new(0), std::sync::Condvar::new()),
         })
+    }
+
+    /// Waits for a heavy request's turn (at most [`HEAVY_AT_ONCE`] run at
+    /// once); cancelled (superseded, over the time budget) while waiting: 409.
+    fn admit(&self, cancel: &Cancel) -> std::result::Result<Turn<'_>, Answer> {
+        let (running, ended) = &self.heavy;
+        let mut running = running.lock().map_err(|_| Answer::error(500, "internal error"))?;
+        while *running >= HEAVY_AT_ONCE {
+            if cancel.is_cancelled() {
+                return Err(Answer::cancelled());
+            }
+            running = ended
+                .wait_timeout(running, Duration::from_millis(50))
+                .map_err(|_| Answer::error(500, "internal error"))?
+                .0;
+        }
+        *running += 1;
+        Ok(Turn(self))
     }
 
     /// A cancel flag for a request: cancelled after the time budget, or
@@ -239,7 +277,10 @@ impl Explorer {
                 match parts[..] {
                     [yaw, pitch] if yaw.is_finite() && pitch.is_finite() => (yaw, pitch),
                     _ => {
-                        return Err(Answer::error(400, format!("view `{}`: expected YAW,PITCH in degrees", clip(view))));
+                        return Err(Answer::error(
+                            400,
+                            format!("view `{}`: expected YAW,PITCH in degrees", clip(view)),
+                        ));
                     }
                 }
             }
@@ -254,9 +295,7 @@ impl Explorer {
 
     /// Renders to a scratch file of extension `ext` and returns its bytes.
     fn render_bytes(&self, options: &Options, ext: &str) -> std::result::Result<Vec<u8>, Answer> {
-        if options.cancel.is_cancelled() {
-            return Err(Answer::cancelled());
-        }
+        let _turn = self.admit(&options.cancel)?;
         let id = self.counter.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         let path = self.scratch.join(format!("r{id}.{ext}"));
         let answer = rendered(bcifs::render::render(&self.design, options, &path), options)
@@ -268,6 +307,7 @@ impl Explorer {
     /// The picture `render` would write, drawn in memory and encoded for the
     /// browser (fast compression: the page is on this machine).
     fn picture(&self, options: &Options) -> std::result::Result<Vec<u8>, Answer> {
+        let _turn = self.admit(&options.cancel)?;
         let img = rendered(bcifs::render::picture(&self.design, options), options)?;
         let mut png = Vec::new();
         image::codecs::png::PngEncoder::new_with_quality(
@@ -338,6 +378,7 @@ impl Explorer {
             Some(y) if y == x.0 => return Err(Answer::error(400, "x and y must be two different parameters")),
             Some(_) => bcifs::analysis::ParameterPlane { x, y: axis("y", "yr")?, size: (size, size) },
         };
+        let _turn = self.admit(cancel)?;
         let values = self.swept(&plane, kind, cancel)?.to_f64();
         // Angles are drawn where the bounds prove convergence; elsewhere the verdict's colour.
         let verdicts = match kind {
@@ -453,6 +494,10 @@ impl Explorer {
                 Err(a) => a,
                 Ok(values) => {
                     let cancel = self.cancel_for(slot, seq);
+                    let _turn = match self.admit(&cancel) {
+                        Ok(turn) => turn,
+                        Err(a) => return a,
+                    };
                     match bcifs::render::dimension_within(&self.design, &values, MEMORY_BUDGET, &cancel) {
                         Ok(_) if cancel.is_cancelled() => Answer::cancelled(),
                         Ok(d) => Answer::json(&d.to_json()),
