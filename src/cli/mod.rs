@@ -207,7 +207,14 @@ fn render_formats() -> Vec<&'static str> {
 
 /// Checks, before any work, that an output path can be written (not a
 /// directory, in a directory that exists) and has one of the `extensions`.
-fn check_output(path: &std::path::Path, extensions: &[&str]) -> Result<()> {
+fn check_output(path: &std::path::Path, extensions: &[&str], inputs: &[&std::path::Path]) -> Result<()> {
+    if let Some(input) = inputs.iter().find(|input| bcifs::export::same_file(path, input)) {
+        bail!(
+            "-o {} is the input {}: writing it would lose the input; give another output file",
+            path.display(),
+            input.display()
+        );
+    }
     bcifs::export::check_target(path).map_err(|e| anyhow::anyhow!("cannot write {}: {e}", path.display()))?;
     let ext = path.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
     if !extensions.is_empty() && !extensions.contains(&ext.as_str()) {

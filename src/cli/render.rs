@@ -114,7 +114,7 @@ pub struct RenderArgs {
 
 /// `bcifs render`: evaluates a design with its model and writes the file.
 pub fn run(args: RenderArgs) -> anyhow::Result<u8> {
-    super::check_output(&args.output, &super::render_formats())?;
+    super::check_output(&args.output, &super::render_formats(), &[std::path::Path::new(&args.file)])?;
     let design = load(&args.file)?;
     let started = std::time::Instant::now();
     if args.control {

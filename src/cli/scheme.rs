@@ -95,7 +95,7 @@ fn run_ifs(out: &mut String, args: IfsArgs) -> Result<u8> {
         return Ok(0);
     }
     let output = args.out.output.context("give -o OUT (.png, .svg, .obj, .ply, .glb, ...)")?;
-    super::check_output(&output, &super::render_formats())?;
+    super::check_output(&output, &super::render_formats(), &[])?;
     let mut options = RenderOptions::default();
     options.eval.depth = bcifs::eval::Depth::Fixed(args.depth);
     options.eval.dropped = args.drop;
@@ -230,7 +230,7 @@ fn run_normal(out: &mut String, args: NormalArgs) -> Result<u8> {
     let form = args.form;
     let depth = args.depth.unwrap_or(preset.depth);
     let output = args.out.output.context("give -o OUT (.png, .svg, .obj, .ply, .glb, ...)")?;
-    super::check_output(&output, &super::render_formats())?;
+    super::check_output(&output, &super::render_formats(), &[])?;
 
     let started = std::time::Instant::now();
     let shape = normal_shape(&preset, depth, form, bcifs::eval::DEFAULT_MEMORY_LIMIT)?;

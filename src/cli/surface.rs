@@ -82,7 +82,7 @@ pub fn run(out: &mut String, args: SurfaceArgs) -> anyhow::Result<u8> {
         return print_automaton(out, &args, &mesh, &job, started);
     }
     let Some(output) = args.output.clone() else { bail!("give the output file with -o") };
-    super::check_output(&output, &super::render_formats())?;
+    super::check_output(&output, &super::render_formats(), &[&args.mesh])?;
     if !(args.max_output_gib.is_finite() && args.max_output_gib > 0.0) {
         bail!("--max-output-gib {}: expected a positive number of GiB", args.max_output_gib);
     }

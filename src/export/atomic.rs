@@ -1,5 +1,8 @@
 //! Files that appear whole or not at all: written under a temporary name in
-//! the target's directory, renamed at the end.
+//! the target's directory, renamed at the end. A target that is a symbolic
+//! link is written through it (the link stays, the file it names is
+//! replaced whole); a device or a pipe (`/dev/null`, `/dev/full`, a FIFO) is
+//! written in place, its errors reported, never replaced by a file.
 
 use std::fs::File;
 use std::io::{self, BufWriter, Write};
@@ -60,20 +63,71 @@ fn sweep_stale(target: &Path) {
 }
 
 /// A file being written; it replaces `target` only on [`AtomicFile::commit`],
-/// and disappears if dropped before.
+/// and disappears if dropped before. A device or pipe is written in place.
 pub struct AtomicFile {
     target: PathBuf,
-    temp: PathBuf,
+    /// The temporary file renamed onto the target (`None`: written in place).
+    temp: Option<PathBuf>,
     writer: Option<BufWriter<File>>,
 }
 
-/// A temporary path beside `target`, unique to this process and call.
+/// Links followed at most (as the kernel's `ELOOP` limit).
+const MAX_LINKS: usize = 40;
+
+/// The path that writing `target` lands on: through its symbolic links to
+/// the file they name, which may not exist yet (a link relative to its
+/// directory resolved there).
+///
+/// # Errors
+/// A cycle of links, or more than 40.
+pub fn resolve_target(target: &Path) -> io::Result<PathBuf> {
+    let mut path = target.to_path_buf();
+    for _ in 0..MAX_LINKS {
+        match std::fs::symlink_metadata(&path) {
+            Ok(m) if m.file_type().is_symlink() => {
+                let link = std::fs::read_link(&path)?;
+                path = if link.is_absolute() { link } else { directory_of(&path).join(link) };
+            }
+            _ => return Ok(path),
+        }
+    }
+    Err(io::Error::new(
+        io::ErrorKind::InvalidInput,
+        format!("{}: more than {MAX_LINKS} symbolic links (a cycle?)", target.display()),
+    ))
+}
+
+/// Whether `path` (followed) is neither a regular file nor a directory: a
+/// device or a pipe, written in place.
+fn is_special(path: &Path) -> bool {
+    std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir())
+}
+
+/// Whether `a` and `b` are the same existing file (through links and
+/// other spellings of the path): an output that would overwrite an input.
+pub fn same_file(a: &Path, b: &Path) -> bool {
+    match (std::fs::metadata(a), std::fs::metadata(b)) {
+        #[cfg(unix)]
+        (Ok(x), Ok(y)) => {
+            use std::os::unix::fs::MetadataExt as _;
+            x.dev() == y.dev() && x.ino() == y.ino()
+        }
+        #[cfg(not(unix))]
+        (Ok(_), Ok(_)) => std::fs::canonicalize(a).ok() == std::fs::canonicalize(b).ok(),
+        _ => false,
+    }
+}
+
+/// A temporary path beside `target` (beside the file its links name; in
+/// the system's temporary directory for a device), unique to this process and call.
 pub(crate) fn temp_path(target: &Path, tag: &str) -> PathBuf {
     use std::sync::atomic::{AtomicUsize, Ordering};
     static COUNTER: AtomicUsize = AtomicUsize::new(0);
     let name = target.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| "out".into());
+    let resolved = resolve_target(target).unwrap_or_else(|_| target.to_path_buf());
+    let beside = if is_special(&resolved) { std::env::temp_dir().join(&name) } else { resolved };
     let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-    let path = target.with_file_name(format!(".{name}.{tag}.{}.{n}.tmp", std::process::id()));
+    let path = beside.with_file_name(format!(".{name}.{tag}.{}.{n}.tmp", std::process::id()));
     live().push(path.clone());
     path
 }
@@ -88,6 +142,10 @@ pub fn check_target(target: &Path) -> io::Result<()> {
     if target.as_os_str().is_empty() {
         return fail("the output path is empty".into());
     }
+    let target = &resolve_target(target)?;
+    if is_special(target) {
+        return Ok(());
+    }
     if target.is_dir() {
         return fail(format!(
             "{} is a directory: give a file name (for example {}/out.png)",
@@ -96,6 +154,9 @@ pub fn check_target(target: &Path) -> io::Result<()> {
         ));
     }
     let dir = directory_of(target);
+    if dir.exists() && !dir.is_dir() {
+        return fail(format!("{} is a file, not a directory", dir.display()));
+    }
     if !dir.is_dir() {
         return fail(format!("the directory {} does not exist", dir.display()));
     }
@@ -112,10 +173,21 @@ impl AtomicFile {
     /// The temporary file cannot be created (e.g. missing directory).
     pub fn create(target: &Path) -> io::Result<AtomicFile> {
         check_target(target)?;
-        sweep_stale(target);
-        let temp = temp_path(target, "partial");
-        let file = File::create(&temp)?;
-        Ok(AtomicFile { target: target.to_path_buf(), temp, writer: Some(BufWriter::with_capacity(1 << 20, file)) })
+        let target = resolve_target(target)?;
+        if is_special(&target) {
+            let file = std::fs::OpenOptions::new().write(true).open(&target)?;
+            return Ok(AtomicFile { target, temp: None, writer: Some(BufWriter::with_capacity(1 << 20, file)) });
+        }
+        sweep_stale(&target);
+        let temp = temp_path(&target, "partial");
+        let file = match File::create(&temp) {
+            Ok(file) => file,
+            Err(e) => {
+                forget(&temp);
+                return Err(e);
+            }
+        };
+        Ok(AtomicFile { target, temp: Some(temp), writer: Some(BufWriter::with_capacity(1 << 20, file)) })
     }
 
     /// The writer.
@@ -129,24 +201,29 @@ impl AtomicFile {
     /// Any write, sync or rename error (the target is then untouched).
     pub fn commit(mut self) -> io::Result<()> {
         let mut w = self.writer.take().expect("not committed");
-        w.flush()?;
-        w.get_ref().sync_all()?;
+        let Some(temp) = self.temp.take() else {
+            // A device or pipe: its write errors (ENOSPC of /dev/full) are the answer.
+            return w.flush();
+        };
+        let written = w.flush().and_then(|()| w.get_ref().sync_all());
         drop(w);
-        let renamed = std::fs::rename(&self.temp, &self.target);
+        let renamed = written.and_then(|()| std::fs::rename(&temp, &self.target));
         if renamed.is_err() {
-            // Nothing half-written stays: the temporary goes with the failed rename.
-            let _ = std::fs::remove_file(&self.temp);
+            // Nothing half-written stays: the temporary goes with the failed write or rename.
+            let _ = std::fs::remove_file(&temp);
         }
-        forget(&self.temp);
+        forget(&temp);
         renamed
     }
 }
 
 impl Drop for AtomicFile {
     fn drop(&mut self) {
-        if self.writer.take().is_some() {
-            let _ = std::fs::remove_file(&self.temp);
-            forget(&self.temp);
+        if self.writer.take().is_some()
+            && let Some(temp) = self.temp.take()
+        {
+            let _ = std::fs::remove_file(&temp);
+            forget(&temp);
         }
     }
 }

@@ -19,7 +19,7 @@ mod stl;
 mod svg;
 mod view;
 
-pub use atomic::{AtomicFile, check_target, remove_temporary_files, write_atomic};
+pub use atomic::{AtomicFile, check_target, remove_temporary_files, resolve_target, same_file, write_atomic};
 pub use axes::{Coordinates, Up};
 pub use density::{Density, Palette, Tone, density, density_bytes, density_image, picture_frame};
 pub use draw::{SEGMENTS_PER_PIXEL, curve_picture_depth, picture, picture_bytes, picture_depth};

@@ -1321,3 +1321,76 @@ fn the_gallery_announces_itself_stays_small_and_captions_every_entry() {
     assert_eq!(a, b, "`{command}` draws the gallery's picture");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `-o` through a symbolic link writes the file it names (the link stays);
+/// a link to a device writes the device and reports its errors (`/dev/full`:
+/// no space) instead of replacing the link with a file; an output that is
+/// an input is refused before any work; a path under a file says so.
+#[cfg(unix)]
+#[test]
+fn outputs_go_through_links_and_never_over_an_input() {
+    let dir = scratch("links");
+    let s = |p: &std::path::Path| p.to_str().unwrap().to_string();
+    let target = dir.join("target.png");
+    std::fs::write(&target, b"old").unwrap();
+    let link = dir.join("link.png");
+    std::os::unix::fs::symlink("target.png", &link).unwrap();
+    let (code, _, err) = bcifs(&["render", "koch", "--depth", "4", "-o", &s(&link)]);
+    assert_eq!(code, 0, "{err}");
+    assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink(), "the link stays a link");
+    assert!(std::fs::read(&target).unwrap().starts_with(b"\x89PNG"), "its target holds the picture");
+    let full = dir.join("full.obj");
+    std::os::unix::fs::symlink("/dev/full", &full).unwrap();
+    let (code, _, err) = bcifs(&["render", "koch", "--depth", "4", "-o", &s(&full)]);
+    assert_ne!(code, 0);
+    assert!(err.contains("No space left on device"), "{err}");
+    assert!(std::fs::symlink_metadata(&full).unwrap().file_type().is_symlink());
+    let null = dir.join("null.obj");
+    std::os::unix::fs::symlink("/dev/null", &null).unwrap();
+    assert_eq!(bcifs(&["render", "koch", "--depth", "4", "-o", &s(&null)]).0, 0);
+    use std::os::unix::fs::FileTypeExt as _;
+    assert!(std::fs::metadata("/dev/null").unwrap().file_type().is_char_device(), "/dev/null is still a device");
+    // An output that is an input: the same path, another spelling, a link to it.
+    let design = dir.join("a.toml");
+    let (_, text, _) = bcifs(&["scheme", "ifs", "koch", "--print"]);
+    std::fs::write(&design, &text).unwrap();
+    let again = dir.join("again.obj");
+    std::os::unix::fs::symlink("a.toml", &again).unwrap();
+    for output in [s(&design), format!("{}/./a.toml", s(&dir)), s(&again)] {
+        let (code, _, err) = bcifs(&["render", &s(&design), "-o", &output]);
+        assert_ne!(code, 0, "{output}");
+        assert!(err.contains("is the input"), "{output}: {err}");
+        assert_eq!(std::fs::read_to_string(&design).unwrap(), text, "the input is untouched");
+    }
+    let mesh = dir.join("cube.off");
+    std::fs::copy("tests/data/cube.off", &mesh).unwrap();
+    let (code, _, err) = bcifs(&["surface", &s(&mesh), "--scheme", "catmull-clark", "-o", &s(&mesh)]);
+    assert!(code != 0 && err.contains("is the input"), "{err}");
+    assert_eq!(std::fs::read(&mesh).unwrap(), std::fs::read("tests/data/cube.off").unwrap());
+    let file = dir.join("f");
+    std::fs::write(&file, b"").unwrap();
+    let (_, _, err) = bcifs(&["render", "koch", "-o", &format!("{}/out.png", s(&file))]);
+    assert!(err.contains("is a file, not a directory"), "{err}");
+    // Nothing left behind: no temporary files beside the targets.
+    let left: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".tmp"))
+        .collect();
+    assert!(left.is_empty(), "{left:?}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Reading a device as an automaton or a mesh is refused at once, with the reason.
+#[test]
+fn devices_are_not_read_until_memory_runs_out() {
+    for args in [
+        vec!["check", "/dev/zero"],
+        vec!["render", "/dev/urandom", "-o", "/tmp/bcifs-never.png"],
+        vec!["solve", "/dev/zero"],
+    ] {
+        let (code, _, err) = bcifs(&args);
+        assert_ne!(code, 0, "{args:?}");
+        assert!(err.contains("NUL byte"), "{args:?}: {err}");
+    }
+}

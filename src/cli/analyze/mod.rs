@@ -1,7 +1,7 @@
 //! `bcifs analyze`: continuity and fractal ranges of a scheme family.
 
 use std::fmt::Write as _;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
 use clap::Subcommand;
@@ -305,11 +305,12 @@ fn run_map(
 /// Runs a `bcifs analyze` command.
 pub fn run(out: &mut String, what: AnalyzeCommand) -> Result<u8> {
     match &what {
-        AnalyzeCommand::Ternary5 { output, .. } | AnalyzeCommand::Blend { output, .. } => {
-            super::check_output(output, &["png"])?;
+        AnalyzeCommand::Ternary5 { output, .. } => super::check_output(output, &["png"], &[])?,
+        AnalyzeCommand::Blend { output, file, .. } => super::check_output(output, &["png"], &[Path::new(file)])?,
+        AnalyzeCommand::Map { output, file, .. } => super::check_output(output, &["png", "csv"], &[Path::new(file)])?,
+        AnalyzeCommand::Curve { output: Some(output), file, .. } => {
+            super::check_output(output, &["png", "csv"], &[Path::new(file)])?;
         }
-        AnalyzeCommand::Map { output, .. } => super::check_output(output, &["png", "csv"])?,
-        AnalyzeCommand::Curve { output: Some(output), .. } => super::check_output(output, &["png", "csv"])?,
         _ => {}
     }
     match what {
