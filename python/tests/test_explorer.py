@@ -97,6 +97,12 @@ def test_the_page_follows_sliders_and_the_map(server, page, tmp_path):
     marker = page.find_element("id", "marker").value_of_css_property("left")
     assert marker.endswith("px") or marker.endswith("%")
     wait(lambda: loaded(page, "picture"))
+    # The smooth map asks for its threshold, and is drawn (no refusal where the map is).
+    page.execute_script("const k = document.getElementById('mapkind'); k.value = 'smooth'; k.dispatchEvent(new Event('change'));")
+    assert page.find_element("id", "threshold-box").is_displayed()
+    wait(lambda: loaded(page, "map") and page.find_element("id", "map-refusal").get_attribute("hidden") is not None)
+    page.execute_script("const k = document.getElementById('mapkind'); k.value = 'verdict'; k.dispatchEvent(new Event('change'));")
+    wait(lambda: loaded(page, "map"))
     page.save_screenshot(str(tmp_path / "explore.png"))  # the README's picture
     assert (tmp_path / "explore.png").stat().st_size > 10_000
 
@@ -168,10 +174,9 @@ def test_a_one_parameter_family_has_a_strip_and_ranges_are_editable(page, tmp_pa
         assert page.find_element("id", "param-w").get_attribute("min") == "-0.5"
         wait(lambda: page.execute_script("return document.getElementById('map').src") != before and loaded(page, "map"))
         assert page.execute_script("return state.map.xr[0]") < -0.5
-        # The smooth map asks for its threshold.
-        page.execute_script("const k = document.getElementById('mapkind'); k.value = 'smooth'; k.dispatchEvent(new Event('change'));")
-        assert page.find_element("id", "threshold-box").is_displayed()
-        wait(lambda: loaded(page, "map") and "error" not in page.find_element("id", "mapnote").text)
+        # The ternary scheme is no curve of two halves (T0, T1): its maps are verdicts and dimensions only.
+        kinds = page.execute_script("return [...document.getElementById('mapkind').options].map((o) => o.value)")
+        assert kinds == ["verdict", "dimension"], kinds
     finally:
         child.send_signal(2)
         child.wait(timeout=10)

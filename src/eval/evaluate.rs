@@ -36,7 +36,9 @@ impl Evaluator {
         // A mesh's tolerance is a uniform depth: its size is known before any work.
         let depth = match self.settings.depth {
             Depth::Fixed(k) => Some(k),
-            Depth::Tolerance(eps) if self.polygon_faces() || self.meshes() => Some(self.depth_for_tolerance(eps)?),
+            Depth::Tolerance(eps) if self.polygon_faces() || self.meshes() => {
+                Some(self.depth_for_tolerance_within(eps, self.settings.memory_limit)?)
+            }
             Depth::Tolerance(_) => None,
         };
         if let Some(k) = depth {

@@ -466,12 +466,32 @@ impl Evaluator {
     /// # Errors
     /// A cell still larger than `eps` at depth 12.
     pub fn depth_for_tolerance(&self, eps: f64) -> Result<usize, EvalError> {
+        self.depth_for_tolerance_within(eps, usize::MAX)
+    }
+
+    /// [`Evaluator::depth_for_tolerance`], stopped as soon as the cells
+    /// already met would take more than `memory` bytes as a mesh in memory
+    /// (the mesh at that depth has at least as many): a slowly contracting
+    /// system is refused at the cost of the budget, not of its whole mesh.
+    ///
+    /// # Errors
+    /// As [`Evaluator::depth_for_tolerance`]; [`EvalError::TooLarge`].
+    pub fn depth_for_tolerance_within(&self, eps: f64, memory: usize) -> Result<usize, EvalError> {
         const MAX: usize = 12;
         let d = self.pieces.dim;
-        // Depth needed below a cell, at most `MAX - level` (MAX + 1: not fine enough).
-        fn needed(ev: &Evaluator, state: usize, c: &[f64], d: usize, eps: f64, budget: usize) -> usize {
+        /// The walk: the tolerance, and the cells that may still be met.
+        struct Walk {
+            eps: f64,
+            left: u128,
+        }
+        // Depth needed below a cell, at most `MAX - level` (MAX + 1: not fine enough or over the budget).
+        fn needed(ev: &Evaluator, state: usize, c: &[f64], d: usize, walk: &mut Walk, budget: usize) -> usize {
             let sp = ev.plan.state(state);
-            if diameter(c, d, sp.dim) < eps {
+            if walk.left == 0 {
+                return MAX + 1;
+            }
+            walk.left -= 1;
+            if diameter(c, d, sp.dim) < walk.eps {
                 return 0;
             }
             if budget == 0 {
@@ -482,14 +502,21 @@ impl Evaluator {
                 let nt = ev.plan.state(*t).dim;
                 let mut child = vec![0.0; d * nt];
                 mul_into(c, d, sp.dim, m, nt, &mut child);
-                worst = worst.max(1 + needed(ev, *t, &child, d, eps, budget - 1));
+                worst = worst.max(1 + needed(ev, *t, &child, d, walk, budget - 1));
                 if worst > MAX {
                     break;
                 }
             }
             worst
         }
-        let k = self.pieces.pieces.iter().map(|p| needed(self, p.state, &p.control, d, eps, MAX)).max().unwrap_or(0);
+        let per_cell = (self.estimate_bytes(0) / self.pieces.pieces.len().max(1) as u128).max(1);
+        let cells = memory as u128 / per_cell;
+        let mut walk = Walk { eps, left: cells };
+        let k =
+            self.pieces.pieces.iter().map(|p| needed(self, p.state, &p.control, d, &mut walk, MAX)).max().unwrap_or(0);
+        if walk.left == 0 {
+            return Err(EvalError::TooLarge { estimate: (cells + 1) * per_cell, limit: memory });
+        }
         if k > MAX {
             return Err(EvalError::Unsupported(format!(
                 "surface cells are still larger than {eps} at depth {MAX}: raise the tolerance or give a depth"

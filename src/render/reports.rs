@@ -171,9 +171,10 @@ pub fn dimension_within(
     // the finest resolution whose points fit (down to four scales); the
     // report gives the resolution used.
     while surface && resolution < extent / 32.0 {
-        let k = coarse_ev.depth_for_tolerance(resolution)?;
-        if coarse_ev.estimate_bytes(k) <= points_budget as u128 {
-            break;
+        match coarse_ev.depth_for_tolerance_within(resolution, points_budget) {
+            Ok(k) if coarse_ev.estimate_bytes(k) <= points_budget as u128 => break,
+            Ok(_) | Err(EvalError::TooLarge { .. }) => {}
+            Err(e) => return Err(e.into()),
         }
         resolution *= 2.0;
     }

@@ -262,7 +262,7 @@ async function start() {
     }
   }
   // Regions, angles and their smoothness are of curve families: not offered for a surface.
-  if (!state.design.curve) for (const kind of ["region", "angle", "smooth"]) $("mapkind").querySelector(`option[value="${kind}"]`).remove();
+  if (!state.design.curve_maps) for (const kind of ["region", "angle", "smooth"]) $("mapkind").querySelector(`option[value="${kind}"]`).remove();
   for (const id of ["mapx", "mapy", "mapkind", "threshold"]) $(id).addEventListener("change", map);
   // The page going away stops its pictures and maps on the server.
   window.addEventListener("pagehide", () => navigator.sendBeacon("api/bye?session=" + session));

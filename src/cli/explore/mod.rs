@@ -79,6 +79,9 @@ struct Explorer {
     deadlines: Mutex<Vec<(Instant, Cancel)>>,
     sweeps: Mutex<HashMap<String, bcifs::render::SweepValues>>,
     counter: std::sync::atomic::AtomicU64,
+    /// Whether the maps of a curve family (regions, angles) can be drawn:
+    /// offered by the page only then.
+    curve_maps: bool,
     /// Heavy requests running, and its signal when one ends.
     heavy: (Mutex<usize>, std::sync::Condvar),
 }
@@ -109,7 +112,7 @@ impl Answer {
         Answer { status: 200, kind: "application/json", body: value.to_string().into_bytes(), download: None }
     }
     /// 409: superseded by a newer request of the same slot (over the time
-    /// budget, [`Explorer::answer`] makes it a 408).
+    /// budget, [`Explorer::answer`] makes it a 422 that says so).
     fn cancelled() -> Answer {
         Answer::error(409, "cancelled: a newer request of the same slot")
     }
@@ -140,6 +143,11 @@ impl Explorer {
             );
         }
         let parameters = bcifs::render::parameter_ranges(&design)?;
+        // A curve map of one pixel at the defaults: made, or refused for what the design is.
+        let curve_maps = parameters.first().is_some_and(|p| {
+            let plane = bcifs::analysis::ParameterPlane::line(&p.name, p.default, p.default + 1e-9, 1);
+            bcifs::render::sweep(&design, &plane, SweepKind::Angle, false, 0..1).is_ok()
+        });
         let scratch = std::env::temp_dir().join(format!("bcifs-explore-{}", std::process::id()));
         std::fs::create_dir_all(&scratch).with_context(|| format!("cannot create {}", scratch.display()))?;
         Ok(Explorer {
@@ -150,6 +158,7 @@ impl Explorer {
             deadlines: Mutex::new(Vec::new()),
             sweeps: Mutex::new(HashMap::new()),
             counter: 0.into(),
+            curve_maps,
             heavy: (Mutex::new(0), std::sync::Condvar::new()),
         })
     }
@@ -331,7 +340,7 @@ impl Explorer {
             .is_some_and(|i| bcifs::render::curve_halves(&self.design, &i).is_ok());
         json!({
             "name": self.design.name(), "description": self.design.description(),
-            "parameters": parameters, "curve": curve,
+            "parameters": parameters, "curve": curve, "curve_maps": self.curve_maps,
         })
     }
 
@@ -446,13 +455,15 @@ impl Explorer {
     }
 
     /// The answer to `GET path?query`; a request cancelled after the time
-    /// budget is a 408 that says so (the page shows it where the picture was).
+    /// budget is a 422 that says so (the page shows it where the picture was).
+    /// Not a 408: Chromium sends a request again when a reused connection
+    /// answers 408, so a map over its budget was asked again for ever.
     fn answer(&self, path: &str, query: &Query) -> Answer {
         let started = Instant::now();
         let answer = self.answer_now(path, query);
         if answer.status == 409 && started.elapsed() >= TIME_BUDGET {
             let budget = TIME_BUDGET.as_secs();
-            return Answer::error(408, format!("over the time budget of {budget} s: lower the depth, size or range"));
+            return Answer::error(422, format!("over the time budget of {budget} s: lower the depth, size or range"));
         }
         answer
     }
