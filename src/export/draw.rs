@@ -227,6 +227,21 @@ pub fn curve_picture_depth(ev: &mut Evaluator, settings: &RasterSettings, depth:
     Ok(depth)
 }
 
+/// Points per pixel beyond which a picture of points stops subdividing:
+/// deeper, the points only fill the pixels they already darken.
+pub const POINTS_PER_PIXEL: u128 = 64;
+
+/// The depth a picture of points (a plain IFS, a fractal cell) needs, at
+/// most `depth`: the deepest whose points number at most
+/// [`POINTS_PER_PIXEL`] times the pixels (at least depth 0). Counted, not
+/// evaluated: the gasket at depth 60 would be 3⁶⁰ points.
+pub fn point_picture_depth(ev: &Evaluator, settings: &RasterSettings, depth: usize) -> usize {
+    let pixels = u128::from(settings.width.max(1)) * u128::from(settings.height.max(1));
+    let points =
+        |k: usize| (0..ev.pieces().pieces.len()).fold(0u128, |a, p| a.saturating_add(ev.sample_count(p, k) as u128));
+    (1..=depth).take_while(|&k| points(k) <= POINTS_PER_PIXEL * pixels).last().unwrap_or(0)
+}
+
 /// The depth a picture of a surface needs: the first one whose quads
 /// outnumber the pixels (deeper, a quad is smaller than a pixel and the
 /// picture changes only by sub-pixel shading), at most

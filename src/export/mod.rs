@@ -22,7 +22,10 @@ mod view;
 pub use atomic::{AtomicFile, check_target, remove_temporary_files, resolve_target, same_file, write_atomic};
 pub use axes::{Coordinates, Up};
 pub use density::{Density, Palette, Tone, density, density_bytes, density_image, picture_frame};
-pub use draw::{SEGMENTS_PER_PIXEL, curve_picture_depth, picture, picture_bytes, picture_depth};
+pub use draw::{
+    POINTS_PER_PIXEL, SEGMENTS_PER_PIXEL, curve_picture_depth, picture, picture_bytes, picture_depth,
+    point_picture_depth,
+};
 pub use flame::{FlameError, flame_text, write_flame};
 pub use gltf::GltfWriter;
 pub(crate) use normals::{NormalSpill, Replay};

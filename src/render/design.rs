@@ -393,6 +393,21 @@ fn deterministic_image(
         let (width, height, limit) = (raster.width, raster.height, raster.memory_limit);
         return Err(crate::export::RasterTooLarge { width, height, vertices, needed, limit }.into());
     }
+    if let (Some(false), Depth::Fixed(k)) = (ev.polylines(), options.eval.depth) {
+        let enough = crate::export::point_picture_depth(&ev, raster, k);
+        report.depth = Some(enough);
+        if enough < k {
+            let points =
+                (0..ev.pieces().pieces.len()).fold(0usize, |a, p| a.saturating_add(ev.sample_count(p, enough)));
+            report.notes.push(format!(
+                "the picture is drawn at depth {enough}: its {points} points are up to {} a pixel of the {}×{} picture (deeper ones only fill the pixels they darken); OBJ output keeps depth {k}",
+                crate::export::POINTS_PER_PIXEL,
+                raster.width,
+                raster.height
+            ));
+            ev.set_depth(Depth::Fixed(enough))?;
+        }
+    }
     if let (Some(true), Depth::Fixed(k)) = (ev.polylines(), options.eval.depth) {
         let enough = crate::export::curve_picture_depth(&mut ev, raster, k)?;
         report.depth = Some(enough);

@@ -1394,3 +1394,24 @@ fn devices_are_not_read_until_memory_runs_out() {
         assert!(err.contains("NUL byte"), "{args:?}: {err}");
     }
 }
+
+/// A picture of points stops at the depth whose points fill its pixels (64
+/// a pixel): the gasket at depth 60 (3⁶⁰ points) is the picture at depth
+/// 15, drawn in a moment, and says so; a shallow depth is kept.
+#[test]
+fn a_deep_picture_of_points_stops_where_its_points_fill_the_pixels() {
+    let dir = scratch("deep-points");
+    let deep = dir.join("deep.png");
+    let at15 = dir.join("at15.png");
+    let (code, _, err) =
+        bcifs(&["render", "gasket", "--depth", "60", "--size", "200x200", "-o", deep.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    // 3¹³ = 1,594,323 points ≤ 64 · 200² = 2,560,000 < 3¹⁴.
+    assert!(err.contains("drawn at depth 13") && err.contains("1594323 points"), "{err}");
+    assert_eq!(bcifs(&["render", "gasket", "--depth", "13", "--size", "200x200", "-o", at15.to_str().unwrap()]).0, 0);
+    let pixels = |p: &std::path::Path| image::open(p).unwrap().to_rgb8().into_raw();
+    assert!(pixels(&deep) == pixels(&at15), "the same picture");
+    let (_, _, err) = bcifs(&["render", "gasket", "--depth", "5", "--size", "200x200", "-o", at15.to_str().unwrap()]);
+    assert!(!err.contains("drawn at depth"), "{err}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
