@@ -12,9 +12,11 @@ use crate::geometry::Sink;
 /// and larger faces as fans), each with its unit normal, counter-clockwise
 /// seen from outside as the faces come. STL holds surfaces only: curves are
 /// refused, and a file with no face is refused at [`StlWriter::finish`].
-/// Triangles refer to vertex positions, which the writer keeps (24 bytes a
+/// Triangles refer to vertex positions, which the writer keeps (12 bytes a
 /// vertex); the triangles themselves go to a side file, appended under the
-/// counted header at the end.
+/// counted header at the end. A face may come before its vertices (a
+/// streamed surface sends a block's faces first): it waits, as indices,
+/// until [`StlWriter::finish`].
 ///
 /// ```
 /// use bcifs::geometry::Sink;
@@ -36,6 +38,8 @@ pub struct StlWriter {
     spool: Option<Spool>,
     /// Vertex positions in the file's axes.
     positions: Vec<[f32; 3]>,
+    /// Faces that named a vertex not yet written: their corner counts' ends and corners.
+    waiting: (Vec<usize>, Vec<usize>),
     triangles: u64,
     buf: Vec<u8>,
 }
@@ -51,6 +55,7 @@ impl StlWriter {
             main: Some(AtomicFile::create(path)?),
             spool: Some(Spool::create(path, "elements")?),
             positions: Vec::new(),
+            waiting: (vec![0], Vec::new()),
             triangles: 0,
             buf: Vec::with_capacity(1 << 16),
         })
@@ -69,6 +74,16 @@ impl StlWriter {
     /// No face was written (STL holds surfaces), more than 2^32 − 1
     /// triangles, or an I/O error; the target is then left as it was.
     pub fn finish(mut self) -> io::Result<()> {
+        let (ends, corners) = std::mem::take(&mut self.waiting);
+        if ends.len() > 1 {
+            if corners.iter().any(|&v| v >= self.positions.len()) {
+                return Err(io::Error::new(
+                    io::ErrorKind::InvalidInput,
+                    "an STL face refers to a vertex never written",
+                ));
+            }
+            self.fans(ends.windows(2).map(|w| &corners[w[0]..w[1]]))?;
+        }
         if self.triangles == 0 {
             return Err(io::Error::new(
                 io::ErrorKind::InvalidInput,
@@ -91,15 +106,14 @@ impl StlWriter {
     /// Faces as fans of triangles, each with its unit normal.
     fn fans<'a>(&mut self, faces: impl Iterator<Item = &'a [usize]>) -> io::Result<()> {
         for face in faces.filter(|f| f.len() >= 3) {
+            if face.iter().any(|&v| v >= self.positions.len()) {
+                let (ends, corners) = &mut self.waiting;
+                corners.extend_from_slice(face);
+                ends.push(corners.len());
+                continue;
+            }
             for k in 1..face.len() - 1 {
-                let corners = [face[0], face[k], face[k + 1]];
-                let p = corners.map(|v| self.positions.get(v).copied().unwrap_or([f32::NAN; 3]));
-                if p.iter().flatten().any(|x| x.is_nan()) {
-                    return Err(io::Error::new(
-                        io::ErrorKind::InvalidInput,
-                        "an STL face refers to a vertex not written before it",
-                    ));
-                }
+                let p = [face[0], face[k], face[k + 1]].map(|v| self.positions[v]);
                 let (u, w) = ([0, 1, 2].map(|a| p[1][a] - p[0][a]), [0, 1, 2].map(|a| p[2][a] - p[0][a]));
                 let n = [u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]];
                 let len = n.iter().map(|x| x * x).sum::<f32>().sqrt();

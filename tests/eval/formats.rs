@@ -452,3 +452,56 @@ fn vertices_are_coloured_by_level_state_and_map() {
         std::fs::remove_file(p).unwrap();
     }
 }
+
+/// The triangles of a binary STL file: their count and total area.
+fn stl_area(path: &Path) -> (usize, f64) {
+    let bytes = std::fs::read(path).unwrap();
+    let count = u32::from_le_bytes(bytes[80..84].try_into().unwrap()) as usize;
+    assert_eq!(bytes.len(), 84 + 50 * count);
+    let f = |at: usize| f64::from(f32::from_le_bytes(bytes[at..at + 4].try_into().unwrap()));
+    let area = (0..count)
+        .map(|t| {
+            let p = |k: usize| [0, 1, 2].map(|a| f(84 + 50 * t + 12 + 12 * k + 4 * a));
+            let (a, b, c) = (p(0), p(1), p(2));
+            let (u, v) = ([0, 1, 2].map(|i| b[i] - a[i]), [0, 1, 2].map(|i| c[i] - a[i]));
+            let n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
+            n.iter().map(|x| x * x).sum::<f64>().sqrt() / 2.0
+        })
+        .sum();
+    (count, area)
+}
+
+/// Surfaces streamed a block at a time send a block's faces before its
+/// vertices: STL, which needs positions to write a triangle, refused them
+/// ("a face refers to a vertex not written before it"). Every surface the
+/// OBJ writer takes, STL takes, with the same triangles (their area to f32).
+#[test]
+fn every_surface_written_as_obj_is_written_as_stl() {
+    for (name, depth) in [("doo_sabin_quad", 3), ("bicubic", 4), ("ternary5-surface", 2), ("doo_sabin_torus", 3)] {
+        let design = bcifs::render::load(name).unwrap();
+        let options = Options::default().with_depth(depth);
+        let (stl, obj) = (scratch(&format!("{name}.stl")), scratch(&format!("{name}.obj")));
+        let report = render(&design, &options, &stl).unwrap_or_else(|e| panic!("{name}: {e}"));
+        render(&design, &options, &obj).unwrap();
+        let (triangles, area) = stl_area(&stl);
+        let (models, _) = tobj::load_obj(&obj, &tobj::LoadOptions { triangulate: true, ..Default::default() }).unwrap();
+        let mut obj_area = 0.0;
+        let mut obj_triangles = 0;
+        for m in &models {
+            let p = |i: u32| [0, 1, 2].map(|a| m.mesh.positions[3 * i as usize + a]);
+            for t in m.mesh.indices.chunks_exact(3) {
+                let (a, b, c) = (p(t[0]), p(t[1]), p(t[2]));
+                let (u, v) = ([0, 1, 2].map(|i| b[i] - a[i]), [0, 1, 2].map(|i| c[i] - a[i]));
+                let n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
+                obj_area += n.iter().map(|x| x * x).sum::<f64>().sqrt() / 2.0;
+                obj_triangles += 1;
+            }
+        }
+        assert_eq!(triangles, obj_triangles, "{name}");
+        assert!(triangles >= report.faces, "{name}");
+        // f32 coordinates: relative error of an area below 1e-6 a triangle, summed.
+        assert!((area - obj_area).abs() <= 1e-5 * obj_area, "{name}: {area} against {obj_area}");
+        std::fs::remove_file(stl).unwrap();
+        std::fs::remove_file(obj).unwrap();
+    }
+}
