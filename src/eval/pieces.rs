@@ -53,9 +53,7 @@ fn control(points: &[Vec<f64>], indices: &[usize], d: usize) -> Vec<f64> {
     c
 }
 
-/// The largest control point coordinate: its square, summed over three
-/// axes and a few points, stays finite.
-pub const MAX_COORDINATE: f64 = 1e150;
+pub use crate::geometry::MAX_COORDINATE;
 
 /// Cuts the model into pieces.
 ///

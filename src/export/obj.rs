@@ -414,6 +414,7 @@ impl Sink for ObjWriter {
     }
 
     fn vertices(&mut self, dim: usize, positions: &[f64], normals: Option<&[f64]>) -> io::Result<()> {
+        super::finite_vertices(positions, normals)?;
         let dim = dim.max(1);
         let count = positions.len() / dim;
         let turn = self.coordinates.turn(dim);
@@ -518,5 +519,31 @@ impl Sink for ObjWriter {
                 push_face(text, t, None, normals);
             }
         })
+    }
+}
+
+#[cfg(test)]
+mod finite_tests {
+    use crate::geometry::Sink as _;
+
+    /// No writer puts NaN or an infinity in a file: the vertices are
+    /// refused and the target is left as it was.
+    #[test]
+    fn non_finite_vertices_are_refused_and_nothing_is_written() {
+        let dir = std::env::temp_dir().join(format!("bcifs-finite-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        for (x, normal) in [(f64::NAN, 0.0), (f64::INFINITY, 0.0), (0.0, f64::NAN)] {
+            let path = dir.join("nan.obj");
+            let mut obj = super::ObjWriter::create(&path).unwrap();
+            let e =
+                obj.vertices(3, &[0.0, 0.0, 0.0, x, 1.0, 0.0], Some(&[0.0, 0.0, 1.0, 0.0, normal, 1.0])).unwrap_err();
+            assert!(e.to_string().contains("not a finite number"), "{e}");
+            drop(obj);
+            assert!(!path.exists());
+            let stl = dir.join("nan.stl");
+            let mut w = crate::export::StlWriter::create(&stl).unwrap();
+            assert!(w.vertices(3, &[x, 0.0, 0.0], None).is_err() || normal.is_nan());
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

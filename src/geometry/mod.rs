@@ -1,6 +1,11 @@
 //! Output geometry: the sink trait evaluators push into, and the in-memory
 //! shape (polylines, quad meshes, point clouds) that is one such sink.
 
+/// The largest coordinate of a control point or mesh vertex: its square,
+/// summed over a million terms (a face's corners, a normal's cross
+/// products, a distance's axes), stays finite in `f64`.
+pub const MAX_COORDINATE: f64 = 1e150;
+
 use std::io;
 use std::ops::Range;
 

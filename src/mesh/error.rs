@@ -62,6 +62,19 @@ pub enum MeshCheckError {
     /// A vertex position that is not a finite number.
     #[error("vertex {0} has a coordinate that is not a finite number")]
     NotFinite(usize),
+    /// A coordinate so large that the subdivision's sums, or the squares
+    /// of its normals and lengths, would overflow `f64` (to infinities and
+    /// NaN in the file).
+    #[error(
+        "vertex {vertex} has the coordinate {value:e}: beyond ±{:e}, sums and squares (normals, lengths) overflow f64; scale the mesh down",
+        crate::geometry::MAX_COORDINATE
+    )]
+    Scale {
+        /// The vertex.
+        vertex: usize,
+        /// Its largest coordinate.
+        value: f64,
+    },
     /// An edge in more than two faces.
     #[error("{place}: edge {a}–{b} is in {count} faces (a surface has at most two on an edge)")]
     NonManifoldEdge {

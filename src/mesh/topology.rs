@@ -575,6 +575,12 @@ impl PolyMesh {
         if let Some(i) = self.positions.iter().position(|p| p.iter().any(|x| !x.is_finite())) {
             return Err(MeshCheckError::NotFinite(i));
         }
+        if let Some((vertex, p)) =
+            self.positions.iter().enumerate().find(|(_, p)| p.iter().any(|x| x.abs() > crate::geometry::MAX_COORDINATE))
+        {
+            let value = p.iter().copied().max_by(|a, b| a.abs().total_cmp(&b.abs())).unwrap_or(0.0);
+            return Err(MeshCheckError::Scale { vertex, value });
+        }
         for (f, face) in self.faces().enumerate() {
             if let Some(&index) = face.iter().find(|&&v| v >= self.positions.len()) {
                 return Err(MeshCheckError::IndexOutOfRange {

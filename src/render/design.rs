@@ -443,6 +443,8 @@ fn deterministic_image(
     }
     let shape = ev.evaluate()?;
     options.check_cancel()?;
+    crate::export::finite_vertices(&shape.positions, Some(&shape.normals))
+        .map_err(|e| RenderError::Unsupported(e.to_string()))?;
     report.vertices = shape.vertex_count();
     report.faces = shape.quads.len() + shape.triangles.len();
     let img = crate::export::raster(&shape, raster)?;

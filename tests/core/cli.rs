@@ -1415,3 +1415,32 @@ fn a_deep_picture_of_points_stops_where_its_points_fill_the_pixels() {
     assert!(!err.contains("drawn at depth"), "{err}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Coordinates of ±1e308 are finite, but their subdivision's sums and its
+/// normals' squares are not: such a mesh is refused with its scale before
+/// any file is written (it gave `v -inf -inf inf`, `vn 0 0 0`, exit 0).
+#[test]
+fn a_mesh_whose_sums_overflow_is_refused_with_its_scale() {
+    let dir = scratch("huge-mesh");
+    let mesh = dir.join("huge.obj");
+    std::fs::write(
+        &mesh,
+        "v -1e308 -1e308 0\nv 1e308 -1e308 0\nv 1e308 1e308 0\nv -1e308 1e308 0\nv 0 0 1e308\n\
+         f 4 3 2 1\nf 1 2 5\nf 2 3 5\nf 3 4 5\nf 4 1 5\n",
+    )
+    .unwrap();
+    for scheme in ["catmull-clark", "loop", "doo-sabin"] {
+        for ext in ["obj", "png", "glb", "stl"] {
+            let out = dir.join(format!("out-{scheme}.{ext}"));
+            let mut args = vec!["surface", mesh.to_str().unwrap(), "--scheme", scheme, "-o", out.to_str().unwrap()];
+            if scheme == "loop" {
+                args.push("--triangulate");
+            }
+            let (code, _, err) = bcifs(&args);
+            assert_ne!(code, 0, "{scheme} .{ext}");
+            assert!(err.contains("-1e308") && err.contains("1e150"), "{scheme} .{ext}: {err}");
+            assert!(!out.exists(), "{scheme} .{ext}: nothing written");
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
