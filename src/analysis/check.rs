@@ -23,7 +23,13 @@ pub struct CheckReport {
     pub constraints: Vec<(String, f64)>,
     /// The largest `|Σ_i M_ij - 1|` over all arrows and columns.
     pub max_column_sum_error: f64,
-    /// Eigenvalues of every square subdivision arrow, by arrow name.
+    /// The first column whose entries are so large that floating point
+    /// cannot tell whether it sums to 1 (`arrow`, column, largest absolute
+    /// entry): its error is rounding's, not the design's, and such
+    /// parameters cannot be evaluated. Its sum is left out of `ok`.
+    pub rounding: Option<(String, usize, f64)>,
+    /// Eigenvalues of every square subdivision arrow, by arrow name, by
+    /// decreasing modulus (then real part).
     pub spectra: Vec<(String, Vec<Complex<f64>>)>,
     /// Whether every square subdivision arrow has, besides one eigenvalue 1,
     /// only eigenvalues of modulus < 1: the per-matrix condition of Sokolov et al. 2010
@@ -75,18 +81,30 @@ pub fn check(automaton: &Automaton<f64>, values: &HashMap<String, f64>, tol: f64
     let mut max_column_sum_error: f64 = 0.0;
     let mut spectra = Vec::new();
     let mut contractive = true;
+    let mut rounding = None;
+    let mut sums_hold = true;
     for (id, arrow) in automaton.arrows() {
         for j in 0..arrow.matrix.ncols() {
-            max_column_sum_error = max_column_sum_error.max((arrow.matrix.column(j).sum() - 1.0).abs());
+            let column = arrow.matrix.column(j);
+            let error = (column.sum() - 1.0).abs();
+            max_column_sum_error = max_column_sum_error.max(error);
+            // A sum of n entries of magnitude m is known to within n·m·ε at best.
+            let magnitude = column.amax();
+            if !(magnitude * column.len() as f64 * f64::EPSILON <= tol) {
+                rounding.get_or_insert((arrow.name.clone(), j, magnitude));
+            } else {
+                sums_hold &= error <= tol;
+            }
         }
         if arrow.kind == ArrowKind::Subdivision && arrow.matrix.is_square() && automaton.on_cycle(id) {
-            let eig = eigenvalues(&arrow.matrix).unwrap_or_default();
+            let mut eig = eigenvalues(&arrow.matrix).unwrap_or_default();
+            eig.sort_by(|a, b| b.norm().total_cmp(&a.norm()).then(b.re.total_cmp(&a.re)).then(a.im.total_cmp(&b.im)));
             contractive &= !eig.is_empty() && contractive_spectrum(&eig, tol);
             spectra.push((arrow.name.clone(), eig));
         }
     }
-    let ok = max_column_sum_error <= tol && constraints.iter().all(|(_, r)| *r <= tol);
+    let ok = sums_hold && constraints.iter().all(|(_, r)| *r <= tol);
     let jsr = jsr(automaton, &JsrSettings::default()).ok();
     let converges = jsr.as_ref().and_then(|j| j.verdict().converges());
-    Ok(CheckReport { ok, constraints, max_column_sum_error, spectra, contractive, jsr, converges })
+    Ok(CheckReport { ok, constraints, max_column_sum_error, rounding, spectra, contractive, jsr, converges })
 }

@@ -83,15 +83,29 @@ pub fn run_check(out: &mut String, file: &str, params: &[String], as_json: bool)
             let mark = if *r <= DEFAULT_CHECK_TOLERANCE { "ok  " } else { "FAIL" };
             writeln!(out, "  {mark} {e}   (residual {r:.3e})")?;
         }
-        writeln!(out, "  column sums: max error {:.3e}", report.max_column_sum_error)?;
+        let rounding = report.rounding.as_ref().map(|(arrow, column, magnitude)| {
+            format!(
+                "arrow `{arrow}`, column {column}: entries of magnitude {magnitude:e}, whose sum of 1 is lost to rounding in floating point"
+            )
+        });
+        match &rounding {
+            None => writeln!(out, "  column sums: max error {:.3e}", report.max_column_sum_error)?,
+            Some(why) => writeln!(out, "  column sums: not decided ({why})")?,
+        }
         for (n, eig) in &report.spectra {
+            if eig.is_empty() || eig.iter().any(|l| !(l.re.is_finite() && l.im.is_finite())) {
+                writeln!(out, "  spectrum of {n}: not computed (the entries overflow floating point)")?;
+                continue;
+            }
             let list: Vec<String> = eig
                 .iter()
                 .map(|l| {
+                    // Six decimals, or six significant digits past a million.
+                    let x = |v: f64| if v.abs() < 1e6 { format!("{v:.6}") } else { format!("{v:.6e}") };
                     if l.im.abs() < bcifs::algebra::tolerance::DEGENERATE {
-                        format!("{:.6}", l.re)
+                        x(l.re)
                     } else {
-                        format!("{:.6}{:+.6}i", l.re, l.im)
+                        format!("{}{}{}i", x(l.re), if l.im < 0.0 { "-" } else { "+" }, x(l.im.abs()))
                     }
                 })
                 .collect();
@@ -113,9 +127,13 @@ pub fn run_check(out: &mut String, file: &str, params: &[String], as_json: bool)
             (None, None) => "not decided (no JSR bounds without column-stochastic matrices)",
         };
         writeln!(out, "  convergence: {verdict}")?;
-        writeln!(out, "{}", if report.ok { "ok" } else { "FAILED: some constraints do not hold" })?;
+        match (&rounding, report.ok) {
+            (Some(why), _) => writeln!(out, "FAILED: these parameters cannot be evaluated in floating point ({why})")?,
+            (None, true) => writeln!(out, "ok")?,
+            (None, false) => writeln!(out, "FAILED: some constraints do not hold")?,
+        }
     }
-    Ok(if report.ok && report.converges != Some(false) { 0 } else { 1 })
+    Ok(if report.ok && report.rounding.is_none() && report.converges != Some(false) { 0 } else { 1 })
 }
 
 /// Prints the automaton file of a generated topology.

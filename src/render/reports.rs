@@ -48,7 +48,8 @@ pub enum CheckReportError {
 
 /// The check of `design` at `params`: `{automaton, ok, parameters,
 /// constraints: [{equation, max_abs_residual}], max_column_sum_error,
-/// spectra, per_matrix_condition, jsr: {lower, upper, witness} | null,
+/// rounding: {arrow, column, magnitude} | null (a column whose sum floating
+/// point cannot tell), spectra, per_matrix_condition, jsr: {lower, upper, witness} | null,
 /// converges, contractive}`.
 ///
 /// # Errors
@@ -69,6 +70,7 @@ pub fn check_report(design: &Design, params: &[(String, f64)]) -> Result<Value, 
     Ok(json!({
         "automaton": design.name(), "ok": report.ok, "parameters": parameters,
         "constraints": constraints, "max_column_sum_error": report.max_column_sum_error,
+        "rounding": report.rounding.as_ref().map(|(arrow, column, magnitude)| json!({"arrow": arrow, "column": column, "magnitude": magnitude})),
         "spectra": spectra, "per_matrix_condition": report.contractive,
         "jsr": jsr, "converges": report.converges, "contractive": report.converges,
     }))

@@ -1444,3 +1444,26 @@ fn a_mesh_whose_sums_overflow_is_refused_with_its_scale() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Entries of 1e16 sum to 1 exactly in the family, but not in floating
+/// point: `check` says that rounding lost the sums (as `render` refuses to
+/// evaluate them), not that the constraints fail; 1e308 prints no NaN; the
+/// spectra come by decreasing modulus.
+#[test]
+fn check_says_when_rounding_loses_the_column_sums() {
+    let (code, out, _) = bcifs(&["check", "corner_cutting", "--param", "a=1e16"]);
+    assert_eq!(code, 1);
+    assert!(out.contains("lost to rounding") && !out.contains("some constraints do not hold"), "{out}");
+    assert!(out.contains("magnitude 1e16"), "{out}");
+    let (code, out, _) = bcifs(&["check", "corner_cutting", "--param", "a=1e308", "--param", "b=-1e308"]);
+    assert_eq!(code, 1);
+    assert!(!out.contains("NaN") && !out.contains("inf"), "{out}");
+    let (_, out, _) = bcifs(&["check", "corner_cutting", "--param", "a=0.1", "--param", "b=0.3", "--json"]);
+    let report = json(&out);
+    assert!(report["rounding"].is_null());
+    for (arrow, spectrum) in report["spectra"].as_object().unwrap() {
+        let moduli: Vec<f64> =
+            spectrum.as_array().unwrap().iter().map(|l| l[0].as_f64().unwrap().hypot(l[1].as_f64().unwrap())).collect();
+        assert!(moduli.windows(2).all(|w| w[0] >= w[1]), "{arrow}: {moduli:?}");
+    }
+}
