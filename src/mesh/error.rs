@@ -59,6 +59,17 @@ pub enum MeshCheckError {
         /// Its vertices.
         vertices: Vec<usize>,
     },
+    /// A face whose corners are all at one point: it has no extent, no
+    /// normal, and every scheme's weights collapse onto it.
+    #[error("{place}: face {vertices:?} has all its corners at one point {point:?} (a face needs an extent)")]
+    Collapsed {
+        /// The face.
+        place: Place,
+        /// Its vertices.
+        vertices: Vec<usize>,
+        /// The one point.
+        point: [f64; 3],
+    },
     /// A vertex position that is not a finite number.
     #[error("vertex {0} has a coordinate that is not a finite number")]
     NotFinite(usize),

@@ -132,13 +132,27 @@ pub fn read_obj(text: &str, file: &str) -> Result<PolyMesh, MeshReadError> {
                 for (col, tok) in tokens {
                     let mut parts = tok.split('/');
                     let index = parts.next().unwrap_or("");
-                    // The texture index, resolved like the vertex index; any corner without one drops them all.
-                    match parts.next().filter(|t| !t.is_empty()).and_then(|t| t.parse::<i64>().ok()) {
-                        Some(k) if k > 0 && (k as usize) <= uvs.len() => uv_corners.push(k as usize - 1),
-                        Some(k) if k < 0 && k.unsigned_abs() as usize <= uvs.len() => {
+                    // The texture index, resolved like the vertex index; any corner without one drops them
+                    // all; one that names no texture coordinate is refused, as a vertex index is.
+                    let texture = parts.next().filter(|t| !t.is_empty());
+                    match texture.map(|t| t.parse::<i64>()) {
+                        None => all_textured = false,
+                        Some(Ok(k)) if k > 0 && (k as usize) <= uvs.len() => uv_corners.push(k as usize - 1),
+                        Some(Ok(k)) if k < 0 && k.unsigned_abs() as usize <= uvs.len() => {
                             uv_corners.push(uvs.len() - k.unsigned_abs() as usize)
                         }
-                        _ => all_textured = false,
+                        Some(_) => {
+                            let t = texture.unwrap_or("");
+                            let count = uvs.len();
+                            return Err(syntax(
+                                file,
+                                start_line,
+                                col + index.len() + 1,
+                                format!(
+                                    "texture index `{t}`: the file has {count} texture coordinates (`vt`) before this face"
+                                ),
+                            ));
+                        }
                     }
                     let k: i64 = index.parse().map_err(|_| {
                         syntax(file, start_line, col, format!("expected a vertex index, found `{tok}`"))
@@ -160,6 +174,15 @@ pub fn read_obj(text: &str, file: &str) -> Result<PolyMesh, MeshReadError> {
             }
             _ => {}
         }
+    }
+    if !continued.is_empty() {
+        let column = continued.trim_end().len();
+        return Err(syntax(
+            file,
+            start_line,
+            column,
+            "the record ends with `\\` (continued on the next line), but the file ends there",
+        ));
     }
     let mut mesh = finish(positions, faces, &lines, file)?;
     mesh.name = object.or(group);

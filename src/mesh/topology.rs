@@ -595,6 +595,10 @@ impl PolyMesh {
             if face.len() < 3 || sorted.len() != face.len() {
                 return Err(MeshCheckError::Degenerate { place: place(f), vertices: face.to_vec() });
             }
+            let point = self.positions[face[0]];
+            if face.iter().all(|&v| self.positions[v] == point) {
+                return Err(MeshCheckError::Collapsed { place: place(f), vertices: face.to_vec(), point });
+            }
         }
         Topology::new(self, place).map(|_| ())
     }

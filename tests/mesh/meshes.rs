@@ -473,3 +473,29 @@ fn large_faces_are_subdivided_by_their_mask() {
         assert!(net.written_faces().all(|f| f.len() >= 3), "{scheme:?}");
     }
 }
+
+/// Sloppy files refused where they are wrong, never read as something
+/// else: a record continued past the end of the file (it was dropped), a
+/// texture index that names no `vt` (it was accepted), a face whose corners
+/// are one point (it passed Doo-Sabin and Catmull-Clark).
+#[test]
+fn sloppy_records_are_refused_where_they_stand() {
+    let base = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n";
+    for (text, says) in [
+        (format!("{base}f 1 2 \\\n"), "t.obj:5:5: the record ends with `\\`"),
+        (format!("{base}f 1 2 3 \\"), "t.obj:5:7: the record ends with `\\`"),
+        (format!("{base}vt 0 0\nf 1/1 2/1 3/2\n"), "t.obj:6:13: texture index `2`: the file has 1 texture"),
+        (format!("{base}vt 0 0\nf 1/1 2/x 3/1\n"), "t.obj:6:9: texture index `x`"),
+        (format!("{base}f 1/-3 2 3\n"), "texture index `-3`: the file has 0"),
+    ] {
+        let e = read_obj(&text, "t.obj").unwrap_err().to_string();
+        assert!(e.contains(says), "{text:?}: {e}");
+    }
+    // A continued record that the file completes is one record.
+    assert_eq!(read_obj(&format!("{base}f 1 2 \\\n 3 4\n"), "t.obj").unwrap().face_count(), 1);
+    // Corners at one point: refused in either format, by every scheme's reader.
+    let e = read_off("OFF\n4 1 0\n1 1 1\n1 1 1\n1 1 1\n1 1 1\n4 0 1 2 3\n", "p.off").unwrap_err().to_string();
+    assert!(e.contains("all its corners at one point"), "{e}");
+    let e = read_obj("v 2 2 2\nv 2 2 2\nv 2 2 2\nv 0 0 0\nf 1 2 3\nf 1 3 4\n", "p.obj").unwrap_err().to_string();
+    assert!(e.contains("p.obj:5: face 0") && e.contains("one point"), "{e}");
+}
