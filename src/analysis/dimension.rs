@@ -42,7 +42,7 @@ pub struct BoxCount {
 ///
 /// Memory: one box key (24 bytes) a point, besides the points.
 pub fn box_dimension(points: &[[f64; 3]], resolution: f64) -> Option<BoxCount> {
-    box_dimension_of(|| points.iter().copied(), resolution, &crate::Cancel::new()).ok().flatten()
+    box_dimension_of(|| points.iter().copied(), resolution, &crate::progress::Cancel::new()).ok().flatten()
 }
 
 /// The memory of one sample's key in [`box_dimension_of`].
@@ -51,7 +51,7 @@ pub const BOX_KEY_BYTES: usize = 8;
 /// The largest box index along an axis (21 bits).
 const FIELD: u64 = (1 << 21) - 1;
 
-/// Stopped by its [`crate::Cancel`] flag.
+/// What a box count stopped by its cancel flag returns.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
 #[error("cancelled")]
 pub struct Cancelled;
@@ -72,7 +72,7 @@ pub struct Cancelled;
 pub fn box_dimension_of<I: Iterator<Item = [f64; 3]>>(
     samples: impl Fn() -> I,
     resolution: f64,
-    cancel: &crate::Cancel,
+    cancel: &crate::progress::Cancel,
 ) -> Result<Option<BoxCount>, Cancelled> {
     let mut it = samples();
     let Some(first) = it.next() else { return Ok(None) };

@@ -66,7 +66,7 @@ impl Sink for Extent {
         Ok(())
     }
     fn vertices(&mut self, dim: usize, positions: &[f64], _: Option<&[f64]>) -> io::Result<()> {
-        super::finite_vertices(positions, None)?;
+        super::finite::finite_vertices(positions, None)?;
         for p in positions.chunks_exact(dim) {
             let s = self.projection.screen(p);
             for ((lo, hi), x) in self.lo.iter_mut().zip(&mut self.hi).zip(s) {

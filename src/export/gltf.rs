@@ -632,7 +632,7 @@ impl Sink for GltfWriter {
     }
 
     fn vertices(&mut self, dim: usize, positions: &[f64], normals: Option<&[f64]>) -> io::Result<()> {
-        super::finite_vertices(positions, normals)?;
+        super::finite::finite_vertices(positions, normals)?;
         let dim = dim.max(1);
         let count = positions.len() / dim;
         let turn = self.coordinates.turn(dim);

@@ -6,6 +6,7 @@ mod atomic;
 mod axes;
 mod density;
 mod draw;
+mod finite;
 mod flame;
 mod gltf;
 mod normals;
@@ -26,6 +27,7 @@ pub use draw::{
     POINTS_PER_PIXEL, SEGMENTS_PER_PIXEL, curve_picture_depth, picture, picture_bytes, picture_depth,
     point_picture_depth,
 };
+pub use finite::finite_vertices;
 pub use flame::{FlameError, flame_text, write_flame};
 pub use gltf::GltfWriter;
 pub(crate) use normals::{NormalSpill, Replay};
@@ -37,19 +39,3 @@ pub use png::{Matte, ascii, raster, write_png, write_png_matte, write_png_text};
 pub use stl::StlWriter;
 pub use svg::{svg, svg_surface};
 pub use view::{RasterSettings, RasterTooLarge, View, raster_bytes};
-
-/// Refuses vertices with a coordinate or normal that is not finite: no file
-/// bcifs writes holds NaN or an infinity, which every client refuses or
-/// draws wrong (a design's control points so large that its sums overflow
-/// `f64`). The atomic writers then leave the target as it was.
-pub fn finite_vertices(positions: &[f64], normals: Option<&[f64]>) -> std::io::Result<()> {
-    let bad = |xs: &[f64]| xs.iter().any(|x| !x.is_finite());
-    if bad(positions) || normals.is_some_and(bad) {
-        return Err(std::io::Error::new(
-            std::io::ErrorKind::InvalidData,
-            "a vertex has a coordinate or normal that is not a finite number (the evaluation overflowed f64: \
-             scale the control points or mesh below ±1e150); nothing is written",
-        ));
-    }
-    Ok(())
-}

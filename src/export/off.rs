@@ -109,7 +109,7 @@ impl Sink for OffWriter {
     }
 
     fn vertices(&mut self, dim: usize, positions: &[f64], _: Option<&[f64]>) -> io::Result<()> {
-        super::finite_vertices(positions, None)?;
+        super::finite::finite_vertices(positions, None)?;
         let dim = dim.max(1);
         let turn = self.coordinates.turn(dim);
         let mut ryu = ryu::Buffer::new();

@@ -144,7 +144,7 @@ impl Sink for StlWriter {
     }
 
     fn vertices(&mut self, dim: usize, positions: &[f64], _: Option<&[f64]>) -> io::Result<()> {
-        super::finite_vertices(positions, None)?;
+        super::finite::finite_vertices(positions, None)?;
         let dim = dim.max(1);
         let turn: Turn = self.coordinates.turn(dim);
         self.positions.extend(positions.chunks_exact(dim).map(|p| {

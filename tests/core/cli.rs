@@ -169,7 +169,7 @@ fn nonsense_options_are_refused() {
         (vec!["render", "levy", "--threads", "0", "-o", out], "--threads 0"),
         (vec!["render", "levy", "--size", "0x0", "-o", out], "at least 1 pixel"),
         (vec!["render", "levy", "--size", "100000x100000", "-o", out], "needs about 102.4 GiB to draw"),
-        (vec!["render", "levy", "--size", "6000x6000", "--memory-mib", "64", "-o", out], "0.4 GiB to draw"),
+        (vec!["render", "levy", "--size", "6000x6000", "--memory-mib", "64", "-o", out], "378 MiB to draw"),
         (vec!["render", "levy", "--view", "nan,nan", "-o", out], "finite"),
         (vec!["render", "fern", "--random", "100", "--depth", "3", "-o", out], "do not apply"),
         (vec!["render", "fern", "--random", "100", "--prob", "T0=-1", "-o", out], "at least 0"),
