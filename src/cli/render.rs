@@ -118,6 +118,9 @@ pub fn run(args: RenderArgs) -> anyhow::Result<u8> {
     let design = load(&args.file)?;
     let started = std::time::Instant::now();
     if args.control {
+        if args.random.is_some() {
+            bail!("--control draws the control net: --random (the chaos game) does not apply to it");
+        }
         let model = model_of(&design)?;
         let raster = args.picture.raster();
         let report = write_shape(&control_net(&model), design.name(), &raster, &args.output)?;

@@ -82,6 +82,9 @@ fn run_ifs(out: &mut String, args: IfsArgs) -> Result<u8> {
     };
     let name = args.name.replace('_', "-");
     let design = match args.omega.as_deref() {
+        Some(w) if ["nan", "inf", "infinity", "-inf"].contains(&w.to_ascii_lowercase().as_str()) => {
+            bail!("--omega {w}: a tension is a number (such as 1/16 or 0.06) or a parameter name, and `{w}` is neither")
+        }
         Some(w) if w.starts_with(|c: char| c.is_alphabetic() || c == '_') && !w.starts_with("sqrt") => {
             bcifs::schemes::ternary_family(&name, points, w)?
         }

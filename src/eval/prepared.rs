@@ -178,6 +178,16 @@ impl Evaluator {
             }
         }
         let mut pieces = pieces(automaton, model)?;
+        // An attractor with no map is empty: nothing would be drawn or written.
+        if let Some(p) = pieces.pieces.iter().find(|p| plan.state(p.state).children.is_empty()) {
+            let name = &plan.state(p.state).name;
+            let why = if settings.dropped.is_empty() {
+                "has no subdivision arrow".to_string()
+            } else {
+                format!("has no subdivision arrow left once {} dropped", settings.dropped.join(", "))
+            };
+            return Err(EvalError::Unsupported(format!("the attractor of state `{name}` is empty: it {why}")));
+        }
         if model.layout == crate::design::Layout::Union {
             join_union_curves(&plan, &mut pieces);
         }

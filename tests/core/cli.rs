@@ -1467,3 +1467,34 @@ fn check_says_when_rounding_loses_the_column_sums() {
         assert!(moduli.windows(2).all(|w| w[0] >= w[1]), "{arrow}: {moduli:?}");
     }
 }
+
+/// Options that would be ignored are refused, and so is a picture of
+/// nothing: `--control` with `--random`, a tension `nan`, every arrow
+/// dropped, an automaton without arrows (each wrote something with exit 0).
+#[test]
+fn ignored_options_and_empty_attractors_are_refused() {
+    let dir = scratch("ignored");
+    let out = dir.join("x.png");
+    let out = out.to_str().unwrap();
+    let empty = dir.join("empty.toml");
+    std::fs::write(
+        &empty,
+        "name = \"empty\"\n[[state]]\nname = \"s\"\ndim = 3\nkind = \"free\"\n[model]\nroot = \"s\"\npoints = [[0, 0], [1, 0], [0, 1]]\n",
+    )
+    .unwrap();
+    for (args, says) in [
+        (vec!["render", "gasket", "--control", "--random", "1000", "-o", out], "--random"),
+        (vec!["scheme", "ifs", "ternary5", "--omega", "nan", "-o", out], "is neither"),
+        (vec!["scheme", "ifs", "ternary5", "--omega", "Inf", "-o", out], "is neither"),
+        (vec!["render", "gasket", "--drop", "T0", "--drop", "T1", "--drop", "T2", "-o", out], "dropped"),
+        (vec!["render", empty.to_str().unwrap(), "-o", out], "has no subdivision arrow"),
+    ] {
+        let (code, _, err) = bcifs(&args);
+        assert_ne!(code, 0, "{args:?}");
+        assert!(err.contains(says), "{args:?}: {err}");
+        assert!(!std::path::Path::new(out).exists(), "{args:?}: nothing written");
+    }
+    // Dropping some arrows still draws what is left.
+    assert_eq!(bcifs(&["render", "gasket", "--drop", "T0", "-o", out]).0, 0);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
