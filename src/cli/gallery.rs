@@ -565,12 +565,24 @@ pub fn run(out: &mut String, dir: &Path, formats: &[String], full: bool) -> anyh
     let bar = progress_bar();
     let done = std::cell::Cell::new(0usize);
     let terminal = bar.is_some();
-    let entries = gallery(dir, formats, budget, bar.as_ref(), items, &|name| {
+    // Written into a staging folder beside DIR, its files moved into DIR at the end: an
+    // interrupted or failed gallery leaves DIR as it was (and no staging folder).
+    check_gallery_dir(dir)?;
+    let staging = staging_dir(dir);
+    let written = gallery(&staging, formats, budget, bar.as_ref(), items, &|name| {
         done.set(done.get() + 1);
         if terminal {
             eprintln!("  [{}/{count}] {name}", done.get());
         }
-    })?;
+    });
+    let entries = match written.map_err(anyhow::Error::from).and_then(|e| move_into(&staging, dir).map(|()| e)) {
+        Ok(entries) => entries,
+        Err(e) => {
+            remove_staging();
+            return Err(e);
+        }
+    };
+    remove_staging();
     let mut bytes = 0u64;
     for e in &entries {
         let size: u64 = e.files.iter().filter_map(|f| std::fs::metadata(dir.join(f)).ok()).map(|m| m.len()).sum();
@@ -594,4 +606,43 @@ pub fn run(out: &mut String, dir: &Path, formats: &[String], full: bool) -> anyh
         started.elapsed().as_secs_f64()
     )?;
     Ok(0)
+}
+
+/// The staging folders of galleries being written (removed when interrupted).
+static STAGING: std::sync::Mutex<Vec<std::path::PathBuf>> = std::sync::Mutex::new(Vec::new());
+
+/// A fresh staging folder beside `dir`, registered for [`remove_staging`].
+fn staging_dir(dir: &Path) -> std::path::PathBuf {
+    let name = dir.file_name().map_or("gallery".into(), |n| n.to_string_lossy().into_owned());
+    let staging = dir.with_file_name(format!(".{name}.partial.{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&staging);
+    STAGING.lock().unwrap_or_else(std::sync::PoisonError::into_inner).push(staging.clone());
+    staging
+}
+
+/// Removes the staging folders of this process: an interrupted gallery
+/// leaves its folder as it was.
+pub fn remove_staging() {
+    for dir in STAGING.lock().unwrap_or_else(std::sync::PoisonError::into_inner).drain(..) {
+        // A writer still finishing may put a file back while the folder is emptied: again, briefly.
+        for _ in 0..40 {
+            if std::fs::remove_dir_all(&dir).is_ok() || !dir.exists() {
+                break;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(50));
+        }
+    }
+}
+
+/// Moves every file of `staging` into `dir` (a rename each: each file is
+/// whole, old or new), after the whole gallery was written.
+fn move_into(staging: &Path, dir: &Path) -> anyhow::Result<()> {
+    std::fs::create_dir_all(dir).map_err(|e| anyhow::anyhow!("cannot create {}: {e}", dir.display()))?;
+    for entry in std::fs::read_dir(staging)? {
+        let from = entry?.path();
+        let to = dir.join(from.file_name().unwrap_or_default());
+        std::fs::rename(&from, &to)
+            .map_err(|e| anyhow::anyhow!("cannot move {} to {}: {e}", from.display(), to.display()))?;
+    }
+    Ok(())
 }

@@ -329,6 +329,7 @@ pub fn main() -> ExitCode {
                 interrupt().cancel();
                 std::thread::sleep(std::time::Duration::from_secs(2));
                 bcifs::export::remove_temporary_files();
+                gallery::remove_staging();
                 eprintln!("\ninterrupted: the output files keep their old content");
                 std::process::exit(128 + signal);
             }
@@ -339,6 +340,7 @@ pub fn main() -> ExitCode {
     let code = match run(&mut out, cli) {
         Ok(code) => code,
         Err(_) if interrupt().is_cancelled() => {
+            gallery::remove_staging();
             eprintln!("\ninterrupted: the output files keep their old content");
             (128 + SIGNAL.load(std::sync::atomic::Ordering::SeqCst)) as u8
         }

@@ -1498,3 +1498,52 @@ fn ignored_options_and_empty_attractors_are_refused() {
     assert_eq!(bcifs(&["render", "gasket", "--drop", "T0", "-o", out]).0, 0);
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A constraint stated 20,000 times is one constraint: the same scalar
+/// equations as stated once (they grew memory with the square of the copies).
+#[test]
+fn a_constraint_stated_again_is_counted_once() {
+    let dir = scratch("duplicates");
+    let text = std::fs::read_to_string("automata/corner_cutting.toml").unwrap();
+    let once = "adjacency = [\"T0 b1 = T1 b0\"]";
+    assert!(text.contains(once));
+    let many = text.replace(once, &format!("adjacency = [{}]", vec!["\"T0 b1 = T1 b0\""; 20_000].join(", ")));
+    let file = dir.join("dup.toml");
+    std::fs::write(&file, many).unwrap();
+    let (code, dup, err) = bcifs(&["solve", file.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    let (_, single, _) = bcifs(&["solve", "corner_cutting"]);
+    assert_eq!(dup, single, "the same family and the same count of scalar equations");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// An interrupted gallery leaves its folder as it was: it is written in a
+/// staging folder beside it, moved in at the end, removed when interrupted.
+#[cfg(unix)]
+#[test]
+fn an_interrupted_gallery_leaves_its_folder_as_it_was() {
+    let dir = scratch("gallery-interrupted");
+    let gallery = dir.join("g");
+    std::fs::create_dir_all(&gallery).unwrap();
+    std::fs::write(gallery.join("notes.txt"), "mine").unwrap();
+    let child = std::process::Command::new(env!("CARGO_BIN_EXE_bcifs"))
+        .args(["gallery", gallery.to_str().unwrap()])
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Until the first entry is written into the staging folder.
+    let staging = dir.join(format!(".g.partial.{}", child.id()));
+    let started = std::time::Instant::now();
+    while !std::fs::read_dir(&staging).is_ok_and(|mut d| d.next().is_some()) {
+        assert!(started.elapsed() < std::time::Duration::from_secs(60), "the gallery writes into {staging:?}");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let _ = Command::new("kill").args(["-INT", &child.id().to_string()]).status();
+    let out = child.wait_with_output().unwrap();
+    assert_eq!(out.status.code(), Some(130));
+    let left: Vec<String> =
+        std::fs::read_dir(&gallery).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    assert_eq!(left, ["notes.txt"], "the folder as it was");
+    assert!(!staging.exists(), "no staging folder left");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
