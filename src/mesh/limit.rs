@@ -203,9 +203,41 @@ pub(crate) trait NextMesh {
 /// The net after one more Catmull-Clark step: the quad of corner `k` is
 /// `[v'(k), e'(k), F'(face k), e'(prev k)]`, its corners `4k .. 4k + 3`, as
 /// [`PolyMesh::catmull_clark_into`] makes them.
+///
+/// The centroids of large faces and the vertex points of vertices of large
+/// valence are made once: each is asked by every neighbour of a point, and
+/// a face of 100,000 corners made that quadratic.
 struct NextNet<'a> {
     net: &'a PolyMesh,
     t: &'a Topology,
+    centroids: std::collections::HashMap<usize, [f64; 3]>,
+    vertex_points: std::collections::HashMap<usize, [f64; 3]>,
+}
+
+/// Faces and valences above this many corners have their points made once.
+const LARGE: usize = 16;
+
+impl<'a> NextNet<'a> {
+    fn new(net: &'a PolyMesh, t: &'a Topology) -> NextNet<'a> {
+        let centroids: std::collections::HashMap<usize, [f64; 3]> =
+            (0..net.face_count()).filter(|&f| net.face(f).len() > LARGE).map(|f| (f, net.centroid(f))).collect();
+        let mut valence = vec![0u32; net.positions.len()];
+        for &v in &net.indices {
+            valence[v] += 1;
+        }
+        let mut next = NextNet { net, t, centroids, vertex_points: std::collections::HashMap::new() };
+        let vertex_points = (0..valence.len())
+            .filter(|&v| valence[v] as usize > LARGE)
+            .map(|v| (v, net.cc_vertex_point(t, v, |f| next.centroid(f))))
+            .collect();
+        next.vertex_points = vertex_points;
+        next
+    }
+
+    /// The centroid of face `f` of this net.
+    fn centroid(&self, f: usize) -> [f64; 3] {
+        self.centroids.get(&f).copied().unwrap_or_else(|| self.net.centroid(f))
+    }
 }
 
 impl NextMesh for NextNet<'_> {
@@ -234,9 +266,15 @@ impl NextMesh for NextNet<'_> {
     fn position(&self, x: usize) -> [f64; 3] {
         let (net, t, k) = (self.net, self.t, x / 4);
         match x % 4 {
-            0 => net.cc_vertex_point(t, net.indices[k], |f| net.centroid(f)),
+            0 => {
+                let v = net.indices[k];
+                match self.vertex_points.get(&v) {
+                    Some(p) => *p,
+                    None => net.cc_vertex_point(t, v, |f| self.centroid(f)),
+                }
+            }
             1 => self.edge(k),
-            2 => net.centroid(t.face(k)),
+            2 => self.centroid(t.face(k)),
             _ => self.edge(t.prev(net, k)),
         }
     }
@@ -248,7 +286,7 @@ impl NextNet<'_> {
         let (net, t) = (self.net, self.t);
         match t.twin(k) {
             BORDER => net.border_midpoint(t, k),
-            tw => net.cc_edge_point(t, k.min(tw), k.max(tw), |f| net.centroid(f)),
+            tw => net.cc_edge_point(t, k.min(tw), k.max(tw), |f| self.centroid(f)),
         }
     }
 
@@ -284,7 +322,7 @@ impl PolyMesh {
     /// its quads, the same numbers as [`PolyMesh::limit_with`] computes on
     /// the made net, without making it: memory of this net only.
     pub(crate) fn catmull_clark_limit_into(&self, t: &Topology, out: &mut Emit<'_>) -> std::io::Result<()> {
-        let next = NextNet { net: self, t };
+        let next = NextNet::new(self, t);
         out.vertices_with(self.positions.len(), |v| match t.first(v) {
             BORDER => self.positions[v], // unused by any face: kept as is
             c0 => next.limit(4 * c0, t.on_border(v)),
