@@ -90,10 +90,11 @@ pub fn check(automaton: &Automaton<f64>, values: &HashMap<String, f64>, tol: f64
             max_column_sum_error = max_column_sum_error.max(error);
             // A sum of n entries of magnitude m is known to within n·m·ε at best.
             let magnitude = column.amax();
-            if !(magnitude * column.len() as f64 * f64::EPSILON <= tol) {
-                rounding.get_or_insert((arrow.name.clone(), j, magnitude));
-            } else {
+            let told = magnitude * column.len() as f64 * f64::EPSILON <= tol;
+            if told {
                 sums_hold &= error <= tol;
+            } else {
+                rounding.get_or_insert((arrow.name.clone(), j, magnitude));
             }
         }
         if arrow.kind == ArrowKind::Subdivision && arrow.matrix.is_square() && automaton.on_cycle(id) {

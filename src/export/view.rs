@@ -63,7 +63,7 @@ impl Default for RasterSettings {
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 #[error(
     "a {width}×{height} picture of {vertices} points needs about {} to draw, over the in-memory limit of {} (--memory-mib): make it smaller",
-    crate::progress::bytes_text(*needed as u128),
+    crate::progress::bytes_text(*needed),
     crate::progress::bytes_text(*limit as u128)
 )]
 pub struct RasterTooLarge {

@@ -145,7 +145,7 @@ pub enum SubdivideError {
         degree: usize,
     },
     /// A depth whose output would not fit memory.
-    #[error("{what} at depth {depth} would have about {faces} faces ({}): over the in-memory limit of {} (--memory-mib) or the 2^32 corners a mesh can number; lower the depth", crate::progress::bytes_text(*bytes as u128), crate::progress::bytes_text(*limit as u128))]
+    #[error("{what} at depth {depth} would have about {faces} faces ({}): over the in-memory limit of {} (--memory-mib) or the 2^32 corners a mesh can number; lower the depth", crate::progress::bytes_text(*bytes), crate::progress::bytes_text(*limit as u128))]
     TooLarge {
         /// What.
         what: &'static str,
