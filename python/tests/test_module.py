@@ -448,3 +448,17 @@ def test_ranges_hold_the_defaults_and_converge():
         assert lo < r["default"] < hi
         for end in (lo, hi):
             assert design.check(**{r["name"]: end})["converges"] is True
+
+
+def test_a_polygon_mesh_loads_as_its_scheme_s_automaton():
+    """`bcifs.load` of a mesh file needs its scheme (it failed with a TOML error at 3:3); with one,
+    it is the automaton `bcifs surface FILE --scheme S --print` writes, its weights the parameters."""
+    cube = str(ROOT / "tests/data/cube.off")
+    with pytest.raises(bcifs.BcifsError, match="is a polygon mesh"):
+        bcifs.load(cube)
+    with pytest.raises(bcifs.BcifsError, match="unknown scheme"):
+        bcifs.load(cube, scheme="butterfly")
+    design = bcifs.load(cube, scheme="catmull_clark")
+    printed = subprocess.run([cli(), "surface", cube, "--scheme", "catmull-clark", "--print"], check=True, capture_output=True, text=True).stdout
+    assert design.name == "mesh_catmull_clark"
+    assert design.parameters and all(p in printed for p in design.parameters)
