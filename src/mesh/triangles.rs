@@ -354,9 +354,30 @@ impl PolyMesh {
 /// without being made: face `f`'s children are `[v0, e0, e2]`, `[v1, e1, e0]`,
 /// `[v2, e2, e1]`, `[e0, e1, e2]`, their corners `12f .. 12f + 11`, as
 /// [`PolyMesh::loop_into`] makes them ([`loop_corner`]).
+///
+/// The vertex points of vertices of high valence are made once: each is
+/// asked by every neighbour (a fan of 100,000 triangles made that quadratic).
 struct NextLoop<'a, N> {
     net: &'a N,
     custom: Option<LoopWeights>,
+    vertex_points: std::collections::HashMap<usize, [f64; 3]>,
+}
+
+/// Valences above this have their vertex points made once.
+const LARGE_VALENCE: u32 = 16;
+
+impl<'a, N: Net> NextLoop<'a, N> {
+    fn new(net: &'a N, custom: Option<LoopWeights>) -> NextLoop<'a, N> {
+        let mut valence = vec![0u32; net.vertex_count()];
+        for c in 0..net.corner_count() {
+            valence[net.vertex(c)] += 1;
+        }
+        let vertex_points = (0..valence.len())
+            .filter(|&v| valence[v] > LARGE_VALENCE)
+            .map(|v| (v, loop_vertex_point(net, v, custom)))
+            .collect();
+        NextLoop { net, custom, vertex_points }
+    }
 }
 
 impl<N: Net> NextMesh for NextLoop<'_, N> {
@@ -376,7 +397,10 @@ impl<N: Net> NextMesh for NextLoop<'_, N> {
         let (f, i, j) = (x / 12, x % 12 / 3, x % 3);
         match (i, j) {
             (3, j) => self.edge(3 * f + j),
-            (i, 0) => loop_vertex_point(self.net, self.net.vertex(3 * f + i), self.custom),
+            (i, 0) => {
+                let v = self.net.vertex(3 * f + i);
+                self.vertex_points.get(&v).copied().unwrap_or_else(|| loop_vertex_point(self.net, v, self.custom))
+            }
             (i, 1) => self.edge(3 * f + i),
             (i, _) => self.edge(3 * f + (i + 2) % 3),
         }
@@ -489,7 +513,7 @@ fn loop_limit_of<N: Net>(
     edge: impl Fn(usize) -> usize,
     out: &mut Emit<'_>,
 ) -> io::Result<()> {
-    let next = NextLoop { net, custom: weights.filter(|w| *w != LoopWeights::CLASSIC) };
+    let next = NextLoop::new(net, weights.filter(|w| *w != LoopWeights::CLASSIC));
     out.vertices_with(net.vertex_count(), |v| next.vertex_limit(v, weights))?;
     edge_points_into(net.corner_count(), |c| net.twin(c), |c, tw| next.edge_limit(c, tw, weights), out)?;
     let nv = net.vertex_count();
