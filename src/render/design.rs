@@ -400,7 +400,7 @@ fn deterministic_image(
             let points =
                 (0..ev.pieces().pieces.len()).fold(0usize, |a, p| a.saturating_add(ev.sample_count(p, enough)));
             report.notes.push(format!(
-                "the picture is drawn at depth {enough}: its {points} points are up to {} a pixel of the {}×{} picture (deeper ones only fill the pixels they darken); OBJ output keeps depth {k}",
+                "the picture is drawn at depth {enough}: its {points} points are up to {} a pixel of the {}×{} picture (deeper ones only fill the pixels they darken); geometry files (OBJ, PLY, glTF) keep depth {k}",
                 crate::export::POINTS_PER_PIXEL,
                 raster.width,
                 raster.height
@@ -413,7 +413,7 @@ fn deterministic_image(
         report.depth = Some(enough);
         if enough < k {
             report.notes.push(format!(
-                "the picture is drawn at depth {enough}, whose segments are below a pixel of the {}×{} picture (deeper ones only move the curve within its pixels); OBJ and SVG output keep depth {k}",
+                "the picture is drawn at depth {enough}, whose segments are below a pixel of the {}×{} picture (deeper ones only move the curve within its pixels); geometry files (OBJ, PLY, glTF, SVG) keep depth {k}",
                 raster.width, raster.height
             ));
         }
@@ -433,7 +433,7 @@ fn deterministic_image(
         report.depth = Some(enough);
         if enough < k {
             report.notes.push(format!(
-                "the picture is drawn at depth {enough}, whose {} quads outnumber the {}×{} pixels (deeper quads are smaller than a pixel); OBJ output keeps depth {k}",
+                "the picture is drawn at depth {enough}, whose {} quads outnumber the {}×{} pixels (deeper quads are smaller than a pixel); geometry files (OBJ, PLY, glTF) keep depth {k}",
                 ev.quads_at(enough).unwrap_or(0),
                 raster.width,
                 raster.height
