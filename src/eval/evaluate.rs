@@ -51,7 +51,7 @@ impl Evaluator {
         if !self.meshes() {
             *shape = Shape::default();
         }
-        self.run(Output::Memory(shape))
+        self.run(Output::Memory(shape), depth)
     }
 
     /// Evaluates into any sink, streaming: memory stays bounded whatever
@@ -61,15 +61,22 @@ impl Evaluator {
     /// # Errors
     /// A write error of the sink, or an unsupported combination.
     pub fn stream(&self, sink: &mut dyn Sink) -> Result<(), EvalError> {
-        self.run(Output::Stream(sink))
+        self.run(Output::Stream(sink), None)
     }
 
-    fn run(&self, out: Output<'_>) -> Result<(), EvalError> {
+    /// The uniform depth of a mesh: `known` (found already), else the settings'.
+    fn mesh_depth(&self, known: Option<usize>) -> Result<usize, EvalError> {
+        match (known, self.settings.depth) {
+            (Some(k), _) | (None, Depth::Fixed(k)) => Ok(k),
+            (None, Depth::Tolerance(eps)) => self.depth_for_tolerance(eps),
+        }
+    }
+
+    /// Evaluates into `out`; `known`: the depth a tolerance came to, when
+    /// [`Evaluator::evaluate_into`] found it already (the walk is not done twice).
+    fn run(&self, out: Output<'_>, known: Option<usize>) -> Result<(), EvalError> {
         if self.polygon_faces() {
-            let depth = match self.settings.depth {
-                Depth::Fixed(k) => k,
-                Depth::Tolerance(eps) => self.depth_for_tolerance(eps)?,
-            };
+            let depth = self.mesh_depth(known)?;
             let sink: &mut dyn Sink = match out {
                 Output::Memory(shape) => shape,
                 Output::Stream(sink) => sink,
@@ -77,10 +84,7 @@ impl Evaluator {
             return self.polygons(depth, sink);
         }
         if self.meshes() {
-            let depth = match self.settings.depth {
-                Depth::Fixed(k) => k,
-                Depth::Tolerance(eps) => self.depth_for_tolerance(eps)?,
-            };
+            let depth = self.mesh_depth(known)?;
             return match out {
                 Output::Memory(shape) => mesh_into(self, depth, shape),
                 Output::Stream(sink) => mesh_stream(self, depth, sink),

@@ -409,6 +409,11 @@ impl Evaluator {
         self.count(self.pieces.pieces[piece].state, k).min(usize::MAX as u128) as usize
     }
 
+    /// The samples of every piece at depth `k` (saturating).
+    pub fn total_samples(&self, k: usize) -> usize {
+        (0..self.pieces.pieces.len()).fold(0usize, |a, p| a.saturating_add(self.sample_count(p, k)))
+    }
+
     /// Fills `out` (resized to `sample_count(piece, k) · d`, reusing its
     /// allocation) with the leaf samples of one piece at depth `k`, in
     /// order, on the evaluator's threads: the hot path without the sink.

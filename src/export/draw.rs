@@ -238,8 +238,7 @@ pub const POINTS_PER_PIXEL: u128 = 64;
 /// evaluated: the gasket at depth 60 would be 3⁶⁰ points.
 pub fn point_picture_depth(ev: &Evaluator, settings: &RasterSettings, depth: usize) -> usize {
     let pixels = u128::from(settings.width.max(1)) * u128::from(settings.height.max(1));
-    let points =
-        |k: usize| (0..ev.pieces().pieces.len()).fold(0u128, |a, p| a.saturating_add(ev.sample_count(p, k) as u128));
+    let points = |k: usize| ev.total_samples(k) as u128;
     (1..=depth).take_while(|&k| points(k) <= POINTS_PER_PIXEL * pixels).last().unwrap_or(0)
 }
 

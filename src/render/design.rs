@@ -385,9 +385,7 @@ fn deterministic_image(
     let needed = crate::export::picture_bytes(raster);
     if ev.polylines().is_some() && needed > raster.memory_limit as u128 {
         let vertices = match options.eval.depth {
-            Depth::Fixed(k) => {
-                (0..ev.pieces().pieces.len()).fold(0usize, |a, p| a.saturating_add(ev.sample_count(p, k)))
-            }
+            Depth::Fixed(k) => ev.total_samples(k),
             Depth::Tolerance(_) => 0,
         };
         let (width, height, limit) = (raster.width, raster.height, raster.memory_limit);
@@ -397,8 +395,7 @@ fn deterministic_image(
         let enough = crate::export::point_picture_depth(&ev, raster, k);
         report.depth = Some(enough);
         if enough < k {
-            let points =
-                (0..ev.pieces().pieces.len()).fold(0usize, |a, p| a.saturating_add(ev.sample_count(p, enough)));
+            let points = ev.total_samples(enough);
             report.notes.push(format!(
                 "the picture is drawn at depth {enough}: its {points} points are up to {} a pixel of the {}×{} picture (deeper ones only fill the pixels they darken); geometry files (OBJ, PLY, glTF) keep depth {k}",
                 crate::export::POINTS_PER_PIXEL,
