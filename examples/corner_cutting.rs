@@ -42,7 +42,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .build()?;
 
     let family = bcifs::solve(&design)?;
-    println!("{}: {} free parameter(s)", design.name(), family.dof());
+    println!("{}: free parameters {}", design.name(), family.parameter_names().join(", "));
     for (arrow, rows) in family.matrices_text() {
         println!("{arrow} = {rows:?}");
     }

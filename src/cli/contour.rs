@@ -108,6 +108,7 @@ fn run_fit(
             "image": image.display().to_string(), "threshold": fit.threshold, "components": fit.components,
             "contour_points": fit.contour.len(), "corners": fit.corners, "segments": segments,
             "max_distance": fit.max_distance,
+            "cut_corners": fit.cut_corners.iter().map(|(at, radius)| serde_json::json!({"at": at, "radius": radius})).collect::<Vec<_>>(),
         });
         writeln!(out, "{}", serde_json::to_string_pretty(&value)?)?;
     } else {

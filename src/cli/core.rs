@@ -51,8 +51,8 @@ pub fn run_solve(out: &mut String, file: &str, as_json: bool) -> Result<u8> {
     }
     match bcifs::family::solution(&design) {
         Ok(family) => {
-            writeln!(out, "{name}: {} free parameter(s): {}", family.dof(), family.parameter_names().join(", "))?;
-            writeln!(out, "({} scalar equations, rank {})", family.equations, family.rank)?;
+            writeln!(out, "{name}: {}", free_parameters(&family.parameter_names()))?;
+            writeln!(out, "({})", system_summary(family))?;
             out.push_str(&family.matrices_report());
             Ok(0)
         }
@@ -65,6 +65,37 @@ pub fn run_solve(out: &mut String, file: &str, as_json: bool) -> Result<u8> {
         }
         Err(e) => bail!("{name}: {e}"),
     }
+}
+
+/// `no free parameter`, `1 free parameter: a`, `2 free parameters: a, b`.
+fn free_parameters(names: &[String]) -> String {
+    match names.len() {
+        0 => "no free parameter (every entry is fixed)".into(),
+        1 => format!("1 free parameter: {}", names[0]),
+        n => format!("{n} free parameters: {}", names.join(", ")),
+    }
+}
+
+/// What the solver was given and kept: `3 constraints: 26 scalar equations, rank 20; 4 more hold
+/// whatever the parameters` (column sums included).
+fn system_summary(family: &bcifs::family::Family) -> String {
+    let plural = |n: usize, one: &str, many: &str| format!("{n} {}", if n == 1 { one } else { many });
+    let constraints = plural(family.constraints, "constraint", "constraints");
+    if family.equations == 0 {
+        return format!(
+            "{constraints} and the column sums: all {} hold whatever the parameters; nothing to solve",
+            plural(family.identities, "scalar equation", "scalar equations")
+        );
+    }
+    let mut s = format!(
+        "{constraints} and the column sums: {}, rank {}",
+        plural(family.equations, "scalar equation", "scalar equations"),
+        family.rank
+    );
+    if family.identities > 0 {
+        s += &format!("; {} more hold whatever the parameters", family.identities);
+    }
+    s
 }
 
 pub fn run_check(out: &mut String, file: &str, params: &[String], as_json: bool) -> Result<u8> {

@@ -8,8 +8,10 @@
 //! light on dark both work); of its 8-connected components the largest is
 //! taken (the others are counted in [`Fit::components`]); only its outer
 //! contour is traced (holes are ignored). The contour runs through the
-//! centres of the shape's boundary pixels, counter-clockwise on screen
-//! (x right, y down), so it lies within half a pixel of the true edge.
+//! midpoints of the cracks between the shape's pixels and the outside
+//! (pixel centres at integer coordinates), counter-clockwise on screen
+//! (x right, y down): on the edge the picture draws, within half a pixel of
+//! the true edge, in sharp notches too.
 
 use super::segments::Segment;
 use crate::algebra::tolerance::{DEGENERATE, ROUNDING};
@@ -59,7 +61,9 @@ pub struct Fit {
     pub threshold: u8,
     /// 8-connected components of the shape's side (the largest is fitted).
     pub components: usize,
-    /// The traced contour (pixel centres, closed: the last point is not repeated).
+    /// The traced contour (the midpoints of the cracks between the shape's
+    /// pixels and the outside, pixel centres at integer coordinates; closed:
+    /// the last point is not repeated).
     pub contour: Vec<[f64; 2]>,
     /// The corners, as points of the contour.
     pub corners: Vec<[f64; 2]>,
@@ -67,8 +71,15 @@ pub struct Fit {
     pub segments: Vec<Segment>,
     /// The largest Hausdorff distance between a piece and the run of the
     /// traced contour it stands for (both ways: every traced point near the
-    /// piece, every point of the piece near the traced contour).
+    /// piece, every point of the piece near the traced contour), except
+    /// within [`Fit::cut_corners`].
     pub max_distance: f64,
+    /// The sharp corners the picture cut off (a spike drawn only where it is
+    /// a pixel wide) or filled in (a notch as narrow): each joint where two
+    /// fitted edges meet beyond the traced pixels, and the radius around it
+    /// within which the fit and the traced contour are not compared (half a
+    /// pixel over `1 / tan(θ / 2)` for an opening θ).
+    pub cut_corners: Vec<([f64; 2], f64)>,
 }
 
 /// Why a picture gives no contour.
@@ -144,7 +155,7 @@ pub fn fit_contour(grey: &[u8], width: usize, height: usize, settings: &FitSetti
     largest.iter().for_each(|&i| mask[i] = true);
     let contour = trace(&mask, width, height, largest.iter().copied().min().unwrap_or(0));
     let corner_index = corners(&contour, &settings.ipan);
-    let (segments, max_distance) = fit_pieces(&contour, &corner_index, settings.tolerance);
+    let (segments, max_distance, cut_corners) = fit_pieces(&contour, &corner_index, settings.tolerance);
     if segments.is_empty() {
         return Err(FitError::TooSmall(largest.len()));
     }
@@ -155,6 +166,7 @@ pub fn fit_contour(grey: &[u8], width: usize, height: usize, settings: &FitSetti
         contour,
         segments,
         max_distance,
+        cut_corners,
     })
 }
 
@@ -196,43 +208,51 @@ fn largest_component(inside: &[bool], w: usize, h: usize) -> (Vec<usize>, usize)
 /// The eight neighbours, clockwise on screen from the east (y down).
 const NEIGHBOURS: [(i64, i64); 8] = [(1, 0), (1, 1), (0, 1), (-1, 1), (-1, 0), (-1, -1), (0, -1), (1, -1)];
 
-/// Moore-neighbour tracing of the outer boundary of `mask` from its first
-/// pixel in row order (`start`), stopped by Jacob's criterion (the start
-/// left the way it was first left); the pixel centres, counter-clockwise on
-/// screen.
+/// The outer boundary of `mask` (8-connected) as the cracks between its
+/// pixels and the outside, from the top edge of its first pixel in row order
+/// (`start`): the midpoint of each crack (pixel centres at integer
+/// coordinates), counter-clockwise on screen. The cracks lie on the shape's
+/// edge as the picture draws it; pixel centres lie half a pixel inside it, so
+/// that two edges meeting in a sharp notch, fitted through centres, crossed
+/// more than a pixel from the notch (a 10-pointed star's notches were split
+/// into extra pieces to stay within one pixel).
 fn trace(mask: &[bool], w: usize, h: usize, start: usize) -> Vec<[f64; 2]> {
+    /// East, south, west, north: clockwise on screen (y down).
+    const STEPS: [(i64, i64); 4] = [(1, 0), (0, 1), (-1, 0), (0, -1)];
     let inside =
         |(x, y): (i64, i64)| x >= 0 && y >= 0 && x < w as i64 && y < h as i64 && mask[y as usize * w + x as usize];
-    let s = ((start % w) as i64, (start / w) as i64);
-    let direction =
-        |from: (i64, i64), to: (i64, i64)| NEIGHBOURS.iter().position(|&(dx, dy)| (from.0 + dx, from.1 + dy) == to);
-    // From `c` with the outside neighbour in direction `back`, clockwise: the next pixel and its backtrack.
-    let advance = |c: (i64, i64), back: usize| -> Option<((i64, i64), usize)> {
-        (1..=8).find_map(|k| {
-            let d = (back + k) % 8;
-            let next = (c.0 + NEIGHBOURS[d].0, c.1 + NEIGHBOURS[d].1);
-            if !inside(next) {
-                return None;
-            }
-            let outside = (c.0 + NEIGHBOURS[(d + 7) % 8].0, c.1 + NEIGHBOURS[(d + 7) % 8].1);
-            Some((next, direction(next, outside).unwrap_or(4)))
-        })
+    // The crack from pixel corner `v` (the top-left corner of pixel `v`) one step along `d`: the
+    // pixels on its right and on its left; it bounds the shape when the right one is inside and the
+    // left one is not (the walk keeps the shape on its right: clockwise on screen).
+    let sides = |(x, y): (i64, i64), d: usize| match d {
+        0 => ((x, y), (x, y - 1)),
+        1 => ((x - 1, y), (x, y)),
+        2 => ((x - 1, y - 1), (x - 1, y)),
+        _ => ((x, y - 1), (x - 1, y - 1)),
     };
-    // The pixel west of the first one in row order is outside.
-    let Some(first) = advance(s, 4) else { return vec![[s.0 as f64, s.1 as f64]] };
-    let mut out = vec![s];
-    let (mut c, mut back) = first;
-    let limit = 8 * w * h + 8;
+    let bounds = |v, d| {
+        let (right, left) = sides(v, d);
+        inside(right) && !inside(left)
+    };
+    let first = ((start % w) as i64, (start / w) as i64);
+    let (mut v, mut d) = (first, 0usize);
+    let mut out = Vec::new();
+    let limit = 4 * w * h + 4;
     while out.len() < limit {
-        let Some((next, b)) = advance(c, back) else { break };
-        if c == s && next == first.0 {
+        let (dx, dy) = STEPS[d];
+        out.push([v.0 as f64 - 0.5 + 0.5 * dx as f64, v.1 as f64 - 0.5 + 0.5 * dy as f64]);
+        v = (v.0 + dx, v.1 + dy);
+        // Left first: two pixels touching at a corner are one shape (8-connected).
+        let Some(next) = [3, 0, 1, 2].into_iter().map(|turn| (d + turn) % 4).find(|&n| bounds(v, n)) else {
+            break;
+        };
+        if v == first && next == 0 {
             break;
         }
-        out.push(c);
-        (c, back) = (next, b);
+        d = next;
     }
     out.reverse();
-    out.iter().map(|&(x, y)| [x as f64, y as f64]).collect()
+    out
 }
 
 /// IPAN99 on a closed contour: the indices of the corners, in order.
@@ -351,8 +371,27 @@ fn samples(s: &Segment) -> impl Iterator<Item = [f64; 2]> + '_ {
 /// piece within it of the traced polyline (an arc that overshoots is as
 /// wrong as one that falls short).
 fn hausdorff(s: &Segment, run: &[[f64; 2]]) -> f64 {
-    let to = run.iter().map(|&p| to_piece(p, s)).fold(0.0, f64::max);
-    samples(s).map(|q| to_polyline(q, run)).fold(to, f64::max)
+    hausdorff_cut(s, run, [0.0; 2])
+}
+
+/// [`hausdorff`], where the piece and the run within `cut[0]` of its start and `cut[1]` of its
+/// end are not held to each other: a corner the picture cut off or filled in (see [`tip_cut`]).
+fn hausdorff_cut(s: &Segment, run: &[[f64; 2]], cut: [f64; 2]) -> f64 {
+    let (a, b) = (s.start(), s.end());
+    let near = |q: [f64; 2], e: [f64; 2], c: f64| c > 0.0 && (q[0] - e[0]).hypot(q[1] - e[1]) < c;
+    let held = |q: &[f64; 2]| !near(*q, a, cut[0]) && !near(*q, b, cut[1]);
+    let to = run.iter().filter(|p| held(p)).map(|&p| to_piece(p, s)).fold(0.0, f64::max);
+    samples(s).filter(held).map(|q| to_polyline(q, run)).fold(to, f64::max)
+}
+
+/// How far a corner of opening angle `angle` (radians) is not drawn as two
+/// edges: a spike is drawn only where it is at least a pixel wide, and as a
+/// chain of single pixels where it is less than two, that is within
+/// `1 / tan(angle / 2)` of where its edges meet (5.7 pixels for a spike of
+/// 20°, 1 for a right angle); plus half a pixel (the cracks' steps). A notch
+/// as sharp is filled in as far.
+fn tip_cut(angle: f64) -> f64 {
+    1.0 / (0.5 * angle).tan().max(1e-3) + 0.5
 }
 
 /// The total-least-squares line of `points`: a point on it, its unit
@@ -443,7 +482,7 @@ fn fit_one(points: &[[f64; 2]], tolerance: f64, strict: bool) -> (Segment, f64) 
 /// while it is off by more than `tolerance`; then every joint between two
 /// line segments moves to the intersection of their best lines (a corner
 /// pixel lies inside a sharp corner), and the distances are measured again.
-fn fit_pieces(contour: &[[f64; 2]], corners: &[usize], tolerance: f64) -> (Vec<Segment>, f64) {
+fn fit_pieces(contour: &[[f64; 2]], corners: &[usize], tolerance: f64) -> FittedPieces {
     let n = contour.len();
     let cuts: Vec<usize> = if corners.len() >= 2 {
         corners.to_vec()
@@ -461,11 +500,11 @@ fn fit_pieces(contour: &[[f64; 2]], corners: &[usize], tolerance: f64) -> (Vec<S
     }
     // Every joint between two line segments moves at once to where their best lines cross;
     // a piece that ends up off by more than the tolerance (and worse than before) gets its
-    // joints back, until none does.
+    // joints back, until none does. Beyond a sharp corner's last pixels (a spike the picture
+    // cut off) the moved joint is not held to them: its tip's reach is the joint's cut.
     let m = pieces.len();
-    let error = |s: &Segment, run: &[[f64; 2]]| hausdorff(s, run);
     let original: Vec<Segment> = pieces.iter().map(|(s, _)| s.clone()).collect();
-    let mut moved: Vec<Option<[f64; 2]>> = (0..m)
+    let mut moved: Vec<Option<([f64; 2], f64)>> = (0..m)
         .map(|k| {
             let next = (k + 1) % m;
             if m < 2 || pieces[k].0.is_arc() || pieces[next].0.is_arc() {
@@ -478,22 +517,33 @@ fn fit_pieces(contour: &[[f64; 2]], corners: &[usize], tolerance: f64) -> (Vec<S
             }
             let t = ((c2[0] - c1[0]) * d2[1] - (c2[1] - c1[1]) * d2[0]) / det;
             let x = [c1[0] + t * d1[0], c1[1] + t * d1[1]];
+            // The corner's opening: between the directions from the joint to the pieces' far ends.
+            let (from, to) = (pieces[k].0.start(), pieces[next].0.end());
+            let (u, v) = ([from[0] - x[0], from[1] - x[1]], [to[0] - x[0], to[1] - x[1]]);
+            let cos = (u[0] * v[0] + u[1] * v[1]) / (u[0].hypot(u[1]) * v[0].hypot(v[1])).max(1e-300);
+            let cut = tip_cut(cos.clamp(-1.0, 1.0).acos());
             let joint = pieces[k].0.end();
-            ((x[0] - joint[0]).hypot(x[1] - joint[1]) <= 3.0 * tolerance.max(1.0)).then_some(x)
+            ((x[0] - joint[0]).hypot(x[1] - joint[1]) <= (3.0 * tolerance.max(1.0)).max(cut + tolerance))
+                .then_some((x, cut))
         })
         .collect();
+    let cuts = |moved: &[Option<([f64; 2], f64)>], k: usize| {
+        [moved[(k + m - 1) % m].filter(|_| m > 1).map_or(0.0, |j| j.1), moved[k].map_or(0.0, |j| j.1)]
+    };
     for _ in 0..m + 1 {
         for k in 0..m {
             let mut s = original[k].clone();
-            if let Some(x) = moved[(k + m - 1) % m].filter(|_| m > 1) {
+            if let Some((x, _)) = moved[(k + m - 1) % m].filter(|_| m > 1) {
                 s.points[0] = x;
             }
-            if let Some(x) = moved[k] {
+            if let Some((x, _)) = moved[k] {
                 *s.points.last_mut().expect("a piece has points") = x;
             }
             pieces[k].0 = s;
         }
-        let bad: Vec<usize> = (0..m).filter(|&k| !within(error(&pieces[k].0, &pieces[k].1), tolerance)).collect();
+        let bad: Vec<usize> = (0..m)
+            .filter(|&k| !within(hausdorff_cut(&pieces[k].0, &pieces[k].1, cuts(&moved, k)), tolerance))
+            .collect();
         if bad.iter().all(|&k| moved[k].is_none() && moved[(k + m - 1) % m].is_none()) {
             break;
         }
@@ -504,21 +554,26 @@ fn fit_pieces(contour: &[[f64; 2]], corners: &[usize], tolerance: f64) -> (Vec<S
     }
     // A line accepted for its straightness whose chord (between corner pixels) is still off:
     // fitted again with the chord as the measure, which may split it.
-    let mut out: Vec<(Segment, Vec<[f64; 2]>)> = Vec::with_capacity(pieces.len());
-    for (s, run) in pieces {
-        if !within(error(&s, &run), tolerance) && !s.is_arc() {
-            fit_run(&run, tolerance, &mut out, 0, true);
+    let mut out: Vec<(Segment, Vec<[f64; 2]>, [f64; 2])> = Vec::with_capacity(pieces.len());
+    for (k, (s, run)) in pieces.into_iter().enumerate() {
+        let cut = cuts(&moved, k);
+        if !within(hausdorff_cut(&s, &run, cut), tolerance) && !s.is_arc() {
+            let mut refit = Vec::new();
+            fit_run(&run, tolerance, &mut refit, 0, true);
+            out.extend(refit.into_iter().map(|(s, run)| (s, run, [0.0; 2])));
         } else {
-            out.push((s, run));
+            out.push((s, run, cut));
         }
     }
-    let pieces = out;
     // A piece of no length (a one-pixel spur) is left out: its neighbours meet there already.
-    let pieces: Vec<(Segment, Vec<[f64; 2]>)> =
-        pieces.into_iter().filter(|(s, _)| s.is_arc() || s.start() != s.end()).collect();
-    let worst = pieces.iter().map(|(s, run)| hausdorff(s, run)).fold(0.0, f64::max);
-    (pieces.into_iter().map(|(s, _)| s).collect(), worst)
+    out.retain(|(s, _, _)| s.is_arc() || s.start() != s.end());
+    let worst = out.iter().map(|(s, run, cut)| hausdorff_cut(s, run, *cut)).fold(0.0, f64::max);
+    let cut_corners = out.iter().filter(|(_, _, cut)| cut[1] > 0.0).map(|(s, _, cut)| (s.end(), cut[1])).collect();
+    (out.into_iter().map(|(s, _, _)| s).collect(), worst, cut_corners)
 }
+
+/// The pieces, their largest distance, the cut corners (see [`Fit::cut_corners`]).
+type FittedPieces = (Vec<Segment>, f64, Vec<([f64; 2], f64)>);
 
 /// Smallest turn, degrees, between two straight halves of a run for them to
 /// be a corner the detector missed rather than a gentle arc.

@@ -99,8 +99,16 @@ pub struct Family {
     pub parameters: Vec<Parameter>,
     /// Every variable of the design (name, expression in the free parameters).
     pub variables: Vec<(String, Affine)>,
-    /// Number of scalar equations (constraints entries and column sums).
+    /// Number of distinct constraints (one stated twice counts once).
+    pub constraints: usize,
+    /// Number of scalar equations (constraints entries and column sums) that
+    /// hold for some parameter values only: the system solved.
     pub equations: usize,
+    /// Number of scalar equations that hold whatever the parameters (equal
+    /// entries on both sides, a given matrix's column summing to 1): the
+    /// checks that needed no solving. A scheme's automaton, every matrix
+    /// given, has only these.
+    pub identities: usize,
     /// Rank of the system.
     pub rank: usize,
 }
@@ -170,6 +178,20 @@ impl Env<Affine> for Symbols<'_> {
 /// # Errors
 /// [`SolveError::Nonlinear`] or [`SolveError::Eval`] naming the constraint.
 pub fn equations(design: &Design) -> Result<Vec<Equation>, SolveError> {
+    system(design).map(|s| s.equations)
+}
+
+/// A design's scalar equations and how many held without solving.
+struct System {
+    equations: Vec<Equation>,
+    /// Distinct constraints.
+    constraints: usize,
+    /// Scalar equations that hold identically (dropped from `equations`).
+    identities: usize,
+}
+
+/// [`equations`], with the counts a report gives.
+fn system(design: &Design) -> Result<System, SolveError> {
     use rayon::prelude::*;
     let a = &design.automaton();
     let picks = selections(a);
@@ -177,10 +199,11 @@ pub fn equations(design: &Design) -> Result<Vec<Equation>, SolveError> {
     let unique: Vec<_> = a.constraints().iter().filter(|c| seen.insert(c.text.as_str())).collect();
     // Each constraint's equations on the pool's threads, gathered in the constraints' order (the
     // first error in that order is the one reported).
-    let per_constraint: Vec<Result<Vec<Equation>, SolveError>> = unique
+    let per_constraint: Vec<Result<(Vec<Equation>, usize), SolveError>> = unique
         .par_iter()
         .map(|c| {
             let mut out = Vec::new();
+            let mut compared = 0;
             match &c.relation {
                 Relation::Paths { lhs, rhs } => {
                     let side = |path: &[_], side| {
@@ -189,6 +212,7 @@ pub fn equations(design: &Design) -> Result<Vec<Equation>, SolveError> {
                     };
                     let (l, r) = (side(lhs, "left")?, side(rhs, "right")?);
                     let name: Arc<str> = c.to_string().into();
+                    compared += l.matrix.nrows() * l.ncols();
                     for row in 0..l.matrix.nrows() {
                         for column in 0..l.ncols() {
                             let (l, r) = (l.at(row, column), r.at(row, column));
@@ -209,20 +233,25 @@ pub fn equations(design: &Design) -> Result<Vec<Equation>, SolveError> {
                     let eval =
                         |e: &Expr| e.eval(&env).map_err(|error| SolveError::Eval { constraint: c.to_string(), error });
                     let form = eval(lhs)?.sub(&eval(rhs)?);
+                    compared += 1;
                     if !form.is_zero() {
                         out.push(Equation { label: Label::Constraint(c.to_string().into()), form });
                     }
                 }
             }
-            Ok(out)
+            Ok((out, compared))
         })
         .collect();
     let mut out = Vec::new();
+    let mut compared = 0;
     for equations in per_constraint {
-        out.extend(equations?);
+        let (equations, count) = equations?;
+        out.extend(equations);
+        compared += count;
     }
     for (_, arrow) in a.arrows() {
         let name: Arc<str> = arrow.name.as_str().into();
+        compared += arrow.matrix.ncols();
         for column in 0..arrow.matrix.ncols() {
             let sum = arrow.matrix.column(column).iter().fold(Affine::zero(), |acc, e| acc.add(e));
             let form = sum.sub(&Affine::one());
@@ -231,7 +260,7 @@ pub fn equations(design: &Design) -> Result<Vec<Equation>, SolveError> {
             }
         }
     }
-    Ok(out)
+    Ok(System { identities: compared - out.len(), constraints: unique.len(), equations: out })
 }
 
 /// The arrows whose matrices select columns (one entry exactly one in each
@@ -463,7 +492,7 @@ pub fn solution(design: &Design) -> &Result<Family, SolveError> {
 
 /// [`solve`], computed.
 fn solve_now(design: &Design) -> Result<Family, SolveError> {
-    let mut eqs = equations(design)?;
+    let System { equations: mut eqs, constraints, mut identities } = system(design)?;
     // Equations between approximate constants (values outside the surds)
     // cannot be decided exactly: they hold or fail numerically, and then take
     // no part in the system. Surds are exact and go through the elimination.
@@ -474,10 +503,14 @@ fn solve_now(design: &Design) -> Result<Family, SolveError> {
     }) {
         return Err(SolveError::Inconsistent { conflicts: vec![bad.label.to_string()] });
     }
+    let before = eqs.len();
     eqs.retain(|e| !e.form.terms().is_empty() || e.form.constant_term().is_exact());
+    identities += before - eqs.len();
     let elim = eliminate(design, &eqs)?;
-    let count = eqs.len();
-    family_of(design, &elim, count)
+    let mut family = family_of(design, &elim, eqs.len())?;
+    family.constraints = constraints;
+    family.identities = identities;
+    Ok(family)
 }
 
 /// The reduced system of `eqs`, or the smallest conflicting subset found.
@@ -566,7 +599,7 @@ fn family_of(design: &Design, elim: &Eliminator, equations: usize) -> Result<Fam
             }
         })
         .collect();
-    Ok(Family { automaton, parameters, variables, equations, rank: elim.rows.len() })
+    Ok(Family { automaton, parameters, variables, constraints: 0, equations, identities: 0, rank: elim.rows.len() })
 }
 
 /// Why parameter values could not be applied.
@@ -854,7 +887,9 @@ pub fn instantiate(design: &Design, values: &[(String, f64)]) -> Result<Instance
                     .enumerate()
                     .map(|(i, v)| (v.name.clone(), Affine::var(i)))
                     .collect(),
+                constraints: 0,
                 equations: 0,
+                identities: 0,
                 rank: 0,
             };
             Ok(family.instantiate(values)?)

@@ -920,7 +920,7 @@ fn a_users_mesh_prints_as_an_automaton_that_solves_checks_and_renders() {
     assert!(err.contains("constraints"), "{err}");
     let (code, out, err) = bcifs(&["solve", &path("torus.toml")]);
     assert_eq!(code, 0, "{err}");
-    assert!(out.contains("3 free parameter(s): alpha, beta, gamma"), "{}", &out[..out.len().min(300)]);
+    assert!(out.contains("3 free parameters: alpha, beta, gamma"), "{}", &out[..out.len().min(300)]);
     let (code, out, err) = bcifs(&["check", &path("torus.toml"), "--param", "alpha=0.6"]);
     assert_eq!(code, 0, "{err}{out}");
     assert!(out.trim_end().ends_with("ok") && !out.contains("FAIL"), "{out}");
@@ -1319,6 +1319,17 @@ fn the_gallery_announces_itself_stays_small_and_captions_every_entry() {
         image::open(dir.join("corner_cutting.png")).unwrap().to_rgb8(),
     );
     assert_eq!(a, b, "`{command}` draws the gallery's picture");
+    // The deterministic fern reads as a fern: inked about as much as its chaos-game picture (at
+    // depth 6 it was a faint scatter, 1/10 of it), its geometry file's coarser depth said.
+    let ink = |file: &str| {
+        let img = image::open(dir.join(file)).unwrap().to_luma8();
+        img.pixels().filter(|p| p.0[0] < 200).count() as f64 / img.pixels().len() as f64
+    };
+    let (fern, chaos) = (ink("fern.png"), ink("fern-chaos.png"));
+    assert!(fern > 0.6 * chaos, "fern.png inks {fern:.3} of its pixels, its chaos game {chaos:.3}");
+    assert!(code_of("fern").contains("--tolerance"), "{}", code_of("fern"));
+    let fern_caption = captions.iter().find(|c| c.starts_with("<b>fern</b>")).unwrap();
+    assert!(fern_caption.contains("fern.obj</a> (depth"), "{fern_caption}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -1514,6 +1525,28 @@ fn a_constraint_stated_again_is_counted_once() {
     assert_eq!(code, 0, "{err}");
     let (_, single, _) = bcifs(&["solve", "corner_cutting"]);
     assert_eq!(dup, single, "the same family and the same count of scalar equations");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `solve` says what it was given: a scheme's automaton, every matrix given,
+/// has constraints that hold identically (it said "0 scalar equations, rank 0"
+/// as though there were none); counts agree in number with their nouns.
+#[test]
+fn solve_counts_what_holds_without_solving() {
+    let dir = scratch("solve-counts");
+    let file = dir.join("bicubic.toml");
+    let (code, text, err) = bcifs(&["scheme", "ifs", "bicubic", "--print"]);
+    assert_eq!(code, 0, "{err}");
+    std::fs::write(&file, text).unwrap();
+    let (code, out, err) = bcifs(&["solve", file.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.starts_with("bicubic: no free parameter"), "{out}");
+    let summary = out.lines().nth(1).unwrap();
+    assert!(summary.contains("hold whatever the parameters; nothing to solve"), "{summary}");
+    assert!(!summary.contains(": all 0 "), "the constraints compare entries: {summary}");
+    let (_, out, _) = bcifs(&["solve", "corner_cutting"]);
+    assert!(out.starts_with("corner_cutting: 2 free parameters: a, b\n"), "{out}");
+    assert!(out.contains("26 scalar equations, rank 20"), "{out}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
