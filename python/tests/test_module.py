@@ -462,3 +462,23 @@ def test_a_polygon_mesh_loads_as_its_scheme_s_automaton():
     printed = subprocess.run([cli(), "surface", cube, "--scheme", "catmull-clark", "--print"], check=True, capture_output=True, text=True).stdout
     assert design.name == "mesh_catmull_clark"
     assert design.parameters and all(p in printed for p in design.parameters)
+
+
+@pytest.mark.parametrize("scheme, depth", [("ternary5-surface", 4), ("ternary5-surface", 5), ("ternary5-torus", 3)])
+def test_normals_of_the_rough_sheet_point_with_every_corner(tmp_path, scheme, depth):
+    """Issue 42 §20: every corner of the ternary 5-point sheet at ω = 3/50 (a fractal sheet) as
+    `mesh()` returns it has its normal on the side of the corner's own cross product, and of
+    both triangles of either split of its quad (17 of 236,196 corners were reported against)."""
+    automaton = tmp_path / "t.toml"
+    automaton.write_text(subprocess.run([cli(), "scheme", "ifs", scheme, "--print"], check=True,
+                                        capture_output=True, text=True).stdout)
+    mesh = bcifs.load(str(automaton)).mesh(depth=depth)
+    v, f, n = mesh.vertices, mesh.faces, mesh.normals
+    p = v[f]
+    for i in range(4):
+        corner = np.cross(p[:, (i + 1) % 4] - p[:, i], p[:, (i - 1) % 4] - p[:, i])
+        assert (np.einsum("fj,fj->f", n[f[:, i]], corner) >= 0).all(), f"corner {i}"
+    for split in ([0, 1, 2], [0, 2, 3], [0, 1, 3], [1, 2, 3]):
+        t = f[:, split]
+        normal = np.cross(v[t[:, 1]] - v[t[:, 0]], v[t[:, 2]] - v[t[:, 0]])
+        assert (np.einsum("tkj,tj->tk", n[t], normal) >= 0).all(), f"triangles {split}"
