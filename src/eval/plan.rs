@@ -319,7 +319,9 @@ fn face_plan(
             None => return Err(bad("its boundary edges do not close into a cycle of corners")),
         }
     }
-    if cycle.len() < 3 || cycle.len() != corners.len() {
+    // Two corners make a lens (Doo-Sabin's patch of a vertex of valence 2): its two sides end at
+    // the same corners, its neighbours meet along them, and its corner polygon has no face.
+    if cycle.len() < 2 || cycle.len() != corners.len() {
         return Err(bad(&format!("its {} corners do not make one polygon", corners.len())));
     }
     plan.samples = cycle.iter().map(|&i| corners[i].clone()).collect();

@@ -13,23 +13,26 @@ use bcifs::{ArrowKind, Automaton, Design};
 use crate::hausdorff::hausdorff;
 
 /// The test meshes with the schemes that are generated (√3 on closed meshes
-/// only; not Doo-Sabin beside a vertex of valence 2, whose digon the
-/// generator refuses: `a_digon_is_refused_with_a_reason`).
+/// only), Doo-Sabin beside a vertex of valence 2 (its two-corner face) too.
 fn cases() -> Vec<(String, PolyMesh, Scheme)> {
-    crate::cases()
-        .into_iter()
-        .filter(|c| c.2 != Scheme::Sqrt3 || c.1.is_closed())
-        .filter(|c| !(c.0 == "split_edge" && c.2 == Scheme::DooSabin))
-        .collect()
+    crate::cases().into_iter().filter(|c| c.2 != Scheme::Sqrt3 || c.1.is_closed()).collect()
 }
 
-/// Doo-Sabin's generated automaton beside a vertex of valence 2 is refused
-/// with the reason (its digon is no patch of the limit surface), not a panic.
+/// Issue 42 §21: Doo-Sabin's generated automaton covers the meshes its subdivision takes: beside
+/// a vertex of valence 2 (the two-corner face its step makes sits between the two faces of its
+/// edge; `split_edge` was refused) and Suzanne with her open eyes (refused: "a vertex where two fans
+/// of faces touch"); the attractor is the subdivision's limit (`the_attractor_is_the_limit_surface`
+/// for `split_edge`; Suzanne here at depth 1).
 #[test]
-fn a_digon_is_refused_with_a_reason() {
+fn doo_sabin_automata_cover_two_corner_faces() {
     let (_, mesh, _) = crate::cases().into_iter().find(|c| c.0 == "split_edge" && c.2 == Scheme::DooSabin).unwrap();
-    let err = mesh_automaton(&mesh, Scheme::DooSabin, None).unwrap_err().to_string();
-    assert!(err.contains("not one piece of surface"), "{err}");
+    assert!(mesh_automaton(&mesh, Scheme::DooSabin, None).is_ok());
+    let suzanne = bcifs::mesh::read_mesh(std::path::Path::new("tests/data/suzanne.obj")).unwrap();
+    let design = mesh_automaton(&suzanne, Scheme::DooSabin, None).unwrap();
+    let ours = attractor_corners(&design, &[], 1);
+    let theirs = limit_points(&suzanne, Scheme::DooSabin, 1, None);
+    let h = hausdorff(&ours, &theirs);
+    assert!(h < 1e-9, "Suzanne: Hausdorff distance {h}");
 }
 
 /// The barycentric limit point of a vertex state: the fixed vector of its

@@ -55,13 +55,17 @@ pub(super) fn children_of(scheme: Scheme, role: Role, m: &Local, s: &Step, h: Ha
     }
 }
 
-/// Which cell an anchored half-edge stands for (two anchors of one cell give the same).
-pub(super) fn cell(scheme: Scheme, role: Role, m: &Local, h: Half) -> (usize, usize) {
+/// Which cell an anchored half-edge stands for (two anchors of one cell give the same). The two
+/// edges of a two-corner face join the same two vertices: the face's side tells them apart.
+pub(super) fn cell(scheme: Scheme, role: Role, m: &Local, h: Half) -> (usize, usize, Option<Half>) {
     let (a, b) = (m.at(h), m.head(h));
     match (scheme, role) {
-        (Scheme::DooSabin, Role::Vertex) => (h.0, usize::MAX),
-        (_, Role::Vertex) => (a, usize::MAX),
-        _ => (a.min(b), a.max(b)),
+        (Scheme::DooSabin, Role::Vertex) => (h.0, usize::MAX, None),
+        (_, Role::Vertex) => (a, usize::MAX, None),
+        _ => {
+            let digon = [Some(h), m.twin_of(h)].into_iter().flatten().find(|g| m.deg(g.0) == 2);
+            (a.min(b), a.max(b), digon)
+        }
     }
 }
 

@@ -57,21 +57,26 @@ pub(super) struct Local {
     pub(super) faces: Vec<Vec<usize>>,
     pub(super) sides: Vec<Vec<Side>>,
     pub(super) vertices: usize,
+    /// The half-edge from `a` to `b` of a face of three or more corners, by `(a, b)`.
     pub(super) twin: HashMap<(usize, usize), Half>,
+    /// The half-edge from `a` to `b` of a two-corner face (Doo-Sabin's face of a border vertex
+    /// between two faces), by `(a, b)`: it lies between the two faces of that edge.
+    digon: HashMap<(usize, usize), Half>,
     pub(super) around: Vec<Vec<Half>>,
 }
 
 impl Local {
     pub(super) fn new(faces: Vec<Vec<usize>>, sides: Vec<Vec<Side>>, vertices: usize) -> Local {
-        let mut twin = HashMap::new();
+        let (mut twin, mut digon) = (HashMap::new(), HashMap::new());
         let mut around = vec![Vec::new(); vertices];
         for (f, face) in faces.iter().enumerate() {
+            let by = if face.len() == 2 { &mut digon } else { &mut twin };
             for (i, &v) in face.iter().enumerate() {
-                twin.insert((v, face[(i + 1) % face.len()]), (f, i));
+                by.insert((v, face[(i + 1) % face.len()]), (f, i));
                 around[v].push((f, i));
             }
         }
-        Local { faces, sides, vertices, twin, around }
+        Local { faces, sides, vertices, twin, digon, around }
     }
 
     /// A mesh whose sides without a face across are all `open`: the
@@ -107,8 +112,14 @@ impl Local {
     pub(super) fn prev(&self, (f, i): Half) -> Half {
         (f, (i + self.deg(f) - 1) % self.deg(f))
     }
+    /// The half-edge across `h`. A two-corner face sits between the two faces of its edge: each
+    /// of its sides is across one of theirs (the subdivision's nets pair them so).
     pub(super) fn twin_of(&self, h: Half) -> Option<Half> {
-        self.twin.get(&(self.head(h), self.at(h))).copied()
+        let back = (self.head(h), self.at(h));
+        if self.deg(h.0) == 2 {
+            return self.twin.get(&back).copied();
+        }
+        self.digon.get(&back).or_else(|| self.twin.get(&back)).copied()
     }
     /// The next half-edge out of the same vertex, counter-clockwise.
     pub(super) fn rotate(&self, h: Half) -> Option<Half> {
