@@ -98,6 +98,7 @@ pub mod mesh;
 mod names;
 mod progress;
 pub mod render;
+pub mod report;
 pub mod schemes;
 mod space;
 

@@ -411,8 +411,10 @@ impl Design {
 }
 
 /// A JSON value as Python objects (through `json.loads`).
-fn json_object<'py>(py: Python<'py>, value: &serde_json::Value) -> PyResult<Bound<'py, PyAny>> {
-    py.import("json")?.call_method1("loads", (value.to_string(),))
+/// A report as the dict `json.loads` makes of the JSON the CLI prints.
+fn json_object<'py>(py: Python<'py>, value: &impl serde::Serialize) -> PyResult<Bound<'py, PyAny>> {
+    let text = serde_json::to_string(value).map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))?;
+    py.import("json")?.call_method1("loads", (text,))
 }
 
 fn report_dict<'py>(py: Python<'py>, report: &bcifs::render::Report) -> PyResult<Bound<'py, PyDict>> {

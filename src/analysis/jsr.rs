@@ -124,7 +124,7 @@ impl Verdict {
 }
 
 /// Bounds on the joint spectral radius of an automaton on its difference subspaces.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct Jsr {
     /// `max ρ(P)^(1/|P|)` over the cycles tried.
     pub lower: f64,

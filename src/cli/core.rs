@@ -47,7 +47,7 @@ pub fn run_solve(out: &mut String, file: &str, as_json: bool) -> Result<u8> {
     if as_json {
         let report = bcifs::render::solve_report(&design).map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
         writeln!(out, "{}", serde_json::to_string_pretty(&report)?)?;
-        return Ok(if report["consistent"] == true { 0 } else { 1 });
+        return Ok(if report.consistent { 0 } else { 1 });
     }
     match bcifs::family::solution(&design) {
         Ok(family) => {

@@ -31,14 +31,14 @@ mod reports;
 mod shape;
 mod sweep;
 
+pub use crate::report::{CheckReport, CheckReportError, Residual, Rounding, SolveReport, check_report, solve_report};
 pub use curve::{CurveAnalysis, curve_analysis, curve_halves};
 pub use design::{density, evaluate_design, model_of, picture, render};
 pub use load::{LoadError, is_mesh_path, load, load_with_scheme};
 pub use mesh::{MeshJob, check_weights, render_mesh, rule_weights, subdivide_mesh};
 pub use options::{Format, Options, RenderError, Report, check_disk};
 pub use reports::{
-    CheckReportError, DIMENSION_MEMORY, DimensionReport, ParameterRange, check_report, dimension_report,
-    dimension_within, parameter_ranges, solve_report,
+    DIMENSION_MEMORY, DimensionReport, ParameterRange, dimension_report, dimension_within, parameter_ranges,
 };
 pub use shape::{control_net, write_shape};
 pub use sweep::{REGIONS, SweepKind, SweepValues, sweep, sweep_cancellable, sweep_csv};

@@ -1,80 +1,12 @@
-//! What `solve --json` and `check --json` print, as JSON values: the one
-//! place these objects are made (the command line prints them, the Python
-//! module returns them as dicts).
+//! What `analyze dimension` finds and the convergence ranges of a family's
+//! parameters (`solve` and `check` are [`crate::report`]'s).
 
 use serde_json::{Value, json};
 
 use super::options::RenderError;
-use crate::algebra::ExprError;
-use crate::analysis::{DEFAULT_CHECK_TOLERANCE, check};
 use crate::design::Design;
-use crate::family::{DesignInstantiateError, SolveError, instantiate, solve};
+use crate::family::{instantiate, solve};
 use crate::progress::Cancel;
-
-/// The solved family of `design`: `{automaton, consistent: true, dof,
-/// parameters, matrices}` (entries as exact text), or `{automaton,
-/// consistent: false, conflicts}` naming the conflicting equations.
-///
-/// # Errors
-/// A system the solver refuses for another reason than inconsistency.
-pub fn solve_report(design: &Design) -> Result<Value, SolveError> {
-    let name = design.name();
-    match solve(design) {
-        Ok(family) => {
-            let matrices: serde_json::Map<String, Value> =
-                family.matrices_text().iter().map(|(n, rows)| (n.clone(), json!(rows))).collect();
-            Ok(json!({
-                "automaton": name, "consistent": true, "dof": family.dof(),
-                "parameters": family.parameter_names(), "matrices": matrices,
-            }))
-        }
-        Err(SolveError::Inconsistent { conflicts }) => {
-            Ok(json!({"automaton": name, "consistent": false, "conflicts": conflicts}))
-        }
-        Err(e) => Err(e),
-    }
-}
-
-/// Why a design could not be checked.
-#[derive(Debug, thiserror::Error)]
-pub enum CheckReportError {
-    /// Parameters or constraints.
-    #[error(transparent)]
-    Instantiate(#[from] DesignInstantiateError),
-    /// The check itself.
-    #[error(transparent)]
-    Check(#[from] ExprError),
-}
-
-/// The check of `design` at `params`: `{automaton, ok, parameters,
-/// constraints: [{equation, max_abs_residual}], max_column_sum_error,
-/// rounding: {arrow, column, magnitude} | null (a column whose sum floating
-/// point cannot tell), spectra, per_matrix_condition, jsr: {lower, upper, witness} | null,
-/// converges, contractive}`.
-///
-/// # Errors
-/// Parameters that do not instantiate, or the check's error.
-pub fn check_report(design: &Design, params: &[(String, f64)]) -> Result<Value, CheckReportError> {
-    let instance = instantiate(design, params)?;
-    let report = check(&instance.automaton, &instance.values, DEFAULT_CHECK_TOLERANCE)?;
-    let parameters: serde_json::Map<String, Value> =
-        instance.parameters.iter().map(|(n, v)| (n.clone(), json!(v))).collect();
-    let spectra: serde_json::Map<String, Value> = report
-        .spectra
-        .iter()
-        .map(|(n, eig)| (n.clone(), json!(eig.iter().map(|l| [l.re, l.im]).collect::<Vec<_>>())))
-        .collect();
-    let constraints: Vec<Value> =
-        report.constraints.iter().map(|(e, r)| json!({"equation": e, "max_abs_residual": r})).collect();
-    let jsr = report.jsr.as_ref().map(|j| json!({"lower": j.lower, "upper": j.upper, "witness": j.witness}));
-    Ok(json!({
-        "automaton": design.name(), "ok": report.ok, "parameters": parameters,
-        "constraints": constraints, "max_column_sum_error": report.max_column_sum_error,
-        "rounding": report.rounding.as_ref().map(|(arrow, column, magnitude)| json!({"arrow": arrow, "column": column, "magnitude": magnitude})),
-        "spectra": spectra, "per_matrix_condition": report.contractive,
-        "jsr": jsr, "converges": report.converges, "contractive": report.converges,
-    }))
-}
 
 /// What `analyze dimension` finds: the box-counting dimension of points
 /// within `resolution` of the attractor, the similarity dimension and the
@@ -243,10 +175,7 @@ pub fn parameter_ranges(design: &Design) -> Result<Vec<ParameterRange>, RenderEr
     let defaults =
         family.parameter_values(&[]).map_err(|e| RenderError::Unsupported(format!("{}: {e}", design.name())))?;
     let converges = |name: &str, x: f64| {
-        check_report(design, &[(name.to_string(), x)])
-            .ok()
-            .and_then(|r| r.get("converges").and_then(Value::as_bool))
-            .unwrap_or(false)
+        crate::report::check_report(design, &[(name.to_string(), x)]).ok().and_then(|r| r.converges).unwrap_or(false)
     };
     Ok(family
         .parameter_names()

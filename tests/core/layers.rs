@@ -6,7 +6,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// The library's top-level modules, bottom first.
-const LAYERS: [&[&str]; 14] = [
+const LAYERS: [&[&str]; 15] = [
     &["algebra", "input", "names", "progress"],
     &["space"],
     &["automaton"],
@@ -20,6 +20,7 @@ const LAYERS: [&[&str]; 14] = [
     &["analysis"],
     &["eval"],
     &["export"],
+    &["report"],
     &["render"],
 ];
 
