@@ -13,9 +13,33 @@ import os
 
 import numpy as np
 
-from ._bcifs import REGIONS, BcifsError, Builder, Design, Mesh, analyze_curve, dimension, load, subdivide, sweep_rows
+from ._bcifs import (
+    REGIONS,
+    BcifsError,
+    Builder,
+    Design,
+    Mesh,
+    analyze_curve,
+    dimension,
+    load,
+    map_colours,
+    subdivide,
+    sweep_rows,
+)
 
-__all__ = ["REGIONS", "BcifsError", "Builder", "Design", "Mesh", "analyze_curve", "dimension", "load", "subdivide", "sweep"]
+__all__ = [
+    "REGIONS",
+    "BcifsError",
+    "Builder",
+    "Design",
+    "Mesh",
+    "analyze_curve",
+    "dimension",
+    "load",
+    "map_colours",
+    "subdivide",
+    "sweep",
+]
 
 
 def _sweep_band(toml, x, y, rows, what, thorough):

@@ -602,6 +602,26 @@ fn sweep_rows<'py>(
     })
 }
 
+/// The colours of a map's values (`what` as for `sweep`): an `(rows, columns, 3)` uint8 array of
+/// sRGB bytes, the palette `bcifs analyze map` and the explorer draw with.
+#[pyfunction]
+#[pyo3(signature = (values, what="verdict"))]
+fn map_colours<'py>(py: Python<'py>, values: &Bound<'py, PyAny>, what: &str) -> PyResult<Bound<'py, PyAny>> {
+    let kind: bcifs::render::SweepKind = what.parse().map_err(err)?;
+    let numpy = py.import("numpy")?;
+    let array: PyReadonlyArray2<f64> = numpy.call_method1("asarray", (values, "float64"))?.extract()?;
+    let view = array.as_array();
+    let (rows, columns) = view.dim();
+    let mut out = Array3::<u8>::zeros((rows, columns, 3));
+    for ((r, c), &v) in view.indexed_iter() {
+        let rgb = bcifs::render::sweep_colour(kind, v);
+        for (k, &byte) in rgb.iter().enumerate() {
+            out[(r, c, k)] = byte;
+        }
+    }
+    Ok(out.into_pyarray(py).into_any())
+}
+
 /// The module.
 #[pymodule]
 fn _bcifs(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -615,6 +635,7 @@ fn _bcifs(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(subdivide, m)?)?;
     m.add_function(wrap_pyfunction!(sweep_rows, m)?)?;
     m.add_function(wrap_pyfunction!(dimension, m)?)?;
+    m.add_function(wrap_pyfunction!(map_colours, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

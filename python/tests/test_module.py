@@ -482,3 +482,23 @@ def test_normals_of_the_rough_sheet_point_with_every_corner(tmp_path, scheme, de
         t = f[:, split]
         normal = np.cross(v[t[:, 1]] - v[t[:, 0]], v[t[:, 2]] - v[t[:, 0]])
         assert (np.einsum("tkj,tj->tk", n[t], normal) >= 0).all(), f"triangles {split}"
+
+
+def test_map_colours_are_the_library_palette():
+    """The palette is the library's, one for every front end (the Blender add-on kept a copy):
+    `map_colours` colours each value of a sweep as `bcifs analyze map` and the explorer do."""
+    design = bcifs.load("corner_cutting")
+    size = 24
+    codes = bcifs.sweep(design, x=("a", -0.5, 1.5, size), y=("b", -0.5, 1.5, size))
+    rgb = bcifs.map_colours(codes)
+    assert rgb.shape == (size, size, 3) and rgb.dtype == np.uint8
+    legend = {1: (150, 205, 150), 0: (240, 200, 80), -1: (215, 60, 60), -2: (228, 228, 228)}
+    seen = set(np.unique(codes).tolist())
+    assert {1, -2} <= seen, seen
+    for code in seen:
+        assert (rgb[codes == code] == legend[code]).all(), code
+    angles = bcifs.sweep(design, x=("a", 0.05, 0.45, 8), y=("b", 0.05, 0.45, 8), what="angle")
+    coloured = bcifs.map_colours(angles, "angle")
+    assert len({tuple(c) for c in coloured.reshape(-1, 3)}) > 4, "angles take the hues of Fig. 11"
+    with pytest.raises(bcifs.BcifsError):
+        bcifs.map_colours(codes, "colour")

@@ -11,12 +11,9 @@ use crate::eval::{ChaosGame, Depth, EvalError, EvalSettings, Evaluator, RandomSe
 use crate::family::instantiate;
 use crate::geometry::{Shape, Sink};
 
-/// The model of a design.
-///
-/// # Errors
-/// [`RenderError::NoModel`] when it has none.
-pub fn model_of(design: &Design) -> Result<Model, RenderError> {
-    design.model().cloned().ok_or_else(|| RenderError::NoModel(design.name().to_string()))
+/// The model of a design, or why it has none.
+fn model_of(design: &Design) -> Result<Model, RenderError> {
+    Ok(crate::report::model_of(design)?)
 }
 
 /// Evaluates a design in memory (deterministic or random, as the options

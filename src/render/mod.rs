@@ -22,23 +22,22 @@
 //! [`Format`]; a new subdivision scheme is a rule in [`crate::mesh`].
 
 mod checked;
-mod curve;
 mod design;
 mod load;
 mod mesh;
 mod options;
-mod reports;
 mod shape;
-mod sweep;
 
-pub use crate::report::{CheckReport, CheckReportError, Residual, Rounding, SolveReport, check_report, solve_report};
-pub use curve::{CurveAnalysis, curve_analysis, curve_halves};
-pub use design::{density, evaluate_design, model_of, picture, render};
+pub use design::{density, evaluate_design, picture, render};
 pub use load::{LoadError, is_mesh_path, load, load_with_scheme};
 pub use mesh::{MeshJob, check_weights, render_mesh, rule_weights, subdivide_mesh};
 pub use options::{Format, Options, RenderError, Report, check_disk};
-pub use reports::{
-    DIMENSION_MEMORY, DimensionReport, ParameterRange, dimension_report, dimension_within, parameter_ranges,
+// The reports, for the front ends that import the library through this module alone.
+pub use crate::report::{
+    CheckReport, CheckReportError, CurveAnalysis, DIMENSION_MEMORY, DimensionReport, ParameterRange, REGIONS,
+    ReportError, Residual, Rounding, SolveReport, SweepKind, SweepValues, check_report, curve_analysis, curve_halves,
+    dimension_report, dimension_within, model_of, parameter_ranges, solve_report, sweep, sweep_cancellable,
+    sweep_colour, sweep_csv, sweep_image,
 };
+pub use crate::report::{angle_colour, dimension_colour, region_colour, verdict_colour};
 pub use shape::{control_net, write_shape};
-pub use sweep::{REGIONS, SweepKind, SweepValues, sweep, sweep_cancellable, sweep_csv};

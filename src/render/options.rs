@@ -272,6 +272,19 @@ pub enum RenderError {
     Cancelled,
 }
 
+impl From<crate::report::ReportError> for RenderError {
+    fn from(e: crate::report::ReportError) -> RenderError {
+        use crate::report::ReportError as R;
+        match e {
+            R::NoModel(name) => RenderError::NoModel(name),
+            R::Instantiate(e) => RenderError::Instantiate(e),
+            R::Eval(e) => RenderError::Eval(e),
+            R::Unsupported(why) => RenderError::Unsupported(why),
+            R::Cancelled => RenderError::Cancelled,
+        }
+    }
+}
+
 impl From<crate::export::PictureError> for RenderError {
     fn from(e: crate::export::PictureError) -> RenderError {
         match e {

@@ -335,9 +335,6 @@ class BCIFS_OT_apply(bpy.types.Operator):
         return {"FINISHED"}
 
 
-VERDICT_COLOURS = {1: (0.59, 0.80, 0.59), 0: (0.94, 0.78, 0.31), -1: (0.84, 0.24, 0.24), -2: (0.89, 0.89, 0.89)}
-
-
 class BCIFS_OT_map(bpy.types.Operator):
     """The convergence map of the active object's first two parameters, as an image (the point marked)"""
 
@@ -364,8 +361,7 @@ class BCIFS_OT_map(bpy.types.Operator):
             self.report({"ERROR"}, str(e))
             return {"CANCELLED"}
         rgba = np.ones((self.size, self.size, 4), dtype=np.float32)
-        for code, colour in VERDICT_COLOURS.items():
-            rgba[codes == code, :3] = colour
+        rgba[..., :3] = bcifs.map_colours(codes, "verdict") / 255.0  # the library's palette, as analyze map's
         # The current point, a black cross.
         col = int((px.value - x0) / (x1 - x0) * self.size)
         row = int((y1 - py.value) / (y1 - y0) * self.size)

@@ -396,7 +396,7 @@ impl Explorer {
         };
         let colour = |i: usize| -> [u8; 3] {
             match &verdicts {
-                Some(v) if v[i] != 1.0 => super::analyze::verdict_colour(v[i] as i8),
+                Some(v) if v[i] != 1.0 => bcifs::render::verdict_colour(v[i] as i8),
                 _ if smooth && values[i].is_nan() => [228, 228, 228],
                 _ if smooth => {
                     if values[i] < threshold {
@@ -405,7 +405,7 @@ impl Explorer {
                         [255, 255, 255]
                     }
                 }
-                _ => super::analyze::sweep_colour(kind, values[i]),
+                _ => bcifs::render::sweep_colour(kind, values[i]),
             }
         };
         let (w, h) = (size as u32, if plane.is_line() { (size as u32 / 6).max(8) } else { size as u32 });
@@ -441,7 +441,7 @@ impl Explorer {
             }
             let rows = start..(start + band).min(rows);
             let band = bcifs::render::sweep_cancellable(&self.design, plane, kind, false, rows, cancel)
-                .map_err(|e| Answer::refused(&e))?;
+                .map_err(|e| Answer::refused(&e.into()))?;
             values = Some(match values {
                 None => band,
                 Some(v) => v.append(band),
@@ -512,7 +512,7 @@ impl Explorer {
                     match bcifs::render::dimension_within(&self.design, &values, MEMORY_BUDGET, &cancel) {
                         Ok(_) if cancel.is_cancelled() => Answer::cancelled(),
                         Ok(d) => Answer::json(&d.to_json()),
-                        Err(e) => Answer::refused(&e),
+                        Err(e) => Answer::refused(&e.into()),
                     }
                 }
             },

@@ -5,7 +5,7 @@
 use petgraph::graph::EdgeIndex;
 use serde_json::{Value, json};
 
-use super::options::RenderError;
+use super::error::ReportError;
 use crate::algebra::{Num, Surd};
 use crate::analysis::{CurveReport, ExactCurveReport, JsrSettings, Verdict, curve_query, jsr, per_matrix_condition};
 use crate::automaton::ArrowKind;
@@ -40,6 +40,13 @@ pub struct CurveAnalysis {
 /// Exact numbers as text.
 fn strings(v: &[Surd]) -> Vec<String> {
     v.iter().map(ToString::to_string).collect()
+}
+
+/// Serialised as [`CurveAnalysis::to_json`] makes it (its keys name the design's arrows).
+impl serde::Serialize for CurveAnalysis {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        self.to_json().serialize(serializer)
+    }
 }
 
 impl CurveAnalysis {
@@ -82,14 +89,14 @@ impl CurveAnalysis {
 ///
 /// # Errors
 /// No model, or a root that is not such a curve.
-pub fn curve_halves(design: &Design, instance: &Instance) -> Result<[EdgeIndex; 2], RenderError> {
+pub fn curve_halves(design: &Design, instance: &Instance) -> Result<[EdgeIndex; 2], ReportError> {
     let automaton = &instance.automaton;
     let not_curve = || {
-        RenderError::Unsupported(
+        ReportError::Unsupported(
             "a curve root (an edge state with two subdivision arrows to itself, T0 and T1) is needed".to_string(),
         )
     };
-    let model = design.model().ok_or_else(|| RenderError::NoModel(design.name().to_string()))?;
+    let model = design.model().ok_or_else(|| ReportError::NoModel(design.name().to_string()))?;
     let root = automaton.state_id(model.root(0)).ok_or_else(not_curve)?;
     let arrows = automaton.outgoing(root, ArrowKind::Subdivision);
     if automaton.state(root).kind != CellKind::Edge
@@ -112,11 +119,11 @@ pub fn curve_halves(design: &Design, instance: &Instance) -> Result<[EdgeIndex; 
 /// use bcifs::Num;
 /// let design = bcifs::builtin_design("corner_cutting").unwrap();
 /// let at = [("a".to_string(), "1/4".parse::<Num>().unwrap()), ("b".to_string(), "1/4".parse::<Num>().unwrap())];
-/// let analysis = bcifs::render::curve_analysis(&design, &at).unwrap();
+/// let analysis = bcifs::report::curve_analysis(&design, &at).unwrap();
 /// assert_eq!(analysis.converges, Some(true));
 /// assert_eq!(analysis.region, Some("1")); // Chaikin: tangent continuous
 /// ```
-pub fn curve_analysis(design: &Design, params: &[(String, Num)]) -> Result<CurveAnalysis, RenderError> {
+pub fn curve_analysis(design: &Design, params: &[(String, Num)]) -> Result<CurveAnalysis, ReportError> {
     let values: Vec<(String, f64)> = params.iter().map(|(n, v)| (n.clone(), v.to_f64())).collect();
     let instance = instantiate(design, &values)?;
     let arrows = curve_halves(design, &instance)?;

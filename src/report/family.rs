@@ -1,8 +1,6 @@
-//! Reports: what `solve` and `check` find, as typed values. Each serialises
-//! to the JSON object the command line prints with `--json` (its keys in
-//! alphabetical order, as the printed objects always had them), the Python
-//! module returns as a dict and the explorer and the Blender add-on read:
-//! one struct per report, so that a key is spelt once.
+//! What `solve` and `check` find: a design's family and its check at
+//! parameter values, one struct per report, so that a key is spelt once
+//! (the fields in the order the printed JSON always had its keys).
 
 use std::collections::BTreeMap;
 

@@ -1,9 +1,9 @@
-//! What `analyze dimension` finds and the convergence ranges of a family's
-//! parameters (`solve` and `check` are [`crate::report`]'s).
+//! What `analyze dimension` finds, and the convergence ranges of a family's
+//! parameters (the range of a front end's slider).
 
 use serde_json::{Value, json};
 
-use super::options::RenderError;
+use super::error::ReportError;
 use crate::design::Design;
 use crate::family::{instantiate, solve};
 use crate::progress::Cancel;
@@ -27,6 +27,13 @@ pub struct DimensionReport {
     pub similarity: Option<f64>,
     /// The open set condition, when there is a similarity dimension.
     pub open_set: Option<crate::analysis::OpenSet>,
+}
+
+/// Serialised as [`DimensionReport::to_json`] makes it (its keys name the design's arrows).
+impl serde::Serialize for DimensionReport {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        self.to_json().serialize(serializer)
+    }
 }
 
 impl DimensionReport {
@@ -58,7 +65,7 @@ pub const DIMENSION_MEMORY: usize = crate::mesh::DEFAULT_MESH_MEMORY;
 /// # Errors
 /// Parameters that do not instantiate, no model, an evaluation error, an
 /// empty attractor, points and boxes over [`DIMENSION_MEMORY`].
-pub fn dimension_report(design: &Design, params: &[(String, f64)]) -> Result<DimensionReport, RenderError> {
+pub fn dimension_report(design: &Design, params: &[(String, f64)]) -> Result<DimensionReport, ReportError> {
     dimension_within(design, params, DIMENSION_MEMORY, &Cancel::new())
 }
 
@@ -67,19 +74,19 @@ pub fn dimension_report(design: &Design, params: &[(String, f64)]) -> Result<Dim
 /// is set: what a server answering many requests calls.
 ///
 /// # Errors
-/// As [`dimension_report`]; [`RenderError::Eval`] with
+/// As [`dimension_report`]; [`ReportError::Eval`] with
 /// [`crate::eval::EvalError::TooLarge`] over the budget;
-/// [`RenderError::Cancelled`].
+/// [`ReportError::Cancelled`].
 pub fn dimension_within(
     design: &Design,
     params: &[(String, f64)],
     memory: usize,
     cancel: &Cancel,
-) -> Result<DimensionReport, RenderError> {
+) -> Result<DimensionReport, ReportError> {
     use crate::eval::{EvalError, EvalSettings, Evaluator};
-    let stop = || if cancel.is_cancelled() { Err(RenderError::Cancelled) } else { Ok(()) };
+    let stop = || if cancel.is_cancelled() { Err(ReportError::Cancelled) } else { Ok(()) };
     let instance = instantiate(design, params)?;
-    let model = super::design::model_of(design)?;
+    let model = super::error::model_of(design)?;
     // The extent from a coarse evaluation, then points within 1/1024 of it.
     let coarse_ev = Evaluator::new(&instance.automaton, &model, EvalSettings::default().with_depth(4))?;
     let pieces = coarse_ev.pieces();
@@ -92,7 +99,7 @@ pub fn dimension_within(
         .map(|(p, s)| crate::analysis::open_set_condition(&instance.automaton, root(p), &p.control, pieces.dim, s));
     stop()?;
     let coarse = coarse_ev.evaluate()?;
-    let (lo, hi) = coarse.bounds().ok_or_else(|| RenderError::Unsupported("the attractor is empty".into()))?;
+    let (lo, hi) = coarse.bounds().ok_or_else(|| ReportError::Unsupported("the attractor is empty".into()))?;
     let extent = (0..3).map(|a| hi[a] - lo[a]).fold(0.0, f64::max);
     // Surfaces have many more cells per unit of resolution: a quarter of it, and
     // the quads' centres and edge midpoints as samples too (within O(h²) of a smooth sheet).
@@ -131,7 +138,7 @@ pub fn dimension_within(
         }))
     };
     let fit = crate::analysis::box_dimension_of(points, if surface { resolution / 2.0 } else { resolution }, cancel)
-        .map_err(|_| RenderError::Cancelled)?;
+        .map_err(|_| ReportError::Cancelled)?;
     Ok(DimensionReport {
         automaton: design.name().to_string(),
         parameters: instance.parameters.clone(),
@@ -166,16 +173,16 @@ pub struct ParameterRange {
 /// # Example
 /// ```
 /// let design = bcifs::builtin_design("corner_cutting").unwrap();
-/// let ranges = bcifs::render::parameter_ranges(&design).unwrap();
+/// let ranges = bcifs::report::parameter_ranges(&design).unwrap();
 /// assert_eq!(ranges[0].name, "a");
 /// assert!(ranges[0].range.0 < 0.25 && 0.25 < ranges[0].range.1);
 /// ```
-pub fn parameter_ranges(design: &Design) -> Result<Vec<ParameterRange>, RenderError> {
-    let family = solve(design).map_err(|e| RenderError::Unsupported(format!("{}: {e}", design.name())))?;
+pub fn parameter_ranges(design: &Design) -> Result<Vec<ParameterRange>, ReportError> {
+    let family = solve(design).map_err(|e| ReportError::Unsupported(format!("{}: {e}", design.name())))?;
     let defaults =
-        family.parameter_values(&[]).map_err(|e| RenderError::Unsupported(format!("{}: {e}", design.name())))?;
+        family.parameter_values(&[]).map_err(|e| ReportError::Unsupported(format!("{}: {e}", design.name())))?;
     let converges = |name: &str, x: f64| {
-        crate::report::check_report(design, &[(name.to_string(), x)]).ok().and_then(|r| r.converges).unwrap_or(false)
+        super::family::check_report(design, &[(name.to_string(), x)]).ok().and_then(|r| r.converges).unwrap_or(false)
     };
     Ok(family
         .parameter_names()

@@ -7,7 +7,7 @@
 use std::fmt::Write as _;
 use std::ops::Range;
 
-use super::options::RenderError;
+use super::error::ReportError;
 use crate::analysis::{JsrSettings, ParameterPlane, Verdict, curve_map_rows, verdict_map_rows};
 use crate::design::Design;
 use crate::family::solve;
@@ -37,15 +37,15 @@ pub enum SweepKind {
 pub const REGIONS: [&str; 10] = ["undecided", "1", "2", "2'", "3", "3'", "4", "5", "divergent", "degenerate"];
 
 impl std::str::FromStr for SweepKind {
-    type Err = RenderError;
-    fn from_str(text: &str) -> Result<SweepKind, RenderError> {
+    type Err = ReportError;
+    fn from_str(text: &str) -> Result<SweepKind, ReportError> {
         Ok(match text {
             "verdict" => SweepKind::Verdict,
             "region" | "regions" => SweepKind::Region,
             "angle" | "roughness" => SweepKind::Angle,
             "dimension" => SweepKind::Dimension,
             other => {
-                return Err(RenderError::Unsupported(format!(
+                return Err(ReportError::Unsupported(format!(
                     "unknown sweep `{other}`: expected verdict, region, angle or dimension"
                 )));
             }
@@ -134,7 +134,7 @@ impl SweepValues {
 /// # Example
 /// ```
 /// use bcifs::analysis::ParameterPlane;
-/// use bcifs::render::{SweepKind, SweepValues, sweep};
+/// use bcifs::report::{SweepKind, SweepValues, sweep};
 /// let design = bcifs::builtin_design("corner_cutting").unwrap();
 /// let plane = ParameterPlane { x: ("a".into(), 0.0, 0.5), y: ("b".into(), 0.0, 0.5), size: (4, 4) };
 /// let SweepValues::Codes(top) = sweep(&design, &plane, SweepKind::Verdict, false, 0..2).unwrap() else { panic!() };
@@ -147,7 +147,7 @@ pub fn sweep(
     kind: SweepKind,
     thorough: bool,
     rows: Range<usize>,
-) -> Result<SweepValues, RenderError> {
+) -> Result<SweepValues, ReportError> {
     sweep_cancellable(design, plane, kind, thorough, rows, &Cancel::new())
 }
 
@@ -155,7 +155,7 @@ pub fn sweep(
 /// sweep (each evaluates an attractor), after the bounds of the others.
 ///
 /// # Errors
-/// As [`sweep`]; [`RenderError::Cancelled`].
+/// As [`sweep`]; [`ReportError::Cancelled`].
 pub fn sweep_cancellable(
     design: &Design,
     plane: &ParameterPlane,
@@ -163,11 +163,11 @@ pub fn sweep_cancellable(
     thorough: bool,
     rows: Range<usize>,
     cancel: &Cancel,
-) -> Result<SweepValues, RenderError> {
+) -> Result<SweepValues, ReportError> {
     let name = design.name();
-    let family = solve(design).map_err(|e| RenderError::Unsupported(format!("{name}: {e}")))?;
+    let family = solve(design).map_err(|e| ReportError::Unsupported(format!("{name}: {e}")))?;
     let settings = if thorough { JsrSettings::default() } else { JsrSettings::quick() };
-    let instantiate = |e: crate::family::InstantiateError| RenderError::Unsupported(format!("{name}: {e}"));
+    let instantiate = |e: crate::family::InstantiateError| ReportError::Unsupported(format!("{name}: {e}"));
     match kind {
         SweepKind::Verdict | SweepKind::Dimension => {
             let cells = verdict_map_rows(&family, plane, &settings, rows.clone()).map_err(instantiate)?;
@@ -176,7 +176,7 @@ pub fn sweep_cancellable(
                     cells.iter().map(|c| SweepKind::verdict_code(c.verdict, c.per_matrix)).collect(),
                 ));
             }
-            super::design::model_of(design)?;
+            super::error::model_of(design)?;
             let w = plane.size.0;
             let first = rows.start.min(plane.size.1);
             // One pixel after another, each evaluation parallel inside: pixels in
@@ -185,15 +185,15 @@ pub fn sweep_cancellable(
             let mut values = Vec::with_capacity(cells.len());
             for (i, c) in cells.iter().enumerate() {
                 if cancel.is_cancelled() {
-                    return Err(RenderError::Cancelled);
+                    return Err(ReportError::Cancelled);
                 }
                 if c.verdict != Verdict::Converges {
                     values.push(f64::NAN);
                     continue;
                 }
                 let at = plane.values_at(i % w, first + i / w);
-                values.push(match super::reports::dimension_within(design, &at, SWEEP_MEMORY, cancel) {
-                    Err(RenderError::Cancelled) => return Err(RenderError::Cancelled),
+                values.push(match super::dimension::dimension_within(design, &at, SWEEP_MEMORY, cancel) {
+                    Err(ReportError::Cancelled) => return Err(ReportError::Cancelled),
                     r => r.ok().and_then(|r| r.fit.map(|f| f.dimension)).unwrap_or(f64::NAN),
                 });
             }
