@@ -394,15 +394,14 @@ impl Design {
         json_object(py, &report)
     }
 
-    /// A 400 × 400 picture, for Jupyter.
+    /// A 400 × 400 picture, for Jupyter: the PNG `render` writes, made in memory.
     fn _repr_png_(&self, py: Python<'_>) -> PyResult<Vec<u8>> {
-        let path = std::env::temp_dir().join(format!("bcifs-repr-{}-{:p}.png", std::process::id(), self));
         let options = Options::default().with_size(400, 400);
         let design = &self.inner;
-        py.detach(|| bcifs::render::render(design, &options, &path)).map_err(err)?;
-        let bytes = std::fs::read(&path).map_err(err)?;
-        let _ = std::fs::remove_file(&path);
-        Ok(bytes)
+        let (_, png) = py
+            .detach(|| bcifs::render::picture_png(design, &options, bcifs::render::Compression::Small))
+            .map_err(err)?;
+        Ok(png)
     }
 
     fn __repr__(&self) -> String {
@@ -410,7 +409,6 @@ impl Design {
     }
 }
 
-/// A JSON value as Python objects (through `json.loads`).
 /// A report as the dict `json.loads` makes of the JSON the CLI prints.
 fn json_object<'py>(py: Python<'py>, value: &impl serde::Serialize) -> PyResult<Bound<'py, PyAny>> {
     let text = serde_json::to_string(value).map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))?;

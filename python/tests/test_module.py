@@ -177,9 +177,14 @@ def test_dimension_is_the_cli_json():
     assert abs(report["similarity_dimension"] - np.log(3) / np.log(2)) < 1e-9
 
 
-def test_a_design_shows_its_picture():
+def test_a_design_shows_its_picture(tmp_path, monkeypatch):
+    """A notebook's picture is made in memory (no temporary file: TMPDIR points nowhere) and is
+    the file `render` writes at the same size, byte for byte."""
+    monkeypatch.setenv("TMPDIR", str(tmp_path / "nowhere"))
     png = bcifs.load("koch")._repr_png_()
     assert png[:8] == b"\x89PNG\r\n\x1a\n"
+    bcifs.load("koch").render(tmp_path / "koch.png", size=(400, 400))
+    assert (tmp_path / "koch.png").read_bytes() == png
 
 
 def test_progress_is_reported(tmp_path):

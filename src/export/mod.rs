@@ -35,7 +35,7 @@ pub use obj::{ObjWriter, write_evaluation, write_obj};
 pub use off::OffWriter;
 pub use picture::{PictureError, PictureKind, PictureWriter, write_picture};
 pub use ply::PlyWriter;
-pub use png::{Matte, ascii, raster, write_png, write_png_matte, write_png_text};
+pub use png::{Compression, Matte, ascii, png_bytes, raster, write_png, write_png_matte, write_png_text};
 pub use stl::StlWriter;
 pub use svg::{svg, svg_surface};
 pub use view::{RasterSettings, RasterTooLarge, View, raster_bytes};

@@ -73,10 +73,12 @@ pub fn render(design: &Design, options: &Options, out: &Path) -> Result<Report, 
         }
         Format::Flame => flame_file(design, options, out, &mut report)?,
         f if f.is_geometry() => stream_file(design, options, format, out, &mut report)?,
-        Format::Png if !options.dedup => match options.random_settings() {
-            Some(random) => density_picture(design, options, &random, out, &mut report)?,
-            None => deterministic_picture(design, options, out, &mut report)?,
-        },
+        Format::Png if !options.dedup => {
+            let (img, matte) = png_image(design, options, &mut report)?;
+            crate::export::write_png_matte(out, &img, &options.png_text(design.name()), matte)
+                .map_err(write_error(options, out))?;
+            report.bytes = std::fs::metadata(out).map_or(0, |m| m.len());
+        }
         _ => {
             let mut shape = evaluate_design(design, options, &mut report.warnings)?;
             let duplicates = dedup(&mut shape, options, &mut report.warnings);
@@ -334,42 +336,71 @@ fn density_with(design: &Design, options: &Options, random: &RandomSettings) -> 
     Ok(img)
 }
 
-/// A density picture of the chaos game: the samples are counted per pixel, never stored.
-fn density_picture(
+/// The PNG [`render`] writes into a `.png` file (a deterministic picture, or
+/// the chaos game's density when `options.random` is set: its text chunks,
+/// its matte when transparent), in memory: for a page or a notebook that
+/// wants the file's bytes, not a file. Coloured and deduplicated clouds are
+/// written by [`render`] only.
+///
+/// ```
+/// use bcifs::export::Compression;
+/// let design = bcifs::builtin_design("koch").unwrap();
+/// let options = bcifs::render::Options::default().with_size(64, 48);
+/// let (report, png) = bcifs::render::picture_png(&design, &options, Compression::Fast)?;
+/// assert_eq!(report.bytes as usize, png.len());
+/// let img = image::load_from_memory(&png)?.to_rgb8();
+/// assert_eq!(img, bcifs::render::picture(&design, &options)?);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+///
+/// # Errors
+/// As [`picture`].
+pub fn picture_png(
     design: &Design,
     options: &Options,
-    random: &RandomSettings,
-    out: &Path,
+    compression: crate::export::Compression,
+) -> Result<(Report, Vec<u8>), RenderError> {
+    if options.colour.is_some() || options.dedup {
+        return Err(RenderError::Unsupported(
+            "coloured and deduplicated clouds are drawn by render() into a .png file".into(),
+        ));
+    }
+    let options = &prepared(design, options)?;
+    let mut report = Report { format: Some(Format::Png), ..Report::default() };
+    warn_unused(options, Format::Png, &mut report.warnings);
+    let (img, matte) = png_image(design, options, &mut report)?;
+    let png = crate::export::png_bytes(&img, &options.png_text(design.name()), matte, compression)
+        .map_err(|e| RenderError::Unsupported(format!("cannot encode the picture: {e}")))?;
+    report.bytes = png.len() as u64;
+    if let (None, Depth::Fixed(k), None) = (&options.random, options.eval.depth, report.depth) {
+        report.depth = Some(k);
+    }
+    Ok((report, png))
+}
+
+/// The pixels of a `.png` output and its matte (`--transparent`): the
+/// chaos game's density (the samples counted per pixel, never stored), or a
+/// deterministic picture.
+fn png_image(
+    design: &Design,
+    options: &Options,
     report: &mut Report,
-) -> Result<(), RenderError> {
-    let img = density_with(design, options, random)?;
-    let palette = options.palette.as_ref();
-    let matte = options.raster.transparent.then(|| options.tone.matte(palette.is_some()));
-    crate::export::write_png_matte(out, &img, &options.png_text(design.name()), matte)
-        .map_err(write_error(options, out))?;
-    report.vertices = random.points;
-    report.bytes = std::fs::metadata(out).map_or(0, |m| m.len());
-    Ok(())
+) -> Result<(image::RgbImage, Option<crate::export::Matte>), RenderError> {
+    match options.random_settings() {
+        Some(random) => {
+            let img = density_with(design, options, &random)?;
+            let matte = options.raster.transparent.then(|| options.tone.matte(options.palette.is_some()));
+            report.vertices = random.points;
+            Ok((img, matte))
+        }
+        None => deterministic_image(design, options, report),
+    }
 }
 
 /// A picture of a deterministic evaluation: curves and points drawn while
 /// they are evaluated (twice streamed: the frame, then the drawing), at the
 /// depth whose segments are below a pixel; surfaces from memory, at the
 /// depth whose quads are below a pixel.
-fn deterministic_picture(
-    design: &Design,
-    options: &Options,
-    out: &Path,
-    report: &mut Report,
-) -> Result<(), RenderError> {
-    let (img, matte) = deterministic_image(design, options, report)?;
-    crate::export::write_png_matte(out, &img, &options.png_text(design.name()), matte)
-        .map_err(write_error(options, out))?;
-    report.bytes = std::fs::metadata(out).map_or(0, |m| m.len());
-    Ok(())
-}
-
-/// The pixels of [`deterministic_picture`] and the matte of `--transparent`.
 fn deterministic_image(
     design: &Design,
     options: &Options,

@@ -28,7 +28,8 @@ mod mesh;
 mod options;
 mod shape;
 
-pub use design::{density, evaluate_design, picture, render};
+pub use crate::export::{Compression, png_bytes};
+pub use design::{density, evaluate_design, picture, picture_png, render};
 pub use load::{LoadError, is_mesh_path, load, load_with_scheme};
 pub use mesh::{MeshJob, check_weights, render_mesh, rule_weights, subdivide_mesh};
 pub use options::{Format, Options, RenderError, Report, check_disk};

@@ -258,3 +258,39 @@ fn mesh_renders_report_progress() {
     no_temporaries(&dir);
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Issue 43 §3: a picture made in memory is the file `render` writes, byte
+/// for byte (its text chunks, its matte when transparent; a curve, a
+/// surface, a chaos game's density), through the one PNG encoder; a page's
+/// fast compression decodes to the same pixels.
+#[test]
+fn pictures_in_memory_are_the_files() {
+    use bcifs::render::{Compression, picture_png};
+    let dir = scratch("in-memory");
+    let cases = [
+        ("koch", Options::default().with_size(120, 90)),
+        ("doo_sabin_torus", Options::default().with_size(96, 96)),
+        (
+            "fern",
+            Options {
+                random: Some(bcifs::eval::RandomSettings::default().with_points(20_000)),
+                ..Options::default().with_size(80, 80)
+            },
+        ),
+        ("gasket", Options { raster: Options::default().raster.with_transparent(true), ..Options::default() }),
+    ];
+    for (name, options) in cases {
+        let design = bcifs::render::load(name).unwrap();
+        let file = dir.join(format!("{name}.png"));
+        let written = render(&design, &options, &file).unwrap();
+        let (report, png) = picture_png(&design, &options, Compression::Small).unwrap();
+        assert_eq!(std::fs::read(&file).unwrap(), png, "{name}");
+        assert_eq!((report.bytes, report.vertices), (written.bytes, written.vertices), "{name}");
+        let (_, fast) = picture_png(&design, &options, Compression::Fast).unwrap();
+        let decode = |bytes: &[u8]| image::load_from_memory(bytes).unwrap().to_rgba8();
+        assert_eq!(decode(&fast), decode(&png), "{name}: the same pixels");
+    }
+    let coloured = Options { dedup: true, ..Options::default() };
+    assert!(picture_png(&bcifs::render::load("fern").unwrap(), &coloured, Compression::Small).is_err());
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -21,7 +21,6 @@ use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result, bail};
-use image::ImageEncoder as _;
 use serde_json::{Value, json};
 
 use bcifs::render::{Options, SweepKind};
@@ -317,16 +316,8 @@ impl Explorer {
     /// browser (fast compression: the page is on this machine).
     fn picture(&self, options: &Options) -> std::result::Result<Vec<u8>, Answer> {
         let _turn = self.admit(&options.cancel)?;
-        let img = rendered(bcifs::render::picture(&self.design, options), options)?;
-        let mut png = Vec::new();
-        image::codecs::png::PngEncoder::new_with_quality(
-            &mut png,
-            image::codecs::png::CompressionType::Fast,
-            image::codecs::png::FilterType::Adaptive,
-        )
-        .write_image(img.as_raw(), img.width(), img.height(), image::ExtendedColorType::Rgb8)
-        .map_err(|e| Answer::error(500, e))?;
-        Ok(png)
+        let drawn = bcifs::render::picture_png(&self.design, options, bcifs::render::Compression::Fast);
+        Ok(rendered(drawn, options)?.1)
     }
 
     fn design_json(&self) -> Value {
@@ -412,11 +403,7 @@ impl Explorer {
         let img = image::RgbImage::from_fn(w, h, |i, j| {
             image::Rgb(colour(if plane.is_line() { i as usize } else { j as usize * size + i as usize }))
         });
-        let mut png = Vec::new();
-        image::codecs::png::PngEncoder::new(&mut png)
-            .write_image(img.as_raw(), img.width(), img.height(), image::ExtendedColorType::Rgb8)
-            .map_err(|e| Answer::error(500, e))?;
-        Ok(png)
+        bcifs::render::png_bytes(&img, &[], None, bcifs::render::Compression::Fast).map_err(|e| Answer::error(500, e))
     }
 
     /// The sweep of `kind` over `plane`, computed band by band (a newer map
