@@ -132,6 +132,20 @@ fn large_faces(c: &mut Criterion) {
         }
     }
     g.finish();
+    // Issue 42, item 10: the limit surfaces too (Catmull-Clark's limit points of the net, Loop's
+    // of the triangulated prism): a 100,000-gon's depth 2 did not finish in 90 s.
+    let mut g = c.benchmark_group("large_face_limit_depth2");
+    g.sample_size(10);
+    for n in [3_000, 30_000] {
+        let (mesh, triangles) = (prism(n), prism(n).triangulated());
+        for (scheme, input) in [(Scheme::CatmullClark, &mesh), (Scheme::Loop, &triangles)] {
+            g.throughput(Throughput::Elements(input.corner_count() as u64));
+            g.bench_function(BenchmarkId::new(scheme.name(), n), |b| {
+                b.iter(|| black_box(input.limit_with(scheme, 2, None, 1 << 32).expect("fits")))
+            });
+        }
+    }
+    g.finish();
 }
 
 criterion_group! {

@@ -124,11 +124,7 @@ impl Mesh {
         let trimesh = py.import("trimesh")?;
         let faces: Vec<Vec<i64>> = self.faces.bind(py).extract()?;
         let mut triangles: Vec<i64> = Vec::new();
-        let fan = |f: &[i64], out: &mut Vec<i64>| {
-            for i in 1..f.len().saturating_sub(1) {
-                out.extend([f[0], f[i], f[i + 1]]);
-            }
-        };
+        let fan = |f: &[i64], out: &mut Vec<i64>| out.extend(bcifs::geometry::fan(f, 0).flatten());
         faces.iter().for_each(|f| fan(f, &mut triangles));
         let vertices = self.vertices.bind(py);
         if !triangles.is_empty() {

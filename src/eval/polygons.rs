@@ -104,8 +104,7 @@ impl Evaluator {
                         }
                         match corners.len() {
                             4 => quads.push([corners[0], corners[1], corners[2], corners[3]]),
-                            k => triangles
-                                .extend((1..k.saturating_sub(1)).map(|i| [corners[0], corners[i], corners[i + 1]])),
+                            _ => triangles.extend(crate::geometry::fan(&corners, 0)),
                         }
                     }
                     if let Some(cc) = colours.as_deref_mut() {

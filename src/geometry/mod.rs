@@ -45,8 +45,7 @@ pub trait Sink {
         for w in starts.windows(2) {
             match &corners[w[0]..w[1]] {
                 &[a, b, c, d] => quads.push([a, b, c, d]),
-                f if f.len() >= 3 => triangles.extend((1..f.len() - 1).map(|i| [f[0], f[i], f[i + 1]])),
-                _ => {}
+                f => triangles.extend(fan(f, 0)),
             }
         }
         if !quads.is_empty() {
@@ -89,6 +88,19 @@ pub trait Sink {
     fn vertices_complete(&mut self) -> io::Result<()> {
         Ok(())
     }
+}
+
+/// The fan of triangles of a polygon from its corner `apex`: `[f[apex], f[apex + i], f[apex + i + 1]]`
+/// for `i` in `1..n − 1` (indices mod `n`); none for fewer than three corners. The one fan every
+/// writer, picture and front end splits polygons with.
+///
+/// ```
+/// let fan: Vec<[u32; 3]> = bcifs::geometry::fan(&[7, 8, 9, 10], 1).collect();
+/// assert_eq!(fan, [[8, 9, 10], [8, 10, 7]]);
+/// ```
+pub fn fan<T: Copy>(face: &[T], apex: usize) -> impl Iterator<Item = [T; 3]> + '_ {
+    let n = face.len();
+    (1..n.saturating_sub(1)).map(move |i| [face[apex % n], face[(apex + i) % n], face[(apex + i + 1) % n]])
 }
 
 /// Area-weighted unit vertex normals of the polygons `faces` over

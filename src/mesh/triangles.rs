@@ -317,8 +317,8 @@ impl PolyMesh {
             let diagonals = |r: usize| (2..n - 1).map(move |i| key(f[r], f[(r + i) % n]));
             let apex = (0..n.min(TRIES)).find(|&r| diagonals(r).all(|d| !edges.contains(&d))).unwrap_or(0);
             edges.extend(diagonals(apex));
-            for i in 1..n - 1 {
-                indices.extend([f[apex], f[(apex + i) % n], f[(apex + i + 1) % n]]);
+            for t in crate::geometry::fan(f, apex) {
+                indices.extend(t);
                 starts.push(indices.len());
             }
             apexes.push(apex);
@@ -327,10 +327,7 @@ impl PolyMesh {
         let texture = self.texture.as_deref().map(|uv| {
             let mut corners = Vec::with_capacity(indices.len());
             for (f, &apex) in uv.faces().zip(&apexes) {
-                let n = f.len();
-                for i in 1..n - 1 {
-                    corners.extend([f[apex], f[(apex + i) % n], f[(apex + i + 1) % n]]);
-                }
+                corners.extend(crate::geometry::fan(f, apex).flatten());
             }
             Box::new(PolyMesh::from_flat(uv.positions.clone(), starts.clone(), corners))
         });

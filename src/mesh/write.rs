@@ -35,7 +35,7 @@ impl PolyMesh {
         for f in self.faces() {
             match f.len() {
                 4 => quads.push([f[0], f[1], f[2], f[3]]),
-                n => triangles.extend((1..n - 1).map(|i| [f[0], f[i], f[i + 1]])),
+                _ => triangles.extend(crate::geometry::fan(f, 0)),
             }
         }
         // Writing into memory cannot fail.
