@@ -5,9 +5,111 @@
 //! written in place, its errors reported, never replaced by a file.
 
 use std::fs::File;
-use std::io::{self, BufWriter, Write};
+use std::io::{self, BufWriter, Cursor, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
+
+/// Where an output goes: a file (written atomically, as [`AtomicFile`]), or
+/// memory (a page or a notebook that wants the bytes, not a file).
+#[derive(Clone, Debug)]
+pub enum Target {
+    /// A file.
+    Path(PathBuf),
+    /// A buffer, filled when the output is committed ([`MemoryFile::take`]).
+    Memory(MemoryFile),
+}
+
+/// The buffer of an output made in memory.
+#[derive(Clone, Debug, Default)]
+pub struct MemoryFile(Arc<Mutex<Vec<u8>>>);
+
+impl MemoryFile {
+    /// An empty buffer.
+    pub fn new() -> MemoryFile {
+        MemoryFile::default()
+    }
+
+    /// The bytes committed to it (emptied).
+    pub fn take(&self) -> Vec<u8> {
+        std::mem::take(&mut *self.0.lock().unwrap_or_else(std::sync::PoisonError::into_inner))
+    }
+
+    /// How many bytes it holds.
+    pub fn len(&self) -> usize {
+        self.0.lock().unwrap_or_else(std::sync::PoisonError::into_inner).len()
+    }
+
+    /// Whether it holds nothing.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    fn put(&self, bytes: Vec<u8>) {
+        *self.0.lock().unwrap_or_else(std::sync::PoisonError::into_inner) = bytes;
+    }
+}
+
+impl From<&Path> for Target {
+    fn from(path: &Path) -> Target {
+        Target::Path(path.to_path_buf())
+    }
+}
+
+impl Target {
+    /// The path messages name (`<memory>` for a buffer).
+    pub fn path(&self) -> &Path {
+        match self {
+            Target::Path(p) => p,
+            Target::Memory(_) => Path::new("<memory>"),
+        }
+    }
+
+    /// Where side files go: beside the file, or in the temporary directory.
+    pub(crate) fn beside(&self) -> PathBuf {
+        match self {
+            Target::Path(p) => p.clone(),
+            Target::Memory(_) => std::env::temp_dir().join("bcifs-in-memory"),
+        }
+    }
+}
+
+/// What an [`AtomicFile`] writes into: its temporary file (or a device), or memory.
+pub enum Out {
+    /// A file.
+    File(BufWriter<File>),
+    /// A buffer.
+    Memory(Cursor<Vec<u8>>),
+}
+
+impl Write for Out {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        match self {
+            Out::File(w) => w.write(buf),
+            Out::Memory(w) => w.write(buf),
+        }
+    }
+    fn write_all(&mut self, buf: &[u8]) -> io::Result<()> {
+        match self {
+            Out::File(w) => w.write_all(buf),
+            Out::Memory(w) => w.write_all(buf),
+        }
+    }
+    fn flush(&mut self) -> io::Result<()> {
+        match self {
+            Out::File(w) => w.flush(),
+            Out::Memory(_) => Ok(()),
+        }
+    }
+}
+
+impl Seek for Out {
+    fn seek(&mut self, to: SeekFrom) -> io::Result<u64> {
+        match self {
+            Out::File(w) => w.seek(to),
+            Out::Memory(w) => w.seek(to),
+        }
+    }
+}
 
 /// The temporary files this process is writing, so that an interrupted
 /// run can remove them ([`remove_temporary_files`]).
@@ -68,7 +170,9 @@ pub struct AtomicFile {
     target: PathBuf,
     /// The temporary file renamed onto the target (`None`: written in place).
     temp: Option<PathBuf>,
-    writer: Option<BufWriter<File>>,
+    writer: Option<Out>,
+    /// The buffer a memory target's bytes go to on commit.
+    memory: Option<MemoryFile>,
 }
 
 /// Links followed at most (as the kernel's `ELOOP` limit).
@@ -176,7 +280,8 @@ impl AtomicFile {
         let target = resolve_target(target)?;
         if is_special(&target) {
             let file = std::fs::OpenOptions::new().write(true).open(&target)?;
-            return Ok(AtomicFile { target, temp: None, writer: Some(BufWriter::with_capacity(1 << 20, file)) });
+            let writer = Some(Out::File(BufWriter::with_capacity(1 << 20, file)));
+            return Ok(AtomicFile { target, temp: None, writer, memory: None });
         }
         sweep_stale(&target);
         let temp = temp_path(&target, "partial");
@@ -187,11 +292,28 @@ impl AtomicFile {
                 return Err(e);
             }
         };
-        Ok(AtomicFile { target, temp: Some(temp), writer: Some(BufWriter::with_capacity(1 << 20, file)) })
+        let writer = Some(Out::File(BufWriter::with_capacity(1 << 20, file)));
+        Ok(AtomicFile { target, temp: Some(temp), writer, memory: None })
+    }
+
+    /// Starts writing `target`: a file as [`AtomicFile::create`], or a buffer.
+    ///
+    /// # Errors
+    /// As [`AtomicFile::create`].
+    pub fn create_in(target: &Target) -> io::Result<AtomicFile> {
+        match target {
+            Target::Path(path) => AtomicFile::create(path),
+            Target::Memory(buffer) => Ok(AtomicFile {
+                target: target.path().to_path_buf(),
+                temp: None,
+                writer: Some(Out::Memory(Cursor::new(Vec::new()))),
+                memory: Some(buffer.clone()),
+            }),
+        }
     }
 
     /// The writer.
-    pub fn writer(&mut self) -> &mut BufWriter<File> {
+    pub fn writer(&mut self) -> &mut Out {
         self.writer.as_mut().expect("not committed")
     }
 
@@ -200,7 +322,16 @@ impl AtomicFile {
     /// # Errors
     /// Any write, sync or rename error (the target is then untouched).
     pub fn commit(mut self) -> io::Result<()> {
-        let mut w = self.writer.take().expect("not committed");
+        let w = self.writer.take().expect("not committed");
+        let mut w = match w {
+            Out::Memory(bytes) => {
+                if let Some(buffer) = &self.memory {
+                    buffer.put(bytes.into_inner());
+                }
+                return Ok(());
+            }
+            Out::File(w) => w,
+        };
         let Some(temp) = self.temp.take() else {
             // A device or pipe: its write errors (ENOSPC of /dev/full) are the answer.
             return w.flush();
@@ -276,9 +407,15 @@ impl Spool {
         w.flush()?;
         drop(w);
         let mut reader = File::open(&self.path)?;
-        let main = out.writer();
-        main.flush()?;
-        io::copy(&mut reader, main.get_mut())?;
+        match out.writer() {
+            Out::File(main) => {
+                main.flush()?;
+                io::copy(&mut reader, main.get_mut())?;
+            }
+            Out::Memory(main) => {
+                io::copy(&mut reader, main)?;
+            }
+        }
         Ok(())
     }
 }
@@ -296,7 +433,15 @@ impl Drop for Spool {
 /// # Errors
 /// Any I/O error; the target is then untouched.
 pub fn write_atomic(target: &Path, bytes: &[u8]) -> io::Result<()> {
-    let mut f = AtomicFile::create(target)?;
+    write_to(&Target::from(target), bytes)
+}
+
+/// Writes `bytes` to `target`: a file atomically, or a buffer.
+///
+/// # Errors
+/// Any I/O error; a file target is then untouched.
+pub fn write_to(target: &Target, bytes: &[u8]) -> io::Result<()> {
+    let mut f = AtomicFile::create_in(target)?;
     f.writer().write_all(bytes)?;
     f.commit()
 }

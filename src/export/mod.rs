@@ -20,7 +20,10 @@ mod stl;
 mod svg;
 mod view;
 
-pub use atomic::{AtomicFile, check_target, remove_temporary_files, resolve_target, same_file, write_atomic};
+pub use atomic::{
+    AtomicFile, MemoryFile, Out, Target, check_target, remove_temporary_files, resolve_target, same_file, write_atomic,
+    write_to,
+};
 pub use axes::{Coordinates, Up};
 pub use density::{Density, Palette, Tone, density, density_bytes, density_image, picture_frame};
 pub use draw::{

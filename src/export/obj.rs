@@ -1,9 +1,9 @@
 //! Streaming Wavefront OBJ writer: the one place OBJ records are formatted.
 
-use std::io::{self, BufWriter, Write};
+use std::io::{self, Write};
 use std::path::Path;
 
-use super::atomic::{AtomicFile, Spool};
+use super::atomic::{AtomicFile, Spool, Target};
 use super::axes::{Coordinates, Turn, Up};
 use super::number::push_f64;
 use crate::geometry::{Shape, Sink};
@@ -69,9 +69,17 @@ impl ObjWriter {
     /// # Errors
     /// The temporary files cannot be created.
     pub fn create(path: &Path) -> io::Result<ObjWriter> {
-        let mut main = AtomicFile::create(path)?;
+        ObjWriter::create_in(&Target::from(path))
+    }
+
+    /// Starts writing `target`: a file, or a buffer ([`Target::Memory`]).
+    ///
+    /// # Errors
+    /// The temporary files cannot be created.
+    pub fn create_in(target: &Target) -> io::Result<ObjWriter> {
+        let mut main = AtomicFile::create_in(target)?;
         writeln!(main.writer(), "# bcifs {}", env!("CARGO_PKG_VERSION"))?;
-        let spool = Spool::create(path, "elements")?;
+        let spool = Spool::create(&target.beside(), "elements")?;
         Ok(ObjWriter {
             coordinates: Coordinates::default(),
             main: Some(main),
@@ -132,11 +140,11 @@ impl ObjWriter {
         self.bytes
     }
 
-    fn main(&mut self) -> &mut BufWriter<std::fs::File> {
+    fn main(&mut self) -> &mut dyn Write {
         self.main.as_mut().expect("not finished").writer()
     }
 
-    fn spool(&mut self) -> &mut BufWriter<std::fs::File> {
+    fn spool(&mut self) -> &mut dyn Write {
         if self.direct || self.spool.is_none() {
             return self.main();
         }

@@ -4,7 +4,7 @@
 use std::io::{self, Write};
 use std::path::Path;
 
-use super::atomic::{AtomicFile, Spool};
+use super::atomic::{AtomicFile, Spool, Target};
 use super::axes::Coordinates;
 use crate::geometry::Sink;
 
@@ -44,12 +44,20 @@ impl OffWriter {
     /// # Errors
     /// The temporary files cannot be created.
     pub fn create(path: &Path) -> io::Result<OffWriter> {
-        let main = AtomicFile::create(path)?;
+        OffWriter::create_in(&Target::from(path))
+    }
+
+    /// Starts writing `target`: a file, or a buffer ([`Target::Memory`]).
+    ///
+    /// # Errors
+    /// The temporary files cannot be created.
+    pub fn create_in(target: &Target) -> io::Result<OffWriter> {
+        let main = AtomicFile::create_in(target)?;
         Ok(OffWriter {
             coordinates: Coordinates::default(),
             main: Some(main),
-            vertex_spool: Some(Spool::create(path, "vertices")?),
-            face_spool: Some(Spool::create(path, "elements")?),
+            vertex_spool: Some(Spool::create(&target.beside(), "vertices")?),
+            face_spool: Some(Spool::create(&target.beside(), "elements")?),
             vertices: 0,
             faces: 0,
             line: Vec::with_capacity(1 << 16),

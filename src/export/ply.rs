@@ -5,7 +5,7 @@
 use std::io::{self, Seek, SeekFrom, Write};
 use std::path::Path;
 
-use super::atomic::{AtomicFile, Spool};
+use super::atomic::{AtomicFile, Spool, Target};
 use super::axes::Coordinates;
 use super::number::push_f64;
 use crate::geometry::Sink;
@@ -61,16 +61,24 @@ impl PlyWriter {
     /// # Errors
     /// The temporary files cannot be created.
     pub fn create(path: &Path, ascii: bool) -> io::Result<PlyWriter> {
+        PlyWriter::create_in(&Target::from(path), ascii)
+    }
+
+    /// Starts writing `target`: a file, or a buffer ([`Target::Memory`]).
+    ///
+    /// # Errors
+    /// The temporary files cannot be created.
+    pub fn create_in(target: &Target, ascii: bool) -> io::Result<PlyWriter> {
         Ok(PlyWriter {
             coordinates: Coordinates::default(),
             ascii,
             main: Some({
-                let mut main = AtomicFile::create(path)?;
+                let mut main = AtomicFile::create_in(target)?;
                 main.writer().write_all(&[b' '; HEADER_BYTES])?;
                 main
             }),
-            face_spool: Some(Spool::create(path, "elements")?),
-            edge_spool: Some(Spool::create(path, "elements")?),
+            face_spool: Some(Spool::create(&target.beside(), "elements")?),
+            edge_spool: Some(Spool::create(&target.beside(), "elements")?),
             vertices: 0,
             faces: 0,
             edges: 0,

@@ -4,7 +4,7 @@
 use std::io::{self, Write};
 use std::path::Path;
 
-use super::atomic::{AtomicFile, Spool};
+use super::atomic::{AtomicFile, Spool, Target};
 use super::axes::{Coordinates, Turn};
 use crate::geometry::Sink;
 
@@ -50,10 +50,18 @@ impl StlWriter {
     /// # Errors
     /// The temporary files cannot be created.
     pub fn create(path: &Path) -> io::Result<StlWriter> {
+        StlWriter::create_in(&Target::from(path))
+    }
+
+    /// Starts writing `target`: a file, or a buffer ([`Target::Memory`]).
+    ///
+    /// # Errors
+    /// The temporary files cannot be created.
+    pub fn create_in(target: &Target) -> io::Result<StlWriter> {
         Ok(StlWriter {
             coordinates: Coordinates::default(),
-            main: Some(AtomicFile::create(path)?),
-            spool: Some(Spool::create(path, "elements")?),
+            main: Some(AtomicFile::create_in(target)?),
+            spool: Some(Spool::create(&target.beside(), "elements")?),
             positions: Vec::new(),
             waiting: (vec![0], Vec::new()),
             triangles: 0,

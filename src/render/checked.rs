@@ -3,6 +3,8 @@
 use std::io;
 use std::path::Path;
 
+use crate::export::Target;
+
 use super::options::{Format, Options, RenderError};
 use crate::export::{
     Coordinates, GltfWriter, ObjWriter, OffWriter, PictureKind, PictureWriter, PlyWriter, RasterSettings, StlWriter,
@@ -35,26 +37,35 @@ pub(crate) struct WriteSettings<'a> {
 
 impl FileWriter {
     /// Starts writing `out` in `format`.
-    pub(crate) fn create(out: &Path, format: Format, settings: &WriteSettings<'_>) -> Result<FileWriter, RenderError> {
-        let io = |e| RenderError::Io(out.to_path_buf(), e);
+    pub(crate) fn create(
+        out: &Target,
+        format: Format,
+        settings: &WriteSettings<'_>,
+    ) -> Result<FileWriter, RenderError> {
+        let io = |e| RenderError::Io(out.path().to_path_buf(), e);
         let (coordinates, raster) = (settings.coordinates, *settings.raster);
         Ok(match format {
             Format::Obj => FileWriter::Obj(
-                ObjWriter::create(out)
+                ObjWriter::create_in(out)
                     .and_then(|w| w.with_threads(settings.threads))
                     .map_err(io)?
                     .with_coordinates(coordinates),
             ),
-            Format::Off => FileWriter::Off(OffWriter::create(out).map_err(io)?.with_coordinates(coordinates)),
+            Format::Off => FileWriter::Off(OffWriter::create_in(out).map_err(io)?.with_coordinates(coordinates)),
             Format::Ply => {
-                FileWriter::Ply(PlyWriter::create(out, settings.ascii).map_err(io)?.with_coordinates(coordinates))
+                FileWriter::Ply(PlyWriter::create_in(out, settings.ascii).map_err(io)?.with_coordinates(coordinates))
             }
-            Format::Stl => FileWriter::Stl(StlWriter::create(out).map_err(io)?.with_coordinates(coordinates)),
+            Format::Stl => FileWriter::Stl(StlWriter::create_in(out).map_err(io)?.with_coordinates(coordinates)),
             Format::Glb => {
-                FileWriter::Glb(Box::new(GltfWriter::create(out).map_err(io)?.with_coordinates(coordinates)))
+                FileWriter::Glb(Box::new(GltfWriter::create_in(out).map_err(io)?.with_coordinates(coordinates)))
             }
-            Format::Svg => FileWriter::Picture(PictureWriter::create(out, PictureKind::Svg, raster).map_err(io)?),
-            Format::Png => FileWriter::Picture(PictureWriter::create(out, PictureKind::Png, raster).map_err(io)?),
+            Format::Svg | Format::Png => {
+                let Target::Path(path) = out else {
+                    return Err(RenderError::Unsupported("pictures in memory are render::picture_png's".into()));
+                };
+                let kind = if format == Format::Svg { PictureKind::Svg } else { PictureKind::Png };
+                FileWriter::Picture(PictureWriter::create(path, kind, raster).map_err(io)?)
+            }
             Format::Flame => return Err(RenderError::Unsupported(FLAME_HOLDS.into())),
         })
     }
@@ -73,7 +84,8 @@ impl FileWriter {
     }
 
     /// Completes the file; its size in bytes.
-    pub(crate) fn finish(self, out: &Path) -> Result<u64, RenderError> {
+    pub(crate) fn finish(self, target: &Target) -> Result<u64, RenderError> {
+        let out = target.path();
         let io = |e| RenderError::Io(out.to_path_buf(), e);
         match self {
             FileWriter::Obj(w) => w.finish().map_err(io)?,
@@ -83,7 +95,10 @@ impl FileWriter {
             FileWriter::Glb(w) => w.finish().map_err(|e| unsupported(e, out))?,
             FileWriter::Picture(w) => w.finish()?,
         }
-        Ok(std::fs::metadata(out).map_or(0, |m| m.len()))
+        Ok(match target {
+            Target::Path(path) => std::fs::metadata(path).map_or(0, |m| m.len()),
+            Target::Memory(buffer) => buffer.len() as u64,
+        })
     }
 }
 

@@ -3,7 +3,7 @@
 use std::path::Path;
 
 use super::checked::{FileWriter, WriteSettings, write_error};
-use super::options::{Format, Options, RenderError, Report, check_disk};
+use super::options::{Format, Options, RenderError, Report, check_room};
 use super::shape::write_shape_text;
 use crate::automaton::Automaton;
 use crate::design::{Design, Model};
@@ -72,7 +72,7 @@ pub fn render(design: &Design, options: &Options, out: &Path) -> Result<Report, 
             coloured_file(design, options, format, out, &mut report)?
         }
         Format::Flame => flame_file(design, options, out, &mut report)?,
-        f if f.is_geometry() => stream_file(design, options, format, out, &mut report)?,
+        f if f.is_geometry() => stream_file(design, options, format, &out.into(), &mut report)?,
         Format::Png if !options.dedup => {
             let (img, matte) = png_image(design, options, &mut report)?;
             crate::export::write_png_matte(out, &img, &options.png_text(design.name()), matte)
@@ -91,13 +91,58 @@ pub fn render(design: &Design, options: &Options, out: &Path) -> Result<Report, 
             report.duplicates = duplicates;
         }
     }
+    Ok(finished(options, report))
+}
+
+/// The depth and the empty-output warning every report gives.
+fn finished(options: &Options, mut report: Report) -> Report {
     if let (None, Depth::Fixed(k), None) = (&options.random, options.eval.depth, report.depth) {
         report.depth = Some(k);
     }
     if report.vertices == 0 {
         report.warnings.push("the output is empty (every arrow dropped, or nothing to draw)".into());
     }
-    Ok(report)
+    report
+}
+
+/// Renders a design in `format` in memory: the bytes [`render`] writes to
+/// a file of that format, for a page or a notebook that wants them, not a
+/// file. Meshes, curves and point clouds (OBJ, OFF, PLY, STL, glTF) are
+/// streamed into the buffer as into a file (its side files, where a format
+/// needs them, in the temporary directory); PNG is [`picture_png`]'s.
+/// Coloured and deduplicated clouds, SVG and flam3 go to files only.
+///
+/// ```
+/// use bcifs::render::{Format, Options, render, render_bytes};
+/// let design = bcifs::builtin_design("doo_sabin_torus").unwrap();
+/// let options = Options::default().with_depth(3);
+/// let (report, glb) = render_bytes(&design, &options, Format::Glb)?;
+/// assert!(glb.starts_with(b"glTF") && report.bytes as usize == glb.len());
+/// let file = std::env::temp_dir().join(format!("bcifs-bytes-doc-{}.glb", std::process::id()));
+/// render(&design, &options, &file)?;
+/// assert_eq!(std::fs::read(&file)?, glb);
+/// # std::fs::remove_file(&file)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+///
+/// # Errors
+/// As [`render`]; [`RenderError::Unsupported`] for the outputs made in files only.
+pub fn render_bytes(design: &Design, options: &Options, format: Format) -> Result<(Report, Vec<u8>), RenderError> {
+    if format == Format::Png {
+        return picture_png(design, options, crate::export::Compression::Small);
+    }
+    if !format.is_geometry() || options.colour.is_some() && options.random.is_none() {
+        return Err(RenderError::Unsupported(format!(
+            "a .{} output is written to a file (render), not made in memory",
+            format.extension()
+        )));
+    }
+    let options = &prepared(design, options)?;
+    let mut report = Report { format: Some(format), ..Report::default() };
+    warn_unused(options, format, &mut report.warnings);
+    let buffer = crate::export::MemoryFile::new();
+    stream_file(design, options, format, &crate::export::Target::Memory(buffer.clone()), &mut report)?;
+    Ok((finished(options, report), buffer.take()))
 }
 
 /// Options given that this output does not use, as warnings.
@@ -143,19 +188,19 @@ fn stream_file(
     design: &Design,
     options: &Options,
     format: Format,
-    out: &Path,
+    out: &crate::export::Target,
     report: &mut Report,
 ) -> Result<(), RenderError> {
     let model = model_of(design)?;
     let instance = instantiate(design, &options.params)?;
     let threads = options.eval.threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
-    let io = write_error(options, out);
+    let io = write_error(options, out.path());
     let settings =
         WriteSettings { coordinates: options.coordinates, threads, raster: &options.raster, ascii: options.ascii };
     let mut writer = FileWriter::create(out, format, &settings)?;
     if let (Some(random), false) = (options.random_settings(), options.dedup) {
         let game = streaming_game(&instance.automaton, &model, &random)?;
-        check_disk(out, random.points as u128 * (3 + 22 * game.dim() as u128), 0, options.max_output)?;
+        check_room(out, random.points as u128 * (3 + 22 * game.dim() as u128), 0, options.max_output)?;
         let mut sink = writer.checked(&options.cancel);
         sink.object(design.name()).map_err(&io)?;
         match &options.palette {
@@ -185,7 +230,7 @@ fn stream_file(
             report.warnings.push("--uv gives texture coordinates to surfaces; this curve or point set has none".into());
         }
         if let Depth::Fixed(k) = options.eval.depth {
-            check_disk(out, ev.estimate_obj_bytes(k), 0, options.max_output)?;
+            check_room(out, ev.estimate_obj_bytes(k), 0, options.max_output)?;
         }
         let eval_error = |e: EvalError| match e {
             EvalError::Io(e) => io(e),

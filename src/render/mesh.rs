@@ -212,7 +212,7 @@ pub fn render_mesh(mesh: &PolyMesh, job: &MeshJob, options: &Options, out: &Path
     let coordinates = crate::export::Coordinates { y_up_input: true, ..options.coordinates };
     let threads = options.eval.threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
     let settings = WriteSettings { coordinates, threads, raster: &options.raster, ascii: options.ascii };
-    let mut writer = FileWriter::create(out, format, &settings)?;
+    let mut writer = FileWriter::create(&crate::export::Target::from(out), format, &settings)?;
     // Progress: the faces written against the estimate (streamed normals: the side files' half, then the file's).
     let total = u64::try_from(faces).unwrap_or(u64::MAX);
     let (total, done) = if spilled { (total.saturating_mul(2), total) } else { (total, 0) };
@@ -242,7 +242,7 @@ pub fn render_mesh(mesh: &PolyMesh, job: &MeshJob, options: &Options, out: &Path
     })?;
     report.vertices = written.vertices;
     report.faces = written.faces;
-    report.bytes = writer.finish(out)?;
+    report.bytes = writer.finish(&crate::export::Target::from(out))?;
     if let Some(progress) = &options.progress {
         // Done, whatever the estimate (digons are not counted).
         progress.report(total, total);

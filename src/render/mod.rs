@@ -29,10 +29,10 @@ mod options;
 mod shape;
 
 pub use crate::export::{Compression, png_bytes};
-pub use design::{density, evaluate_design, picture, picture_png, render};
+pub use design::{density, evaluate_design, picture, picture_png, render, render_bytes};
 pub use load::{LoadError, is_mesh_path, load, load_with_scheme};
 pub use mesh::{MeshJob, check_weights, render_mesh, rule_weights, subdivide_mesh};
-pub use options::{Format, Options, RenderError, Report, check_disk};
+pub use options::{Format, Options, RenderError, Report, check_disk, check_room};
 // The reports, for the front ends that import the library through this module alone.
 pub use crate::report::{
     CheckReport, CheckReportError, CurveAnalysis, DIMENSION_MEMORY, DimensionReport, ParameterRange, REGIONS,

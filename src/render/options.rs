@@ -295,6 +295,22 @@ impl From<crate::export::PictureError> for RenderError {
     }
 }
 
+/// [`check_disk`] for a file; for memory, the size limit alone (the output is held whole).
+///
+/// # Errors
+/// [`RenderError::TooBig`] with the estimate and the limit.
+pub fn check_room(target: &crate::export::Target, estimate: u128, side: u128, max: u128) -> Result<(), RenderError> {
+    match target {
+        crate::export::Target::Path(path) => check_disk(path, estimate, side, max),
+        crate::export::Target::Memory(_) if max > 0 && estimate > max => Err(RenderError::TooBig(format!(
+            "the output would take about {}, over the limit of {} for an output made in memory",
+            crate::progress::bytes_text(estimate),
+            crate::progress::bytes_text(max)
+        ))),
+        crate::export::Target::Memory(_) => Ok(()),
+    }
+}
+
 /// Refuses an output whose estimated size is over `max` (0: no limit) or
 /// over the free space of the target's disk (with its side files, a
 /// streamed file peaks at about 1.5 times its size), plus `side` bytes of

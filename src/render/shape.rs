@@ -81,13 +81,13 @@ fn write_shape_with(
                     "an OFF file holds faces and points, not curves: write curves as .obj or .svg".into(),
                 ));
             }
-            let mut writer = FileWriter::create(out, format, settings)?;
+            let mut writer = FileWriter::create(&crate::export::Target::from(out), format, settings)?;
             let mut sink = writer.checked(&options.cancel);
             if shape.objects.is_empty() {
                 sink.object(name).map_err(&io)?;
             }
             shape.replay(&mut sink).map_err(&io)?;
-            report.bytes = writer.finish(out)?;
+            report.bytes = writer.finish(&crate::export::Target::from(out))?;
             return Ok(report);
         }
     };

@@ -294,3 +294,56 @@ fn pictures_in_memory_are_the_files() {
     assert!(picture_png(&bcifs::render::load("fern").unwrap(), &coloured, Compression::Small).is_err());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Issue 43 §3: every streamed output made in memory is the file `render`
+/// writes, byte for byte: a curve, a surface (its normals and, in glTF, its
+/// binary chunk), a chaos-game cloud and a deduplicated one, in each format
+/// the explorer exports and the others streamed; nothing is left in the
+/// temporary directory; the outputs made in files only say so.
+#[test]
+fn outputs_in_memory_are_the_files() {
+    use bcifs::eval::RandomSettings;
+    use bcifs::render::render_bytes;
+    let dir = scratch("bytes");
+    let cloud = Options { random: Some(RandomSettings::default().with_points(5_000)), ..Options::default() };
+    let cases = [
+        ("corner_cutting", Options::default().with_depth(6), vec![Format::Obj, Format::Ply, Format::Glb]),
+        (
+            "doo_sabin_torus",
+            Options::default().with_depth(3),
+            vec![Format::Obj, Format::Off, Format::Ply, Format::Stl, Format::Glb],
+        ),
+        ("fern", cloud.clone(), vec![Format::Obj, Format::Ply, Format::Glb]),
+        ("gasket", Options { dedup: true, ..Options::default().with_depth(5) }, vec![Format::Obj, Format::Ply]),
+        ("koch", Options::default().with_size(90, 60), vec![Format::Png]),
+    ];
+    let temporaries = || {
+        std::fs::read_dir(std::env::temp_dir())
+            .unwrap()
+            .flatten()
+            .filter(|e| e.file_name().to_string_lossy().contains(&format!(".{}.", std::process::id())))
+            .count()
+    };
+    for (name, options, formats) in cases {
+        let design = bcifs::render::load(name).unwrap();
+        for format in formats {
+            let file = dir.join(format!("{name}.{}", format.extension()));
+            let written = render(&design, &options, &file).unwrap();
+            let (report, bytes) = render_bytes(&design, &options, format).unwrap();
+            assert_eq!(std::fs::read(&file).unwrap(), bytes, "{name} .{}", format.extension());
+            assert_eq!(
+                (report.bytes, report.vertices, report.faces),
+                (written.bytes, written.vertices, written.faces),
+                "{name} .{}",
+                format.extension()
+            );
+        }
+    }
+    assert_eq!(temporaries(), 0, "side files of outputs in memory are removed");
+    let design = bcifs::render::load("koch").unwrap();
+    for format in [Format::Svg, Format::Flame] {
+        let e = render_bytes(&design, &cloud, format).unwrap_err().to_string();
+        assert!(e.contains("written to a file"), "{e}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

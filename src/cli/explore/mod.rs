@@ -16,7 +16,6 @@
 use std::collections::HashMap;
 use std::io::Read as _;
 use std::net::SocketAddr;
-use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
@@ -73,11 +72,9 @@ type Parameter = bcifs::render::ParameterRange;
 struct Explorer {
     design: Design,
     parameters: Vec<Parameter>,
-    scratch: PathBuf,
     slots: Mutex<HashMap<String, (u64, Cancel)>>,
     deadlines: Mutex<Vec<(Instant, Cancel)>>,
     sweeps: Mutex<HashMap<String, bcifs::render::SweepValues>>,
-    counter: std::sync::atomic::AtomicU64,
     /// Whether the maps of a curve family (regions, angles) can be drawn:
     /// offered by the page only then.
     curve_maps: bool,
@@ -147,16 +144,12 @@ impl Explorer {
             let plane = bcifs::analysis::ParameterPlane::line(&p.name, p.default, p.default + 1e-9, 1);
             bcifs::render::sweep(&design, &plane, SweepKind::Angle, false, 0..1).is_ok()
         });
-        let scratch = std::env::temp_dir().join(format!("bcifs-explore-{}", std::process::id()));
-        std::fs::create_dir_all(&scratch).with_context(|| format!("cannot create {}", scratch.display()))?;
         Ok(Explorer {
             design,
             parameters,
-            scratch,
             slots: Mutex::new(HashMap::new()),
             deadlines: Mutex::new(Vec::new()),
             sweeps: Mutex::new(HashMap::new()),
-            counter: 0.into(),
             curve_maps,
             heavy: (Mutex::new(0), std::sync::Condvar::new()),
         })
@@ -301,15 +294,12 @@ impl Explorer {
         Ok(options)
     }
 
-    /// Renders to a scratch file of extension `ext` and returns its bytes.
+    /// The bytes `render` would write to a file of extension `ext`, made in memory.
     fn render_bytes(&self, options: &Options, ext: &str) -> std::result::Result<Vec<u8>, Answer> {
         let _turn = self.admit(&options.cancel)?;
-        let id = self.counter.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-        let path = self.scratch.join(format!("r{id}.{ext}"));
-        let answer = rendered(bcifs::render::render(&self.design, options, &path), options)
-            .and_then(|_| std::fs::read(&path).map_err(|e| Answer::error(500, e)));
-        let _ = std::fs::remove_file(&path);
-        answer
+        let format =
+            bcifs::render::Format::of(std::path::Path::new(&format!("x.{ext}"))).map_err(|e| Answer::error(404, e))?;
+        Ok(rendered(bcifs::render::render_bytes(&self.design, options, format), options)?.1)
     }
 
     /// The picture `render` would write, drawn in memory and encoded for the
@@ -777,7 +767,6 @@ pub fn run(args: ExploreArgs) -> Result<u8> {
     for w in workers {
         let _ = w.join();
     }
-    let _ = std::fs::remove_dir_all(&explorer.scratch);
     bail!("stopped")
 }
 

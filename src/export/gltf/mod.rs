@@ -7,7 +7,7 @@ use std::path::Path;
 
 use serde_json::{Value, json};
 
-use super::atomic::{AtomicFile, Spool};
+use super::atomic::{AtomicFile, Spool, Target};
 use super::axes::{Coordinates, Up};
 use crate::geometry::Sink;
 
@@ -173,10 +173,18 @@ impl GltfWriter {
     /// # Errors
     /// The temporary files cannot be created.
     pub fn create(path: &Path) -> io::Result<GltfWriter> {
+        GltfWriter::create_in(&Target::from(path))
+    }
+
+    /// Starts writing `target`: a file, or a buffer ([`Target::Memory`]).
+    ///
+    /// # Errors
+    /// The temporary files cannot be created.
+    pub fn create_in(target: &Target) -> io::Result<GltfWriter> {
         Ok(GltfWriter {
             coordinates: Coordinates::default(),
-            main: Some(AtomicFile::create(path)?),
-            bin: Some(Spool::create(path, "elements")?),
+            main: Some(AtomicFile::create_in(target)?),
+            bin: Some(Spool::create(&target.beside(), "elements")?),
             bin_len: 0,
             buffer_views: Vec::new(),
             accessors: Vec::new(),
@@ -184,9 +192,9 @@ impl GltfWriter {
             nodes: Vec::new(),
             material: false,
             current: Part::default(),
-            positions: Spool::create(path, "elements")?,
-            normals: Spool::create(path, "elements")?,
-            corners: Spool::create(path, "elements")?,
+            positions: Spool::create(&target.beside(), "elements")?,
+            normals: Spool::create(&target.beside(), "elements")?,
+            corners: Spool::create(&target.beside(), "elements")?,
             base: 0,
             uv_base: 0,
             colours: Vec::new(),
