@@ -85,7 +85,7 @@ fn run_fit(
 ) -> Result<u8> {
     let (tolerance, bcifs::contour::Ipan { d_min, d_max, alpha_max }) = (settings.tolerance, settings.ipan);
     // The fit is a segments file (TOML): a picture's extension would hold text.
-    super::check_output(output, &["toml"], &[image])?;
+    crate::cli::common::check_output(output, &["toml"], &[image])?;
     if !(tolerance > 0.0 && tolerance.is_finite()) {
         anyhow::bail!("--tolerance {tolerance}: expected a positive number of pixels");
     }

@@ -9,7 +9,7 @@ use bcifs::SolveError;
 use bcifs::analysis::{DEFAULT_CHECK_TOLERANCE, check};
 use bcifs::schemes::{curve, quad_patch};
 
-use super::{load, parse_params};
+use crate::cli::common::{load, parse_params};
 
 #[derive(Subcommand)]
 pub enum Topology {

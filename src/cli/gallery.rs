@@ -10,8 +10,8 @@ use bcifs::geometry::Shape;
 use bcifs::schemes::mesh_automaton;
 use bcifs::{CellKind, Design, Layout, Progress, instantiate};
 
-use super::progress_bar;
 use super::render::{SchemeForm, normal_shape, warn};
+use crate::cli::common::progress_bar;
 use bcifs::render::{Options as RenderOptions, RenderError, Report as RenderSummary, model_of, write_shape};
 
 /// Renders with the library, its warnings and notes told on stderr.

@@ -8,7 +8,7 @@ use bcifs::eval::{EvalError, EvalSettings};
 use bcifs::geometry::Shape;
 use bcifs::render::{Options, RenderError, Report, control_net, evaluate_design, model_of, write_shape};
 
-use super::{check_threads, load, parse_params, progress_bar};
+use crate::cli::common::{check_threads, load, parse_params, progress_bar};
 
 /// The arguments of `bcifs render`.
 #[derive(clap::Args)]
@@ -40,7 +40,7 @@ pub struct RenderArgs {
     #[arg(long)]
     pub threads: Option<usize>,
     #[command(flatten)]
-    pub picture: super::PictureArgs,
+    pub picture: crate::cli::common::PictureArgs,
     /// Output file: .obj, .off, .ply, .stl (streamed), .glb, .svg, .png, or .flame (a plain IFS of the plane).
     #[arg(short, long)]
     pub output: PathBuf,
@@ -114,7 +114,11 @@ pub struct RenderArgs {
 
 /// `bcifs render`: evaluates a design with its model and writes the file.
 pub fn run(args: RenderArgs) -> anyhow::Result<u8> {
-    super::check_output(&args.output, &super::render_formats(), &[std::path::Path::new(&args.file)])?;
+    crate::cli::common::check_output(
+        &args.output,
+        &crate::cli::common::render_formats(),
+        &[std::path::Path::new(&args.file)],
+    )?;
     let design = load(&args.file)?;
     let started = std::time::Instant::now();
     if args.control {
@@ -164,8 +168,8 @@ fn options(args: &RenderArgs) -> anyhow::Result<Options> {
     options.ascii = args.ascii;
     options.max_output = (args.max_output_gib * (1u64 << 30) as f64) as u128;
     options.progress = progress_bar();
-    options.cancel = super::interrupt().clone();
-    options.provenance = Some(super::command_line());
+    options.cancel = crate::cli::common::interrupt().clone();
+    options.provenance = Some(crate::cli::common::command_line());
     if let Some(n) = args.random {
         let mut r = bcifs::eval::RandomSettings::default().with_points(n).with_seed(args.seed);
         r.threads = threads;

@@ -6,7 +6,7 @@ use anyhow::{Context, Result, bail};
 use clap::Subcommand;
 
 use super::render::{SchemeForm, normal_shape, print_report};
-use super::{keyword, progress_bar};
+use crate::cli::common::{keyword, progress_bar};
 use bcifs::render::{Options as RenderOptions, render, write_shape};
 
 #[derive(Subcommand)]
@@ -27,7 +27,7 @@ pub struct SchemeOutput {
     #[arg(long)]
     print: bool,
     #[command(flatten)]
-    picture: super::PictureArgs,
+    picture: crate::cli::common::PictureArgs,
     /// Output file: .obj, .off, .ply, .stl, .glb, .svg or .png.
     #[arg(short, long, required_unless_present = "print")]
     output: Option<PathBuf>,
@@ -98,7 +98,7 @@ fn run_ifs(out: &mut String, args: IfsArgs) -> Result<u8> {
         return Ok(0);
     }
     let output = args.out.output.context("give -o OUT (.png, .svg, .obj, .ply, .glb, ...)")?;
-    super::check_output(&output, &super::render_formats(), &[])?;
+    crate::cli::common::check_output(&output, &crate::cli::common::render_formats(), &[])?;
     let mut options = RenderOptions::default();
     options.eval.depth = bcifs::eval::Depth::Fixed(args.depth);
     options.eval.dropped = args.drop;
@@ -233,7 +233,7 @@ fn run_normal(out: &mut String, args: NormalArgs) -> Result<u8> {
     let form = args.form;
     let depth = args.depth.unwrap_or(preset.depth);
     let output = args.out.output.context("give -o OUT (.png, .svg, .obj, .ply, .glb, ...)")?;
-    super::check_output(&output, &super::render_formats(), &[])?;
+    crate::cli::common::check_output(&output, &crate::cli::common::render_formats(), &[])?;
 
     let started = std::time::Instant::now();
     let shape = normal_shape(&preset, depth, form, bcifs::eval::DEFAULT_MEMORY_LIMIT)?;

@@ -10,8 +10,8 @@ use bcifs::mesh::{PolyMesh, Scheme, read_mesh};
 use bcifs::render::{MeshJob, Options, render_mesh, rule_weights};
 use bcifs::schemes::mesh_automaton;
 
-use super::parse_params;
 use super::render::print_report;
+use crate::cli::common::parse_params;
 
 /// The arguments of `bcifs surface`.
 #[derive(clap::Args)]
@@ -43,7 +43,7 @@ pub struct SurfaceArgs {
     #[arg(short, long, required_unless_present = "print")]
     pub output: Option<PathBuf>,
     #[command(flatten)]
-    pub picture: super::PictureArgs,
+    pub picture: crate::cli::common::PictureArgs,
     /// The input's texture coordinates: `keep` them, subdivided face-varying with linear seams
     /// (Catmull-Clark and Loop, into OBJ and glTF), or `none`.
     #[arg(long, value_enum, default_value_t = UvMode::Keep)]
@@ -82,7 +82,7 @@ pub fn run(out: &mut String, args: SurfaceArgs) -> anyhow::Result<u8> {
         return print_automaton(out, &args, &mesh, &job, started);
     }
     let Some(output) = args.output.clone() else { bail!("give the output file with -o") };
-    super::check_output(&output, &super::render_formats(), &[&args.mesh])?;
+    crate::cli::common::check_output(&output, &crate::cli::common::render_formats(), &[&args.mesh])?;
     if !(args.max_output_gib.is_finite() && args.max_output_gib > 0.0) {
         bail!("--max-output-gib {}: expected a positive number of GiB", args.max_output_gib);
     }
@@ -90,10 +90,10 @@ pub fn run(out: &mut String, args: SurfaceArgs) -> anyhow::Result<u8> {
     options.eval.memory_limit = args.picture.memory();
     options.raster = args.picture.raster();
     options.max_output = (args.max_output_gib * (1u64 << 30) as f64) as u128;
-    options.cancel = super::interrupt().clone();
-    options.progress = super::progress_bar();
+    options.cancel = crate::cli::common::interrupt().clone();
+    options.progress = crate::cli::common::progress_bar();
     options.ascii = args.ascii;
-    options.provenance = Some(super::command_line());
+    options.provenance = Some(crate::cli::common::command_line());
     let report = render_mesh(&mesh, &job, &options, &output)?;
     let label =
         format!("{} ({}, depth {}{})", job.name, scheme.name(), args.depth, if args.net { ", net" } else { "" });

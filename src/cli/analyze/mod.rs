@@ -170,7 +170,7 @@ fn run_map(
         bail!("--size must be between 1 and 4096");
     }
     let kind: SweepKind = what.parse()?;
-    let design = super::load(file)?;
+    let design = crate::cli::common::load(file)?;
     let plane = plane((x, y), size)?;
     let started = std::time::Instant::now();
     let values = bcifs::render::sweep(&design, &plane, kind, thorough, 0..size)?;
@@ -257,11 +257,15 @@ fn run_map(
 /// Runs a `bcifs analyze` command.
 pub fn run(out: &mut String, what: AnalyzeCommand) -> Result<u8> {
     match &what {
-        AnalyzeCommand::Ternary5 { output, .. } => super::check_output(output, &["png"], &[])?,
-        AnalyzeCommand::Blend { output, file, .. } => super::check_output(output, &["png"], &[Path::new(file)])?,
-        AnalyzeCommand::Map { output, file, .. } => super::check_output(output, &["png", "csv"], &[Path::new(file)])?,
+        AnalyzeCommand::Ternary5 { output, .. } => crate::cli::common::check_output(output, &["png"], &[])?,
+        AnalyzeCommand::Blend { output, file, .. } => {
+            crate::cli::common::check_output(output, &["png"], &[Path::new(file)])?
+        }
+        AnalyzeCommand::Map { output, file, .. } => {
+            crate::cli::common::check_output(output, &["png", "csv"], &[Path::new(file)])?
+        }
         AnalyzeCommand::Curve { output: Some(output), file, .. } => {
-            super::check_output(output, &["png", "csv"], &[Path::new(file)])?;
+            crate::cli::common::check_output(output, &["png", "csv"], &[Path::new(file)])?;
         }
         _ => {}
     }
@@ -277,7 +281,7 @@ pub fn run(out: &mut String, what: AnalyzeCommand) -> Result<u8> {
         AnalyzeCommand::Curve { file, params, json, map: None, .. } => run_curve(out, &file, &params, json),
         AnalyzeCommand::Curve { file, params, map: Some(kind), x, y, size, threshold, output, .. } => {
             let (x, y, output) = (x.unwrap_or_default(), y.unwrap_or_default(), output.unwrap_or_default());
-            let marker = super::parse_params(&params)?;
+            let marker = crate::cli::common::parse_params(&params)?;
             run_curve_map(out, &file, &kind, (&x, &y), (size, threshold, &marker), &output)
         }
     }
@@ -285,8 +289,8 @@ pub fn run(out: &mut String, what: AnalyzeCommand) -> Result<u8> {
 
 /// `bcifs analyze dimension`.
 fn run_dimension(out: &mut String, file: &str, params: &[String], as_json: bool) -> Result<u8> {
-    let design = super::load(file)?;
-    let values = super::parse_params(params)?;
+    let design = crate::cli::common::load(file)?;
+    let values = crate::cli::common::parse_params(params)?;
     let report =
         bcifs::render::dimension_report(&design, &values).map_err(|e| anyhow::anyhow!("{}: {e}", design.name()))?;
     if as_json {
@@ -324,8 +328,8 @@ fn run_dimension(out: &mut String, file: &str, params: &[String], as_json: bool)
 
 /// `bcifs analyze curve`.
 fn run_curve(out: &mut String, file: &str, params: &[String], as_json: bool) -> Result<u8> {
-    let design = super::load(file)?;
-    let values = super::parse_exact_params(params)?;
+    let design = crate::cli::common::load(file)?;
+    let values = crate::cli::common::parse_exact_params(params)?;
     let analysis =
         bcifs::render::curve_analysis(&design, &values).map_err(|e| anyhow::anyhow!("{}: {e}", design.name()))?;
     if as_json {
@@ -500,7 +504,7 @@ fn run_curve_map(
     if !(threshold.is_finite() && threshold > 0.0) {
         bail!("--threshold {threshold}: expected a positive angle in degrees");
     }
-    let design = super::load(file)?;
+    let design = crate::cli::common::load(file)?;
     let root = design.model().map(|m| m.root(0).to_string()).context("the design has no [model] naming its root")?;
     let family = bcifs::solve(&design).map_err(|e| anyhow::anyhow!("{}: {e}", design.name()))?;
     let plane = plane((x, y), size)?;
@@ -540,8 +544,8 @@ fn run_blend(out: &mut String, file: &str, params: &[String], depth: usize, outp
     if depth == 0 || depth > 16 {
         bail!("--depth must be between 1 and 16");
     }
-    let design = super::load(file)?;
-    let values = super::parse_params(params)?;
+    let design = crate::cli::common::load(file)?;
+    let values = crate::cli::common::parse_params(params)?;
     let instance = bcifs::instantiate(&design, &values).map_err(|e| anyhow::anyhow!("{}: {e}", design.name()))?;
     let [e0, e1] =
         bcifs::render::curve_halves(&design, &instance).map_err(|e| anyhow::anyhow!("{}: {e}", design.name()))?;

@@ -23,7 +23,7 @@ pub fn run_ternary5(
     }
     // In chunks, with a progress bar on a terminal.
     let all = omegas(from, to, steps);
-    let bar = crate::cli::progress_bar();
+    let bar = crate::cli::common::progress_bar();
     let mut rows = Vec::with_capacity(all.len());
     for chunk in all.chunks(32) {
         rows.extend(ternary5_rows(chunk));

@@ -743,7 +743,7 @@ pub fn run(args: ExploreArgs) -> Result<u8> {
     for _ in 0..WORKERS {
         let (server, explorer) = (server.clone(), explorer.clone());
         workers.push(std::thread::spawn(move || {
-            while !super::interrupt().is_cancelled() {
+            while !crate::cli::common::interrupt().is_cancelled() {
                 match server.recv_timeout(Duration::from_millis(200)) {
                     // A panic while answering loses that answer, never the worker.
                     Ok(Some(request)) => {
@@ -759,7 +759,7 @@ pub fn run(args: ExploreArgs) -> Result<u8> {
             }
         }));
     }
-    while !super::interrupt().is_cancelled() {
+    while !crate::cli::common::interrupt().is_cancelled() {
         explorer.expire();
         std::thread::sleep(Duration::from_millis(100));
     }
