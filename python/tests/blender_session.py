@@ -78,7 +78,9 @@ def operators():
     state.params["alpha"].value = 0.7
     assert bpy.ops.bcifs.map(size=64) == {"FINISHED"}
     image = bpy.data.images[f"BC-IFS map {torus.name}"]
-    seen["map"] = {"size": list(image.size)}
+    pixels = list(image.pixels[:])
+    rgb = {tuple(round(255 * c) for c in pixels[k : k + 3]) for k in range(0, len(pixels), 4)}
+    seen["map"] = {"size": list(image.size), "colours": sorted(rgb)}
     assert bpy.ops.bcifs.add(source="koch", depth=4) == {"FINISHED"}
     koch = bpy.context.active_object
     seen["koch"] = {"type": koch.type, "splines": len(koch.data.splines), "vertices": vertices(koch), "poly": koch.data.splines[0].type}

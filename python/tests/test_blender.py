@@ -15,6 +15,8 @@ import sys
 import numpy as np
 import pytest
 
+import bcifs
+
 from test_module import cli, read_obj
 
 HERE = pathlib.Path(__file__).resolve().parent
@@ -101,6 +103,11 @@ def test_a_parameter_changes_the_mesh_as_the_cli_does(operators, tmp_path):
     assert divergent["verdict"] == "diverges" and ("contractive" in divergent["message"] or "diverge" in divergent["message"])
     assert divergent["vertices"] == len(vertices), "the last good mesh is kept"
     assert operators["map"]["size"] == [64, 64]
+    # The library's palette (bcifs.map_colours), as `analyze map` draws it, and the black cross.
+    palette = {tuple(c) for c in bcifs.map_colours(np.array([[1, 0, -1, -2]])).reshape(-1, 3).tolist()}
+    drawn = {tuple(c) for c in operators["map"]["colours"]}
+    assert (0, 0, 0) in drawn and (150, 205, 150) in drawn, drawn
+    assert drawn <= palette | {(0, 0, 0)}, drawn - palette
 
 
 def test_curves_are_poly_splines_or_edges_and_clouds_vertices(operators, tmp_path):
