@@ -380,12 +380,14 @@ fn design_entry(
     // picture's budget (Barnsley's fern: 646,000 points, 0.3 s; depth 6 was a faint scatter, its
     // stem's map contracts by 0.16 and its leaves' by 0.85); its geometry files keep the file budget.
     let mut picture = options.clone();
-    if plain_ifs && affine {
-        if let Some(eps) = gallery_tolerance(design, budget)? {
+    // The files' budget is the smaller: it is tried only when the picture's fits.
+    if plain_ifs
+        && affine
+        && let Some(eps) = gallery_tolerance(design, GALLERY_PICTURE_BUDGET_BYTES)?
+    {
+        picture.eval.depth = Depth::Tolerance(eps);
+        if gallery_tolerance(design, budget)?.is_some() {
             options.eval.depth = Depth::Tolerance(eps);
-        }
-        if let Some(eps) = gallery_tolerance(design, GALLERY_PICTURE_BUDGET_BYTES)? {
-            picture.eval.depth = Depth::Tolerance(eps);
         }
     }
     let png = format!("{name}.png");

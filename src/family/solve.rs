@@ -111,14 +111,13 @@ fn solve_now(design: &Design) -> Result<Family, SolveError> {
     eqs.retain(|e| !e.form.terms().is_empty() || e.form.constant_term().is_exact());
     identities += before - eqs.len();
     let elim = eliminate(design, &eqs)?;
-    let mut family = family_of(design, &elim, eqs.len())?;
-    family.constraints = constraints;
-    family.identities = identities;
-    Ok(family)
+    family_of(design, &elim, [constraints, eqs.len(), identities])
 }
 
 /// The family read off the reduced system: every variable in the free ones.
-fn family_of(design: &Design, elim: &Eliminator, equations: usize) -> Result<Family, SolveError> {
+/// `counts`: the distinct constraints, the scalar equations solved, those that held identically.
+fn family_of(design: &Design, elim: &Eliminator, counts: [usize; 3]) -> Result<Family, SolveError> {
+    let [constraints, equations, identities] = counts;
     // Free variables: the user's names in declaration order, then the others.
     let nvars = design.variables().len();
     let mut free: Vec<usize> = (0..nvars).filter(|v| !elim.pivot_of.contains_key(v)).collect();
@@ -175,7 +174,7 @@ fn family_of(design: &Design, elim: &Eliminator, equations: usize) -> Result<Fam
             }
         })
         .collect();
-    Ok(Family { automaton, parameters, variables, constraints: 0, equations, identities: 0, rank: elim.rows.len() })
+    Ok(Family { automaton, parameters, variables, constraints, equations, identities, rank: elim.rows.len() })
 }
 
 /// Why parameter values could not be applied.

@@ -325,16 +325,19 @@ fn flame_file(design: &Design, options: &Options, out: &Path, report: &mut Repor
 /// assert!(img.pixels().any(|p| p.0 != [255, 255, 255]));
 /// ```
 pub fn picture(design: &Design, options: &Options) -> Result<image::RgbImage, RenderError> {
+    let options = &picture_options(design, options)?;
+    Ok(png_image(design, options, &mut Report::default())?.0)
+}
+
+/// The options of a picture made in memory ([`prepared`]); coloured and
+/// deduplicated clouds are drawn into files only.
+fn picture_options(design: &Design, options: &Options) -> Result<Options, RenderError> {
     if options.colour.is_some() || options.dedup {
         return Err(RenderError::Unsupported(
             "coloured and deduplicated clouds are drawn by render() into a .png file".into(),
         ));
     }
-    let options = &prepared(design, options)?;
-    match options.random_settings() {
-        Some(random) => density_with(design, options, &random),
-        None => Ok(deterministic_image(design, options, &mut Report::default())?.0),
-    }
+    prepared(design, options)
 }
 
 /// The options of one output of `design`: not cancelled, a model in a mesh
@@ -405,22 +408,14 @@ pub fn picture_png(
     options: &Options,
     compression: crate::export::Compression,
 ) -> Result<(Report, Vec<u8>), RenderError> {
-    if options.colour.is_some() || options.dedup {
-        return Err(RenderError::Unsupported(
-            "coloured and deduplicated clouds are drawn by render() into a .png file".into(),
-        ));
-    }
-    let options = &prepared(design, options)?;
+    let options = &picture_options(design, options)?;
     let mut report = Report { format: Some(Format::Png), ..Report::default() };
     warn_unused(options, Format::Png, &mut report.warnings);
     let (img, matte) = png_image(design, options, &mut report)?;
     let png = crate::export::png_bytes(&img, &options.png_text(design.name()), matte, compression)
         .map_err(|e| RenderError::Unsupported(format!("cannot encode the picture: {e}")))?;
     report.bytes = png.len() as u64;
-    if let (None, Depth::Fixed(k), None) = (&options.random, options.eval.depth, report.depth) {
-        report.depth = Some(k);
-    }
-    Ok((report, png))
+    Ok((finished(options, report), png))
 }
 
 /// The pixels of a `.png` output and its matte (`--transparent`): the

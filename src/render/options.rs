@@ -76,7 +76,15 @@ impl Format {
     /// # Errors
     /// [`RenderError::Format`] for an extension no writer has.
     pub fn of(path: &Path) -> Result<Format, RenderError> {
-        let ext = path.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
+        Format::from_extension(&path.extension().map(|e| e.to_string_lossy()).unwrap_or_default())
+    }
+
+    /// The format of an extension without its dot (any case): `obj`, `glb`…
+    ///
+    /// # Errors
+    /// [`RenderError::Format`] for an extension no writer has.
+    pub fn from_extension(extension: &str) -> Result<Format, RenderError> {
+        let ext = extension.to_lowercase();
         Format::ALL.into_iter().find(|f| f.extension() == ext).ok_or(RenderError::Format(ext))
     }
 }
