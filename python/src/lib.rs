@@ -607,7 +607,12 @@ fn sweep_rows<'py>(
 fn map_colours<'py>(py: Python<'py>, values: &Bound<'py, PyAny>, what: &str) -> PyResult<Bound<'py, PyAny>> {
     let kind: bcifs::render::SweepKind = what.parse().map_err(err)?;
     let numpy = py.import("numpy")?;
-    let array: PyReadonlyArray2<f64> = numpy.call_method1("asarray", (values, "float64"))?.extract()?;
+    let values = numpy.call_method1("asarray", (values, "float64"))?;
+    let ndim: usize = values.getattr("ndim")?.extract()?;
+    if ndim != 2 {
+        return Err(BcifsError::new_err(format!("values: a 2-D array (rows, columns) of a sweep; got {ndim}-D")));
+    }
+    let array: PyReadonlyArray2<f64> = values.extract()?;
     let view = array.as_array();
     let (rows, columns) = view.dim();
     let mut out = Array3::<u8>::zeros((rows, columns, 3));

@@ -507,3 +507,11 @@ def test_map_colours_are_the_library_palette():
     assert len({tuple(c) for c in coloured.reshape(-1, 3)}) > 4, "angles take the hues of Fig. 11"
     with pytest.raises(bcifs.BcifsError):
         bcifs.map_colours(codes, "colour")
+    # Values that are none of a kind's (NaN, out of range, huge) are the grey of "nothing", never a panic.
+    odd = np.array([[np.nan, 1e308, -1e308, 0.5, 10.0, -3.0]])
+    for what in ("verdict", "region", "angle", "dimension"):
+        assert bcifs.map_colours(odd, what).shape == (1, 6, 3)
+    assert (bcifs.map_colours(odd, "region") == (228, 228, 228)).all()
+    for bad in ([1, 2, 3], [[[1]]]):
+        with pytest.raises(bcifs.BcifsError, match="2-D"):
+            bcifs.map_colours(bad)

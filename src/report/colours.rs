@@ -54,15 +54,19 @@ pub fn region_colour(region: Option<&str>) -> [u8; 3] {
     }
 }
 
-/// The colour of a sweep's pixel value.
+/// The colour of a sweep's pixel value; a value that is none of the kind's
+/// (NaN, a code out of range) takes the grey of "nothing here".
 pub fn sweep_colour(kind: SweepKind, v: f64) -> [u8; 3] {
+    const NOTHING: [u8; 3] = [228, 228, 228];
+    let code = (v.is_finite() && v.fract() == 0.0).then_some(v);
     match kind {
-        SweepKind::Verdict => verdict_colour(v as i8),
-        SweepKind::Region => match REGIONS[v as usize] {
-            "undecided" => region_colour(None),
-            r => region_colour(Some(r)),
+        SweepKind::Verdict => code.filter(|c| (-2.0..=1.0).contains(c)).map_or(NOTHING, |c| verdict_colour(c as i8)),
+        SweepKind::Region => match code.and_then(|c| REGIONS.get(usize::try_from(c as i64).ok()?)) {
+            Some(&"undecided") => region_colour(None),
+            Some(r) => region_colour(Some(r)),
+            None => NOTHING,
         },
-        SweepKind::Angle if v.is_nan() => [228, 228, 228],
+        SweepKind::Angle if v.is_nan() => NOTHING,
         SweepKind::Angle => angle_colour(v),
         SweepKind::Dimension => dimension_colour(v),
     }
