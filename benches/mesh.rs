@@ -92,7 +92,7 @@ fn normals_streamed(c: &mut Criterion) {
     let job = MeshJob::new(Scheme::Loop, 8);
     let path = scratch("normals").with_extension("obj");
     let mut streamed = Options::default();
-    streamed.eval.memory_limit = 64 << 20;
+    streamed.budget.memory = 64 << 20;
     for (name, options) in [("in_memory", Options::default()), ("streamed", streamed)] {
         g.bench_function(name, |b| b.iter(|| black_box(render_mesh(&ico, &job, &options, &path).expect("writes"))));
     }

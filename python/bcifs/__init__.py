@@ -23,6 +23,8 @@ from ._bcifs import (
     dimension,
     load,
     map_colours,
+    option_keys,
+    profile,
     subdivide,
     sweep_rows,
 )
@@ -37,6 +39,8 @@ __all__ = [
     "dimension",
     "load",
     "map_colours",
+    "option_keys",
+    "profile",
     "subdivide",
     "sweep",
 ]

@@ -47,46 +47,61 @@ class Design:
     def check(self, **params: float) -> dict[str, Any]: ...
     def _repr_png_(self) -> bytes: ...
     def mesh(
-        self, depth: Optional[int] = None, tolerance: Optional[float] = None, uv: bool = False, force: bool = False, **params: float
+        self,
+        depth: Optional[int] = None,
+        tolerance: Optional[float] = None,
+        uv: Optional[bool] = None,
+        force: Optional[bool] = None,
+        **params: float,
     ) -> Mesh: ...
-    def points(self, samples: int, seed: int = 0, **params: float) -> npt.NDArray[np.float64]: ...
+    def points(self, samples: int, seed: Optional[int] = None, **params: float) -> npt.NDArray[np.float64]: ...
     def density(
         self,
         samples: int,
-        size: tuple[int, int] = (800, 800),
-        seed: int = 0,
+        size: Optional[tuple[int, int]] = None,
+        seed: Optional[int] = None,
         palette: Optional[str] = None,
         **params: float,
     ) -> npt.NDArray[np.uint8]: ...
     def render(
         self,
         path: Union[str, os.PathLike[str]],
+        progress: Optional[Callable[[int, int], Any]] = None,
+        *,
+        # The keys of `option_keys()`, in its order (the library's one description of them).
+        params: Optional[dict[str, Union[float, str]]] = None,
         depth: Optional[int] = None,
         tolerance: Optional[float] = None,
         samples: Optional[int] = None,
         seed: int = 1,
-        size: tuple[int, int] = (800, 800),
-        palette: Optional[str] = None,
-        progress: Optional[Callable[[int, int], Any]] = None,
-        *,
-        probs: Optional[dict[str, float]] = None,
+        probs: Optional[dict[str, Union[float, str]]] = None,
         drop: Optional[Sequence[str]] = None,
-        tone: Optional[dict[str, Union[float, str]]] = None,
-        up: str = "y",
-        ascii: bool = False,
-        precision: Optional[int] = None,
+        force: bool = False,
+        threads: Optional[int] = None,
+        memory_mib: int = 4096,
+        max_output_gib: float = 4.0,
+        size: tuple[int, int] = (800, 800),
+        view: tuple[float, float] = (30.0, 35.0),
+        transparent: bool = False,
+        palette: Optional[str] = None,
         colour: Optional[str] = None,
         colours: Optional[dict[str, float]] = None,
         colour_speed: float = 0.5,
+        brightness: float = 1.0,
+        gamma: float = 2.2,
+        supersample: int = 1,
+        vibrancy: float = 1.0,
+        blur: float = 0.0,
+        blur_curve: float = 0.4,
+        background: Optional[str] = None,
         uv: bool = False,
+        up: str = "y",
+        ascii: bool = False,
+        precision: Optional[int] = None,
         dedup: bool = False,
-        force: bool = False,
-        threads: Optional[int] = None,
-        memory_mib: Optional[int] = None,
-        max_output_gib: float = 4.0,
-        view: tuple[float, float] = (30.0, 35.0),
-        transparent: bool = False,
-        **params: float,
+        # Python's own: the tone keys as one dict.
+        tone: Optional[dict[str, Union[float, str]]] = None,
+        **options: float,
     ) -> dict[str, Any]: ...
 
 def load(name_or_path: str, scheme: Optional[str] = None) -> Design: ...
@@ -138,6 +153,8 @@ class Builder:
     ) -> Builder: ...
     def build(self) -> Design: ...
 def map_colours(values: npt.ArrayLike, what: str = "verdict") -> npt.NDArray[np.uint8]: ...
+def option_keys() -> list[dict[str, Any]]: ...
+def profile(name: str) -> dict[str, Any]: ...
 def sweep_rows(
     toml: str,
     x: tuple[str, float, float, int],

@@ -9,12 +9,12 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
-use bcifs::eval::{Depth, RandomSettings};
 use bcifs::mesh::{PolyMesh, Scheme};
 use bcifs::render::{MeshJob, Options};
 
 mod builder;
 mod mesh;
+mod options;
 use builder::Builder;
 use mesh::{Mesh, matrix};
 
@@ -113,19 +113,20 @@ pub struct Design {
 }
 
 impl Design {
+    /// Options from explicit keywords (`None`: unset) and `**params`, through the library's keys.
     fn options(
-        &self,
-        depth: Option<usize>,
-        tolerance: Option<f64>,
-        kwargs: Option<&Bound<'_, PyDict>>,
+        py: Python<'_>,
+        keywords: &[(&str, Option<&Bound<'_, PyAny>>)],
+        params: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Options> {
-        let mut options = Options { params: params(kwargs)?, ..Options::default() };
-        options.eval.depth = match (depth, tolerance) {
-            (Some(_), Some(_)) => return Err(err("give depth or tolerance, not both")),
-            (_, Some(eps)) => Depth::Tolerance(eps),
-            (Some(k), None) => Depth::Fixed(k),
-            (None, None) => options.eval.depth,
-        };
+        let all = PyDict::new(py);
+        for (k, v) in keywords {
+            if let Some(v) = v {
+                all.set_item(k, v)?;
+            }
+        }
+        let mut options = options::options(Some(&all))?;
+        options.params = self::params(params)?;
         Ok(options)
     }
 }
@@ -159,19 +160,18 @@ impl Design {
     /// cell is below `tolerance`), with the given parameter values, as a
     /// [`Mesh`]; `uv` gives surfaces texture coordinates (as `render
     /// --uv`), `force` evaluates a system whose bounds prove divergence.
-    #[pyo3(signature = (depth=None, tolerance=None, uv=false, force=false, **params))]
+    #[pyo3(signature = (depth=None, tolerance=None, uv=None, force=None, **params))]
     fn mesh(
         &self,
         py: Python<'_>,
-        depth: Option<usize>,
-        tolerance: Option<f64>,
-        uv: bool,
-        force: bool,
+        depth: Option<&Bound<'_, PyAny>>,
+        tolerance: Option<&Bound<'_, PyAny>>,
+        uv: Option<&Bound<'_, PyAny>>,
+        force: Option<&Bound<'_, PyAny>>,
         params: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Mesh> {
-        let mut options = self.options(depth, tolerance, params)?;
-        options.eval.uv = uv;
-        options.eval.force = force;
+        let keywords = [("depth", depth), ("tolerance", tolerance), ("uv", uv), ("force", force)];
+        let options = Design::options(py, &keywords, params)?;
         let design = self.inner.clone();
         let shape =
             cancellable(py, None, move |_, _| bcifs::render::evaluate_design(&design, &options, &mut Vec::new()))?
@@ -179,17 +179,17 @@ impl Design {
         Mesh::of_shape(py, shape)
     }
 
-    /// `samples` points of the chaos game (seed `seed`), an (n, 3) array.
-    #[pyo3(signature = (samples, seed=0, **params))]
+    /// `samples` points of the chaos game (from `seed`: by default the
+    /// command line's), an (n, 3) array.
+    #[pyo3(signature = (samples, seed=None, **params))]
     fn points(
         &self,
         py: Python<'_>,
-        samples: usize,
-        seed: u64,
+        samples: &Bound<'_, PyAny>,
+        seed: Option<&Bound<'_, PyAny>>,
         params: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Py<PyArray2<f64>>> {
-        let mut options = self.options(None, None, params)?;
-        options.random = Some(RandomSettings::default().with_points(samples).with_seed(seed));
+        let options = Design::options(py, &[("samples", Some(samples)), ("seed", seed)], params)?;
         let design = self.inner.clone();
         let shape =
             cancellable(py, None, move |_, _| bcifs::render::evaluate_design(&design, &options, &mut Vec::new()))?
@@ -199,20 +199,19 @@ impl Design {
     }
 
     /// The density picture of `samples` chaos-game points, an (h, w, 3)
-    /// uint8 array: the pixels of `render(path.png, random=samples, ...)`.
-    #[pyo3(signature = (samples, size=(800, 800), seed=0, palette=None, **params))]
+    /// uint8 array: the pixels of `render(path.png, samples=samples, ...)`.
+    #[pyo3(signature = (samples, size=None, seed=None, palette=None, **params))]
     fn density<'py>(
         &self,
         py: Python<'py>,
-        samples: usize,
-        size: (u32, u32),
-        seed: u64,
-        palette: Option<&str>,
+        samples: &Bound<'py, PyAny>,
+        size: Option<&Bound<'py, PyAny>>,
+        seed: Option<&Bound<'py, PyAny>>,
+        palette: Option<&Bound<'py, PyAny>>,
         params: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, numpy::PyArray3<u8>>> {
-        let mut options = self.options(None, None, params)?.with_size(size.0, size.1);
-        options.palette = palette.map(bcifs::export::Palette::parse).transpose().map_err(err)?;
-        options.random = Some(RandomSettings::default().with_points(samples).with_seed(seed));
+        let keywords = [("samples", Some(samples)), ("size", size), ("seed", seed), ("palette", palette)];
+        let options = Design::options(py, &keywords, params)?;
         let design = self.inner.clone();
         let img =
             cancellable(py, None, move |cancel, _| bcifs::render::density(&design, &options.with_cancel(cancel)))?
@@ -222,133 +221,28 @@ impl Design {
     }
 
     /// Writes the design to `path`, the format chosen by its extension (every
-    /// format of `bcifs render`), with the options of `bcifs render`:
-    /// `depth` or `tolerance`; `samples` runs the chaos game (`seed`,
-    /// `probs` {arrow: p}, `drop` [arrows]); `size` (w, h) and `palette` of
-    /// pictures, `tone` {brightness, gamma, vibrancy, supersample, blur,
-    /// blur_curve, background}; `up` ("y" or "z") of mesh files, `ascii`
-    /// PLY, `precision` significant digits; `colour` ("state", "level",
-    /// "map") with `colours` {arrow: c} and `colour_speed`; `view` (yaw,
-    /// pitch) of 3D pictures and `transparent` PNG; `uv`, `dedup`,
-    /// `force` (a divergent system), `threads`, `memory_mib`,
-    /// `max_output_gib`. `progress` is called with `(done, total)` as the
+    /// format of `bcifs render`), with the options of `bcifs render` as
+    /// keywords (`bcifs.option_keys()` lists them: the library's one
+    /// description of the command line's flags): `depth` or `tolerance`;
+    /// `samples` runs the chaos game (`seed`, `probs` {arrow: p}, `drop`
+    /// [arrows]); `size` (w, h), `view` (yaw, pitch), `palette`,
+    /// `brightness`, `gamma`… of pictures (or `tone` {brightness, …});
+    /// `up`, `ascii`, `precision` of files; `threads`, `memory_mib`,
+    /// `max_output_gib`. The other keywords are the design's parameters (or
+    /// `params` {name: value}, for a parameter named as an option).
+    /// `progress` is called with `(done, total)` as the
     /// work goes. Returns the report as a dict (format, vertices, faces,
     /// bytes, warnings, notes). Ctrl-C stops it within a tenth of a second
     /// and leaves no file.
-    #[pyo3(signature = (
-        path, depth=None, tolerance=None, samples=None, seed=1, size=(800, 800), palette=None, progress=None,
-        *, probs=None, drop=None, tone=None, up="y", ascii=false, precision=None, colour=None, colours=None,
-        colour_speed=0.5, uv=false, dedup=false, force=false, threads=None, memory_mib=None, max_output_gib=4.0,
-        view=(30.0, 35.0), transparent=false, **params
-    ))]
-    #[allow(clippy::too_many_arguments)]
+    #[pyo3(signature = (path, progress=None, **options))]
     fn render<'py>(
         &self,
         py: Python<'py>,
         path: std::path::PathBuf,
-        depth: Option<usize>,
-        tolerance: Option<f64>,
-        samples: Option<usize>,
-        seed: u64,
-        size: (u32, u32),
-        palette: Option<&str>,
         progress: Option<&Bound<'py, PyAny>>,
-        probs: Option<&Bound<'py, PyDict>>,
-        drop: Option<Vec<String>>,
-        tone: Option<&Bound<'py, PyDict>>,
-        up: &str,
-        ascii: bool,
-        precision: Option<u32>,
-        colour: Option<&str>,
-        colours: Option<&Bound<'py, PyDict>>,
-        colour_speed: f64,
-        uv: bool,
-        dedup: bool,
-        force: bool,
-        threads: Option<usize>,
-        memory_mib: Option<usize>,
-        max_output_gib: f64,
-        view: (f64, f64),
-        transparent: bool,
-        params: Option<&Bound<'py, PyDict>>,
+        options: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        use bcifs::eval::Colouring;
-        use bcifs::export::{Tone, Up};
-        let mut options = self.options(depth, tolerance, params)?.with_size(size.0, size.1);
-        if samples.is_some() && (depth.is_some() || tolerance.is_some()) {
-            return Err(err("samples draws points by the chaos game: depth and tolerance do not apply to it"));
-        }
-        if precision.is_some_and(|p| !(1..=15).contains(&p)) {
-            return Err(err("precision is a number of significant digits, 1 to 15"));
-        }
-        if !(max_output_gib.is_finite() && max_output_gib > 0.0 && (0.0..=1.0).contains(&colour_speed)) {
-            return Err(err("max_output_gib must be positive, colour_speed between 0 and 1"));
-        }
-        let (drop, colours, probs) = (drop.unwrap_or_default(), self::params(colours)?, self::params(probs)?);
-        options.eval.threads = threads;
-        options.eval.force = force;
-        options.eval.uv = uv;
-        options.eval.dropped.clone_from(&drop);
-        if let Some(mib) = memory_mib {
-            options.eval.memory_limit = mib.saturating_mul(1 << 20);
-        }
-        options.raster = bcifs::export::RasterSettings::default()
-            .with_size(size.0, size.1)
-            .with_view(view.0, view.1)
-            .with_memory_limit(options.eval.memory_limit)
-            .with_transparent(transparent);
-        options.dedup = dedup;
-        options.ascii = ascii;
-        options.coordinates.up = match up {
-            "y" => Up::Y,
-            "z" => Up::Z,
-            other => return Err(err(format!("up=`{other}`: expected \"y\" or \"z\""))),
-        };
-        options.coordinates = options.coordinates.with_precision(precision);
-        options.max_output = (max_output_gib * f64::from(1u32 << 30)) as u128;
-        options.colour = match colour {
-            None => None,
-            Some("state") => Some(Colouring::State),
-            Some("level") => Some(Colouring::Level),
-            Some("map") => Some(Colouring::Map),
-            Some(other) => return Err(err(format!("colour=`{other}`: expected \"state\", \"level\" or \"map\""))),
-        };
-        options.arrow_colours.clone_from(&colours);
-        options.colour_speed = Some(colour_speed);
-        options.palette = palette.map(bcifs::export::Palette::parse).transpose().map_err(err)?;
-        let mut t = Tone::default();
-        if let Some(tone) = tone {
-            for (k, v) in tone.iter() {
-                let key: String = k.extract()?;
-                let number = || v.extract::<f64>().map_err(|_| err(format!("tone[{key:?}] must be a number")));
-                match key.as_str() {
-                    "brightness" => t.brightness = number()?,
-                    "gamma" => t.gamma = number()?,
-                    "vibrancy" => t.vibrancy = number()?,
-                    "supersample" => t.supersample = v.extract()?,
-                    "blur" => t.blur = number()?,
-                    "blur_curve" => t.blur_curve = number()?,
-                    "background" => t.background = Some(Tone::parse_colour(&v.extract::<String>()?).map_err(err)?),
-                    other => {
-                        return Err(err(format!(
-                            "tone has no setting `{other}`: brightness, gamma, vibrancy, supersample, blur, blur_curve, background"
-                        )));
-                    }
-                }
-            }
-        }
-        options.tone = t.checked().map_err(err)?;
-        if let Some(n) = samples {
-            let mut r = RandomSettings::default().with_points(n).with_seed(seed);
-            r.threads = threads;
-            r.probabilities = probs;
-            r.force = force;
-            r.memory_limit = options.eval.memory_limit;
-            r.colours = colours;
-            r.colour_speed = colour_speed;
-            r.dropped = drop;
-            options.random = Some(r);
-        }
+        let options = options::options(options)?;
         let design = self.inner.clone();
         let report = cancellable(py, progress, move |cancel, reporter| {
             let mut options = options.with_cancel(cancel);
@@ -635,6 +529,8 @@ fn _bcifs(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(analyze_curve, m)?)?;
     m.add("REGIONS", bcifs::render::REGIONS.to_vec())?;
     m.add_function(wrap_pyfunction!(load, m)?)?;
+    m.add_function(wrap_pyfunction!(options::option_keys, m)?)?;
+    m.add_function(wrap_pyfunction!(options::profile, m)?)?;
     m.add_function(wrap_pyfunction!(subdivide, m)?)?;
     m.add_function(wrap_pyfunction!(sweep_rows, m)?)?;
     m.add_function(wrap_pyfunction!(dimension, m)?)?;

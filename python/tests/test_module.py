@@ -515,3 +515,46 @@ def test_map_colours_are_the_library_palette():
     for bad in ([1, 2, 3], [[[1]]]):
         with pytest.raises(bcifs.BcifsError, match="2-D"):
             bcifs.map_colours(bad)
+
+
+def test_options_are_the_library_s_keys(tmp_path):
+    """One description of the options (issue 43 §1): `render` takes every key of
+    `option_keys()` as a keyword, the library checks them and the refusal names the
+    keyword; the defaults are the command line's (the chaos game's seed is 1 everywhere)."""
+    keys = {k["name"]: k for k in bcifs.option_keys()}
+    assert {"depth", "samples", "seed", "size", "memory_mib", "max_output_gib", "precision", "brightness"} <= set(keys)
+    assert keys["samples"]["flag"] == "random" and keys["seed"]["default"] == "1"
+    fern = bcifs.load("fern")
+    assert np.array_equal(fern.points(2000), fern.points(2000, seed=1)), "the CLI's seed by default"
+    out = tmp_path / "x.obj"
+    for kwargs, says in [
+        (dict(depth=-1), "depth=-1: expected a whole number"),
+        (dict(depth=True), "depth=: expected a whole number"),
+        (dict(precision=40), "precision=40: a number of significant digits is 1 to 15"),
+        (dict(max_output_gib=0.0), "max_output_gib=0: expected a positive number of GiB"),
+        (dict(samples=10, depth=3), "samples: draws points by the chaos game"),
+        (dict(size=(0, 10)), "size=0,10: each side is a whole number"),
+        (dict(tolerance=0.0), "tolerance=0: expected a positive length"),
+    ]:
+        with pytest.raises(bcifs.BcifsError) as e:
+            fern.render(out, **kwargs)
+        assert says in str(e.value) and "--" not in str(e.value), str(e.value)
+    with pytest.raises(bcifs.BcifsError, match="tolerance=0: expected a positive length"):
+        bcifs.load("doo_sabin_torus").mesh(tolerance=0)
+    with pytest.raises(bcifs.BcifsError, match="depth=-2"):
+        bcifs.load("doo_sabin_torus").mesh(depth=-2)
+    assert not out.exists()
+    # The brightness as a keyword or in `tone`: the same picture.
+    a, b = tmp_path / "a.png", tmp_path / "b.png"
+    fern.render(a, samples=20000, brightness=3, size=(40, 40))
+    fern.render(b, samples=20000, tone={"brightness": 3}, size=(40, 40))
+    assert a.read_bytes() == b.read_bytes()
+
+
+def test_front_ends_budgets_are_the_library_s_profiles():
+    blender = bcifs.profile("blender")
+    assert blender["max_depth"] == 14 and blender["size"] == (160, 160)
+    explorer = bcifs.profile("explorer")
+    assert (explorer["memory_mib"], explorer["max_depth"], explorer["max_side"], explorer["time"]) == (768, 16, 2048, 20.0)
+    with pytest.raises(bcifs.BcifsError, match="no profile `nope`"):
+        bcifs.profile("nope")

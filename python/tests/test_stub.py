@@ -66,8 +66,38 @@ def module_parameters(function):
     return stub_parameters(tree)
 
 
+def key_default(key):
+    """A key's default as the Python value its keyword takes (`"800x800"` is `(800, 800)`)."""
+    text, kind = key["default"], key["kind"]
+    if kind == "switch":
+        return False
+    if text is None:
+        return None
+    if kind == "size":
+        return tuple(int(t) for t in text.split("x"))
+    if kind == "angles":
+        return tuple(float(t) for t in text.split(","))
+    return {"count": int, "number": float}.get(kind, str)(text)
+
+
+def spelled_options(keywords):
+    """The keyword-only parameters a stub spells out for `**options`: every key of
+    `option_keys()` in its order with its default, then Python's own `tone`."""
+    keys = module.option_keys()
+    expected = [(k["name"], "keyword", key_default(k)) for k in keys] + [("tone", "keyword", None)]
+    return keywords == expected
+
+
 def same(stub, compiled):
-    """Equal parameters; a default the module shows as `...` (not a literal) may be any."""
+    """Equal parameters; a default the module shows as `...` (not a literal) may be any. A
+    function taking `**options` (the library's keys) has them spelled out in the stub."""
+    if compiled and compiled[-1][:2] == ("options", "**"):
+        head = [p for p in stub if p[1] != "keyword"]
+        return same_plain(head, compiled) and spelled_options([p for p in stub if p[1] == "keyword"])
+    return same_plain(stub, compiled)
+
+
+def same_plain(stub, compiled):
     return len(stub) == len(compiled) and all(
         s[:2] == c[:2] and (c[2] is Ellipsis or s[2] == c[2]) for s, c in zip(stub, compiled)
     )

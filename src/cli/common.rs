@@ -1,5 +1,5 @@
-//! What the commands share: their arguments' parsing (keywords, sizes,
-//! views, parameters, threads), the output checks, loading a design, the
+//! What the commands share: their arguments' parsing (keywords,
+//! parameters), the output checks, loading a design, the
 //! run's command line, its interrupt flag and its progress bar.
 
 use anyhow::{Context, Result, bail};
@@ -14,61 +14,6 @@ pub(super) fn keyword<T: Copy>(what: &str, value: &str, options: &[(&str, T)]) -
             None => format!("unknown {what} `{value}`; expected {}", names.join(", ")),
         }
     })
-}
-
-/// The picture flags `render`, `surface` and `scheme` share: size, view, memory.
-#[derive(clap::Args, Clone, Debug)]
-pub struct PictureArgs {
-    /// Picture size in pixels, WIDTHxHEIGHT.
-    #[arg(long, default_value = "800x800", value_parser = parse_size, value_name = "WIDTHxHEIGHT")]
-    pub size: (u32, u32),
-    /// View of 3D shapes: YAW,PITCH in degrees.
-    #[arg(long, default_value = "30,35", allow_hyphen_values = true, value_parser = parse_view, value_name = "YAW,PITCH")]
-    pub view: (f64, f64),
-    /// In-memory limit in MiB (pictures, evaluation, meshes).
-    #[arg(long, default_value_t = 4096)]
-    pub memory_mib: usize,
-    /// PNG with a transparent background (RGBA): the shape over nothing, for compositing.
-    #[arg(long)]
-    pub transparent: bool,
-}
-
-impl PictureArgs {
-    /// The in-memory limit in bytes.
-    pub fn memory(&self) -> usize {
-        self.memory_mib.saturating_mul(1 << 20)
-    }
-
-    /// The picture settings these flags ask for.
-    pub fn raster(&self) -> bcifs::export::RasterSettings {
-        let ((w, h), (yaw, pitch)) = (self.size, self.view);
-        bcifs::export::RasterSettings::default()
-            .with_size(w, h)
-            .with_view(yaw, pitch)
-            .with_memory_limit(self.memory())
-            .with_transparent(self.transparent)
-    }
-}
-
-/// `--size WIDTHxHEIGHT`: two positive numbers of pixels.
-pub(super) fn parse_size(size: &str) -> Result<(u32, u32)> {
-    let (w, h) = size.split_once('x').with_context(|| format!("--size `{size}`: expected WIDTHxHEIGHT"))?;
-    let (w, h): (u32, u32) = (w.trim().parse().context("--size width")?, h.trim().parse().context("--size height")?);
-    if w == 0 || h == 0 {
-        bail!("--size {w}x{h}: each side must be at least 1 pixel");
-    }
-    Ok((w, h))
-}
-
-/// `--view YAW,PITCH`: two finite angles in degrees.
-pub(super) fn parse_view(view: &str) -> Result<(f64, f64)> {
-    let (yaw, pitch) = view.split_once(',').with_context(|| format!("--view `{view}`: expected YAW,PITCH"))?;
-    let (yaw, pitch): (f64, f64) =
-        (yaw.trim().parse().context("--view yaw")?, pitch.trim().parse().context("--view pitch")?);
-    if !yaw.is_finite() || !pitch.is_finite() {
-        bail!("--view {yaw},{pitch}: the angles must be finite numbers of degrees");
-    }
-    Ok((yaw, pitch))
 }
 
 /// The extensions of every format a render writes.
@@ -93,15 +38,6 @@ pub(super) fn check_output(path: &std::path::Path, extensions: &[&str], inputs: 
         bail!("{}: unknown output format `{ext}`: expected {}", path.display(), list.join(", "));
     }
     Ok(())
-}
-
-/// Worker threads: at least 1, at most 64 times the cores (more only waits).
-pub(super) fn check_threads(threads: Option<usize>) -> Result<Option<usize>> {
-    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    match threads {
-        Some(t) if t == 0 || t > 64 * cores => bail!("--threads {t}: expected 1 to {} on this machine", 64 * cores),
-        other => Ok(other),
-    }
 }
 
 /// Reads a file, or a shipped automaton or scheme preset by name when no
@@ -159,4 +95,45 @@ pub(super) fn progress_bar() -> Option<Progress> {
             bar.set_position(done);
         }
     }))
+}
+
+/// The command line's words for what the library says neutrally: the flag
+/// that does what a refusal suggests (`render anyway by forcing it`: `--force`).
+pub(super) fn hint(e: &anyhow::Error) -> Option<String> {
+    use bcifs::eval::EvalError;
+    use bcifs::render::{LoadError, RenderError};
+    let eval = |e: &EvalError| match e {
+        EvalError::Diverges { .. } => Some("--force evaluates it anyway".to_string()),
+        EvalError::TooLarge { .. } => Some("--memory-mib raises the in-memory limit".into()),
+        _ => None,
+    };
+    if let Some(e) = e.downcast_ref::<RenderError>() {
+        return match e {
+            RenderError::Inconsistent { .. } => Some("--force renders it anyway".into()),
+            RenderError::TooBig(why) if why.contains("output limit") => {
+                Some("--max-output-gib raises the output limit".into())
+            }
+            RenderError::Raster(_) => Some("--memory-mib raises the in-memory limit".into()),
+            RenderError::Mesh(bcifs::mesh::SubdivideError::NotTriangles { .. }) => {
+                Some("--triangulate splits the faces into triangles first".into())
+            }
+            RenderError::Mesh(bcifs::mesh::SubdivideError::TooLarge { .. }) => {
+                Some("--memory-mib raises the in-memory limit".into())
+            }
+            RenderError::Eval(e) => eval(e),
+            RenderError::Instantiate(bcifs::family::DesignInstantiateError::Values(
+                bcifs::family::InstantiateError::Missing { .. },
+            )) => Some("--param NAME=VALUE gives a parameter its value".into()),
+            _ => None,
+        };
+    }
+    if let Some(e) = e.downcast_ref::<EvalError>() {
+        return eval(e);
+    }
+    if let Some(LoadError::MeshWithoutScheme(file)) = e.downcast_ref::<LoadError>() {
+        return Some(format!(
+            "`bcifs explore {file} --scheme catmull-clark`, or write its automaton with `bcifs surface {file} --scheme catmull-clark --print -o automaton.toml`"
+        ));
+    }
+    None
 }

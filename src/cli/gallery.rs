@@ -12,7 +12,7 @@ use bcifs::{CellKind, Design, Layout, Progress, instantiate};
 
 use super::render::{SchemeForm, normal_shape, warn};
 use crate::cli::common::progress_bar;
-use bcifs::render::{Options as RenderOptions, RenderError, Report as RenderSummary, model_of, write_shape};
+use bcifs::render::{Options as RenderOptions, Profile, RenderError, Report as RenderSummary, model_of, write_shape};
 
 /// Renders with the library, its warnings and notes told on stderr.
 fn render(design: &Design, options: &RenderOptions, out: &Path) -> Result<RenderSummary, RenderError> {
@@ -21,14 +21,14 @@ fn render(design: &Design, options: &RenderOptions, out: &Path) -> Result<Render
     Ok(report)
 }
 
-/// In-memory output budget of a gallery entry (`gallery --full`: [`GALLERY_FULL_BUDGET_BYTES`]).
-pub const GALLERY_BUDGET_BYTES: u128 = 1 << 20;
-/// The deep versions' budget (`gallery --full`).
-pub const GALLERY_FULL_BUDGET_BYTES: u128 = 12 << 20;
+/// The output budget of a gallery entry's files (`gallery --full`: [`Profile::GalleryFull`]).
+fn files_budget(full: bool) -> u128 {
+    if full { Profile::GalleryFull } else { Profile::Gallery }.budget().output
+}
 /// The in-memory budget of a plain IFS's picture (its points, evaluated within half a pixel).
-pub const GALLERY_PICTURE_BUDGET_BYTES: u128 = 64 << 20;
-/// Deepest gallery depth.
-pub const GALLERY_MAX_DEPTH: usize = 16;
+fn picture_budget() -> u128 {
+    Profile::GalleryPicture.budget().output
+}
 
 /// One rendered gallery entry.
 #[derive(Clone, Debug)]
@@ -56,7 +56,7 @@ pub fn gallery_depth(design: &Design, budget: u128) -> Result<usize, RenderError
     let model = model_of(design)?;
     let instance = instantiate(design, &[])?;
     let ev = Evaluator::new(&instance.automaton, &model, EvalSettings::default())?;
-    Ok((1..=GALLERY_MAX_DEPTH).take_while(|&k| ev.estimate_bytes(k) <= budget).last().unwrap_or(1))
+    Ok((1..=Profile::Gallery.budget().max_depth).take_while(|&k| ev.estimate_bytes(k) <= budget).last().unwrap_or(1))
 }
 
 /// The tolerance of a plain IFS picture (deterministic points within it
@@ -118,7 +118,7 @@ fn mesh_textures(
     let mut items = Vec::new();
     let mut all = Shape::default();
     for (i, (w, label)) in textures.iter().enumerate() {
-        let Ok(shape) = mesh.limit_with(scheme, depth, Some(*w), GALLERY_FULL_BUDGET_BYTES as usize) else {
+        let Ok(shape) = mesh.limit_with(scheme, depth, Some(*w), files_budget(true) as usize) else {
             continue;
         };
         let (dx, dy) = (3.5 * (i % 3) as f64, -3.5 * (i / 3) as f64);
@@ -274,8 +274,7 @@ pub fn gallery_items() -> Vec<(String, String, GallerySource)> {
         let description = format!("{} (normal-vector scheme, Li et al. 2013)", preset.description);
         let source = match preset.scheme.design(&entry, &preset.polygon, preset.closed) {
             Ok(design) => GallerySource::Design(Box::new(design), Some(preset.depth)),
-            Err(_) => match normal_shape(&preset, preset.depth, SchemeForm::Direct, GALLERY_FULL_BUDGET_BYTES as usize)
-            {
+            Err(_) => match normal_shape(&preset, preset.depth, SchemeForm::Direct, files_budget(true) as usize) {
                 Ok(shape) => GallerySource::Shape(Box::new(shape), preset.depth),
                 Err(_) => continue,
             },
@@ -368,8 +367,7 @@ fn design_entry(
         Some(d) => d,
         None => gallery_depth(design, budget)?,
     };
-    let mut options = RenderOptions::default();
-    options.eval.depth = Depth::Fixed(depth);
+    let mut options = RenderOptions::default().with_depth(depth);
     let model = model_of(design)?;
     let root = design.automaton().state_id(model.root(0)).map(|r| design.automaton().state(r));
     let plain_ifs = model.layout == Layout::Single && root.is_some_and(|r| r.kind == CellKind::Free);
@@ -383,11 +381,11 @@ fn design_entry(
     // The files' budget is the smaller: it is tried only when the picture's fits.
     if plain_ifs
         && affine
-        && let Some(eps) = gallery_tolerance(design, GALLERY_PICTURE_BUDGET_BYTES)?
+        && let Some(eps) = gallery_tolerance(design, picture_budget())?
     {
-        picture.eval.depth = Depth::Tolerance(eps);
+        picture.sampling.depth = Depth::Tolerance(eps);
         if gallery_tolerance(design, budget)?.is_some() {
-            options.eval.depth = Depth::Tolerance(eps);
+            options.sampling.depth = Depth::Tolerance(eps);
         }
     }
     let png = format!("{name}.png");
@@ -400,13 +398,14 @@ fn design_entry(
     }
     if plain_ifs {
         let mut random = options.clone();
-        random.random = Some(RandomSettings::default().with_points(2_000_000));
+        random = random.with_chaos(2_000_000);
         let png = format!("{name}-chaos.png");
         render(design, &random, &dir.join(&png))?;
         files.push(png);
     }
-    let geometry = (options.eval.depth != picture.eval.depth && !formats.is_empty()).then_some(options.eval.depth);
-    Ok((picture.eval.depth, summary, files, geometry))
+    let (files_depth, picture_depth) = (options.sampling.depth, picture.sampling.depth);
+    let geometry = (files_depth != picture_depth && !formats.is_empty()).then_some(files_depth);
+    Ok((picture_depth, summary, files, geometry))
 }
 
 /// The gallery's `index.html`: a figure per entry.
@@ -579,7 +578,7 @@ fn density_page(dir: &Path) -> Result<GalleryEntry, RenderError> {
 /// `bcifs gallery DIR`: renders the gallery and lists what it wrote.
 pub fn run(out: &mut String, dir: &Path, formats: &[String], full: bool) -> anyhow::Result<u8> {
     let started = std::time::Instant::now();
-    let budget = if full { GALLERY_FULL_BUDGET_BYTES } else { GALLERY_BUDGET_BYTES };
+    let budget = files_budget(full);
     let items = gallery_items();
     let count = items.len() + 1;
     // What it will write, before it starts (measured: the default gallery is about 70 MB, --full 330 MB).

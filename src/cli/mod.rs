@@ -8,6 +8,7 @@ mod contour;
 mod core;
 mod explore;
 mod gallery;
+mod keys;
 mod plot;
 mod render;
 mod scheme;
@@ -191,6 +192,9 @@ pub fn main() -> ExitCode {
         }
         Err(e) => {
             eprintln!("error: {e:#}");
+            if let Some(hint) = common::hint(&e) {
+                eprintln!("hint: {hint}");
+            }
             2
         }
     };

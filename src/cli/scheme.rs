@@ -6,8 +6,8 @@ use anyhow::{Context, Result, bail};
 use clap::Subcommand;
 
 use super::render::{SchemeForm, normal_shape, print_report};
-use crate::cli::common::{keyword, progress_bar};
-use bcifs::render::{Options as RenderOptions, render, write_shape};
+use crate::cli::common::keyword;
+use bcifs::render::{render, write_shape};
 
 #[derive(Subcommand)]
 pub enum SchemeCommand {
@@ -27,7 +27,7 @@ pub struct SchemeOutput {
     #[arg(long)]
     print: bool,
     #[command(flatten)]
-    picture: crate::cli::common::PictureArgs,
+    picture: crate::cli::keys::KeyArgs<crate::cli::keys::PictureKeys>,
     /// Output file: .obj, .off, .ply, .stl, .glb, .svg or .png.
     #[arg(short, long, required_unless_present = "print")]
     output: Option<PathBuf>,
@@ -99,11 +99,8 @@ fn run_ifs(out: &mut String, args: IfsArgs) -> Result<u8> {
     }
     let output = args.out.output.context("give -o OUT (.png, .svg, .obj, .ply, .glb, ...)")?;
     crate::cli::common::check_output(&output, &crate::cli::common::render_formats(), &[])?;
-    let mut options = RenderOptions::default();
-    options.eval.depth = bcifs::eval::Depth::Fixed(args.depth);
-    options.eval.dropped = args.drop;
-    options.eval.progress = progress_bar();
-    options.raster = args.out.picture.raster();
+    let mut options = crate::cli::render::options(&args.out.picture)?.with_depth(args.depth);
+    options.sampling.dropped = args.drop;
     let started = std::time::Instant::now();
     print_report(&render(&design, &options, &output)?, design.description(), &output, started);
     Ok(0)
@@ -236,8 +233,9 @@ fn run_normal(out: &mut String, args: NormalArgs) -> Result<u8> {
     crate::cli::common::check_output(&output, &crate::cli::common::render_formats(), &[])?;
 
     let started = std::time::Instant::now();
-    let shape = normal_shape(&preset, depth, form, bcifs::eval::DEFAULT_MEMORY_LIMIT)?;
-    let raster = args.out.picture.raster();
+    let options = args.out.picture.options()?;
+    let shape = normal_shape(&preset, depth, form, options.budget.memory)?;
+    let raster = options.raster();
     let label = format!("{} ({}), depth {depth}", preset.name, preset.scheme);
     print_report(&write_shape(&shape, preset.name, &raster, &output)?, &label, &output, started);
     Ok(0)

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use anyhow::bail;
 use bcifs::export::write_atomic;
 use bcifs::mesh::{PolyMesh, Scheme, read_mesh};
-use bcifs::render::{MeshJob, Options, render_mesh, rule_weights};
+use bcifs::render::{MeshJob, render_mesh, rule_weights};
 use bcifs::schemes::mesh_automaton;
 
 use super::render::print_report;
@@ -42,18 +42,13 @@ pub struct SurfaceArgs {
     /// Output file: .obj, .off, .ply, .stl, .glb, .png or .svg (in the input file's axes, glTF Y-up; pictures seen from --view); with --print, .toml.
     #[arg(short, long, required_unless_present = "print")]
     pub output: Option<PathBuf>,
+    /// The options of pictures and files.
     #[command(flatten)]
-    pub picture: crate::cli::common::PictureArgs,
+    pub keys: crate::cli::keys::KeyArgs<crate::cli::keys::MeshKeys>,
     /// The input's texture coordinates: `keep` them, subdivided face-varying with linear seams
     /// (Catmull-Clark and Loop, into OBJ and glTF), or `none`.
     #[arg(long, value_enum, default_value_t = UvMode::Keep)]
     pub uv: UvMode,
-    /// PLY as text instead of binary little-endian.
-    #[arg(long)]
-    pub ascii: bool,
-    /// Largest OBJ or OFF file to write, in GiB (the estimate is checked before writing; raise it on purpose).
-    #[arg(long, default_value_t = 4.0)]
-    pub max_output_gib: f64,
 }
 
 /// What happens to the input's texture coordinates.
@@ -83,17 +78,7 @@ pub fn run(out: &mut String, args: SurfaceArgs) -> anyhow::Result<u8> {
     }
     let Some(output) = args.output.clone() else { bail!("give the output file with -o") };
     crate::cli::common::check_output(&output, &crate::cli::common::render_formats(), &[&args.mesh])?;
-    if !(args.max_output_gib.is_finite() && args.max_output_gib > 0.0) {
-        bail!("--max-output-gib {}: expected a positive number of GiB", args.max_output_gib);
-    }
-    let mut options = Options::default();
-    options.eval.memory_limit = args.picture.memory();
-    options.raster = args.picture.raster();
-    options.max_output = (args.max_output_gib * (1u64 << 30) as f64) as u128;
-    options.cancel = crate::cli::common::interrupt().clone();
-    options.progress = crate::cli::common::progress_bar();
-    options.ascii = args.ascii;
-    options.provenance = Some(crate::cli::common::command_line());
+    let options = crate::cli::render::options(&args.keys)?;
     let report = render_mesh(&mesh, &job, &options, &output)?;
     let label =
         format!("{} ({}, depth {}{})", job.name, scheme.name(), args.depth, if args.net { ", net" } else { "" });

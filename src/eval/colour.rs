@@ -78,7 +78,7 @@ impl Evaluator {
         random: &RandomSettings,
     ) -> Result<(Shape, Vec<f32>), EvalError> {
         let Depth::Fixed(k) = self.settings.depth else {
-            return Err(EvalError::Unsupported("colours by state, level or map need a fixed --depth".into()));
+            return Err(EvalError::Unsupported("colours by state, level or map need a fixed depth".into()));
         };
         let subdivision: Vec<_> = automaton.arrows().filter(|(_, a)| a.kind == ArrowKind::Subdivision).collect();
         let arrows: HashMap<EdgeIndex, f64> = subdivision

@@ -28,6 +28,13 @@ pub enum Depth {
     Tolerance(f64),
 }
 
+impl Default for Depth {
+    /// [`DEFAULT_DEPTH`] steps.
+    fn default() -> Depth {
+        Depth::Fixed(DEFAULT_DEPTH)
+    }
+}
+
 /// Settings of an evaluation.
 #[derive(Clone, Debug)]
 #[non_exhaustive]
@@ -126,7 +133,7 @@ pub enum EvalError {
     #[error(transparent)]
     Model(#[from] ModelError),
     /// The output would not fit the memory limit.
-    #[error("the output would take about {estimate} bytes ({}), over the in-memory limit of {} (--memory-mib): lower the depth or the number of points, or stream a fixed depth to `-o FILE.obj`", crate::progress::bytes_text(*estimate), crate::progress::bytes_text(*limit as u128))]
+    #[error("the output would take about {estimate} bytes ({}), over the in-memory limit of {} (the memory budget): lower the depth or the number of points, or stream a fixed depth to an OBJ file", crate::progress::bytes_text(*estimate), crate::progress::bytes_text(*limit as u128))]
     TooLarge {
         /// Estimated bytes.
         estimate: u128,
@@ -145,7 +152,7 @@ pub enum EvalError {
     Io(#[from] io::Error),
     /// The joint spectral radius bounds prove that the subdivision diverges.
     #[error(
-        "the subdivision diverges: {witness} ≥ 1 on the differences (its powers do not contract); evaluate anyway with force (`--force`)"
+        "the subdivision diverges: {witness} ≥ 1 on the differences (its powers do not contract); evaluate anyway by forcing it"
     )]
     Diverges {
         /// The cycle and its normalised spectral radius, `T0 T1 T1 T1: ρ^(1/4) = 1.2601`.

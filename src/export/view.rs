@@ -62,7 +62,7 @@ impl Default for RasterSettings {
 /// A picture that would not fit the memory limit.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 #[error(
-    "a {width}×{height} picture of {vertices} points needs about {} to draw, over the in-memory limit of {} (--memory-mib): make it smaller",
+    "a {width}×{height} picture of {vertices} points needs about {} to draw, over the in-memory limit of {} (the memory budget): make it smaller",
     crate::progress::bytes_text(*needed),
     crate::progress::bytes_text(*limit as u128)
 )]

@@ -203,7 +203,7 @@ pub enum InstantiateError {
         value: f64,
     },
     /// Free parameters with neither a value nor a default.
-    #[error("no value for {}: pass --param NAME=VALUE or give a default in [parameters]", names.iter().map(|n| format!("`{n}`")).collect::<Vec<_>>().join(", "))]
+    #[error("no value for {}: give it a value, or a default in [parameters]", names.iter().map(|n| format!("`{n}`")).collect::<Vec<_>>().join(", "))]
     Missing {
         /// The parameters without a value.
         names: Vec<String>,

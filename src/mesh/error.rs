@@ -129,12 +129,12 @@ pub enum SubdivideError {
     /// Doo-Sabin's limit surface (or its generated automaton) of a mesh
     /// whose vertices are all on its border: empty.
     #[error(
-        "every vertex of the mesh is on its border, and Doo-Sabin's limit surface has a patch around each interior vertex only: it is empty (write the net with --net)"
+        "every vertex of the mesh is on its border, and Doo-Sabin's limit surface has a patch around each interior vertex only: it is empty (write the control net instead)"
     )]
     NoInteriorVertex,
     /// A face that is not a triangle, for a triangle scheme.
     #[error(
-        "face {face} has {degree} vertices: {scheme} subdivides triangle meshes; split the faces into triangles with --triangulate, or use doo-sabin or catmull-clark"
+        "face {face} has {degree} vertices: {scheme} subdivides triangle meshes; triangulate the faces first (fans of triangles), or use doo-sabin or catmull-clark"
     )]
     NotTriangles {
         /// The scheme.
@@ -145,7 +145,7 @@ pub enum SubdivideError {
         degree: usize,
     },
     /// A depth whose output would not fit memory.
-    #[error("{what} at depth {depth} would have about {faces} faces ({}): over the in-memory limit of {} (--memory-mib) or the 2^32 corners a mesh can number; lower the depth", crate::progress::bytes_text(*bytes), crate::progress::bytes_text(*limit as u128))]
+    #[error("{what} at depth {depth} would have about {faces} faces ({}): over the in-memory limit of {} (the memory budget) or the 2^32 corners a mesh can number; lower the depth", crate::progress::bytes_text(*bytes), crate::progress::bytes_text(*limit as u128))]
     TooLarge {
         /// What.
         what: &'static str,

@@ -5,7 +5,8 @@ use std::path::Path;
 
 use crate::export::Target;
 
-use super::options::{Format, Options, RenderError};
+use super::options::Options;
+use super::output::{Format, RenderError};
 use crate::export::{
     Coordinates, GltfWriter, ObjWriter, OffWriter, PictureKind, PictureWriter, PlyWriter, RasterSettings, StlWriter,
 };

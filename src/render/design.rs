@@ -3,7 +3,8 @@
 use std::path::Path;
 
 use super::checked::{FileWriter, WriteSettings, write_error};
-use super::options::{Format, Options, RenderError, Report, check_room};
+use super::options::Options;
+use super::output::{Format, RenderError, Report, check_room};
 use super::shape::write_shape_text;
 use crate::automaton::Automaton;
 use crate::design::{Design, Model};
@@ -68,12 +69,12 @@ pub fn render(design: &Design, options: &Options, out: &Path) -> Result<Report, 
     let mut report = Report { format: Some(format), ..Report::default() };
     warn_unused(options, format, &mut report.warnings);
     match format {
-        _ if options.colour.is_some() && options.random.is_none() => {
+        _ if options.look.colour.is_some() && options.sampling.samples.is_none() => {
             coloured_file(design, options, format, out, &mut report)?
         }
         Format::Flame => flame_file(design, options, out, &mut report)?,
         f if f.is_geometry() => stream_file(design, options, format, &out.into(), &mut report)?,
-        Format::Png if !options.dedup => {
+        Format::Png if !options.file.dedup => {
             let (img, matte) = png_image(design, options, &mut report)?;
             crate::export::write_png_matte(out, &img, &options.png_text(design.name()), matte)
                 .map_err(write_error(options, out))?;
@@ -84,7 +85,7 @@ pub fn render(design: &Design, options: &Options, out: &Path) -> Result<Report, 
             let duplicates = dedup(&mut shape, options, &mut report.warnings);
             options.check_cancel()?;
             let written =
-                write_shape_text(&shape, design.name(), &options.raster, out, &options.png_text(design.name()))?;
+                write_shape_text(&shape, design.name(), &options.raster(), out, &options.png_text(design.name()))?;
             report.vertices = written.vertices;
             report.faces = written.faces;
             report.bytes = written.bytes;
@@ -96,7 +97,7 @@ pub fn render(design: &Design, options: &Options, out: &Path) -> Result<Report, 
 
 /// The depth and the empty-output warning every report gives.
 fn finished(options: &Options, mut report: Report) -> Report {
-    if let (None, Depth::Fixed(k), None) = (&options.random, options.eval.depth, report.depth) {
+    if let (None, Depth::Fixed(k), None) = (options.sampling.samples, options.sampling.depth, report.depth) {
         report.depth = Some(k);
     }
     if report.vertices == 0 {
@@ -131,7 +132,7 @@ pub fn render_bytes(design: &Design, options: &Options, format: Format) -> Resul
     if format == Format::Png {
         return picture_png(design, options, crate::export::Compression::Small);
     }
-    if !format.is_geometry() || options.colour.is_some() && options.random.is_none() {
+    if !format.is_geometry() || options.look.colour.is_some() && options.sampling.samples.is_none() {
         return Err(RenderError::Unsupported(format!(
             "a .{} output is written to a file (render), not made in memory",
             format.extension()
@@ -148,35 +149,37 @@ pub fn render_bytes(design: &Design, options: &Options, format: Format) -> Resul
 /// Options given that this output does not use, as warnings.
 fn warn_unused(options: &Options, format: Format, warnings: &mut Vec<String>) {
     let ext = format.extension();
-    let colours = options.palette.is_some() || options.random.as_ref().is_some_and(|r| !r.colours.is_empty());
-    let tone = options.tone.blur > 0.0 || options.tone.vibrancy != 1.0 || options.tone.background.is_some();
+    let (look, chaos) = (&options.look, options.sampling.samples.is_some());
+    let colours = look.palette.is_some() || chaos && !look.arrow_colours.is_empty();
+    let tone = look.tone.blur > 0.0 || look.tone.vibrancy != 1.0 || look.tone.background.is_some();
     let picture = matches!(format, Format::Png | Format::Flame);
-    if (colours || tone) && options.random.is_none() && format != Format::Flame {
-        warnings.push("--palette, --color, --blur, --vibrancy and --background shape chaos-game pictures (--random N); this render ignores them".into());
+    if (colours || tone) && !chaos && format != Format::Flame {
+        warnings.push("the palette, the arrows' colours, the blur, the vibrancy and the background shape chaos-game pictures (samples); this render ignores them".into());
     } else if tone && !picture {
         warnings.push(format!(
-            "--blur, --vibrancy and --background shape density pictures (.png); the .{ext} file ignores them"
+            "the blur, the vibrancy and the background shape density pictures (.png); the .{ext} file ignores them"
         ));
     } else if colours && !picture && !format.has_colours() {
-        warnings.push(format!("--palette and --color colour density pictures (.png) and the points of .obj, .ply and .glb files; the .{ext} file ignores them"));
+        warnings.push(format!("the palette and the arrows' colours colour density pictures (.png) and the points of .obj, .ply and .glb files; the .{ext} file ignores them"));
     }
-    if options.eval.uv && !format.has_uvs() {
-        warnings.push(format!("--uv writes texture coordinates into OBJ and glTF files; the .{ext} output ignores it"));
+    if options.file.uv && !format.has_uvs() {
+        warnings
+            .push(format!("texture coordinates (uv) are written into OBJ and glTF files; the .{ext} output has none"));
     }
-    if options.coordinates.precision.is_some() && !format.has_digits() {
-        warnings.push(format!("--precision sets the digits of file coordinates; the .{ext} output ignores it"));
+    if options.file.coordinates.precision.is_some() && !format.has_digits() {
+        warnings.push(format!("the precision sets the digits of text coordinates; the .{ext} output ignores it"));
     }
 }
 
 /// Drops the exact duplicate points of `shape` when the options ask for
 /// it: how many, or `None` (not asked, or not a point cloud: a warning).
 fn dedup(shape: &mut Shape, options: &Options, warnings: &mut Vec<String>) -> Option<usize> {
-    if !options.dedup {
+    if !options.file.dedup {
         return None;
     }
     let dropped = shape.dedup_points();
     if dropped.is_none() {
-        warnings.push("--dedup applies to point clouds; this output has lines or faces, kept as is".into());
+        warnings.push("deduplication applies to point clouds; this output has lines or faces, kept as is".into());
     }
     dropped
 }
@@ -193,17 +196,17 @@ fn stream_file(
 ) -> Result<(), RenderError> {
     let model = model_of(design)?;
     let instance = instantiate(design, &options.params)?;
-    let threads = options.eval.threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    let (threads, raster) = (options.budget.thread_count(), options.raster());
     let io = write_error(options, out.path());
     let settings =
-        WriteSettings { coordinates: options.coordinates, threads, raster: &options.raster, ascii: options.ascii };
+        WriteSettings { coordinates: options.file.coordinates, threads, raster: &raster, ascii: options.file.ascii };
     let mut writer = FileWriter::create(out, format, &settings)?;
-    if let (Some(random), false) = (options.random_settings(), options.dedup) {
+    if let (Some(random), false) = (options.random_settings(), options.file.dedup) {
         let game = streaming_game(&instance.automaton, &model, &random)?;
-        check_room(out, random.points as u128 * (3 + 22 * game.dim() as u128), 0, options.max_output)?;
+        check_room(out, random.points as u128 * (3 + 22 * game.dim() as u128), 0, options.budget.output)?;
         let mut sink = writer.checked(&options.cancel);
         sink.object(design.name()).map_err(&io)?;
-        match &options.palette {
+        match &options.look.palette {
             // Each point coloured as the density pictures colour it, in the formats that hold colours.
             Some(palette) if format.has_colours() => game
                 .stream_coloured(random.points, |xs, cs| {
@@ -214,7 +217,7 @@ fn stream_file(
             _ => game.stream(random.points, |xs| sink.vertices(game.dim(), xs, None)).map_err(&io)?,
         }
         report.vertices = random.points;
-    } else if options.random.is_some() || options.dedup {
+    } else if options.sampling.samples.is_some() || options.file.dedup {
         let mut shape = evaluate_design(design, options, &mut report.warnings)?;
         report.duplicates = dedup(&mut shape, options, &mut report.warnings);
         let mut sink = writer.checked(&options.cancel);
@@ -226,11 +229,13 @@ fn stream_file(
         report.faces = shape.quads.len() + shape.triangles.len();
     } else {
         let ev = evaluator(&instance.automaton, &model, options.eval_settings(), design.name(), &mut report.warnings)?;
-        if options.eval.uv && ev.polylines().is_some() {
-            report.warnings.push("--uv gives texture coordinates to surfaces; this curve or point set has none".into());
+        if options.file.uv && ev.polylines().is_some() {
+            report
+                .warnings
+                .push("texture coordinates (uv) are given to surfaces; this curve or point set has none".into());
         }
-        if let Depth::Fixed(k) = options.eval.depth {
-            check_room(out, ev.estimate_obj_bytes(k), 0, options.max_output)?;
+        if let Depth::Fixed(k) = options.sampling.depth {
+            check_room(out, ev.estimate_obj_bytes(k), 0, options.budget.output)?;
         }
         let eval_error = |e: EvalError| match e {
             EvalError::Io(e) => io(e),
@@ -251,7 +256,7 @@ fn stream_file(
 }
 
 /// A deterministic evaluation coloured by state, level or map
-/// ([`Options::colour`]), evaluated in memory and written with its colours.
+/// ([`Look::colour`](super::Look::colour)), evaluated in memory and written with its colours.
 fn coloured_file(
     design: &Design,
     options: &Options,
@@ -259,24 +264,21 @@ fn coloured_file(
     out: &Path,
     report: &mut Report,
 ) -> Result<(), RenderError> {
-    let Some(mode) = options.colour else { return Ok(()) };
+    let Some(mode) = options.look.colour else { return Ok(()) };
     if !format.has_colours() {
         report.warnings.push(format!(
-            "--colour colours the vertices of .obj, .ply and .glb files; the .{} file has no vertex colours",
+            "vertex colours are written into .obj, .ply and .glb files; the .{} file has none",
             format.extension()
         ));
     }
     let model = model_of(design)?;
     let instance = instantiate(design, &options.params)?;
     let mut ev = evaluator(&instance.automaton, &model, options.eval_settings(), design.name(), &mut report.warnings)?;
-    let mut random = crate::eval::RandomSettings { colours: options.arrow_colours.clone(), ..Default::default() };
-    if let Some(speed) = options.colour_speed {
-        random.colour_speed = speed;
-    }
+    let random = options.colour_settings(0);
     let (mut shape, coordinates) = ev.evaluate_coloured(&instance.automaton, mode, &random)?;
     options.check_cancel()?;
     let rainbow = crate::export::Palette::named("rainbow");
-    let palette = options.palette.as_ref().or(rainbow.as_ref());
+    let palette = options.look.palette.as_ref().or(rainbow.as_ref());
     shape.colours = match palette {
         Some(p) => coordinates.iter().map(|&c| p.colour(c)).collect(),
         None => Vec::new(),
@@ -295,8 +297,8 @@ fn flame_file(design: &Design, options: &Options, out: &Path, report: &mut Repor
     let mut random = options.random_settings().unwrap_or_default();
     random.progress = None;
     let game = streaming_game(&instance.automaton, &model, &random)?;
-    let palette = options.palette.as_ref();
-    crate::export::write_flame(out, design.name(), &game, &options.raster, &options.tone, palette, random.points)
+    let (palette, raster) = (options.look.palette.as_ref(), options.raster());
+    crate::export::write_flame(out, design.name(), &game, &raster, &options.look.tone, palette, random.points)
         .map_err(|e| match e {
             crate::export::FlameError::NotPlain(why) => RenderError::Unsupported(format!("{}: {why}", design.name())),
             crate::export::FlameError::Io(path, e) => RenderError::Io(path, e),
@@ -308,7 +310,7 @@ fn flame_file(design: &Design, options: &Options, out: &Path, report: &mut Repor
 
 /// The picture that [`render`] writes to a `.png`, in memory and RGB (the
 /// same pixels as the file without `--transparent`): a chaos game's density
-/// picture when `options.random` asks for one, the deterministic evaluation
+/// picture when `options.sampling.samples` asks for one, the deterministic evaluation
 /// drawn otherwise. For front ends that show pixels (the explorer encodes
 /// them for the browser itself).
 ///
@@ -332,7 +334,7 @@ pub fn picture(design: &Design, options: &Options) -> Result<image::RgbImage, Re
 /// The options of a picture made in memory ([`prepared`]); coloured and
 /// deduplicated clouds are drawn into files only.
 fn picture_options(design: &Design, options: &Options) -> Result<Options, RenderError> {
-    if options.colour.is_some() || options.dedup {
+    if options.look.colour.is_some() || options.file.dedup {
         return Err(RenderError::Unsupported(
             "coloured and deduplicated clouds are drawn by render() into a .png file".into(),
         ));
@@ -347,10 +349,10 @@ fn prepared(design: &Design, options: &Options) -> Result<Options, RenderError> 
     options.check_cancel()?;
     let y_up = design.model().is_some_and(|m| m.y_up);
     let mut options = options.clone();
-    options.raster = options.raster.with_y_up(y_up);
-    options.coordinates.y_up_input = y_up;
+    options.look.view.y_up = y_up;
+    options.file.coordinates.y_up_input = y_up;
     if let Err(crate::family::SolveError::Inconsistent { conflicts }) = crate::family::solve(design)
-        && !options.eval.force
+        && !options.sampling.force
     {
         return Err(RenderError::Inconsistent { name: design.name().to_string(), conflicts });
     }
@@ -358,16 +360,16 @@ fn prepared(design: &Design, options: &Options) -> Result<Options, RenderError> 
 }
 
 /// The density picture of the chaos game that [`render`] writes to a PNG
-/// (`options.random` samples, `options.raster`, `tone` and `palette`), in
+/// (`options.sampling.samples` samples, `options.look`), in
 /// memory: for front ends that want pixels, not a file.
 ///
 /// # Errors
-/// No chaos game asked (`options.random` is `None`), parameters, a system
+/// No chaos game asked (`options.sampling.samples` is `None`), parameters, a system
 /// that does not converge, a picture over the memory limit, or
 /// [`RenderError::Cancelled`].
 pub fn density(design: &Design, options: &Options) -> Result<image::RgbImage, RenderError> {
     let random = options.random_settings().ok_or_else(|| {
-        RenderError::Unsupported("a density picture needs chaos-game samples (Options::random)".into())
+        RenderError::Unsupported("a density picture needs chaos-game samples (the samples option)".into())
     })?;
     density_with(design, options, &random)
 }
@@ -377,15 +379,15 @@ fn density_with(design: &Design, options: &Options, random: &RandomSettings) -> 
     let model = model_of(design)?;
     let instance = instantiate(design, &options.params)?;
     let game = streaming_game(&instance.automaton, &model, random)?;
-    let img =
-        crate::export::density_image(&game, random.points, &options.raster, &options.tone, options.palette.as_ref())?;
+    let look = &options.look;
+    let img = crate::export::density_image(&game, random.points, &options.raster(), &look.tone, look.palette.as_ref())?;
     // A cancelled fold stops early: its partial picture is not returned.
     options.check_cancel()?;
     Ok(img)
 }
 
 /// The PNG [`render`] writes into a `.png` file (a deterministic picture, or
-/// the chaos game's density when `options.random` is set: its text chunks,
+/// the chaos game's density when `options.sampling.samples` is set: its text chunks,
 /// its matte when transparent), in memory: for a page or a notebook that
 /// wants the file's bytes, not a file. Coloured and deduplicated clouds are
 /// written by [`render`] only.
@@ -429,7 +431,7 @@ fn png_image(
     match options.random_settings() {
         Some(random) => {
             let img = density_with(design, options, &random)?;
-            let matte = options.raster.transparent.then(|| options.tone.matte(options.palette.is_some()));
+            let matte = options.look.transparent.then(|| options.look.tone.matte(options.look.palette.is_some()));
             report.vertices = random.points;
             Ok((img, matte))
         }
@@ -449,17 +451,17 @@ fn deterministic_image(
     let model = model_of(design)?;
     let instance = instantiate(design, &options.params)?;
     let mut ev = evaluator(&instance.automaton, &model, options.eval_settings(), design.name(), &mut report.warnings)?;
-    let raster = &options.raster;
+    let raster = &options.raster();
     let needed = crate::export::picture_bytes(raster);
     if ev.polylines().is_some() && needed > raster.memory_limit as u128 {
-        let vertices = match options.eval.depth {
+        let vertices = match options.sampling.depth {
             Depth::Fixed(k) => ev.total_samples(k),
             Depth::Tolerance(_) => 0,
         };
         let (width, height, limit) = (raster.width, raster.height, raster.memory_limit);
         return Err(crate::export::RasterTooLarge { width, height, vertices, needed, limit }.into());
     }
-    if let (Some(false), Depth::Fixed(k)) = (ev.polylines(), options.eval.depth) {
+    if let (Some(false), Depth::Fixed(k)) = (ev.polylines(), options.sampling.depth) {
         let enough = crate::export::point_picture_depth(&ev, raster, k);
         report.depth = Some(enough);
         if enough < k {
@@ -473,7 +475,7 @@ fn deterministic_image(
             ev.set_depth(Depth::Fixed(enough))?;
         }
     }
-    if let (Some(true), Depth::Fixed(k)) = (ev.polylines(), options.eval.depth) {
+    if let (Some(true), Depth::Fixed(k)) = (ev.polylines(), options.sampling.depth) {
         let enough = crate::export::curve_picture_depth(&mut ev, raster, k)?;
         report.depth = Some(enough);
         if enough < k {
@@ -488,7 +490,7 @@ fn deterministic_image(
         report.vertices = vertices;
         return Ok((img, raster.transparent.then(crate::export::Matte::default_ink)));
     }
-    let depth = match options.eval.depth {
+    let depth = match options.sampling.depth {
         Depth::Fixed(k) => Some(k),
         Depth::Tolerance(eps) if ev.quads_at(0).is_some() => Some(ev.depth_for_tolerance(eps)?),
         Depth::Tolerance(_) => None,

@@ -24,7 +24,7 @@ pub enum LoadError {
     Preset(#[from] crate::schemes::CatalogError),
     /// A polygon mesh (OBJ, OFF) opened without a scheme.
     #[error(
-        "{0} is a polygon mesh, not an automaton: give the scheme that makes its automaton (`bcifs explore {0} --scheme catmull-clark`, `bcifs.load(\"{0}\", scheme=\"catmull-clark\")`; doo-sabin, catmull-clark, loop or sqrt3), or write it with `bcifs surface {0} --scheme catmull-clark --print -o {0}.toml`"
+        "{0} is a polygon mesh, not an automaton: give the subdivision scheme that makes its automaton (doo-sabin, catmull-clark, loop or sqrt3)"
     )]
     MeshWithoutScheme(String),
     /// A polygon mesh that could not be read.

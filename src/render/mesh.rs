@@ -4,7 +4,8 @@
 use std::path::Path;
 
 use super::checked::{Checked, FileWriter, WriteSettings, write_error};
-use super::options::{Format, Options, RenderError, Report, check_disk};
+use super::options::Options;
+use super::output::{Format, RenderError, Report, check_disk};
 use super::shape::write_shape_text;
 use crate::analysis::{WeightsError, WeightsVerdict, check_loop_weights, check_quad_weights};
 use crate::export::{NormalSpill, Replay};
@@ -138,7 +139,7 @@ fn spilled_into(
     let mut checked = Checked::new(&mut spill, &options.cancel).with_progress(options.progress.as_ref(), 0, total);
     let written = mesh.subdivide_into(subdivision, !job.net, &job.name, &mut checked)?;
     let groups = mesh.group_cuts(job.scheme, job.depth, !job.net);
-    let budget = SPILL_BUDGET.min(options.eval.memory_limit / 2).max(1 << 20);
+    let budget = SPILL_BUDGET.min(options.budget.memory / 2).max(1 << 20);
     spill.replay(Replay { sink, groups: &groups, cancel: &options.cancel, budget }).map_err(io)?;
     Ok(written)
 }
@@ -154,7 +155,7 @@ fn spilled_into(
 /// Diverging weights, or an output over the memory limit.
 pub fn subdivide_mesh(mesh: &PolyMesh, job: &MeshJob, options: &Options) -> Result<PolyMesh, RenderError> {
     check_weights(mesh, job.weights)?;
-    let memory = options.eval.memory_limit;
+    let memory = options.budget.memory;
     let subdivision = Subdivision { scheme: job.scheme, depth: job.depth, weights: job.weights, memory_limit: memory };
     let mut out = mesh.subdivided(&subdivision, !job.net)?;
     if job.uv {
@@ -168,8 +169,8 @@ pub fn subdivide_mesh(mesh: &PolyMesh, job: &MeshJob, options: &Options) -> Resu
 /// Subdivides `mesh` as `job` says and writes it to `out`, the format
 /// chosen by its extension: OBJ and OFF streamed (only the net before the
 /// last step in memory; the size estimate checked against
-/// [`Options::max_output`] and the disk first), PNG and SVG drawn from
-/// memory with [`Options::raster`]. Files keep the input's axes (a mesh
+/// [`Budget::output`](super::Budget::output) and the disk first), PNG and SVG drawn from
+/// memory with [`Options::look`]. Files keep the input's axes (a mesh
 /// file is Y-up, and so are the files written).
 ///
 /// # Errors
@@ -187,7 +188,7 @@ pub fn render_mesh(mesh: &PolyMesh, job: &MeshJob, options: &Options, out: &Path
     options.check_cancel()?;
     let mut report = Report { format: Some(format), depth: Some(job.depth), ..Report::default() };
     report.warnings.extend(check_weights(mesh, job.weights)?);
-    let memory = options.eval.memory_limit;
+    let memory = options.budget.memory;
     let subdivision = Subdivision { scheme: job.scheme, depth: job.depth, weights: job.weights, memory_limit: memory };
     if matches!(format, Format::Png | Format::Svg) {
         let shape = mesh.subdivided(&subdivision, !job.net)?.to_shape(&job.name);
@@ -196,7 +197,7 @@ pub fn render_mesh(mesh: &PolyMesh, job: &MeshJob, options: &Options, out: &Path
         if let Some((_, comment)) = text.iter_mut().find(|(key, _)| key == "Comment") {
             *comment = format!("{} depth {}{}", job.scheme.name(), job.depth, if job.net { ", net" } else { "" });
         }
-        let written = write_shape_text(&shape, &job.name, &options.raster.with_y_up(true), out, &text)?;
+        let written = write_shape_text(&shape, &job.name, &options.raster().with_y_up(true), out, &text)?;
         return Ok(Report { warnings: report.warnings, depth: report.depth, ..written });
     }
     let (faces, in_memory) = mesh.estimate(job.scheme, job.depth);
@@ -208,10 +209,10 @@ pub fn render_mesh(mesh: &PolyMesh, job: &MeshJob, options: &Options, out: &Path
         && (in_memory <= NORMALS_IN_MEMORY.min(memory as u128) || textured && follows && in_memory <= memory as u128);
     let spilled = format.has_normals() && !smooth;
     let side = if spilled { faces.saturating_mul(SPILL_PER_FACE) } else { 0 };
-    check_disk(out, faces.saturating_mul(BYTES_PER_FACE), side, options.max_output)?;
-    let coordinates = crate::export::Coordinates { y_up_input: true, ..options.coordinates };
-    let threads = options.eval.threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
-    let settings = WriteSettings { coordinates, threads, raster: &options.raster, ascii: options.ascii };
+    check_disk(out, faces.saturating_mul(BYTES_PER_FACE), side, options.budget.output)?;
+    let coordinates = crate::export::Coordinates { y_up_input: true, ..options.file.coordinates };
+    let (threads, raster) = (options.budget.thread_count(), options.raster());
+    let settings = WriteSettings { coordinates, threads, raster: &raster, ascii: options.file.ascii };
     let mut writer = FileWriter::create(&crate::export::Target::from(out), format, &settings)?;
     // Progress: the faces written against the estimate (streamed normals: the side files' half, then the file's).
     let total = u64::try_from(faces).unwrap_or(u64::MAX);
@@ -224,7 +225,7 @@ pub fn render_mesh(mesh: &PolyMesh, job: &MeshJob, options: &Options, out: &Path
         ));
     } else if textured && !smooth {
         report.notes.push(format!(
-            "texture coordinates are written by the output made in memory, which would take {:.1} GiB, over the limit of {:.1} GiB (--memory-mib): this streamed output has none",
+            "texture coordinates are written by the output made in memory, which would take {:.1} GiB, over the in-memory limit of {:.1} GiB (the memory budget): this streamed output has none",
             in_memory as f64 / f64::from(1u32 << 30),
             memory as f64 / f64::from(1u32 << 30)
         ));

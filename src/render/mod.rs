@@ -23,16 +23,20 @@
 
 mod checked;
 mod design;
+mod keys;
 mod load;
 mod mesh;
 mod options;
+mod output;
 mod shape;
 
 pub use crate::export::{Compression, png_bytes};
 pub use design::{density, evaluate_design, picture, picture_png, render, render_bytes};
+pub use keys::{Group, KEYS, Key, Kind, OptionError, Profile, Value, key_named};
 pub use load::{LoadError, is_mesh_path, load, load_with_scheme};
 pub use mesh::{MeshJob, check_weights, render_mesh, rule_weights, subdivide_mesh};
-pub use options::{Format, Options, RenderError, Report, check_disk, check_room};
+pub use options::{Budget, DEFAULT_SEED, FileStyle, Look, Options, Sampling};
+pub use output::{Format, RenderError, Report, check_disk, check_room};
 // The reports, for the front ends that import the library through this module alone.
 pub use crate::report::{
     CheckReport, CheckReportError, CurveAnalysis, DIMENSION_MEMORY, DimensionReport, ParameterRange, REGIONS,

@@ -3,7 +3,8 @@
 use std::path::Path;
 
 use super::checked::{FileWriter, WriteSettings, write_error};
-use super::options::{Format, Options, RenderError, Report};
+use super::options::Options;
+use super::output::{Format, RenderError, Report};
 use crate::design::Model;
 use crate::export::{Coordinates, PictureKind, RasterSettings, write_picture};
 use crate::geometry::{Shape, Sink};
@@ -50,8 +51,12 @@ pub(crate) fn write_shape_options(
     options: &Options,
     out: &Path,
 ) -> Result<Report, RenderError> {
-    let settings =
-        WriteSettings { coordinates: options.coordinates, threads: 1, raster: &options.raster, ascii: options.ascii };
+    let settings = WriteSettings {
+        coordinates: options.file.coordinates,
+        threads: 1,
+        raster: &options.raster(),
+        ascii: options.file.ascii,
+    };
     write_shape_with(shape, name, &settings, out, &options.png_text(name))
 }
 

@@ -438,7 +438,7 @@ fn dedup_drops_and_counts_exact_duplicates() {
     // On a curve it warns and keeps the polyline.
     let (code, _, err) = bcifs(&["render", "levy", "--depth", "4", "--dedup", "-o", &path("levy.obj")]);
     assert_eq!(code, 0);
-    assert!(err.contains("--dedup applies to point clouds"), "{err}");
+    assert!(err.contains("deduplication applies to point clouds"), "{err}");
     assert!(std::fs::read_to_string(dir.join("levy.obj")).unwrap().contains("\nl "));
     std::fs::remove_dir_all(&dir).unwrap();
 }
@@ -567,7 +567,7 @@ fn surface_subdivides_a_users_mesh() {
         ),
         (
             vec!["surface", "tests/data/torus12.obj", "--scheme", "loop", "-o", &path("bad.png")],
-            "face 0 has 4 vertices: loop subdivides triangle meshes; split the faces into triangles with --triangulate",
+            "face 0 has 4 vertices: loop subdivides triangle meshes; triangulate the faces first",
         ),
         (
             vec!["surface", "tests/data/torus12.obj", "--scheme", "doo-sabin", "--depth", "30", "-o", &path("bad.png")],
@@ -1222,7 +1222,7 @@ fn mesh_pictures_stand_up_and_sizes_are_checked() {
         &dir.join("big.obj").display().to_string(),
     ]);
     assert_eq!(code, 2);
-    assert!(err.contains("over --max-output-gib 1.0"), "{err}");
+    assert!(err.contains("over the output limit of 1.0 GiB") && err.contains("hint: --max-output-gib"), "{err}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -8,5 +8,6 @@ mod explore;
 mod families;
 mod fuzzed;
 mod layers;
+mod options;
 mod properties;
 mod render_api;

@@ -7,7 +7,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use bcifs::mesh::{PolyMesh, Scheme, read_mesh, read_off};
-use bcifs::render::{Format, MeshJob, Options, RenderError, render, render_mesh};
+use bcifs::render::{FileStyle, Format, Look, MeshJob, Options, RenderError, Sampling, render, render_mesh};
 use bcifs::{Cancel, Progress};
 
 fn scratch(tag: &str) -> PathBuf {
@@ -115,7 +115,7 @@ fn cancellation_stops_a_streamed_render() {
         }
     });
     let mut options = Options::default().with_progress(progress).with_cancel(cancel).with_size(64, 64);
-    options.random = Some(bcifs::eval::RandomSettings::default().with_points(1 << 24));
+    options = options.with_chaos(1 << 24);
     let fern = bcifs::builtin_design("fern").unwrap();
     assert!(matches!(render(&fern, &options, &dir.join("fern.png")), Err(RenderError::Cancelled)));
     assert!(!dir.join("fern.png").exists());
@@ -155,7 +155,8 @@ fn meshes_render_to_every_format() {
             render_mesh(&mesh, &job, &Options::default().with_size(64, 64), &dir.join("s.png")).unwrap();
         }
     }
-    let options = Options { max_output: 1 << 20, ..Options::default() };
+    let mut options = Options::default();
+    options.budget.output = 1 << 20;
     let e = render_mesh(&mesh, &MeshJob::new(Scheme::CatmullClark, 6), &options, &dir.join("big.obj")).unwrap_err();
     assert!(matches!(e, RenderError::TooBig(_)), "{e}");
     assert!(!dir.join("big.obj").exists());
@@ -183,8 +184,9 @@ fn normals_streamed_are_the_normals_made_in_memory() {
     let grouped = read_mesh(&dir.join("grouped.obj")).unwrap();
     assert_eq!(grouped.groups.len(), 2);
     let small = |ascii: bool| {
-        let mut o = Options { ascii, ..Options::default() };
-        o.eval.memory_limit = 2 << 20;
+        let mut o = Options::default();
+        o.file.ascii = ascii;
+        o.budget.memory = 2 << 20;
         o
     };
     // √3's limit holds its last net: over the limit here, it is tested in the library.
@@ -202,7 +204,13 @@ fn normals_streamed_are_the_normals_made_in_memory() {
             let job = MeshJob { net, ..MeshJob::new(scheme, depth) };
             for (ext, ascii) in [("obj", false), ("ply", false), ("ply", true), ("glb", false)] {
                 let (a, b) = (dir.join(format!("a.{ext}")), dir.join(format!("b.{ext}")));
-                let made = render_mesh(mesh, &job, &Options { ascii, ..Options::default() }, &a).unwrap();
+                let made = render_mesh(
+                    mesh,
+                    &job,
+                    &Options { file: FileStyle { ascii, ..FileStyle::default() }, ..Options::default() },
+                    &a,
+                )
+                .unwrap();
                 let streamed = render_mesh(mesh, &job, &small(ascii), &b).unwrap();
                 let what = format!("{scheme:?} depth {depth} net {net} .{ext} ascii {ascii}");
                 assert!(std::fs::read(&a).unwrap() == std::fs::read(&b).unwrap(), "{what}: the files differ");
@@ -244,7 +252,7 @@ fn mesh_renders_report_progress() {
         let mut options = Options::default().with_progress(Progress::new(move |done, total| {
             log.lock().unwrap().push((done, total));
         }));
-        options.eval.memory_limit = memory;
+        options.budget.memory = memory;
         render_mesh(&mesh, &job, &options, &dir.join(file)).unwrap();
         let seen = seen.lock().unwrap();
         assert!(seen.len() > 1, "{file}: {seen:?}");
@@ -273,11 +281,11 @@ fn pictures_in_memory_are_the_files() {
         (
             "fern",
             Options {
-                random: Some(bcifs::eval::RandomSettings::default().with_points(20_000)),
+                sampling: Sampling { samples: Some(20_000), ..Sampling::default() },
                 ..Options::default().with_size(80, 80)
             },
         ),
-        ("gasket", Options { raster: Options::default().raster.with_transparent(true), ..Options::default() }),
+        ("gasket", Options { look: Look { transparent: true, ..Look::default() }, ..Options::default() }),
     ];
     for (name, options) in cases {
         let design = bcifs::render::load(name).unwrap();
@@ -290,7 +298,7 @@ fn pictures_in_memory_are_the_files() {
         let decode = |bytes: &[u8]| image::load_from_memory(bytes).unwrap().to_rgba8();
         assert_eq!(decode(&fast), decode(&png), "{name}: the same pixels");
     }
-    let coloured = Options { dedup: true, ..Options::default() };
+    let coloured = Options { file: FileStyle { dedup: true, ..FileStyle::default() }, ..Options::default() };
     assert!(picture_png(&bcifs::render::load("fern").unwrap(), &coloured, Compression::Small).is_err());
     std::fs::remove_dir_all(&dir).unwrap();
 }
@@ -302,10 +310,9 @@ fn pictures_in_memory_are_the_files() {
 /// temporary directory; the outputs made in files only say so.
 #[test]
 fn outputs_in_memory_are_the_files() {
-    use bcifs::eval::RandomSettings;
     use bcifs::render::render_bytes;
     let dir = scratch("bytes");
-    let cloud = Options { random: Some(RandomSettings::default().with_points(5_000)), ..Options::default() };
+    let cloud = Options::default().with_chaos(5_000);
     let cases = [
         ("corner_cutting", Options::default().with_depth(6), vec![Format::Obj, Format::Ply, Format::Glb]),
         (
@@ -314,7 +321,11 @@ fn outputs_in_memory_are_the_files() {
             vec![Format::Obj, Format::Off, Format::Ply, Format::Stl, Format::Glb],
         ),
         ("fern", cloud.clone(), vec![Format::Obj, Format::Ply, Format::Glb]),
-        ("gasket", Options { dedup: true, ..Options::default().with_depth(5) }, vec![Format::Obj, Format::Ply]),
+        (
+            "gasket",
+            Options { file: FileStyle { dedup: true, ..FileStyle::default() }, ..Options::default().with_depth(5) },
+            vec![Format::Obj, Format::Ply],
+        ),
         ("koch", Options::default().with_size(90, 60), vec![Format::Png]),
     ];
     let temporaries = || {

@@ -26,9 +26,13 @@ fn design(name: &str, options: &Options, file: &str) -> (PathBuf, Report) {
 fn surfaces_load_whole_from_ply() {
     let options = Options::default().with_depth(4);
     let (binary, report) = design("doo_sabin_torus", &options, "t.ply");
-    let (ascii, _) = design("doo_sabin_torus", &Options { ascii: true, ..options.clone() }, "ta.ply");
+    let (ascii, _) = design(
+        "doo_sabin_torus",
+        &Options { file: bcifs::render::FileStyle { ascii: true, ..options.file }, ..options.clone() },
+        "ta.ply",
+    );
     let mut six = options.clone();
-    six.coordinates = six.coordinates.with_precision(Some(6));
+    six.set("precision", bcifs::render::Value::from(6)).unwrap();
     let (single, _) = design("doo_sabin_torus", &six, "t32.ply");
     let (obj, _) = design("doo_sabin_torus", &options, "t.obj");
     let head = std::fs::read(&binary).unwrap();
@@ -75,8 +79,7 @@ fn polygons_curves_and_clouds_load_whole_from_ply() {
     let job = MeshJob { net: true, ..MeshJob::new(Scheme::DooSabin, 2) };
     let report = render_mesh(&mesh, &job, &Options::default(), &net).unwrap();
     let (curve, curve_report) = design("corner_cutting", &Options::default().with_depth(5), "c.ply");
-    let random =
-        Options { random: Some(bcifs::eval::RandomSettings::default().with_points(10_000)), ..Options::default() };
+    let random = Options::default().with_chaos(10_000);
     let (cloud, _) = design("fern", &random, "f.ply");
     let [n, c, f] = [&net, &curve, &cloud].map(|p| p.display().to_string());
     let corner_cutting_segments = curve_report.vertices; // a closed curve: as many segments as vertices
@@ -149,11 +152,7 @@ fn closed_surfaces_arrive_watertight_in_stl() {
     }
     for (name, options, why) in [
         ("corner_cutting", Options::default().with_depth(4), "not curves"),
-        (
-            "fern",
-            Options { random: Some(bcifs::eval::RandomSettings::default().with_points(1000)), ..Options::default() },
-            "no face",
-        ),
+        ("fern", Options::default().with_chaos(1000), "no face"),
     ] {
         let out = scratch(&format!("{name}.stl"));
         let e = render(&bcifs::builtin_design(name).unwrap(), &options, &out).unwrap_err();
@@ -193,10 +192,8 @@ fn png_pictures_carry_their_settings() {
     assert_eq!(image::open(&plain).unwrap().to_rgb8(), img);
     assert!(text_of(&plain).is_empty());
     // A chaos-game picture records the walk.
-    let random = Options {
-        random: Some(bcifs::eval::RandomSettings::default().with_points(20_000).with_seed(7)),
-        ..Options::default().with_size(64, 64)
-    };
+    let random =
+        Options::from_values([("samples", 20_000.into()), ("seed", 7.into()), ("size", "64x64".into())]).unwrap();
     let (fern, _) = design("fern", &random, "fern.png");
     assert!(text_of(&fern).iter().any(|(k, v)| k == "Comment" && v.starts_with("random 20000 seed 7")));
     for p in [curve, plain, fern] {
@@ -209,11 +206,7 @@ fn png_pictures_carry_their_settings() {
 /// `uchar` RGB in PLY): as many colours as vertices, and many of them.
 #[test]
 fn coloured_clouds_carry_their_colours() {
-    let options = Options {
-        random: Some(bcifs::eval::RandomSettings::default().with_points(20_000)),
-        palette: Some(bcifs::export::Palette::parse("rainbow").unwrap()),
-        ..Options::default()
-    };
+    let options = Options::from_values([("samples", 20_000.into()), ("palette", "rainbow".into())]).unwrap();
     let (ply, _) = design("gasket", &options, "g.ply");
     let (obj, _) = design("gasket", &options, "g.obj");
     let [p, o] = [&ply, &obj].map(|p| p.display().to_string());
@@ -248,10 +241,10 @@ fn coloured_clouds_carry_their_colours() {
 /// density picture.
 #[test]
 fn transparent_pictures_composite_back_to_the_opaque_ones() {
-    let random = |palette: Option<&str>| Options {
-        random: Some(bcifs::eval::RandomSettings::default().with_points(50_000)),
-        palette: palette.map(|p| bcifs::export::Palette::parse(p).unwrap()),
-        ..Options::default().with_size(160, 160)
+    let random = |palette: Option<&str>| {
+        let mut options = Options::default().with_chaos(50_000).with_size(160, 160);
+        options.look.palette = palette.map(|p| bcifs::export::Palette::parse(p).unwrap());
+        options
     };
     let cases = [
         ("koch", Options::default().with_depth(6).with_size(160, 120), [255u8; 3]),
@@ -262,7 +255,7 @@ fn transparent_pictures_composite_back_to_the_opaque_ones() {
     for (k, (name, options, paper)) in cases.into_iter().enumerate() {
         let (opaque, _) = design(name, &options, &format!("opaque{k}.png"));
         let mut clear = options.clone();
-        clear.raster = clear.raster.with_transparent(true);
+        clear.look.transparent = true;
         let (transparent, _) = design(name, &clear, &format!("clear{k}.png"));
         let (o, t) = (image::open(&opaque).unwrap(), image::open(&transparent).unwrap());
         assert_eq!(t.color(), image::ColorType::Rgba8, "{name}");
@@ -331,11 +324,8 @@ fn subdivided_surfaces_carry_vertex_normals() {
 fn flame_files_render_the_same_picture_in_flam3() {
     let probe = std::process::Command::new("flam3-render").stdin(std::process::Stdio::null()).output();
     for (name, palette) in [("fern", None), ("gasket", Some("fire")), ("levy", None)] {
-        let options = Options {
-            random: Some(bcifs::eval::RandomSettings::default().with_points(1_000_000)),
-            palette: palette.map(|p| bcifs::export::Palette::parse(p).unwrap()),
-            ..Options::default().with_size(200, 160)
-        };
+        let mut options = Options::default().with_chaos(1_000_000).with_size(200, 160);
+        options.look.palette = palette.map(|p| bcifs::export::Palette::parse(p).unwrap());
         let (flame, _) = design(name, &options, &format!("{name}.flame"));
         let (ours, _) = design(name, &options, &format!("{name}.png"));
         let text = std::fs::read_to_string(&flame).unwrap();
@@ -402,7 +392,11 @@ fn vertices_are_coloured_by_level_state_and_map() {
         );
         out.map(|o| o.split(' ').map(|x| x.parse().unwrap()).collect()).unwrap_or_default()
     };
-    let coloured = |mode| Options { colour: Some(mode), ..Options::default().with_depth(3) };
+    let coloured = |mode| {
+        let mut options = Options::default().with_depth(3);
+        options.look.colour = Some(mode);
+        options
+    };
     let patch = scratch("levels.ply");
     let box_spline = bcifs::schemes::ifs_preset("box-spline", None, None).unwrap();
     let report = render(&box_spline, &coloured(Colouring::Level), &patch).unwrap();
@@ -420,10 +414,10 @@ fn vertices_are_coloured_by_level_state_and_map() {
         assert_eq!(lines[0], "217 1", "Blender: every vertex, one colour attribute");
     }
 
-    let states = Options { colour: Some(Colouring::State), ..Options::default().with_depth(5) };
+    let states = Options::from_values([("colour", "state".into()), ("depth", 5.into())]).unwrap();
     let (fs, all) = design("fern_sierpinski", &states, "states.ply");
     let mut fern_only = Options::default().with_depth(5);
-    fern_only.eval.dropped = vec!["T2".into()];
+    fern_only.sampling.dropped = vec!["T2".into()];
     let (fern, only) = design("fern_sierpinski", &fern_only, "fern.ply");
     let per_state = count(&fs);
     if !per_state.is_empty() {

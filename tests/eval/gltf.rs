@@ -48,11 +48,7 @@ fn blender_glb(files: &[&Path]) -> Option<Vec<String>> {
 fn surfaces_curves_and_clouds_load_whole_from_glb() {
     let (torus, report) = design("doo_sabin_torus", &Options::default().with_depth(4), "torus.glb");
     let (curve, curve_report) = design("corner_cutting", &Options::default().with_depth(5), "curve.glb");
-    let coloured = Options {
-        random: Some(bcifs::eval::RandomSettings::default().with_points(20_000)),
-        palette: Some(bcifs::export::Palette::parse("rainbow").unwrap()),
-        ..Options::default()
-    };
+    let coloured = Options::from_values([("samples", 20_000.into()), ("palette", "rainbow".into())]).unwrap();
     let (cloud, _) = design("gasket", &coloured, "cloud.glb");
     // An open sheet streams its far row and column after its quads: they refer to vertices still to come.
     let (sheet, _) = design("doo_sabin_quad", &Options::default().with_depth(3), "sheet.glb");

@@ -211,7 +211,7 @@ fn sqrt3_on_open_meshes_and_polygons_for_loop_are_refused() {
     let e = mesh_automaton(&open, Scheme::Sqrt3, None).unwrap_err().to_string();
     assert!(e.contains("closed meshes only"), "{e}");
     let e = mesh_automaton(&crate::cube(), Scheme::Loop, None).unwrap_err().to_string();
-    assert!(e.contains("--triangulate"), "{e}");
+    assert!(e.contains("triangulate the faces first"), "{e}");
 }
 
 /// The evaluator meshes a generated automaton (faces of several states,

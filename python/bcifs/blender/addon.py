@@ -34,6 +34,11 @@ from bpy.props import BoolProperty, CollectionProperty, EnumProperty, FloatPrope
 
 from . import bcifs
 
+# The add-on's budget is the library's Blender profile: the deepest mesh, the map's pixels.
+_PROFILE = bcifs.profile("blender")
+_MAX_DEPTH = _PROFILE["max_depth"]
+_MAP_SIZE, _MAP_MAX = _PROFILE["size"][0], _PROFILE["max_side"]
+
 # Designs parsed once per text (a slider's move must not parse and solve again).
 _DESIGNS = {}
 # The last change of each object, for the full-depth evaluation once a slider rests.
@@ -231,7 +236,7 @@ class BcifsState(bpy.types.PropertyGroup):
 
     source: StringProperty(name="Source", description="The automaton or preset name, or the file, it was made from")
     toml: StringProperty(name="Design", description="The automaton file's text (the .blend needs no file)")
-    depth: IntProperty(name="Depth", min=0, max=14, default=4, update=_depth_changed)
+    depth: IntProperty(name="Depth", min=0, max=_MAX_DEPTH, default=4, update=_depth_changed)
     preview_depth: IntProperty(name="Preview depth", min=0, max=10, default=3, description="The depth while a slider moves")
     shown_depth: IntProperty(name="Shown depth")
     uv: BoolProperty(name="UVs", default=False)
@@ -255,7 +260,7 @@ class BCIFS_OT_add(bpy.types.Operator):
     bl_options = {"REGISTER", "UNDO"}
 
     source: StringProperty(name="Source", default="doo_sabin_torus", description="A shipped automaton or preset name, or an automaton file")
-    depth: IntProperty(name="Depth", min=0, max=14, default=4)
+    depth: IntProperty(name="Depth", min=0, max=_MAX_DEPTH, default=4)
     curve_as: EnumProperty(
         name="Curves as",
         items=[("CURVE", "Curve", "Poly splines (render with a bevel depth)"), ("EDGES", "Mesh edges", "Loose edges of a mesh")],
@@ -342,7 +347,7 @@ class BCIFS_OT_map(bpy.types.Operator):
     bl_label = "Parameter map"
     bl_options = {"REGISTER"}
 
-    size: IntProperty(name="Pixels", min=8, max=1024, default=160)
+    size: IntProperty(name="Pixels", min=8, max=_MAP_MAX, default=_MAP_SIZE)
 
     @classmethod
     def poll(cls, context):

@@ -22,7 +22,7 @@ use std::time::{Duration, Instant};
 use anyhow::{Context, Result, bail};
 use serde_json::{Value, json};
 
-use bcifs::render::{Options, SweepKind};
+use bcifs::render::{Options, Profile, SweepKind};
 use bcifs::{Cancel, Design};
 
 const PAGE: &str = include_str!("index.html");
@@ -31,17 +31,23 @@ const SCRIPT: &str = include_str!("explore.js");
 const ICON: &str = "<svg xmlns='http://www.w3.org/2000/svg' viewBox='0 0 8 7'><path fill='#2d3e50' \
 d='M0 7h2l1-2zM2 7h2l-1-2zM1 5h2l-1-2zM4 7h2l1-2zM6 7h2l-1-2zM5 5h2l-1-2zM2 3h2l1-2zM4 3h2l-1-2zM3 1h2l-1-1z'/></svg>";
 
-/// Every request's budget: its time, then it is cancelled.
-const TIME_BUDGET: Duration = Duration::from_secs(20);
+/// Every request's budget (time, memory, depth, picture side): the library's explorer profile.
+const PROFILE: Profile = Profile::Explorer;
+/// The render keys a query may give (the others are the design's parameters).
+const QUERY_KEYS: [&str; 3] = ["depth", "size", "view"];
+
+/// The time after which a request is cancelled.
+fn time_budget() -> Duration {
+    PROFILE.budget().time.unwrap_or(Duration::MAX)
+}
+
 /// Every request's memory for evaluation and pictures.
-const MEMORY_BUDGET: usize = 768 << 20;
-/// The largest picture or map side, in pixels.
-const MAX_SIDE: u32 = 2048;
-/// The deepest evaluation a request may ask (the memory budget refuses most before).
-const MAX_DEPTH: usize = 16;
+fn memory_budget() -> usize {
+    PROFILE.budget().memory
+}
 /// Worker threads answering requests.
 const WORKERS: usize = 8;
-/// Requests that may hold [`MEMORY_BUDGET`] at once (pictures, maps,
+/// Requests that may hold [`memory_budget`] at once (pictures, maps,
 /// dimensions, exports); the others wait their turn, within their time
 /// budget: the server stays under this many budgets whatever the pages ask.
 const HEAVY_AT_ONCE: usize = 2;
@@ -119,7 +125,7 @@ impl Answer {
         match e {
             E::Cancelled => Answer::cancelled(),
             E::Eval(bcifs::eval::EvalError::TooLarge { .. }) | E::Raster(_) | E::TooBig(_) => {
-                Answer::error(413, format!("over the memory budget of {} MiB: {e}", MEMORY_BUDGET >> 20))
+                Answer::error(413, format!("over the memory budget of {} MiB: {e}", memory_budget() >> 20))
             }
             _ => Answer::error(422, e),
         }
@@ -193,7 +199,7 @@ impl Explorer {
             }
         }
         if let Ok(mut d) = self.deadlines.lock() {
-            d.push((Instant::now() + TIME_BUDGET, cancel.clone()));
+            d.push((Instant::now() + time_budget(), cancel.clone()));
         }
         cancel
     }
@@ -229,10 +235,10 @@ impl Explorer {
 
     /// The parameter values of a query: every free parameter it names (others: defaults).
     fn values(&self, query: &Query) -> std::result::Result<Vec<(String, f64)>, Answer> {
-        let reserved = ["depth", "size", "view", "slot", "seq", "x", "y", "kind", "xr", "yr", "threshold", "session"];
+        let reserved = ["slot", "seq", "x", "y", "kind", "xr", "yr", "threshold", "session"];
         let mut values: Vec<(String, f64)> = Vec::new();
         for (k, v) in &query.pairs {
-            if reserved.contains(&k.as_str()) {
+            if reserved.contains(&k.as_str()) || QUERY_KEYS.contains(&k.as_str()) {
                 continue;
             }
             if !self.parameters.iter().any(|p| &p.name == k) {
@@ -255,42 +261,12 @@ impl Explorer {
 
     /// The render options of a query, checked: depth, size, view, under the budgets.
     fn options(&self, query: &Query, cancel: Cancel) -> std::result::Result<Options, Answer> {
-        let mut options = Options { params: self.values(query)?, ..Options::default() }.with_cancel(cancel);
-        options.eval.memory_limit = MEMORY_BUDGET;
-        // Exports are read back into memory to be sent.
-        options.max_output = MEMORY_BUDGET as u128;
-        if let Some(depth) = query.get("depth") {
-            let depth: usize = depth
-                .parse()
-                .map_err(|_| Answer::error(400, format!("depth `{}`: expected 0 to {MAX_DEPTH}", clip(depth))))?;
-            if depth > MAX_DEPTH {
-                return Err(Answer::error(400, format!("depth {depth}: at most {MAX_DEPTH}")));
-            }
-            options.eval.depth = bcifs::eval::Depth::Fixed(depth);
-        }
-        let (w, h) = match query.get("size") {
-            Some(size) => parse_size(size)?,
-            None => (640, 640),
-        };
-        let (yaw, pitch) = match query.get("view") {
-            Some(view) => {
-                let parts: Vec<f64> = view.split(',').filter_map(|t| t.trim().parse().ok()).collect();
-                match parts[..] {
-                    [yaw, pitch] if yaw.is_finite() && pitch.is_finite() => (yaw, pitch),
-                    _ => {
-                        return Err(Answer::error(
-                            400,
-                            format!("view `{}`: expected YAW,PITCH in degrees", clip(view)),
-                        ));
-                    }
-                }
-            }
-            None => (30.0, 35.0),
-        };
-        options.raster = bcifs::export::RasterSettings::default()
-            .with_size(w, h)
-            .with_view(yaw, pitch)
-            .with_memory_limit(MEMORY_BUDGET);
+        let mut options = PROFILE.options().with_cancel(cancel);
+        options.params = self.values(query)?;
+        let given = query.pairs.iter().filter(|(k, _)| QUERY_KEYS.contains(&k.as_str()));
+        options
+            .set_values(given.map(|(k, v)| (k, bcifs::render::Value::from(v.as_str()))))
+            .map_err(|e| Answer::error(400, e))?;
         Ok(options)
     }
 
@@ -438,8 +414,8 @@ impl Explorer {
     fn answer(&self, path: &str, query: &Query) -> Answer {
         let started = Instant::now();
         let answer = self.answer_now(path, query);
-        if answer.status == 409 && started.elapsed() >= TIME_BUDGET {
-            let budget = TIME_BUDGET.as_secs();
+        if answer.status == 409 && started.elapsed() >= time_budget() {
+            let budget = time_budget().as_secs();
             return Answer::error(422, format!("over the time budget of {budget} s: lower the depth, size or range"));
         }
         answer
@@ -486,7 +462,7 @@ impl Explorer {
                         Ok(turn) => turn,
                         Err(a) => return a,
                     };
-                    match bcifs::render::dimension_within(&self.design, &values, MEMORY_BUDGET, &cancel) {
+                    match bcifs::render::dimension_within(&self.design, &values, memory_budget(), &cancel) {
                         Ok(_) if cancel.is_cancelled() => Answer::cancelled(),
                         Ok(d) => Answer::json(&d.to_json()),
                         Err(e) => Answer::refused(&e.into()),
@@ -573,17 +549,6 @@ fn parse_range(key: &str, text: &str) -> std::result::Result<(f64, f64), Answer>
         return Err(bad());
     }
     Ok((a, b))
-}
-
-/// `WxH` within [`MAX_SIDE`].
-fn parse_size(size: &str) -> std::result::Result<(u32, u32), Answer> {
-    let bad = || Answer::error(400, format!("size `{}`: expected WxH, 1 to {MAX_SIDE} pixels a side", clip(size)));
-    let (w, h) = size.split_once('x').ok_or_else(bad)?;
-    let (w, h): (u32, u32) = (w.parse().map_err(|_| bad())?, h.parse().map_err(|_| bad())?);
-    if w == 0 || h == 0 || w > MAX_SIDE || h > MAX_SIDE {
-        return Err(bad());
-    }
-    Ok((w, h))
 }
 
 /// `text` as an error message quotes it: at most 40 characters, then how long it was.
