@@ -59,7 +59,7 @@ fn chaos(c: &mut Criterion) {
         let settings = RandomSettings::default().with_points(1 << 16).with_threads(1);
         let game = ChaosGame::new(&a, &model, &settings).expect("ok");
         g.bench_function(BenchmarkId::new("density_4096_threads_1", name), |b| {
-            b.iter(|| bcifs::export::density(&game, n, &large, 1, palette).expect("fits"))
+            b.iter(|| bcifs::export::density_counts(&game, n, &large, 1, palette).expect("fits"))
         });
     }
     for (name, palette) in [("fern", None), ("gasket_colour", fire.as_ref())] {
@@ -68,7 +68,7 @@ fn chaos(c: &mut Criterion) {
             let settings = RandomSettings::default().with_points(1 << 16).with_threads(threads);
             let game = ChaosGame::new(&a, &model, &settings).expect("ok");
             g.bench_function(BenchmarkId::new(format!("density_1024_{name}_threads"), threads), |b| {
-                b.iter(|| bcifs::export::density(&game, n, &raster, 1, palette).expect("fits"))
+                b.iter(|| bcifs::export::density_counts(&game, n, &raster, 1, palette).expect("fits"))
             });
         }
     }

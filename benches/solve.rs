@@ -22,7 +22,7 @@ fn solve_benches(c: &mut Criterion) {
     g.bench_function("parse+solve", |b| {
         b.iter(|| {
             let design = bcifs::parse_design(&suzanne_text, "s", "s").expect("parses");
-            bcifs::family::solution(&design).as_ref().expect("consistent").dof()
+            bcifs::solution(&design).as_ref().as_ref().expect("consistent").dof()
         })
     });
     // `bcifs check`: parsed, solved, instantiated at the defaults, checked (its joint spectral

@@ -13,7 +13,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let number = |i: usize, default: f64| -> Result<f64, Box<dyn std::error::Error>> {
         match args.get(i) {
             None => Ok(default),
-            Some(text) => Ok(bcifs::Surd::parse(text)?.to_f64()),
+            Some(text) => Ok(bcifs::algebra::Surd::parse(text)?.to_f64()),
         }
     };
     let (a, b) = (number(0, 0.25)?, number(1, 0.25)?);

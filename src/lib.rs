@@ -87,10 +87,10 @@ pub mod algebra;
 pub mod analysis;
 mod automaton;
 pub mod contour;
-pub mod design;
+mod design;
 pub mod eval;
 pub mod export;
-pub mod family;
+mod family;
 mod format;
 pub mod geometry;
 mod input;
@@ -102,10 +102,14 @@ pub mod report;
 pub mod schemes;
 mod space;
 
-pub use algebra::{Num, Surd};
 pub use automaton::{Arrow, ArrowKind, Automaton, AutomatonError, Constraint, Entry, Relation};
-pub use design::{BuildError, Design, DesignBuilder, Layout, Matrix, Model, Value};
-pub use family::{DesignInstantiateError, Family, Instance, InstantiateError, SolveError, instantiate, solve};
+pub use design::{
+    BuildError, Design, DesignBuilder, Docs, Field, Layout, Locus, MAX_UNKNOWNS, Matrix, Model, Origin, Value, Variable,
+};
+pub use family::{
+    APPROX_TOLERANCE, DesignInstantiateError, Equation, Family, Instance, InstantiateError, Label, NumericFamily,
+    Parameter, SolveError, equations, instantiate, numeric, solution, solve,
+};
 pub use format::{BUILTIN_AUTOMATA, FormatError, ReadError, builtin_design, parse_design, read_design, write_design};
 pub use input::{TEXT_FILE_LIMIT, read_text};
 /// Re-exported: its matrices appear in bcifs signatures.

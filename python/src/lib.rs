@@ -428,16 +428,16 @@ fn dimension<'py>(
 
 /// A parameter value read exactly: a `str` (`"1/20"`, `"sqrt(2)/4"`), a
 /// `Fraction`, an int, or a float read as its shortest decimal (`0.05` is 1/20).
-fn exact_value(v: &Bound<'_, PyAny>) -> PyResult<bcifs::Num> {
+fn exact_value(v: &Bound<'_, PyAny>) -> PyResult<bcifs::algebra::Num> {
     let text = if v.is_instance_of::<pyo3::types::PyFloat>() {
         let x: f64 = v.extract()?;
-        return Ok(bcifs::Num::from_f64(x));
+        return Ok(bcifs::algebra::Num::from_f64(x));
     } else if v.hasattr("numerator")? && v.hasattr("denominator")? {
         format!("{}/{}", v.getattr("numerator")?, v.getattr("denominator")?)
     } else {
         v.str()?.to_string()
     };
-    text.parse::<bcifs::Num>().map_err(|e| err(format!("`{text}`: {e}")))
+    text.parse::<bcifs::algebra::Num>().map_err(|e| err(format!("`{text}`: {e}")))
 }
 
 /// A curve family's differential behaviour at the given parameter values

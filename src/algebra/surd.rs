@@ -20,7 +20,7 @@ const MAX_RADICAND: u64 = 1 << 40;
 /// exact case of every number bcifs reads, writes and solves with.
 ///
 /// ```
-/// use bcifs::Surd;
+/// use bcifs::algebra::Surd;
 /// let a = Surd::parse("1/2 - sqrt(3)/6").unwrap();
 /// let b = Surd::parse("sqrt(12)/12").unwrap(); // = sqrt(3)/6
 /// assert_eq!(a.add(&b), Surd::parse("1/2").unwrap());

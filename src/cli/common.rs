@@ -51,11 +51,11 @@ pub(super) fn parse_params(params: &[String]) -> Result<Vec<(String, f64)>> {
 }
 
 /// `NAME=VALUE` pairs, the values exact (`1/20`, `0.05`, `sqrt(2)/4`).
-pub(super) fn parse_exact_params(params: &[String]) -> Result<Vec<(String, bcifs::Num)>> {
-    let mut out: Vec<(String, bcifs::Num)> = Vec::with_capacity(params.len());
+pub(super) fn parse_exact_params(params: &[String]) -> Result<Vec<(String, bcifs::algebra::Num)>> {
+    let mut out: Vec<(String, bcifs::algebra::Num)> = Vec::with_capacity(params.len());
     for p in params {
         let (name, value) = p.split_once('=').with_context(|| format!("`{p}`: expected NAME=VALUE"))?;
-        let value = value.trim().parse::<bcifs::Num>().map_err(|e| anyhow::anyhow!("`{p}`: {e}"))?;
+        let value = value.trim().parse::<bcifs::algebra::Num>().map_err(|e| anyhow::anyhow!("`{p}`: {e}"))?;
         let name = name.trim().to_string();
         if out.iter().any(|(n, _)| *n == name) {
             bail!("`{name}` is given twice: one value per name");
@@ -121,9 +121,9 @@ pub(super) fn hint(e: &anyhow::Error) -> Option<String> {
                 Some("--memory-mib raises the in-memory limit".into())
             }
             RenderError::Eval(e) => eval(e),
-            RenderError::Instantiate(bcifs::family::DesignInstantiateError::Values(
-                bcifs::family::InstantiateError::Missing { .. },
-            )) => Some("--param NAME=VALUE gives a parameter its value".into()),
+            RenderError::Instantiate(bcifs::DesignInstantiateError::Values(bcifs::InstantiateError::Missing {
+                ..
+            })) => Some("--param NAME=VALUE gives a parameter its value".into()),
             _ => None,
         };
     }

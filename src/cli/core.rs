@@ -49,7 +49,7 @@ pub fn run_solve(out: &mut String, file: &str, as_json: bool) -> Result<u8> {
         writeln!(out, "{}", serde_json::to_string_pretty(&report)?)?;
         return Ok(if report.consistent { 0 } else { 1 });
     }
-    match bcifs::family::solution(&design) {
+    match bcifs::solution(&design).as_ref() {
         Ok(family) => {
             writeln!(out, "{name}: {}", free_parameters(&family.parameter_names()))?;
             writeln!(out, "({})", system_summary(family))?;
@@ -78,7 +78,7 @@ fn free_parameters(names: &[String]) -> String {
 
 /// What the solver was given and kept: `3 constraints: 26 scalar equations, rank 20; 4 more hold
 /// whatever the parameters` (column sums included).
-fn system_summary(family: &bcifs::family::Family) -> String {
+fn system_summary(family: &bcifs::Family) -> String {
     let plural = |n: usize, one: &str, many: &str| format!("{n} {}", if n == 1 { one } else { many });
     let constraints = plural(family.constraints, "constraint", "constraints");
     if family.equations == 0 {

@@ -511,7 +511,7 @@ pub const DENSITY_SAMPLES: [usize; 3] = [100_000, 1_000_000, 100_000_000];
 /// blur): `density-NAME-KIND-N.png` tiles, `density.png` (all of them, a
 /// row per shape) and `density.html`.
 fn density_page(dir: &Path) -> Result<GalleryEntry, RenderError> {
-    use bcifs::export::{Palette, Tone, density, write_png};
+    use bcifs::export::{Palette, Tone, density_counts as density, write_png};
     let tile = 240u32;
     let raster = RasterSettings::default().with_size(tile, tile);
     let shapes = ["fern", "gasket", "fern_sierpinski"];

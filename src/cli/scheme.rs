@@ -89,7 +89,7 @@ fn run_ifs(out: &mut String, args: IfsArgs) -> Result<u8> {
             bcifs::schemes::ternary_family(&name, points, w)?
         }
         omega => {
-            let omega = omega.map(bcifs::Surd::parse).transpose()?;
+            let omega = omega.map(bcifs::algebra::Surd::parse).transpose()?;
             bcifs::schemes::ifs_preset(&name, points, omega.as_ref())?
         }
     };

@@ -376,20 +376,20 @@ pub struct Design {
     pub(super) defaults: HashMap<String, f64>,
     pub(super) declared: Vec<String>,
     pub(super) spec: DesignBuilder,
-    /// The solved family, once asked ([`crate::solve`]): a design does not
-    /// change once built, so every render, check and request of a server
-    /// shares one solution (clones of the design too).
-    pub(crate) solved: SolveCache,
+    /// Who the design is: clones share it, so the family layer keeps one
+    /// solution for a design and its clones ([`crate::family::solution`]).
+    pub(crate) identity: Identity,
 }
 
-/// [`Design`]'s solution, computed once. Held as `Any`: the family layer
-/// sits above this one (it stores and reads its own type here).
+/// A design's identity: a design does not change once built, so every
+/// render, check and request of a server can share one solution, kept by
+/// the family layer under this identity (and dropped with its last clone).
 #[derive(Clone, Default)]
-pub(crate) struct SolveCache(pub(crate) std::sync::Arc<std::sync::OnceLock<Box<dyn std::any::Any + Send + Sync>>>);
+pub(crate) struct Identity(pub(crate) std::sync::Arc<()>);
 
-impl std::fmt::Debug for SolveCache {
+impl std::fmt::Debug for Identity {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(if self.0.get().is_some() { "solved" } else { "not solved yet" })
+        f.write_str("design")
     }
 }
 

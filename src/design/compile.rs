@@ -46,7 +46,7 @@ struct Compiled {
 impl Compiled {
     fn with_spec(self, spec: DesignBuilder) -> Design {
         let Compiled { automaton, variables, defaults, declared } = self;
-        Design { automaton: automaton.into(), variables, defaults, declared, spec, solved: Default::default() }
+        Design { automaton: automaton.into(), variables, defaults, declared, spec, identity: Default::default() }
     }
 }
 

@@ -25,7 +25,7 @@ pub use colour::Colouring;
 pub use pieces::{ModelError, Piece, Pieces};
 pub use plan::PlanError;
 pub use prepared::Evaluator;
-pub use random::{BATCH, CHUNK, ChaosGame, PlainIfs, chaos_game};
+pub use random::{ChaosGame, chaos_game};
 pub use sampling::{
     DEFAULT_BURN_IN, MAX_SAMPLES, RandomSettings, SINGULAR_FLOOR, arrow_colour, check_samples, det_weights,
 };

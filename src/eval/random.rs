@@ -19,7 +19,7 @@ use super::sampling::{Alias, RandomSettings, Rng, check_samples, det_weights};
 use super::settings::EvalError;
 use crate::automaton::{ArrowKind, Automaton};
 use crate::design::Model;
-use crate::geometry::Shape;
+use crate::geometry::{PlainIfs, Shape};
 
 struct Incoming {
     /// Per state: source states, matrices (row-major n_src × n_state), alias table.
@@ -29,23 +29,6 @@ struct Incoming {
     colour: Vec<Vec<f64>>,
     /// Per state, per incoming arrow: its name and its probability (normalised).
     chosen: Vec<Vec<(String, f64)>>,
-}
-
-/// A chaos game that is a plain IFS of the plane: one state, its arrows
-/// affine maps of the modelling plane with their probabilities and colours
-/// (what a `.flame` file holds; see [`ChaosGame::plain_ifs`]).
-#[derive(Clone, Debug, PartialEq)]
-pub struct PlainIfs {
-    /// Per map: its arrow's name.
-    pub names: Vec<String>,
-    /// Per map: `[a, b, e, c, d, f]`, the map `(x, y) ↦ (a x + b y + e, c x + d y + f)`.
-    pub maps: Vec<[f64; 6]>,
-    /// Per map: its probability (they sum to 1).
-    pub probabilities: Vec<f64>,
-    /// Per map: its colour coordinate in `[0, 1]`.
-    pub colours: Vec<f64>,
-    /// How far each step moves the colour towards the map's ([`RandomSettings::colour_speed`]).
-    pub colour_speed: f64,
 }
 
 /// A chaos game prepared for an automaton and model: probabilities, alias
@@ -311,10 +294,23 @@ impl ChaosGame {
 /// What takes the streamed chains: points, and their colour coordinates (or none).
 type ChunkWriter<'a, E> = dyn FnMut(&[f64], &[f32]) -> Result<(), E> + 'a;
 
-/// Points per batch of [`ChaosGame::fold`]: a chain of its own.
-pub const BATCH: usize = 1 << 16;
-/// Points per chunk handed to a visitor: few enough to stay in the first-level cache.
-pub const CHUNK: usize = 512;
+use crate::geometry::{BATCH, CHUNK};
+
+impl crate::geometry::PointBatches for ChaosGame {
+    fn dim(&self) -> usize {
+        ChaosGame::dim(self)
+    }
+    fn fold<T: Send>(
+        &self,
+        points: usize,
+        colour: bool,
+        init: impl Fn() -> T + Sync + Send,
+        visit: impl Fn(&mut T, &[f64], &[f32]) + Sync + Send,
+        merge: impl Fn(T, T) -> T + Sync + Send,
+    ) -> T {
+        ChaosGame::fold(self, points, colour, init, visit, merge)
+    }
+}
 
 impl ChaosGame {
     /// Folds `points` points of the walk without holding them: chains of

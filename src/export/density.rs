@@ -10,7 +10,7 @@ use image::{Rgb, RgbImage};
 
 use super::png::{INK, PAPER, mix};
 use super::view::{Canvas, RasterSettings, RasterTooLarge, screen};
-use crate::eval::{BATCH, ChaosGame};
+use crate::geometry::{BATCH, CHUNK, PointBatches};
 
 /// Colours indexed by the colour coordinate `c ∈ [0, 1]` (256 entries), as
 /// in flame renderers.
@@ -233,7 +233,7 @@ fn cell_bytes(colour: bool) -> u128 {
     if colour { 24 } else { 5 }
 }
 
-/// What [`density`] and [`Density::image`] allocate for a picture.
+/// What [`density_counts`] and [`Density::image`] allocate for a picture.
 pub fn density_bytes(settings: &RasterSettings, supersample: u32, colour: bool, blur: bool) -> u128 {
     let s = u128::from(supersample.clamp(1, 8));
     let pixels = u128::from(settings.width.max(1)) * u128::from(settings.height.max(1));
@@ -242,7 +242,7 @@ pub fn density_bytes(settings: &RasterSettings, supersample: u32, colour: bool, 
     let accumulators = cells * cell_bytes(colour) * threads;
     let result = cells * if colour { 16 } else { 4 };
     let blurred = if blur { cells * 16 } else { 0 };
-    accumulators + result + blurred + pixels * 19 + crate::eval::CHUNK as u128 * 32 * threads
+    accumulators + result + blurred + pixels * 19 + CHUNK as u128 * 32 * threads
 }
 
 impl Density {
@@ -373,12 +373,12 @@ impl Density {
     }
 }
 
-/// The chaos game of `game` as a density picture: [`density`], tone-mapped.
+/// The chaos game of `game` as a density picture: [`density_counts`], tone-mapped.
 ///
 /// # Errors
 /// [`RasterTooLarge`] when the buffers would not fit `settings.memory_limit`.
 pub fn density_image(
-    game: &ChaosGame,
+    game: &impl PointBatches,
     points: usize,
     settings: &RasterSettings,
     tone: &Tone,
@@ -388,7 +388,7 @@ pub fn density_image(
     if needed > settings.memory_limit as u128 {
         return Err(too_large(settings, points, needed));
     }
-    Ok(density(game, points, settings, tone.supersample, palette)?.image(tone))
+    Ok(density_counts(game, points, settings, tone.supersample, palette)?.image(tone))
 }
 
 fn too_large(settings: &RasterSettings, points: usize, needed: u128) -> RasterTooLarge {
@@ -414,13 +414,13 @@ fn too_large(settings: &RasterSettings, points: usize, needed: u128) -> RasterTo
 ///
 /// ```
 /// use bcifs::eval::{ChaosGame, RandomSettings};
-/// use bcifs::export::{Palette, RasterSettings, Tone, density};
+/// use bcifs::export::{Palette, RasterSettings, Tone, density_counts};
 /// let design = bcifs::builtin_design("gasket").unwrap();
 /// let inst = bcifs::instantiate(&design, &[]).unwrap();
 /// let game = ChaosGame::new(&inst.automaton, design.model().unwrap(), &RandomSettings::default()).unwrap();
 /// let fire = Palette::named("fire").unwrap();
 /// let raster = RasterSettings::default().with_size(64, 64);
-/// let cells = density(&game, 100_000, &raster, 1, Some(&fire)).unwrap();
+/// let cells = density_counts(&game, 100_000, &raster, 1, Some(&fire)).unwrap();
 /// assert!(cells.counts.iter().map(|&c| c as usize).sum::<usize>() > 99_900);
 /// let picture = cells.image(&Tone { blur: 1.0, ..Tone::default() });
 /// assert_eq!(picture.dimensions(), (64, 64));
@@ -428,8 +428,8 @@ fn too_large(settings: &RasterSettings, points: usize, needed: u128) -> RasterTo
 ///
 /// # Errors
 /// [`RasterTooLarge`] when the buffers would not fit `settings.memory_limit`.
-pub fn density(
-    game: &ChaosGame,
+pub fn density_counts(
+    game: &impl PointBatches,
     points: usize,
     settings: &RasterSettings,
     supersample: u32,
@@ -454,8 +454,8 @@ pub fn density(
 /// Where a density picture of `game` looks, for a picture of the plane:
 /// the modelling point at its centre and its pixels per modelling unit
 /// (what a `.flame` file's `center` and `scale` say), fitted on the first
-/// batch of points as [`density`] fits it.
-pub fn picture_frame(game: &ChaosGame, points: usize, settings: &RasterSettings) -> ([f64; 2], f64) {
+/// batch of points as [`density_counts`] fits it.
+pub fn picture_frame(game: &impl PointBatches, points: usize, settings: &RasterSettings) -> ([f64; 2], f64) {
     let (w, h) = (settings.width.max(1) as usize, settings.height.max(1) as usize);
     let (_, frame) = Frame::of_first_batch(game, points, settings, (w, h));
     let centre = [(w as f64 / 2.0 - frame.ox) / frame.scale, (frame.oy - h as f64 / 2.0) / frame.scale];
@@ -466,7 +466,7 @@ impl Frame {
     /// The frame of the picture: the first batch's extent, centred, 3%
     /// wider; and the first batch's projected points.
     fn of_first_batch(
-        game: &ChaosGame,
+        game: &impl PointBatches,
         points: usize,
         settings: &RasterSettings,
         (sw, sh): (usize, usize),
@@ -507,7 +507,7 @@ impl Frame {
 /// picture's counts (16 MiB) stay in the last-level cache, and the 32-bit
 /// counts' pages are touched only where cells pass 255 samples. A sample
 /// outside the frame goes to the extra cell at the end, dropped.
-fn count_points(game: &ChaosGame, points: usize, frame: &Frame) -> Vec<u32> {
+fn count_points(game: &impl PointBatches, points: usize, frame: &Frame) -> Vec<u32> {
     let (trash, d) = (frame.sw * frame.sh, frame.d);
     let partials = game.fold(
         points,
@@ -515,7 +515,7 @@ fn count_points(game: &ChaosGame, points: usize, frame: &Frame) -> Vec<u32> {
         || vec![Spilling::<u8, u32>::new(trash + 1)],
         |parts, xs, _| {
             let acc = &mut parts[0];
-            let mut cells = [0u32; crate::eval::CHUNK];
+            let mut cells = [0u32; CHUNK];
             frame.cells(xs, &mut cells);
             for &i in &cells[..xs.len() / d] {
                 let c = &mut acc.low[i as usize];
@@ -600,7 +600,7 @@ impl<L: Clone + Default, H: Clone + Default> Spilling<L, H> {
 /// The samples counted per cell with their colour sums (the palette's
 /// colours shifted right by the shift returned, so that no sum overflows).
 fn paint_points(
-    game: &ChaosGame,
+    game: &impl PointBatches,
     points: usize,
     frame: &Frame,
     first: &[[f64; 3]],
@@ -630,7 +630,7 @@ fn paint_points(
         || vec![Spilling::<u64, [u32; 4]>::new(trash + 1)],
         |parts, xs, cs| {
             let acc = &mut parts[0];
-            let mut cells = [0u32; crate::eval::CHUNK];
+            let mut cells = [0u32; CHUNK];
             frame.cells(xs, &mut cells);
             for (&i, c) in cells.iter().zip(cs) {
                 let a = &mut acc.low[i as usize];

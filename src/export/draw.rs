@@ -7,8 +7,7 @@ use std::io;
 use image::RgbImage;
 
 use super::png::{finish_picture, wu_line};
-use super::view::{Canvas, DMat3, RasterSettings, screen};
-use crate::eval::{Depth, EvalError, Evaluator};
+use super::view::{Canvas, DMat3, RasterSettings, RasterTooLarge, screen};
 use crate::geometry::Sink;
 
 /// The screen position of a point under the view (see [`screen`]).
@@ -135,16 +134,15 @@ impl Sink for Drawing {
     }
 }
 
-/// Bytes [`picture`] allocates: a coverage and a count per pixel, and the picture.
+/// Bytes [`stream_picture`] allocates: a coverage and a count per pixel, and the picture.
 pub fn picture_bytes(settings: &RasterSettings) -> u128 {
     u128::from(settings.width.max(1)) * u128::from(settings.height.max(1)) * 11
 }
 
-/// Draws the curves or points of `ev` while they are evaluated, twice
-/// streamed (the frame, then the drawing): the same picture as
-/// [`super::raster`] of the evaluated shape, in the memory of the picture
-/// alone, and the number of vertices drawn. `None` when the output is a surface or mixes curves and points
-/// (those are drawn from memory).
+/// Draws a stream of curves (`lines`) or points while it is made, twice
+/// (`stream` is called once for the frame, once to draw, with the sink to
+/// push into): the same picture as [`super::raster`] of the whole shape, in
+/// the memory of the picture alone, and the number of vertices drawn.
 ///
 /// ```
 /// use bcifs::eval::{EvalSettings, Evaluator};
@@ -153,25 +151,31 @@ pub fn picture_bytes(settings: &RasterSettings) -> u128 {
 /// let settings = EvalSettings::default().with_depth(12);
 /// let ev = Evaluator::new(&inst.automaton, design.model().unwrap(), settings).unwrap();
 /// let raster = bcifs::export::RasterSettings::default().with_size(200, 100);
-/// let (picture, vertices) = bcifs::export::picture(&ev, &raster).unwrap().expect("a curve");
+/// let stream = |sink: &mut dyn bcifs::geometry::Sink| ev.stream(sink).map_err(bcifs::render::RenderError::from);
+/// let (picture, vertices) = bcifs::export::stream_picture(true, stream, &raster)?;
 /// assert_eq!((picture.dimensions(), vertices), ((200, 100), (1 << 12) + 1));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 ///
 /// # Errors
-/// An evaluation error, or [`EvalError::TooLarge`] for a picture whose
-/// buffers would not fit the memory limit.
-pub fn picture(ev: &Evaluator, settings: &RasterSettings) -> Result<Option<(RgbImage, usize)>, EvalError> {
-    let Some(lines) = ev.polylines() else { return Ok(None) };
+/// The stream's error, or [`RasterTooLarge`] for a picture whose buffers
+/// would not fit the memory limit.
+pub fn stream_picture<E: From<RasterTooLarge>>(
+    lines: bool,
+    mut stream: impl FnMut(&mut dyn Sink) -> Result<(), E>,
+    settings: &RasterSettings,
+) -> Result<(RgbImage, usize), E> {
     let needed = picture_bytes(settings);
     if needed > settings.memory_limit as u128 {
-        return Err(EvalError::TooLarge { estimate: needed, limit: settings.memory_limit });
+        let (width, height, limit) = (settings.width, settings.height, settings.memory_limit);
+        return Err(RasterTooLarge { width, height, vertices: 0, needed, limit }.into());
     }
     let projection = Projection::new(settings);
     let mut extent = Extent::new(projection);
-    ev.stream(&mut extent)?;
+    stream(&mut extent)?;
     let (w, h) = (settings.width.max(1), settings.height.max(1));
     if extent.vertices == 0 {
-        return Ok(Some((RgbImage::from_pixel(w, h, image::Rgb([255, 255, 255])), 0)));
+        return Ok((RgbImage::from_pixel(w, h, image::Rgb([255, 255, 255])), 0));
     }
     let corners = [[extent.lo[0], extent.lo[1], 0.0], [extent.hi[0], extent.hi[1], 0.0]];
     let canvas = Canvas::fit(&corners, w, h);
@@ -185,68 +189,28 @@ pub fn picture(ev: &Evaluator, settings: &RasterSettings) -> Result<Option<(RgbI
         first: None,
         last: None,
     };
-    ev.stream(&mut drawing)?;
+    stream(&mut drawing)?;
     let Drawing { mut cov, mut density, .. } = drawing;
     cov.resize(pixels, 0.0);
     density.resize(pixels, 0);
-    Ok(Some((finish_picture(w, h, &cov, &density), extent.vertices)))
+    Ok((finish_picture(w, h, &cov, &density), extent.vertices))
 }
 
-/// Segments per pixel beyond which a curve picture stops subdividing even
-/// if some segment is still longer than a pixel (a curve that does not
-/// contract, drawn with `--force`).
-pub const SEGMENTS_PER_PIXEL: u128 = 64;
-
-/// The depth a picture of a curve needs, at most `depth`: the first whose
-/// segments are all shorter than a pixel (deeper ones only move the curve
-/// within the pixels it covers), or whose segments outnumber the pixels
-/// [`SEGMENTS_PER_PIXEL`] times. Each probe streams `ev` once at a
-/// shallower depth (the depths before the answer cost less than the
-/// answer's picture); `ev` is left at the depth returned. `depth` for points.
+/// What a picture of a stream of curves would draw: its vertices, and its
+/// longest segment in pixels (0 when it has no vertex).
 ///
 /// # Errors
-/// An evaluation error.
-pub fn curve_picture_depth(ev: &mut Evaluator, settings: &RasterSettings, depth: usize) -> Result<usize, EvalError> {
-    let (w, h) = (settings.width.max(1), settings.height.max(1));
-    let pixels = u128::from(w) * u128::from(h);
-    if ev.polylines() == Some(true) {
-        for k in 0..depth {
-            ev.set_depth(Depth::Fixed(k))?;
-            let mut extent = Extent::new(Projection::new(settings));
-            ev.stream(&mut extent)?;
-            if extent.vertices == 0 {
-                return Ok(k);
-            }
-            let corners = [[extent.lo[0], extent.lo[1], 0.0], [extent.hi[0], extent.hi[1], 0.0]];
-            let canvas = Canvas::fit(&corners, w, h);
-            if extent.longest * canvas.scale < 1.0 || extent.vertices as u128 >= SEGMENTS_PER_PIXEL * pixels {
-                return Ok(k);
-            }
-        }
+/// The stream's error.
+pub fn stream_extent<E>(
+    stream: impl FnOnce(&mut dyn Sink) -> Result<(), E>,
+    settings: &RasterSettings,
+) -> Result<(usize, f64), E> {
+    let mut extent = Extent::new(Projection::new(settings));
+    stream(&mut extent)?;
+    if extent.vertices == 0 {
+        return Ok((0, 0.0));
     }
-    ev.set_depth(Depth::Fixed(depth))?;
-    Ok(depth)
-}
-
-/// Points per pixel beyond which a picture of points stops subdividing:
-/// deeper, the points only fill the pixels they already darken.
-pub const POINTS_PER_PIXEL: u128 = 64;
-
-/// The depth a picture of points (a plain IFS, a fractal cell) needs, at
-/// most `depth`: the deepest whose points number at most
-/// [`POINTS_PER_PIXEL`] times the pixels (at least depth 0). Counted, not
-/// evaluated: the gasket at depth 60 would be 3⁶⁰ points.
-pub fn point_picture_depth(ev: &Evaluator, settings: &RasterSettings, depth: usize) -> usize {
-    let pixels = u128::from(settings.width.max(1)) * u128::from(settings.height.max(1));
-    let points = |k: usize| ev.total_samples(k) as u128;
-    (1..=depth).take_while(|&k| points(k) <= POINTS_PER_PIXEL * pixels).last().unwrap_or(0)
-}
-
-/// The depth a picture of a surface needs: the first one whose quads
-/// outnumber the pixels (deeper, a quad is smaller than a pixel and the
-/// picture changes only by sub-pixel shading), at most
-/// `depth`; `depth` for curves and points, which [`picture`] streams.
-pub fn picture_depth(ev: &Evaluator, settings: &RasterSettings, depth: usize) -> usize {
-    let pixels = u128::from(settings.width.max(1)) * u128::from(settings.height.max(1));
-    (0..depth).find(|&k| ev.quads_at(k).is_some_and(|q| q >= pixels)).unwrap_or(depth)
+    let corners = [[extent.lo[0], extent.lo[1], 0.0], [extent.hi[0], extent.hi[1], 0.0]];
+    let canvas = Canvas::fit(&corners, settings.width.max(1), settings.height.max(1));
+    Ok((extent.vertices, extent.longest * canvas.scale))
 }

@@ -5,10 +5,10 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use super::atomic::write_atomic;
-use super::density::{Palette, Tone, picture_frame};
+use super::density::{Palette, Tone};
 use super::png::INK;
 use super::view::RasterSettings;
-use crate::eval::{ChaosGame, PlainIfs};
+use crate::geometry::PlainIfs;
 
 /// Why a `.flame` file was not written.
 #[derive(Debug, thiserror::Error)]
@@ -36,7 +36,7 @@ pub enum FlameError {
 /// stands as bcifs draws it.
 ///
 /// ```
-/// use bcifs::eval::PlainIfs;
+/// use bcifs::geometry::PlainIfs;
 /// let half = |e: f64, f: f64| [0.5, 0.0, e, 0.0, 0.5, f];
 /// let ifs = PlainIfs {
 ///     names: vec!["a".into(), "b".into(), "c".into()],
@@ -112,24 +112,21 @@ pub fn flame_text(
     out
 }
 
-/// Writes the chaos game `game` as a `.flame` file for `samples` points,
-/// framed as bcifs's density picture of the same settings frames it
-/// ([`picture_frame`]), atomically.
+/// Writes the plain IFS `ifs` as a `.flame` file for `samples` points,
+/// framed at `frame` (centre and pixels per unit: bcifs's density picture's
+/// frame, [`super::picture_frame`]), atomically.
 ///
 /// # Errors
-/// [`FlameError::NotPlain`] with the reason for a graph-directed automaton,
-/// a 3D model or maps that are not affine; an I/O error.
+/// An I/O error.
 pub fn write_flame(
     path: &Path,
     name: &str,
-    game: &ChaosGame,
-    raster: &RasterSettings,
-    tone: &Tone,
-    palette: Option<&Palette>,
+    ifs: &PlainIfs,
+    frame: ([f64; 2], f64),
+    look: (&RasterSettings, &Tone, Option<&Palette>),
     samples: usize,
 ) -> Result<(), FlameError> {
-    let ifs = game.plain_ifs().map_err(FlameError::NotPlain)?;
-    let frame = picture_frame(game, samples, raster);
-    let text = flame_text(name, &ifs, frame, raster, tone, palette, samples);
+    let (raster, tone, palette) = look;
+    let text = flame_text(name, ifs, frame, raster, tone, palette, samples);
     write_atomic(path, text.as_bytes()).map_err(|e| FlameError::Io(path.to_path_buf(), e))
 }

@@ -25,16 +25,13 @@ pub use atomic::{
     write_to,
 };
 pub use axes::{Coordinates, Up};
-pub use density::{Density, Palette, Tone, density, density_bytes, density_image, picture_frame};
-pub use draw::{
-    POINTS_PER_PIXEL, SEGMENTS_PER_PIXEL, curve_picture_depth, picture, picture_bytes, picture_depth,
-    point_picture_depth,
-};
+pub use density::{Density, Palette, Tone, density_bytes, density_counts, density_image, picture_frame};
+pub use draw::{picture_bytes, stream_extent, stream_picture};
 pub use finite::finite_vertices;
 pub use flame::{FlameError, flame_text, write_flame};
 pub use gltf::GltfWriter;
 pub(crate) use normals::{NormalSpill, Replay};
-pub use obj::{ObjWriter, write_evaluation, write_obj};
+pub use obj::{ObjWriter, write_obj, write_two_passes};
 pub use off::OffWriter;
 pub use picture::{PictureError, PictureKind, PictureWriter, write_picture};
 pub use ply::PlyWriter;

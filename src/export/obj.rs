@@ -152,32 +152,32 @@ impl ObjWriter {
     }
 }
 
-/// Writes the output of `ev` into `writer` in two streamed passes, the
-/// vertices and then the elements (faces, lines) straight after them: the
-/// same file as [`crate::eval::Evaluator::stream`] into the writer, without holding the
-/// elements in a side file (the evaluation runs twice, the text is written
-/// once). Returns the numbers of vertices and of faces (quads and triangles).
-/// Once `cancel` is set, the next write stops with an
+/// Writes a stream into `writer` in two passes, the vertices and then the
+/// elements (faces, lines) straight after them: `stream` is called twice
+/// with the sink to push the same output into (an evaluation run twice),
+/// and the text is written once, without holding the elements in a side
+/// file. Returns the numbers of vertices and of faces (quads and
+/// triangles). Once `cancel` is set, the next write stops with an
 /// [`io::ErrorKind::Interrupted`] error.
 ///
 /// # Errors
-/// A write or evaluation error.
-pub fn write_evaluation(
-    ev: &crate::eval::Evaluator,
+/// A write error, or the stream's.
+pub fn write_two_passes<E>(
     writer: &mut ObjWriter,
+    mut stream: impl FnMut(&mut dyn Sink) -> Result<(), E>,
     cancel: Option<&crate::progress::Cancel>,
-) -> Result<(usize, usize), crate::eval::EvalError> {
+) -> Result<(usize, usize), E> {
     let mut pass = Pass { writer, cancel, elements: false, vertices: 0, faces: 0 };
-    ev.stream(&mut pass)?;
+    stream(&mut pass)?;
     pass.writer.direct = true;
     pass.elements = true;
-    let result = ev.stream(&mut pass);
+    let result = stream(&mut pass);
     pass.writer.direct = false;
     result?;
     Ok((pass.vertices, pass.faces))
 }
 
-/// One pass of [`write_evaluation`]: the vertices, or the elements.
+/// One pass of [`write_two_passes`]: the vertices, or the elements.
 struct Pass<'w> {
     writer: &'w mut ObjWriter,
     cancel: Option<&'w crate::progress::Cancel>,

@@ -34,7 +34,7 @@ pub enum PictureError {
 
 /// A [`Sink`] that draws what it is given. A picture paints every face far
 /// to near and frames the whole shape, so it holds the shape in memory (see
-/// [`crate::export::picture()`] for curves drawn while they are streamed);
+/// [`crate::export::stream_picture`] for curves drawn while they are streamed);
 /// [`PictureWriter::finish`] draws it and writes the file atomically.
 ///
 /// ```

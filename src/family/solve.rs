@@ -77,21 +77,48 @@ pub struct Family {
 /// assert_eq!(family.entry_text("T0", 0, 0), "1 - a");
 /// ```
 pub fn solve(design: &Design) -> Result<Family, SolveError> {
-    solution(design).clone()
+    solution(design).as_ref().clone()
 }
 
-/// [`solve`] without a copy: the solution the design keeps (it is solved once).
+/// [`solve`] without a copy: the design's solution, computed once for a
+/// design and its clones (a server's requests share it).
 ///
 /// # Example
 /// ```
 /// let design = bcifs::builtin_design("corner_cutting").unwrap();
-/// let family = bcifs::family::solution(&design).as_ref().unwrap();
-/// assert_eq!(family.dof(), 2);
+/// let family = bcifs::solution(&design);
+/// assert_eq!(family.as_ref().as_ref().unwrap().dof(), 2);
+/// assert!(std::sync::Arc::ptr_eq(&family, &bcifs::solution(&design.clone())));
 /// ```
-pub fn solution(design: &Design) -> &Result<Family, SolveError> {
-    let cached = design.solved.0.get_or_init(|| Box::new(solve_now(design)));
-    // The cache holds only what this function puts in it.
-    cached.downcast_ref::<Result<Family, SolveError>>().expect("a design's cache holds its solution")
+pub fn solution(design: &Design) -> std::sync::Arc<Result<Family, SolveError>> {
+    let once = slot(design);
+    once.get_or_init(|| std::sync::Arc::new(solve_now(design))).clone()
+}
+
+/// A design's solution, computed once: shared by its clones.
+type Slot = std::sync::Arc<std::sync::OnceLock<std::sync::Arc<Result<Family, SolveError>>>>;
+/// Slots by the address of their design's identity, with a weak handle on it.
+type Slots = std::collections::HashMap<usize, (std::sync::Weak<()>, Slot)>;
+
+/// The solutions of the designs alive (a slot whose design is gone is
+/// dropped when the next one is made).
+static SLOTS: std::sync::Mutex<Option<Slots>> = std::sync::Mutex::new(None);
+
+/// The slot of `design`'s solution (the lock is held only to find it: designs solve in parallel).
+fn slot(design: &Design) -> Slot {
+    let identity = &design.identity.0;
+    let key = std::sync::Arc::as_ptr(identity) as usize;
+    let mut slots = SLOTS.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+    let slots = slots.get_or_insert_with(Slots::new);
+    if let Some((alive, slot)) = slots.get(&key)
+        && alive.upgrade().is_some()
+    {
+        return slot.clone();
+    }
+    slots.retain(|_, (alive, _)| alive.strong_count() > 0);
+    let slot = Slot::default();
+    slots.insert(key, (std::sync::Arc::downgrade(identity), slot.clone()));
+    slot
 }
 
 /// [`solve`], computed.
@@ -442,7 +469,7 @@ pub enum DesignInstantiateError {
 /// # Errors
 /// A solver error for a design with unknowns, or bad parameter values.
 pub fn instantiate(design: &Design, values: &[(String, f64)]) -> Result<Instance, DesignInstantiateError> {
-    match solution(design) {
+    match solution(design).as_ref() {
         Ok(family) => Ok(family.instantiate(values)?),
         Err(SolveError::Inconsistent { .. }) if design.variables().iter().all(|v| v.origin == Origin::Parameter) => {
             let family = Family {

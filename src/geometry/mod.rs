@@ -9,6 +9,48 @@ pub const MAX_COORDINATE: f64 = 1e150;
 use std::io;
 use std::ops::Range;
 
+/// Points per batch of [`PointBatches::fold`]: a chain of its own.
+pub const BATCH: usize = 1 << 16;
+/// Points per chunk handed to a visitor: few enough to stay in the first-level cache.
+pub const CHUNK: usize = 512;
+
+/// Random points drawn in batches and folded, never held (the chaos game,
+/// [`crate::eval::ChaosGame`]): what density pictures receive.
+pub trait PointBatches: Sync {
+    /// Coordinates per point.
+    fn dim(&self) -> usize;
+    /// Folds `points` points: batches of [`BATCH`] points handed to `visit`
+    /// in chunks of at most [`CHUNK`] points (`dim` coordinates each, with
+    /// their colour coordinates in `[0, 1]` when `colour`, else an empty
+    /// slice) into one accumulator per thread made by `init`, merged by
+    /// `merge` (which must not depend on the order, like a sum of counts).
+    fn fold<T: Send>(
+        &self,
+        points: usize,
+        colour: bool,
+        init: impl Fn() -> T + Sync + Send,
+        visit: impl Fn(&mut T, &[f64], &[f32]) + Sync + Send,
+        merge: impl Fn(T, T) -> T + Sync + Send,
+    ) -> T;
+}
+
+/// A chaos game that is a plain IFS of the plane: one state, its arrows
+/// affine maps of the modelling plane with their probabilities and colours
+/// (what a `.flame` file holds; see [`crate::eval::ChaosGame::plain_ifs`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlainIfs {
+    /// Per map: its arrow's name.
+    pub names: Vec<String>,
+    /// Per map: `[a, b, e, c, d, f]`, the map `(x, y) ↦ (a x + b y + e, c x + d y + f)`.
+    pub maps: Vec<[f64; 6]>,
+    /// Per map: its probability (they sum to 1).
+    pub probabilities: Vec<f64>,
+    /// Per map: its colour coordinate in `[0, 1]`.
+    pub colours: Vec<f64>,
+    /// How far each step moves the colour towards the map's ([`crate::eval::RandomSettings::colour_speed`]).
+    pub colour_speed: f64,
+}
+
 /// Where evaluation output goes. Vertices are numbered from 0 in the order
 /// they are pushed, across all objects; elements refer to those numbers.
 ///

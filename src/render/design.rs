@@ -3,19 +3,14 @@
 use std::path::Path;
 
 use super::checked::{FileWriter, WriteSettings, write_error};
+use super::job::{Job, Route, route};
 use super::options::Options;
 use super::output::{Format, RenderError, Report, check_room};
+use super::picture::deterministic_image;
 use super::shape::write_shape_text;
-use crate::automaton::Automaton;
-use crate::design::{Design, Model};
-use crate::eval::{ChaosGame, Depth, EvalError, EvalSettings, Evaluator, RandomSettings, chaos_game};
-use crate::family::instantiate;
+use crate::design::Design;
+use crate::eval::{Depth, EvalError, RandomSettings};
 use crate::geometry::{Shape, Sink};
-
-/// The model of a design, or why it has none.
-fn model_of(design: &Design) -> Result<Model, RenderError> {
-    Ok(crate::report::model_of(design)?)
-}
 
 /// Evaluates a design in memory (deterministic or random, as the options
 /// say); warnings (undecided convergence) go to `warnings`.
@@ -23,37 +18,7 @@ fn model_of(design: &Design) -> Result<Model, RenderError> {
 /// # Errors
 /// See [`RenderError`].
 pub fn evaluate_design(design: &Design, options: &Options, warnings: &mut Vec<String>) -> Result<Shape, RenderError> {
-    let model = model_of(design)?;
-    let instance = instantiate(design, &options.params)?;
-    Ok(match options.random_settings() {
-        Some(r) => chaos_game(&instance.automaton, &model, &r)?,
-        None => evaluator(&instance.automaton, &model, options.eval_settings(), design.name(), warnings)?.evaluate()?,
-    })
-}
-
-/// An evaluator; its warnings (undecided convergence) named after the design.
-fn evaluator(
-    automaton: &Automaton<f64>,
-    model: &Model,
-    settings: EvalSettings,
-    name: &str,
-    warnings: &mut Vec<String>,
-) -> Result<Evaluator, RenderError> {
-    let ev = Evaluator::new(automaton, model, settings)?;
-    warnings.extend(ev.warnings().iter().map(|w| format!("{name}: {w}")));
-    Ok(ev)
-}
-
-/// A chaos game whose points are streamed or counted, never held: its
-/// memory check is for one batch.
-fn streaming_game(
-    automaton: &Automaton<f64>,
-    model: &Model,
-    random: &RandomSettings,
-) -> Result<ChaosGame, RenderError> {
-    crate::eval::check_samples(random.points)?;
-    let batch = random.clone().with_points(random.points.min(crate::eval::BATCH));
-    Ok(ChaosGame::new(automaton, model, &batch)?)
+    Job::new(design, options)?.evaluate(warnings)
 }
 
 /// Renders a design to `out`, the format chosen by its extension: `.obj`
@@ -65,27 +30,24 @@ fn streaming_game(
 /// See [`RenderError`]; nothing is left half-written.
 pub fn render(design: &Design, options: &Options, out: &Path) -> Result<Report, RenderError> {
     let format = Format::of(out)?;
-    let options = &prepared(design, options)?;
+    let job = &Job::new(design, options)?;
+    let options = &job.options;
     let mut report = Report { format: Some(format), ..Report::default() };
     warn_unused(options, format, &mut report.warnings);
-    match format {
-        _ if options.look.colour.is_some() && options.sampling.samples.is_none() => {
-            coloured_file(design, options, format, out, &mut report)?
+    match route(format, options) {
+        Route::Coloured => coloured_file(job, format, out, &mut report)?,
+        Route::Flame => flame_file(job, out, &mut report)?,
+        Route::Stream => stream_file(job, format, &out.into(), &mut report)?,
+        Route::Picture => {
+            let png = png_file(job, crate::export::Compression::Small, &mut report)?;
+            crate::export::write_atomic(out, &png).map_err(write_error(options, out))?;
+            report.bytes = png.len() as u64;
         }
-        Format::Flame => flame_file(design, options, out, &mut report)?,
-        f if f.is_geometry() => stream_file(design, options, format, &out.into(), &mut report)?,
-        Format::Png if !options.file.dedup => {
-            let (img, matte) = png_image(design, options, &mut report)?;
-            crate::export::write_png_matte(out, &img, &options.png_text(design.name()), matte)
-                .map_err(write_error(options, out))?;
-            report.bytes = std::fs::metadata(out).map_or(0, |m| m.len());
-        }
-        _ => {
-            let mut shape = evaluate_design(design, options, &mut report.warnings)?;
+        Route::Memory => {
+            let mut shape = job.evaluate(&mut report.warnings)?;
             let duplicates = dedup(&mut shape, options, &mut report.warnings);
             options.check_cancel()?;
-            let written =
-                write_shape_text(&shape, design.name(), &options.raster(), out, &options.png_text(design.name()))?;
+            let written = write_shape_text(&shape, job.name(), &options.raster(), out, &options.png_text(job.name()))?;
             report.vertices = written.vertices;
             report.faces = written.faces;
             report.bytes = written.bytes;
@@ -129,21 +91,21 @@ fn finished(options: &Options, mut report: Report) -> Report {
 /// # Errors
 /// As [`render`]; [`RenderError::Unsupported`] for the outputs made in files only.
 pub fn render_bytes(design: &Design, options: &Options, format: Format) -> Result<(Report, Vec<u8>), RenderError> {
-    if format == Format::Png {
-        return picture_png(design, options, crate::export::Compression::Small);
-    }
-    if !format.is_geometry() || options.look.colour.is_some() && options.sampling.samples.is_none() {
-        return Err(RenderError::Unsupported(format!(
+    match route(format, options) {
+        Route::Picture => picture_png(design, options, crate::export::Compression::Small),
+        Route::Stream => {
+            let job = &Job::new(design, options)?;
+            let mut report = Report { format: Some(format), ..Report::default() };
+            warn_unused(&job.options, format, &mut report.warnings);
+            let buffer = crate::export::MemoryFile::new();
+            stream_file(job, format, &crate::export::Target::Memory(buffer.clone()), &mut report)?;
+            Ok((finished(&job.options, report), buffer.take()))
+        }
+        _ => Err(RenderError::Unsupported(format!(
             "a .{} output is written to a file (render), not made in memory",
             format.extension()
-        )));
+        ))),
     }
-    let options = &prepared(design, options)?;
-    let mut report = Report { format: Some(format), ..Report::default() };
-    warn_unused(options, format, &mut report.warnings);
-    let buffer = crate::export::MemoryFile::new();
-    stream_file(design, options, format, &crate::export::Target::Memory(buffer.clone()), &mut report)?;
-    Ok((finished(options, report), buffer.take()))
 }
 
 /// Options given that this output does not use, as warnings.
@@ -187,25 +149,18 @@ fn dedup(shape: &mut Shape, options: &Options, warnings: &mut Vec<String>) -> Op
 /// OBJ or OFF, streamed: the chaos game a few chains at a time, a
 /// deterministic evaluation in two passes (vertices, then elements), or a
 /// cloud to deduplicate from memory.
-fn stream_file(
-    design: &Design,
-    options: &Options,
-    format: Format,
-    out: &crate::export::Target,
-    report: &mut Report,
-) -> Result<(), RenderError> {
-    let model = model_of(design)?;
-    let instance = instantiate(design, &options.params)?;
+fn stream_file(job: &Job, format: Format, out: &crate::export::Target, report: &mut Report) -> Result<(), RenderError> {
+    let (options, name) = (&job.options, job.name());
     let (threads, raster) = (options.budget.thread_count(), options.raster());
     let io = write_error(options, out.path());
     let settings =
         WriteSettings { coordinates: options.file.coordinates, threads, raster: &raster, ascii: options.file.ascii };
     let mut writer = FileWriter::create(out, format, &settings)?;
     if let (Some(random), false) = (options.random_settings(), options.file.dedup) {
-        let game = streaming_game(&instance.automaton, &model, &random)?;
+        let game = job.game(&random)?;
         check_room(out, random.points as u128 * (3 + 22 * game.dim() as u128), 0, options.budget.output)?;
         let mut sink = writer.checked(&options.cancel);
-        sink.object(design.name()).map_err(&io)?;
+        sink.object(name).map_err(&io)?;
         match &options.look.palette {
             // Each point coloured as the density pictures colour it, in the formats that hold colours.
             Some(palette) if format.has_colours() => game
@@ -218,17 +173,17 @@ fn stream_file(
         }
         report.vertices = random.points;
     } else if options.sampling.samples.is_some() || options.file.dedup {
-        let mut shape = evaluate_design(design, options, &mut report.warnings)?;
+        let mut shape = job.evaluate(&mut report.warnings)?;
         report.duplicates = dedup(&mut shape, options, &mut report.warnings);
         let mut sink = writer.checked(&options.cancel);
         if shape.objects.is_empty() {
-            sink.object(design.name()).map_err(&io)?;
+            sink.object(name).map_err(&io)?;
         }
         shape.replay(&mut sink).map_err(&io)?;
         report.vertices = shape.vertex_count();
         report.faces = shape.quads.len() + shape.triangles.len();
     } else {
-        let ev = evaluator(&instance.automaton, &model, options.eval_settings(), design.name(), &mut report.warnings)?;
+        let ev = job.evaluator(&mut report.warnings)?;
         if options.file.uv && ev.polylines().is_some() {
             report
                 .warnings
@@ -243,7 +198,9 @@ fn stream_file(
         };
         (report.vertices, report.faces) = match &mut writer {
             // Vertices, then elements: two streamed passes, no side file of elements.
-            FileWriter::Obj(w) => crate::export::write_evaluation(&ev, w, Some(&options.cancel)).map_err(eval_error)?,
+            FileWriter::Obj(w) => {
+                crate::export::write_two_passes(w, |sink| ev.stream(sink), Some(&options.cancel)).map_err(eval_error)?
+            }
             _ => {
                 let mut sink = writer.checked(&options.cancel);
                 ev.stream(&mut sink).map_err(eval_error)?;
@@ -257,13 +214,8 @@ fn stream_file(
 
 /// A deterministic evaluation coloured by state, level or map
 /// ([`Look::colour`](super::Look::colour)), evaluated in memory and written with its colours.
-fn coloured_file(
-    design: &Design,
-    options: &Options,
-    format: Format,
-    out: &Path,
-    report: &mut Report,
-) -> Result<(), RenderError> {
+fn coloured_file(job: &Job, format: Format, out: &Path, report: &mut Report) -> Result<(), RenderError> {
+    let options = &job.options;
     let Some(mode) = options.look.colour else { return Ok(()) };
     if !format.has_colours() {
         report.warnings.push(format!(
@@ -271,11 +223,9 @@ fn coloured_file(
             format.extension()
         ));
     }
-    let model = model_of(design)?;
-    let instance = instantiate(design, &options.params)?;
-    let mut ev = evaluator(&instance.automaton, &model, options.eval_settings(), design.name(), &mut report.warnings)?;
+    let mut ev = job.evaluator(&mut report.warnings)?;
     let random = options.colour_settings(0);
-    let (mut shape, coordinates) = ev.evaluate_coloured(&instance.automaton, mode, &random)?;
+    let (mut shape, coordinates) = ev.evaluate_coloured(&job.automaton, mode, &random)?;
     options.check_cancel()?;
     let rainbow = crate::export::Palette::named("rainbow");
     let palette = options.look.palette.as_ref().or(rainbow.as_ref());
@@ -283,7 +233,7 @@ fn coloured_file(
         Some(p) => coordinates.iter().map(|&c| p.colour(c)).collect(),
         None => Vec::new(),
     };
-    let written = super::shape::write_shape_options(&shape, design.name(), options, out)?;
+    let written = super::shape::write_shape_options(&shape, job.name(), options, out)?;
     report.vertices = written.vertices;
     report.faces = written.faces;
     report.bytes = written.bytes;
@@ -291,18 +241,19 @@ fn coloured_file(
 }
 
 /// A `.flame` file of the chaos game (its settings, or the defaults), framed as its density picture.
-fn flame_file(design: &Design, options: &Options, out: &Path, report: &mut Report) -> Result<(), RenderError> {
-    let model = model_of(design)?;
-    let instance = instantiate(design, &options.params)?;
+fn flame_file(job: &Job, out: &Path, report: &mut Report) -> Result<(), RenderError> {
+    let (options, design) = (&job.options, job.design);
     let mut random = options.random_settings().unwrap_or_default();
     random.progress = None;
-    let game = streaming_game(&instance.automaton, &model, &random)?;
+    let game = job.game(&random)?;
     let (palette, raster) = (options.look.palette.as_ref(), options.raster());
-    crate::export::write_flame(out, design.name(), &game, &raster, &options.look.tone, palette, random.points)
-        .map_err(|e| match e {
-            crate::export::FlameError::NotPlain(why) => RenderError::Unsupported(format!("{}: {why}", design.name())),
-            crate::export::FlameError::Io(path, e) => RenderError::Io(path, e),
-        })?;
+    let ifs = game.plain_ifs().map_err(|why| RenderError::Unsupported(format!("{}: {why}", design.name())))?;
+    let frame = crate::export::picture_frame(&game, random.points, &raster);
+    let look = (&raster, &options.look.tone, palette);
+    crate::export::write_flame(out, design.name(), &ifs, frame, look, random.points).map_err(|e| match e {
+        crate::export::FlameError::NotPlain(why) => RenderError::Unsupported(format!("{}: {why}", design.name())),
+        crate::export::FlameError::Io(path, e) => RenderError::Io(path, e),
+    })?;
     report.vertices = random.points;
     report.bytes = std::fs::metadata(out).map_or(0, |m| m.len());
     Ok(())
@@ -327,36 +278,18 @@ fn flame_file(design: &Design, options: &Options, out: &Path, report: &mut Repor
 /// assert!(img.pixels().any(|p| p.0 != [255, 255, 255]));
 /// ```
 pub fn picture(design: &Design, options: &Options) -> Result<image::RgbImage, RenderError> {
-    let options = &picture_options(design, options)?;
-    Ok(png_image(design, options, &mut Report::default())?.0)
+    Ok(png_image(&picture_job(design, options)?, &mut Report::default())?.0)
 }
 
-/// The options of a picture made in memory ([`prepared`]); coloured and
-/// deduplicated clouds are drawn into files only.
-fn picture_options(design: &Design, options: &Options) -> Result<Options, RenderError> {
-    if options.look.colour.is_some() || options.file.dedup {
+/// The job of a picture made in memory; coloured and deduplicated clouds
+/// are drawn into files only.
+fn picture_job<'a>(design: &'a Design, options: &Options) -> Result<Job<'a>, RenderError> {
+    if route(Format::Png, options) != Route::Picture {
         return Err(RenderError::Unsupported(
             "coloured and deduplicated clouds are drawn by render() into a .png file".into(),
         ));
     }
-    prepared(design, options)
-}
-
-/// The options of one output of `design`: not cancelled, a model in a mesh
-/// file's (Y-up) axes drawn standing and written without a turn, and a
-/// family that solves (or `force`).
-fn prepared(design: &Design, options: &Options) -> Result<Options, RenderError> {
-    options.check_cancel()?;
-    let y_up = design.model().is_some_and(|m| m.y_up);
-    let mut options = options.clone();
-    options.look.view.y_up = y_up;
-    options.file.coordinates.y_up_input = y_up;
-    if let Err(crate::family::SolveError::Inconsistent { conflicts }) = crate::family::solve(design)
-        && !options.sampling.force
-    {
-        return Err(RenderError::Inconsistent { name: design.name().to_string(), conflicts });
-    }
-    Ok(options)
+    Job::new(design, options)
 }
 
 /// The density picture of the chaos game that [`render`] writes to a PNG
@@ -371,14 +304,12 @@ pub fn density(design: &Design, options: &Options) -> Result<image::RgbImage, Re
     let random = options.random_settings().ok_or_else(|| {
         RenderError::Unsupported("a density picture needs chaos-game samples (the samples option)".into())
     })?;
-    density_with(design, options, &random)
+    density_with(&Job::new(design, options)?, &random)
 }
 
-/// [`density`] with the chaos game's settings given.
-fn density_with(design: &Design, options: &Options, random: &RandomSettings) -> Result<image::RgbImage, RenderError> {
-    let model = model_of(design)?;
-    let instance = instantiate(design, &options.params)?;
-    let game = streaming_game(&instance.automaton, &model, random)?;
+/// [`density`] of a job with the chaos game's settings given.
+fn density_with(job: &Job, random: &RandomSettings) -> Result<image::RgbImage, RenderError> {
+    let (game, options) = (job.game(random)?, &job.options);
     let look = &options.look;
     let img = crate::export::density_image(&game, random.points, &options.raster(), &look.tone, look.palette.as_ref())?;
     // A cancelled fold stops early: its partial picture is not returned.
@@ -410,110 +341,33 @@ pub fn picture_png(
     options: &Options,
     compression: crate::export::Compression,
 ) -> Result<(Report, Vec<u8>), RenderError> {
-    let options = &picture_options(design, options)?;
+    let job = &picture_job(design, options)?;
     let mut report = Report { format: Some(Format::Png), ..Report::default() };
-    warn_unused(options, Format::Png, &mut report.warnings);
-    let (img, matte) = png_image(design, options, &mut report)?;
-    let png = crate::export::png_bytes(&img, &options.png_text(design.name()), matte, compression)
-        .map_err(|e| RenderError::Unsupported(format!("cannot encode the picture: {e}")))?;
+    warn_unused(&job.options, Format::Png, &mut report.warnings);
+    let png = png_file(job, compression, &mut report)?;
     report.bytes = png.len() as u64;
-    Ok((finished(options, report), png))
+    Ok((finished(&job.options, report), png))
 }
 
-/// The pixels of a `.png` output and its matte (`--transparent`): the
-/// chaos game's density (the samples counted per pixel, never stored), or a
-/// deterministic picture.
-fn png_image(
-    design: &Design,
-    options: &Options,
-    report: &mut Report,
-) -> Result<(image::RgbImage, Option<crate::export::Matte>), RenderError> {
-    match options.random_settings() {
+/// The bytes of a job's `.png`: its pixels, text chunks and matte, encoded.
+fn png_file(job: &Job, compression: crate::export::Compression, report: &mut Report) -> Result<Vec<u8>, RenderError> {
+    let (img, matte) = png_image(job, report)?;
+    crate::export::png_bytes(&img, &job.options.png_text(job.name()), matte, compression)
+        .map_err(|e| RenderError::Unsupported(format!("cannot encode the picture: {e}")))
+}
+
+/// The pixels of a `.png` output and its matte (a transparent picture's):
+/// the chaos game's density (the samples counted per pixel, never stored),
+/// or a deterministic picture.
+fn png_image(job: &Job, report: &mut Report) -> Result<(image::RgbImage, Option<crate::export::Matte>), RenderError> {
+    let look = &job.options.look;
+    match job.options.random_settings() {
         Some(random) => {
-            let img = density_with(design, options, &random)?;
-            let matte = options.look.transparent.then(|| options.look.tone.matte(options.look.palette.is_some()));
+            let img = density_with(job, &random)?;
+            let matte = look.transparent.then(|| look.tone.matte(look.palette.is_some()));
             report.vertices = random.points;
             Ok((img, matte))
         }
-        None => deterministic_image(design, options, report),
+        None => deterministic_image(job, report),
     }
-}
-
-/// A picture of a deterministic evaluation: curves and points drawn while
-/// they are evaluated (twice streamed: the frame, then the drawing), at the
-/// depth whose segments are below a pixel; surfaces from memory, at the
-/// depth whose quads are below a pixel.
-fn deterministic_image(
-    design: &Design,
-    options: &Options,
-    report: &mut Report,
-) -> Result<(image::RgbImage, Option<crate::export::Matte>), RenderError> {
-    let model = model_of(design)?;
-    let instance = instantiate(design, &options.params)?;
-    let mut ev = evaluator(&instance.automaton, &model, options.eval_settings(), design.name(), &mut report.warnings)?;
-    let raster = &options.raster();
-    let needed = crate::export::picture_bytes(raster);
-    if ev.polylines().is_some() && needed > raster.memory_limit as u128 {
-        let vertices = match options.sampling.depth {
-            Depth::Fixed(k) => ev.total_samples(k),
-            Depth::Tolerance(_) => 0,
-        };
-        let (width, height, limit) = (raster.width, raster.height, raster.memory_limit);
-        return Err(crate::export::RasterTooLarge { width, height, vertices, needed, limit }.into());
-    }
-    if let (Some(false), Depth::Fixed(k)) = (ev.polylines(), options.sampling.depth) {
-        let enough = crate::export::point_picture_depth(&ev, raster, k);
-        report.depth = Some(enough);
-        if enough < k {
-            let points = ev.total_samples(enough);
-            report.notes.push(format!(
-                "the picture is drawn at depth {enough}: its {points} points are up to {} a pixel of the {}×{} picture (deeper ones only fill the pixels they darken); geometry files (OBJ, PLY, glTF) keep depth {k}",
-                crate::export::POINTS_PER_PIXEL,
-                raster.width,
-                raster.height
-            ));
-            ev.set_depth(Depth::Fixed(enough))?;
-        }
-    }
-    if let (Some(true), Depth::Fixed(k)) = (ev.polylines(), options.sampling.depth) {
-        let enough = crate::export::curve_picture_depth(&mut ev, raster, k)?;
-        report.depth = Some(enough);
-        if enough < k {
-            report.notes.push(format!(
-                "the picture is drawn at depth {enough}, whose segments are below a pixel of the {}×{} picture (deeper ones only move the curve within its pixels); geometry files (OBJ, PLY, glTF, SVG) keep depth {k}",
-                raster.width, raster.height
-            ));
-        }
-    }
-    options.check_cancel()?;
-    if let Some((img, vertices)) = crate::export::picture(&ev, raster)? {
-        report.vertices = vertices;
-        return Ok((img, raster.transparent.then(crate::export::Matte::default_ink)));
-    }
-    let depth = match options.sampling.depth {
-        Depth::Fixed(k) => Some(k),
-        Depth::Tolerance(eps) if ev.quads_at(0).is_some() => Some(ev.depth_for_tolerance(eps)?),
-        Depth::Tolerance(_) => None,
-    };
-    if let Some(k) = depth {
-        let enough = crate::export::picture_depth(&ev, raster, k);
-        report.depth = Some(enough);
-        if enough < k {
-            report.notes.push(format!(
-                "the picture is drawn at depth {enough}, whose {} quads outnumber the {}×{} pixels (deeper quads are smaller than a pixel); geometry files (OBJ, PLY, glTF) keep depth {k}",
-                ev.quads_at(enough).unwrap_or(0),
-                raster.width,
-                raster.height
-            ));
-            ev.set_depth(Depth::Fixed(enough))?;
-        }
-    }
-    let shape = ev.evaluate()?;
-    options.check_cancel()?;
-    crate::export::finite_vertices(&shape.positions, Some(&shape.normals))
-        .map_err(|e| RenderError::Unsupported(e.to_string()))?;
-    report.vertices = shape.vertex_count();
-    report.faces = shape.quads.len() + shape.triangles.len();
-    let img = crate::export::raster(&shape, raster)?;
-    Ok((img, raster.transparent.then(|| crate::export::Matte::of_shape(&shape))))
 }

@@ -23,11 +23,13 @@
 
 mod checked;
 mod design;
+mod job;
 mod keys;
 mod load;
 mod mesh;
 mod options;
 mod output;
+mod picture;
 mod shape;
 
 pub use crate::export::{Compression, png_bytes};
@@ -37,6 +39,7 @@ pub use load::{LoadError, is_mesh_path, load, load_with_scheme};
 pub use mesh::{MeshJob, check_weights, render_mesh, rule_weights, subdivide_mesh};
 pub use options::{Budget, DEFAULT_SEED, FileStyle, Look, Options, Sampling};
 pub use output::{Format, RenderError, Report, check_disk, check_room};
+pub use picture::{POINTS_PER_PIXEL, SEGMENTS_PER_PIXEL, curve_picture_depth, picture_depth, point_picture_depth};
 // The reports, for the front ends that import the library through this module alone.
 pub use crate::report::{
     CheckReport, CheckReportError, CurveAnalysis, DIMENSION_MEMORY, DimensionReport, ParameterRange, REGIONS,

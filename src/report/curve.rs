@@ -116,7 +116,7 @@ pub fn curve_halves(design: &Design, instance: &Instance) -> Result<[EdgeIndex; 
 ///
 /// # Example
 /// ```
-/// use bcifs::Num;
+/// use bcifs::algebra::Num;
 /// let design = bcifs::builtin_design("corner_cutting").unwrap();
 /// let at = [("a".to_string(), "1/4".parse::<Num>().unwrap()), ("b".to_string(), "1/4".parse::<Num>().unwrap())];
 /// let analysis = bcifs::report::curve_analysis(&design, &at).unwrap();

@@ -116,7 +116,7 @@ pub fn ifs_preset(name: &str, points: Option<Vec<Vec<f64>>>, omega: Option<&Surd
 /// let family = bcifs::schemes::ternary_family("ternary5", None, "w").unwrap();
 /// assert_eq!(family.declared(), ["w"]);
 /// let at = |w: f64| bcifs::instantiate(&family, &[("w".into(), w)]).unwrap();
-/// let fixed = bcifs::schemes::ifs_preset("ternary5", None, Some(&bcifs::Surd::frac(1, 20))).unwrap();
+/// let fixed = bcifs::schemes::ifs_preset("ternary5", None, Some(&bcifs::algebra::Surd::frac(1, 20))).unwrap();
 /// let fixed = bcifs::instantiate(&fixed, &[]).unwrap();
 /// for ((_, a), (_, b)) in at(0.05).automaton.arrows().zip(fixed.automaton.arrows()) {
 ///     assert!((&a.matrix - &b.matrix).amax() < 1e-15);

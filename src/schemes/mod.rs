@@ -8,7 +8,7 @@
 //! - [`Rules`], [`BSpline`], [`ifs_design`]: stationary subdivision schemes as
 //!   IFS (Schaefer et al. 2005), lifted to ordinary IFS by [`LiftedIfs`];
 //! - [`segment_ifs`]: a line segment as two maps (the Bézier-fractal contours paper §4);
-//! - [`crate::Surd`]: exact numbers `q + q'√r`, so generated files stay exact.
+//! - [`crate::algebra::Surd`]: exact numbers `q + q'√r`, so generated files stay exact.
 
 mod catalog;
 mod contour;

@@ -1,8 +1,8 @@
 //! The checked builder: designs built in code equal the shipped files,
 //! mistakes are named, printing and reading back is exact, nothing panics.
 
-use bcifs::design::{Field, Locus};
 use bcifs::{BuildError, CellKind, Design, DesignBuilder, Layout, Model, builtin_design, solve};
+use bcifs::{Field, Locus};
 use proptest::prelude::*;
 
 /// The corner-cutting curve of Sokolov et al. 2010 §3 as code.

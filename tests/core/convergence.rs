@@ -232,7 +232,7 @@ fn norm_bounds_decide_what_the_ellipsoid_leaves() {
     assert!(j.upper < 1.0 && j.lower > 0.96, "w = −0.45: {j}");
     assert_eq!(j.verdict(), Verdict::Converges);
     for omega in ["-17/225", "-29/450", "-54/625", "2/25", "0.0853", "1/20"] {
-        let w = bcifs::Surd::parse(omega).unwrap();
+        let w = bcifs::algebra::Surd::parse(omega).unwrap();
         let design = bcifs::schemes::ifs_preset("ternary5", None, Some(&w)).unwrap();
         let a = instantiate(&design, &[]).unwrap().automaton;
         let j = jsr(&a, &JsrSettings::default()).unwrap();
@@ -242,14 +242,14 @@ fn norm_bounds_decide_what_the_ellipsoid_leaves() {
         assert!(j.lower <= j.upper && j.upper < 1.0, "ω = {omega}: {j}");
     }
     // Past the mask method's reach (its C0 interval ends at 0.08531): long products prove 0.0905 (README).
-    let w = bcifs::Surd::parse("0.0905").unwrap();
+    let w = bcifs::algebra::Surd::parse("0.0905").unwrap();
     let design = bcifs::schemes::ifs_preset("ternary5", None, Some(&w)).unwrap();
     let j = jsr(&instantiate(&design, &[]).unwrap().automaton, &JsrSettings::default()).unwrap();
     assert!(j.upper < 1.0 && !bcifs::analysis::ternary::ternary5_analysis(0.0905).converges(), "ω = 0.0905: {j}");
     // The tensor-product surfaces (maps T_i ⊗ T_j): bounded through their factors, so the
     // torus at ω = 1/20 (README) converges as its curve does, with no warning; ω = 1/10 diverges.
     for (omega, converges) in [("1/20", true), ("3/50", true), ("1/12", true), ("-2/25", true), ("1/10", false)] {
-        let w = bcifs::Surd::parse(omega).unwrap();
+        let w = bcifs::algebra::Surd::parse(omega).unwrap();
         for name in ["ternary5-surface", "ternary5-torus"] {
             let design = bcifs::schemes::ifs_preset(name, None, Some(&w)).unwrap();
             let a = instantiate(&design, &[]).unwrap().automaton;

@@ -184,7 +184,10 @@ mod hostile {
         assert!(error_of(&one_state(&products)).contains("more than 1000 operations"));
         // Just under the limit parses and evaluates (1 − 1 − … = 1 − 999).
         let ok = format!("1{}", "-1".repeat(999));
-        assert_eq!(bcifs::algebra::Expr::parse(&ok).unwrap().eval_constant().unwrap(), bcifs::Num::from_f64(-998.0));
+        assert_eq!(
+            bcifs::algebra::Expr::parse(&ok).unwrap().eval_constant().unwrap(),
+            bcifs::algebra::Num::from_f64(-998.0)
+        );
         let param = format!("a=({})", vec!["1"; 12_000].join("-"));
         let out = std::process::Command::new(env!("CARGO_BIN_EXE_bcifs"))
             .args(["check", "corner_cutting", "--param", &param, "--param", "b=1/4"])

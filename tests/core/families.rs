@@ -182,11 +182,11 @@ fn generators_equal_the_hand_written_files() {
             .parameters
             .iter()
             .map(|p| match &p.origin {
-                bcifs::design::Origin::Entry { arrow, row, col } => {
+                bcifs::Origin::Entry { arrow, row, col } => {
                     let a = &is.automaton;
                     (p.name.clone(), a.arrow(a.arrow_id(arrow).unwrap()).matrix[(*row, *col)])
                 }
-                bcifs::design::Origin::Parameter => panic!("generated parameters name entries"),
+                bcifs::Origin::Parameter => panic!("generated parameters name entries"),
             })
             .collect();
         let ig = fg.instantiate(&mapped).unwrap();

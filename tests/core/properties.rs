@@ -41,9 +41,9 @@ proptest! {
     /// sums of rational multiples of square roots.
     #[test]
     fn printed_surds_read_back(p in -1000i64..1000, q in 1i64..1000, r in -50i64..50, s in 1i64..50, k in 2u64..40) {
-        let x: bcifs::Num = format!("{p}/{q} + ({r}/{s})*sqrt({k})").parse().unwrap();
+        let x: bcifs::algebra::Num = format!("{p}/{q} + ({r}/{s})*sqrt({k})").parse().unwrap();
         prop_assert!(x.is_exact());
-        let back: bcifs::Num = x.to_string().parse().unwrap();
+        let back: bcifs::algebra::Num = x.to_string().parse().unwrap();
         prop_assert_eq!(&back, &x);
         let value = p as f64 / q as f64 + r as f64 / s as f64 * (k as f64).sqrt();
         prop_assert!((x.to_f64() - value).abs() < 1e-9);
@@ -52,10 +52,10 @@ proptest! {
     /// A float given to a design is read as the decimal it prints as.
     #[test]
     fn floats_read_as_printed(x in -1e6f64..1e6) {
-        let n = bcifs::Num::from_f64(x);
+        let n = bcifs::algebra::Num::from_f64(x);
         prop_assert!(n.is_exact());
         prop_assert_eq!(n.to_f64(), x);
-        let back: bcifs::Num = format!("{x:?}").parse().unwrap();
+        let back: bcifs::algebra::Num = format!("{x:?}").parse().unwrap();
         prop_assert_eq!(back, n);
     }
 }

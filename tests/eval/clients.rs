@@ -304,7 +304,7 @@ fn rounded_parallel_and_streamed_obj_files_load_in_the_clients() {
     let vertices = ev.evaluate().unwrap().vertex_count();
     let path = std::env::temp_dir().join(format!("bcifs-client-{}-rounded.obj", std::process::id()));
     let mut w = ObjWriter::create(&path).unwrap().with_threads(2).unwrap().with_precision(Some(6));
-    bcifs::export::write_evaluation(&ev, &mut w, None).unwrap();
+    bcifs::export::write_two_passes(&mut w, |sink| ev.stream(sink), None).unwrap();
     w.finish().unwrap();
     watertight_in_clients(&path, vertices, 0, "rounded torus");
     std::fs::remove_file(&path).unwrap();

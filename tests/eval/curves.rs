@@ -340,8 +340,8 @@ fn half_tangents_agree_with_the_rendered_curve() {
 /// §4.1), and away from ties the region is the floating-point query's.
 #[test]
 fn exact_query_reproduces_the_closed_forms() {
+    use bcifs::algebra::{Num, Surd};
     use bcifs::analysis::{curve_query, curve_query_exact};
-    use bcifs::{Num, Surd};
     let family = bcifs::solve(&bcifs::builtin_design("corner_cutting").unwrap()).unwrap();
     let names = family.parameter_names();
     let mut agreed = 0;
@@ -376,7 +376,7 @@ fn exact_query_reproduces_the_closed_forms() {
 /// tolerance) and gives none. An exact tie (a = 1 − a − b) gives none in both.
 #[test]
 fn exact_query_separates_what_rounding_merges() {
-    use bcifs::Num;
+    use bcifs::algebra::Num;
     use bcifs::analysis::{curve_query, curve_query_exact};
     let family = bcifs::solve(&bcifs::builtin_design("corner_cutting").unwrap()).unwrap();
     let names = family.parameter_names();

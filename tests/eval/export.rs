@@ -245,7 +245,7 @@ fn stale_temporary_files_are_swept() {
 #[test]
 fn density_pictures_count_every_sample_once() {
     use bcifs::eval::{ChaosGame, RandomSettings};
-    use bcifs::export::{RasterSettings, density};
+    use bcifs::export::{RasterSettings, density_counts as density};
     let design = bcifs::builtin_design("fern").unwrap();
     let inst = bcifs::instantiate(&design, &[]).unwrap();
     let model = design.model().unwrap().clone();
@@ -279,7 +279,7 @@ fn density_pictures_count_every_sample_once() {
 #[test]
 fn density_counts_carry_past_a_byte() {
     use bcifs::eval::{ChaosGame, RandomSettings};
-    use bcifs::export::{Palette, RasterSettings, density};
+    use bcifs::export::{Palette, RasterSettings, density_counts as density};
     let fire = Palette::named("fire").unwrap();
     for (name, (w, h), s) in [("fern", (37, 53), 1), ("gasket", (2, 2), 1), ("gasket", (64, 64), 3)] {
         let design = bcifs::builtin_design(name).unwrap();
@@ -312,7 +312,7 @@ fn density_counts_carry_past_a_byte() {
 #[test]
 fn density_colours_follow_the_last_map() {
     use bcifs::eval::{ChaosGame, RandomSettings};
-    use bcifs::export::{Palette, RasterSettings, density};
+    use bcifs::export::{Palette, RasterSettings, density_counts as density};
     let design = bcifs::builtin_design("gasket").unwrap();
     let inst = bcifs::instantiate(&design, &[]).unwrap();
     let model = design.model().unwrap().clone();
@@ -368,7 +368,7 @@ fn density_colours_follow_the_last_map() {
 #[test]
 fn density_tone_mapping_keeps_hues_and_mass() {
     use bcifs::eval::{ChaosGame, RandomSettings};
-    use bcifs::export::{Palette, RasterSettings, Tone, density};
+    use bcifs::export::{Palette, RasterSettings, Tone, density_counts as density};
     let design = bcifs::builtin_design("fern").unwrap();
     let inst = bcifs::instantiate(&design, &[]).unwrap();
     let model = design.model().unwrap().clone();
@@ -432,7 +432,12 @@ fn palettes_from_names_and_pictures() {
 #[test]
 fn streamed_pictures_equal_the_in_memory_ones() {
     use bcifs::eval::{Depth, EvalSettings, Evaluator};
-    use bcifs::export::{RasterSettings, picture, picture_depth, raster};
+    use bcifs::export::{RasterSettings, raster, stream_picture};
+    use bcifs::render::picture_depth;
+    let picture = |ev: &Evaluator, settings| {
+        let lines = ev.polylines()?;
+        Some(stream_picture(lines, |sink| ev.stream(sink).map_err(bcifs::render::RenderError::from), settings).unwrap())
+    };
     let raster_settings = RasterSettings::default().with_size(300, 200).with_view(20.0, 30.0);
     let cases =
         [("levy", 12, true), ("koch", 5, true), ("snowflake", 4, true), ("bezier-union", 5, true), ("fern", 7, false)];
@@ -449,7 +454,7 @@ fn streamed_pictures_equal_the_in_memory_ones() {
         let ev = Evaluator::new(&inst.automaton, &model, settings).unwrap();
         assert_eq!(ev.polylines(), Some(lines), "{name}");
         let shape = ev.evaluate().unwrap();
-        let (streamed, vertices) = picture(&ev, &raster_settings).unwrap().expect("curves and points stream");
+        let (streamed, vertices) = picture(&ev, &raster_settings).expect("curves and points stream");
         assert_eq!(vertices, shape.vertex_count(), "{name}");
         let in_memory = raster(&shape, &raster_settings).unwrap();
         assert!(streamed == in_memory, "{name}: the streamed picture differs");
@@ -459,7 +464,7 @@ fn streamed_pictures_equal_the_in_memory_ones() {
     let design = bcifs::builtin_design("doo_sabin_torus").unwrap();
     let inst = bcifs::instantiate(&design, &[]).unwrap();
     let ev = Evaluator::new(&inst.automaton, design.model().unwrap(), EvalSettings::default()).unwrap();
-    assert!(picture(&ev, &raster_settings).unwrap().is_none(), "surfaces are drawn from memory");
+    assert!(picture(&ev, &raster_settings).is_none(), "surfaces are drawn from memory");
     // 64 patches: 4^5 · 64 = 65536 quads ≥ 300 · 200 pixels > 4^4 · 64.
     assert_eq!(picture_depth(&ev, &raster_settings, 12), 5);
     assert_eq!(picture_depth(&ev, &raster_settings, 3), 3);
@@ -550,7 +555,7 @@ fn two_pass_obj_equals_the_spooled_one() {
         ev.stream(&mut w).unwrap();
         w.finish().unwrap();
         let mut w = ObjWriter::create(&two).unwrap();
-        let (vertices, faces) = bcifs::export::write_evaluation(&ev, &mut w, None).unwrap();
+        let (vertices, faces) = bcifs::export::write_two_passes(&mut w, |sink| ev.stream(sink), None).unwrap();
         w.finish().unwrap();
         assert!(std::fs::read(&one).unwrap() == std::fs::read(&two).unwrap(), "{name}");
         let shape = ev.evaluate().unwrap();
@@ -564,7 +569,7 @@ fn two_pass_obj_equals_the_spooled_one() {
 #[test]
 fn density_of_a_surface_patch_in_3d() {
     use bcifs::eval::{ChaosGame, RandomSettings};
-    use bcifs::export::{RasterSettings, density};
+    use bcifs::export::{RasterSettings, density_counts as density};
     let design = bcifs::schemes::ifs_preset("box-spline", None, None).unwrap();
     let inst = bcifs::instantiate(&design, &[]).unwrap();
     let model = design.model().unwrap().clone();

@@ -187,7 +187,7 @@ fn vertex_normals_agree_with_their_faces() {
         ("doo_sabin_torus".to_string(), eval("doo_sabin_torus", &[], EvalSettings::default().with_depth(6))),
     ];
     for name in ["ternary5-surface", "ternary5-torus"] {
-        for omega in [None, Some(bcifs::Surd::frac(1, 50)), Some(bcifs::Surd::frac(1, 12))] {
+        for omega in [None, Some(bcifs::algebra::Surd::frac(1, 50)), Some(bcifs::algebra::Surd::frac(1, 12))] {
             let design = bcifs::schemes::ifs_preset(name, None, omega.as_ref()).unwrap();
             let a = bcifs::instantiate(&design, &[]).unwrap().automaton;
             let settings = EvalSettings::default().with_depth(4).with_force();

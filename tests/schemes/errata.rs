@@ -1,7 +1,7 @@
 //! The seeds' errata (docs/errata.md): each statement that is wrong, shown
 //! wrong by a computation.
 
-use bcifs::Surd;
+use bcifs::algebra::Surd;
 use bcifs::analysis::ternary::ternary5_analysis;
 use bcifs::schemes::{Rules, normal_preset, unit_segment};
 

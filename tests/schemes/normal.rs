@@ -2,7 +2,7 @@
 //! agree, the automata pass `check`, and the paper's properties hold.
 
 use crate::hausdorff::hausdorff;
-use bcifs::Surd;
+use bcifs::algebra::Surd;
 use bcifs::analysis::{DEFAULT_CHECK_TOLERANCE, check};
 use bcifs::schemes::{
     NormalDirection, NormalPreset, NormalScheme, NormalSchemeError, PRESET_NAMES, SignPattern, normal_preset,

@@ -2,7 +2,7 @@
 //! rules, surfaces are closed manifolds, and the continuity and fractal
 //! ranges computed from the mask (see the README for the figures).
 
-use bcifs::Surd;
+use bcifs::algebra::Surd;
 use bcifs::analysis::ternary::{PAPER_RANGES, ternary5_analysis};
 use bcifs::schemes::{ifs_preset, ternary_five_point};
 

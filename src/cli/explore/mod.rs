@@ -447,8 +447,8 @@ impl Explorer {
                 Ok(values) => match bcifs::render::check_report(&self.design, &values) {
                     Err(e) => Answer::error(422, e),
                     Ok(check) => {
-                        let exact: Vec<(String, bcifs::Num)> =
-                            values.iter().map(|(n, v)| (n.clone(), bcifs::Num::from_f64(*v))).collect();
+                        let exact: Vec<(String, bcifs::algebra::Num)> =
+                            values.iter().map(|(n, v)| (n.clone(), bcifs::algebra::Num::from_f64(*v))).collect();
                         let curve = bcifs::render::curve_analysis(&self.design, &exact).ok().map(|c| c.to_json());
                         Answer::json(&json!({"check": check, "curve": curve}))
                     }
