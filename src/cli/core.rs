@@ -31,6 +31,25 @@ pub enum Topology {
         #[arg(long)]
         symmetric: bool,
     },
+    /// A subdivision pattern: a cell split into a grid, some sub-cells kept and the others holes
+    /// (the Cantor set, laces such as the Sierpiński carpet); every state, arrow and constraint generated
+    Pattern {
+        /// The cell: segment or quad.
+        #[arg(long, default_value = "quad")]
+        cell: String,
+        /// Parts along each direction: K for a segment, KxL for a quad.
+        #[arg(long, default_value = "3x3")]
+        split: String,
+        /// One 0 or 1 per sub-cell, u fastest then v (default: all kept); the carpet is 111101111.
+        #[arg(long)]
+        keep: Option<String>,
+        /// Control points per direction: 2 (linear), 3 (quadratic) or 4 (cubic).
+        #[arg(long, default_value_t = 2)]
+        degree: usize,
+        /// The design's name.
+        #[arg(long, default_value = "pattern")]
+        name: String,
+    },
 }
 
 /// A design the command uses until it ends: its memory (each matrix as
@@ -172,6 +191,11 @@ pub fn run_new(out: &mut String, topology: Topology) -> Result<u8> {
     let design = match topology {
         Topology::Curve { points, vertex, arity } => curve(points, vertex, arity)?,
         Topology::QuadPatch { symmetric } => quad_patch(symmetric)?,
+        Topology::Pattern { cell, split, keep, degree, name } => {
+            let cell = bcifs::schemes::PatternCell::named(&cell)
+                .ok_or_else(|| anyhow::anyhow!("--cell `{cell}`: expected segment or quad"))?;
+            bcifs::schemes::Pattern::parse(cell, &split, keep.as_deref(), degree)?.design(&name)?
+        }
     };
     out.push_str(&bcifs::write_design(&design));
     Ok(0)

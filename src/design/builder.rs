@@ -213,6 +213,17 @@ impl DesignBuilder {
         self
     }
 
+    /// A comment on the last equation given (what it glues), written above
+    /// it in its group; the group keeps its own [`DesignBuilder::doc`].
+    pub fn explain(&mut self, text: impl Into<String>) -> &mut Self {
+        if let Last::Group(group) = &self.last
+            && let Some(e) = self.equations.iter().rev().find(|e| &e.group == group)
+        {
+            self.docs.equations.insert(e.text.clone(), text.into());
+        }
+        self
+    }
+
     /// An adjacency equation: neighbouring sub-cells share their boundary.
     pub fn adjacency(&mut self, equation: impl Into<String>) -> &mut Self {
         self.constraint("adjacency", equation)

@@ -224,6 +224,8 @@ pub struct Docs {
     pub arrows: HashMap<String, String>,
     /// Per constraint group, by name.
     pub groups: HashMap<String, String>,
+    /// Per equation, by its text: a line above it in its group.
+    pub equations: HashMap<String, String>,
     /// Above the parameters.
     pub parameters: String,
     /// Above the model.

@@ -124,6 +124,12 @@ impl Evaluator {
         run_start: &mut usize,
     ) -> io::Result<()> {
         let sp = self.plan.state(piece.state);
+        if sp.gapped && self.settings.dropped.is_empty() {
+            // A lacunar curve: each leaf a segment of its own (its two ends).
+            for first in (*run_start..*first_vertex).step_by(2) {
+                sink.polyline(first, 2, false)?;
+            }
+        }
         let Some(end) = sp.end.as_ref().filter(|_| sp.kind == CellKind::Edge) else {
             *run_start = *first_vertex;
             return Ok(());

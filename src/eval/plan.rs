@@ -90,6 +90,9 @@ pub struct StatePlan {
     pub cyclic: bool,
     /// Faces over `samples` ([`crate::Model::start_faces`]): a leaf cell is meshed by them.
     pub faces: Vec<Vec<usize>>,
+    /// Edges whose sub-edges do not chain end to start (a lacunar curve,
+    /// the Cantor set's): a leaf emits both its ends, a segment of its own.
+    pub gapped: bool,
 }
 
 /// The evaluation plan of an automaton.
@@ -113,6 +116,23 @@ fn fixed_point(m: &nalgebra::DMatrix<f64>) -> Option<Vec<f64>> {
 
 fn mat_vec(m: &[f64], rows: usize, cols: usize, v: &[f64]) -> Vec<f64> {
     (0..rows).map(|i| (0..cols).map(|j| m[i * cols + j] * v[j]).sum()).collect()
+}
+
+/// Whether the sub-edges of an edge chain from its start `a` to its end
+/// `b`, each starting where the one before ends (their ends from `ends`).
+fn chains(plan: &StatePlan, a: &[f64], b: &[f64], ends: &dyn Fn(NodeIndex) -> Option<(Vec<f64>, Vec<f64>)>) -> bool {
+    let mut at = a.to_vec();
+    for (_, t, m) in &plan.children {
+        let Some((ta, tb)) = ends(NodeIndex::new(*t)) else { return true };
+        let lift = |v: &[f64]| -> Vec<f64> {
+            (0..plan.dim).map(|i| (0..v.len()).map(|j| m[i * v.len() + j] * v[j]).sum()).collect()
+        };
+        if !close(&lift(&ta), &at) {
+            return false;
+        }
+        at = lift(&tb);
+    }
+    plan.children.is_empty() || close(&at, b)
 }
 
 fn close(a: &[f64], b: &[f64]) -> bool {
@@ -167,14 +187,20 @@ impl Plan {
                 split: 0,
                 cyclic: automaton.outgoing(id, ArrowKind::Subdivision).into_iter().any(|e| automaton.on_cycle(e)),
                 faces: Vec::new(),
+                gapped: false,
             };
             match s.kind {
                 CellKind::Vertex => plan.samples = vertex_point[id.index()].iter().cloned().collect(),
                 CellKind::Free => plan.samples = vec![vec![1.0 / s.dim as f64; s.dim]],
                 CellKind::Edge => {
                     let (a, b) = ends(id).ok_or_else(|| PlanError::NoEnds(s.name.clone()))?;
-                    plan.samples = vec![a];
-                    plan.end = Some(b);
+                    if chains(&plan, &a, &b, &ends) {
+                        plan.samples = vec![a];
+                        plan.end = Some(b);
+                    } else {
+                        plan.samples = vec![a, b];
+                        plan.gapped = true;
+                    }
                 }
                 CellKind::Face => face_plan(automaton, id, &ends, &mut plan)?,
             }

@@ -360,9 +360,17 @@ impl Evaluator {
         let d = self.pieces.dim as u128;
         match self.root_kind() {
             Ok(CellKind::Face) if !self.pieces.pieces.iter().any(|p| self.uses_start_set(p.state)) => {
-                let split = self.plan.state(self.pieces.pieces[0].state).split.max(2) as u128;
-                let n = split.saturating_pow(depth.min(120) as u32);
-                let cells = (self.pieces.pieces.len() as u128).saturating_mul(n.saturating_mul(n));
+                // Sub-faces per face: split² for a full grid, fewer for a lace (the carpet keeps 8 of 9).
+                let root = self.plan.state(self.pieces.pieces[0].state);
+                let split = root.split.max(2) as u128;
+                // A face plan without a full grid (split 0): its subdivision arrows when more than
+                // a 2×2 split's (a lace: the carpet keeps 8 of 9), never fewer (an estimate stays an upper one).
+                let children = match root.split {
+                    0 => (root.children.len() as u128).max(split * split),
+                    _ => split * split,
+                };
+                let n = children.saturating_pow(depth.min(120) as u32);
+                let cells = (self.pieces.pieces.len() as u128).saturating_mul(n);
                 // positions + normals + uvs (8 bytes each) and two index quads.
                 cells.saturating_mul((d + 3 + 2) * 8 + 64)
             }

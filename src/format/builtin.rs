@@ -2,6 +2,8 @@
 
 /// The automata shipped in `automata/`: `(name, file text)`.
 pub const BUILTIN_AUTOMATA: &[(&str, &str)] = &[
+    ("cantor", include_str!("../../automata/cantor.toml")),
+    ("carpet", include_str!("../../automata/carpet.toml")),
     ("corner_cutting", include_str!("../../automata/corner_cutting.toml")),
     ("curve_4_3", include_str!("../../automata/curve_4_3.toml")),
     ("doo_sabin_quad", include_str!("../../automata/doo_sabin_quad.toml")),

@@ -2,6 +2,9 @@
 
 use std::fmt::Write as _;
 
+/// A constraint group as written: its name, its comment, and its equations with theirs.
+pub(crate) type Group<'a> = (&'a str, String, Vec<(String, String)>);
+
 use crate::automaton::ArrowKind;
 use crate::design::{Design, Matrix, Value};
 use crate::space::CellKind;
@@ -36,11 +39,12 @@ pub fn write_design(design: &Design) -> String {
             }
         };
     }
-    let mut groups: Vec<(&str, String, Vec<String>)> = Vec::new();
+    let mut groups: Vec<Group<'_>> = Vec::new();
     for (group, text) in spec.equation_items() {
+        let line = (text.to_string(), doc(&docs.equations, text));
         match groups.iter_mut().find(|(g, _, _)| *g == group) {
-            Some((_, _, list)) => list.push(text.to_string()),
-            None => groups.push((group, doc(&docs.groups, group), vec![text.to_string()])),
+            Some((_, _, list)) => list.push(line),
+            None => groups.push((group, doc(&docs.groups, group), vec![line])),
         }
     }
     if !groups.is_empty() {
@@ -212,12 +216,16 @@ impl TomlWriter {
     }
 
     /// The `[constraints]` table: groups of equations, each with a comment.
-    pub fn constraints(&mut self, groups: &[(&str, String, Vec<String>)]) -> &mut Self {
+    /// An equation may have its own comment, written above it.
+    pub fn constraints(&mut self, groups: &[Group<'_>]) -> &mut Self {
         self.blank().out.push_str("[constraints]\n");
         for (name, comment, equations) in groups {
             self.comment(comment);
             let _ = writeln!(self.out, "{name} = [");
-            for e in equations {
+            for (e, why) in equations {
+                for line in why.lines() {
+                    let _ = writeln!(self.out, "  # {line}");
+                }
                 let _ = writeln!(self.out, "  {},", quote(e));
             }
             self.out.push_str("]\n");

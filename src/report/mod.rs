@@ -2,7 +2,8 @@
 //! family and its check ([`SolveReport`], [`CheckReport`]), a curve's
 //! tangents and junction ([`CurveAnalysis`]), the attractor's dimensions
 //! ([`DimensionReport`]), the parameters' convergence ranges
-//! ([`ParameterRange`]) and sweeps of a parameter plane ([`sweep`]). Each
+//! ([`ParameterRange`]), sweeps of a parameter plane ([`sweep`]) and the
+//! topology of the depth-k cells ([`TopologyReport`]). Each
 //! serialises to the JSON object the command line prints with `--json` (keys
 //! in alphabetical order), the Python module returns as a dict and the
 //! explorer and the Blender add-on read. Writing files is [`crate::render`]'s.
@@ -13,6 +14,7 @@ mod dimension;
 mod error;
 mod family;
 mod sweep;
+mod topology;
 
 pub use colours::{angle_colour, dimension_colour, region_colour, sweep_colour, sweep_image, verdict_colour};
 pub use curve::{CurveAnalysis, curve_analysis, curve_halves};
@@ -22,3 +24,4 @@ pub use dimension::{
 pub use error::{ReportError, model_of};
 pub use family::{CheckReport, CheckReportError, Residual, Rounding, SolveReport, check_report, solve_report};
 pub use sweep::{REGIONS, SWEEP_MEMORY, SweepKind, SweepValues, sweep, sweep_cancellable, sweep_csv};
+pub use topology::{TopologyReport, topology_of, topology_report};

@@ -16,6 +16,7 @@ mod lattice;
 mod lift;
 mod mesh;
 mod normal;
+mod pattern;
 mod stationary;
 mod ternary;
 mod topology;
@@ -32,6 +33,7 @@ pub use normal::{
     NormalDirection, NormalPreset, NormalScheme, NormalSchemeError, PRESET_NAMES, Point2, SignPattern, normal_preset,
     unit_segment, unit_square, unit_triangle,
 };
+pub use pattern::{Pattern, PatternCell, PatternError, bezier_part, pattern_design};
 pub use stationary::{
     BSpline, CurveStructure, ExactMatrix, ModelSpec, Rules, StationaryError, curve_structure, ifs_design, koch_blocks,
     sierpinski_blocks, tensor_design,

@@ -92,8 +92,18 @@ fn letters(count: usize) -> Vec<String> {
 /// Solves the structure (no parameters yet) and names its free entries
 /// `a, b, c, ...` (column-major within each arrow, arrows in order).
 fn name_free_entries(structure: &DesignBuilder) -> Result<Vec<(String, String, usize, usize)>, TopologyError> {
-    let design = structure.build().map_err(internal)?;
-    let family = solve(&design).map_err(internal)?;
+    free_entries(structure).map_err(internal)
+}
+
+/// The free entries of the solved structure `(name, arrow, row, column)`,
+/// named `a, b, c, …` (or `p1, p2, …` past 26), column-major within each
+/// arrow, arrows in order.
+///
+/// # Errors
+/// The structure does not build or solve.
+pub(super) fn free_entries(structure: &DesignBuilder) -> Result<Vec<(String, String, usize, usize)>, String> {
+    let design = structure.build().map_err(|e| e.to_string())?;
+    let family = solve(&design).map_err(|e| e.to_string())?;
     let order = |arrow: &str| design.automaton().arrow_id(arrow).map_or(usize::MAX, |i| i.index());
     let mut free: Vec<(String, usize, usize)> = family
         .parameters

@@ -76,6 +76,22 @@ pub enum AnalyzeCommand {
         #[arg(long)]
         json: bool,
     },
+    /// The topology of the depth-K cells: how many, their connected components, Euler
+    /// characteristic and Betti numbers (b0 components, b1 holes or loops, b2 voids), and pinches
+    /// (cells meeting at a point only), on the welded cells bcifs writes.
+    Topology {
+        /// The automaton file (TOML), or the name of a shipped automaton.
+        file: String,
+        /// A parameter value, NAME=VALUE (repeatable).
+        #[arg(long = "param", value_name = "NAME=VALUE")]
+        params: Vec<String>,
+        /// Subdivision depth.
+        #[arg(long, default_value_t = 3)]
+        depth: usize,
+        /// Print JSON: cells, dimension, vertices, edges, components, euler, betti, pinches.
+        #[arg(long)]
+        json: bool,
+    },
     /// The ternary 5-point scheme with tension ω (Siddiqi et al. 2014): C0/C1/C2 bounds,
     /// polygon length growth, fractal ranges; a table and a PNG plot.
     Ternary5 {
@@ -277,6 +293,7 @@ pub fn run(out: &mut String, what: AnalyzeCommand) -> Result<u8> {
             run_map(out, &file, (&x, &y), size, (&what, thorough), &output)
         }
         AnalyzeCommand::Dimension { file, params, json } => run_dimension(out, &file, &params, json),
+        AnalyzeCommand::Topology { file, params, depth, json } => run_topology(out, &file, &params, depth, json),
         AnalyzeCommand::Blend { file, params, depth, output } => run_blend(out, &file, &params, depth, &output),
         AnalyzeCommand::Curve { file, params, json, map: None, .. } => run_curve(out, &file, &params, json),
         AnalyzeCommand::Curve { file, params, map: Some(kind), x, y, size, threshold, output, .. } => {
@@ -285,6 +302,37 @@ pub fn run(out: &mut String, what: AnalyzeCommand) -> Result<u8> {
             run_curve_map(out, &file, &kind, (&x, &y), (size, threshold, &marker), &output)
         }
     }
+}
+
+/// `bcifs analyze topology`.
+fn run_topology(out: &mut String, file: &str, params: &[String], depth: usize, as_json: bool) -> Result<u8> {
+    let design = crate::cli::common::load(file)?;
+    let values = crate::cli::common::parse_params(params)?;
+    let t = bcifs::render::topology_report(&design, &values, depth)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", design.name()))?;
+    if as_json {
+        writeln!(out, "{}", serde_json::to_string_pretty(&t)?)?;
+        return Ok(0);
+    }
+    let kind = ["points", "segments", "faces"][t.dimension.min(2)];
+    writeln!(
+        out,
+        "{} at depth {}: {} {kind}, {} vertices, {} edges",
+        design.name(),
+        depth,
+        t.cells,
+        t.vertices,
+        t.edges
+    )?;
+    writeln!(out, "  components {}, Euler characteristic {}, Betti numbers {:?}", t.components, t.euler, t.betti)?;
+    if t.pinches > 0 {
+        writeln!(
+            out,
+            "  {} pinch(es): cells meet at a point only there (the union is not a manifold; a mesh splits them to be printed)",
+            t.pinches
+        )?;
+    }
+    Ok(0)
 }
 
 /// `bcifs analyze dimension`.

@@ -1,0 +1,446 @@
+//! Subdivision patterns (issue 44): a cell split into a grid of sub-cells,
+//! some kept and the others holes, makes its whole BC-IFS automaton — the
+//! states, the subdivision and boundary arrows, and every incidence and
+//! adjacency constraint the kept sub-cells imply, each with a comment
+//! naming the sub-cells it glues. The user writes none of them.
+//!
+//! Cells carry Bézier-like control grids: a segment `D` control points, a
+//! quadrilateral `D × D` (index `D·row + col`, rows along v), their ends
+//! and corners one control point each, their sides the boundary row or
+//! column. The classical member (the defaults) is the cell's polynomial
+//! patch of degree `D − 1` subdivided at the uniform split points (de
+//! Casteljau's matrices, exact): the Cantor set, the Sierpiński carpet on a
+//! bicubic patch. Every other member moves the subdivision points: rough or
+//! smooth laces of the same topology.
+
+use num_bigint::BigInt;
+use num_rational::BigRational;
+use num_traits::{One, Zero};
+
+use crate::algebra::Num;
+use crate::design::{Design, DesignBuilder, Layout, Model};
+use crate::space::CellKind;
+
+/// The cells a pattern splits.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PatternCell {
+    /// A segment split into `k` parts.
+    Segment,
+    /// A quadrilateral split into `k × l` parts.
+    Quad,
+}
+
+impl PatternCell {
+    /// Its name on the command line and in pattern files.
+    pub fn name(self) -> &'static str {
+        match self {
+            PatternCell::Segment => "segment",
+            PatternCell::Quad => "quad",
+        }
+    }
+
+    /// The cell of this name.
+    pub fn named(name: &str) -> Option<PatternCell> {
+        [PatternCell::Segment, PatternCell::Quad].into_iter().find(|c| c.name() == name)
+    }
+
+    /// Its dimension (the number of split counts it takes).
+    pub fn dimension(self) -> usize {
+        match self {
+            PatternCell::Segment => 1,
+            PatternCell::Quad => 2,
+        }
+    }
+}
+
+/// How a cell splits, which sub-cells are kept, and how many control points it carries.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Pattern {
+    /// The cell.
+    pub cell: PatternCell,
+    /// Parts along each direction (u, then v).
+    pub split: Vec<usize>,
+    /// One flag per sub-cell, u fastest, then v: kept (`true`) or a hole.
+    pub keep: Vec<bool>,
+    /// Control points along each direction, 2 to 4 (linear to cubic).
+    pub degree: usize,
+}
+
+/// A pattern that makes no automaton.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum PatternError {
+    /// A split that does not fit the cell.
+    #[error("a {cell} splits along {dimension} direction(s): give {expected} (got {got:?}), each at least 2")]
+    Split {
+        /// The cell.
+        cell: &'static str,
+        /// Its dimension.
+        dimension: usize,
+        /// What is expected.
+        expected: &'static str,
+        /// What was given.
+        got: Vec<usize>,
+    },
+    /// A mask of the wrong length, or not of 0s and 1s.
+    #[error("the mask has {got} flag(s) for {expected} sub-cells ({split}): one 0 or 1 per sub-cell, u fastest")]
+    Mask {
+        /// Flags given.
+        got: usize,
+        /// Sub-cells.
+        expected: usize,
+        /// The split, as written.
+        split: String,
+    },
+    /// A mask that is not of 0s and 1s.
+    #[error("the mask `{0}` is not made of 0s and 1s")]
+    MaskText(String),
+    /// Nothing kept.
+    #[error("the mask keeps no sub-cell: the attractor would be empty")]
+    Empty,
+    /// A degree that does not fit.
+    #[error("a degree of {0} control points per direction: expected 2, 3 or 4 (linear, quadratic, cubic)")]
+    Degree(usize),
+    /// Too many unknowns for the exact solver.
+    #[error(
+        "this pattern has {unknowns} unknown matrix entries: the exact solver takes at most {max}; lower the degree or the split"
+    )]
+    TooLarge {
+        /// Unknown entries.
+        unknowns: usize,
+        /// The limit.
+        max: usize,
+    },
+    /// The generated automaton does not build or solve: a bug.
+    #[error("internal error in the pattern generator (please report): {0}")]
+    Internal(String),
+}
+
+fn internal(e: impl std::fmt::Display) -> PatternError {
+    PatternError::Internal(e.to_string())
+}
+
+impl Pattern {
+    /// A pattern from its parts as the command line gives them: a split
+    /// `K[xL]` and a mask of 0s and 1s (`None`: every sub-cell kept).
+    ///
+    /// # Errors
+    /// A split that does not fit the cell, a mask of the wrong length or
+    /// keeping nothing, a degree other than 2, 3 or 4.
+    pub fn parse(cell: PatternCell, split: &str, keep: Option<&str>, degree: usize) -> Result<Pattern, PatternError> {
+        let parts: Vec<usize> = split.split('x').map(|t| t.trim().parse().unwrap_or(0)).collect();
+        let keep = match keep {
+            None => vec![true; parts.iter().product::<usize>().max(1)],
+            Some(bits) => bits
+                .chars()
+                .filter(|c| !c.is_whitespace() && *c != '_')
+                .map(|c| match c {
+                    '1' => Ok(true),
+                    '0' => Ok(false),
+                    _ => Err(PatternError::MaskText(bits.to_string())),
+                })
+                .collect::<Result<_, _>>()?,
+        };
+        let pattern = Pattern { cell, split: parts, keep, degree };
+        pattern.check()?;
+        Ok(pattern)
+    }
+
+    /// Checks the pattern before anything is generated.
+    ///
+    /// # Errors
+    /// As [`Pattern::parse`].
+    pub fn check(&self) -> Result<(), PatternError> {
+        let dimension = self.cell.dimension();
+        if self.split.len() != dimension || self.split.iter().any(|&k| !(2..=64).contains(&k)) {
+            let expected = if dimension == 1 { "K" } else { "KxL" };
+            return Err(PatternError::Split { cell: self.cell.name(), dimension, expected, got: self.split.clone() });
+        }
+        let cells: usize = self.split.iter().product();
+        if self.keep.len() != cells {
+            let split = self.split.iter().map(ToString::to_string).collect::<Vec<_>>().join("x");
+            return Err(PatternError::Mask { got: self.keep.len(), expected: cells, split });
+        }
+        if !self.keep.iter().any(|&k| k) {
+            return Err(PatternError::Empty);
+        }
+        if !(2..=4).contains(&self.degree) {
+            return Err(PatternError::Degree(self.degree));
+        }
+        let d = self.degree;
+        let unknowns = self.kept().count() * d.pow(2 * dimension as u32) + self.split.iter().sum::<usize>() * d * d + 1;
+        if unknowns > crate::design::MAX_UNKNOWNS {
+            return Err(PatternError::TooLarge { unknowns, max: crate::design::MAX_UNKNOWNS });
+        }
+        Ok(())
+    }
+
+    /// The kept sub-cells' grid positions `[i, j]` (j = 0 for a segment).
+    pub fn kept(&self) -> impl Iterator<Item = [usize; 2]> + '_ {
+        let k = self.split[0];
+        self.keep.iter().enumerate().filter(|(_, kept)| **kept).map(move |(n, _)| [n % k, n / k])
+    }
+
+    fn is_kept(&self, i: usize, j: usize) -> bool {
+        let k = self.split[0];
+        let l = self.split.get(1).copied().unwrap_or(1);
+        i < k && j < l && self.keep[j * k + i]
+    }
+
+    /// The mask as written (`111101111`).
+    pub fn mask(&self) -> String {
+        self.keep.iter().map(|&k| if k { '1' } else { '0' }).collect()
+    }
+
+    /// The automaton of the pattern, with a model on the unit cell.
+    ///
+    /// ```
+    /// use bcifs::schemes::{Pattern, PatternCell, pattern_design};
+    /// let cantor = Pattern::parse(PatternCell::Segment, "3", Some("101"), 2)?;
+    /// let design = pattern_design(&cantor, "cantor")?;
+    /// let family = bcifs::solve(&design).unwrap();
+    /// assert_eq!(family.parameter_names(), ["a", "b"]); // where the two kept thirds end and start
+    /// # Ok::<(), bcifs::schemes::PatternError>(())
+    /// ```
+    ///
+    /// # Errors
+    /// As [`Pattern::check`]; [`PatternError::Internal`] for a bug.
+    pub fn design(&self, name: &str) -> Result<Design, PatternError> {
+        pattern_design(self, name)
+    }
+}
+
+/// The name of the sub-cell at `[i, j]`'s subdivision arrow.
+fn sub(cell: PatternCell, [i, j]: [usize; 2]) -> String {
+    match cell {
+        PatternCell::Segment => format!("T{i}"),
+        PatternCell::Quad => format!("T{i}_{j}"),
+    }
+}
+
+/// The automaton of `pattern` named `name`: see [`Pattern::design`].
+///
+/// # Errors
+/// As [`Pattern::check`].
+pub fn pattern_design(pattern: &Pattern, name: &str) -> Result<Design, PatternError> {
+    pattern.check()?;
+    let mut b = Design::builder(name);
+    let d = pattern.degree;
+    let split = pattern.split.iter().map(ToString::to_string).collect::<Vec<_>>().join("x");
+    let kept = pattern.kept().count();
+    b.description(format!(
+        "{} pattern {split}, mask {}, {d} control points per direction ({kept} of {} sub-cells kept)",
+        pattern.cell.name(),
+        pattern.mask(),
+        pattern.keep.len()
+    ))
+    .doc(format!(
+        "Generated by `bcifs new pattern --cell {} --split {split} --keep {} --degree {d}`: every state,\n\
+         arrow and constraint below follows from the pattern (the sub-cells kept, u fastest then v).",
+        pattern.cell.name(),
+        pattern.mask()
+    ));
+    match pattern.cell {
+        PatternCell::Segment => segment(&mut b, pattern),
+        PatternCell::Quad => quad(&mut b, pattern),
+    }
+    parameters(&mut b, pattern)?;
+    b.build().map_err(internal)
+}
+
+/// The states, arrows and constraints of a segment pattern.
+fn segment(b: &mut DesignBuilder, p: &Pattern) {
+    let (d, k) = (p.degree, p.split[0]);
+    b.state("e", d, CellKind::Edge).doc(format!("The segment: {d} control points."));
+    b.state("v", 1, CellKind::Vertex).doc("An end: one control point.");
+    for [i, _] in p.kept() {
+        b.unknown(sub(p.cell, [i, 0]), "e", "e").doc(format!("Part {i} of {k}, from the left."));
+    }
+    b.unknown("Tv", "v", "v").doc("Subdivision of an end.");
+    b.select("b0", "e", "v", [0]).doc("The left end: the first control point.");
+    b.select("b1", "e", "v", [d - 1]).doc("The right end: the last control point.");
+    for i in 0..k.saturating_sub(1) {
+        if p.is_kept(i, 0) && p.is_kept(i + 1, 0) {
+            b.adjacency(format!("T{i} b1 = T{} b0", i + 1)).explain(format!("Parts {i} and {} share an end.", i + 1));
+        }
+    }
+    if p.is_kept(0, 0) {
+        b.incidence("T0 b0 = b0 Tv").explain("The first part starts where the segment starts.");
+    }
+    if p.is_kept(k - 1, 0) {
+        b.incidence(format!("T{} b1 = b1 Tv", k - 1)).explain("The last part ends where the segment ends.");
+    }
+    let points: Vec<Vec<f64>> = (0..d).map(|i| vec![i as f64 / (d - 1) as f64, 0.0]).collect();
+    b.model(Model::new("e", points).with_layout(Layout::Single)).doc("The unit segment.");
+}
+
+/// The states, arrows and constraints of a quadrilateral pattern.
+fn quad(b: &mut DesignBuilder, p: &Pattern) {
+    let (d, k, l) = (p.degree, p.split[0], p.split[1]);
+    b.state("face", d * d, CellKind::Face)
+        .doc(format!("The quadrilateral: {d}×{d} control points, index {d}·row + col."));
+    b.state("edge_u", d, CellKind::Edge).doc(format!("A side along u: {d} control points."));
+    b.state("edge_v", d, CellKind::Edge).doc(format!("A side along v: {d} control points."));
+    b.state("vertex", 1, CellKind::Vertex).doc("A corner: one control point.");
+    for [i, j] in p.kept() {
+        b.unknown(sub(p.cell, [i, j]), "face", "face").doc(format!("Sub-cell ({i}, {j}) of {k}×{l}."));
+    }
+    for i in 0..k {
+        b.unknown(format!("U{i}"), "edge_u", "edge_u").doc(format!("Part {i} of {k} of a side along u."));
+    }
+    for j in 0..l {
+        b.unknown(format!("V{j}"), "edge_v", "edge_v").doc(format!("Part {j} of {l} of a side along v."));
+    }
+    b.unknown("W", "vertex", "vertex").doc("Subdivision of a corner.");
+    b.select("bottom", "face", "edge_u", (0..d).collect::<Vec<_>>()).doc("The bottom side: row 0.");
+    b.select("top", "face", "edge_u", (0..d).map(|c| d * (d - 1) + c).collect::<Vec<_>>())
+        .doc("The top side: the last row.");
+    b.select("left", "face", "edge_v", (0..d).map(|r| d * r).collect::<Vec<_>>()).doc("The left side: column 0.");
+    b.select("right", "face", "edge_v", (0..d).map(|r| d * r + d - 1).collect::<Vec<_>>())
+        .doc("The right side: the last column.");
+    b.select("u_start", "edge_u", "vertex", [0]).select("u_end", "edge_u", "vertex", [d - 1]);
+    b.select("v_start", "edge_v", "vertex", [0]).select("v_end", "edge_v", "vertex", [d - 1]);
+    b.doc("The ends of the sides: their first and last control points.");
+    quad_constraints(b, p);
+    // The unit square, its inner control points lifted: a curved patch.
+    let points: Vec<Vec<f64>> = (0..d * d)
+        .map(|n| {
+            let (r, c) = (n / d, n % d);
+            let (u, v) = (c as f64 / (d - 1) as f64, r as f64 / (d - 1) as f64);
+            let inner = r > 0 && r < d - 1 && c > 0 && c < d - 1;
+            vec![u, v, if inner { 0.5 } else { 0.0 }]
+        })
+        .collect();
+    b.model(Model::new("face", points).with_layout(Layout::Single))
+        .doc("The unit square, its inner control points raised: a curved patch.");
+}
+
+/// The constraints of a quadrilateral pattern: neighbours share sides (or,
+/// touching only at a corner, that corner), the sides of the sub-cells on
+/// the border are the subdivided sides, and the sides' parts share ends.
+fn quad_constraints(b: &mut DesignBuilder, p: &Pattern) {
+    let (k, l) = (p.split[0], p.split[1]);
+    let t = |i, j| sub(p.cell, [i, j]);
+    for [i, j] in p.kept() {
+        if p.is_kept(i + 1, j) {
+            b.adjacency(format!("{} right = {} left", t(i, j), t(i + 1, j)))
+                .explain(format!("({i}, {j}) and ({}, {j}) share a side.", i + 1));
+        }
+        if p.is_kept(i, j + 1) {
+            b.adjacency(format!("{} top = {} bottom", t(i, j), t(i, j + 1)))
+                .explain(format!("({i}, {j}) and ({i}, {}) share a side.", j + 1));
+        }
+        // Diagonal neighbours with neither common neighbour kept touch at one corner: a pinch.
+        if p.is_kept(i + 1, j + 1) && !p.is_kept(i + 1, j) && !p.is_kept(i, j + 1) {
+            b.adjacency(format!("{} right v_end = {} left v_start", t(i, j), t(i + 1, j + 1))).explain(format!(
+                "({i}, {j}) and ({}, {}) touch at one corner only (a pinch).",
+                i + 1,
+                j + 1
+            ));
+        }
+        if i > 0 && p.is_kept(i - 1, j + 1) && !p.is_kept(i - 1, j) && !p.is_kept(i, j + 1) {
+            b.adjacency(format!("{} left v_end = {} right v_start", t(i, j), t(i - 1, j + 1))).explain(format!(
+                "({i}, {j}) and ({}, {}) touch at one corner only (a pinch).",
+                i - 1,
+                j + 1
+            ));
+        }
+    }
+    for [i, j] in p.kept() {
+        if j == 0 {
+            b.incidence(format!("{} bottom = bottom U{i}", t(i, j)))
+                .explain(format!("({i}, 0) lies on the bottom side."));
+        }
+        if j == l - 1 {
+            b.incidence(format!("{} top = top U{i}", t(i, j))).explain(format!("({i}, {j}) lies on the top side."));
+        }
+        if i == 0 {
+            b.incidence(format!("{} left = left V{j}", t(i, j))).explain(format!("(0, {j}) lies on the left side."));
+        }
+        if i == k - 1 {
+            b.incidence(format!("{} right = right V{j}", t(i, j)))
+                .explain(format!("({i}, {j}) lies on the right side."));
+        }
+    }
+    for i in 0..k - 1 {
+        b.adjacency(format!("U{i} u_end = U{} u_start", i + 1));
+    }
+    for j in 0..l - 1 {
+        b.adjacency(format!("V{j} v_end = V{} v_start", j + 1));
+    }
+    b.incidence("U0 u_start = u_start W").incidence(format!("U{} u_end = u_end W", k - 1));
+    b.incidence("V0 v_start = v_start W").incidence(format!("V{} v_end = v_end W", l - 1));
+    b.doc("The parts of a side share their ends; the first and last parts end at the subdivided corners.");
+}
+
+/// The free entries of the solved structure, named `a, b, …` (or `p1, p2, …`),
+/// with the classical member's values as defaults.
+fn parameters(b: &mut DesignBuilder, p: &Pattern) -> Result<(), PatternError> {
+    let free = super::topology::free_entries(b).map_err(PatternError::Internal)?;
+    for (name, arrow, r, c) in &free {
+        b.name_entry(name.clone(), format!("{arrow}[{r}][{c}]"));
+        b.default_value(name, Num::rational(classical(p, arrow, *r, *c)));
+    }
+    b.doc(format!(
+        "{} free parameters (where the sub-cells' control points sit); the defaults are the classical\n\
+         member: the polynomial cell of degree {} subdivided at the uniform split points.",
+        free.len(),
+        p.degree - 1
+    ));
+    Ok(())
+}
+
+/// Entry `(r, c)` of the classical member's matrix of `arrow`: de Casteljau's
+/// subdivision of the polynomial cell at the uniform split points.
+fn classical(p: &Pattern, arrow: &str, r: usize, c: usize) -> BigRational {
+    let d = p.degree;
+    let part = |n: usize, i: usize| bezier_part(d, i, n);
+    let index = |text: &str| text.parse::<usize>().unwrap_or(0);
+    if let Some(rest) = arrow.strip_prefix('U') {
+        return part(p.split[0], index(rest))[r][c].clone();
+    }
+    if let Some(rest) = arrow.strip_prefix('V') {
+        return part(p.split[p.split.len() - 1], index(rest))[r][c].clone();
+    }
+    let Some(rest) = arrow.strip_prefix('T').filter(|r| !r.is_empty() && *r != "v") else {
+        return BigRational::one();
+    };
+    match p.cell {
+        PatternCell::Segment => part(p.split[0], index(rest))[r][c].clone(),
+        PatternCell::Quad => {
+            let (i, j) = rest.split_once('_').map_or((0, 0), |(i, j)| (index(i), index(j)));
+            let (tu, tv) = (part(p.split[0], i), part(p.split[1], j));
+            tv[r / d][c / d].clone() * tu[r % d][c % d].clone()
+        }
+    }
+}
+
+/// The matrix of part `i` of `n` of a Bézier curve of `d` control points:
+/// column `j` holds the weights of the old control points in the part's
+/// control point `j` (the blossom at `a` repeated `d − 1 − j` times and `b`
+/// repeated `j` times, for the part `[a, b] = [i/n, (i+1)/n]`).
+pub fn bezier_part(d: usize, i: usize, n: usize) -> Vec<Vec<BigRational>> {
+    let at = |x: usize| BigRational::new(BigInt::from(x), BigInt::from(n));
+    let (a, b) = (at(i), at(i + 1));
+    let mut m = vec![vec![BigRational::zero(); d]; d];
+    for j in 0..d {
+        let args: Vec<BigRational> =
+            std::iter::repeat_n(a.clone(), d - 1 - j).chain(std::iter::repeat_n(b.clone(), j)).collect();
+        // De Casteljau on the unit vectors: the blossom's weights of each old point.
+        let mut points: Vec<Vec<BigRational>> = (0..d)
+            .map(|q| (0..d).map(|s| if s == q { BigRational::one() } else { BigRational::zero() }).collect())
+            .collect();
+        for t in &args {
+            for q in 0..points.len() - 1 {
+                let next = points[q + 1].clone();
+                for (x, y) in points[q].iter_mut().zip(next) {
+                    *x = (BigRational::one() - t) * x.clone() + t * y;
+                }
+            }
+            points.pop();
+        }
+        for (row, w) in m.iter_mut().zip(&points[0]) {
+            row[j] = w.clone();
+        }
+    }
+    m
+}

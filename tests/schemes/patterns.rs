@@ -1,0 +1,191 @@
+//! Subdivision patterns (issue 44): a cell, its split and the sub-cells kept
+//! make the whole automaton; the classical member is the classical set, and
+//! the meshes have the topology the pattern implies.
+
+use std::collections::{BTreeSet, HashMap};
+
+use bcifs::schemes::{Pattern, PatternCell, PatternError, pattern_design};
+
+/// The Euler characteristic `V − E + F` and the connected components of a
+/// quad mesh (vertices: those the faces use; edges: distinct unordered pairs).
+fn euler_and_components(quads: &[[u32; 4]]) -> (i64, usize) {
+    let mut vertices = BTreeSet::new();
+    let mut edges = BTreeSet::new();
+    let mut parent: HashMap<usize, usize> = HashMap::new();
+    fn root(parent: &mut HashMap<usize, usize>, v: usize) -> usize {
+        let p = *parent.entry(v).or_insert(v);
+        if p == v {
+            return v;
+        }
+        let r = root(parent, p);
+        parent.insert(v, r);
+        r
+    }
+    for q in quads {
+        for k in 0..4 {
+            let (a, b) = (q[k] as usize, q[(k + 1) % 4] as usize);
+            vertices.insert(a);
+            edges.insert((a.min(b), a.max(b)));
+            let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
+            parent.insert(ra, rb);
+        }
+    }
+    let roots: BTreeSet<usize> = vertices.iter().map(|&v| root(&mut parent, v)).collect();
+    (vertices.len() as i64 - edges.len() as i64 + quads.len() as i64, roots.len())
+}
+
+#[test]
+fn the_cantor_set_is_a_segment_pattern_with_the_subdivision_points_as_parameters() {
+    let cantor = Pattern::parse(PatternCell::Segment, "3", Some("101"), 2).unwrap();
+    let design = pattern_design(&cantor, "cantor").unwrap();
+    let family = bcifs::solve(&design).unwrap();
+    assert_eq!(family.parameter_names(), ["a", "b"], "where the first third ends and the last begins");
+    // The shipped `cantor` is this pattern: its default member is the classical set, exactly.
+    let shipped = bcifs::builtin_design("cantor").unwrap();
+    assert_eq!(bcifs::write_design(&shipped).matches("default").count(), 2);
+    for k in 1..=6 {
+        let shape = crate::evaluate(&shipped, k);
+        let xs: Vec<f64> = (0..shape.vertex_count()).map(|i| shape.point(i)[0]).collect();
+        assert_eq!(xs.len(), 2 << k, "depth {k}: 2^k segments, two ends each");
+        assert_eq!(shape.polylines().count(), 1 << k, "depth {k}: one segment per kept cell, no bridge over a gap");
+        // The segments are the intervals of the Cantor set's k-th stage.
+        let mut stage = vec![(0.0f64, 1.0f64)];
+        for _ in 0..k {
+            stage = stage.iter().flat_map(|&(a, b)| [(a, a + (b - a) / 3.0), (b - (b - a) / 3.0, b)]).collect();
+        }
+        for (i, (a, b)) in stage.iter().enumerate() {
+            assert!((xs[2 * i] - a).abs() < 1e-12 && (xs[2 * i + 1] - b).abs() < 1e-12, "depth {k}: segment {i}");
+        }
+    }
+}
+
+#[test]
+fn the_carpet_lace_has_8_to_the_k_faces_and_the_holes_the_pattern_implies() {
+    let design = bcifs::builtin_design("carpet").unwrap();
+    let family = bcifs::solve(&design).unwrap();
+    assert_eq!(family.parameters.len(), 16, "4 split points on the sides, 3 weights at each of 4 inner nodes");
+    for k in 1..=4usize {
+        let shape = crate::evaluate(&design, k);
+        assert_eq!(shape.quads.len(), 8usize.pow(k as u32), "depth {k}");
+        // A connected sheet with (8^k − 1)/7 holes: χ = 1 − holes (welded through the shared sides).
+        let holes = (8i64.pow(k as u32) - 1) / 7;
+        assert_eq!(euler_and_components(&shape.quads), (1 - holes, 1), "depth {k}");
+    }
+    // The default member converges (the JSR bounds), as every family's does.
+    let check = bcifs::render::check_report(&design, &[]).unwrap();
+    assert!(check.converges == Some(true), "{:?}", check.converges);
+}
+
+#[test]
+fn any_mask_makes_its_lace_and_every_equation_says_what_it_glues() {
+    // A ring (the carpet's border only) of 5×5, a cross, and a diagonal pair touching at one corner.
+    for (split, mask, faces, holes, components) in [
+        ("5x5", "1111110001100011000111111", 16, 1, 1),
+        ("3x3", "010111010", 5, 0, 1),
+        ("2x2", "1001", 2, 0, 1),
+        ("3x2", "101101", 4, 0, 2),
+    ] {
+        let pattern = Pattern::parse(PatternCell::Quad, split, Some(mask), 2).unwrap();
+        let design = pattern_design(&pattern, "lace").unwrap();
+        let text = bcifs::write_design(&design);
+        let equations = text.lines().filter(|l| l.trim_start().starts_with("\"T")).count();
+        let comments = text.lines().filter(|l| l.trim_start().starts_with("# (")).count();
+        assert_eq!(equations, comments, "{mask}: every equation between sub-cells names them\n{text}");
+        if mask == "1001" {
+            assert!(text.contains("touch at one corner only (a pinch)"), "{text}");
+        }
+        // The printed file reads back to the same automaton (its comments aside).
+        let again = bcifs::parse_design(&text, "lace.toml", "lace").unwrap();
+        let bare = |t: &str| t.lines().filter(|l| !l.trim_start().starts_with('#')).collect::<Vec<_>>().join("\n");
+        assert_eq!(bare(&bcifs::write_design(&again)), bare(&text));
+        let shape = crate::evaluate(&design, 1);
+        assert_eq!(shape.quads.len(), faces, "{mask}");
+        let (euler, parts) = euler_and_components(&shape.quads);
+        assert_eq!(parts, components, "{mask}");
+        if mask != "1001" {
+            assert_eq!(euler, components as i64 - holes, "{mask}: χ = components − holes");
+        }
+    }
+}
+
+#[test]
+fn the_classical_member_of_a_cubic_patch_is_de_casteljau_exactly() {
+    // Every part of a Bézier curve of degree 3 split in three: its control points are exact thirds.
+    let m = bcifs::schemes::bezier_part(4, 1, 3);
+    let third = |p: i64, q: i64| num_rational::BigRational::new(p.into(), q.into());
+    // The middle third's first control point is the curve at 1/3: Bernstein weights (8, 12, 6, 1)/27.
+    let column: Vec<_> = (0..4).map(|r| m[r][0].clone()).collect();
+    assert_eq!(column, [third(8, 27), third(12, 27), third(6, 27), third(1, 27)]);
+    // A carpet on a bicubic patch solves, and its default member is the patch subdivided.
+    let pattern = Pattern::parse(PatternCell::Quad, "3x3", Some("111101111"), 4).unwrap();
+    let design = pattern_design(&pattern, "carpet4").unwrap();
+    let shape = crate::evaluate(&design, 2);
+    assert_eq!(shape.quads.len(), 64);
+    // On the unit square with the inner points raised by 1/2, a point of the surface at (u, v) has
+    // z = 1/2 · b(u) b(v) with b the inner Bernstein mass 3t(1 − t): the corners of the cells are on it.
+    let b = |t: f64| 3.0 * t * (1.0 - t);
+    for i in 0..shape.vertex_count() {
+        let p = shape.point(i);
+        assert!((p[2] - 0.5 * b(p[0]) * b(p[1])).abs() < 1e-12, "{p:?} is off the bicubic patch");
+    }
+}
+
+#[test]
+fn bad_patterns_are_refused_before_any_solving() {
+    let refused =
+        |cell, split: &str, keep: Option<&str>, degree| Pattern::parse(cell, split, keep, degree).unwrap_err();
+    assert!(matches!(refused(PatternCell::Quad, "3x3", Some("000000000"), 2), PatternError::Empty));
+    assert!(matches!(
+        refused(PatternCell::Quad, "3x3", Some("1111"), 2),
+        PatternError::Mask { got: 4, expected: 9, .. }
+    ));
+    assert!(matches!(refused(PatternCell::Quad, "3", None, 2), PatternError::Split { .. }));
+    assert!(matches!(refused(PatternCell::Segment, "1", None, 2), PatternError::Split { .. }));
+    assert!(matches!(refused(PatternCell::Segment, "3", None, 5), PatternError::Degree(5)));
+    assert!(matches!(refused(PatternCell::Segment, "3", Some("1x1"), 2), PatternError::MaskText(_)));
+    let e = refused(PatternCell::Quad, "3x3", Some("1111"), 2).to_string();
+    assert!(e.contains("4 flag(s) for 9 sub-cells (3x3)"), "{e}");
+    // The command line says the same, with no automaton printed.
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_bcifs"))
+        .args(["new", "pattern", "--cell", "quad", "--split", "3x3", "--keep", "1111"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(out.stdout.is_empty());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("4 flag(s) for 9 sub-cells"));
+}
+
+#[test]
+fn analyze_topology_counts_cells_components_and_betti_numbers() {
+    use bcifs::render::topology_report;
+    let carpet = bcifs::builtin_design("carpet").unwrap();
+    for k in 1..=4usize {
+        let t = topology_report(&carpet, &[], k).unwrap();
+        let holes = (8i64.pow(k as u32) - 1) / 7;
+        assert_eq!((t.cells, t.components, t.betti), (8usize.pow(k as u32), 1, [1, holes, 0]), "carpet depth {k}");
+        assert_eq!(t.euler, 1 - holes);
+    }
+    for k in 1..=5usize {
+        let t = topology_report(&bcifs::builtin_design("cantor").unwrap(), &[], k).unwrap();
+        assert_eq!((t.cells, t.components, t.betti), (1 << k, 1 << k, [1 << k, 0, 0]), "cantor depth {k}");
+    }
+    // A closed surface: the torus has one void and two loops.
+    let torus = topology_report(&bcifs::builtin_design("doo_sabin_torus").unwrap(), &[], 2).unwrap();
+    assert_eq!((torus.euler, torus.betti), (0, [1, 2, 1]));
+    // Two cells touching at a corner: one component, one pinch.
+    let pinch = pattern_design(&Pattern::parse(PatternCell::Quad, "2x2", Some("1001"), 2).unwrap(), "pinch").unwrap();
+    let t = topology_report(&pinch, &[], 1).unwrap();
+    assert_eq!((t.components, t.pinches), (1, 1));
+    assert_eq!(topology_report(&pinch, &[], 3).unwrap().pinches, 7, "2 + 4 + 1 corners at depths 1..3: 1 + 2 + 4");
+    // The command line's JSON.
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_bcifs"))
+        .args(["analyze", "topology", "carpet", "--depth", "2", "--json"])
+        .output()
+        .unwrap();
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(json["betti"], serde_json::json!([1, 9, 0]));
+    assert_eq!(
+        (json["cells"].as_u64(), json["components"].as_u64(), json["euler"].as_i64()),
+        (Some(64), Some(1), Some(-8))
+    );
+}
