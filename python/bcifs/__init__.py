@@ -21,12 +21,14 @@ from ._bcifs import (
     Mesh,
     analyze_curve,
     dimension,
+    lacunarity,
     load,
     map_colours,
     option_keys,
     profile,
     subdivide,
     sweep_rows,
+    topology,
 )
 
 __all__ = [
@@ -37,12 +39,14 @@ __all__ = [
     "Mesh",
     "analyze_curve",
     "dimension",
+    "lacunarity",
     "load",
     "map_colours",
     "option_keys",
     "profile",
     "subdivide",
     "sweep",
+    "topology",
 ]
 
 

@@ -426,6 +426,40 @@ fn dimension<'py>(
     json_object(py, &report.to_json())
 }
 
+/// The topology of a design's depth-`depth` cells: the object `bcifs analyze
+/// topology --json` prints (`cells`, `components`, `euler`, `betti` [b0, b1,
+/// b2], `pinches`).
+#[pyfunction]
+#[pyo3(signature = (design, depth=3, **params))]
+fn topology<'py>(
+    py: Python<'py>,
+    design: &Design,
+    depth: usize,
+    params: Option<&Bound<'py, PyDict>>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let values = self::params(params)?;
+    let inner = &design.inner;
+    let report = py.detach(|| bcifs::render::topology_report(inner, &values, depth)).map_err(err)?;
+    json_object(py, &report)
+}
+
+/// Porosity per depth (1 to `depth`) and the gliding-box lacunarity curve at
+/// `depth`: the object `bcifs analyze lacunarity --json` prints
+/// (`porosity`, `lacunarity` as `[r, Λ(r)]` pairs).
+#[pyfunction]
+#[pyo3(signature = (design, depth=5, **params))]
+fn lacunarity<'py>(
+    py: Python<'py>,
+    design: &Design,
+    depth: usize,
+    params: Option<&Bound<'py, PyDict>>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let values = self::params(params)?;
+    let inner = &design.inner;
+    let report = py.detach(|| bcifs::render::lacunarity_report(inner, &values, depth)).map_err(err)?;
+    json_object(py, &report)
+}
+
 /// A parameter value read exactly: a `str` (`"1/20"`, `"sqrt(2)/4"`), a
 /// `Fraction`, an int, or a float read as its shortest decimal (`0.05` is 1/20).
 fn exact_value(v: &Bound<'_, PyAny>) -> PyResult<bcifs::algebra::Num> {
@@ -534,6 +568,8 @@ fn _bcifs(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(subdivide, m)?)?;
     m.add_function(wrap_pyfunction!(sweep_rows, m)?)?;
     m.add_function(wrap_pyfunction!(dimension, m)?)?;
+    m.add_function(wrap_pyfunction!(topology, m)?)?;
+    m.add_function(wrap_pyfunction!(lacunarity, m)?)?;
     m.add_function(wrap_pyfunction!(map_colours, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

@@ -558,3 +558,17 @@ def test_front_ends_budgets_are_the_library_s_profiles():
     assert (explorer["memory_mib"], explorer["max_depth"], explorer["max_side"], explorer["time"]) == (768, 16, 2048, 20.0)
     with pytest.raises(bcifs.BcifsError, match="no profile `nope`"):
         bcifs.profile("nope")
+
+
+def test_patterns_topology_and_lacunarity():
+    """Issue 44: the shipped lace and the Cantor set, their topology and holes, as the CLI's JSON."""
+    carpet = bcifs.load("carpet")
+    t = bcifs.topology(carpet, depth=2)
+    assert (t["cells"], t["components"], t["euler"], t["betti"]) == (64, 1, -8, [1, 9, 0])
+    mesh = carpet.mesh(depth=2)
+    assert len(mesh.faces) == 64
+    cantor = bcifs.load("cantor")
+    l = bcifs.lacunarity(cantor, depth=3)
+    assert np.allclose(l["porosity"], [1 - (2 / 3) ** k for k in (1, 2, 3)], atol=1e-12)
+    assert l["lacunarity"][-1][1] == pytest.approx(1.0)
+    assert bcifs.lacunarity(cantor, depth=1, a=0.45)["porosity"][0] == pytest.approx(1 - 0.45 - 1 / 3)

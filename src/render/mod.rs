@@ -42,10 +42,10 @@ pub use output::{Format, RenderError, Report, check_disk, check_room};
 pub use picture::{POINTS_PER_PIXEL, SEGMENTS_PER_PIXEL, curve_picture_depth, picture_depth, point_picture_depth};
 // The reports, for the front ends that import the library through this module alone.
 pub use crate::report::{
-    CheckReport, CheckReportError, CurveAnalysis, DIMENSION_MEMORY, DimensionReport, ParameterRange, REGIONS,
-    ReportError, Residual, Rounding, SolveReport, SweepKind, SweepValues, TopologyReport, check_report, curve_analysis,
-    curve_halves, dimension_report, dimension_within, model_of, parameter_ranges, solve_report, sweep,
-    sweep_cancellable, sweep_colour, sweep_csv, sweep_image, topology_report,
+    CheckReport, CheckReportError, CurveAnalysis, DIMENSION_MEMORY, DimensionReport, LacunarityReport, ParameterRange,
+    REGIONS, ReportError, Residual, Rounding, SolveReport, SweepKind, SweepValues, TopologyReport, check_report,
+    curve_analysis, curve_halves, dimension_report, dimension_within, lacunarity_report, model_of, parameter_ranges,
+    solve_report, sweep, sweep_cancellable, sweep_colour, sweep_csv, sweep_image, topology_report,
 };
 pub use crate::report::{angle_colour, dimension_colour, region_colour, verdict_colour};
 pub use shape::{control_net, write_shape};

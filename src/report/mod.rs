@@ -13,6 +13,7 @@ mod curve;
 mod dimension;
 mod error;
 mod family;
+mod lacunarity;
 mod sweep;
 mod topology;
 
@@ -23,5 +24,6 @@ pub use dimension::{
 };
 pub use error::{ReportError, model_of};
 pub use family::{CheckReport, CheckReportError, Residual, Rounding, SolveReport, check_report, solve_report};
+pub use lacunarity::{LacunarityReport, lacunarity_report};
 pub use sweep::{REGIONS, SWEEP_MEMORY, SweepKind, SweepValues, sweep, sweep_cancellable, sweep_csv};
 pub use topology::{TopologyReport, topology_of, topology_report};

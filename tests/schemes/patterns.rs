@@ -189,3 +189,45 @@ fn analyze_topology_counts_cells_components_and_betti_numbers() {
         (Some(64), Some(1), Some(-8))
     );
 }
+
+#[test]
+fn porosity_and_lacunarity_are_the_pattern_s() {
+    use bcifs::render::lacunarity_report;
+    // A flat carpet (the generator's unit square): each depth keeps 8/9 of the area.
+    let flat =
+        pattern_design(&Pattern::parse(PatternCell::Quad, "3x3", Some("111101111"), 2).unwrap(), "flat").unwrap();
+    let l = lacunarity_report(&flat, &[], 5).unwrap();
+    assert_eq!((l.dimension, l.grid, l.porosity.len()), (2, 243, 5));
+    for (k, p) in l.porosity.iter().enumerate() {
+        assert!((p - (1.0 - (8.0f64 / 9.0).powi(k as i32 + 1))).abs() < 1e-12, "depth {}: {p}", k + 1);
+    }
+    // On a grid the depth-5 cells fill exactly, Λ(1) is one over the filled fraction; Λ falls to 1.
+    assert!((l.lacunarity[0][1] - (9.0f64 / 8.0).powi(5)).abs() < 1e-9, "{:?}", l.lacunarity);
+    assert!(l.lacunarity.windows(2).all(|w| w[1][1] < w[0][1]), "{:?}", l.lacunarity);
+    assert!((l.lacunarity.last().unwrap()[1] - 1.0).abs() < 1e-12);
+    // A carpet with its hole in a corner is as porous, but its holes cluster: more lacunar at mid scales.
+    let corner =
+        pattern_design(&Pattern::parse(PatternCell::Quad, "3x3", Some("011111111"), 2).unwrap(), "corner").unwrap();
+    let c = lacunarity_report(&corner, &[], 5).unwrap();
+    assert!((c.porosity[4] - l.porosity[4]).abs() < 1e-12);
+    assert!(c.lacunarity[2][1] > l.lacunarity[2][1], "{:?} vs {:?}", c.lacunarity, l.lacunarity);
+    // The Cantor set: 1 − (2/3)^k of the length, Λ(1) = (3/2)^5.
+    let cantor = lacunarity_report(&bcifs::builtin_design("cantor").unwrap(), &[], 5).unwrap();
+    assert_eq!(cantor.dimension, 1);
+    assert!((cantor.porosity[4] - (1.0 - (2.0f64 / 3.0).powi(5))).abs() < 1e-12);
+    assert!((cantor.lacunarity[0][1] - 1.5f64.powi(5)).abs() < 1e-9);
+    // The parameters move the holes: a member with a wider first third is less porous.
+    let wide = lacunarity_report(&bcifs::builtin_design("cantor").unwrap(), &[("a".into(), 0.45)], 1).unwrap();
+    assert!((wide.porosity[0] - (1.0 - 0.45 - 1.0 / 3.0)).abs() < 1e-12, "{:?}", wide.porosity);
+    // Points have no measure: said, not a number.
+    let e = lacunarity_report(&bcifs::builtin_design("gasket").unwrap(), &[], 3).unwrap_err();
+    assert!(e.to_string().contains("points"), "{e}");
+    // The command line's JSON.
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_bcifs"))
+        .args(["analyze", "lacunarity", "cantor", "--depth", "2", "--json"])
+        .output()
+        .unwrap();
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(json["porosity"].as_array().map(Vec::len), Some(2));
+    assert!(json["lacunarity"][0][1].as_f64().is_some());
+}

@@ -92,6 +92,21 @@ pub enum AnalyzeCommand {
         #[arg(long)]
         json: bool,
     },
+    /// Porosity (the fraction of the cell the depth-k cells leave empty, per depth) and the
+    /// gliding-box lacunarity curve Λ(r) (Allain & Cloitre 1991) of the depth-K cells.
+    Lacunarity {
+        /// The automaton file (TOML), or the name of a shipped automaton.
+        file: String,
+        /// A parameter value, NAME=VALUE (repeatable).
+        #[arg(long = "param", value_name = "NAME=VALUE")]
+        params: Vec<String>,
+        /// The deepest depth (porosity at depths 1 to K, lacunarity at K).
+        #[arg(long, default_value_t = 5)]
+        depth: usize,
+        /// Print JSON: dimension, porosity (one value per depth from 1), grid, lacunarity ([r, Λ(r)] pairs).
+        #[arg(long)]
+        json: bool,
+    },
     /// The ternary 5-point scheme with tension ω (Siddiqi et al. 2014): C0/C1/C2 bounds,
     /// polygon length growth, fractal ranges; a table and a PNG plot.
     Ternary5 {
@@ -294,6 +309,7 @@ pub fn run(out: &mut String, what: AnalyzeCommand) -> Result<u8> {
         }
         AnalyzeCommand::Dimension { file, params, json } => run_dimension(out, &file, &params, json),
         AnalyzeCommand::Topology { file, params, depth, json } => run_topology(out, &file, &params, depth, json),
+        AnalyzeCommand::Lacunarity { file, params, depth, json } => run_lacunarity(out, &file, &params, depth, json),
         AnalyzeCommand::Blend { file, params, depth, output } => run_blend(out, &file, &params, depth, &output),
         AnalyzeCommand::Curve { file, params, json, map: None, .. } => run_curve(out, &file, &params, json),
         AnalyzeCommand::Curve { file, params, map: Some(kind), x, y, size, threshold, output, .. } => {
@@ -302,6 +318,28 @@ pub fn run(out: &mut String, what: AnalyzeCommand) -> Result<u8> {
             run_curve_map(out, &file, &kind, (&x, &y), (size, threshold, &marker), &output)
         }
     }
+}
+
+/// `bcifs analyze lacunarity`.
+fn run_lacunarity(out: &mut String, file: &str, params: &[String], depth: usize, as_json: bool) -> Result<u8> {
+    let design = crate::cli::common::load(file)?;
+    let values = crate::cli::common::parse_params(params)?;
+    let l = bcifs::render::lacunarity_report(&design, &values, depth)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", design.name()))?;
+    if as_json {
+        writeln!(out, "{}", serde_json::to_string_pretty(&l)?)?;
+        return Ok(0);
+    }
+    let what = if l.dimension == 2 { "area" } else { "length" };
+    writeln!(out, "{}: porosity (the {what} the depth-k cells leave empty)", design.name())?;
+    for (k, p) in l.porosity.iter().enumerate() {
+        writeln!(out, "  depth {}: {p:.6}", k + 1)?;
+    }
+    writeln!(out, "  lacunarity Λ(r) at depth {depth}, on a grid of {} cells a side:", l.grid)?;
+    for [r, lambda] in &l.lacunarity {
+        writeln!(out, "    r = {r}: {lambda:.6}")?;
+    }
+    Ok(0)
 }
 
 /// `bcifs analyze topology`.
