@@ -34,10 +34,10 @@ pub enum Topology {
     /// A subdivision pattern: a cell split into a grid, some sub-cells kept and the others holes
     /// (the Cantor set, laces such as the Sierpiński carpet); every state, arrow and constraint generated
     Pattern {
-        /// The cell: segment or quad.
+        /// The cell: segment, quad or triangle.
         #[arg(long, default_value = "quad")]
         cell: String,
-        /// Parts along each direction: K for a segment, KxL for a quad.
+        /// Parts along each direction: K for a segment or a triangle (K-ary: K² triangles), KxL for a quad.
         #[arg(long, default_value = "3x3")]
         split: String,
         /// One 0 or 1 per sub-cell, u fastest then v (default: all kept); the carpet is 111101111.
@@ -193,12 +193,32 @@ pub fn run_new(out: &mut String, topology: Topology) -> Result<u8> {
         Topology::QuadPatch { symmetric } => quad_patch(symmetric)?,
         Topology::Pattern { cell, split, keep, degree, name } => {
             let cell = bcifs::schemes::PatternCell::named(&cell)
-                .ok_or_else(|| anyhow::anyhow!("--cell `{cell}`: expected segment or quad"))?;
-            bcifs::schemes::Pattern::parse(cell, &split, keep.as_deref(), degree)?.design(&name)?
+                .ok_or_else(|| anyhow::anyhow!("--cell `{cell}`: expected segment, quad or triangle"))?;
+            let design = bcifs::schemes::Pattern::parse(cell, &split, keep.as_deref(), degree)?.design(&name)?;
+            pattern_warnings(&design);
+            design
         }
     };
     out.push_str(&bcifs::write_design(&design));
     Ok(0)
+}
+
+/// What is legal but surprising in a pattern, said on stderr: kept sub-cells
+/// that fall apart (a dust), or that touch at a corner only (a pinch).
+fn pattern_warnings(design: &bcifs::Design) {
+    let Ok(t) = bcifs::render::topology_report(design, &[], 1) else { return };
+    if t.components > 1 {
+        eprintln!(
+            "warning: the kept sub-cells fall apart into {} separate pieces, and each falls apart again at every depth: the attractor is a dust (as Cantor's), not one piece",
+            t.components
+        );
+    }
+    if t.pinches > 0 {
+        eprintln!(
+            "warning: {} place(s) where kept sub-cells touch at a corner only (a pinch): the union is not a manifold there, and a mesh for printing must split it",
+            t.pinches
+        );
+    }
 }
 
 /// `bcifs list`: the shipped automata, then the scheme presets.

@@ -17,6 +17,7 @@ mod lift;
 mod mesh;
 mod normal;
 mod pattern;
+mod pattern_triangle;
 mod stationary;
 mod ternary;
 mod topology;

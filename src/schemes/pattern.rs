@@ -28,6 +28,8 @@ pub enum PatternCell {
     Segment,
     /// A quadrilateral split into `k × l` parts.
     Quad,
+    /// A triangle split `n`-ary into `n²` triangles (upward and downward), corners only (degree 2).
+    Triangle,
 }
 
 impl PatternCell {
@@ -36,19 +38,28 @@ impl PatternCell {
         match self {
             PatternCell::Segment => "segment",
             PatternCell::Quad => "quad",
+            PatternCell::Triangle => "triangle",
         }
     }
 
     /// The cell of this name.
     pub fn named(name: &str) -> Option<PatternCell> {
-        [PatternCell::Segment, PatternCell::Quad].into_iter().find(|c| c.name() == name)
+        [PatternCell::Segment, PatternCell::Quad, PatternCell::Triangle].into_iter().find(|c| c.name() == name)
     }
 
-    /// Its dimension (the number of split counts it takes).
+    /// The number of split counts it takes.
     pub fn dimension(self) -> usize {
         match self {
-            PatternCell::Segment => 1,
+            PatternCell::Segment | PatternCell::Triangle => 1,
             PatternCell::Quad => 2,
+        }
+    }
+
+    /// Its sub-cells for a split.
+    fn cells(self, split: &[usize]) -> usize {
+        match self {
+            PatternCell::Triangle => split[0] * split[0],
+            _ => split.iter().product(),
         }
     }
 }
@@ -98,7 +109,9 @@ pub enum PatternError {
     #[error("the mask keeps no sub-cell: the attractor would be empty")]
     Empty,
     /// A degree that does not fit.
-    #[error("a degree of {0} control points per direction: expected 2, 3 or 4 (linear, quadratic, cubic)")]
+    #[error(
+        "a degree of {0} control points per direction: expected 2, 3 or 4 (linear, quadratic, cubic); 2 for a triangle (its corners)"
+    )]
     Degree(usize),
     /// Too many unknowns for the exact solver.
     #[error(
@@ -129,7 +142,7 @@ impl Pattern {
     pub fn parse(cell: PatternCell, split: &str, keep: Option<&str>, degree: usize) -> Result<Pattern, PatternError> {
         let parts: Vec<usize> = split.split('x').map(|t| t.trim().parse().unwrap_or(0)).collect();
         let keep = match keep {
-            None => vec![true; parts.iter().product::<usize>().max(1)],
+            None => vec![true; cell.cells(&parts).max(1)],
             Some(bits) => bits
                 .chars()
                 .filter(|c| !c.is_whitespace() && *c != '_')
@@ -155,7 +168,7 @@ impl Pattern {
             let expected = if dimension == 1 { "K" } else { "KxL" };
             return Err(PatternError::Split { cell: self.cell.name(), dimension, expected, got: self.split.clone() });
         }
-        let cells: usize = self.split.iter().product();
+        let cells = self.cell.cells(&self.split);
         if self.keep.len() != cells {
             let split = self.split.iter().map(ToString::to_string).collect::<Vec<_>>().join("x");
             return Err(PatternError::Mask { got: self.keep.len(), expected: cells, split });
@@ -163,7 +176,7 @@ impl Pattern {
         if !self.keep.iter().any(|&k| k) {
             return Err(PatternError::Empty);
         }
-        if !(2..=4).contains(&self.degree) {
+        if !(2..=4).contains(&self.degree) || (self.cell == PatternCell::Triangle && self.degree != 2) {
             return Err(PatternError::Degree(self.degree));
         }
         let d = self.degree;
@@ -214,6 +227,7 @@ fn sub(cell: PatternCell, [i, j]: [usize; 2]) -> String {
     match cell {
         PatternCell::Segment => format!("T{i}"),
         PatternCell::Quad => format!("T{i}_{j}"),
+        PatternCell::Triangle => super::pattern_triangle::cell_name([i, j]),
     }
 }
 
@@ -242,6 +256,7 @@ pub fn pattern_design(pattern: &Pattern, name: &str) -> Result<Design, PatternEr
     match pattern.cell {
         PatternCell::Segment => segment(&mut b, pattern),
         PatternCell::Quad => quad(&mut b, pattern),
+        PatternCell::Triangle => super::pattern_triangle::triangle(&mut b, pattern.split[0], &pattern.keep),
     }
     parameters(&mut b, pattern)?;
     b.build().map_err(internal)
@@ -392,6 +407,9 @@ fn parameters(b: &mut DesignBuilder, p: &Pattern) -> Result<(), PatternError> {
 /// Entry `(r, c)` of the classical member's matrix of `arrow`: de Casteljau's
 /// subdivision of the polynomial cell at the uniform split points.
 fn classical(p: &Pattern, arrow: &str, r: usize, c: usize) -> BigRational {
+    if p.cell == PatternCell::Triangle {
+        return super::pattern_triangle::classical(p.split[0], arrow, r, c);
+    }
     let d = p.degree;
     let part = |n: usize, i: usize| bezier_part(d, i, n);
     let index = |text: &str| text.parse::<usize>().unwrap_or(0);
@@ -405,7 +423,7 @@ fn classical(p: &Pattern, arrow: &str, r: usize, c: usize) -> BigRational {
         return BigRational::one();
     };
     match p.cell {
-        PatternCell::Segment => part(p.split[0], index(rest))[r][c].clone(),
+        PatternCell::Segment | PatternCell::Triangle => part(p.split[0], index(rest))[r][c].clone(),
         PatternCell::Quad => {
             let (i, j) = rest.split_once('_').map_or((0, 0), |(i, j)| (index(i), index(j)));
             let (tu, tv) = (part(p.split[0], i), part(p.split[1], j));

@@ -153,6 +153,24 @@ fn bad_patterns_are_refused_before_any_solving() {
     assert_eq!(out.status.code(), Some(2));
     assert!(out.stdout.is_empty());
     assert!(String::from_utf8_lossy(&out.stderr).contains("4 flag(s) for 9 sub-cells"));
+    // Legal but surprising: said, and the automaton printed all the same.
+    for (args, says) in [
+        (["--cell", "quad", "--split", "3x2", "--keep", "101101"], "fall apart into 2 separate pieces"),
+        (
+            ["--cell", "triangle", "--split", "2", "--keep", "1011"],
+            "3 place(s) where kept sub-cells touch at a corner only",
+        ),
+    ] {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_bcifs"))
+            .arg("new")
+            .arg("pattern")
+            .args(args)
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(0));
+        assert!(String::from_utf8_lossy(&out.stdout).contains("[constraints]"));
+        assert!(String::from_utf8_lossy(&out.stderr).contains(says), "{}", String::from_utf8_lossy(&out.stderr));
+    }
 }
 
 #[test]
@@ -230,4 +248,42 @@ fn porosity_and_lacunarity_are_the_pattern_s() {
     let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(json["porosity"].as_array().map(Vec::len), Some(2));
     assert!(json["lacunarity"][0][1].as_f64().is_some());
+}
+
+#[test]
+fn triangle_patterns_make_the_gasket_lace_and_any_mask_of_up_and_down_cells() {
+    use bcifs::render::topology_report;
+    // The shipped gasket lace: 3^k triangles, one component, (3^k − 1)/2 holes, its corners pinched.
+    let gasket = bcifs::builtin_design("gasket_lace").unwrap();
+    for k in 1..=5usize {
+        let t = topology_report(&gasket, &[], k).unwrap();
+        let holes = (3i64.pow(k as u32) - 1) / 2;
+        assert_eq!((t.cells, t.components, t.betti), (3usize.pow(k as u32), 1, [1, holes, 0]), "gasket depth {k}");
+        assert!(t.pinches > 0);
+    }
+    // Its default member is the classical gasket: the vertices at depth 4 are grid points of the 16-ary split.
+    let shape = crate::evaluate(&gasket, 4);
+    let h = 3f64.sqrt() / 2.0;
+    for i in 0..shape.vertex_count() {
+        let p = shape.point(i);
+        let (b, a) = (p[1] / h * 16.0, (p[0] - p[1] / h / 2.0) * 16.0);
+        assert!((a - a.round()).abs() < 1e-9 && (b - b.round()).abs() < 1e-9, "{p:?} is off the grid");
+    }
+    // Every cell of a 3-ary split kept: a disk of 9^k triangles, welded (χ = 1).
+    let full = pattern_design(&Pattern::parse(PatternCell::Triangle, "3", None, 2).unwrap(), "full").unwrap();
+    let t = topology_report(&full, &[], 2).unwrap();
+    assert_eq!((t.cells, t.euler, t.betti, t.pinches), (81, 1, [1, 0, 0], 0));
+    // Downward cells too: two of the nine left out (an upward and a downward one).
+    let mask = Pattern::parse(PatternCell::Triangle, "3", Some("101111011"), 2).unwrap();
+    let two = pattern_design(&mask, "two").unwrap();
+    assert_eq!(topology_report(&two, &[], 1).unwrap().cells, 7);
+    assert_eq!(topology_report(&two, &[], 2).unwrap().cells, 49);
+    let check = bcifs::render::check_report(&two, &[]).unwrap();
+    assert_eq!(check.converges, Some(true));
+    // A triangle carries its corners only (degree 2), and its mask has n² flags.
+    assert!(matches!(Pattern::parse(PatternCell::Triangle, "2", None, 3), Err(PatternError::Degree(3))));
+    assert!(matches!(
+        Pattern::parse(PatternCell::Triangle, "2", Some("101"), 2),
+        Err(PatternError::Mask { expected: 4, .. })
+    ));
 }
