@@ -460,6 +460,52 @@ fn lacunarity<'py>(
     json_object(py, &report)
 }
 
+/// The automaton of a subdivision pattern (as `bcifs new pattern`): `cell`
+/// (`"segment"`, `"quad"`, `"triangle"`), `split` (`3`, `"3x3"` or `(3, 3)`),
+/// `keep` (`"111101111"` or a sequence of 0/1 or booleans, u fastest; all
+/// kept when `None`), `degree` (control points per direction, 2 to 4).
+#[pyfunction]
+#[pyo3(signature = (cell, split, keep=None, degree=2, name="pattern"))]
+fn pattern(
+    cell: &str,
+    split: &Bound<'_, PyAny>,
+    keep: Option<&Bound<'_, PyAny>>,
+    degree: usize,
+    name: &str,
+) -> PyResult<Design> {
+    use bcifs::render::{Pattern, PatternCell};
+    let cell = PatternCell::named(cell)
+        .ok_or_else(|| err(format!("cell=`{cell}`: expected \"segment\", \"quad\" or \"triangle\"")))?;
+    let split: String = match split.extract::<String>() {
+        Ok(text) => text,
+        Err(_) => match split.extract::<usize>() {
+            Ok(k) => k.to_string(),
+            Err(_) => split
+                .extract::<Vec<usize>>()
+                .map_err(|_| err("split=: expected 3, \"3x3\" or (3, 3)"))?
+                .iter()
+                .map(ToString::to_string)
+                .collect::<Vec<_>>()
+                .join("x"),
+        },
+    };
+    let keep: Option<String> = match keep {
+        None => None,
+        Some(k) => Some(match k.extract::<String>() {
+            Ok(text) => text,
+            Err(_) => k
+                .extract::<Vec<bool>>()
+                .or_else(|_| k.extract::<Vec<u8>>().map(|v| v.into_iter().map(|x| x != 0).collect()))
+                .map_err(|_| err("keep=: expected \"111101111\" or a sequence of 0s and 1s"))?
+                .into_iter()
+                .map(|b| if b { '1' } else { '0' })
+                .collect(),
+        }),
+    };
+    let pattern = Pattern::parse(cell, &split, keep.as_deref(), degree).map_err(err)?;
+    Ok(Design { inner: pattern.design(name).map_err(err)? })
+}
+
 /// A parameter value read exactly: a `str` (`"1/20"`, `"sqrt(2)/4"`), a
 /// `Fraction`, an int, or a float read as its shortest decimal (`0.05` is 1/20).
 fn exact_value(v: &Bound<'_, PyAny>) -> PyResult<bcifs::algebra::Num> {
@@ -569,6 +615,7 @@ fn _bcifs(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(sweep_rows, m)?)?;
     m.add_function(wrap_pyfunction!(dimension, m)?)?;
     m.add_function(wrap_pyfunction!(topology, m)?)?;
+    m.add_function(wrap_pyfunction!(pattern, m)?)?;
     m.add_function(wrap_pyfunction!(lacunarity, m)?)?;
     m.add_function(wrap_pyfunction!(map_colours, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

@@ -572,3 +572,20 @@ def test_patterns_topology_and_lacunarity():
     assert np.allclose(l["porosity"], [1 - (2 / 3) ** k for k in (1, 2, 3)], atol=1e-12)
     assert l["lacunarity"][-1][1] == pytest.approx(1.0)
     assert bcifs.lacunarity(cantor, depth=1, a=0.45)["porosity"][0] == pytest.approx(1 - 0.45 - 1 / 3)
+
+
+def test_pattern_builder_is_the_cli_s(tmp_path):
+    """`bcifs.pattern` takes the command line's description and gives the same automaton."""
+    expected = subprocess.run(
+        [cli(), "new", "pattern", "--cell", "quad", "--split", "3x3", "--keep", "111101111", "--name", "c"],
+        check=True, capture_output=True, text=True,
+    ).stdout
+    for split, keep in [("3x3", "111101111"), ((3, 3), [1, 1, 1, 1, 0, 1, 1, 1, 1]), ((3, 3), [True] * 4 + [False] + [True] * 4)]:
+        d = bcifs.pattern("quad", split, keep, name="c")
+        assert d.to_toml() == expected
+    gasket = bcifs.pattern("triangle", 2, "1011")
+    assert bcifs.topology(gasket, depth=3)["betti"] == [1, 13, 0]
+    with pytest.raises(bcifs.BcifsError, match="4 flag"):
+        bcifs.pattern("quad", "3x3", "1111")
+    with pytest.raises(bcifs.BcifsError, match="cell="):
+        bcifs.pattern("cube", 3)

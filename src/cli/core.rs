@@ -34,6 +34,12 @@ pub enum Topology {
     /// A subdivision pattern: a cell split into a grid, some sub-cells kept and the others holes
     /// (the Cantor set, laces such as the Sierpiński carpet); every state, arrow and constraint generated
     Pattern {
+        /// A pattern file (TOML: cell, split, keep, degree, name) instead of the flags below.
+        #[arg(long, conflicts_with_all = ["cell", "split", "keep", "degree", "name"])]
+        from: Option<std::path::PathBuf>,
+        /// Print the pattern file of the flags instead of the automaton.
+        #[arg(long)]
+        file: bool,
         /// The cell: segment, quad or triangle.
         #[arg(long, default_value = "quad")]
         cell: String,
@@ -191,10 +197,20 @@ pub fn run_new(out: &mut String, topology: Topology) -> Result<u8> {
     let design = match topology {
         Topology::Curve { points, vertex, arity } => curve(points, vertex, arity)?,
         Topology::QuadPatch { symmetric } => quad_patch(symmetric)?,
-        Topology::Pattern { cell, split, keep, degree, name } => {
-            let cell = bcifs::schemes::PatternCell::named(&cell)
-                .ok_or_else(|| anyhow::anyhow!("--cell `{cell}`: expected segment, quad or triangle"))?;
-            let design = bcifs::schemes::Pattern::parse(cell, &split, keep.as_deref(), degree)?.design(&name)?;
+        Topology::Pattern { from, file, cell, split, keep, degree, name } => {
+            let (pattern, name) = match from {
+                Some(path) => bcifs::render::Pattern::read(&path)?,
+                None => {
+                    let cell = bcifs::render::PatternCell::named(&cell)
+                        .ok_or_else(|| anyhow::anyhow!("--cell `{cell}`: expected segment, quad or triangle"))?;
+                    (bcifs::render::Pattern::parse(cell, &split, keep.as_deref(), degree)?, name)
+                }
+            };
+            if file {
+                out.push_str(&pattern.to_toml(&name));
+                return Ok(0);
+            }
+            let design = pattern.design(&name)?;
             pattern_warnings(&design);
             design
         }

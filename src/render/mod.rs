@@ -49,3 +49,5 @@ pub use crate::report::{
 };
 pub use crate::report::{angle_colour, dimension_colour, region_colour, verdict_colour};
 pub use shape::{control_net, write_shape};
+// Patterns, for the front ends that generate designs from one (`new pattern`, `bcifs.pattern`).
+pub use crate::schemes::{Pattern, PatternCell, PatternError};

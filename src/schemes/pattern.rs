@@ -123,6 +123,9 @@ pub enum PatternError {
         /// The limit.
         max: usize,
     },
+    /// A pattern file that does not read.
+    #[error("{0}")]
+    File(String),
     /// The generated automaton does not build or solve: a bug.
     #[error("internal error in the pattern generator (please report): {0}")]
     Internal(String),
@@ -156,6 +159,88 @@ impl Pattern {
         let pattern = Pattern { cell, split: parts, keep, degree };
         pattern.check()?;
         Ok(pattern)
+    }
+
+    /// A pattern from a pattern file's text (TOML): `cell` (`segment`, `quad`,
+    /// `triangle`), `split` (`"3x3"` or `[3, 3]`), `keep` (`"111101111"`, or
+    /// rows of 0s and 1s listed u fastest: `["111", "101", "111"]`; all kept
+    /// when left out), `degree` (2 when left out) and `name` (optional). The
+    /// name is returned with the pattern (`"pattern"` when none).
+    ///
+    /// ```
+    /// use bcifs::schemes::Pattern;
+    /// let text = "cell = \"quad\"\nsplit = [3, 3]\nkeep = [\"111\", \"101\", \"111\"]\nname = \"carpet\"\n";
+    /// let (pattern, name) = Pattern::from_toml(text, "carpet.toml")?;
+    /// assert_eq!((pattern.mask().as_str(), name.as_str()), ("111101111", "carpet"));
+    /// # Ok::<(), bcifs::schemes::PatternError>(())
+    /// ```
+    ///
+    /// # Errors
+    /// [`PatternError::File`] with `file:line:column` for text that is not
+    /// such a file; then as [`Pattern::parse`].
+    pub fn from_toml(text: &str, file: &str) -> Result<(Pattern, String), PatternError> {
+        #[derive(serde::Deserialize)]
+        #[serde(deny_unknown_fields)]
+        struct PatternFile {
+            cell: String,
+            split: Split,
+            keep: Option<Keep>,
+            degree: Option<usize>,
+            name: Option<String>,
+        }
+        #[derive(serde::Deserialize)]
+        #[serde(untagged)]
+        enum Split {
+            Text(String),
+            One(usize),
+            Parts(Vec<usize>),
+        }
+        #[derive(serde::Deserialize)]
+        #[serde(untagged)]
+        enum Keep {
+            Text(String),
+            Rows(Vec<String>),
+        }
+        let f: PatternFile = toml::from_str(text).map_err(|e| {
+            let at = e.span().map(|s| crate::format::Source { file, text }.position(s.start));
+            let place = at.map_or(String::new(), |(l, c)| format!(":{l}:{c}"));
+            PatternError::File(format!("{file}{place}: {}", e.message()))
+        })?;
+        let cell = PatternCell::named(&f.cell).ok_or_else(|| {
+            PatternError::File(format!("{file}: cell `{}`: expected segment, quad or triangle", f.cell))
+        })?;
+        let split = match f.split {
+            Split::Text(t) => t,
+            Split::One(k) => k.to_string(),
+            Split::Parts(ks) => ks.iter().map(ToString::to_string).collect::<Vec<_>>().join("x"),
+        };
+        let keep = f.keep.map(|k| match k {
+            Keep::Text(t) => t,
+            Keep::Rows(rows) => rows.concat(),
+        });
+        let pattern = Pattern::parse(cell, &split, keep.as_deref(), f.degree.unwrap_or(2))?;
+        Ok((pattern, f.name.unwrap_or_else(|| "pattern".into())))
+    }
+
+    /// A pattern file read from `path` ([`Pattern::from_toml`]).
+    ///
+    /// # Errors
+    /// A file that cannot be read (or is larger than a text file may be), then as [`Pattern::from_toml`].
+    pub fn read(path: &std::path::Path) -> Result<(Pattern, String), PatternError> {
+        let text = crate::input::read_text(path, crate::input::TEXT_FILE_LIMIT)
+            .map_err(|e| PatternError::File(format!("cannot read {}: {e}", path.display())))?;
+        Pattern::from_toml(&text, &path.display().to_string())
+    }
+
+    /// The pattern file of this pattern (what [`Pattern::from_toml`] reads).
+    pub fn to_toml(&self, name: &str) -> String {
+        let split = self.split.iter().map(ToString::to_string).collect::<Vec<_>>().join("x");
+        format!(
+            "# A subdivision pattern: `bcifs new pattern --from FILE` prints its automaton.\nname = {name:?}\ncell = {:?}\nsplit = {split:?}\nkeep = {:?}\ndegree = {}\n",
+            self.cell.name(),
+            self.mask(),
+            self.degree
+        )
     }
 
     /// Checks the pattern before anything is generated.

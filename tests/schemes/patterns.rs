@@ -287,3 +287,36 @@ fn triangle_patterns_make_the_gasket_lace_and_any_mask_of_up_and_down_cells() {
         Err(PatternError::Mask { expected: 4, .. })
     ));
 }
+
+#[test]
+fn a_pattern_file_is_the_flags_written_down() {
+    let carpet = Pattern::parse(PatternCell::Quad, "3x3", Some("111101111"), 2).unwrap();
+    let text = carpet.to_toml("carpet");
+    let (again, name) = Pattern::from_toml(&text, "carpet.toml").unwrap();
+    assert_eq!((&again, name.as_str()), (&carpet, "carpet"));
+    // Rows of the mask and a split as numbers read the same.
+    let rows = "cell = \"quad\"\nsplit = [3, 3]\nkeep = [\"111\", \"101\", \"111\"]\n";
+    assert_eq!(Pattern::from_toml(rows, "rows.toml").unwrap().0, carpet);
+    // A file that does not read says where; a pattern that does not fit says what.
+    let e = Pattern::from_toml("cell = \"quad\"\nsplit = [3, 3\n", "bad.toml").unwrap_err().to_string();
+    assert!(e.starts_with("bad.toml:2:"), "{e}");
+    let e = Pattern::from_toml("cell = \"quad\"\nsplit = 3\nkeep = \"101\"\nshape = 1\n", "x.toml")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("shape"), "{e}");
+    let e = Pattern::from_toml("cell = \"cube\"\nsplit = 3\n", "x.toml").unwrap_err().to_string();
+    assert!(e.contains("cell `cube`"), "{e}");
+    // The command line reads it: the same automaton as its flags.
+    let dir = std::env::temp_dir().join(format!("bcifs-pattern-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("carpet.toml");
+    std::fs::write(&file, &text).unwrap();
+    let run =
+        |args: &[&str]| std::process::Command::new(env!("CARGO_BIN_EXE_bcifs")).args(args).output().unwrap().stdout;
+    let from_file = run(&["new", "pattern", "--from", file.to_str().unwrap()]);
+    let from_flags =
+        run(&["new", "pattern", "--cell", "quad", "--split", "3x3", "--keep", "111101111", "--name", "carpet"]);
+    assert!(!from_file.is_empty());
+    assert_eq!(from_file, from_flags);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
