@@ -70,7 +70,10 @@ def sweep(design, x, y, what="verdict", client=None, tiles=None, thorough=False,
     - ``what="angle"``: float64 junction angles of a curve family in
       degrees (NaN where there are no half-tangents);
     - ``what="dimension"``: float64 box-counting dimensions where the bounds
-      prove convergence (NaN elsewhere).
+      prove convergence (NaN elsewhere);
+    - ``what="porosity"``, ``what="lacunarity"``: float64 porosity and
+      gliding-box lacunarity Λ(9) of the depth-4 cells where the bounds prove
+      convergence (NaN elsewhere): how the parameters move the holes.
 
     The same values as `bcifs analyze map --what WHAT -o map.csv`.
 

@@ -174,9 +174,9 @@ def test_a_one_parameter_family_has_a_strip_and_ranges_are_editable(page, tmp_pa
         assert page.find_element("id", "param-w").get_attribute("min") == "-0.5"
         wait(lambda: page.execute_script("return document.getElementById('map').src") != before and loaded(page, "map"))
         assert page.execute_script("return state.map.xr[0]") < -0.5
-        # The ternary scheme is no curve of two halves (T0, T1): its maps are verdicts and dimensions only.
+        # The ternary scheme is no curve of two halves (T0, T1): no curve maps (regions, angles).
         kinds = page.execute_script("return [...document.getElementById('mapkind').options].map((o) => o.value)")
-        assert kinds == ["verdict", "dimension"], kinds
+        assert kinds == ["verdict", "dimension", "porosity", "lacunarity"], kinds
     finally:
         child.send_signal(2)
         child.wait(timeout=10)
@@ -214,7 +214,7 @@ def test_a_surface_page_driven_for_a_minute_stays_within_its_budget(page):
         assert defaults[:4] == [defaults[4], 6, 30, 35], defaults
         assert page.find_element("id", "depth").get_attribute("max") == "16"
         kinds = page.execute_script("return [...document.getElementById('mapkind').options].map((o) => o.value)")
-        assert kinds == ["verdict", "dimension"], "a surface is offered no curve maps: %s" % kinds
+        assert kinds == ["verdict", "dimension", "porosity", "lacunarity"], "a surface is offered no curve maps: %s" % kinds
         started = time.monotonic()
         step = 0
         while time.monotonic() - started < 60:

@@ -69,6 +69,9 @@ pub fn sweep_colour(kind: SweepKind, v: f64) -> [u8; 3] {
         SweepKind::Angle if v.is_nan() => NOTHING,
         SweepKind::Angle => angle_colour(v),
         SweepKind::Dimension => dimension_colour(v),
+        // The dimension's palette over [0, 1]: porosity as is, lacunarity as 1 − 1/Λ.
+        SweepKind::Porosity => dimension_colour(1.0 + v),
+        SweepKind::Lacunarity => dimension_colour(2.0 - 1.0 / v),
     }
 }
 

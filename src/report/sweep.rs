@@ -31,7 +31,16 @@ pub enum SweepKind {
     /// convergence (NaN elsewhere, with too few scales, or where the points
     /// would take more than 16 MiB, `SWEEP_MEMORY`).
     Dimension,
+    /// The porosity at depth [`SWEEP_DEPTH`] where the bounds prove convergence
+    /// (the area or length its cells leave empty; NaN elsewhere).
+    Porosity,
+    /// The gliding-box lacunarity `Λ(9)` at depth [`SWEEP_DEPTH`] where the bounds
+    /// prove convergence (how clustered the holes are; NaN elsewhere).
+    Lacunarity,
 }
+
+/// The depth of porosity and lacunarity sweeps.
+pub const SWEEP_DEPTH: usize = 4;
 
 /// The regions of a region sweep, by code: `REGIONS[code]`.
 pub const REGIONS: [&str; 10] = ["undecided", "1", "2", "2'", "3", "3'", "4", "5", "divergent", "degenerate"];
@@ -44,9 +53,11 @@ impl std::str::FromStr for SweepKind {
             "region" | "regions" => SweepKind::Region,
             "angle" | "roughness" => SweepKind::Angle,
             "dimension" => SweepKind::Dimension,
+            "porosity" => SweepKind::Porosity,
+            "lacunarity" => SweepKind::Lacunarity,
             other => {
                 return Err(ReportError::Unsupported(format!(
-                    "unknown sweep `{other}`: expected verdict, region, angle or dimension"
+                    "unknown sweep `{other}`: expected verdict, region, angle, dimension, porosity or lacunarity"
                 )));
             }
         })
@@ -61,6 +72,8 @@ impl SweepKind {
             SweepKind::Region => "region",
             SweepKind::Angle => "angle",
             SweepKind::Dimension => "dimension",
+            SweepKind::Porosity => "porosity",
+            SweepKind::Lacunarity => "lacunarity",
         }
     }
 
@@ -86,7 +99,7 @@ impl SweepKind {
                 _ => "matrix fails",
             },
             SweepKind::Region => REGIONS.get(value as usize).copied().unwrap_or("undecided"),
-            SweepKind::Angle | SweepKind::Dimension => "",
+            SweepKind::Angle | SweepKind::Dimension | SweepKind::Porosity | SweepKind::Lacunarity => "",
         }
     }
 }
@@ -169,7 +182,7 @@ pub fn sweep_cancellable(
     let settings = if thorough { JsrSettings::default() } else { JsrSettings::quick() };
     let instantiate = |e: crate::family::InstantiateError| ReportError::Unsupported(format!("{name}: {e}"));
     match kind {
-        SweepKind::Verdict | SweepKind::Dimension => {
+        SweepKind::Verdict | SweepKind::Dimension | SweepKind::Porosity | SweepKind::Lacunarity => {
             let cells = verdict_map_rows(&family, plane, &settings, rows.clone()).map_err(instantiate)?;
             if kind == SweepKind::Verdict {
                 return Ok(SweepValues::Codes(
@@ -192,9 +205,13 @@ pub fn sweep_cancellable(
                     continue;
                 }
                 let at = plane.values_at(i % w, first + i / w);
-                values.push(match super::dimension::dimension_within(design, &at, SWEEP_MEMORY, cancel) {
-                    Err(ReportError::Cancelled) => return Err(ReportError::Cancelled),
-                    r => r.ok().and_then(|r| r.fit.map(|f| f.dimension)).unwrap_or(f64::NAN),
+                values.push(match kind {
+                    SweepKind::Dimension => match super::dimension::dimension_within(design, &at, SWEEP_MEMORY, cancel)
+                    {
+                        Err(ReportError::Cancelled) => return Err(ReportError::Cancelled),
+                        r => r.ok().and_then(|r| r.fit.map(|f| f.dimension)).unwrap_or(f64::NAN),
+                    },
+                    _ => holes(design, &at, kind),
                 });
             }
             Ok(SweepValues::Values(values))
@@ -216,6 +233,15 @@ pub fn sweep_cancellable(
                 SweepValues::Values(cells.iter().map(|c| c.angle().unwrap_or(f64::NAN)).collect())
             })
         }
+    }
+}
+
+/// A pixel of a porosity or lacunarity sweep: NaN where there is none.
+fn holes(design: &Design, at: &[(String, f64)], kind: SweepKind) -> f64 {
+    let Ok(l) = super::lacunarity::lacunarity_report(design, at, SWEEP_DEPTH) else { return f64::NAN };
+    match kind {
+        SweepKind::Porosity => l.porosity.last().copied().unwrap_or(f64::NAN),
+        _ => l.lacunarity.iter().find(|[r, _]| *r == 9.0).map_or(f64::NAN, |[_, v]| *v),
     }
 }
 

@@ -320,3 +320,28 @@ fn a_pattern_file_is_the_flags_written_down() {
     assert_eq!(from_file, from_flags);
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn porosity_and_lacunarity_sweep_over_two_parameters() {
+    use bcifs::analysis::ParameterPlane;
+    use bcifs::render::{SweepKind, sweep};
+    let cantor = bcifs::builtin_design("cantor").unwrap();
+    let plane = ParameterPlane { x: ("a".into(), 0.2, 0.4), y: ("b".into(), 0.6, 0.8), size: (4, 4) };
+    let values = sweep(&cantor, &plane, "porosity".parse().unwrap(), false, 0..4).unwrap().to_f64();
+    let mut checked = 0;
+    for (i, v) in values.iter().enumerate() {
+        let at = plane.values_at(i % 4, i / 4);
+        let (a, b) = (at[0].1, at[1].1);
+        // Two parts of lengths a and 1 − b at every depth: (a + 1 − b)^4 of the length is kept at depth 4.
+        if !v.is_nan() {
+            assert!((v - (1.0 - (a + 1.0 - b).powi(4))).abs() < 1e-9, "a = {a}, b = {b}: {v}");
+            checked += 1;
+        }
+    }
+    assert_eq!(checked, 16, "every member of this plane converges");
+    let lacunar = sweep(&cantor, &plane, SweepKind::Lacunarity, false, 0..4).unwrap().to_f64();
+    assert!(lacunar.iter().all(|l| *l >= 1.0), "{lacunar:?}");
+    // Their colours are the library's palette (NaN grey).
+    let grey = bcifs::render::sweep_colour(SweepKind::Porosity, f64::NAN);
+    assert_ne!(bcifs::render::sweep_colour(SweepKind::Porosity, 0.5), grey);
+}

@@ -140,7 +140,8 @@ pub enum AnalyzeCommand {
         #[arg(long, default_value_t = 256)]
         size: usize,
         /// What each pixel shows: verdict, region or angle (curve families:
-        /// Sokolov et al. 2010 Fig. 8 and Fig. 11), or dimension (box counting where it converges).
+        /// Sokolov et al. 2010 Fig. 8 and Fig. 11), dimension (box counting where it converges),
+        /// porosity or lacunarity (of the depth-4 cells, where it converges).
         #[arg(long, default_value = "verdict")]
         what: String,
         /// Search the bounds with the full budget at every pixel (slower, fewer undecided pixels).
@@ -232,6 +233,22 @@ fn run_map(
             [1.0, 1.25, 1.5, 1.75, 2.0]
                 .iter()
                 .map(|d| (dimension_colour(*d), format!("dimension {d}")))
+                .chain([(dimension_colour(f64::NAN), "not convergent".to_string())])
+                .collect(),
+        ),
+        SweepKind::Porosity => (
+            "porosity (area or length left empty at depth 4)",
+            [0.0, 0.25, 0.5, 0.75, 1.0]
+                .iter()
+                .map(|p| (dimension_colour(1.0 + p), format!("porosity {p}")))
+                .chain([(dimension_colour(f64::NAN), "not convergent".to_string())])
+                .collect(),
+        ),
+        SweepKind::Lacunarity => (
+            "lacunarity Λ(9) at depth 4",
+            [1.0, 1.5, 2.0, 4.0, 8.0]
+                .iter()
+                .map(|l: &f64| (dimension_colour(2.0 - 1.0 / l), format!("Λ {l}")))
                 .chain([(dimension_colour(f64::NAN), "not convergent".to_string())])
                 .collect(),
         ),

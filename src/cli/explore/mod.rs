@@ -386,7 +386,8 @@ impl Explorer {
         }
         let rows = plane.size.1;
         // A dimension pixel evaluates an attractor: a row at a time.
-        let band = if kind == SweepKind::Dimension { 1 } else { 16 };
+        let band =
+            if matches!(kind, SweepKind::Dimension | SweepKind::Porosity | SweepKind::Lacunarity) { 1 } else { 16 };
         let mut values: Option<bcifs::render::SweepValues> = None;
         for start in (0..rows).step_by(band) {
             if cancel.is_cancelled() {
