@@ -345,3 +345,16 @@ fn porosity_and_lacunarity_sweep_over_two_parameters() {
     let grey = bcifs::render::sweep_colour(SweepKind::Porosity, f64::NAN);
     assert_ne!(bcifs::render::sweep_colour(SweepKind::Porosity, 0.5), grey);
 }
+
+#[test]
+fn similarity_dimensions_of_the_classical_patterns_are_moran_s() {
+    let report = |design: &bcifs::Design| bcifs::render::dimension_report(design, &[]).unwrap();
+    let cantor = report(&bcifs::builtin_design("cantor").unwrap());
+    assert!((cantor.similarity.unwrap() - 2f64.ln() / 3f64.ln()).abs() < 1e-9);
+    let gasket = report(&bcifs::builtin_design("gasket_lace").unwrap());
+    assert!((gasket.similarity.unwrap() - 3f64.ln() / 2f64.ln()).abs() < 1e-9);
+    assert!((gasket.fit.unwrap().dimension - 3f64.ln() / 2f64.ln()).abs() < 0.01, "box counting agrees");
+    let flat =
+        pattern_design(&Pattern::parse(PatternCell::Quad, "3x3", Some("111101111"), 2).unwrap(), "flat").unwrap();
+    assert!((report(&flat).similarity.unwrap() - 8f64.ln() / 3f64.ln()).abs() < 1e-9, "log 8 / log 3");
+}
