@@ -100,6 +100,31 @@ fn describe(depth: Depth) -> String {
     }
 }
 
+/// Laces made from patterns (issue 44): the carpet on a bicubic patch and a lace of four holes on
+/// a biquadratic one, as `bcifs new pattern` writes them.
+fn laces() -> Vec<(String, String, GallerySource)> {
+    use bcifs::render::{Pattern, PatternCell};
+    LACES
+        .iter()
+        .filter_map(|&(name, split, keep, degree, what)| {
+            let design = Pattern::parse(PatternCell::Quad, split, Some(keep), degree).ok()?.design(name).ok()?;
+            Some((name.to_string(), what.to_string(), GallerySource::Design(Box::new(design), None)))
+        })
+        .collect()
+}
+
+/// The gallery's laces: `(name, split, mask, degree, description)`.
+const LACES: [(&str, &str, &str, usize, &str); 2] = [
+    ("lace-carpet-bicubic", "3x3", "111101111", 4, "the Sierpiński carpet as a lace on a bicubic patch"),
+    (
+        "lace-four-holes",
+        "5x5",
+        "1111110101111111010111111",
+        3,
+        "a lace of four holes (a 5×5 mask) on a biquadratic patch",
+    ),
+];
+
 /// Depth of the cube textures.
 const CUBE_DEPTH: usize = 5;
 /// Depth of the icosahedron textures.
@@ -284,6 +309,7 @@ pub fn gallery_items() -> Vec<(String, String, GallerySource)> {
     items.extend(textures());
     items.extend(mesh_automata());
     items.extend(contour_example());
+    items.extend(laces());
     for name in bcifs::schemes::IFS_NAMES {
         if let Ok(g) = bcifs::schemes::ifs_preset(name, None, None) {
             items.push((g.name().to_string(), g.description().to_string(), GallerySource::Design(Box::new(g), None)));
@@ -476,6 +502,10 @@ fn caption(name: &str, depth: Depth) -> (String, String) {
         format!(
             "bcifs contour fit docs/silhouette.png -o s.toml && bcifs contour automaton s.toml > c.toml && bcifs render c.toml {how} -o {name}.png (the gallery turns the picture's y up)"
         )
+    } else if let Some(&(_, split, keep, degree, _)) = LACES.iter().find(|l| l.0 == name) {
+        format!(
+            "bcifs new pattern --cell quad --split {split} --keep {keep} --degree {degree} --name {name} > {name}.toml && bcifs render {name}.toml {how} -o {name}.png"
+        )
     } else if name.ends_with("-textures") || name.starts_with("contour-") || name == "density" {
         "made by the gallery from the entries beside it (bcifs gallery)".to_string()
     } else {
@@ -496,6 +526,10 @@ fn caption(name: &str, depth: Depth) -> (String, String) {
         n if n.starts_with("contour-") => "the Bézier-fractal contours paper (figure in the description)",
         n if n.starts_with("ternary5") => "Siddiqi et al. 2014",
         "density" => "the chaos game as density images (flame renderers' tone mapping)",
+        "cantor" | "carpet" | "gasket_lace" => {
+            "Sokolov, Gentil, Bensoudane 2010 (lacunar cells) and Gentil et al. 2021 (laces from a subdivision pattern)"
+        }
+        n if n.starts_with("lace-") => "Gentil et al. 2021 (laces: surfaces with holes from a subdivision pattern)",
         _ => "Schaefer et al. 2005 (section and figure in the description)",
     };
     (command, paper.to_string())
