@@ -340,9 +340,11 @@ fn index_lists(faces: &Bound<'_, PyAny>) -> PyResult<Vec<Vec<usize>>> {
 /// `bcifs surface FILE --scheme S --print` writes it.
 #[pyfunction]
 #[pyo3(signature = (name_or_path, scheme=None))]
-fn load(name_or_path: &str, scheme: Option<&str>) -> PyResult<Design> {
+fn load(name_or_path: std::path::PathBuf, scheme: Option<&str>) -> PyResult<Design> {
+    // A name or a path: `str` and `os.PathLike` both (pathlib's paths as `render` takes them).
+    let name_or_path = name_or_path.to_string_lossy();
     let scheme = scheme.map(scheme_of).transpose()?;
-    Ok(Design { inner: bcifs::render::load_with_scheme(name_or_path, scheme).map_err(err)? })
+    Ok(Design { inner: bcifs::render::load_with_scheme(&name_or_path, scheme).map_err(err)? })
 }
 
 /// A subdivision scheme by name (`_` for `-` accepted).

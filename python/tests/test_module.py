@@ -589,3 +589,14 @@ def test_pattern_builder_is_the_cli_s(tmp_path):
         bcifs.pattern("quad", "3x3", "1111")
     with pytest.raises(bcifs.BcifsError, match="cell="):
         bcifs.pattern("cube", 3)
+
+
+def test_load_takes_paths_as_render_does(tmp_path):
+    """A `pathlib.Path` loads like its text (it was a TypeError)."""
+    import pathlib
+
+    f = tmp_path / "cantor.toml"
+    f.write_text(bcifs.load("cantor").to_toml())
+    assert bcifs.load(pathlib.Path(f)).to_toml() == bcifs.load(str(f)).to_toml()
+    cube = pathlib.Path(__file__).resolve().parents[2] / "tests" / "data" / "cube.off"
+    assert bcifs.load(cube, scheme="catmull-clark").to_toml() == bcifs.load(str(cube), scheme="catmull-clark").to_toml()
