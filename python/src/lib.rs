@@ -439,10 +439,7 @@ fn topology<'py>(
     depth: usize,
     params: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let values = self::params(params)?;
-    let inner = &design.inner;
-    let report = py.detach(|| bcifs::render::topology_report(inner, &values, depth)).map_err(err)?;
-    json_object(py, &report)
+    report_at(py, design, params, |d, v| bcifs::render::topology_report(d, v, depth))
 }
 
 /// Porosity per depth (1 to `depth`) and the gliding-box lacunarity curve at
@@ -456,10 +453,20 @@ fn lacunarity<'py>(
     depth: usize,
     params: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyAny>> {
+    report_at(py, design, params, |d, v| bcifs::render::lacunarity_report(d, v, depth))
+}
+
+/// A report on `design` at the parameters `params`, the GIL released, as the dict of its JSON.
+fn report_at<'py, R: serde::Serialize + Send>(
+    py: Python<'py>,
+    design: &Design,
+    params: Option<&Bound<'py, PyDict>>,
+    report: impl FnOnce(&bcifs::Design, &[(String, f64)]) -> Result<R, bcifs::render::ReportError> + Send,
+) -> PyResult<Bound<'py, PyAny>> {
     let values = self::params(params)?;
     let inner = &design.inner;
-    let report = py.detach(|| bcifs::render::lacunarity_report(inner, &values, depth)).map_err(err)?;
-    json_object(py, &report)
+    let r = py.detach(|| report(inner, &values)).map_err(err)?;
+    json_object(py, &r)
 }
 
 /// The automaton of a subdivision pattern (as `bcifs new pattern`): `cell`

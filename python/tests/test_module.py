@@ -600,3 +600,29 @@ def test_load_takes_paths_as_render_does(tmp_path):
     assert bcifs.load(pathlib.Path(f)).to_toml() == bcifs.load(str(f)).to_toml()
     cube = pathlib.Path(__file__).resolve().parents[2] / "tests" / "data" / "cube.off"
     assert bcifs.load(cube, scheme="catmull-clark").to_toml() == bcifs.load(str(cube), scheme="catmull-clark").to_toml()
+
+
+def test_laces_open_in_trimesh_with_the_pattern_s_holes(tmp_path):
+    """The carpet's OBJ, loaded by trimesh: 8^k faces welded into one sheet whose Euler
+    characteristic is 1 − (8^k − 1)/7, the number `bcifs analyze topology` gives."""
+    trimesh = pytest.importorskip("trimesh")
+    for k in (2, 3):
+        out = tmp_path / f"carpet{k}.obj"
+        subprocess.run([cli(), "render", "carpet", "--depth", str(k), "-o", str(out)], check=True, capture_output=True)
+        mesh = trimesh.load(out, process=False)
+        quads = 8**k
+        assert len(mesh.faces) == 2 * quads  # trimesh splits each quad in two
+        # Welded: with no vertex merged by trimesh (process=False), the faces make one piece.
+        parent = list(range(len(mesh.vertices)))
+
+        def root(v):
+            while parent[v] != v:
+                parent[v] = parent[parent[v]]
+                v = parent[v]
+            return v
+
+        for a, b in mesh.edges_unique:
+            parent[root(a)] = root(b)
+        assert len({root(v) for v in np.unique(mesh.faces)}) == 1
+        assert mesh.euler_number == 1 - (8**k - 1) // 7
+        assert bcifs.topology(bcifs.load("carpet"), depth=k)["euler"] == mesh.euler_number

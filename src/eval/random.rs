@@ -300,19 +300,7 @@ impl crate::geometry::PointBatches for ChaosGame {
     fn dim(&self) -> usize {
         ChaosGame::dim(self)
     }
-    fn fold<T: Send>(
-        &self,
-        points: usize,
-        colour: bool,
-        init: impl Fn() -> T + Sync + Send,
-        visit: impl Fn(&mut T, &[f64], &[f32]) + Sync + Send,
-        merge: impl Fn(T, T) -> T + Sync + Send,
-    ) -> T {
-        ChaosGame::fold(self, points, colour, init, visit, merge)
-    }
-}
 
-impl ChaosGame {
     /// Folds `points` points of the walk without holding them: chains of
     /// [`BATCH`] points (chain `k` seeded by the seed and `k`, so the points
     /// do not depend on the threads) are handed to `visit` in chunks of at
@@ -321,7 +309,7 @@ impl ChaosGame {
     /// accumulator per thread made by `init`; the accumulators are merged
     /// by `merge` (which must not depend on the order, like a sum of
     /// counts). Memory: a chunk and an accumulator per thread.
-    pub fn fold<T: Send>(
+    fn fold<T: Send>(
         &self,
         points: usize,
         colour: bool,
@@ -360,9 +348,11 @@ impl ChaosGame {
         });
         partial.into_iter().reduce(merge).unwrap_or_else(init)
     }
+}
 
+impl ChaosGame {
     /// The chains of `points` points in order, chain by chain (the points of
-    /// [`ChaosGame::fold`]), handed to `write` in chunks; chains are made in
+    /// [`PointBatches::fold`](crate::geometry::PointBatches::fold)), handed to `write` in chunks; chains are made in
     /// parallel a few at a time, so memory is a few chains whatever `points`.
     ///
     /// # Errors

@@ -34,10 +34,10 @@ pub struct RandomSettings {
     /// How far each step moves the colour coordinate towards the colour of
     /// the arrow it applies: `c ← (1 − s) c + s c_arrow` (flam3's colour speed, default 1/2).
     pub colour_speed: f64,
-    /// Told the chains done of all, as [`super::ChaosGame::fold`] and
+    /// Told the chains done of all, as [`crate::geometry::PointBatches::fold`] and
     /// [`super::ChaosGame::stream`] go.
     pub progress: Option<crate::progress::Progress>,
-    /// Once set, [`super::ChaosGame::fold`] stops taking batches (its result is
+    /// Once set, [`crate::geometry::PointBatches::fold`] stops taking batches (its result is
     /// then partial: the caller that set it discards it).
     pub cancel: Option<crate::progress::Cancel>,
     /// Subdivision arrows left out of the walk (a subset of the attractor,

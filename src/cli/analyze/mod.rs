@@ -337,12 +337,22 @@ pub fn run(out: &mut String, what: AnalyzeCommand) -> Result<u8> {
     }
 }
 
-/// `bcifs analyze lacunarity`.
-fn run_lacunarity(out: &mut String, file: &str, params: &[String], depth: usize, as_json: bool) -> Result<u8> {
+/// A design loaded by name or path, and a report on it at the parameters
+/// `NAME=VALUE` (its errors named after the design).
+fn report_on<R>(
+    file: &str,
+    params: &[String],
+    report: impl FnOnce(&bcifs::Design, &[(String, f64)]) -> Result<R, bcifs::render::ReportError>,
+) -> Result<(bcifs::Design, R)> {
     let design = crate::cli::common::load(file)?;
     let values = crate::cli::common::parse_params(params)?;
-    let l = bcifs::render::lacunarity_report(&design, &values, depth)
-        .map_err(|e| anyhow::anyhow!("{}: {e}", design.name()))?;
+    let r = report(&design, &values).map_err(|e| anyhow::anyhow!("{}: {e}", design.name()))?;
+    Ok((design, r))
+}
+
+/// `bcifs analyze lacunarity`.
+fn run_lacunarity(out: &mut String, file: &str, params: &[String], depth: usize, as_json: bool) -> Result<u8> {
+    let (design, l) = report_on(file, params, |d, v| bcifs::render::lacunarity_report(d, v, depth))?;
     if as_json {
         writeln!(out, "{}", serde_json::to_string_pretty(&l)?)?;
         return Ok(0);
@@ -361,10 +371,7 @@ fn run_lacunarity(out: &mut String, file: &str, params: &[String], depth: usize,
 
 /// `bcifs analyze topology`.
 fn run_topology(out: &mut String, file: &str, params: &[String], depth: usize, as_json: bool) -> Result<u8> {
-    let design = crate::cli::common::load(file)?;
-    let values = crate::cli::common::parse_params(params)?;
-    let t = bcifs::render::topology_report(&design, &values, depth)
-        .map_err(|e| anyhow::anyhow!("{}: {e}", design.name()))?;
+    let (design, t) = report_on(file, params, |d, v| bcifs::render::topology_report(d, v, depth))?;
     if as_json {
         writeln!(out, "{}", serde_json::to_string_pretty(&t)?)?;
         return Ok(0);
@@ -392,10 +399,7 @@ fn run_topology(out: &mut String, file: &str, params: &[String], depth: usize, a
 
 /// `bcifs analyze dimension`.
 fn run_dimension(out: &mut String, file: &str, params: &[String], as_json: bool) -> Result<u8> {
-    let design = crate::cli::common::load(file)?;
-    let values = crate::cli::common::parse_params(params)?;
-    let report =
-        bcifs::render::dimension_report(&design, &values).map_err(|e| anyhow::anyhow!("{}: {e}", design.name()))?;
+    let (design, report) = report_on(file, params, bcifs::render::dimension_report)?;
     if as_json {
         writeln!(out, "{}", serde_json::to_string_pretty(&report.to_json())?)?;
         return Ok(0);
