@@ -16,7 +16,7 @@ mod builder;
 mod mesh;
 mod options;
 use builder::Builder;
-use mesh::{Mesh, matrix};
+use mesh::{Arrays, Mesh, matrix};
 
 pyo3::create_exception!(
     bcifs,
@@ -45,8 +45,9 @@ fn params(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<(String, f64)>> {
 
 /// How long an interrupted call waits for its work to notice the
 /// cancellation (a file being written removes its temporary file) before it
-/// raises anyway; in-memory evaluations that do not look at the flag finish
-/// in the background, within the memory limit's time, their result dropped.
+/// raises anyway. Evaluations, chaos games, sweeps and the copies into
+/// arrays look at the flag every chunk; what does not (a subdivision step)
+/// finishes in the background, its result dropped.
 const GRACE: std::time::Duration = std::time::Duration::from_millis(800);
 
 /// Runs `work` on a worker thread, the GIL released, while this thread
@@ -173,10 +174,12 @@ impl Design {
         let keywords = [("depth", depth), ("tolerance", tolerance), ("uv", uv), ("force", force)];
         let options = Design::options(py, &keywords, params)?;
         let design = self.inner.clone();
-        let shape =
-            cancellable(py, None, move |_, _| bcifs::render::evaluate_design(&design, &options, &mut Vec::new()))?
-                .map_err(err)?;
-        Mesh::of_shape(py, shape)
+        let arrays = cancellable(py, None, move |cancel, _| {
+            let shape = bcifs::render::evaluate_design(&design, &options.with_cancel(cancel), &mut Vec::new())?;
+            Ok::<_, bcifs::render::RenderError>(Arrays::of_shape(shape))
+        })?
+        .map_err(err)?;
+        arrays.into_mesh(py)
     }
 
     /// `samples` points of the chaos game (from `seed`: by default the
@@ -191,11 +194,21 @@ impl Design {
     ) -> PyResult<Py<PyArray2<f64>>> {
         let options = Design::options(py, &[("samples", Some(samples)), ("seed", seed)], params)?;
         let design = self.inner.clone();
-        let shape =
-            cancellable(py, None, move |_, _| bcifs::render::evaluate_design(&design, &options, &mut Vec::new()))?
-                .map_err(err)?;
-        let n = shape.vertex_count();
-        Ok(matrix(py, (0..n).flat_map(|i| shape.point(i)).collect(), 3))
+        let points = cancellable(py, None, move |cancel, _| {
+            let shape = bcifs::render::evaluate_design(&design, &options.with_cancel(cancel.clone()), &mut Vec::new())?;
+            // In 3D, a chunk at a time: an interrupt stops the copy too.
+            let mut points = Vec::with_capacity(3 * shape.vertex_count());
+            let n = shape.vertex_count();
+            for from in (0..n).step_by(1 << 20) {
+                if cancel.is_cancelled() {
+                    return Err(bcifs::render::RenderError::Cancelled);
+                }
+                points.extend((from..n.min(from + (1 << 20))).flat_map(|i| shape.point(i)));
+            }
+            Ok(points)
+        })?
+        .map_err(err)?;
+        Ok(matrix(py, points, 3))
     }
 
     /// The density picture of `samples` chaos-game points, an (h, w, 3)
@@ -407,9 +420,12 @@ fn subdivide(
         )?;
     }
     let job = MeshJob { weights, net, ..MeshJob::new(scheme, depth) };
-    let out = cancellable(py, None, move |_, _| bcifs::render::subdivide_mesh(&mesh, &job, &Options::default()))?
-        .map_err(err)?;
-    Mesh::of_polymesh(py, out)
+    let arrays = cancellable(py, None, move |cancel, _| {
+        let options = Options::default().with_cancel(cancel);
+        bcifs::render::subdivide_mesh(&mesh, &job, &options).map(Arrays::of_polymesh)
+    })?
+    .map_err(err)?;
+    arrays.into_mesh(py)
 }
 
 /// The dimensions of a design's attractor at the given parameter values:
@@ -574,9 +590,10 @@ fn sweep_rows<'py>(
     let design = bcifs::parse_design(toml, "<sweep>", "design").map_err(err)?;
     let plane = bcifs::analysis::ParameterPlane { x: (x.0, x.1, x.2), y: (y.0, y.1, y.2), size: (x.3, y.3) };
     let width = plane.size.0;
-    let values =
-        cancellable(py, None, move |_, _| bcifs::render::sweep(&design, &plane, kind, thorough, rows.0..rows.1))?
-            .map_err(err)?;
+    let values = cancellable(py, None, move |cancel, _| {
+        bcifs::render::sweep_cancellable(&design, &plane, kind, thorough, rows.0..rows.1, &cancel)
+    })?
+    .map_err(err)?;
     Ok(match values {
         SweepValues::Codes(c) => matrix(py, c, width).into_bound(py).into_any(),
         SweepValues::Values(v) => matrix(py, v, width).into_bound(py).into_any(),

@@ -33,28 +33,52 @@ pub(crate) fn matrix<T: numpy::Element>(py: Python<'_>, values: Vec<T>, k: usize
     Array2::from_shape_vec((n, k), values).expect("n × k values").into_pyarray(py).unbind()
 }
 
-/// Faces given by `starts` (m + 1 offsets into `indices`) as one (m, k)
-/// array when they all have k corners, a list of arrays otherwise.
-fn faces_of(py: Python<'_>, starts: &[usize], indices: &[usize]) -> PyResult<Py<PyAny>> {
-    let k = starts.get(1).map_or(3, |s| s - starts[0]);
-    let flat = || indices.iter().map(|&i| i as i64).collect::<Vec<i64>>();
-    if starts.windows(2).all(|w| w[1] - w[0] == k) {
-        return Ok(matrix(py, flat(), k).into_any());
-    }
-    let list = PyList::empty(py);
-    for w in starts.windows(2) {
-        list.append(indices[w[0]..w[1]].iter().map(|&i| i as i64).collect::<Vec<i64>>().into_pyarray(py))?;
-    }
-    Ok(list.into_any().unbind())
+/// Faces as [`Arrays`] hold them: `starts` (m + 1 offsets into `indices`).
+pub(crate) struct Faces {
+    starts: Vec<usize>,
+    indices: Vec<i64>,
 }
 
-impl Mesh {
+impl Faces {
+    fn of(starts: &[usize], indices: impl IntoIterator<Item = usize>) -> Faces {
+        Faces { starts: starts.to_vec(), indices: indices.into_iter().map(|i| i as i64).collect() }
+    }
+
+    /// One (m, k) array when every face has k corners, a list of arrays otherwise.
+    fn into_py(self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        let Faces { starts, indices } = self;
+        let k = starts.get(1).map_or(3, |s| s - starts[0]);
+        if starts.windows(2).all(|w| w[1] - w[0] == k) {
+            return Ok(matrix(py, indices, k).into_any());
+        }
+        let list = PyList::empty(py);
+        for w in starts.windows(2) {
+            list.append(indices[w[0]..w[1]].to_vec().into_pyarray(py))?;
+        }
+        Ok(list.into_any().unbind())
+    }
+}
+
+/// A [`Mesh`]'s arrays before they are numpy's: made from the library's
+/// output on the worker thread, the GIL released and the work cancellable,
+/// then handed over without a copy ([`Arrays::into_mesh`]).
+pub(crate) struct Arrays {
+    vertices: Vec<f64>,
+    faces: Faces,
+    edges: Vec<i64>,
+    normals: Option<Vec<f64>>,
+    colours: Option<Vec<u8>>,
+    uv: Option<(Vec<f64>, Faces)>,
+}
+
+impl Arrays {
     /// The arrays of an evaluated shape, moved out of it where the library
     /// already holds them as numpy wants them (3D positions, normals,
     /// colours: no copy).
-    pub(crate) fn of_shape(py: Python<'_>, shape: Shape) -> PyResult<Mesh> {
+    pub(crate) fn of_shape(shape: Shape) -> Arrays {
         let n = shape.vertex_count();
-        let mut starts = vec![0];
+        let mut starts = Vec::with_capacity(shape.quads.len() + shape.triangles.len() + 1);
+        starts.push(0);
         let mut indices = Vec::with_capacity(4 * shape.quads.len() + 3 * shape.triangles.len());
         for q in &shape.quads {
             indices.extend(q.iter().map(|&v| v as usize));
@@ -64,11 +88,8 @@ impl Mesh {
             indices.extend(t);
             starts.push(indices.len());
         }
-        let mut uv_indices = Vec::with_capacity(4 * shape.quad_uvs.len());
-        for q in &shape.quad_uvs {
-            uv_indices.extend(q.iter().map(|&v| v as usize));
-        }
         let textured = !shape.uvs.is_empty() && shape.triangles.is_empty() && shape.quad_uvs.len() == shape.quads.len();
+        let uv_faces = textured.then(|| Faces::of(&starts, shape.quad_uvs.iter().flat_map(|q| q.map(|v| v as usize))));
         let mut edges = Vec::new();
         for (first, count, closed) in shape.polylines() {
             let segments = if closed && count > 2 { count } else { count.saturating_sub(1) };
@@ -76,38 +97,53 @@ impl Mesh {
                 edges.extend([(first + k) as i64, (first + (k + 1) % count) as i64]);
             }
         }
+        let faces = Faces { starts, indices: indices.into_iter().map(|i| i as i64).collect() };
         let Shape { dim, positions, normals, colours, uvs, .. } = shape;
-        let positions =
+        let vertices =
             if dim == 3 { positions } else { positions.chunks(dim.max(1)).flat_map(|p| [p[0], p[1], 0.0]).collect() };
-        Ok(Mesh {
-            vertices: matrix(py, positions, 3),
-            faces: faces_of(py, &starts, &indices)?,
-            edges: matrix(py, edges, 2),
-            normals: (normals.len() == 3 * n && n > 0).then(|| matrix(py, normals, 3)),
-            colours: (colours.len() == n && n > 0).then(|| matrix(py, colours.into_flattened(), 3)),
-            uv: textured.then(|| matrix(py, uvs, 2)),
-            uv_faces: if textured { Some(faces_of(py, &starts, &uv_indices)?) } else { None },
-        })
+        Arrays {
+            vertices,
+            faces,
+            edges,
+            normals: (normals.len() == 3 * n && n > 0).then_some(normals),
+            colours: (colours.len() == n && n > 0).then(|| colours.into_flattened()),
+            uv: uv_faces.map(|f| (uvs, f)),
+        }
     }
 
     /// The arrays of a polygon mesh, its positions moved (no copy), with
     /// area-weighted normals and its texture when it has one.
-    pub(crate) fn of_polymesh(py: Python<'_>, mesh: PolyMesh) -> PyResult<Mesh> {
+    pub(crate) fn of_polymesh(mesh: PolyMesh) -> Arrays {
         let normals = bcifs::geometry::area_normals(&mesh.positions, mesh.faces());
-        let (uv, uv_faces) = match mesh.texture() {
-            Some(t) => (
-                Some(matrix(py, t.positions.iter().flat_map(|p| [p[0], p[1]]).collect(), 2)),
-                Some(faces_of(py, t.offsets(), t.corners())?),
-            ),
+        let uv = mesh.texture().map(|t| {
+            (
+                t.positions.iter().flat_map(|p| [p[0], p[1]]).collect(),
+                Faces::of(t.offsets(), t.corners().iter().copied()),
+            )
+        });
+        let faces = Faces::of(mesh.offsets(), mesh.corners().iter().copied());
+        Arrays {
+            vertices: mesh.positions.into_flattened(),
+            faces,
+            edges: Vec::new(),
+            normals: Some(normals.into_flattened()),
+            colours: None,
+            uv,
+        }
+    }
+
+    /// The numpy arrays, the buffers moved.
+    pub(crate) fn into_mesh(self, py: Python<'_>) -> PyResult<Mesh> {
+        let (uv, uv_faces) = match self.uv {
+            Some((uv, faces)) => (Some(matrix(py, uv, 2)), Some(faces.into_py(py)?)),
             None => (None, None),
         };
-        let faces = faces_of(py, mesh.offsets(), mesh.corners())?;
         Ok(Mesh {
-            vertices: matrix(py, mesh.positions.into_flattened(), 3),
-            faces,
-            edges: matrix(py, Vec::new(), 2),
-            normals: Some(matrix(py, normals.into_flattened(), 3)),
-            colours: None,
+            vertices: matrix(py, self.vertices, 3),
+            faces: self.faces.into_py(py)?,
+            edges: matrix(py, self.edges, 2),
+            normals: self.normals.map(|v| matrix(py, v, 3)),
+            colours: self.colours.map(|v| matrix(py, v, 3)),
             uv,
             uv_faces,
         })

@@ -203,6 +203,7 @@ def test_progress_is_reported(tmp_path):
         "bcifs.load('fern').render({out!r}, samples=4_000_000_000, size=(64, 64))",
         "bcifs.sweep('corner_cutting', ('a', -0.5, 1, 64), ('b', -0.5, 1, 64), what='dimension', tiles=1)",
         "bcifs.load('doo_sabin_torus').mesh(depth=9)",
+        "bcifs.load('fern').points(60_000_000)",
     ],
 )
 def test_ctrl_c_stops_a_long_call_and_leaves_no_file(tmp_path, call):
@@ -216,12 +217,13 @@ def test_ctrl_c_stops_a_long_call_and_leaves_no_file(tmp_path, call):
         stderr=subprocess.PIPE,
         text=True,
     )
-    time.sleep(2.0)
+    time.sleep(1.2)
     assert child.poll() is None, "still working when interrupted"
     sent = time.monotonic()
     child.send_signal(signal.SIGINT)
     _, stderr = child.communicate(timeout=30)
-    assert time.monotonic() - sent < 1.5, "stopped within a second or so"
+    # The work looks at the flag every chunk (~0.1 s here); the rest is a noisy machine's margin.
+    assert time.monotonic() - sent < 1.0, "stopped within a second"
     assert "KeyboardInterrupt" in stderr
     assert not out.exists() and not list(tmp_path.iterdir()), "no file, no temporary file"
 

@@ -32,6 +32,7 @@ impl Evaluator {
         let mut steps = Steps::new(self.settings.progress.as_ref(), count as u64);
         let mut run_start = 0usize;
         for (pi, piece) in self.pieces.pieces.iter().enumerate() {
+            self.check_cancel()?;
             let sp = self.plan.state(piece.state);
             let is_edge = sp.kind == CellKind::Edge && sp.end.is_some();
             let joined = is_edge && self.pieces.connected;

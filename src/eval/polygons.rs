@@ -78,7 +78,12 @@ impl Evaluator {
             // Per cell: state, control points, depth left, and its colour so far (see `CellColours`).
             let mut stack: Vec<(usize, Vec<f64>, usize, [f64; 2])> =
                 group.iter().rev().map(|p| (p.state, p.control.clone(), k, [0.0, 1.0])).collect();
+            let mut visited = 0usize;
             while let Some((s, c, r, colour)) = stack.pop() {
+                visited += 1;
+                if visited.is_multiple_of(4096) {
+                    self.check_cancel()?;
+                }
                 let sp = self.plan.state(s);
                 if r == 0 && (!sp.faces.is_empty() || sp.kind == CellKind::Face) {
                     // The leaf's polygons over its sample points: its start faces, or its corner polygon.

@@ -559,4 +559,14 @@ impl Evaluator {
     pub(super) fn progress(&self, total: u64) -> Steps<'_> {
         Steps::new(self.settings.progress.as_ref(), total)
     }
+
+    /// Whether the settings' cancel flag is set (work in progress skips what is left).
+    pub(super) fn cancelled(&self) -> bool {
+        self.settings.cancel.as_ref().is_some_and(crate::progress::Cancel::is_cancelled)
+    }
+
+    /// [`EvalError::Cancelled`] once the settings' cancel flag is set.
+    pub(super) fn check_cancel(&self) -> Result<(), EvalError> {
+        if self.cancelled() { Err(EvalError::Cancelled) } else { Ok(()) }
+    }
 }

@@ -275,6 +275,11 @@ impl ChaosGame {
         });
     }
 
+    /// Whether the settings' cancel flag is set: the walks stop at their next chunk.
+    fn cancelled(&self) -> bool {
+        self.settings.cancel.as_ref().is_some_and(crate::progress::Cancel::is_cancelled)
+    }
+
     /// Runs the walk, filling `out` (resized to `points · d`, reusing its allocation).
     pub fn run_into(&self, out: &mut Vec<f64>) {
         let d = self.pieces.dim;
@@ -328,7 +333,7 @@ impl crate::geometry::PointBatches for ChaosGame {
             let mut acc = init();
             loop {
                 let k = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                if k >= batches || self.settings.cancel.as_ref().is_some_and(crate::progress::Cancel::is_cancelled) {
+                if k >= batches || self.cancelled() {
                     return acc;
                 }
                 let n = BATCH.min(points - k * BATCH);
@@ -418,6 +423,9 @@ pub fn chaos_game(automaton: &Automaton<f64>, model: &Model, settings: &RandomSe
     let game = ChaosGame::new(automaton, model, settings)?;
     let mut out = Vec::new();
     game.run_into(&mut out);
+    if game.cancelled() {
+        return Err(EvalError::Cancelled);
+    }
     let mut shape = Shape::default();
     crate::geometry::Sink::object(&mut shape, "chaos game")?;
     crate::geometry::Sink::vertices(&mut shape, game.dim(), &out, None)?;
@@ -497,7 +505,7 @@ impl ChaosGame {
             settle -= here;
         }
         let mut left = total;
-        while left > 0 {
+        while left > 0 && !self.cancelled() {
             let here = left.min(CHUNK);
             at = walk_plane::<COLOUR>(&maps, alias, rng, keep, at, &mut xs[..2 * here], &mut cs[..here]);
             emit(&xs[..2 * here], if COLOUR { &cs[..here] } else { &[] });
@@ -535,7 +543,7 @@ impl ChaosGame {
             c = keep * c + tint[step(&mut x, rng)];
         }
         let mut left = total;
-        while left > 0 {
+        while left > 0 && !self.cancelled() {
             let here = left.min(per);
             for (p, cp) in xs[..d * here].chunks_exact_mut(d).zip(cs.iter_mut()) {
                 let i = step(&mut x, rng);
@@ -623,6 +631,9 @@ impl ChaosGame {
                 if filled == per || emitted == total {
                     emit(&xs[..filled * d], if COLOUR { &cs[..filled] } else { &[] });
                     filled = 0;
+                    if self.cancelled() {
+                        return;
+                    }
                 }
             }
         }

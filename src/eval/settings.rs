@@ -58,6 +58,8 @@ pub struct EvalSettings {
     /// whole grid or torus (a torus repeats its seam). Off by default: a
     /// closed surface then loads as one watertight body in every client.
     pub uv: bool,
+    /// Stops the evaluation when set: [`EvalError::Cancelled`], whatever was made dropped.
+    pub cancel: Option<crate::progress::Cancel>,
 }
 
 impl Default for EvalSettings {
@@ -71,6 +73,7 @@ impl Default for EvalSettings {
             progress: None,
             force: false,
             uv: false,
+            cancel: None,
         }
     }
 }
@@ -161,6 +164,9 @@ pub enum EvalError {
     /// Faces mixed with other root kinds, or a face evaluated adaptively past the limit.
     #[error("{0}")]
     Unsupported(String),
+    /// The settings' cancel flag was set: the evaluation stopped, its output incomplete.
+    #[error("cancelled")]
+    Cancelled,
     /// A chaos game of more samples than can finish.
     #[error(
         "{samples} samples would take about {} at 100 million samples a second per core: at most {max} (2^40, about 3 hours on one core)",

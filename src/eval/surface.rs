@@ -436,6 +436,10 @@ impl<'a> Mesher<'a> {
                 .zip(out.quads.par_chunks_mut(bb))
                 .enumerate()
                 .flat_map_iter(|(i, ((p, n), q))| {
+                    // Once cancelled, the blocks left are skipped (the caller reports it).
+                    if self.ev.cancelled() {
+                        return Vec::new();
+                    }
                     block_quads(&self.lat, start + i, self.flip, q);
                     self.block_points(start + i, p, n)
                 })
@@ -505,6 +509,7 @@ impl<'a> Mesher<'a> {
                 quv: if self.uv { Some(resized(&mut shape.quad_uvs, count)) } else { None },
             },
         );
+        self.ev.check_cancel()?;
         if !lat.torus {
             let (positions, normals) = self.far_side(extras);
             shape.positions.extend_from_slice(&positions);
@@ -543,6 +548,7 @@ impl<'a> Mesher<'a> {
             extras.extend(
                 self.fill::<usize>(start, BatchSlices { pos: &mut pos, nrm: &mut nrm, quads: &mut quads, quv: uv }),
             );
+            self.ev.check_cancel()?;
             sink.vertices(d, &pos, Some(&nrm))?;
             sink.faces(&quads, self.uv.then_some(quv.as_slice()))?;
             steps.step();

@@ -65,12 +65,16 @@ impl<'a> Job<'a> {
         Ok(ChaosGame::new(&self.automaton, &self.model, &batch)?)
     }
 
-    /// The output in memory: the chaos game's points, or the deterministic evaluation.
+    /// The output in memory: the chaos game's points, or the deterministic
+    /// evaluation ([`RenderError::Cancelled`] when the options' flag stopped it).
     pub fn evaluate(&self, warnings: &mut Vec<String>) -> Result<Shape, RenderError> {
-        Ok(match self.options.random_settings() {
-            Some(r) => crate::eval::chaos_game(&self.automaton, &self.model, &r)?,
-            None => self.evaluator(warnings)?.evaluate()?,
-        })
+        let shape = match self.options.random_settings() {
+            Some(r) => crate::eval::chaos_game(&self.automaton, &self.model, &r),
+            None => self.evaluator(warnings)?.evaluate(),
+        };
+        let shape = shape?;
+        self.options.check_cancel()?;
+        Ok(shape)
     }
 }
 

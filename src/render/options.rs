@@ -218,6 +218,7 @@ impl Options {
             progress: self.progress.clone(),
             force: self.sampling.force,
             uv: self.file.uv,
+            cancel: Some(self.cancel.clone()),
         }
     }
 

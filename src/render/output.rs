@@ -128,7 +128,7 @@ pub enum RenderError {
     },
     /// Evaluation.
     #[error(transparent)]
-    Eval(#[from] EvalError),
+    Eval(EvalError),
     /// A polygon mesh that cannot be subdivided: memory, the scheme's faces.
     #[error(transparent)]
     Mesh(#[from] crate::mesh::SubdivideError),
@@ -161,13 +161,23 @@ pub enum RenderError {
     Cancelled,
 }
 
+impl From<EvalError> for RenderError {
+    /// An evaluation stopped by its flag is the render's [`RenderError::Cancelled`].
+    fn from(e: EvalError) -> RenderError {
+        match e {
+            EvalError::Cancelled => RenderError::Cancelled,
+            e => RenderError::Eval(e),
+        }
+    }
+}
+
 impl From<crate::report::ReportError> for RenderError {
     fn from(e: crate::report::ReportError) -> RenderError {
         use crate::report::ReportError as R;
         match e {
             R::NoModel(name) => RenderError::NoModel(name),
             R::Instantiate(e) => RenderError::Instantiate(e),
-            R::Eval(e) => RenderError::Eval(e),
+            R::Eval(e) => e.into(),
             R::Unsupported(why) => RenderError::Unsupported(why),
             R::Cancelled => RenderError::Cancelled,
         }
