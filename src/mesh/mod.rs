@@ -28,6 +28,7 @@ mod limit;
 mod named;
 mod polymesh;
 mod read;
+pub mod rules;
 mod stream;
 mod subdivide;
 mod texture;

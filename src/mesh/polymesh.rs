@@ -122,12 +122,7 @@ impl PolyMesh {
 
     /// The centroid of face `f` (the average of its vertices).
     pub fn centroid(&self, f: usize) -> [f64; 3] {
-        let face = self.face(f);
-        let mut c = [0.0; 3];
-        for &v in face {
-            (0..3).for_each(|a| c[a] += self.positions[v][a] / face.len() as f64);
-        }
-        c
+        super::rules::centroid(self.face(f).iter().map(|&v| &self.positions[v]))
     }
 
     /// All faces in order.

@@ -17,6 +17,7 @@ use std::io;
 use super::emit::Emit;
 use super::error::SubdivideError;
 use super::polymesh::{PolyMesh, Scheme};
+use super::rules::{self, CcEdge, CcVertex, Mix};
 use super::topology::{BORDER, Made, Net, Topology, ring};
 
 /// Weights of the Doo-Sabin-like quad rule: the corner, the next corner,
@@ -171,9 +172,7 @@ pub fn doo_sabin_weights(n: usize) -> Vec<f64> {
 
 /// `a += w b`.
 pub(crate) fn add(a: &mut [f64; 3], b: [f64; 3], w: f64) {
-    a[0] += w * b[0];
-    a[1] += w * b[1];
-    a[2] += w * b[2];
+    a.add(&b, &w);
 }
 
 impl PolyMesh {
@@ -324,11 +323,7 @@ impl PolyMesh {
         let face = self.face(f);
         let n = face.len();
         if let Some(w) = weights.by_degree.get(n) {
-            let mut p = [0.0; 3];
-            for (k, wk) in w.iter().enumerate() {
-                add(&mut p, self.positions[face[(i + k) % n]], *wk);
-            }
-            return p;
+            return rules::doo_sabin_corner(i, |j| self.positions[face[j]], w);
         }
         // α_k = 3/(4n) + cos(2πk/n)/(2n), plus 1/4 on the corner itself:
         // q_i = p_i/4 + 3/(4n) Σp + Re(e^{−2πi·i/n} C)/(2n), C = Σ_j e^{2πi·j/n} p_j.
@@ -461,19 +456,9 @@ impl PolyMesh {
         if t.on_border(v) {
             return border_curve_point(&Made { mesh: self, t }, c0);
         }
-        let (mut q, mut r, mut n) = ([0.0; 3], [0.0; 3], 0usize);
-        for c in (Rotation { mesh: self, t, first: c0, at: Some(c0) }) {
-            add(&mut q, face_point(t.face(c)), 1.0);
-            add(&mut r, p, 0.5);
-            add(&mut r, self.positions[self.indices[t.next(self, c)]], 0.5);
-            n += 1;
-        }
-        let nf64 = n as f64;
-        let mut o = [0.0; 3];
-        add(&mut o, q, 1.0 / nf64 / nf64);
-        add(&mut o, r, 2.0 / nf64 / nf64);
-        add(&mut o, p, (nf64 - 3.0) / nf64);
-        o
+        let ring = (Rotation { mesh: self, t, first: c0, at: Some(c0) })
+            .map(|c| (self.positions[self.indices[t.next(self, c)]], face_point(t.face(c))));
+        rules::cc_vertex(&p, ring, CcVertex::classic)
     }
 
     /// Catmull-Clark's point of the interior edge of the corners `c < tw`:
@@ -485,12 +470,9 @@ impl PolyMesh {
         tw: usize,
         face_point: impl Fn(usize) -> [f64; 3],
     ) -> [f64; 3] {
-        let mut e = [0.0; 3];
         let ends = [self.positions[self.indices[c]], self.positions[self.indices[tw]]];
-        for q in [ends[0], ends[1], face_point(t.face(c)), face_point(t.face(tw))] {
-            add(&mut e, q, 0.25);
-        }
-        e
+        let faces = [face_point(t.face(c)), face_point(t.face(tw))];
+        rules::cc_edge(&ends[0], &ends[1], &faces[0], &faces[1], &CcEdge::CLASSIC)
     }
 
     /// The midpoint of the border half-edge `c`.
@@ -531,14 +513,9 @@ pub(crate) fn sqrt3_vertex<N: Net>(net: &N, refine_border: bool, v: usize) -> [f
         return border_mix(net, c0, 4.0 / 27.0, 19.0 / 27.0);
     }
     with_ring(net, c0, |ring| {
-        let mut q = [0.0; 3];
         let n = ring.len();
         let a = sqrt3_alpha(n);
-        add(&mut q, p, 1.0 - a);
-        for &u in ring {
-            add(&mut q, net.point(u), a / n as f64);
-        }
-        q
+        rules::sqrt3_vertex(&p, ring.iter().map(|&u| net.point(u)), &(1.0 - a), &(a / n as f64))
     })
 }
 
@@ -589,19 +566,12 @@ pub(crate) fn border_mix<N: Net>(net: &N, c0: usize, side: f64, middle: f64) -> 
 /// first corner is `c0` (Catmull-Clark's and Loop's border rule).
 pub(crate) fn border_curve_point<N: Net>(net: &N, c0: usize) -> [f64; 3] {
     let (u, w) = net.border_neighbours(c0);
-    let mut q = [0.0; 3];
-    add(&mut q, net.point(u), 1.0 / 8.0);
-    add(&mut q, net.point(net.vertex(c0)), 6.0 / 8.0);
-    add(&mut q, net.point(w), 1.0 / 8.0);
-    q
+    rules::border_curve(&net.point(u), &net.point(net.vertex(c0)), &net.point(w))
 }
 
 /// The midpoint of the border half-edge `c` of `net`.
 pub(crate) fn border_midpoint<N: Net>(net: &N, c: usize) -> [f64; 3] {
-    let mut m = [0.0; 3];
-    add(&mut m, net.point(net.vertex(c)), 0.5);
-    add(&mut m, net.point(net.vertex(net.next(c))), 0.5);
-    m
+    rules::midpoint(&net.point(net.vertex(c)), &net.point(net.vertex(net.next(c))))
 }
 
 impl PolyMesh {

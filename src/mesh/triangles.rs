@@ -20,6 +20,7 @@ use super::emit::Emit;
 use super::limit::NextMesh;
 use super::named::{LoopChild, Sqrt3Child, loop_child_twin, loop_corner};
 use super::polymesh::PolyMesh;
+use super::rules::{self, LoopEdge, LoopVertex};
 use super::subdivide::{
     LoopWeights, add, border_curve_point, border_midpoint, border_mix, edge_points_into, sqrt3_alpha,
     sqrt3_border_points, sqrt3_vertex, with_ring,
@@ -34,32 +35,24 @@ pub fn loop_beta(n: usize) -> f64 {
 
 /// Loop's interior vertex point of `p` of valence `n` whose neighbours sum to `r`.
 fn loop_vertex(p: [f64; 3], r: [f64; 3], n: usize, custom: Option<LoopWeights>) -> [f64; 3] {
-    let mut q = [0.0; 3];
-    if let Some(l) = custom {
+    let weights = if let Some(l) = custom {
         let ring = l.ring(n);
-        add(&mut q, p, 1.0 - ring);
-        add(&mut q, r, ring / n as f64);
+        LoopVertex { keep: 1.0 - ring, each: ring / n as f64 }
     } else if n == 6 {
-        add(&mut q, p, 10.0 / 16.0);
-        add(&mut q, r, 1.0 / 16.0);
+        LoopVertex { keep: 10.0 / 16.0, each: 1.0 / 16.0 }
     } else {
         // CGAL's arithmetic: (Sw v + R) / W with Cn = nβ, Sw = n(1 − Cn)/Cn, W = n/Cn.
         let cn = loop_beta(n) * n as f64;
         let (sw, w) = (n as f64 * (1.0 - cn) / cn, n as f64 / cn);
-        add(&mut q, p, sw / w);
-        add(&mut q, r, 1.0 / w);
-    }
-    q
+        LoopVertex { keep: sw / w, each: 1.0 / w }
+    };
+    rules::loop_vertex(&p, &r, &weights)
 }
 
 /// Loop's interior edge point of the edge `[a, b]` with the opposite vertices `[c, d]`: `[a, b, c, d]`.
-fn loop_edge(points: [[f64; 3]; 4], custom: Option<LoopWeights>) -> [f64; 3] {
+fn loop_edge([a, b, c, d]: [[f64; 3]; 4], custom: Option<LoopWeights>) -> [f64; 3] {
     let (end, opposite) = custom.map_or((3.0 / 8.0, 1.0 / 8.0), |l| (l.w, 0.5 - l.w));
-    let mut e = [0.0; 3];
-    for (q, w) in points.into_iter().zip([end, end, opposite, opposite]) {
-        add(&mut e, q, w);
-    }
-    e
+    rules::loop_edge(&a, &b, &c, &d, &LoopEdge { end, opposite })
 }
 
 /// Loop's new point of vertex `v` of `net` (`custom`: weights other than Loop's).
@@ -71,11 +64,11 @@ pub(crate) fn loop_vertex_point<N: Net>(net: &N, v: usize, custom: Option<LoopWe
     } else if net.on_border(v) {
         border_curve_point(net, c0)
     } else {
-        let (mut r, mut n) = ([0.0; 3], 0usize);
-        for u in ring(net, c0) {
-            add(&mut r, net.point(u), 1.0);
+        let mut n = 0usize;
+        let r = rules::sum(ring(net, c0).map(|u| {
             n += 1;
-        }
+            net.point(u)
+        }));
         loop_vertex(p, r, n, custom)
     }
 }

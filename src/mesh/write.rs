@@ -30,19 +30,9 @@ impl PolyMesh {
     /// fanned into triangles), for pictures.
     pub fn to_shape(&self, name: &str) -> crate::geometry::Shape {
         let mut shape = crate::geometry::Shape::default();
-        let flat: Vec<f64> = self.positions.iter().flatten().copied().collect();
-        let (mut quads, mut triangles) = (Vec::new(), Vec::new());
-        for f in self.faces() {
-            match f.len() {
-                4 => quads.push([f[0], f[1], f[2], f[3]]),
-                _ => triangles.extend(crate::geometry::fan(f, 0)),
-            }
-        }
         // Writing into memory cannot fail.
         let _ = shape.object(name);
-        let _ = shape.vertices(3, &flat, None);
-        let _ = shape.faces(&quads, None);
-        let _ = shape.triangles(&triangles);
+        let _ = self.push_into(&mut shape);
         shape
     }
 }

@@ -10,6 +10,7 @@ use num_traits::{One, Signed, Zero};
 use super::local::{Half, Local, Role, Side};
 use crate::algebra::{Affine, Num};
 use crate::design::Value;
+use crate::mesh::rules::{self, CcEdge, CcVertex, LoopEdge, LoopVertex, Mix, Weight};
 use crate::mesh::{LoopWeights, QuadWeights, Scheme};
 
 /// An affine form in the weights (`c + Σ k_p · weight_p`, exact): the
@@ -92,12 +93,29 @@ pub(super) fn add_sym(s: &mut Sym, o: &Sym, k: &BigRational) {
     }
 }
 
-/// `s += k · w · o` for a point `o` of constant weights.
-pub(super) fn add_scaled_points(s: &mut Sym, o: &Sym, w: &Lin, k: &BigRational) {
-    for (v, c) in o {
-        let mut share = Affine::zero();
-        add_lin(&mut share, w, &(constant_of(c) * k));
-        add_point(s, *v, &share);
+impl Weight for Lin {
+    fn ratio(p: i64, q: i64) -> Lin {
+        konst(rat(p, q))
+    }
+}
+
+/// Symbolic points mix as the mesh code's positions do, through the same
+/// rules ([`crate::mesh::rules`]): a weight times a point whose weights
+/// are constants (a rule never multiplies two of its parameters).
+impl Mix for Sym {
+    type Weight = Lin;
+    fn zero() -> Sym {
+        Sym::new()
+    }
+    fn add(&mut self, p: &Sym, w: &Lin) {
+        for (v, c) in p {
+            debug_assert!(c.terms().is_empty() || w.terms().is_empty(), "a product of two weights");
+            let product = if c.terms().is_empty() { w.scale(c.constant_term()) } else { c.scale(w.constant_term()) };
+            add_point(self, *v, &product);
+        }
+    }
+    fn add_share(&mut self, p: &Sym, n: usize) {
+        self.add(p, &konst(rat(1, n as i64)));
     }
 }
 
@@ -217,17 +235,13 @@ pub(super) fn sqrt3_once(m: &Local) -> (Local, Vec<Option<Sym>>) {
             }
             let n = m.around[v].len();
             let a = exact_weight(crate::mesh::sqrt3_alpha(n));
-            let mut s = Sym::new();
-            add_point(&mut s, v, &konst(BigRational::one() - &a));
-            let each = konst(a / BigInt::from(n));
-            m.around[v].iter().for_each(|&h| add_point(&mut s, m.head(h), &each));
-            Some(s)
+            let (keep, each) = (konst(BigRational::one() - &a), konst(a / BigInt::from(n)));
+            Some(rules::sqrt3_vertex(&unit(v), m.around[v].iter().map(|&h| unit(m.head(h))), &keep, &each))
         })
         .collect();
     for face in &m.faces {
-        let mut s = Sym::new();
-        face.iter().for_each(|&v| add_point(&mut s, v, &konst(rat(1, face.len() as i64))));
-        points.push(Some(s));
+        let corners: Vec<Sym> = face.iter().map(|&v| unit(v)).collect();
+        points.push(Some(rules::centroid(corners.iter())));
     }
     let mut faces = Vec::new();
     for (f, face) in m.faces.iter().enumerate() {
@@ -305,9 +319,8 @@ fn face_points(m: &Local) -> Vec<Sym> {
     m.faces
         .iter()
         .map(|f| {
-            let mut s = Sym::new();
-            f.iter().for_each(|&v| add_sym(&mut s, &unit(v), &rat(1, f.len() as i64)));
-            s
+            let corners: Vec<Sym> = f.iter().map(|&v| unit(v)).collect();
+            rules::centroid(corners.iter())
         })
         .collect()
 }
@@ -325,40 +338,30 @@ fn vertex_point(m: &Local, w: &mut Weights, face_point: &[Sym], v: usize) -> Opt
         // (u + 6v + w)/8 with the border neighbours: the head of the outgoing
         // border half-edge and the tail of the incoming one.
         let incoming = out.iter().map(|&h| m.prev(h)).find(|&g| side(g) == Side::Border);
-        return incoming.map(|g| {
-            let mut s = Sym::new();
-            add_sym(&mut s, &unit(m.head(b)), &rat(1, 8));
-            add_sym(&mut s, &unit(m.at(g)), &rat(1, 8));
-            add_sym(&mut s, &unit(v), &rat(6, 8));
-            s
-        });
+        return incoming.map(|g| rules::border_curve(&unit(m.head(b)), &unit(v), &unit(m.at(g))));
     }
     let n = out.len();
     let one = konst(BigRational::one());
-    let mut s = Sym::new();
     if w.scheme == Scheme::Loop {
         let beta = w.loop_ring(n);
         let mut keep = one;
         add_lin(&mut keep, &beta, &rat(-(n as i64), 1));
-        add_point(&mut s, v, &keep);
-        out.iter().for_each(|&h| add_point(&mut s, m.head(h), &beta));
-    } else {
-        // (1 − r − f) v + r · (mean neighbour) + f · (mean face point);
-        // r = f = 1/n is (Q + 2R + (n − 3)v)/n.
-        let (r, f) = w.catmull_clark_vertex(n);
-        let mut keep = one;
-        add_lin(&mut keep, &r, &-BigRational::one());
-        add_lin(&mut keep, &f, &-BigRational::one());
-        add_point(&mut s, v, &keep);
-        let each = rat(1, n as i64);
-        for &h in out {
-            let mut share = Affine::zero();
-            add_lin(&mut share, &r, &each);
-            add_point(&mut s, m.head(h), &share);
-            add_scaled_points(&mut s, &face_point[h.0], &f, &each);
-        }
+        let ring = rules::sum(out.iter().map(|&h| unit(m.head(h))));
+        return Some(rules::loop_vertex(&unit(v), &ring, &LoopVertex { keep, each: beta }));
     }
-    Some(s)
+    // (1 − r − f) v + r · (mean neighbour) + f · (mean face point), which is
+    // f/n · Σ f_j + 2r/n · Σ (v + n_j)/2 + (1 − 2r − f) v; r = f = 1/n is (Q + 2R + (n − 3)v)/n.
+    let (r, f) = w.catmull_clark_vertex(n);
+    let mut keep = one;
+    add_lin(&mut keep, &r, &rat(-2, 1));
+    add_lin(&mut keep, &f, &-BigRational::one());
+    let weights = CcVertex {
+        faces: f.scale(&Num::rational(rat(1, n as i64))),
+        edges: r.scale(&Num::rational(rat(2, n as i64))),
+        keep,
+    };
+    let ring = out.iter().map(|&h| (unit(m.head(h)), face_point[h.0].clone()));
+    Some(rules::cc_vertex(&unit(v), ring, |_| weights))
 }
 
 /// The edge point of the half-edge `h` (Catmull-Clark or Loop), `None`
@@ -367,33 +370,23 @@ fn edge_point(m: &Local, w: &mut Weights, face_point: &[Sym], h: Half) -> Option
     let (a, b) = (m.at(h), m.head(h));
     match (m.sides[h.0][h.1], m.twin_of(h)) {
         (Side::Inner, Some(t)) => {
-            let mut s = Sym::new();
+            let (ua, ub) = (unit(a), unit(b));
             if w.scheme == Scheme::Loop {
                 let end = param(w.param("w".into(), w.triangle.w));
                 let mut opposite = konst(rat(1, 2));
                 add_lin(&mut opposite, &end, &-BigRational::one());
-                add_point(&mut s, a, &end);
-                add_point(&mut s, b, &end);
-                add_point(&mut s, m.at(m.prev(h)), &opposite);
-                add_point(&mut s, m.at(m.prev(t)), &opposite);
+                let (c, d) = (unit(m.at(m.prev(h))), unit(m.at(m.prev(t))));
+                Some(rules::loop_edge(&ua, &ub, &c, &d, &LoopEdge { end, opposite }))
             } else {
                 // (1 − c)/2 (a + b) + c/2 (f + g): c = 1/2 is (a + b + f + g)/4.
                 let c = param(w.param("edge_faces".into(), "1/2"));
-                let mut end = konst(rat(1, 2));
-                add_lin(&mut end, &c, &rat(-1, 2));
-                add_point(&mut s, a, &end);
-                add_point(&mut s, b, &end);
-                add_scaled_points(&mut s, &face_point[h.0], &c, &rat(1, 2));
-                add_scaled_points(&mut s, &face_point[t.0], &c, &rat(1, 2));
+                let mut ends = konst(rat(1, 2));
+                add_lin(&mut ends, &c, &rat(-1, 2));
+                let faces = c.scale(&Num::rational(rat(1, 2)));
+                Some(rules::cc_edge(&ua, &ub, &face_point[h.0], &face_point[t.0], &CcEdge { ends, faces }))
             }
-            Some(s)
         }
-        (Side::Border, _) => {
-            let mut s = Sym::new();
-            add_sym(&mut s, &unit(a), &rat(1, 2));
-            add_sym(&mut s, &unit(b), &rat(1, 2));
-            Some(s)
-        }
+        (Side::Border, _) => Some(rules::midpoint(&unit(a), &unit(b))),
         _ => None,
     }
 }
@@ -461,11 +454,7 @@ pub(super) fn doo_sabin_step(m: &Local, w: &mut Weights) -> Step {
         let alpha = w.doo_sabin(d);
         corner.push(points.len());
         for i in 0..d {
-            let mut s = Sym::new();
-            for (k, a) in alpha.iter().enumerate() {
-                add_point(&mut s, face[(i + k) % d], a);
-            }
-            points.push(Some(s));
+            points.push(Some(rules::doo_sabin_corner(i, |j| unit(face[j]), &alpha)));
         }
     }
     let new = |(f, i): Half| corner[f] + i;
