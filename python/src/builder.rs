@@ -3,7 +3,7 @@
 use pyo3::prelude::*;
 use pyo3::types::PyString;
 
-use bcifs::{CellKind, DesignBuilder, Layout, Model, Value};
+use bcifs::render::{CellKind, DesignBuilder, Layout, MatrixValue as Value, Model};
 
 use crate::{Design, err};
 

@@ -9,8 +9,8 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
-use bcifs::mesh::{PolyMesh, Scheme};
 use bcifs::render::{MeshJob, Options};
+use bcifs::render::{PolyMesh, Scheme};
 
 mod builder;
 mod mesh;
@@ -54,18 +54,18 @@ const GRACE: std::time::Duration = std::time::Duration::from_millis(800);
 /// forwards its progress to `progress` (a callable taking `done, total`:
 /// tqdm's `update` fits through a small lambda) and checks for Ctrl-C every
 /// 100 ms: on KeyboardInterrupt the work is cancelled through the
-/// [`bcifs::Cancel`] it was given (no file is left) and the exception
+/// [`bcifs::render::Cancel`] it was given (no file is left) and the exception
 /// raised within a second.
 fn cancellable<T: Send + 'static>(
     py: Python<'_>,
     progress: Option<&Bound<'_, PyAny>>,
-    work: impl FnOnce(bcifs::Cancel, Option<bcifs::Progress>) -> T + Send + 'static,
+    work: impl FnOnce(bcifs::render::Cancel, Option<bcifs::render::Progress>) -> T + Send + 'static,
 ) -> PyResult<T> {
-    let cancel = bcifs::Cancel::new();
+    let cancel = bcifs::render::Cancel::new();
     let (tx, rx) = std::sync::mpsc::channel::<(u64, u64)>();
     let reporter = progress.is_some().then(|| {
         let tx = std::sync::Mutex::new(tx);
-        bcifs::Progress::new(move |done, total| {
+        bcifs::render::Progress::new(move |done, total| {
             let _ = tx.lock().map(|t| t.send((done, total)));
         })
     });
@@ -110,7 +110,7 @@ fn cancellable<T: Send + 'static>(
 /// A design: an automaton (states, arrows, constraints) with its model.
 #[pyclass(module = "bcifs", frozen)]
 pub struct Design {
-    pub(crate) inner: bcifs::Design,
+    pub(crate) inner: bcifs::render::Design,
 }
 
 impl Design {
@@ -137,12 +137,12 @@ impl Design {
     /// A design from the text of an automaton file.
     #[staticmethod]
     fn from_toml(text: &str) -> PyResult<Design> {
-        Ok(Design { inner: bcifs::parse_design(text, "<string>", "design").map_err(err)? })
+        Ok(Design { inner: bcifs::render::parse_design(text, "<string>", "design").map_err(err)? })
     }
 
     /// The automaton file's text of this design.
     fn to_toml(&self) -> String {
-        bcifs::write_design(&self.inner)
+        bcifs::render::write_design(&self.inner)
     }
 
     /// The design's name.
@@ -477,7 +477,7 @@ fn report_at<'py, R: serde::Serialize + Send>(
     py: Python<'py>,
     design: &Design,
     params: Option<&Bound<'py, PyDict>>,
-    report: impl FnOnce(&bcifs::Design, &[(String, f64)]) -> Result<R, bcifs::render::ReportError> + Send,
+    report: impl FnOnce(&bcifs::render::Design, &[(String, f64)]) -> Result<R, bcifs::render::ReportError> + Send,
 ) -> PyResult<Bound<'py, PyAny>> {
     let values = self::params(params)?;
     let inner = &design.inner;
@@ -533,16 +533,16 @@ fn pattern(
 
 /// A parameter value read exactly: a `str` (`"1/20"`, `"sqrt(2)/4"`), a
 /// `Fraction`, an int, or a float read as its shortest decimal (`0.05` is 1/20).
-fn exact_value(v: &Bound<'_, PyAny>) -> PyResult<bcifs::algebra::Num> {
+fn exact_value(v: &Bound<'_, PyAny>) -> PyResult<bcifs::render::Num> {
     let text = if v.is_instance_of::<pyo3::types::PyFloat>() {
         let x: f64 = v.extract()?;
-        return Ok(bcifs::algebra::Num::from_f64(x));
+        return Ok(bcifs::render::Num::from_f64(x));
     } else if v.hasattr("numerator")? && v.hasattr("denominator")? {
         format!("{}/{}", v.getattr("numerator")?, v.getattr("denominator")?)
     } else {
         v.str()?.to_string()
     };
-    text.parse::<bcifs::algebra::Num>().map_err(|e| err(format!("`{text}`: {e}")))
+    text.parse::<bcifs::render::Num>().map_err(|e| err(format!("`{text}`: {e}")))
 }
 
 /// A curve family's differential behaviour at the given parameter values
@@ -587,8 +587,8 @@ fn sweep_rows<'py>(
 ) -> PyResult<Bound<'py, PyAny>> {
     use bcifs::render::{SweepKind, SweepValues};
     let kind: SweepKind = what.parse().map_err(err)?;
-    let design = bcifs::parse_design(toml, "<sweep>", "design").map_err(err)?;
-    let plane = bcifs::analysis::ParameterPlane { x: (x.0, x.1, x.2), y: (y.0, y.1, y.2), size: (x.3, y.3) };
+    let design = bcifs::render::parse_design(toml, "<sweep>", "design").map_err(err)?;
+    let plane = bcifs::render::ParameterPlane { x: (x.0, x.1, x.2), y: (y.0, y.1, y.2), size: (x.3, y.3) };
     let width = plane.size.0;
     let values = cancellable(py, None, move |cancel, _| {
         bcifs::render::sweep_cancellable(&design, &plane, kind, thorough, rows.0..rows.1, &cancel)

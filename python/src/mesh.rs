@@ -7,8 +7,8 @@ use numpy::{IntoPyArray, PyArray2};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
-use bcifs::geometry::Shape;
-use bcifs::mesh::PolyMesh;
+use bcifs::render::PolyMesh;
+use bcifs::render::Shape;
 
 /// A mesh as numpy arrays: `vertices` (n, 3) float64, `faces` (m, k) int64
 /// when every face has k corners (else a list of arrays), `edges` (e, 2)
@@ -114,7 +114,7 @@ impl Arrays {
     /// The arrays of a polygon mesh, its positions moved (no copy), with
     /// area-weighted normals and its texture when it has one.
     pub(crate) fn of_polymesh(mesh: PolyMesh) -> Arrays {
-        let normals = bcifs::geometry::area_normals(&mesh.positions, mesh.faces());
+        let normals = bcifs::render::area_normals(&mesh.positions, mesh.faces());
         let uv = mesh.texture().map(|t| {
             (
                 t.positions.iter().flat_map(|p| [p[0], p[1]]).collect(),
@@ -160,7 +160,7 @@ impl Mesh {
         let trimesh = py.import("trimesh")?;
         let faces: Vec<Vec<i64>> = self.faces.bind(py).extract()?;
         let mut triangles: Vec<i64> = Vec::new();
-        let fan = |f: &[i64], out: &mut Vec<i64>| out.extend(bcifs::geometry::fan(f, 0).flatten());
+        let fan = |f: &[i64], out: &mut Vec<i64>| out.extend(bcifs::render::fan(f, 0).flatten());
         faces.iter().for_each(|f| fan(f, &mut triangles));
         let vertices = self.vertices.bind(py);
         if !triangles.is_empty() {

@@ -153,16 +153,12 @@ fn to_hessenberg(a: &mut [f64], n: usize) {
 
 /// The eigenvalues of the upper Hessenberg `a` (`n × n`, row by row, overwritten).
 fn francis(a: &mut [f64], n: usize) -> Option<Vec<Complex<f64>>> {
-    macro_rules! at {
-        ($i:expr, $j:expr) => {
-            a[($i) * n + ($j)]
-        };
-    }
+    let mut h = Hessenberg { a, n };
     let mut eig = vec![Complex::new(0.0, 0.0); n];
     let mut norm = 0.0;
     for i in 0..n {
         for j in i.saturating_sub(1)..n {
-            norm += at!(i, j).abs();
+            norm += h.at(i, j).abs();
         }
     }
     // The active block is rows and columns l..=hi; `shift` is the sum of
@@ -173,42 +169,17 @@ fn francis(a: &mut [f64], n: usize) -> Option<Vec<Complex<f64>>> {
         let hi = top - 1;
         let mut its = 0;
         loop {
-            // The lowest negligible subdiagonal entry splits the matrix.
-            let mut l = hi;
-            while l >= 1 {
-                let mut s = at!(l - 1, l - 1).abs() + at!(l, l).abs();
-                if s == 0.0 {
-                    s = norm;
-                }
-                if at!(l, l - 1).abs() + s == s {
-                    at!(l, l - 1) = 0.0;
-                    break;
-                }
-                l -= 1;
-            }
-            let mut x = at!(hi, hi);
+            let l = h.split_row(hi, norm);
+            let mut x = h.at(hi, hi);
             if l == hi {
                 eig[hi] = Complex::new(x + shift, 0.0);
                 top -= 1;
                 break;
             }
-            let mut y = at!(hi - 1, hi - 1);
-            let mut w = at!(hi, hi - 1) * at!(hi - 1, hi);
+            let mut y = h.at(hi - 1, hi - 1);
+            let mut w = h.at(hi, hi - 1) * h.at(hi - 1, hi);
             if l == hi - 1 {
-                // A 2 × 2 block: a real pair or a complex one.
-                let p = 0.5 * (y - x);
-                let q = p * p + w;
-                let z = q.abs().sqrt();
-                x += shift;
-                if q >= 0.0 {
-                    let z = p + z.copysign(p);
-                    let second = if z != 0.0 { x - w / z } else { x + z };
-                    eig[hi - 1] = Complex::new(x + z, 0.0);
-                    eig[hi] = Complex::new(second, 0.0);
-                } else {
-                    eig[hi - 1] = Complex::new(x + p, -z);
-                    eig[hi] = Complex::new(x + p, z);
-                }
+                [eig[hi - 1], eig[hi]] = pair(x, y, w, shift);
                 top -= 2;
                 break;
             }
@@ -219,91 +190,160 @@ fn francis(a: &mut [f64], n: usize) -> Option<Vec<Complex<f64>>> {
                 // Exceptional shifts, to break a cycle.
                 shift += x;
                 for i in 0..=hi {
-                    at!(i, i) -= x;
+                    *h.at_mut(i, i) -= x;
                 }
-                let s = at!(hi, hi - 1).abs() + at!(hi - 1, hi - 2).abs();
+                let s = h.at(hi, hi - 1).abs() + h.at(hi - 1, hi - 2).abs();
                 x = 0.75 * s;
                 y = x;
                 w = -0.4375 * s * s;
             }
             its += 1;
-            // Two consecutive small subdiagonal entries: start the step there.
-            let mut m = hi - 2;
-            let (mut p, mut q, mut r);
-            loop {
-                let z = at!(m, m);
-                let (r0, s0) = (x - z, y - z);
-                p = (r0 * s0 - w) / at!(m + 1, m) + at!(m, m + 1);
-                q = at!(m + 1, m + 1) - z - r0 - s0;
-                r = at!(m + 2, m + 1);
-                let s = p.abs() + q.abs() + r.abs();
-                (p, q, r) = (p / s, q / s, r / s);
-                if m == l {
-                    break;
-                }
-                let u = at!(m, m - 1).abs() * (q.abs() + r.abs());
-                let v = p.abs() * (at!(m - 1, m - 1).abs() + z.abs() + at!(m + 1, m + 1).abs());
-                if u + v == v {
-                    break;
-                }
-                m -= 1;
-            }
-            for i in m + 2..=hi {
-                at!(i, i - 2) = 0.0;
-                if i != m + 2 {
-                    at!(i, i - 3) = 0.0;
-                }
-            }
-            // The double-shift step: chase the bulge down the active block.
-            for k in m..hi {
-                if k != m {
-                    p = at!(k, k - 1);
-                    q = at!(k + 1, k - 1);
-                    r = if k != hi - 1 { at!(k + 2, k - 1) } else { 0.0 };
-                    x = p.abs() + q.abs() + r.abs();
-                    if x != 0.0 {
-                        (p, q, r) = (p / x, q / x, r / x);
-                    }
-                }
-                let s = (p * p + q * q + r * r).sqrt().copysign(p);
-                if s == 0.0 {
-                    continue;
-                }
-                if k == m {
-                    if l != m {
-                        at!(k, k - 1) = -at!(k, k - 1);
-                    }
-                } else {
-                    at!(k, k - 1) = -s * x;
-                }
-                p += s;
-                x = p / s;
-                y = q / s;
-                let z = r / s;
-                q /= p;
-                r /= p;
-                for j in k..=hi {
-                    let mut t = at!(k, j) + q * at!(k + 1, j);
-                    if k != hi - 1 {
-                        t += r * at!(k + 2, j);
-                        at!(k + 2, j) -= t * z;
-                    }
-                    at!(k + 1, j) -= t * y;
-                    at!(k, j) -= t * x;
-                }
-                for i in l..=hi.min(k + 3) {
-                    let mut t = x * at!(i, k) + y * at!(i, k + 1);
-                    if k != hi - 1 {
-                        t += z * at!(i, k + 2);
-                        at!(i, k + 2) -= t * r;
-                    }
-                    at!(i, k + 1) -= t * q;
-                    at!(i, k) -= t;
-                }
-            }
+            let (m, pqr) = h.start_row(l, hi, x, y, w);
+            h.double_shift_step(l, m, hi, pqr);
         }
     }
     Some(eig)
+}
+
+/// The eigenvalues of a trailing 2 × 2 block with the diagonal `y`, `x`
+/// and the off-diagonal product `w`, the exceptional shifts `shift` added
+/// back: a real pair or a complex one.
+fn pair(x: f64, y: f64, w: f64, shift: f64) -> [Complex<f64>; 2] {
+    let p = 0.5 * (y - x);
+    let q = p * p + w;
+    let z = q.abs().sqrt();
+    let x = x + shift;
+    if q >= 0.0 {
+        let z = p + z.copysign(p);
+        let second = if z != 0.0 { x - w / z } else { x + z };
+        [Complex::new(x + z, 0.0), Complex::new(second, 0.0)]
+    } else {
+        [Complex::new(x + p, -z), Complex::new(x + p, z)]
+    }
+}
+
+/// An upper Hessenberg matrix, row-major, reduced in place by [`francis`].
+struct Hessenberg<'a> {
+    a: &'a mut [f64],
+    n: usize,
+}
+
+impl Hessenberg<'_> {
+    fn at(&self, i: usize, j: usize) -> f64 {
+        self.a[i * self.n + j]
+    }
+
+    fn at_mut(&mut self, i: usize, j: usize) -> &mut f64 {
+        &mut self.a[i * self.n + j]
+    }
+
+    /// The lowest negligible subdiagonal entry at or above `hi` (set to
+    /// zero): the active block starts at its row (0 when there is none).
+    fn split_row(&mut self, hi: usize, norm: f64) -> usize {
+        let mut l = hi;
+        while l >= 1 {
+            let mut s = self.at(l - 1, l - 1).abs() + self.at(l, l).abs();
+            if s == 0.0 {
+                s = norm;
+            }
+            if self.at(l, l - 1).abs() + s == s {
+                *self.at_mut(l, l - 1) = 0.0;
+                break;
+            }
+            l -= 1;
+        }
+        l
+    }
+
+    /// Where the double-shift step starts in the block `l..=hi` (two
+    /// consecutive small subdiagonal entries), and its first Householder
+    /// vector `(p, q, r)`, scaled; the entries below the bulge's path zeroed.
+    fn start_row(&mut self, l: usize, hi: usize, x: f64, y: f64, w: f64) -> (usize, [f64; 3]) {
+        let mut m = hi - 2;
+        let (mut p, mut q, mut r);
+        loop {
+            let z = self.at(m, m);
+            let (r0, s0) = (x - z, y - z);
+            p = (r0 * s0 - w) / self.at(m + 1, m) + self.at(m, m + 1);
+            q = self.at(m + 1, m + 1) - z - r0 - s0;
+            r = self.at(m + 2, m + 1);
+            let s = p.abs() + q.abs() + r.abs();
+            (p, q, r) = (p / s, q / s, r / s);
+            if m == l {
+                break;
+            }
+            let u = self.at(m, m - 1).abs() * (q.abs() + r.abs());
+            let v = p.abs() * (self.at(m - 1, m - 1).abs() + z.abs() + self.at(m + 1, m + 1).abs());
+            if u + v == v {
+                break;
+            }
+            m -= 1;
+        }
+        for i in m + 2..=hi {
+            *self.at_mut(i, i - 2) = 0.0;
+            if i != m + 2 {
+                *self.at_mut(i, i - 3) = 0.0;
+            }
+        }
+        (m, [p, q, r])
+    }
+
+    /// The double-shift step: chase the bulge down the active block `l..=hi` from row `m`.
+    fn double_shift_step(&mut self, l: usize, m: usize, hi: usize, [mut p, mut q, mut r]: [f64; 3]) {
+        let mut x = 0.0;
+        for k in m..hi {
+            if k != m {
+                p = self.at(k, k - 1);
+                q = self.at(k + 1, k - 1);
+                r = if k != hi - 1 { self.at(k + 2, k - 1) } else { 0.0 };
+                x = p.abs() + q.abs() + r.abs();
+                if x != 0.0 {
+                    (p, q, r) = (p / x, q / x, r / x);
+                }
+            }
+            let s = (p * p + q * q + r * r).sqrt().copysign(p);
+            if s == 0.0 {
+                continue;
+            }
+            if k == m {
+                if l != m {
+                    *self.at_mut(k, k - 1) = -self.at(k, k - 1);
+                }
+            } else {
+                *self.at_mut(k, k - 1) = -s * x;
+            }
+            p += s;
+            x = p / s;
+            let y = q / s;
+            let z = r / s;
+            q /= p;
+            r /= p;
+            self.reflect(k, l, hi, [x, y, z], [q, r]);
+        }
+    }
+
+    /// Applies the reflection of step `k` to rows `k..k + 3` (columns from
+    /// `k`) and to columns `k..k + 3` (rows `l` to `k + 3`).
+    fn reflect(&mut self, k: usize, l: usize, hi: usize, [x, y, z]: [f64; 3], [q, r]: [f64; 2]) {
+        for j in k..=hi {
+            let mut t = self.at(k, j) + q * self.at(k + 1, j);
+            if k != hi - 1 {
+                t += r * self.at(k + 2, j);
+                *self.at_mut(k + 2, j) -= t * z;
+            }
+            *self.at_mut(k + 1, j) -= t * y;
+            *self.at_mut(k, j) -= t * x;
+        }
+        for i in l..=hi.min(k + 3) {
+            let mut t = x * self.at(i, k) + y * self.at(i, k + 1);
+            if k != hi - 1 {
+                t += z * self.at(i, k + 2);
+                *self.at_mut(i, k + 2) -= t * r;
+            }
+            *self.at_mut(i, k + 1) -= t * q;
+            *self.at_mut(i, k) -= t;
+        }
+    }
 }
 
 #[cfg(test)]

@@ -4,12 +4,12 @@
 
 use anyhow::{Context, Result, bail};
 
-use bcifs::{Design, Progress};
+use bcifs::render::{Design, Progress};
 
 pub(super) fn keyword<T: Copy>(what: &str, value: &str, options: &[(&str, T)]) -> Result<T> {
     options.iter().find(|(k, _)| *k == value).map(|(_, v)| *v).with_context(|| {
         let names: Vec<&str> = options.iter().map(|(k, _)| *k).collect();
-        match bcifs::suggest(value, names.iter().copied()) {
+        match bcifs::render::suggest(value, names.iter().copied()) {
             Some(s) => format!("unknown {what} `{value}` (did you mean `{s}`?); expected {}", names.join(", ")),
             None => format!("unknown {what} `{value}`; expected {}", names.join(", ")),
         }
@@ -24,14 +24,14 @@ pub(super) fn render_formats() -> Vec<&'static str> {
 /// Checks, before any work, that an output path can be written (not a
 /// directory, in a directory that exists) and has one of the `extensions`.
 pub(super) fn check_output(path: &std::path::Path, extensions: &[&str], inputs: &[&std::path::Path]) -> Result<()> {
-    if let Some(input) = inputs.iter().find(|input| bcifs::export::same_file(path, input)) {
+    if let Some(input) = inputs.iter().find(|input| bcifs::render::same_file(path, input)) {
         bail!(
             "-o {} is the input {}: writing it would lose the input; give another output file",
             path.display(),
             input.display()
         );
     }
-    bcifs::export::check_target(path).map_err(|e| anyhow::anyhow!("cannot write {}: {e}", path.display()))?;
+    bcifs::render::check_target(path).map_err(|e| anyhow::anyhow!("cannot write {}: {e}", path.display()))?;
     let ext = path.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
     if !extensions.is_empty() && !extensions.contains(&ext.as_str()) {
         let list: Vec<String> = extensions.iter().map(|e| format!(".{e}")).collect();
@@ -51,11 +51,11 @@ pub(super) fn parse_params(params: &[String]) -> Result<Vec<(String, f64)>> {
 }
 
 /// `NAME=VALUE` pairs, the values exact (`1/20`, `0.05`, `sqrt(2)/4`).
-pub(super) fn parse_exact_params(params: &[String]) -> Result<Vec<(String, bcifs::algebra::Num)>> {
-    let mut out: Vec<(String, bcifs::algebra::Num)> = Vec::with_capacity(params.len());
+pub(super) fn parse_exact_params(params: &[String]) -> Result<Vec<(String, bcifs::render::Num)>> {
+    let mut out: Vec<(String, bcifs::render::Num)> = Vec::with_capacity(params.len());
     for p in params {
         let (name, value) = p.split_once('=').with_context(|| format!("`{p}`: expected NAME=VALUE"))?;
-        let value = value.trim().parse::<bcifs::algebra::Num>().map_err(|e| anyhow::anyhow!("`{p}`: {e}"))?;
+        let value = value.trim().parse::<bcifs::render::Num>().map_err(|e| anyhow::anyhow!("`{p}`: {e}"))?;
         let name = name.trim().to_string();
         if out.iter().any(|(n, _)| *n == name) {
             bail!("`{name}` is given twice: one value per name");
@@ -72,9 +72,9 @@ pub(super) fn command_line() -> String {
 }
 
 /// The flag every render of this run is cancelled by: Ctrl-C sets it.
-pub(super) fn interrupt() -> &'static bcifs::Cancel {
-    static FLAG: std::sync::OnceLock<bcifs::Cancel> = std::sync::OnceLock::new();
-    FLAG.get_or_init(bcifs::Cancel::new)
+pub(super) fn interrupt() -> &'static bcifs::render::Cancel {
+    static FLAG: std::sync::OnceLock<bcifs::render::Cancel> = std::sync::OnceLock::new();
+    FLAG.get_or_init(bcifs::render::Cancel::new)
 }
 
 /// A progress bar on stderr when it is a terminal, fed by the library's callback.
@@ -100,7 +100,7 @@ pub(super) fn progress_bar() -> Option<Progress> {
 /// The command line's words for what the library says neutrally: the flag
 /// that does what a refusal suggests (`render anyway by forcing it`: `--force`).
 pub(super) fn hint(e: &anyhow::Error) -> Option<String> {
-    use bcifs::eval::EvalError;
+    use bcifs::render::EvalError;
     use bcifs::render::{LoadError, RenderError};
     let eval = |e: &EvalError| match e {
         EvalError::Diverges { .. } => Some("--force evaluates it anyway".to_string()),
@@ -114,16 +114,16 @@ pub(super) fn hint(e: &anyhow::Error) -> Option<String> {
                 Some("--max-output-gib raises the output limit".into())
             }
             RenderError::Raster(_) => Some("--memory-mib raises the in-memory limit".into()),
-            RenderError::Mesh(bcifs::mesh::SubdivideError::NotTriangles { .. }) => {
+            RenderError::Mesh(bcifs::render::SubdivideError::NotTriangles { .. }) => {
                 Some("--triangulate splits the faces into triangles first".into())
             }
-            RenderError::Mesh(bcifs::mesh::SubdivideError::TooLarge { .. }) => {
+            RenderError::Mesh(bcifs::render::SubdivideError::TooLarge { .. }) => {
                 Some("--memory-mib raises the in-memory limit".into())
             }
             RenderError::Eval(e) => eval(e),
-            RenderError::Instantiate(bcifs::DesignInstantiateError::Values(bcifs::InstantiateError::Missing {
-                ..
-            })) => Some("--param NAME=VALUE gives a parameter its value".into()),
+            RenderError::Instantiate(bcifs::render::DesignInstantiateError::Values(
+                bcifs::render::InstantiateError::Missing { .. },
+            )) => Some("--param NAME=VALUE gives a parameter its value".into()),
             _ => None,
         };
     }

@@ -57,19 +57,19 @@ pub enum ContourCommand {
 pub fn run(out: &mut String, command: ContourCommand) -> Result<u8> {
     match command {
         ContourCommand::Fit { image, output, threshold, tolerance, d_min, d_max, alpha_max, json } => {
-            let settings = bcifs::contour::FitSettings {
+            let settings = bcifs::render::FitSettings {
                 threshold,
-                ipan: bcifs::contour::Ipan { d_min, d_max, alpha_max },
+                ipan: bcifs::render::Ipan { d_min, d_max, alpha_max },
                 tolerance,
             };
             run_fit(out, &image, &output, &settings, json)
         }
         ContourCommand::Ifs { segments, json } => run_ifs(out, &segments, json),
         ContourCommand::Automaton { segments } => {
-            let pieces = bcifs::contour::read_segments(&segments)?;
+            let pieces = bcifs::render::read_segments(&segments)?;
             let name = segments.file_stem().map_or("contour".into(), |s| s.to_string_lossy().to_string());
-            let design = bcifs::contour::contour_design(&name, &pieces)?;
-            out.push_str(&bcifs::write_design(&design));
+            let design = bcifs::render::contour_design(&name, &pieces)?;
+            out.push_str(&bcifs::render::write_design(&design));
             Ok(0)
         }
     }
@@ -80,10 +80,10 @@ fn run_fit(
     out: &mut String,
     image: &std::path::Path,
     output: &std::path::Path,
-    settings: &bcifs::contour::FitSettings,
+    settings: &bcifs::render::FitSettings,
     json: bool,
 ) -> Result<u8> {
-    let (tolerance, bcifs::contour::Ipan { d_min, d_max, alpha_max }) = (settings.tolerance, settings.ipan);
+    let (tolerance, bcifs::render::Ipan { d_min, d_max, alpha_max }) = (settings.tolerance, settings.ipan);
     // The fit is a segments file (TOML): a picture's extension would hold text.
     crate::cli::common::check_output(output, &["toml"], &[image])?;
     if !(tolerance > 0.0 && tolerance.is_finite()) {
@@ -96,10 +96,10 @@ fn run_fit(
         .map_err(|e| anyhow::anyhow!("{}: not a readable PNG or JPEG picture: {e}", image.display()))?
         .to_luma8();
     let (w, h) = (picture.width() as usize, picture.height() as usize);
-    let fit = bcifs::contour::fit_contour(picture.as_raw(), w, h, settings)
+    let fit = bcifs::render::fit_contour(picture.as_raw(), w, h, settings)
         .map_err(|e| anyhow::anyhow!("{}: {e}", image.display()))?;
-    let text = bcifs::contour::write_segments(&fit.segments);
-    bcifs::export::write_atomic(output, text.as_bytes())
+    let text = bcifs::render::write_segments(&fit.segments);
+    bcifs::render::write_atomic(output, text.as_bytes())
         .map_err(|e| anyhow::anyhow!("cannot write {}: {e}", output.display()))?;
     let arcs = fit.segments.iter().filter(|s| s.is_arc()).count();
     if json {
@@ -134,7 +134,7 @@ fn run_fit(
 
 /// `contour ifs`: the two maps of each segment.
 fn run_ifs(out: &mut String, segments: &std::path::Path, json: bool) -> Result<u8> {
-    let pieces = bcifs::contour::read_segments(segments)?;
+    let pieces = bcifs::render::read_segments(segments)?;
     let mut maps = Vec::new();
     for (k, s) in pieces.iter().enumerate() {
         let pair = s.maps().map_err(|e| anyhow::anyhow!("{}: segment {k}: {e}", segments.display()))?;

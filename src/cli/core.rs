@@ -5,9 +5,9 @@ use std::fmt::Write as _;
 use anyhow::{Result, bail};
 use clap::Subcommand;
 
-use bcifs::SolveError;
-use bcifs::analysis::{DEFAULT_CHECK_TOLERANCE, check};
-use bcifs::schemes::{curve, quad_patch};
+use bcifs::render::SolveError;
+use bcifs::render::{DEFAULT_CHECK_TOLERANCE, check};
+use bcifs::render::{curve, quad_patch};
 
 use crate::cli::common::{load, parse_params};
 
@@ -62,7 +62,7 @@ pub enum Topology {
 /// written and as affine forms, and its solved family) goes back to the
 /// system with the process instead of entry by entry (14 ms of `check`'s
 /// 0.33 s on Suzanne's 430,000 entries).
-fn kept_to_the_end(design: bcifs::Design) -> std::mem::ManuallyDrop<bcifs::Design> {
+fn kept_to_the_end(design: bcifs::render::Design) -> std::mem::ManuallyDrop<bcifs::render::Design> {
     std::mem::ManuallyDrop::new(design)
 }
 
@@ -74,7 +74,7 @@ pub fn run_solve(out: &mut String, file: &str, as_json: bool) -> Result<u8> {
         writeln!(out, "{}", serde_json::to_string_pretty(&report)?)?;
         return Ok(if report.consistent { 0 } else { 1 });
     }
-    match bcifs::solution(&design).as_ref() {
+    match bcifs::render::solution(&design).as_ref() {
         Ok(family) => {
             writeln!(out, "{name}: {}", free_parameters(&family.parameter_names()))?;
             writeln!(out, "({})", system_summary(family))?;
@@ -103,7 +103,7 @@ fn free_parameters(names: &[String]) -> String {
 
 /// What the solver was given and kept: `3 constraints: 26 scalar equations, rank 20; 4 more hold
 /// whatever the parameters` (column sums included).
-fn system_summary(family: &bcifs::Family) -> String {
+fn system_summary(family: &bcifs::render::Family) -> String {
     let plural = |n: usize, one: &str, many: &str| format!("{n} {}", if n == 1 { one } else { many });
     let constraints = plural(family.constraints, "constraint", "constraints");
     if family.equations == 0 {
@@ -126,7 +126,8 @@ fn system_summary(family: &bcifs::Family) -> String {
 pub fn run_check(out: &mut String, file: &str, params: &[String], as_json: bool) -> Result<u8> {
     let design = kept_to_the_end(load(file)?);
     let values = parse_params(params)?;
-    let instance = bcifs::instantiate(&design, &values).map_err(|e| anyhow::anyhow!("{}: {e}", design.name()))?;
+    let instance =
+        bcifs::render::instantiate(&design, &values).map_err(|e| anyhow::anyhow!("{}: {e}", design.name()))?;
     let report = check(&instance.automaton, &instance.values, DEFAULT_CHECK_TOLERANCE)?;
     if as_json {
         let json =
@@ -158,7 +159,7 @@ pub fn run_check(out: &mut String, file: &str, params: &[String], as_json: bool)
                 .map(|l| {
                     // Six decimals, or six significant digits past a million.
                     let x = |v: f64| if v.abs() < 1e6 { format!("{v:.6}") } else { format!("{v:.6e}") };
-                    if l.im.abs() < bcifs::algebra::tolerance::DEGENERATE {
+                    if l.im.abs() < bcifs::render::DEGENERATE {
                         x(l.re)
                     } else {
                         format!("{}{}{}i", x(l.re), if l.im < 0.0 { "-" } else { "+" }, x(l.im.abs()))
@@ -215,13 +216,13 @@ pub fn run_new(out: &mut String, topology: Topology) -> Result<u8> {
             design
         }
     };
-    out.push_str(&bcifs::write_design(&design));
+    out.push_str(&bcifs::render::write_design(&design));
     Ok(0)
 }
 
 /// What is legal but surprising in a pattern, said on stderr: kept sub-cells
 /// that fall apart (a dust), or that touch at a corner only (a pinch).
-fn pattern_warnings(design: &bcifs::Design) {
+fn pattern_warnings(design: &bcifs::render::Design) {
     let Ok(t) = bcifs::render::topology_report(design, &[], 1) else { return };
     if t.components > 1 {
         eprintln!(
@@ -240,19 +241,19 @@ fn pattern_warnings(design: &bcifs::Design) {
 /// `bcifs list`: the shipped automata, then the scheme presets.
 pub fn run_list(out: &mut String) -> Result<u8> {
     writeln!(out, "shipped automata (bcifs render NAME, bcifs show NAME):")?;
-    for (name, _) in bcifs::BUILTIN_AUTOMATA {
-        let d =
-            bcifs::builtin_design(name).ok_or_else(|| anyhow::anyhow!("internal error: `{name}` does not parse"))?;
+    for (name, _) in bcifs::render::BUILTIN_AUTOMATA {
+        let d = bcifs::render::builtin_design(name)
+            .ok_or_else(|| anyhow::anyhow!("internal error: `{name}` does not parse"))?;
         writeln!(out, "  {name:<22} {}", d.description())?;
     }
     writeln!(out, "normal-vector presets (bcifs scheme normal --preset NAME):")?;
-    for name in bcifs::schemes::PRESET_NAMES {
-        let p = bcifs::schemes::normal_preset(name)?;
+    for name in bcifs::render::PRESET_NAMES {
+        let p = bcifs::render::normal_preset(name)?;
         writeln!(out, "  {name:<22} {}", p.description)?;
     }
     writeln!(out, "subdivision schemes as IFS (bcifs scheme ifs NAME):")?;
-    for name in bcifs::schemes::IFS_NAMES {
-        let d = bcifs::schemes::ifs_preset(name, None, None)?;
+    for name in bcifs::render::IFS_NAMES {
+        let d = bcifs::render::ifs_preset(name, None, None)?;
         writeln!(out, "  {name:<22} {}", d.description())?;
     }
     Ok(0)
@@ -261,24 +262,24 @@ pub fn run_list(out: &mut String) -> Result<u8> {
 /// `bcifs show NAME`: the embedded file of a shipped automaton, or a
 /// preset's automaton printed as a file.
 pub fn run_show(out: &mut String, name: &str) -> Result<u8> {
-    if let Some((_, text)) = bcifs::BUILTIN_AUTOMATA.iter().find(|(n, _)| *n == name) {
+    if let Some((_, text)) = bcifs::render::BUILTIN_AUTOMATA.iter().find(|(n, _)| *n == name) {
         out.push_str(text);
         return Ok(0);
     }
     let preset = name.replace('_', "-");
-    if bcifs::schemes::IFS_NAMES.contains(&preset.as_str()) {
-        out.push_str(&bcifs::write_design(&bcifs::schemes::ifs_preset(&preset, None, None)?));
+    if bcifs::render::IFS_NAMES.contains(&preset.as_str()) {
+        out.push_str(&bcifs::render::write_design(&bcifs::render::ifs_preset(&preset, None, None)?));
         return Ok(0);
     }
-    if bcifs::schemes::PRESET_NAMES.contains(&name) {
-        out.push_str(&bcifs::write_design(&bcifs::schemes::normal_preset(name)?.design()?));
+    if bcifs::render::PRESET_NAMES.contains(&name) {
+        out.push_str(&bcifs::render::write_design(&bcifs::render::normal_preset(name)?.design()?));
         return Ok(0);
     }
-    let all = bcifs::BUILTIN_AUTOMATA
+    let all = bcifs::render::BUILTIN_AUTOMATA
         .iter()
         .map(|(n, _)| *n)
-        .chain(bcifs::schemes::IFS_NAMES)
-        .chain(bcifs::schemes::PRESET_NAMES);
-    let help = bcifs::suggest(name, all).map(|s| format!(" (did you mean `{s}`?)")).unwrap_or_default();
+        .chain(bcifs::render::IFS_NAMES)
+        .chain(bcifs::render::PRESET_NAMES);
+    let help = bcifs::render::suggest(name, all).map(|s| format!(" (did you mean `{s}`?)")).unwrap_or_default();
     bail!("no shipped automaton or preset named `{name}`{help}; `bcifs list` shows them")
 }

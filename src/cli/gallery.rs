@@ -4,11 +4,11 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use bcifs::eval::{Depth, EvalSettings, Evaluator, RandomSettings};
-use bcifs::export::{RasterSettings, write_atomic};
-use bcifs::geometry::Shape;
-use bcifs::schemes::mesh_automaton;
-use bcifs::{CellKind, Design, Layout, Progress, instantiate};
+use bcifs::render::Shape;
+use bcifs::render::mesh_automaton;
+use bcifs::render::{CellKind, Design, Layout, Progress, instantiate};
+use bcifs::render::{Depth, RandomSettings};
+use bcifs::render::{RasterSettings, write_atomic};
 
 use super::render::{SchemeForm, normal_shape, warn};
 use crate::cli::common::progress_bar;
@@ -46,41 +46,6 @@ pub struct GalleryEntry {
     /// The depth or tolerance of the geometry files where it is not the picture's
     /// (a plain IFS's picture is finer than its files).
     pub geometry_depth: Option<Depth>,
-}
-
-/// The deepest depth whose in-memory output fits the gallery budget.
-///
-/// # Errors
-/// The design cannot be evaluated.
-pub fn gallery_depth(design: &Design, budget: u128) -> Result<usize, RenderError> {
-    let model = model_of(design)?;
-    let instance = instantiate(design, &[])?;
-    let ev = Evaluator::new(&instance.automaton, &model, EvalSettings::default())?;
-    Ok((1..=Profile::Gallery.budget().max_depth).take_while(|&k| ev.estimate_bytes(k) <= budget).last().unwrap_or(1))
-}
-
-/// The tolerance of a plain IFS picture (deterministic points within it
-/// of the attractor: half a pixel of the shape's extent,
-/// 800 pixels across), or `None` when its output would not fit three times the budget.
-///
-/// # Errors
-/// The design cannot be evaluated.
-pub fn gallery_tolerance(design: &Design, budget: u128) -> Result<Option<f64>, RenderError> {
-    let model = model_of(design)?;
-    let instance = instantiate(design, &[])?;
-    let coarse = Evaluator::new(&instance.automaton, &model, EvalSettings::default().with_depth(4))?.evaluate()?;
-    let Some((lo, hi)) = coarse.bounds() else { return Ok(None) };
-    let extent = lo.iter().zip(&hi).map(|(l, h)| h - l).fold(0.0, f64::max);
-    if !(extent.is_finite() && extent > 0.0) {
-        return Ok(None);
-    }
-    let eps = extent / 400.0;
-    let settings = EvalSettings::default().with_tolerance(eps).with_memory_limit(3 * budget as usize);
-    match Evaluator::new(&instance.automaton, &model, settings)?.evaluate() {
-        Ok(_) => Ok(Some(eps)),
-        Err(bcifs::eval::EvalError::TooLarge { .. }) => Ok(None),
-        Err(e) => Err(e.into()),
-    }
 }
 
 /// `depth 8` or `tolerance 0.028`.
@@ -133,13 +98,13 @@ const ICOSAHEDRON_DEPTH: usize = 5;
 /// Geometric textures of a mesh: one entry per weight set (its limit
 /// surface), and a first one with all of them side by side (3 × 2, 3.5 units apart).
 fn mesh_textures(
-    mesh: &bcifs::mesh::PolyMesh,
-    scheme: bcifs::mesh::Scheme,
+    mesh: &bcifs::render::PolyMesh,
+    scheme: bcifs::render::Scheme,
     depth: usize,
-    textures: &[(bcifs::mesh::RuleWeights, String)],
+    textures: &[(bcifs::render::RuleWeights, String)],
     (name, what): (&str, &str),
 ) -> Vec<(String, String, GallerySource)> {
-    use bcifs::geometry::Sink as _;
+    use bcifs::render::Sink as _;
     let mut items = Vec::new();
     let mut all = Shape::default();
     for (i, (w, label)) in textures.iter().enumerate() {
@@ -175,7 +140,7 @@ fn mesh_textures(
 /// The six cube textures (Doo-Sabin-like weight triples) and the six
 /// icosahedron textures (Loop-like weights).
 fn textures() -> Vec<(String, String, GallerySource)> {
-    use bcifs::mesh::{LoopWeights, PolyMesh, QuadWeights, Scheme};
+    use bcifs::render::{LoopWeights, PolyMesh, QuadWeights, Scheme};
     let cube: Vec<_> = QuadWeights::TEXTURES
         .iter()
         .map(|w| ((*w).into(), format!("α = {}, β = {}, γ = {}", w.alpha, w.beta, w.gamma)))
@@ -198,7 +163,7 @@ fn textures() -> Vec<(String, String, GallerySource)> {
 /// a weight the mesh code does not have: the rule of the triangles the
 /// cube's corners become (`a3_0 = a3_2 = 0.45`: a twist at every corner).
 fn mesh_automata() -> Vec<(String, String, GallerySource)> {
-    use bcifs::mesh::{PolyMesh, Scheme};
+    use bcifs::render::{PolyMesh, Scheme};
     let Ok(design) = mesh_automaton(&PolyMesh::cube(), Scheme::DooSabin, None) else { return Vec::new() };
     let mut b = design.to_builder();
     b.default_value("a3_0", 0.45).default_value("a3_2", 0.45);
@@ -215,18 +180,18 @@ const SILHOUETTE: &[u8] = include_bytes!("../../docs/silhouette.png");
 /// 5–6) and the chaos game after 10, 50, 300 points per map (Fig. 7), side
 /// by side. Pixel coordinates are turned y-up for the pictures.
 fn contour_example() -> Vec<(String, String, GallerySource)> {
-    use bcifs::geometry::Sink as _;
+    use bcifs::render::Sink as _;
     let Ok(picture) = image::load_from_memory(SILHOUETTE) else { return Vec::new() };
     let grey = picture.to_luma8();
     let (w, h) = (grey.width() as usize, grey.height() as usize);
-    let Ok(fit) = bcifs::contour::fit_contour(grey.as_raw(), w, h, &Default::default()) else { return Vec::new() };
-    let segments: Vec<bcifs::contour::Segment> = fit
+    let Ok(fit) = bcifs::render::fit_contour(grey.as_raw(), w, h, &Default::default()) else { return Vec::new() };
+    let segments: Vec<bcifs::render::Segment> = fit
         .segments
         .iter()
-        .map(|s| bcifs::contour::Segment { points: s.points.iter().map(|p| [p[0], -p[1]]).collect() })
+        .map(|s| bcifs::render::Segment { points: s.points.iter().map(|p| [p[0], -p[1]]).collect() })
         .collect();
     let mut items = Vec::new();
-    if let Ok(design) = bcifs::contour::contour_design("contour-fitted", &segments) {
+    if let Ok(design) = bcifs::render::contour_design("contour-fitted", &segments) {
         let arcs = segments.iter().filter(|s| s.is_arc()).count();
         let what = format!(
             "a silhouette fitted by {arcs} quadratic Bézier arcs and {} line segments (the Bézier-fractal contours paper §6)",
@@ -241,7 +206,7 @@ fn contour_example() -> Vec<(String, String, GallerySource)> {
     let mut iterations = Shape::default();
     for (panel, depth) in [0usize, 3, 6, 9].into_iter().enumerate() {
         let _ = iterations.object(&format!("iteration {depth}"));
-        for poly in bcifs::contour::iterate_polygon(&segments, &rectangle, depth) {
+        for poly in bcifs::render::iterate_polygon(&segments, &rectangle, depth) {
             let first = iterations.vertex_count();
             let flat: Vec<f64> = poly.iter().flat_map(|p| [p[0] + panel as f64 * gap, p[1]]).collect();
             let _ = iterations.vertices(2, &flat, None);
@@ -256,7 +221,7 @@ fn contour_example() -> Vec<(String, String, GallerySource)> {
     let mut chaos = Shape::default();
     for (panel, per_map) in [10usize, 50, 300].into_iter().enumerate() {
         let _ = chaos.object(&format!("{per_map} points per map"));
-        let flat: Vec<f64> = bcifs::contour::chaos_points(&segments, per_map, 7)
+        let flat: Vec<f64> = bcifs::render::chaos_points(&segments, per_map, 7)
             .iter()
             .flat_map(|p| [p[0] + panel as f64 * gap, p[1]])
             .collect();
@@ -287,14 +252,14 @@ pub enum GallerySource {
 /// preset of Li et al. 2013 at the paper's depth, every scheme of the catalogue
 /// (Schaefer et al. 2005 and Siddiqi et al. 2014): `(name, description, source)`.
 pub fn gallery_items() -> Vec<(String, String, GallerySource)> {
-    let mut items: Vec<(String, String, GallerySource)> = bcifs::BUILTIN_AUTOMATA
+    let mut items: Vec<(String, String, GallerySource)> = bcifs::render::BUILTIN_AUTOMATA
         .iter()
-        .filter_map(|(n, _)| bcifs::builtin_design(n))
+        .filter_map(|(n, _)| bcifs::render::builtin_design(n))
         .filter(|d| d.model().is_some())
         .map(|d| (d.name().to_string(), d.description().to_string(), GallerySource::Design(Box::new(d), None)))
         .collect();
-    for name in bcifs::schemes::PRESET_NAMES {
-        let Ok(preset) = bcifs::schemes::normal_preset(name) else { continue };
+    for name in bcifs::render::PRESET_NAMES {
+        let Ok(preset) = bcifs::render::normal_preset(name) else { continue };
         let entry = format!("normal-{name}");
         let description = format!("{} (normal-vector scheme, Li et al. 2013)", preset.description);
         let source = match preset.scheme.design(&entry, &preset.polygon, preset.closed) {
@@ -310,8 +275,8 @@ pub fn gallery_items() -> Vec<(String, String, GallerySource)> {
     items.extend(mesh_automata());
     items.extend(contour_example());
     items.extend(laces());
-    for name in bcifs::schemes::IFS_NAMES {
-        if let Ok(g) = bcifs::schemes::ifs_preset(name, None, None) {
+    for name in bcifs::render::IFS_NAMES {
+        if let Ok(g) = bcifs::render::ifs_preset(name, None, None) {
             items.push((g.name().to_string(), g.description().to_string(), GallerySource::Design(Box::new(g), None)));
         }
     }
@@ -391,7 +356,7 @@ fn design_entry(
 ) -> Result<(Depth, RenderSummary, Vec<String>, Option<Depth>), RenderError> {
     let depth = match fixed {
         Some(d) => d,
-        None => gallery_depth(design, budget)?,
+        None => bcifs::render::depth_within(design, budget, Profile::Gallery.budget().max_depth)?,
     };
     let mut options = RenderOptions::default().with_depth(depth);
     let model = model_of(design)?;
@@ -407,10 +372,10 @@ fn design_entry(
     // The files' budget is the smaller: it is tried only when the picture's fits.
     if plain_ifs
         && affine
-        && let Some(eps) = gallery_tolerance(design, picture_budget())?
+        && let Some(eps) = bcifs::render::tolerance_within(design, picture_budget())?
     {
         picture.sampling.depth = Depth::Tolerance(eps);
-        if gallery_tolerance(design, budget)?.is_some() {
+        if bcifs::render::tolerance_within(design, budget)?.is_some() {
             options.sampling.depth = Depth::Tolerance(eps);
         }
     }
@@ -477,14 +442,14 @@ fn caption(name: &str, depth: Depth) -> (String, String) {
     };
     let numbered = |prefix: &str| name.strip_prefix(prefix).and_then(|k| k.parse::<usize>().ok()).filter(|k| *k >= 1);
     let command = if let Some(k) = numbered("cube-texture-") {
-        let w = bcifs::mesh::QuadWeights::TEXTURES[(k - 1).min(5)];
+        let w = bcifs::render::QuadWeights::TEXTURES[(k - 1).min(5)];
         texture(
             "doo-sabin",
             "cube.off",
             format!("--param alpha={} --param beta={} --param gamma={} ", w.alpha, w.beta, w.gamma),
         )
     } else if let Some(k) = numbered("icosahedron-texture-") {
-        let w = bcifs::mesh::LoopWeights::TEXTURES[(k - 1).min(5)];
+        let w = bcifs::render::LoopWeights::TEXTURES[(k - 1).min(5)];
         texture("loop", "icosahedron.off", format!("--param w={} --param sigma={} ", w.w, w.sigma))
     } else if let Some(preset) = name.strip_prefix("normal-") {
         format!(
@@ -545,7 +510,7 @@ pub const DENSITY_SAMPLES: [usize; 3] = [100_000, 1_000_000, 100_000_000];
 /// blur): `density-NAME-KIND-N.png` tiles, `density.png` (all of them, a
 /// row per shape) and `density.html`.
 fn density_page(dir: &Path) -> Result<GalleryEntry, RenderError> {
-    use bcifs::export::{Palette, Tone, density_counts as density, write_png};
+    use bcifs::render::{Palette, Tone, density_counts as density, write_png};
     let tile = 240u32;
     let raster = RasterSettings::default().with_size(tile, tile);
     let shapes = ["fern", "gasket", "fern_sierpinski"];
@@ -557,10 +522,11 @@ fn density_page(dir: &Path) -> Result<GalleryEntry, RenderError> {
     let io = |p: &Path, e| RenderError::Io(p.to_path_buf(), e);
     let fire = Palette::named("fire").expect("shipped palette");
     for (row, name) in shapes.iter().enumerate() {
-        let design = bcifs::builtin_design(name).expect("shipped automaton");
+        let design = bcifs::render::builtin_design(name).expect("shipped automaton");
         let instance = instantiate(&design, &[])?;
         let model = model_of(&design)?;
-        let game = bcifs::eval::ChaosGame::new(&instance.automaton, &model, &RandomSettings::default().with_points(1))?;
+        let game =
+            bcifs::render::ChaosGame::new(&instance.automaton, &model, &RandomSettings::default().with_points(1))?;
         let mut tiles = Vec::new();
         let mut dots = Vec::new();
         for &n in &DENSITY_SAMPLES {

@@ -174,7 +174,7 @@ pub fn main() -> ExitCode {
                 SIGNAL.store(signal, std::sync::atomic::Ordering::SeqCst);
                 interrupt().cancel();
                 std::thread::sleep(std::time::Duration::from_secs(2));
-                bcifs::export::remove_temporary_files();
+                bcifs::render::remove_temporary_files();
                 gallery::remove_staging();
                 eprintln!("\ninterrupted: the output files keep their old content");
                 std::process::exit(128 + signal);

@@ -4,8 +4,8 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::bail;
-use bcifs::eval::EvalError;
-use bcifs::geometry::Shape;
+use bcifs::render::EvalError;
+use bcifs::render::Shape;
 use bcifs::render::{Options, RenderError, Report, control_net, evaluate_design, model_of, write_shape};
 
 use crate::cli::common::{load, progress_bar};
@@ -103,14 +103,14 @@ pub enum SchemeForm {
 /// # Errors
 /// A non-interpolatory scheme asked for in automaton form, or an evaluation error.
 pub fn normal_shape(
-    preset: &bcifs::schemes::NormalPreset,
+    preset: &bcifs::render::NormalPreset,
     depth: usize,
     form: SchemeForm,
     memory_limit: usize,
 ) -> Result<Shape, RenderError> {
     let scheme = &preset.scheme;
     if preset.polygon.iter().flatten().any(|x| !x.is_finite()) {
-        return Err(RenderError::Scheme(bcifs::schemes::NormalSchemeError::NotFinite));
+        return Err(RenderError::Scheme(bcifs::render::NormalSchemeError::NotFinite));
     }
     let automaton = match form {
         SchemeForm::Auto => scheme.is_interpolatory(),

@@ -86,15 +86,15 @@ fn run_ifs(out: &mut String, args: IfsArgs) -> Result<u8> {
             bail!("--omega {w}: a tension is a number (such as 1/16 or 0.06) or a parameter name, and `{w}` is neither")
         }
         Some(w) if w.starts_with(|c: char| c.is_alphabetic() || c == '_') && !w.starts_with("sqrt") => {
-            bcifs::schemes::ternary_family(&name, points, w)?
+            bcifs::render::ternary_family(&name, points, w)?
         }
         omega => {
-            let omega = omega.map(bcifs::algebra::Surd::parse).transpose()?;
-            bcifs::schemes::ifs_preset(&name, points, omega.as_ref())?
+            let omega = omega.map(bcifs::render::Surd::parse).transpose()?;
+            bcifs::render::ifs_preset(&name, points, omega.as_ref())?
         }
     };
     if args.out.print {
-        out.push_str(&bcifs::write_design(&design));
+        out.push_str(&bcifs::render::write_design(&design));
         return Ok(0);
     }
     let output = args.out.output.context("give -o OUT (.png, .svg, .obj, .ply, .glb, ...)")?;
@@ -168,14 +168,14 @@ enum Polygon {
 }
 
 fn run_normal(out: &mut String, args: NormalArgs) -> Result<u8> {
-    use bcifs::schemes::{NormalDirection, NormalPreset, NormalScheme, SignPattern, normal_preset};
+    use bcifs::render::{NormalDirection, NormalPreset, NormalScheme, SignPattern, normal_preset};
     let mut preset = match &args.preset {
         Some(name) => normal_preset(name)?,
         None => NormalPreset {
             name: "normal",
             description: "normal-vector scheme",
             scheme: NormalScheme::parse(&["0", "1/2"], &["0", "1/2"])?,
-            polygon: bcifs::schemes::unit_segment(),
+            polygon: bcifs::render::unit_segment(),
             closed: false,
             depth: 8,
         },
@@ -215,16 +215,16 @@ fn run_normal(out: &mut String, args: NormalArgs) -> Result<u8> {
         preset.closed = args.closed;
     } else if let Some(poly) = args.polygon {
         (preset.polygon, preset.closed) = match poly {
-            Polygon::Segment => (bcifs::schemes::unit_segment(), false),
-            Polygon::Triangle => (bcifs::schemes::unit_triangle(), true),
-            Polygon::Quad => (bcifs::schemes::unit_square(), true),
+            Polygon::Segment => (bcifs::render::unit_segment(), false),
+            Polygon::Triangle => (bcifs::render::unit_triangle(), true),
+            Polygon::Quad => (bcifs::render::unit_square(), true),
         };
     }
     if preset.polygon.len() < if preset.closed { 3 } else { 2 } {
         bail!("the initial polygon needs at least {} points", if preset.closed { 3 } else { 2 });
     }
     if args.out.print {
-        out.push_str(&bcifs::write_design(&preset.design()?));
+        out.push_str(&bcifs::render::write_design(&preset.design()?));
         return Ok(0);
     }
     let form = args.form;

@@ -5,10 +5,10 @@
 use std::path::PathBuf;
 
 use anyhow::bail;
-use bcifs::export::write_atomic;
-use bcifs::mesh::{PolyMesh, Scheme, read_mesh};
+use bcifs::render::mesh_automaton;
+use bcifs::render::write_atomic;
 use bcifs::render::{MeshJob, render_mesh, rule_weights};
-use bcifs::schemes::mesh_automaton;
+use bcifs::render::{PolyMesh, Scheme, read_mesh};
 
 use super::render::print_report;
 use crate::cli::common::parse_params;
@@ -99,7 +99,7 @@ fn print_automaton(
         eprintln!("warning: {why}");
     }
     let design = mesh_automaton(mesh, job.scheme, job.weights)?;
-    let text = bcifs::write_design(&design);
+    let text = bcifs::render::write_design(&design);
     let Some(output) = &args.output else {
         out.push_str(&text);
         return Ok(0);

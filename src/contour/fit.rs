@@ -504,29 +504,7 @@ fn fit_pieces(contour: &[[f64; 2]], corners: &[usize], tolerance: f64) -> Fitted
     // cut off) the moved joint is not held to them: its tip's reach is the joint's cut.
     let m = pieces.len();
     let original: Vec<Segment> = pieces.iter().map(|(s, _)| s.clone()).collect();
-    let mut moved: Vec<Option<([f64; 2], f64)>> = (0..m)
-        .map(|k| {
-            let next = (k + 1) % m;
-            if m < 2 || pieces[k].0.is_arc() || pieces[next].0.is_arc() {
-                return None;
-            }
-            let ((c1, d1, _), (c2, d2, _)) = (best_line(&pieces[k].1), best_line(&pieces[next].1));
-            let det = d1[0] * d2[1] - d1[1] * d2[0];
-            if det.abs() < 0.05 {
-                return None; // nearly parallel: keep the joint
-            }
-            let t = ((c2[0] - c1[0]) * d2[1] - (c2[1] - c1[1]) * d2[0]) / det;
-            let x = [c1[0] + t * d1[0], c1[1] + t * d1[1]];
-            // The corner's opening: between the directions from the joint to the pieces' far ends.
-            let (from, to) = (pieces[k].0.start(), pieces[next].0.end());
-            let (u, v) = ([from[0] - x[0], from[1] - x[1]], [to[0] - x[0], to[1] - x[1]]);
-            let cos = (u[0] * v[0] + u[1] * v[1]) / (u[0].hypot(u[1]) * v[0].hypot(v[1])).max(1e-300);
-            let cut = tip_cut(cos.clamp(-1.0, 1.0).acos());
-            let joint = pieces[k].0.end();
-            ((x[0] - joint[0]).hypot(x[1] - joint[1]) <= (3.0 * tolerance.max(1.0)).max(cut + tolerance))
-                .then_some((x, cut))
-        })
-        .collect();
+    let mut moved: Vec<Option<([f64; 2], f64)>> = (0..m).map(|k| moved_joint(&pieces, k, tolerance)).collect();
     let cuts = |moved: &[Option<([f64; 2], f64)>], k: usize| {
         [moved[(k + m - 1) % m].filter(|_| m > 1).map_or(0.0, |j| j.1), moved[k].map_or(0.0, |j| j.1)]
     };
@@ -570,6 +548,31 @@ fn fit_pieces(contour: &[[f64; 2]], corners: &[usize], tolerance: f64) -> Fitted
     let worst = out.iter().map(|(s, run, cut)| hausdorff_cut(s, run, *cut)).fold(0.0, f64::max);
     let cut_corners = out.iter().filter(|(_, _, cut)| cut[1] > 0.0).map(|(s, _, cut)| (s.end(), cut[1])).collect();
     (out.into_iter().map(|(s, _, _)| s).collect(), worst, cut_corners)
+}
+
+/// Where the joint after piece `k` moves (where the best lines of two line
+/// pieces cross, unless they are nearly parallel or it would move too far)
+/// and the cut of the corner's tip there.
+fn moved_joint(pieces: &[(Segment, Vec<[f64; 2]>)], k: usize, tolerance: f64) -> Option<([f64; 2], f64)> {
+    let m = pieces.len();
+    let next = (k + 1) % m;
+    if m < 2 || pieces[k].0.is_arc() || pieces[next].0.is_arc() {
+        return None;
+    }
+    let ((c1, d1, _), (c2, d2, _)) = (best_line(&pieces[k].1), best_line(&pieces[next].1));
+    let det = d1[0] * d2[1] - d1[1] * d2[0];
+    if det.abs() < 0.05 {
+        return None; // nearly parallel: keep the joint
+    }
+    let t = ((c2[0] - c1[0]) * d2[1] - (c2[1] - c1[1]) * d2[0]) / det;
+    let x = [c1[0] + t * d1[0], c1[1] + t * d1[1]];
+    // The corner's opening: between the directions from the joint to the pieces' far ends.
+    let (from, to) = (pieces[k].0.start(), pieces[next].0.end());
+    let (u, v) = ([from[0] - x[0], from[1] - x[1]], [to[0] - x[0], to[1] - x[1]]);
+    let cos = (u[0] * v[0] + u[1] * v[1]) / (u[0].hypot(u[1]) * v[0].hypot(v[1])).max(1e-300);
+    let cut = tip_cut(cos.clamp(-1.0, 1.0).acos());
+    let joint = pieces[k].0.end();
+    ((x[0] - joint[0]).hypot(x[1] - joint[1]) <= (3.0 * tolerance.max(1.0)).max(cut + tolerance)).then_some((x, cut))
 }
 
 /// The pieces, their largest distance, the cut corners (see [`Fit::cut_corners`]).

@@ -66,15 +66,17 @@ impl Evaluator {
             };
         for group in groups {
             let scale = group.iter().flat_map(|p| &p.control).fold(1.0f64, |m, x| m.max(x.abs()));
-            let mut weld = Weld {
-                q: crate::algebra::tolerance::SAME_POINT * scale,
-                d,
-                index: HashMap::new(),
-                positions: Vec::new(),
+            let mut faces = Faces {
+                weld: Weld {
+                    q: crate::algebra::tolerance::SAME_POINT * scale,
+                    d,
+                    index: HashMap::new(),
+                    positions: Vec::new(),
+                },
+                quads: Vec::new(),
+                triangles: Vec::new(),
+                made: std::collections::HashSet::new(),
             };
-            let (mut quads, mut triangles) = (Vec::new(), Vec::new());
-            // Faces over start sets that two cells both make (overlapping copies of a patch) are kept once.
-            let mut made: std::collections::HashSet<Vec<usize>> = std::collections::HashSet::new();
             // Per cell: state, control points, depth left, and its colour so far (see `CellColours`).
             let mut stack: Vec<(usize, Vec<f64>, usize, [f64; 2])> =
                 group.iter().rev().map(|p| (p.state, p.control.clone(), k, [0.0, 1.0])).collect();
@@ -86,36 +88,11 @@ impl Evaluator {
                 }
                 let sp = self.plan.state(s);
                 if r == 0 && (!sp.faces.is_empty() || sp.kind == CellKind::Face) {
-                    // The leaf's polygons over its sample points: its start faces, or its corner polygon.
-                    let n = sp.dim;
-                    let index: Vec<usize> = sp
-                        .samples
-                        .iter()
-                        .map(|b| {
-                            let p: Vec<f64> = (0..d).map(|a| (0..n).map(|i| c[a * n + i] * b[i]).sum()).collect();
-                            first + weld.index(&p)
-                        })
-                        .collect();
-                    let corner_polygon = [(0..index.len()).collect::<Vec<usize>>()];
-                    let start_faces = !sp.faces.is_empty();
-                    for face in if start_faces { &sp.faces[..] } else { &corner_polygon[..] } {
-                        let corners: Vec<usize> = face.iter().map(|&i| index[i]).collect();
-                        if start_faces {
-                            let mut key = corners.clone();
-                            key.sort_unstable();
-                            if key.windows(2).any(|w| w[0] == w[1]) || !made.insert(key) {
-                                continue;
-                            }
-                        }
-                        match corners.len() {
-                            4 => quads.push([corners[0], corners[1], corners[2], corners[3]]),
-                            _ => triangles.extend(crate::geometry::fan(&corners, 0)),
-                        }
-                    }
+                    faces.leaf(sp, &c, first);
                     if let Some(cc) = colours.as_deref_mut() {
                         // The vertices this cell adds take its colour.
                         let value = cc.leaf(s, colour);
-                        cc.out.resize(first + weld.positions.len() / d, value);
+                        cc.out.resize(first + faces.weld.positions.len() / d, value);
                     }
                     continue;
                 }
@@ -132,19 +109,68 @@ impl Evaluator {
                 }
             }
             sink.object(if group.len() > 1 { "surface" } else { &group[0].name })?;
-            // Shaded smooth in every client: area-weighted normals of the welded faces.
-            let normals = (d == 3).then(|| {
-                let points: Vec<[f64; 3]> = weld.positions.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect();
-                let local = |v: &[usize]| v.iter().map(|i| i - first).collect::<Vec<_>>();
-                let faces: Vec<Vec<usize>> =
-                    quads.iter().map(|q| local(q)).chain(triangles.iter().map(|t| local(t))).collect();
-                crate::geometry::area_normals(&points, faces.iter().map(Vec::as_slice)).concat()
-            });
-            sink.vertices(d, &weld.positions, normals.as_deref())?;
-            sink.faces(&quads, None)?;
-            sink.triangles(&triangles)?;
-            first += weld.positions.len() / d;
+            faces.write(sink, first)?;
+            first += faces.weld.positions.len() / d;
         }
+        Ok(())
+    }
+}
+
+/// The faces of a group of pieces being meshed: welded corners, quads and
+/// triangles (numbered from the group's first vertex).
+struct Faces {
+    weld: Weld,
+    quads: Vec<[usize; 4]>,
+    triangles: Vec<[usize; 3]>,
+    /// Faces over start sets that two cells both make (overlapping copies of a patch) are kept once.
+    made: std::collections::HashSet<Vec<usize>>,
+}
+
+impl Faces {
+    /// A leaf cell's polygons over its sample points (control points `c`):
+    /// its start faces, or its corner polygon.
+    fn leaf(&mut self, sp: &super::plan::StatePlan, c: &[f64], first: usize) {
+        let (n, d) = (sp.dim, self.weld.d);
+        let index: Vec<usize> = sp
+            .samples
+            .iter()
+            .map(|b| {
+                let p: Vec<f64> = (0..d).map(|a| (0..n).map(|i| c[a * n + i] * b[i]).sum()).collect();
+                first + self.weld.index(&p)
+            })
+            .collect();
+        let corner_polygon = [(0..index.len()).collect::<Vec<usize>>()];
+        let start_faces = !sp.faces.is_empty();
+        for face in if start_faces { &sp.faces[..] } else { &corner_polygon[..] } {
+            let corners: Vec<usize> = face.iter().map(|&i| index[i]).collect();
+            if start_faces {
+                let mut key = corners.clone();
+                key.sort_unstable();
+                if key.windows(2).any(|w| w[0] == w[1]) || !self.made.insert(key) {
+                    continue;
+                }
+            }
+            match corners.len() {
+                4 => self.quads.push([corners[0], corners[1], corners[2], corners[3]]),
+                _ => self.triangles.extend(crate::geometry::fan(&corners, 0)),
+            }
+        }
+    }
+
+    /// Writes the welded vertices (shaded smooth in every client: with the
+    /// area-weighted normals of the faces) and the faces.
+    fn write(&self, sink: &mut dyn Sink, first: usize) -> Result<(), EvalError> {
+        let d = self.weld.d;
+        let normals = (d == 3).then(|| {
+            let points: Vec<[f64; 3]> = self.weld.positions.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect();
+            let local = |v: &[usize]| v.iter().map(|i| i - first).collect::<Vec<_>>();
+            let faces: Vec<Vec<usize>> =
+                self.quads.iter().map(|q| local(q)).chain(self.triangles.iter().map(|t| local(t))).collect();
+            crate::geometry::area_normals(&points, faces.iter().map(Vec::as_slice)).concat()
+        });
+        sink.vertices(d, &self.weld.positions, normals.as_deref())?;
+        sink.faces(&self.quads, None)?;
+        sink.triangles(&self.triangles)?;
         Ok(())
     }
 }

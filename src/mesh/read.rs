@@ -66,12 +66,7 @@ fn finish(
 /// A malformed `v` or `f` record (`file:line:column`), or a mesh that
 /// fails the checks.
 pub fn read_obj(text: &str, file: &str) -> Result<PolyMesh, MeshReadError> {
-    let mut positions: Vec<[f64; 3]> = Vec::new();
-    let mut faces = Vec::new();
-    let mut lines = Vec::new();
-    let (mut uvs, mut uv_corners, mut all_textured): (Vec<[f64; 2]>, Vec<usize>, bool) = (Vec::new(), Vec::new(), true);
-    let (mut object, mut group): (Option<String>, Option<String>) = (None, None);
-    let mut groups: Vec<(String, usize)> = Vec::new();
+    let mut obj = ObjReader { file, ..ObjReader::default() };
     let mut continued = String::new();
     let mut start_line = 0;
     for (i, raw) in text.lines().enumerate() {
@@ -86,94 +81,7 @@ pub fn read_obj(text: &str, file: &str) -> Result<PolyMesh, MeshReadError> {
         }
         continued.push_str(raw);
         let line = std::mem::take(&mut continued);
-        let content = line.split('#').next().unwrap_or("");
-        let mut tokens = tokens(content);
-        let Some((_, keyword)) = tokens.next() else { continue };
-        match keyword {
-            "v" => {
-                let mut p = [0.0; 3];
-                let mut last = keyword.len() + 1;
-                for x in &mut p {
-                    let (col, tok) =
-                        tokens.next().ok_or_else(|| syntax(file, start_line, last + 1, "expected a coordinate"))?;
-                    *x = coordinate(tok, file, start_line, col)?;
-                    last = col + tok.len();
-                }
-                positions.push(p);
-            }
-            "vt" => {
-                let mut t = [0.0; 2];
-                let mut last = keyword.len() + 1;
-                for x in &mut t {
-                    let (col, tok) = tokens
-                        .next()
-                        .ok_or_else(|| syntax(file, start_line, last + 1, "expected a texture coordinate"))?;
-                    *x = coordinate(tok, file, start_line, col)?;
-                    last = col + tok.len();
-                }
-                uvs.push(t);
-            }
-            "o" | "g" => {
-                let name = content.trim_start()[1..].trim();
-                let slot = if keyword == "o" { &mut object } else { &mut group };
-                if slot.is_none() && !name.is_empty() {
-                    *slot = Some(name.to_string());
-                }
-                if !name.is_empty() {
-                    // A group starts at the next face; one named twice in a row is the later name.
-                    if groups.last().is_some_and(|(_, at)| *at == faces.len()) {
-                        groups.pop();
-                    }
-                    groups.push((name.to_string(), faces.len()));
-                }
-            }
-            "f" => {
-                let mut face = Vec::new();
-                for (col, tok) in tokens {
-                    let mut parts = tok.split('/');
-                    let index = parts.next().unwrap_or("");
-                    // The texture index, resolved like the vertex index; any corner without one drops them
-                    // all; one that names no texture coordinate is refused, as a vertex index is.
-                    let texture = parts.next().filter(|t| !t.is_empty());
-                    match texture.map(|t| t.parse::<i64>()) {
-                        None => all_textured = false,
-                        Some(Ok(k)) if k > 0 && (k as usize) <= uvs.len() => uv_corners.push(k as usize - 1),
-                        Some(Ok(k)) if k < 0 && k.unsigned_abs() as usize <= uvs.len() => {
-                            uv_corners.push(uvs.len() - k.unsigned_abs() as usize)
-                        }
-                        Some(_) => {
-                            let t = texture.unwrap_or("");
-                            let count = uvs.len();
-                            return Err(syntax(
-                                file,
-                                start_line,
-                                col + index.len() + 1,
-                                format!(
-                                    "texture index `{t}`: the file has {count} texture coordinates (`vt`) before this face"
-                                ),
-                            ));
-                        }
-                    }
-                    let k: i64 = index.parse().map_err(|_| {
-                        syntax(file, start_line, col, format!("expected a vertex index, found `{tok}`"))
-                    })?;
-                    let n = positions.len() as i64;
-                    let resolved = if k > 0 { k - 1 } else { n + k };
-                    if k == 0 || resolved < 0 || resolved >= n {
-                        return Err(MeshCheckError::IndexOutOfRange {
-                            place: Place { file: Some(file.to_string()), line: Some(start_line), face: faces.len() },
-                            index: k,
-                            count: positions.len(),
-                        }
-                        .into());
-                    }
-                    face.push(resolved as usize);
-                }
-                faces.push(face);
-                lines.push(start_line);
-            }
-            _ => {}
-        }
+        obj.record(&line, start_line)?;
     }
     if !continued.is_empty() {
         let column = continued.trim_end().len();
@@ -184,14 +92,142 @@ pub fn read_obj(text: &str, file: &str) -> Result<PolyMesh, MeshReadError> {
             "the record ends with `\\` (continued on the next line), but the file ends there",
         ));
     }
-    let mut mesh = finish(positions, faces, &lines, file)?;
-    mesh.name = object.or(group);
-    groups.retain(|(_, at)| *at < mesh.face_count());
-    mesh.groups = groups;
-    if all_textured && !uvs.is_empty() {
-        mesh = mesh.with_texture(uvs, uv_corners)?;
+    obj.finish()
+}
+
+/// What [`read_obj`] has read so far.
+#[derive(Default)]
+struct ObjReader<'f> {
+    file: &'f str,
+    positions: Vec<[f64; 3]>,
+    faces: Vec<Vec<usize>>,
+    /// The line of each face.
+    lines: Vec<usize>,
+    uvs: Vec<[f64; 2]>,
+    /// Each corner's texture coordinate, while every corner has one.
+    uv_corners: Vec<usize>,
+    /// Some corner has no texture index: the texture is dropped.
+    untextured: bool,
+    object: Option<String>,
+    group: Option<String>,
+    groups: Vec<(String, usize)>,
+}
+
+impl ObjReader<'_> {
+    /// One record (a line, its continuations joined) starting on line `line`.
+    fn record(&mut self, record: &str, line: usize) -> Result<(), MeshReadError> {
+        let content = record.split('#').next().unwrap_or("");
+        let mut tokens = tokens(content);
+        let Some((_, keyword)) = tokens.next() else { return Ok(()) };
+        match keyword {
+            "v" => {
+                let p = self.numbers::<3>(&mut tokens, line, keyword.len(), "a coordinate")?;
+                self.positions.push(p);
+            }
+            "vt" => {
+                let t = self.numbers::<2>(&mut tokens, line, keyword.len(), "a texture coordinate")?;
+                self.uvs.push(t);
+            }
+            "o" | "g" => self.name(keyword, content.trim_start()[1..].trim()),
+            "f" => {
+                let face = tokens.map(|(col, tok)| self.corner(tok, line, col)).collect::<Result<_, _>>()?;
+                self.faces.push(face);
+                self.lines.push(line);
+            }
+            _ => {}
+        }
+        Ok(())
     }
-    Ok(mesh)
+
+    /// `N` numbers after a keyword `after` characters long.
+    fn numbers<'t, const N: usize>(
+        &self,
+        tokens: &mut impl Iterator<Item = (usize, &'t str)>,
+        line: usize,
+        after: usize,
+        what: &str,
+    ) -> Result<[f64; N], MeshReadError> {
+        let mut out = [0.0; N];
+        let mut last = after + 1;
+        for x in &mut out {
+            let (col, tok) =
+                tokens.next().ok_or_else(|| syntax(self.file, line, last + 1, format!("expected {what}")))?;
+            *x = coordinate(tok, self.file, line, col)?;
+            last = col + tok.len();
+        }
+        Ok(out)
+    }
+
+    /// An object's (`o`) or a group's (`g`) name: the mesh's name is the
+    /// first object's, else the first group's; a group starts at the next face.
+    fn name(&mut self, keyword: &str, name: &str) {
+        if name.is_empty() {
+            return;
+        }
+        let slot = if keyword == "o" { &mut self.object } else { &mut self.group };
+        if slot.is_none() {
+            *slot = Some(name.to_string());
+        }
+        // One named twice in a row is the later name.
+        if self.groups.last().is_some_and(|(_, at)| *at == self.faces.len()) {
+            self.groups.pop();
+        }
+        self.groups.push((name.to_string(), self.faces.len()));
+    }
+
+    /// A face corner `v`, `v/t`, `v/t/n` or `v//n` at column `col`: its
+    /// vertex (1-based, or negative from the end), its texture index noted.
+    fn corner(&mut self, tok: &str, line: usize, col: usize) -> Result<usize, MeshReadError> {
+        let mut parts = tok.split('/');
+        let index = parts.next().unwrap_or("");
+        // The texture index, resolved like the vertex index; any corner without one drops them
+        // all; one that names no texture coordinate is refused, as a vertex index is.
+        let texture = parts.next().filter(|t| !t.is_empty());
+        let count = self.uvs.len();
+        match texture.map(|t| t.parse::<i64>()) {
+            None => self.untextured = true,
+            Some(Ok(k)) if k > 0 && (k as usize) <= count => self.uv_corners.push(k as usize - 1),
+            Some(Ok(k)) if k < 0 && k.unsigned_abs() as usize <= count => {
+                self.uv_corners.push(count - k.unsigned_abs() as usize)
+            }
+            Some(_) => {
+                let t = texture.unwrap_or("");
+                return Err(syntax(
+                    self.file,
+                    line,
+                    col + index.len() + 1,
+                    format!("texture index `{t}`: the file has {count} texture coordinates (`vt`) before this face"),
+                ));
+            }
+        }
+        let k: i64 = index
+            .parse()
+            .map_err(|_| syntax(self.file, line, col, format!("expected a vertex index, found `{tok}`")))?;
+        let n = self.positions.len() as i64;
+        let resolved = if k > 0 { k - 1 } else { n + k };
+        if k == 0 || resolved < 0 || resolved >= n {
+            return Err(MeshCheckError::IndexOutOfRange {
+                place: Place { file: Some(self.file.to_string()), line: Some(line), face: self.faces.len() },
+                index: k,
+                count: self.positions.len(),
+            }
+            .into());
+        }
+        Ok(resolved as usize)
+    }
+
+    /// The mesh read: checked, named, its groups and texture kept.
+    fn finish(self) -> Result<PolyMesh, MeshReadError> {
+        let mut mesh = finish(self.positions, self.faces, &self.lines, self.file)?;
+        mesh.name = self.object.or(self.group);
+        let mut groups = self.groups;
+        groups.retain(|(_, at)| *at < mesh.face_count());
+        mesh.groups = groups;
+        if !self.untextured && !self.uvs.is_empty() {
+            mesh = mesh.with_texture(self.uvs, self.uv_corners)?;
+        }
+        Ok(mesh)
+    }
 }
 
 /// Whitespace-separated tokens with their 1-based columns.

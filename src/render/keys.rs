@@ -371,10 +371,23 @@ impl Options {
     }
 
     fn apply(&mut self, key: &'static Key, value: Value) -> Result<(), OptionError> {
+        match key.group {
+            Group::Design => {
+                self.params = pairs(key, value)?;
+                Ok(())
+            }
+            Group::Sampling => self.apply_sampling(key, value),
+            Group::Budget => self.apply_budget(key, value),
+            Group::Look => self.apply_look(key, value),
+            Group::File => self.apply_file(key, value),
+        }
+    }
+
+    /// A sampling key: depth, tolerance or the chaos game.
+    fn apply_sampling(&mut self, key: &'static Key, value: Value) -> Result<(), OptionError> {
         let given = shown(&value);
         let refuse = |why: &str| OptionError::new(key, &given, why);
         match key.name {
-            "params" => self.params = pairs(key, value)?,
             "depth" => {
                 let k = count(key, value)?;
                 let max = self.budget.max_depth as u128;
@@ -399,6 +412,16 @@ impl Options {
             "probs" => self.sampling.probabilities = pairs(key, value)?,
             "drop" => self.sampling.dropped = names(key, value)?,
             "force" => self.sampling.force = switch(key, value)?,
+            other => unreachable!("the key `{other}` has no setter"),
+        }
+        Ok(())
+    }
+
+    /// A budget key: threads, memory, output.
+    fn apply_budget(&mut self, key: &'static Key, value: Value) -> Result<(), OptionError> {
+        let given = shown(&value);
+        let refuse = |why: &str| OptionError::new(key, &given, why);
+        match key.name {
             "threads" => {
                 let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
                 match count(key, value)? {
@@ -416,6 +439,16 @@ impl Options {
                 gib if gib > 0.0 && gib.is_finite() => self.budget.output = (gib * f64::from(1u32 << 30)) as u128,
                 _ => return Err(refuse("expected a positive number of GiB")),
             },
+            other => unreachable!("the key `{other}` has no setter"),
+        }
+        Ok(())
+    }
+
+    /// A look key: size, view, colours, tone.
+    fn apply_look(&mut self, key: &'static Key, value: Value) -> Result<(), OptionError> {
+        let given = shown(&value);
+        let refuse = |why: &str| OptionError::new(key, &given, why);
+        match key.name {
             "size" => {
                 let (w, h) = pair(key, value, 'x')?;
                 let max = self.budget.max_side;
@@ -456,6 +489,16 @@ impl Options {
             "brightness" | "gamma" | "supersample" | "vibrancy" | "blur" | "blur_curve" | "background" => {
                 self.look.tone = tone(key, value, self.look.tone).map_err(|e| refuse(&e))?;
             }
+            other => unreachable!("the key `{other}` has no setter"),
+        }
+        Ok(())
+    }
+
+    /// A file key: axes, digits, ASCII, dedup, texture.
+    fn apply_file(&mut self, key: &'static Key, value: Value) -> Result<(), OptionError> {
+        let given = shown(&value);
+        let refuse = |why: &str| OptionError::new(key, &given, why);
+        match key.name {
             "uv" => self.file.uv = switch(key, value)?,
             "up" => self.file.coordinates.up = if choice(key, value)? == "z" { Up::Z } else { Up::Y },
             "ascii" => self.file.ascii = switch(key, value)?,

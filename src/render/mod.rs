@@ -39,7 +39,10 @@ pub use load::{LoadError, is_mesh_path, load, load_with_scheme};
 pub use mesh::{MeshJob, check_weights, render_mesh, rule_weights, subdivide_mesh};
 pub use options::{Budget, DEFAULT_SEED, FileStyle, Look, Options, Sampling};
 pub use output::{Format, RenderError, Report, check_disk, check_room};
-pub use picture::{POINTS_PER_PIXEL, SEGMENTS_PER_PIXEL, curve_picture_depth, picture_depth, point_picture_depth};
+pub use picture::{
+    POINTS_PER_PIXEL, SEGMENTS_PER_PIXEL, curve_picture_depth, depth_within, picture_depth, point_picture_depth,
+    tolerance_within,
+};
 // The reports, for the front ends that import the library through this module alone.
 pub use crate::report::{
     CheckReport, CheckReportError, CurveAnalysis, DIMENSION_MEMORY, DimensionReport, LacunarityReport, ParameterRange,
@@ -51,3 +54,37 @@ pub use crate::report::{angle_colour, dimension_colour, region_colour, verdict_c
 pub use shape::{control_net, write_shape};
 // Patterns, for the front ends that generate designs from one (`new pattern`, `bcifs.pattern`).
 pub use crate::schemes::{Pattern, PatternCell, PatternError};
+
+// The front ends' vocabulary: everything the command line, the explorer and
+// the Python module use of the library, named here once (a test checks that
+// they reach nothing past this module). A new front-end feature adds its
+// names here, or better a function to this module that decides for it:
+// designs (reading, writing, solving, instantiating), exact numbers,
+// analyses, contour fitting, evaluation settings and the chaos game (the
+// gallery's density sheet counts one game three ways), palettes and atomic
+// writes, shapes and sinks, polygon meshes, the papers' schemes and presets.
+pub use crate::algebra::{Num, Surd, tolerance::DEGENERATE};
+pub use crate::analysis::{
+    CurveCell, DEFAULT_CHECK_TOLERANCE, JsrSettings, ParameterPlane, Verdict, blending, check, curve_map, ternary,
+};
+pub use crate::contour::{
+    FitSettings, Ipan, Segment, chaos_points, contour_design, fit_contour, iterate_polygon, read_segments,
+    write_segments,
+};
+pub use crate::design::{Design, DesignBuilder, Layout, Model, Value as MatrixValue};
+pub use crate::eval::{ChaosGame, Depth, EvalError, RandomSettings};
+pub use crate::export::{
+    Palette, RasterSettings, Tone, check_target, density_counts, remove_temporary_files, same_file, write_atomic,
+    write_png,
+};
+pub use crate::family::{DesignInstantiateError, Family, InstantiateError, SolveError, instantiate, solution, solve};
+pub use crate::format::{BUILTIN_AUTOMATA, builtin_design, parse_design, write_design};
+pub use crate::geometry::{Shape, Sink, area_normals, fan};
+pub use crate::mesh::{LoopWeights, PolyMesh, QuadWeights, RuleWeights, Scheme, SubdivideError, read_mesh};
+pub use crate::names::suggest;
+pub use crate::progress::{Cancel, Progress};
+pub use crate::schemes::{
+    IFS_NAMES, NormalDirection, NormalPreset, NormalScheme, NormalSchemeError, PRESET_NAMES, SignPattern, curve,
+    ifs_preset, mesh_automaton, normal_preset, quad_patch, ternary_family, unit_segment, unit_square, unit_triangle,
+};
+pub use crate::space::CellKind;

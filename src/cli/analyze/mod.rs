@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result, bail};
 use clap::Subcommand;
 
-use bcifs::analysis::{CurveCell, Verdict};
+use bcifs::render::{CurveCell, Verdict};
 
 use super::plot::{Plot, Series};
 
@@ -167,25 +167,25 @@ fn axis(text: &str) -> Result<(String, f64, f64)> {
 }
 
 /// The parameter plane of two axes `NAME=FROM:TO` (two different names) and `size` pixels a side.
-fn plane((x, y): (&str, &str), size: usize) -> Result<bcifs::analysis::ParameterPlane> {
+fn plane((x, y): (&str, &str), size: usize) -> Result<bcifs::render::ParameterPlane> {
     let (x, y) = (axis(x)?, axis(y)?);
     if x.0 == y.0 {
         bail!("--x and --y both vary `{}`: a map needs two different parameters", x.0);
     }
-    Ok(bcifs::analysis::ParameterPlane { x, y, size: (size, size) })
+    Ok(bcifs::render::ParameterPlane { x, y, size: (size, size) })
 }
 
 /// Writes a map of `plane` framed with its title, axes and legend.
 fn write_framed_map(
     output: &std::path::Path,
     title: &str,
-    plane: &bcifs::analysis::ParameterPlane,
+    plane: &bcifs::render::ParameterPlane,
     img: &image::RgbImage,
     legend: &[([u8; 3], String)],
 ) -> Result<()> {
     let (x, y) = (&plane.x, &plane.y);
     let framed = super::plot::framed_map(title, (&x.0, x.1, x.2), (&y.0, y.1, y.2), img, legend)?;
-    bcifs::export::write_png(output, &framed).with_context(|| format!("cannot write {}", output.display()))
+    bcifs::render::write_png(output, &framed).with_context(|| format!("cannot write {}", output.display()))
 }
 
 /// `bcifs analyze map`: a sweep as a picture (or CSV), and its counts.
@@ -197,7 +197,7 @@ fn run_map(
     (what, thorough): (&str, bool),
     output: &std::path::Path,
 ) -> Result<u8> {
-    use bcifs::render::{REGIONS, SweepKind, SweepValues};
+    use bcifs::render::SweepKind;
     if size == 0 || size > 4096 {
         bail!("--size must be between 1 and 4096");
     }
@@ -209,7 +209,36 @@ fn run_map(
     let ext = output.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
     let numbers = values.to_f64();
     let count = |code: i8| numbers.iter().filter(|&&v| v == f64::from(code)).count();
-    let (title, legend): (&str, Vec<([u8; 3], String)>) = match kind {
+    let (title, legend) = map_legend(kind, &count);
+    if ext == "csv" {
+        let text = bcifs::render::sweep_csv(&plane, kind, &values);
+        bcifs::render::write_atomic(output, text.as_bytes())
+            .with_context(|| format!("cannot write {}", output.display()))?;
+    } else {
+        let img = sweep_image(kind, &values, size);
+        write_framed_map(output, &format!("{}: {title}", design.name()), &plane, &img, &legend)?;
+    }
+    writeln!(
+        out,
+        "{}: {} ∈ [{}, {}] (x) × {} ∈ [{}, {}] (y), {size}×{size} pixels in {:.2} s",
+        design.name(),
+        plane.x.0,
+        plane.x.1,
+        plane.x.2,
+        plane.y.0,
+        plane.y.1,
+        plane.y.2,
+        started.elapsed().as_secs_f64()
+    )?;
+    map_summary(out, kind, &values, &count)?;
+    writeln!(out, "map → {}", output.display())?;
+    Ok(0)
+}
+
+/// A map's title and legend (a colour and its label, with the pixel counts of the verdicts).
+fn map_legend(kind: bcifs::render::SweepKind, count: &dyn Fn(i8) -> usize) -> (&'static str, Vec<([u8; 3], String)>) {
+    use bcifs::render::SweepKind;
+    match kind {
         SweepKind::Verdict => (
             "convergence verdicts (JSR bounds)",
             vec![
@@ -252,28 +281,18 @@ fn run_map(
                 .chain([(dimension_colour(f64::NAN), "not convergent".to_string())])
                 .collect(),
         ),
-    };
-    if ext == "csv" {
-        let text = bcifs::render::sweep_csv(&plane, kind, &values);
-        bcifs::export::write_atomic(output, text.as_bytes())
-            .with_context(|| format!("cannot write {}", output.display()))?;
-    } else {
-        let img = sweep_image(kind, &values, size);
-        write_framed_map(output, &format!("{}: {title}", design.name()), &plane, &img, &legend)?;
     }
-    writeln!(
-        out,
-        "{}: {} ∈ [{}, {}] (x) × {} ∈ [{}, {}] (y), {size}×{size} pixels in {:.2} s",
-        design.name(),
-        plane.x.0,
-        plane.x.1,
-        plane.x.2,
-        plane.y.0,
-        plane.y.1,
-        plane.y.2,
-        started.elapsed().as_secs_f64()
-    )?;
-    match &values {
+}
+
+/// The lines under a map: its verdicts' or regions' counts, or its values' range.
+fn map_summary(
+    out: &mut String,
+    kind: bcifs::render::SweepKind,
+    values: &bcifs::render::SweepValues,
+    count: &dyn Fn(i8) -> usize,
+) -> Result<()> {
+    use bcifs::render::{REGIONS, SweepKind, SweepValues};
+    match values {
         SweepValues::Codes(_) if kind == SweepKind::Verdict => {
             writeln!(out, "  converges (green):                          {}", count(1))?;
             writeln!(out, "  diverges although each matrix passes (red):  {}", count(-1))?;
@@ -298,8 +317,7 @@ fn run_map(
             }
         }
     }
-    writeln!(out, "map → {}", output.display())?;
-    Ok(0)
+    Ok(())
 }
 
 /// Runs a `bcifs analyze` command.
@@ -342,8 +360,8 @@ pub fn run(out: &mut String, what: AnalyzeCommand) -> Result<u8> {
 fn report_on<R>(
     file: &str,
     params: &[String],
-    report: impl FnOnce(&bcifs::Design, &[(String, f64)]) -> Result<R, bcifs::render::ReportError>,
-) -> Result<(bcifs::Design, R)> {
+    report: impl FnOnce(&bcifs::render::Design, &[(String, f64)]) -> Result<R, bcifs::render::ReportError>,
+) -> Result<(bcifs::render::Design, R)> {
     let design = crate::cli::common::load(file)?;
     let values = crate::cli::common::parse_params(params)?;
     let r = report(&design, &values).map_err(|e| anyhow::anyhow!("{}: {e}", design.name()))?;
@@ -492,7 +510,7 @@ fn curve_text(out: &mut String, analysis: &bcifs::render::CurveAnalysis) -> Resu
 
 /// The curve map as CSV: a row per cell.
 fn curve_map_csv(
-    plane: &bcifs::analysis::ParameterPlane,
+    plane: &bcifs::render::ParameterPlane,
     cells: &[CurveCell],
     size: usize,
     output: &std::path::Path,
@@ -513,7 +531,7 @@ fn curve_map_csv(
             c.angle().map_or(String::new(), |a| a.to_string())
         )?;
     }
-    bcifs::export::write_atomic(output, text.as_bytes()).with_context(|| format!("cannot write {}", output.display()))
+    bcifs::render::write_atomic(output, text.as_bytes()).with_context(|| format!("cannot write {}", output.display()))
 }
 
 /// The colour of a curve-map cell for the map `kind`; outside the per-matrix domain grey.
@@ -541,7 +559,7 @@ fn curve_map_colour(c: &CurveCell, kind: &str, threshold: f64) -> [u8; 3] {
 /// The point given with `--param` (both coordinates of the plane), as a black cross.
 fn mark_point(
     img: &mut image::RgbImage,
-    plane: &bcifs::analysis::ParameterPlane,
+    plane: &bcifs::render::ParameterPlane,
     marker: &[(String, f64)],
 ) -> Result<()> {
     let size = img.width() as usize;
@@ -601,7 +619,7 @@ fn run_curve_map(
     (size, threshold, marker): (usize, f64, &[(String, f64)]),
     output: &std::path::Path,
 ) -> Result<u8> {
-    use bcifs::analysis::{JsrSettings, curve_map};
+    use bcifs::render::{JsrSettings, curve_map};
     if size == 0 || size > 4096 {
         bail!("--size must be between 1 and 4096");
     }
@@ -613,7 +631,7 @@ fn run_curve_map(
     }
     let design = crate::cli::common::load(file)?;
     let root = design.model().map(|m| m.root(0).to_string()).context("the design has no [model] naming its root")?;
-    let family = bcifs::solve(&design).map_err(|e| anyhow::anyhow!("{}: {e}", design.name()))?;
+    let family = bcifs::render::solve(&design).map_err(|e| anyhow::anyhow!("{}: {e}", design.name()))?;
     let plane = plane((x, y), size)?;
     let started = std::time::Instant::now();
     let cells = curve_map(&family, &plane, &JsrSettings::quick(), &root)?;
@@ -653,11 +671,12 @@ fn run_blend(out: &mut String, file: &str, params: &[String], depth: usize, outp
     }
     let design = crate::cli::common::load(file)?;
     let values = crate::cli::common::parse_params(params)?;
-    let instance = bcifs::instantiate(&design, &values).map_err(|e| anyhow::anyhow!("{}: {e}", design.name()))?;
+    let instance =
+        bcifs::render::instantiate(&design, &values).map_err(|e| anyhow::anyhow!("{}: {e}", design.name()))?;
     let [e0, e1] =
         bcifs::render::curve_halves(&design, &instance).map_err(|e| anyhow::anyhow!("{}: {e}", design.name()))?;
     let a = &instance.automaton;
-    let b = bcifs::analysis::blending(&a.arrow(e0).matrix, &a.arrow(e1).matrix, depth)
+    let b = bcifs::render::blending(&a.arrow(e0).matrix, &a.arrow(e1).matrix, depth)
         .context("a subdivision matrix has no fixed point")?;
     let colours = [[200, 40, 40], [40, 140, 60], [40, 80, 200], [200, 140, 20], [130, 60, 170], [20, 150, 160]];
     let components = |xs: &[f64]| -> Vec<Series> {
@@ -703,7 +722,7 @@ fn run_blend(out: &mut String, file: &str, params: &[String], depth: usize, outp
         let pic = panel.render(w, h)?;
         image::imageops::replace(&mut img, &pic, i64::from(k as u32 * w), 0);
     }
-    bcifs::export::write_png(output, &img).with_context(|| format!("cannot write {}", output.display()))?;
+    bcifs::render::write_png(output, &img).with_context(|| format!("cannot write {}", output.display()))?;
     let monotone = b.u.windows(2).all(|x| x[1] > x[0]);
     writeln!(
         out,

@@ -3,7 +3,7 @@
 use std::fmt::Write as _;
 
 use anyhow::{Context, Result, bail};
-use bcifs::analysis::ternary::TernaryRow;
+use bcifs::render::ternary::TernaryRow;
 
 use crate::cli::plot::{Plot, Series};
 
@@ -14,7 +14,7 @@ pub fn run_ternary5(
     output: &std::path::Path,
     as_json: bool,
 ) -> Result<u8> {
-    use bcifs::analysis::ternary::{omegas, ternary5_rows};
+    use bcifs::render::ternary::{omegas, ternary5_rows};
     if from >= to || !from.is_finite() || !to.is_finite() {
         bail!("--omega-range A B needs finite A < B");
     }
@@ -40,7 +40,7 @@ pub fn run_ternary5(
         ranges.text(out)?;
     }
     let img = ternary5_plot(&rows).render(900, 600)?;
-    bcifs::export::write_png(output, &img).with_context(|| format!("cannot write {}", output.display()))?;
+    bcifs::render::write_png(output, &img).with_context(|| format!("cannot write {}", output.display()))?;
     if !as_json {
         writeln!(out, "plot → {}", output.display())?;
     }
@@ -96,9 +96,9 @@ struct Ranges {
 }
 
 fn ternary5_ranges(rows: &[TernaryRow], (from, to): (f64, f64), steps: usize) -> Ranges {
-    use bcifs::analysis::ternary::{boundary, intervals};
+    use bcifs::render::ternary::{boundary, intervals};
     let step = (to - from) / steps as f64;
-    let refine = |ranges: Vec<(f64, f64)>, pred: &dyn Fn(&bcifs::analysis::ternary::TernaryRow) -> bool| {
+    let refine = |ranges: Vec<(f64, f64)>, pred: &dyn Fn(&bcifs::render::ternary::TernaryRow) -> bool| {
         ranges
             .into_iter()
             .map(|(a, b)| {
@@ -120,7 +120,7 @@ fn ternary5_ranges(rows: &[TernaryRow], (from, to): (f64, f64), steps: usize) ->
 impl Ranges {
     /// The ranges as text, beside the paper's.
     fn text(&self, out: &mut String) -> Result<()> {
-        use bcifs::analysis::ternary::PAPER_RANGES;
+        use bcifs::render::ternary::PAPER_RANGES;
         let show = |v: &[(f64, f64)]| {
             if v.is_empty() {
                 "none".to_string()
@@ -163,9 +163,9 @@ impl Ranges {
 /// The plot of the ternary 5-point analysis: measured length growth per step
 /// and the C0 contraction bound against ω, the line 1, the fractal intervals
 /// shaded, and the paper's C0 bounds as vertical lines.
-pub fn ternary5_plot(rows: &[bcifs::analysis::ternary::TernaryRow]) -> Plot {
-    use bcifs::analysis::ternary::{PAPER_RANGES, intervals};
-    let series = |label: &str, f: &dyn Fn(&bcifs::analysis::ternary::TernaryRow) -> f64, color| Series {
+pub fn ternary5_plot(rows: &[bcifs::render::ternary::TernaryRow]) -> Plot {
+    use bcifs::render::ternary::{PAPER_RANGES, intervals};
+    let series = |label: &str, f: &dyn Fn(&bcifs::render::ternary::TernaryRow) -> f64, color| Series {
         label: label.into(),
         points: rows.iter().map(|r| (r.omega, f(r))).collect(),
         color,

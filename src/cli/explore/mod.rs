@@ -22,8 +22,8 @@ use std::time::{Duration, Instant};
 use anyhow::{Context, Result, bail};
 use serde_json::{Value, json};
 
+use bcifs::render::{Cancel, Design};
 use bcifs::render::{Options, Profile, SweepKind};
-use bcifs::{Cancel, Design};
 
 const PAGE: &str = include_str!("index.html");
 const SCRIPT: &str = include_str!("explore.js");
@@ -68,7 +68,7 @@ pub struct ExploreArgs {
     /// For a polygon mesh (OBJ, OFF): the scheme whose generated automaton is
     /// explored (doo-sabin, catmull-clark, loop, sqrt3), its weights the parameters.
     #[arg(long, value_enum)]
-    scheme: Option<bcifs::mesh::Scheme>,
+    scheme: Option<bcifs::render::Scheme>,
 }
 
 /// A free parameter with its default and its convergence range.
@@ -124,7 +124,7 @@ impl Answer {
         use bcifs::render::RenderError as E;
         match e {
             E::Cancelled => Answer::cancelled(),
-            E::Eval(bcifs::eval::EvalError::TooLarge { .. }) | E::Raster(_) | E::TooBig(_) => {
+            E::Eval(bcifs::render::EvalError::TooLarge { .. }) | E::Raster(_) | E::TooBig(_) => {
                 Answer::error(413, format!("over the memory budget of {} MiB: {e}", memory_budget() >> 20))
             }
             _ => Answer::error(422, e),
@@ -147,7 +147,7 @@ impl Explorer {
         let parameters = bcifs::render::parameter_ranges(&design)?;
         // A curve map of one pixel at the defaults: made, or refused for what the design is.
         let curve_maps = parameters.first().is_some_and(|p| {
-            let plane = bcifs::analysis::ParameterPlane::line(&p.name, p.default, p.default + 1e-9, 1);
+            let plane = bcifs::render::ParameterPlane::line(&p.name, p.default, p.default + 1e-9, 1);
             bcifs::render::sweep(&design, &plane, SweepKind::Angle, false, 0..1).is_ok()
         });
         Ok(Explorer {
@@ -292,7 +292,7 @@ impl Explorer {
             .iter()
             .map(|p| json!({"name": p.name, "default": p.default, "range": [p.range.0, p.range.1]}))
             .collect();
-        let curve = bcifs::instantiate(&self.design, &[])
+        let curve = bcifs::render::instantiate(&self.design, &[])
             .ok()
             .is_some_and(|i| bcifs::render::curve_halves(&self.design, &i).is_ok());
         json!({
@@ -340,9 +340,9 @@ impl Explorer {
         };
         let x = axis("x", "xr")?;
         let plane = match query.get("y") {
-            None => bcifs::analysis::ParameterPlane::line(&x.0, x.1, x.2, size),
+            None => bcifs::render::ParameterPlane::line(&x.0, x.1, x.2, size),
             Some(y) if y == x.0 => return Err(Answer::error(400, "x and y must be two different parameters")),
-            Some(_) => bcifs::analysis::ParameterPlane { x, y: axis("y", "yr")?, size: (size, size) },
+            Some(_) => bcifs::render::ParameterPlane { x, y: axis("y", "yr")?, size: (size, size) },
         };
         let _turn = self.admit(cancel)?;
         let values = self.swept(&plane, kind, cancel)?.to_f64();
@@ -376,7 +376,7 @@ impl Explorer {
     /// or the budget stops it between bands) and kept for the next request.
     fn swept(
         &self,
-        plane: &bcifs::analysis::ParameterPlane,
+        plane: &bcifs::render::ParameterPlane,
         kind: SweepKind,
         cancel: &Cancel,
     ) -> std::result::Result<bcifs::render::SweepValues, Answer> {
@@ -443,32 +443,10 @@ impl Explorer {
                 Some(session) => Answer::json(&json!({ "cancelled": self.bye(session) })),
                 None => Answer::error(400, "`session`: the page whose requests stop"),
             },
-            "/api/check" => match self.values(query) {
-                Err(a) => a,
-                Ok(values) => match bcifs::render::check_report(&self.design, &values) {
-                    Err(e) => Answer::error(422, e),
-                    Ok(check) => {
-                        let exact: Vec<(String, bcifs::algebra::Num)> =
-                            values.iter().map(|(n, v)| (n.clone(), bcifs::algebra::Num::from_f64(*v))).collect();
-                        let curve = bcifs::render::curve_analysis(&self.design, &exact).ok().map(|c| c.to_json());
-                        Answer::json(&json!({"check": check, "curve": curve}))
-                    }
-                },
-            },
+            "/api/check" => self.values(query).map_or_else(|a| a, |values| self.check(&values)),
             "/api/dimension" => match self.values(query) {
                 Err(a) => a,
-                Ok(values) => {
-                    let cancel = self.cancel_for(slot, seq);
-                    let _turn = match self.admit(&cancel) {
-                        Ok(turn) => turn,
-                        Err(a) => return a,
-                    };
-                    match bcifs::render::dimension_within(&self.design, &values, memory_budget(), &cancel) {
-                        Ok(_) if cancel.is_cancelled() => Answer::cancelled(),
-                        Ok(d) => Answer::json(&d.to_json()),
-                        Err(e) => Answer::refused(&e.into()),
-                    }
-                }
+                Ok(values) => self.dimension(&values, &self.cancel_for(slot, seq)),
             },
             "/api/picture.png" => {
                 let cancel = self.cancel_for(slot, seq);
@@ -485,44 +463,72 @@ impl Explorer {
                 }
             }
             _ => match path.strip_prefix("/api/export.") {
-                Some("toml") => match self.values(query) {
-                    Err(a) => a,
-                    Ok(values) => {
-                        let mut builder = self.design.to_builder();
-                        for (n, v) in &values {
-                            builder.default_value(n, *v);
-                        }
-                        match builder.build() {
-                            Ok(d) => Answer {
-                                status: 200,
-                                kind: "application/toml",
-                                body: bcifs::write_design(&d).into_bytes(),
-                                download: Some(format!("{}.toml", d.name())),
-                            },
-                            Err(e) => Answer::error(422, e),
-                        }
-                    }
-                },
-                Some(ext @ ("obj" | "ply" | "glb" | "png")) => {
-                    let cancel = self.cancel_for(None, None);
-                    match self.options(query, cancel) {
-                        Err(a) => a,
-                        Ok(options) => match self.render_bytes(&options, ext) {
-                            Ok(body) => Answer {
-                                status: 200,
-                                kind: if ext == "png" { "image/png" } else { "application/octet-stream" },
-                                body,
-                                download: Some(format!("{}.{ext}", self.design.name())),
-                            },
-                            Err(a) => a,
-                        },
-                    }
-                }
-                Some(other) => {
-                    Answer::error(404, format!("no export to `.{}`: obj, ply, glb, png or toml", clip(other)))
-                }
+                Some(ext) => self.export(ext, query),
                 None => Answer::error(404, format!("`{}`: not found (the page is /, the API under /api/)", clip(path))),
             },
+        }
+    }
+
+    /// `/api/check`: the check report at `values`, and the curve's analysis where it has one.
+    fn check(&self, values: &[(String, f64)]) -> Answer {
+        match bcifs::render::check_report(&self.design, values) {
+            Err(e) => Answer::error(422, e),
+            Ok(check) => {
+                let exact: Vec<(String, bcifs::render::Num)> =
+                    values.iter().map(|(n, v)| (n.clone(), bcifs::render::Num::from_f64(*v))).collect();
+                let curve = bcifs::render::curve_analysis(&self.design, &exact).ok().map(|c| c.to_json());
+                Answer::json(&json!({"check": check, "curve": curve}))
+            }
+        }
+    }
+
+    /// `/api/dimension`: the box-counting dimension at `values`, one at a time, cancellable.
+    fn dimension(&self, values: &[(String, f64)], cancel: &bcifs::render::Cancel) -> Answer {
+        let _turn = match self.admit(cancel) {
+            Ok(turn) => turn,
+            Err(a) => return a,
+        };
+        match bcifs::render::dimension_within(&self.design, values, memory_budget(), cancel) {
+            Ok(_) if cancel.is_cancelled() => Answer::cancelled(),
+            Ok(d) => Answer::json(&d.to_json()),
+            Err(e) => Answer::refused(&e.into()),
+        }
+    }
+
+    /// `/api/export.EXT`: the design with the page's values as defaults (`toml`), or a file of it.
+    fn export(&self, ext: &str, query: &Query) -> Answer {
+        match ext {
+            "toml" => match self.values(query) {
+                Err(a) => a,
+                Ok(values) => {
+                    let mut builder = self.design.to_builder();
+                    for (n, v) in &values {
+                        builder.default_value(n, *v);
+                    }
+                    match builder.build() {
+                        Ok(d) => Answer {
+                            status: 200,
+                            kind: "application/toml",
+                            body: bcifs::render::write_design(&d).into_bytes(),
+                            download: Some(format!("{}.toml", d.name())),
+                        },
+                        Err(e) => Answer::error(422, e),
+                    }
+                }
+            },
+            "obj" | "ply" | "glb" | "png" => match self.options(query, self.cancel_for(None, None)) {
+                Err(a) => a,
+                Ok(options) => match self.render_bytes(&options, ext) {
+                    Ok(body) => Answer {
+                        status: 200,
+                        kind: if ext == "png" { "image/png" } else { "application/octet-stream" },
+                        body,
+                        download: Some(format!("{}.{ext}", self.design.name())),
+                    },
+                    Err(a) => a,
+                },
+            },
+            other => Answer::error(404, format!("no export to `.{}`: obj, ply, glb, png or toml", clip(other))),
         }
     }
 }
