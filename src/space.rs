@@ -12,13 +12,17 @@ pub enum CellKind {
     Edge,
     /// A face: evaluation emits its four corners, as a quad.
     Face,
+    /// A volume (a hexahedron or a tetrahedron): evaluation emits its
+    /// corners (its boundary faces' corners) as points; the solids' meshes
+    /// are made from its boundary cells.
+    Volume,
     /// A plain IFS space: evaluation emits one point per cell.
     Free,
 }
 
 impl CellKind {
     /// All kinds, in the order they are documented.
-    pub const ALL: [CellKind; 4] = [CellKind::Vertex, CellKind::Edge, CellKind::Face, CellKind::Free];
+    pub const ALL: [CellKind; 5] = [CellKind::Vertex, CellKind::Edge, CellKind::Face, CellKind::Volume, CellKind::Free];
 
     /// The keyword used in automaton files.
     pub fn keyword(self) -> &'static str {
@@ -26,6 +30,7 @@ impl CellKind {
             CellKind::Vertex => "vertex",
             CellKind::Edge => "edge",
             CellKind::Face => "face",
+            CellKind::Volume => "volume",
             CellKind::Free => "free",
         }
     }

@@ -69,9 +69,9 @@ impl Builder {
     /// A state: the barycentric space of `dim` control points of a cell of
     /// `kind` (`vertex`, `edge`, `face` or `free`).
     fn state<'py>(mut slf: PyRefMut<'py, Self>, name: &str, dim: usize, kind: &str) -> PyResult<PyRefMut<'py, Self>> {
-        let kind: CellKind = kind
-            .parse()
-            .map_err(|()| err(format!("state `{name}`: unknown kind `{kind}`: expected vertex, edge, face or free")))?;
+        let kind: CellKind = kind.parse().map_err(|()| {
+            err(format!("state `{name}`: unknown kind `{kind}`: expected vertex, edge, face, volume or free"))
+        })?;
         slf.inner.state(name, dim, kind);
         Ok(slf)
     }

@@ -40,13 +40,14 @@ pub enum Topology {
         /// Print the pattern file of the flags instead of the automaton.
         #[arg(long)]
         file: bool,
-        /// The cell: segment, quad or triangle.
+        /// The cell: segment, quad, triangle, hexahedron or tetrahedron.
         #[arg(long, default_value = "quad")]
         cell: String,
-        /// Parts along each direction: K for a segment or a triangle (K-ary: K² triangles), KxL for a quad.
+        /// Parts along each direction: K for a segment or a triangle (K-ary: K² triangles), KxL for a quad,
+        /// KxLxM for a hexahedron, 2 for a tetrahedron (its four corner tetrahedra).
         #[arg(long, default_value = "3x3")]
         split: String,
-        /// One 0 or 1 per sub-cell, u fastest then v (default: all kept); the carpet is 111101111.
+        /// One 0 or 1 per sub-cell, u fastest, then v, then w (default: all kept); the carpet is 111101111.
         #[arg(long)]
         keep: Option<String>,
         /// Control points per direction: 2 (linear), 3 (quadratic) or 4 (cubic).
@@ -202,8 +203,9 @@ pub fn run_new(out: &mut String, topology: Topology) -> Result<u8> {
             let (pattern, name) = match from {
                 Some(path) => bcifs::render::Pattern::read(&path)?,
                 None => {
-                    let cell = bcifs::render::PatternCell::named(&cell)
-                        .ok_or_else(|| anyhow::anyhow!("--cell `{cell}`: expected segment, quad or triangle"))?;
+                    let cell = bcifs::render::PatternCell::named(&cell).ok_or_else(|| {
+                        anyhow::anyhow!("--cell `{cell}`: expected segment, quad, triangle, hexahedron or tetrahedron")
+                    })?;
                     (bcifs::render::Pattern::parse(cell, &split, keep.as_deref(), degree)?, name)
                 }
             };

@@ -61,6 +61,11 @@ pub enum PlanError {
     /// A face whose boundary does not close into a polygon of corners.
     #[error("face state `{0}`: {1}")]
     BadFace(String, String),
+    /// A volume whose boundary cells do not give it corners.
+    #[error(
+        "volume state `{0}` needs boundary arrows to faces (or edges) whose corners span it: it has {1} corner(s), at least 4 are needed"
+    )]
+    BadVolume(String, usize),
     /// A state with no subdivision arrow: its attractor is empty.
     #[error("state `{0}` has no subdivision arrow: nothing to evaluate")]
     Empty(String),
@@ -203,6 +208,12 @@ impl Plan {
                     }
                 }
                 CellKind::Face => face_plan(automaton, id, &ends, &mut plan)?,
+                CellKind::Volume => {
+                    plan.samples = corners(automaton, id, &vertex_point, 3);
+                    if plan.samples.len() < 4 {
+                        return Err(PlanError::BadVolume(s.name.clone(), plan.samples.len()));
+                    }
+                }
             }
             if let Some((_, set)) = start_sets.iter().find(|(n, _)| *n == s.name) {
                 plan.samples = set.clone();
@@ -210,6 +221,7 @@ impl Plan {
             }
             states[id.index()] = Some(plan);
         }
+        volume_faces(automaton, start_sets, &mut states);
         Ok(Plan { states })
     }
 
@@ -285,6 +297,68 @@ fn vertex_points(automaton: &Automaton<f64>) -> Result<Vec<Option<Vec<f64>>>, Pl
         }
     }
     Ok(vertex_point)
+}
+
+/// The faces of each volume (without start sets): its boundary faces'
+/// corner cycles, lifted into the volume and numbered as its corners, so a
+/// leaf volume is meshed by its boundary (see [`StatePlan::faces`]).
+fn volume_faces(automaton: &Automaton<f64>, start_sets: &[(String, Vec<Vec<f64>>)], states: &mut [Option<StatePlan>]) {
+    for (id, s) in automaton.states() {
+        if s.kind != CellKind::Volume || start_sets.iter().any(|(n, _)| *n == s.name) {
+            continue;
+        }
+        let mut faces = Vec::new();
+        for e in automaton.outgoing(id, ArrowKind::Boundary) {
+            let to = automaton.arrow_ends(e).1;
+            let Some(face) = states[to.index()].as_ref().filter(|f| f.kind == CellKind::Face) else { continue };
+            let m = &automaton.arrow(e).matrix;
+            let Some(plan) = states[id.index()].as_ref() else { continue };
+            let cycle: Option<Vec<usize>> = face
+                .samples
+                .iter()
+                .map(|c| {
+                    let lifted: Vec<f64> =
+                        (0..m.nrows()).map(|i| (0..m.ncols()).map(|j| m[(i, j)] * c[j]).sum()).collect();
+                    plan.samples.iter().position(|x| close(x, &lifted))
+                })
+                .collect();
+            if let Some(cycle) = cycle.filter(|c| c.len() >= 3) {
+                faces.push(cycle);
+            }
+        }
+        if let Some(plan) = states[id.index()].as_mut() {
+            plan.faces = faces;
+        }
+    }
+}
+
+/// The corners of a cell: its vertices' points lifted through the boundary
+/// arrows down to them (`levels` at most), each once: a volume's are its
+/// faces' corners.
+fn corners(
+    automaton: &Automaton<f64>,
+    id: NodeIndex,
+    vertex_point: &[Option<Vec<f64>>],
+    levels: usize,
+) -> Vec<Vec<f64>> {
+    if let Some(v) = &vertex_point[id.index()] {
+        return vec![v.clone()];
+    }
+    let mut out: Vec<Vec<f64>> = Vec::new();
+    if levels == 0 {
+        return out;
+    }
+    for e in automaton.outgoing(id, ArrowKind::Boundary) {
+        let to = automaton.arrow_ends(e).1;
+        let m = &automaton.arrow(e).matrix;
+        for c in corners(automaton, to, vertex_point, levels - 1) {
+            let lifted: Vec<f64> = (0..m.nrows()).map(|i| (0..m.ncols()).map(|j| m[(i, j)] * c[j]).sum()).collect();
+            if !out.iter().any(|x| close(x, &lifted)) {
+                out.push(lifted);
+            }
+        }
+    }
+    out
 }
 
 /// The corners of a face (its boundary edges' ends, walked as a cycle),

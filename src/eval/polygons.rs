@@ -76,6 +76,8 @@ impl Evaluator {
                 quads: Vec::new(),
                 triangles: Vec::new(),
                 made: std::collections::HashSet::new(),
+                sides: HashMap::new(),
+                side_order: Vec::new(),
             };
             // Per cell: state, control points, depth left, and its colour so far (see `CellColours`).
             let mut stack: Vec<(usize, Vec<f64>, usize, [f64; 2])> =
@@ -124,6 +126,10 @@ struct Faces {
     triangles: Vec<[usize; 3]>,
     /// Faces over start sets that two cells both make (overlapping copies of a patch) are kept once.
     made: std::collections::HashSet<Vec<usize>>,
+    /// Volumes' faces, outward, by their sorted corners, in the order made, and how many cells made
+    /// each: a face two kept cells share is inside the solid, and only the others are written.
+    sides: HashMap<Vec<usize>, (Vec<usize>, usize)>,
+    side_order: Vec<Vec<usize>>,
 }
 
 impl Faces {
@@ -139,6 +145,10 @@ impl Faces {
                 first + self.weld.index(&p)
             })
             .collect();
+        if sp.kind == CellKind::Volume {
+            self.volume(sp, &index, first);
+            return;
+        }
         let corner_polygon = [(0..index.len()).collect::<Vec<usize>>()];
         let start_faces = !sp.faces.is_empty();
         for face in if start_faces { &sp.faces[..] } else { &corner_polygon[..] } {
@@ -157,9 +167,65 @@ impl Faces {
         }
     }
 
+    /// A leaf volume's faces (its corners welded at `index`), turned outward
+    /// (their Newell normals away from the cell's centroid) and counted.
+    fn volume(&mut self, sp: &super::plan::StatePlan, index: &[usize], first: usize) {
+        let d = self.weld.d;
+        let at = |v: usize| -> [f64; 3] {
+            let p = &self.weld.positions[(v - first) * d..(v - first + 1) * d];
+            [p[0], p.get(1).copied().unwrap_or(0.0), p.get(2).copied().unwrap_or(0.0)]
+        };
+        let mean = |vs: &[usize]| {
+            let mut m = [0.0; 3];
+            vs.iter().for_each(|&v| (0..3).for_each(|a| m[a] += at(v)[a] / vs.len() as f64));
+            m
+        };
+        let centre = mean(index);
+        for face in &sp.faces {
+            let mut corners: Vec<usize> = face.iter().map(|&i| index[i]).collect();
+            let mut key = corners.clone();
+            key.sort_unstable();
+            if key.windows(2).any(|w| w[0] == w[1]) {
+                continue;
+            }
+            let (mid, mut normal) = (mean(&corners), [0.0; 3]);
+            for (k, &v) in corners.iter().enumerate() {
+                let (p, q) = (at(v), at(corners[(k + 1) % corners.len()]));
+                normal[0] += (p[1] - q[1]) * (p[2] + q[2]);
+                normal[1] += (p[2] - q[2]) * (p[0] + q[0]);
+                normal[2] += (p[0] - q[0]) * (p[1] + q[1]);
+            }
+            if (0..3).map(|a| normal[a] * (mid[a] - centre[a])).sum::<f64>() < 0.0 {
+                corners.reverse();
+            }
+            match self.sides.get_mut(&key) {
+                Some(side) => side.1 += 1,
+                None => {
+                    self.side_order.push(key.clone());
+                    self.sides.insert(key, (corners, 1));
+                }
+            }
+        }
+    }
+
+    /// The volumes' faces that one kept cell alone makes (the solid's
+    /// boundary) into the quads and triangles.
+    fn close_volumes(&mut self) {
+        for key in std::mem::take(&mut self.side_order) {
+            match self.sides.remove(&key) {
+                Some((corners, 1)) if corners.len() == 4 => {
+                    self.quads.push([corners[0], corners[1], corners[2], corners[3]])
+                }
+                Some((corners, 1)) => self.triangles.extend(crate::geometry::fan(&corners, 0)),
+                _ => {}
+            }
+        }
+    }
+
     /// Writes the welded vertices (shaded smooth in every client: with the
     /// area-weighted normals of the faces) and the faces.
-    fn write(&self, sink: &mut dyn Sink, first: usize) -> Result<(), EvalError> {
+    fn write(&mut self, sink: &mut dyn Sink, first: usize) -> Result<(), EvalError> {
+        self.close_volumes();
         let d = self.weld.d;
         let normals = (d == 3).then(|| {
             let points: Vec<[f64; 3]> = self.weld.positions.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect();

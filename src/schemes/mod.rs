@@ -10,6 +10,7 @@
 //! - [`segment_ifs`]: a line segment as two maps (the Bézier-fractal contours paper §4);
 //! - [`crate::algebra::Surd`]: exact numbers `q + q'√r`, so generated files stay exact.
 
+mod blossom;
 mod catalog;
 mod contour;
 mod lattice;
@@ -18,10 +19,12 @@ mod mesh;
 mod normal;
 mod pattern;
 mod pattern_triangle;
+mod pattern_volume;
 mod stationary;
 mod ternary;
 mod topology;
 
+pub use blossom::bezier_part;
 pub use catalog::{CatalogError, DEFAULT_OMEGA, IFS_NAMES, ifs_preset, ternary_family};
 pub use contour::{RowMap, segment_ifs, segment_ifs_as_printed};
 pub use lattice::{
@@ -34,7 +37,7 @@ pub use normal::{
     NormalDirection, NormalPreset, NormalScheme, NormalSchemeError, PRESET_NAMES, Point2, SignPattern, normal_preset,
     unit_segment, unit_square, unit_triangle,
 };
-pub use pattern::{Pattern, PatternCell, PatternError, bezier_part, pattern_design};
+pub use pattern::{Pattern, PatternCell, PatternError, pattern_design};
 pub use stationary::{
     BSpline, CurveStructure, ExactMatrix, ModelSpec, Rules, StationaryError, curve_structure, ifs_design, koch_blocks,
     sierpinski_blocks, tensor_design,

@@ -13,9 +13,10 @@
 //! bicubic patch. Every other member moves the subdivision points: rough or
 //! smooth laces of the same topology.
 
-use num_bigint::BigInt;
 use num_rational::BigRational;
-use num_traits::{One, Zero};
+use num_traits::One;
+
+use super::blossom::bezier_part;
 
 use crate::algebra::Num;
 use crate::design::{Design, DesignBuilder, Layout, Model};
@@ -30,6 +31,10 @@ pub enum PatternCell {
     Quad,
     /// A triangle split `n`-ary into `n²` triangles (upward and downward), corners only (degree 2).
     Triangle,
+    /// A hexahedron split into `k × l × m` parts.
+    Hexahedron,
+    /// A tetrahedron split into its four corner tetrahedra (`split` 2), corners only (degree 2).
+    Tetrahedron,
 }
 
 impl PatternCell {
@@ -39,19 +44,30 @@ impl PatternCell {
             PatternCell::Segment => "segment",
             PatternCell::Quad => "quad",
             PatternCell::Triangle => "triangle",
+            PatternCell::Hexahedron => "hexahedron",
+            PatternCell::Tetrahedron => "tetrahedron",
         }
     }
 
     /// The cell of this name.
     pub fn named(name: &str) -> Option<PatternCell> {
-        [PatternCell::Segment, PatternCell::Quad, PatternCell::Triangle].into_iter().find(|c| c.name() == name)
+        [
+            PatternCell::Segment,
+            PatternCell::Quad,
+            PatternCell::Triangle,
+            PatternCell::Hexahedron,
+            PatternCell::Tetrahedron,
+        ]
+        .into_iter()
+        .find(|c| c.name() == name)
     }
 
     /// The number of split counts it takes.
     pub fn dimension(self) -> usize {
         match self {
-            PatternCell::Segment | PatternCell::Triangle => 1,
+            PatternCell::Segment | PatternCell::Triangle | PatternCell::Tetrahedron => 1,
             PatternCell::Quad => 2,
+            PatternCell::Hexahedron => 3,
         }
     }
 
@@ -59,6 +75,7 @@ impl PatternCell {
     fn cells(self, split: &[usize]) -> usize {
         match self {
             PatternCell::Triangle => split[0] * split[0],
+            PatternCell::Tetrahedron => 4,
             _ => split.iter().product(),
         }
     }
@@ -250,7 +267,7 @@ impl Pattern {
     pub fn check(&self) -> Result<(), PatternError> {
         let dimension = self.cell.dimension();
         if self.split.len() != dimension || self.split.iter().any(|&k| !(2..=64).contains(&k)) {
-            let expected = if dimension == 1 { "K" } else { "KxL" };
+            let expected = ["K", "KxL", "KxLxM"][dimension - 1];
             return Err(PatternError::Split { cell: self.cell.name(), dimension, expected, got: self.split.clone() });
         }
         let cells = self.cell.cells(&self.split);
@@ -261,11 +278,28 @@ impl Pattern {
         if !self.keep.iter().any(|&k| k) {
             return Err(PatternError::Empty);
         }
-        if !(2..=4).contains(&self.degree) || (self.cell == PatternCell::Triangle && self.degree != 2) {
+        let corners_only = matches!(self.cell, PatternCell::Triangle | PatternCell::Tetrahedron);
+        if !(2..=4).contains(&self.degree) || (corners_only && self.degree != 2) {
             return Err(PatternError::Degree(self.degree));
         }
+        if self.cell == PatternCell::Tetrahedron && self.split != [2] {
+            return Err(PatternError::Split {
+                cell: "tetrahedron",
+                dimension: 1,
+                expected: "2",
+                got: self.split.clone(),
+            });
+        }
         let d = self.degree;
-        let unknowns = self.kept().count() * d.pow(2 * dimension as u32) + self.split.iter().sum::<usize>() * d * d + 1;
+        let kept = self.keep.iter().filter(|&&k| k).count();
+        let unknowns = match self.cell {
+            // The kept volumes, the three faces' and edges' parts, the vertex.
+            PatternCell::Hexahedron => {
+                let [k, l, m] = [self.split[0], self.split[1], self.split[2]];
+                kept * d.pow(6) + (k * l + k * m + l * m) * d.pow(4) + (k + l + m) * d * d + 1
+            }
+            _ => kept * d.pow(2 * dimension as u32) + self.split.iter().sum::<usize>() * d * d + 1,
+        };
         if unknowns > crate::design::MAX_UNKNOWNS {
             return Err(PatternError::TooLarge { unknowns, max: crate::design::MAX_UNKNOWNS });
         }
@@ -312,7 +346,9 @@ fn sub(cell: PatternCell, [i, j]: [usize; 2]) -> String {
     match cell {
         PatternCell::Segment => format!("T{i}"),
         PatternCell::Quad => format!("T{i}_{j}"),
-        PatternCell::Triangle => super::pattern_triangle::cell_name([i, j]),
+        PatternCell::Triangle | PatternCell::Hexahedron | PatternCell::Tetrahedron => {
+            super::pattern_triangle::cell_name([i, j])
+        }
     }
 }
 
@@ -342,6 +378,8 @@ pub fn pattern_design(pattern: &Pattern, name: &str) -> Result<Design, PatternEr
         PatternCell::Segment => segment(&mut b, pattern),
         PatternCell::Quad => quad(&mut b, pattern),
         PatternCell::Triangle => super::pattern_triangle::triangle(&mut b, pattern.split[0], &pattern.keep),
+        PatternCell::Hexahedron => super::pattern_volume::hexahedron(&mut b, &pattern.split, &pattern.keep, d),
+        PatternCell::Tetrahedron => super::pattern_volume::tetrahedron(&mut b, &pattern.keep),
     }
     parameters(&mut b, pattern)?;
     b.build().map_err(internal)
@@ -492,8 +530,11 @@ fn parameters(b: &mut DesignBuilder, p: &Pattern) -> Result<(), PatternError> {
 /// Entry `(r, c)` of the classical member's matrix of `arrow`: de Casteljau's
 /// subdivision of the polynomial cell at the uniform split points.
 fn classical(p: &Pattern, arrow: &str, r: usize, c: usize) -> BigRational {
-    if p.cell == PatternCell::Triangle {
-        return super::pattern_triangle::classical(p.split[0], arrow, r, c);
+    match p.cell {
+        PatternCell::Triangle => return super::pattern_triangle::classical(p.split[0], arrow, r, c),
+        PatternCell::Hexahedron => return super::pattern_volume::classical(&p.split, p.degree, arrow, r, c),
+        PatternCell::Tetrahedron => return super::pattern_volume::corner_classical(arrow, r, c),
+        _ => {}
     }
     let d = p.degree;
     let part = |n: usize, i: usize| bezier_part(d, i, n);
@@ -508,42 +549,13 @@ fn classical(p: &Pattern, arrow: &str, r: usize, c: usize) -> BigRational {
         return BigRational::one();
     };
     match p.cell {
-        PatternCell::Segment | PatternCell::Triangle => part(p.split[0], index(rest))[r][c].clone(),
+        PatternCell::Segment | PatternCell::Triangle | PatternCell::Tetrahedron | PatternCell::Hexahedron => {
+            part(p.split[0], index(rest))[r][c].clone()
+        }
         PatternCell::Quad => {
             let (i, j) = rest.split_once('_').map_or((0, 0), |(i, j)| (index(i), index(j)));
             let (tu, tv) = (part(p.split[0], i), part(p.split[1], j));
             tv[r / d][c / d].clone() * tu[r % d][c % d].clone()
         }
     }
-}
-
-/// The matrix of part `i` of `n` of a Bézier curve of `d` control points:
-/// column `j` holds the weights of the old control points in the part's
-/// control point `j` (the blossom at `a` repeated `d − 1 − j` times and `b`
-/// repeated `j` times, for the part `[a, b] = [i/n, (i+1)/n]`).
-pub fn bezier_part(d: usize, i: usize, n: usize) -> Vec<Vec<BigRational>> {
-    let at = |x: usize| BigRational::new(BigInt::from(x), BigInt::from(n));
-    let (a, b) = (at(i), at(i + 1));
-    let mut m = vec![vec![BigRational::zero(); d]; d];
-    for j in 0..d {
-        let args: Vec<BigRational> =
-            std::iter::repeat_n(a.clone(), d - 1 - j).chain(std::iter::repeat_n(b.clone(), j)).collect();
-        // De Casteljau on the unit vectors: the blossom's weights of each old point.
-        let mut points: Vec<Vec<BigRational>> = (0..d)
-            .map(|q| (0..d).map(|s| if s == q { BigRational::one() } else { BigRational::zero() }).collect())
-            .collect();
-        for t in &args {
-            for q in 0..points.len() - 1 {
-                let next = points[q + 1].clone();
-                for (x, y) in points[q].iter_mut().zip(next) {
-                    *x = (BigRational::one() - t) * x.clone() + t * y;
-                }
-            }
-            points.pop();
-        }
-        for (row, w) in m.iter_mut().zip(&points[0]) {
-            row[j] = w.clone();
-        }
-    }
-    m
 }

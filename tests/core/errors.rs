@@ -35,7 +35,7 @@ fn misspelt_names_get_positions_and_suggestions() {
     assert_eq!(
         e,
         format!(
-            "f.toml:{}: unknown cell kind `edgy`: expected vertex, edge, face or free (did you mean `edge`?)",
+            "f.toml:{}: unknown cell kind `edgy`: expected vertex, edge, face, volume or free (did you mean `edge`?)",
             pos(&text, "\"edgy\"")
         )
     );
