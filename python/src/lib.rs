@@ -458,18 +458,20 @@ fn topology<'py>(
     report_at(py, design, params, |d, v| bcifs::render::topology_report(d, v, depth))
 }
 
-/// Porosity per depth (1 to `depth`) and the gliding-box lacunarity curve at
-/// `depth`: the object `bcifs analyze lacunarity --json` prints
+/// Porosity per depth (1 to `depth`: 5 by default, 4 for a solid) and the
+/// gliding-box lacunarity curve at `depth`: the object `bcifs analyze lacunarity --json` prints
 /// (`porosity`, `lacunarity` as `[r, Λ(r)]` pairs).
 #[pyfunction]
-#[pyo3(signature = (design, depth=5, **params))]
+#[pyo3(signature = (design, depth=None, **params))]
 fn lacunarity<'py>(
     py: Python<'py>,
     design: &Design,
-    depth: usize,
+    depth: Option<usize>,
     params: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    report_at(py, design, params, |d, v| bcifs::render::lacunarity_report(d, v, depth))
+    report_at(py, design, params, |d, v| {
+        bcifs::render::lacunarity_report(d, v, depth.unwrap_or_else(|| bcifs::render::lacunarity_depth(d)))
+    })
 }
 
 /// A report on `design` at the parameters `params`, the GIL released, as the dict of its JSON.

@@ -95,7 +95,7 @@ impl Evaluator {
         };
         let (shape, mut colours) = if self.meshes() || self.polygon_faces() {
             let mut shape = Shape::default();
-            self.polygons_coloured(k, &mut shape, Some(&mut cells))?;
+            self.polygons_coloured(k, &mut shape, Some(&mut cells), None)?;
             let n = shape.vertex_count();
             cells.out.resize(n, 0.5);
             (shape, cells.out)

@@ -38,7 +38,19 @@ impl Evaluator {
     /// welded: each piece on its own, or all together when they share
     /// control points (a mesh's patches).
     pub(super) fn polygons(&self, k: usize, sink: &mut dyn Sink) -> Result<(), EvalError> {
-        self.polygons_coloured(k, sink, None)
+        self.polygons_coloured(k, sink, None, None)
+    }
+
+    /// The volume cells `k` subdivisions below the pieces, each as its faces
+    /// (cycles of welded vertex numbers, turned outward): the complex whose
+    /// topology [`crate::report::topology_report`] measures.
+    ///
+    /// # Errors
+    /// Over the memory limit; cancelled.
+    pub fn volume_cells(&self, k: usize) -> Result<Vec<Vec<Vec<usize>>>, EvalError> {
+        let mut cells = Vec::new();
+        self.polygons_coloured(k, &mut crate::geometry::Shape::default(), None, Some(&mut cells))?;
+        Ok(cells)
     }
 
     /// [`Evaluator::polygons`], recording the colour coordinate of every
@@ -48,6 +60,7 @@ impl Evaluator {
         k: usize,
         sink: &mut dyn Sink,
         mut colours: Option<&mut super::colour::CellColours<'_>>,
+        mut record: Option<&mut Vec<Vec<Vec<usize>>>>,
     ) -> Result<(), EvalError> {
         let d = self.pieces.dim;
         // Welding holds every corner: refuse what would not fit, with the estimate.
@@ -78,6 +91,7 @@ impl Evaluator {
                 made: std::collections::HashSet::new(),
                 sides: HashMap::new(),
                 side_order: Vec::new(),
+                cells: record.is_some().then(Vec::new),
             };
             // Per cell: state, control points, depth left, and its colour so far (see `CellColours`).
             let mut stack: Vec<(usize, Vec<f64>, usize, [f64; 2])> =
@@ -110,6 +124,9 @@ impl Evaluator {
                     stack.push((*t, child, r - step, colour));
                 }
             }
+            if let (Some(out), Some(cells)) = (record.as_deref_mut(), faces.cells.as_mut()) {
+                out.append(cells);
+            }
             sink.object(if group.len() > 1 { "surface" } else { &group[0].name })?;
             faces.write(sink, first)?;
             first += faces.weld.positions.len() / d;
@@ -130,6 +147,8 @@ struct Faces {
     /// each: a face two kept cells share is inside the solid, and only the others are written.
     sides: HashMap<Vec<usize>, (Vec<usize>, usize)>,
     side_order: Vec<Vec<usize>>,
+    /// Each leaf volume's faces, when asked for ([`Evaluator::volume_cells`]).
+    cells: Option<Vec<Vec<Vec<usize>>>>,
 }
 
 impl Faces {
@@ -181,6 +200,7 @@ impl Faces {
             m
         };
         let centre = mean(index);
+        let mut cell = Vec::new();
         for face in &sp.faces {
             let mut corners: Vec<usize> = face.iter().map(|&i| index[i]).collect();
             let mut key = corners.clone();
@@ -198,6 +218,9 @@ impl Faces {
             if (0..3).map(|a| normal[a] * (mid[a] - centre[a])).sum::<f64>() < 0.0 {
                 corners.reverse();
             }
+            if self.cells.is_some() {
+                cell.push(corners.clone());
+            }
             match self.sides.get_mut(&key) {
                 Some(side) => side.1 += 1,
                 None => {
@@ -205,6 +228,9 @@ impl Faces {
                     self.sides.insert(key, (corners, 1));
                 }
             }
+        }
+        if let Some(cells) = self.cells.as_mut() {
+            cells.push(cell);
         }
     }
 
@@ -243,7 +269,7 @@ impl Faces {
 
 impl Evaluator {
     /// Face cells `k` subdivisions below a cell of `state` (as [`Evaluator::polygons`] counts them), saturating.
-    fn face_cells(&self, state: usize, k: usize) -> u128 {
+    pub(super) fn face_cells(&self, state: usize, k: usize) -> u128 {
         let mut memo: Vec<Vec<Option<u128>>> = vec![vec![None; k + 1]; self.plan.states.len()];
         self.count_cells(state, k, &mut memo)
     }

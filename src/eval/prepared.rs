@@ -345,6 +345,11 @@ impl Evaluator {
         level
     }
 
+    /// Whether the roots are volumes (solids: their evaluation is their boundary mesh).
+    pub fn volumes(&self) -> bool {
+        self.root_kind().is_ok_and(|k| k == CellKind::Volume)
+    }
+
     pub(super) fn root_kind(&self) -> Result<CellKind, EvalError> {
         let mut kinds = self.pieces.pieces.iter().map(|p| self.plan.state(p.state).kind);
         let k = kinds.next().unwrap_or(CellKind::Free);
@@ -373,6 +378,12 @@ impl Evaluator {
                 let cells = (self.pieces.pieces.len() as u128).saturating_mul(n);
                 // positions + normals + uvs (8 bytes each) and two index quads.
                 cells.saturating_mul((d + 3 + 2) * 8 + 64)
+            }
+            Ok(CellKind::Volume) => {
+                // A volume's leaves are meshed by their faces (six for a hexahedron), welded.
+                let cells =
+                    self.pieces.pieces.iter().fold(0u128, |n, p| n.saturating_add(self.face_cells(p.state, depth)));
+                cells.saturating_mul(6 * 4 * (8 * d + 16))
             }
             _ => self
                 .pieces

@@ -3,6 +3,7 @@
 /// The automata shipped in `automata/`: `(name, file text)`.
 pub const BUILTIN_AUTOMATA: &[(&str, &str)] = &[
     ("cantor", include_str!("../../automata/cantor.toml")),
+    ("cantor_dust", include_str!("../../automata/cantor_dust.toml")),
     ("carpet", include_str!("../../automata/carpet.toml")),
     ("corner_cutting", include_str!("../../automata/corner_cutting.toml")),
     ("curve_4_3", include_str!("../../automata/curve_4_3.toml")),
@@ -14,4 +15,6 @@ pub const BUILTIN_AUTOMATA: &[(&str, &str)] = &[
     ("gasket_lace", include_str!("../../automata/gasket_lace.toml")),
     ("koch", include_str!("../../automata/koch.toml")),
     ("levy", include_str!("../../automata/levy.toml")),
+    ("menger", include_str!("../../automata/menger.toml")),
+    ("sierpinski_tetrahedron", include_str!("../../automata/sierpinski_tetrahedron.toml")),
 ];

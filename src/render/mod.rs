@@ -47,8 +47,8 @@ pub use picture::{
 pub use crate::report::{
     CheckReport, CheckReportError, CurveAnalysis, DIMENSION_MEMORY, DimensionReport, LacunarityReport, ParameterRange,
     REGIONS, ReportError, Residual, Rounding, SolveReport, SweepKind, SweepValues, TopologyReport, check_report,
-    curve_analysis, curve_halves, dimension_report, dimension_within, lacunarity_report, model_of, parameter_ranges,
-    solve_report, sweep, sweep_cancellable, sweep_colour, sweep_csv, sweep_image, topology_report,
+    curve_analysis, curve_halves, dimension_report, dimension_within, lacunarity_depth, lacunarity_report, model_of,
+    parameter_ranges, solve_report, sweep, sweep_cancellable, sweep_colour, sweep_csv, sweep_image, topology_report,
 };
 pub use crate::report::{angle_colour, dimension_colour, region_colour, verdict_colour};
 pub use shape::{control_net, write_shape};

@@ -11,7 +11,7 @@ use crate::geometry::{Shape, fan};
 /// What the holes of a design's attractor are.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct LacunarityReport {
-    /// The dimension measured: 2 (faces: area), 1 (curves: length).
+    /// The dimension measured: 3 (volumes: volume), 2 (faces: area), 1 (curves: length).
     pub dimension: usize,
     /// Per depth from 1: the fraction of the depth-0 cell's measure (area or length) that the
     /// depth-k cells leave empty (`1 − (8/9)^k` for the carpet, `1 − (2/3)^k` for the Cantor set).
@@ -22,6 +22,18 @@ pub struct LacunarityReport {
     /// an `r`-box (`M` the occupied cells it holds); `Λ(1)` is one over the filled fraction and
     /// `Λ` falls to 1 at the grid's side.
     pub lacunarity: Vec<[f64; 2]>,
+}
+
+/// The depth a lacunarity report goes to unless asked: 5, or 4 for a solid
+/// (its depth-5 cells are 20⁵ for the Menger sponge).
+pub fn lacunarity_depth(design: &Design) -> usize {
+    let solid = || -> Option<bool> {
+        let instance = instantiate(design, &[]).ok()?;
+        let model = super::error::model_of(design).ok()?;
+        let ev = crate::eval::Evaluator::new(&instance.automaton, &model, crate::eval::EvalSettings::default()).ok()?;
+        Some(ev.volumes())
+    };
+    if solid().unwrap_or(false) { 4 } else { 5 }
 }
 
 /// The porosity of `design` at depths 1 to `depth` and its lacunarity curve at `depth`.
@@ -43,11 +55,12 @@ pub fn lacunarity_report(
     use crate::eval::{EvalSettings, Evaluator};
     let instance = instantiate(design, params)?;
     let model = super::error::model_of(design)?;
-    let shape_at = |k: usize| -> Result<Shape, ReportError> {
-        Ok(Evaluator::new(&instance.automaton, &model, EvalSettings::default().with_depth(k))?.evaluate()?)
-    };
+    let evaluator = |k: usize| Evaluator::new(&instance.automaton, &model, EvalSettings::default().with_depth(k));
+    let solid = evaluator(0)?.volumes();
+    let shape_at = |k: usize| -> Result<Shape, ReportError> { Ok(evaluator(k)?.evaluate()?) };
+    let measured = |shape: &Shape| if solid { (3, super::solid_holes::volume(shape)) } else { measure(shape) };
     let whole = shape_at(0)?;
-    let (dimension, total) = measure(&whole);
+    let (dimension, total) = measured(&whole);
     if dimension == 0 || total <= 0.0 {
         return Err(ReportError::Unsupported(format!(
             "{}: its cells are points, with no length or area to leave empty",
@@ -58,7 +71,12 @@ pub fn lacunarity_report(
     let mut deepest = whole;
     for k in 1..=depth.max(1) {
         deepest = shape_at(k)?;
-        porosity.push(1.0 - measure(&deepest).1 / total);
+        porosity.push(1.0 - measured(&deepest).1 / total);
+    }
+    if solid {
+        let (grid, occupied) = super::solid_holes::voxels(&deepest);
+        let lacunarity = super::solid_holes::gliding_box(&occupied, grid);
+        return Ok(LacunarityReport { dimension, porosity, grid, lacunarity });
     }
     let (grid, occupied) = raster(&deepest, dimension);
     Ok(LacunarityReport { dimension, porosity, grid, lacunarity: gliding_box(&occupied, grid, dimension) })

@@ -13,7 +13,9 @@ mod curve;
 mod dimension;
 mod error;
 mod family;
+mod homology;
 mod lacunarity;
+mod solid_holes;
 mod sweep;
 mod topology;
 
@@ -24,6 +26,6 @@ pub use dimension::{
 };
 pub use error::{ReportError, model_of};
 pub use family::{CheckReport, CheckReportError, Residual, Rounding, SolveReport, check_report, solve_report};
-pub use lacunarity::{LacunarityReport, lacunarity_report};
+pub use lacunarity::{LacunarityReport, lacunarity_depth, lacunarity_report};
 pub use sweep::{REGIONS, SWEEP_DEPTH, SWEEP_MEMORY, SweepKind, SweepValues, sweep, sweep_cancellable, sweep_csv};
 pub use topology::{TopologyReport, topology_of, topology_report};

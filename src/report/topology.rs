@@ -15,9 +15,9 @@ use crate::geometry::Shape;
 pub struct TopologyReport {
     /// The depth.
     pub depth: usize,
-    /// The cells of the union's top dimension: faces (quads and triangles), segments, or points.
+    /// The cells of the union's top dimension: volumes, faces (quads and triangles), segments, or points.
     pub cells: usize,
-    /// The dimension of those cells: 2, 1 or 0.
+    /// The dimension of those cells: 3, 2, 1 or 0.
     pub dimension: usize,
     /// Distinct vertices.
     pub vertices: usize,
@@ -25,10 +25,11 @@ pub struct TopologyReport {
     pub edges: usize,
     /// Connected components (`b0`).
     pub components: usize,
-    /// `V − E + F`.
+    /// `V − E + F` (`− C` for volumes).
     pub euler: i64,
-    /// `[b0, b1, b2]`: components, independent loops (holes of a lace), enclosed voids
-    /// (closed surfaces: `b2` is the number of components every edge of which has two faces).
+    /// `[b0, b1, b2]`: components, independent loops (holes of a lace, tunnels of a
+    /// solid), enclosed voids (closed surfaces: `b2` is the number of components every
+    /// edge of which has two faces; solids: the ranks of their complex's boundary maps).
     pub betti: [i64; 3],
     /// Vertices where the cells meet at a single point (a pinch), the union not a manifold there.
     pub pinches: usize,
@@ -50,6 +51,10 @@ pub fn topology_report(design: &Design, params: &[(String, f64)], depth: usize) 
     let instance = instantiate(design, params)?;
     let model = super::error::model_of(design)?;
     let ev = Evaluator::new(&instance.automaton, &model, EvalSettings::default().with_depth(depth))?;
+    let cells = ev.volume_cells(depth)?;
+    if !cells.is_empty() {
+        return Ok(super::homology::solid(&cells, depth));
+    }
     let shape = ev.evaluate()?;
     Ok(topology_of(&shape, depth))
 }

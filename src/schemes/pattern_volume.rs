@@ -239,10 +239,10 @@ fn glue(b: &mut DesignBuilder, split: &[usize], kept: &[Vec<usize>], keep: &[boo
                 arrows.join(" ")
             };
             let yu: Vec<usize> = y.iter().map(|&i| i as usize).collect();
-            let (what, shared) = if moved.len() == 2 { ("an edge", "edge") } else { ("a corner", "corner") };
+            let (what, shared) = if moved.len() == 2 { ("along an edge", "edge") } else { ("at a corner", "corner") };
             let (px, py) = (path(true), path(false));
             b.adjacency(format!("{} {px} = {} {py}", sub(&axes, x), sub(&axes, &yu))).explain(format!(
-                "{} and {} touch along {what} only (a pinch): they share that {shared}.",
+                "{} and {} touch {what} only (a pinch): they share that {shared}.",
                 show(x),
                 show(&yu)
             ));

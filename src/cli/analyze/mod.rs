@@ -100,9 +100,9 @@ pub enum AnalyzeCommand {
         /// A parameter value, NAME=VALUE (repeatable).
         #[arg(long = "param", value_name = "NAME=VALUE")]
         params: Vec<String>,
-        /// The deepest depth (porosity at depths 1 to K, lacunarity at K).
-        #[arg(long, default_value_t = 5)]
-        depth: usize,
+        /// The deepest depth (porosity at depths 1 to K, lacunarity at K); default 5, 4 for a solid.
+        #[arg(long)]
+        depth: Option<usize>,
         /// Print JSON: dimension, porosity (one value per depth from 1), grid, lacunarity ([r, Λ(r)] pairs).
         #[arg(long)]
         json: bool,
@@ -369,13 +369,18 @@ fn report_on<R>(
 }
 
 /// `bcifs analyze lacunarity`.
-fn run_lacunarity(out: &mut String, file: &str, params: &[String], depth: usize, as_json: bool) -> Result<u8> {
-    let (design, l) = report_on(file, params, |d, v| bcifs::render::lacunarity_report(d, v, depth))?;
+fn run_lacunarity(out: &mut String, file: &str, params: &[String], depth: Option<usize>, as_json: bool) -> Result<u8> {
+    let mut used = 0;
+    let (design, l) = report_on(file, params, |d, v| {
+        used = depth.unwrap_or_else(|| bcifs::render::lacunarity_depth(d));
+        bcifs::render::lacunarity_report(d, v, used)
+    })?;
+    let depth = used;
     if as_json {
         writeln!(out, "{}", serde_json::to_string_pretty(&l)?)?;
         return Ok(0);
     }
-    let what = if l.dimension == 2 { "area" } else { "length" };
+    let what = ["length", "length", "area", "volume"][l.dimension.min(3)];
     writeln!(out, "{}: porosity (the {what} the depth-k cells leave empty)", design.name())?;
     for (k, p) in l.porosity.iter().enumerate() {
         writeln!(out, "  depth {}: {p:.6}", k + 1)?;
@@ -394,7 +399,7 @@ fn run_topology(out: &mut String, file: &str, params: &[String], depth: usize, a
         writeln!(out, "{}", serde_json::to_string_pretty(&t)?)?;
         return Ok(0);
     }
-    let kind = ["points", "segments", "faces"][t.dimension.min(2)];
+    let kind = ["points", "segments", "faces", "volumes"][t.dimension.min(3)];
     writeln!(
         out,
         "{} at depth {}: {} {kind}, {} vertices, {} edges",

@@ -1,0 +1,285 @@
+//! Volume patterns (issue 44): hexahedra and tetrahedra split into kept
+//! sub-cells make porous solids whose depth-k cells have the topology the
+//! pattern implies, checked against counts made here on the pattern's own
+//! voxel grid (not by the library's code), and whose boundary mesh is closed.
+
+use std::collections::{HashMap, HashSet};
+
+use bcifs::render::topology_report;
+use bcifs::schemes::{Pattern, PatternCell, PatternError, pattern_design};
+
+/// The Menger sponge's mask: a cell is kept unless two of its coordinates are the middle one.
+const MENGER: &str = "111101111101000101111101111";
+
+/// The voxels of a hexahedron pattern's depth-`k` cells on the grid of `split^k` a side (3 × 3 × 3 splits).
+fn voxels(mask: &str, k: u32) -> (usize, HashSet<[usize; 3]>) {
+    let keep: Vec<bool> = mask.chars().map(|c| c == '1').collect();
+    let side = 3usize.pow(k);
+    let mut out = HashSet::new();
+    for z in 0..side {
+        for y in 0..side {
+            for x in 0..side {
+                let (mut a, mut b, mut c, mut kept) = (x, y, z, true);
+                for _ in 0..k {
+                    kept &= keep[(c % 3) * 9 + (b % 3) * 3 + a % 3];
+                    (a, b, c) = (a / 3, b / 3, c / 3);
+                }
+                if kept {
+                    out.insert([x, y, z]);
+                }
+            }
+        }
+    }
+    (side, out)
+}
+
+/// The Euler characteristic of a union of closed unit cubes (its distinct
+/// vertices, edges, squares and cubes), its components (cubes touching at
+/// least at a corner), and its cavities (the complement's components that do
+/// not reach the outside): the Betti numbers follow, `b1 = b0 + b2 − χ`.
+fn cube_topology(side: usize, cubes: &HashSet<[usize; 3]>) -> (i64, [i64; 3]) {
+    // Cells of the cubical complex by doubled coordinates: a vertex has all even, a cube all odd.
+    let mut cells: HashSet<[usize; 3]> = HashSet::new();
+    for c in cubes {
+        for dz in 0..3 {
+            for dy in 0..3 {
+                for dx in 0..3 {
+                    cells.insert([2 * c[0] + dx, 2 * c[1] + dy, 2 * c[2] + dz]);
+                }
+            }
+        }
+    }
+    let euler: i64 =
+        cells.iter().map(|p| if p.iter().filter(|&&x| x % 2 == 1).count() % 2 == 0 { 1 } else { -1 }).sum();
+    let flood = |start: Vec<[isize; 3]>, inside: &dyn Fn([isize; 3]) -> bool, seen: &mut HashSet<[isize; 3]>| {
+        let mut stack = start;
+        while let Some(p) = stack.pop() {
+            if !inside(p) || !seen.insert(p) {
+                continue;
+            }
+            for a in 0..3 {
+                for s in [-1, 1] {
+                    let mut q = p;
+                    q[a] += s;
+                    stack.push(q);
+                }
+            }
+        }
+    };
+    // Components: cubes touching at a corner are joined (26-neighbours).
+    let mut parts = 0;
+    let mut seen: HashSet<[usize; 3]> = HashSet::new();
+    for c in cubes {
+        if seen.contains(c) {
+            continue;
+        }
+        parts += 1;
+        let mut stack = vec![*c];
+        while let Some(p) = stack.pop() {
+            if !seen.insert(p) {
+                continue;
+            }
+            for d in 0..27usize {
+                let q = [p[0] + d % 3, p[1] + d / 3 % 3, p[2] + d / 9].map(|x| x.wrapping_sub(1));
+                if cubes.contains(&q) {
+                    stack.push(q);
+                }
+            }
+        }
+    }
+    // Cavities: empty voxels (face-neighbours) not reached from a padding layer around the box.
+    let n = side as isize;
+    let empty = |p: [isize; 3]| {
+        p.iter().all(|&x| (-1..=n).contains(&x))
+            && !(p.iter().all(|&x| (0..n).contains(&x)) && cubes.contains(&p.map(|x| x as usize)))
+    };
+    let mut outside = HashSet::new();
+    flood(vec![[-1, -1, -1]], &empty, &mut outside);
+    let mut cavities = 0;
+    let mut inner = HashSet::new();
+    for z in 0..n {
+        for y in 0..n {
+            for x in 0..n {
+                let p = [x, y, z];
+                if empty(p) && !outside.contains(&p) && !inner.contains(&p) {
+                    cavities += 1;
+                    flood(vec![p], &empty, &mut inner);
+                }
+            }
+        }
+    }
+    (euler, [parts, parts + cavities - euler, cavities])
+}
+
+/// The volume a closed outward mesh encloses (the divergence theorem).
+fn enclosed_volume(shape: &bcifs::geometry::Shape) -> f64 {
+    let tri = shape.quads.iter().flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]]);
+    tri.chain(shape.triangles.iter().map(|t| t.map(|v| v as u32)))
+        .map(|t| {
+            let [a, b, c] = t.map(|v| shape.point(v as usize));
+            a[0] * (b[1] * c[2] - b[2] * c[1]) + a[1] * (b[2] * c[0] - b[0] * c[2]) + a[2] * (b[0] * c[1] - b[1] * c[0])
+        })
+        .sum::<f64>()
+        / 6.0
+}
+
+/// Every edge of a mesh has two faces, used once in each direction (closed and consistently oriented).
+fn closed_and_oriented(shape: &bcifs::geometry::Shape) -> bool {
+    let mut directed: HashMap<(usize, usize), usize> = HashMap::new();
+    let faces =
+        shape.quads.iter().map(|q| q.map(|v| v as usize).to_vec()).chain(shape.triangles.iter().map(|t| t.to_vec()));
+    for f in faces {
+        for k in 0..f.len() {
+            *directed.entry((f[k], f[(k + 1) % f.len()])).or_default() += 1;
+        }
+    }
+    directed.iter().all(|(&(a, b), &n)| n == 1 && directed.get(&(b, a)) == Some(&1))
+}
+
+#[test]
+fn the_menger_sponge_has_20_to_the_k_cubes_and_the_genus_its_voxels_give() {
+    let menger = bcifs::builtin_design("menger").unwrap();
+    let family = bcifs::solve(&menger).unwrap();
+    assert!(!family.parameters.is_empty(), "the split points are free");
+    for k in 1..=3u32 {
+        let t = topology_report(&menger, &[], k as usize).unwrap();
+        let (side, cubes) = voxels(MENGER, k);
+        assert_eq!(t.cells, 20usize.pow(k), "depth {k}");
+        assert_eq!(cubes.len(), t.cells);
+        let (euler, betti) = cube_topology(side, &cubes);
+        assert_eq!((t.euler, t.betti), (euler, betti), "depth {k}");
+        assert_eq!(t.pinches, 0);
+        // The boundary mesh is closed, oriented outward, and holds (20/27)^k of the cube.
+        let shape = crate::evaluate(&menger, k as usize);
+        assert!(closed_and_oriented(&shape), "depth {k}");
+        let volume = enclosed_volume(&shape);
+        assert!((volume - (20.0f64 / 27.0).powi(k as i32)).abs() < 1e-12, "depth {k}: {volume}");
+        // A closed surface of genus g bounds a solid of χ = 1 − g: χ(surface) = 2χ(solid).
+        let faces = shape.quads.len() as i64;
+        let mut edges = HashSet::new();
+        for q in &shape.quads {
+            for i in 0..4 {
+                let (a, b) = (q[i], q[(i + 1) % 4]);
+                edges.insert((a.min(b), a.max(b)));
+            }
+        }
+        let used: HashSet<u32> = shape.quads.iter().flatten().copied().collect();
+        assert_eq!(used.len() as i64 - edges.len() as i64 + faces, 2 * euler, "depth {k}");
+    }
+    assert_eq!(topology_report(&menger, &[], 1).unwrap().betti, [1, 5, 0], "the level-1 sponge has genus 5");
+    // Its similarity dimension is log 20 / log 3, and it converges.
+    let d = bcifs::render::dimension_report(&menger, &[]).unwrap();
+    assert!((d.similarity.unwrap() - 20f64.ln() / 3f64.ln()).abs() < 1e-9, "{:?}", d.similarity);
+    assert_eq!(bcifs::render::check_report(&menger, &[]).unwrap().converges, Some(true));
+}
+
+#[test]
+fn other_members_move_the_holes_and_keep_the_topology() {
+    // Any member of the family (the split points moved: a Jerusalem-cube-like sponge with bigger
+    // corners, or a rough one) has the topology of the pattern: the constraints, not the numbers, make it.
+    let menger = bcifs::builtin_design("menger").unwrap();
+    let family = bcifs::solve(&menger).unwrap();
+    let defaults = family.parameter_values(&[]).unwrap();
+    let moved: Vec<(String, f64)> = family
+        .parameter_names()
+        .iter()
+        .zip(&defaults)
+        .enumerate()
+        .map(|(i, (n, v))| (n.to_string(), v + 0.02 * ((i * 7919 % 13) as f64 / 13.0 - 0.5)))
+        .collect();
+    for k in 1..=2 {
+        let t = topology_report(&menger, &moved, k).unwrap();
+        let (side, cubes) = voxels(MENGER, k as u32);
+        assert_eq!((t.euler, t.betti), cube_topology(side, &cubes), "depth {k}");
+    }
+    let d = topology_report(&menger, &moved, 1).unwrap();
+    assert_eq!(d.betti, [1, 5, 0]);
+}
+
+#[test]
+fn the_sierpinski_tetrahedron_touches_at_points_and_cantor_dust_falls_apart() {
+    let tetra = bcifs::builtin_design("sierpinski_tetrahedron").unwrap();
+    for k in 1..=4usize {
+        let t = topology_report(&tetra, &[], k).unwrap();
+        let n = 4i64.pow(k as u32);
+        // 4^k tetrahedra glued at 2(4^k − 1) points, each shared by two: a graph of loops.
+        let contacts = 2 * (n - 1);
+        assert_eq!(t.cells as i64, n, "depth {k}");
+        assert_eq!(t.pinches as i64, contacts, "depth {k}: every contact is a pinch");
+        assert_eq!(t.betti, [1, contacts - (n - 1), 0], "depth {k}");
+    }
+    // The classical member: the corners of the depth-1 cells are the tetrahedron's edge midpoints.
+    let shape = crate::evaluate(&tetra, 1);
+    let model = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.5, 3f64.sqrt() / 2.0, 0.0],
+        [0.5, 3f64.sqrt() / 6.0, (2.0f64 / 3.0).sqrt()],
+    ];
+    for i in 0..4 {
+        for j in i + 1..4 {
+            let mid: Vec<f64> = (0..3).map(|a| (model[i][a] + model[j][a]) / 2.0).collect();
+            assert!(
+                (0..shape.vertex_count()).any(|v| (0..3).all(|a| (shape.point(v)[a] - mid[a]).abs() < 1e-12)),
+                "the middle of edge {i}{j}"
+            );
+        }
+    }
+    let dust = bcifs::builtin_design("cantor_dust").unwrap();
+    for k in 1..=3usize {
+        let t = topology_report(&dust, &[], k).unwrap();
+        let n = 8i64.pow(k as u32);
+        assert_eq!((t.components as i64, t.betti), (n, [n, 0, 0]), "depth {k}: separate cubes");
+        assert!(closed_and_oriented(&crate::evaluate(&dust, k)));
+    }
+}
+
+#[test]
+fn contacts_along_an_edge_or_at_a_corner_are_generated_and_said() {
+    // Two cubes of a 2×2×2 split touching along an edge only, and two touching at a corner only.
+    for (mask, what) in [("10000010", "along an edge only"), ("10000001", "at a corner only")] {
+        let pattern = Pattern::parse(PatternCell::Hexahedron, "2x2x2", Some(mask), 2).unwrap();
+        let design = pattern_design(&pattern, "touching").unwrap();
+        let text = bcifs::write_design(&design);
+        assert!(text.contains(&format!("touch {what} (a pinch)")), "{mask}: {text}");
+        bcifs::solve(&design).unwrap();
+        let t = topology_report(&design, &[], 1).unwrap();
+        assert_eq!((t.cells, t.components, t.betti), (2, 1, [1, 0, 0]), "{mask}");
+        assert!(t.pinches >= 1, "{mask}: {t:?}");
+        // The cells really share the contact at every depth: still one piece at depth 2.
+        assert_eq!(topology_report(&design, &[], 2).unwrap().components, 1, "{mask}");
+    }
+    // A full 2×2×2 split is the cube: no pinch, no hole; its boundary encloses the unit cube.
+    let full = pattern_design(&Pattern::parse(PatternCell::Hexahedron, "2x2x3", None, 3).unwrap(), "full").unwrap();
+    let t = topology_report(&full, &[], 2).unwrap();
+    assert_eq!((t.cells, t.betti, t.pinches), (144, [1, 0, 0], 0));
+    assert!((enclosed_volume(&crate::evaluate(&full, 2)) - 1.0).abs() < 1e-12);
+}
+
+#[test]
+fn volume_patterns_refuse_what_does_not_fit() {
+    let e = Pattern::parse(PatternCell::Hexahedron, "3x3", None, 2).unwrap_err();
+    assert!(matches!(e, PatternError::Split { .. }) && e.to_string().contains("KxLxM"), "{e}");
+    let e = Pattern::parse(PatternCell::Hexahedron, "3x3x3", Some("1111"), 2).unwrap_err();
+    assert!(matches!(e, PatternError::Mask { expected: 27, .. }), "{e}");
+    let e = Pattern::parse(PatternCell::Tetrahedron, "3", None, 2).unwrap_err();
+    assert!(matches!(e, PatternError::Split { .. }), "{e}");
+    let e = Pattern::parse(PatternCell::Tetrahedron, "2", None, 3).unwrap_err();
+    assert!(matches!(e, PatternError::Degree(3)), "{e}");
+    let e = Pattern::parse(PatternCell::Hexahedron, "3x3x3", Some(&"0".repeat(27)), 2).unwrap_err();
+    assert!(matches!(e, PatternError::Empty), "{e}");
+}
+
+#[test]
+fn solids_are_porous_by_their_volume() {
+    let l = bcifs::render::lacunarity_report(&bcifs::builtin_design("menger").unwrap(), &[], 3).unwrap();
+    assert_eq!(l.dimension, 3);
+    for (k, p) in l.porosity.iter().enumerate() {
+        assert!((p - (1.0 - (20.0f64 / 27.0).powi(k as i32 + 1))).abs() < 1e-12, "depth {}: {p}", k + 1);
+    }
+    // Λ(1) is one over the filled fraction, sampled in 81³ voxels (a sampling error of well under 1%).
+    let expected = (27.0f64 / 20.0).powi(3);
+    assert!((l.lacunarity[0][1] / expected - 1.0).abs() < 0.01, "{:?}", l.lacunarity);
+    assert!((l.lacunarity.last().unwrap()[1] - 1.0).abs() < 1e-12);
+    assert_eq!(bcifs::render::lacunarity_depth(&bcifs::builtin_design("menger").unwrap()), 4);
+}
