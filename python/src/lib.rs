@@ -488,9 +488,10 @@ fn report_at<'py, R: serde::Serialize + Send>(
 }
 
 /// The automaton of a subdivision pattern (as `bcifs new pattern`): `cell`
-/// (`"segment"`, `"quad"`, `"triangle"`), `split` (`3`, `"3x3"` or `(3, 3)`),
-/// `keep` (`"111101111"` or a sequence of 0/1 or booleans, u fastest; all
-/// kept when `None`), `degree` (control points per direction, 2 to 4).
+/// (`"segment"`, `"quad"`, `"triangle"`, `"hexahedron"`, `"tetrahedron"`),
+/// `split` (`3`, `"3x3"`, `(3, 3, 3)`; 2 for a tetrahedron), `keep`
+/// (`"111101111"` or a sequence of 0/1 or booleans, u fastest, then v, then
+/// w; all kept when `None`), `degree` (control points per direction, 2 to 4).
 #[pyfunction]
 #[pyo3(signature = (cell, split, keep=None, degree=2, name="pattern"))]
 fn pattern(
@@ -501,8 +502,9 @@ fn pattern(
     name: &str,
 ) -> PyResult<Design> {
     use bcifs::render::{Pattern, PatternCell};
-    let cell = PatternCell::named(cell)
-        .ok_or_else(|| err(format!("cell=`{cell}`: expected \"segment\", \"quad\" or \"triangle\"")))?;
+    let cell = PatternCell::named(cell).ok_or_else(|| {
+        err(format!("cell=`{cell}`: expected \"segment\", \"quad\", \"triangle\", \"hexahedron\" or \"tetrahedron\""))
+    })?;
     let split: String = match split.extract::<String>() {
         Ok(text) => text,
         Err(_) => match split.extract::<usize>() {

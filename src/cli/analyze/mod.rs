@@ -413,7 +413,7 @@ fn run_topology(out: &mut String, file: &str, params: &[String], depth: usize, a
     if t.pinches > 0 {
         writeln!(
             out,
-            "  {} pinch(es): cells meet at a point only there (the union is not a manifold; a mesh splits them to be printed)",
+            "  {} pinch(es): cells meet at a point or along an edge only there (the union is not a manifold: the meshes written keep the contact, a printer needs it split)",
             t.pinches
         )?;
     }
