@@ -6,7 +6,16 @@
 
 use std::collections::HashMap;
 
-use super::topology::TopologyReport;
+/// What [`solid`] counts (the topology report's numbers for a solid).
+pub(super) struct SolidCounts {
+    pub cells: usize,
+    pub vertices: usize,
+    pub edges: usize,
+    pub components: usize,
+    pub euler: i64,
+    pub betti: [i64; 3],
+    pub pinches: usize,
+}
 
 /// The complex of volume cells, each given by its faces (cycles of vertex numbers).
 struct Complex {
@@ -164,7 +173,7 @@ fn pinches(c: &Complex) -> usize {
 
 /// The topology of the union of volume `cells` (each its faces, cycles of
 /// vertex numbers shared where the cells are welded).
-pub(super) fn solid(cells: &[Vec<Vec<usize>>], depth: usize) -> TopologyReport {
+pub(super) fn solid(cells: &[Vec<Vec<usize>>]) -> SolidCounts {
     let c = Complex::of(cells);
     let (v, e, f, n) = (c.vertices, c.edges.len(), c.faces.len(), c.cells.len());
     let mut parent: Vec<u32> = (0..v as u32).collect();
@@ -181,10 +190,8 @@ pub(super) fn solid(cells: &[Vec<Vec<usize>>], depth: usize) -> TopologyReport {
     pivots.iter().for_each(|&p| skip[p as usize] = true);
     let (r2, _) = rank(&c.faces, e, &skip);
     let euler = v as i64 - e as i64 + f as i64 - n as i64;
-    TopologyReport {
-        depth,
+    SolidCounts {
         cells: n,
-        dimension: 3,
         vertices: v,
         edges: e,
         components,

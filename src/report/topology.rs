@@ -53,7 +53,18 @@ pub fn topology_report(design: &Design, params: &[(String, f64)], depth: usize) 
     let ev = Evaluator::new(&instance.automaton, &model, EvalSettings::default().with_depth(depth))?;
     let cells = ev.volume_cells(depth)?;
     if !cells.is_empty() {
-        return Ok(super::homology::solid(&cells, depth));
+        let c = super::homology::solid(&cells);
+        return Ok(TopologyReport {
+            depth,
+            cells: c.cells,
+            dimension: 3,
+            vertices: c.vertices,
+            edges: c.edges,
+            components: c.components,
+            euler: c.euler,
+            betti: c.betti,
+            pinches: c.pinches,
+        });
     }
     let shape = ev.evaluate()?;
     Ok(topology_of(&shape, depth))

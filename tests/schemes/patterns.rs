@@ -158,7 +158,7 @@ fn bad_patterns_are_refused_before_any_solving() {
         (["--cell", "quad", "--split", "3x2", "--keep", "101101"], "fall apart into 2 separate pieces"),
         (
             ["--cell", "triangle", "--split", "2", "--keep", "1011"],
-            "3 place(s) where kept sub-cells touch at a corner only",
+            "3 place(s) where kept sub-cells touch at a corner or along an edge only",
         ),
     ] {
         let out = std::process::Command::new(env!("CARGO_BIN_EXE_bcifs"))
