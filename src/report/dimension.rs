@@ -181,8 +181,11 @@ pub fn parameter_ranges(design: &Design) -> Result<Vec<ParameterRange>, ReportEr
     let family = solve(design).map_err(|e| ReportError::Unsupported(format!("{}: {e}", design.name())))?;
     let defaults =
         family.parameter_values(&[]).map_err(|e| ReportError::Unsupported(format!("{}: {e}", design.name())))?;
+    // The check's verdict (its joint spectral radius bounds), without the rest of the check.
     let converges = |name: &str, x: f64| {
-        super::family::check_report(design, &[(name.to_string(), x)]).ok().and_then(|r| r.converges).unwrap_or(false)
+        let Ok(instance) = crate::family::instantiate(design, &[(name.to_string(), x)]) else { return false };
+        let settings = crate::analysis::JsrSettings::default();
+        crate::analysis::jsr(&instance.automaton, &settings).ok().and_then(|j| j.verdict().converges()).unwrap_or(false)
     };
     // The parameters, and each one's two directions, on the pool's threads (a generated mesh
     // automaton has a dozen weights: 40 s for Suzanne's Catmull-Clark one a direction at a time).

@@ -138,9 +138,10 @@ impl Answer {
 
 impl Explorer {
     fn new(design: Design) -> Result<Explorer> {
-        if design.automaton().states().count() > 64 {
+        let many = bcifs::render::solve(&design).is_ok_and(|f| f.parameter_names().len() > 24);
+        if design.automaton().states().count() > 64 || many {
             eprintln!(
-                "explore: {}: finding each free parameter's convergence range (a minute on a large mesh)…",
+                "explore: {}: finding each free parameter's convergence range (a minute on a large mesh or family)…",
                 design.name()
             );
         }
