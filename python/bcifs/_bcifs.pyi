@@ -113,6 +113,7 @@ def pattern(
     keep: Optional[Union[str, Sequence[int], Sequence[bool]]] = None,
     degree: int = 2,
     name: str = "pattern",
+    at: Optional[Union[str, Sequence[Union[float, str, Fraction]]]] = None,
 ) -> Design: ...
 def lacunarity(design: Design, depth: Optional[int] = None, **params: float) -> dict[str, Any]: ...
 def subdivide(

@@ -491,15 +491,18 @@ fn report_at<'py, R: serde::Serialize + Send>(
 /// (`"segment"`, `"quad"`, `"triangle"`, `"hexahedron"`, `"tetrahedron"`),
 /// `split` (`3`, `"3x3"`, `(3, 3, 3)`; 2 for a tetrahedron), `keep`
 /// (`"111101111"` or a sequence of 0/1 or booleans, u fastest, then v, then
-/// w; all kept when `None`), `degree` (control points per direction, 2 to 4).
+/// w; all kept when `None`), `degree` (control points per direction, 2 to 4),
+/// `at` (where the default member splits each direction: `"2/5,3/5"`, or a
+/// sequence of numbers, `str`s or `Fraction`s; uniform when `None`).
 #[pyfunction]
-#[pyo3(signature = (cell, split, keep=None, degree=2, name="pattern"))]
+#[pyo3(signature = (cell, split, keep=None, degree=2, name="pattern", at=None))]
 fn pattern(
     cell: &str,
     split: &Bound<'_, PyAny>,
     keep: Option<&Bound<'_, PyAny>>,
     degree: usize,
     name: &str,
+    at: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<Design> {
     use bcifs::render::{Pattern, PatternCell};
     let cell = PatternCell::named(cell).ok_or_else(|| {
@@ -531,7 +534,16 @@ fn pattern(
                 .collect(),
         }),
     };
-    let pattern = Pattern::parse(cell, &split, keep.as_deref(), degree).map_err(err)?;
+    let mut pattern = Pattern::parse(cell, &split, keep.as_deref(), degree).map_err(err)?;
+    if let Some(at) = at {
+        let text = match at.extract::<String>() {
+            Ok(text) => text,
+            Err(_) => {
+                at.try_iter()?.map(|v| exact_value(&v?).map(|n| n.to_string())).collect::<PyResult<Vec<_>>>()?.join(",")
+            }
+        };
+        pattern = pattern.with_at(&text).map_err(err)?;
+    }
     Ok(Design { inner: pattern.design(name).map_err(err)? })
 }
 

@@ -662,3 +662,9 @@ def test_porous_solids_are_closed_manifolds_equal_to_boolean_modelling():
     assert (t["cells"], t["betti"], t["pinches"]) == (16, [1, 15, 0], 30)
     sponge = bcifs.pattern("hexahedron", (3, 3, 3), "111101111101000101111101111", name="m")
     assert sponge.to_toml().replace('name = "m"', 'name = "menger"').count("[[arrow]]") == menger.to_toml().count("[[arrow]]")
+    from fractions import Fraction
+
+    jerusalem = bcifs.pattern("hexahedron", (3, 3, 3), "111101111101000101111101111", at=[Fraction(2, 5), "3/5"])
+    assert jerusalem.mesh(depth=1).to_trimesh().volume == pytest.approx(0.896, abs=1e-12)
+    with pytest.raises(bcifs.BcifsError, match="split points"):
+        bcifs.pattern("hexahedron", (3, 3, 3), at="3/5,2/5")

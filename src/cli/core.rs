@@ -35,7 +35,7 @@ pub enum Topology {
     /// (the Cantor set, laces such as the Sierpiński carpet); every state, arrow and constraint generated
     Pattern {
         /// A pattern file (TOML: cell, split, keep, degree, name) instead of the flags below.
-        #[arg(long, conflicts_with_all = ["cell", "split", "keep", "degree", "name"])]
+        #[arg(long, conflicts_with_all = ["cell", "split", "keep", "degree", "name", "at"])]
         from: Option<std::path::PathBuf>,
         /// Print the pattern file of the flags instead of the automaton.
         #[arg(long)]
@@ -53,6 +53,10 @@ pub enum Topology {
         /// Control points per direction: 2 (linear), 3 (quadratic) or 4 (cubic).
         #[arg(long, default_value_t = 2)]
         degree: usize,
+        /// Where the default member splits each direction: its K − 1 inner points (default uniform);
+        /// `2/5,3/5` with the Menger mask makes a Jerusalem-cube-like sponge.
+        #[arg(long, value_name = "POINTS")]
+        at: Option<String>,
         /// The design's name.
         #[arg(long, default_value = "pattern")]
         name: String,
@@ -199,14 +203,15 @@ pub fn run_new(out: &mut String, topology: Topology) -> Result<u8> {
     let design = match topology {
         Topology::Curve { points, vertex, arity } => curve(points, vertex, arity)?,
         Topology::QuadPatch { symmetric } => quad_patch(symmetric)?,
-        Topology::Pattern { from, file, cell, split, keep, degree, name } => {
+        Topology::Pattern { from, file, cell, split, keep, degree, name, at } => {
             let (pattern, name) = match from {
                 Some(path) => bcifs::render::Pattern::read(&path)?,
                 None => {
                     let cell = bcifs::render::PatternCell::named(&cell).ok_or_else(|| {
                         anyhow::anyhow!("--cell `{cell}`: expected segment, quad, triangle, hexahedron or tetrahedron")
                     })?;
-                    (bcifs::render::Pattern::parse(cell, &split, keep.as_deref(), degree)?, name)
+                    let pattern = bcifs::render::Pattern::parse(cell, &split, keep.as_deref(), degree)?;
+                    (if let Some(at) = &at { pattern.with_at(at)? } else { pattern }, name)
                 }
             };
             if file {

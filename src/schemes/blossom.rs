@@ -11,7 +11,13 @@ use num_traits::{One, Zero};
 /// repeated `j` times, for the part `[a, b] = [i/n, (i+1)/n]`).
 pub fn bezier_part(d: usize, i: usize, n: usize) -> Vec<Vec<BigRational>> {
     let at = |x: usize| BigRational::new(BigInt::from(x), BigInt::from(n));
-    let (a, b) = (at(i), at(i + 1));
+    bezier_between(d, &at(i), &at(i + 1))
+}
+
+/// The matrix of the part `[a, b]` of a Bézier curve of `d` control points
+/// over `[0, 1]` (as [`bezier_part`], for any split points).
+pub fn bezier_between(d: usize, a: &BigRational, b: &BigRational) -> Vec<Vec<BigRational>> {
+    let (a, b) = (a.clone(), b.clone());
     let mut m = vec![vec![BigRational::zero(); d]; d];
     for j in 0..d {
         let args: Vec<BigRational> =

@@ -92,6 +92,12 @@ pub struct Pattern {
     pub keep: Vec<bool>,
     /// Control points along each direction, 2 to 4 (linear to cubic).
     pub degree: usize,
+    /// Where the classical member splits each direction (its `k − 1` inner
+    /// points, increasing in `(0, 1)`); empty: uniformly (`1/k, 2/k, …`).
+    /// One list serves every direction. Only the defaults change: the family
+    /// is the same, its default member another (a Jerusalem-cube-like sponge
+    /// splits at `2/5, 3/5`).
+    pub at: Vec<BigRational>,
 }
 
 /// A pattern that makes no automaton.
@@ -140,6 +146,11 @@ pub enum PatternError {
         /// The limit.
         max: usize,
     },
+    /// Split points that do not fit.
+    #[error(
+        "split points `{0}`: give the k − 1 inner points of a k-part split, increasing inside (0, 1), as numbers or fractions (`2/5,3/5`); every direction must have k parts; not for triangles or tetrahedra"
+    )]
+    At(String),
     /// A pattern file that does not read.
     #[error("{0}")]
     File(String),
@@ -173,7 +184,7 @@ impl Pattern {
                 })
                 .collect::<Result<_, _>>()?,
         };
-        let pattern = Pattern { cell, split: parts, keep, degree };
+        let pattern = Pattern { cell, split: parts, keep, degree, at: Vec::new() };
         pattern.check()?;
         Ok(pattern)
     }
@@ -204,6 +215,7 @@ impl Pattern {
             keep: Option<Keep>,
             degree: Option<usize>,
             name: Option<String>,
+            at: Option<String>,
         }
         #[derive(serde::Deserialize)]
         #[serde(untagged)]
@@ -224,7 +236,10 @@ impl Pattern {
             PatternError::File(format!("{file}{place}: {}", e.message()))
         })?;
         let cell = PatternCell::named(&f.cell).ok_or_else(|| {
-            PatternError::File(format!("{file}: cell `{}`: expected segment, quad or triangle", f.cell))
+            PatternError::File(format!(
+                "{file}: cell `{}`: expected segment, quad, triangle, hexahedron or tetrahedron",
+                f.cell
+            ))
         })?;
         let split = match f.split {
             Split::Text(t) => t,
@@ -235,7 +250,10 @@ impl Pattern {
             Keep::Text(t) => t,
             Keep::Rows(rows) => rows.concat(),
         });
-        let pattern = Pattern::parse(cell, &split, keep.as_deref(), f.degree.unwrap_or(2))?;
+        let mut pattern = Pattern::parse(cell, &split, keep.as_deref(), f.degree.unwrap_or(2))?;
+        if let Some(at) = &f.at {
+            pattern = pattern.with_at(at)?;
+        }
         Ok((pattern, f.name.unwrap_or_else(|| "pattern".into())))
     }
 
@@ -252,12 +270,40 @@ impl Pattern {
     /// The pattern file of this pattern (what [`Pattern::from_toml`] reads).
     pub fn to_toml(&self, name: &str) -> String {
         let split = self.split.iter().map(ToString::to_string).collect::<Vec<_>>().join("x");
+        let at = if self.at.is_empty() { String::new() } else { format!("at = {:?}\n", self.at_text()) };
         format!(
-            "# A subdivision pattern: `bcifs new pattern --from FILE` prints its automaton.\nname = {name:?}\ncell = {:?}\nsplit = {split:?}\nkeep = {:?}\ndegree = {}\n",
+            "# A subdivision pattern: `bcifs new pattern --from FILE` prints its automaton.\nname = {name:?}\ncell = {:?}\nsplit = {split:?}\nkeep = {:?}\ndegree = {}\n{at}",
             self.cell.name(),
             self.mask(),
             self.degree
         )
+    }
+
+    /// The split points as written (`2/5,3/5`).
+    pub fn at_text(&self) -> String {
+        self.at.iter().map(ToString::to_string).collect::<Vec<_>>().join(",")
+    }
+
+    /// The same pattern, its classical member split at the points `at`
+    /// (`"2/5,3/5"`: the inner split points of every direction, exact).
+    ///
+    /// # Errors
+    /// [`PatternError::At`]: not numbers, not increasing inside `(0, 1)`, not `k − 1` of them.
+    pub fn with_at(mut self, at: &str) -> Result<Pattern, PatternError> {
+        let bad = || PatternError::At(at.to_string());
+        let points: Vec<BigRational> = at
+            .split(',')
+            .map(|t| t.trim().parse::<Num>().ok().and_then(|n| n.as_rational()).ok_or_else(bad))
+            .collect::<Result<_, _>>()?;
+        let zero = BigRational::from_integer(0.into());
+        let inside = points.iter().all(|p| *p > zero && *p < BigRational::one());
+        let increasing = points.windows(2).all(|w| w[0] < w[1]);
+        let corners_only = matches!(self.cell, PatternCell::Triangle | PatternCell::Tetrahedron);
+        if corners_only || !inside || !increasing || self.split.iter().any(|&k| k != points.len() + 1) {
+            return Err(bad());
+        }
+        self.at = points;
+        Ok(self)
     }
 
     /// Checks the pattern before anything is generated.
@@ -369,10 +415,11 @@ pub fn pattern_design(pattern: &Pattern, name: &str) -> Result<Design, PatternEr
         pattern.keep.len()
     ))
     .doc(format!(
-        "Generated by `bcifs new pattern --cell {} --split {split} --keep {} --degree {d}`: every state,\n\
+        "Generated by `bcifs new pattern --cell {} --split {split} --keep {} --degree {d}{}`: every state,\n\
          arrow and constraint below follows from the pattern (the sub-cells kept, {}).",
         pattern.cell.name(),
         pattern.mask(),
+        if pattern.at.is_empty() { String::new() } else { format!(" --at {}", pattern.at_text()) },
         match pattern.cell {
             PatternCell::Segment => "left to right",
             PatternCell::Quad => "u fastest then v",
@@ -534,17 +581,34 @@ fn parameters(b: &mut DesignBuilder, p: &Pattern) -> Result<(), PatternError> {
     Ok(())
 }
 
+/// The classical member's matrix of part `i` of `n` along a direction: at
+/// the pattern's split points, or uniform.
+fn part_at(p: &Pattern, n: usize, i: usize) -> Vec<Vec<BigRational>> {
+    if p.at.len() + 1 != n {
+        return bezier_part(p.degree, i, n);
+    }
+    let zero = BigRational::from_integer(0.into());
+    let point = |k: usize| match k {
+        0 => zero.clone(),
+        k if k == n => BigRational::one(),
+        k => p.at[k - 1].clone(),
+    };
+    super::blossom::bezier_between(p.degree, &point(i), &point(i + 1))
+}
+
 /// Entry `(r, c)` of the classical member's matrix of `arrow`: de Casteljau's
 /// subdivision of the polynomial cell at the uniform split points.
 fn classical(p: &Pattern, arrow: &str, r: usize, c: usize) -> BigRational {
     match p.cell {
         PatternCell::Triangle => return super::pattern_triangle::classical(p.split[0], arrow, r, c),
-        PatternCell::Hexahedron => return super::pattern_volume::classical(&p.split, p.degree, arrow, r, c),
+        PatternCell::Hexahedron => {
+            return super::pattern_volume::classical(&p.split, arrow, r, c, &|n, i| part_at(p, n, i));
+        }
         PatternCell::Tetrahedron => return super::pattern_volume::corner_classical(arrow, r, c),
         _ => {}
     }
     let d = p.degree;
-    let part = |n: usize, i: usize| bezier_part(d, i, n);
+    let part = |n: usize, i: usize| part_at(p, n, i);
     let index = |text: &str| text.parse::<usize>().unwrap_or(0);
     if let Some(rest) = arrow.strip_prefix('U') {
         return part(p.split[0], index(rest))[r][c].clone();

@@ -17,7 +17,6 @@ use num_bigint::BigInt;
 use num_rational::BigRational;
 use num_traits::{One, Zero};
 
-use super::blossom::bezier_part;
 use crate::design::{DesignBuilder, Layout, Model};
 use crate::space::CellKind;
 
@@ -253,7 +252,13 @@ fn glue(b: &mut DesignBuilder, split: &[usize], kept: &[Vec<usize>], keep: &[boo
 /// Entry `(r, c)` of the classical member's matrix of the hexahedron
 /// pattern's subdivision arrow `arrow`: the tensor product of de
 /// Casteljau's subdivision along each of its directions.
-pub(super) fn classical(split: &[usize], d: usize, arrow: &str, r: usize, c: usize) -> BigRational {
+pub(super) fn classical(
+    split: &[usize],
+    arrow: &str,
+    r: usize,
+    c: usize,
+    part: &dyn Fn(usize, usize) -> Vec<Vec<BigRational>>,
+) -> BigRational {
     let (axes, rest): (Vec<usize>, &str) = if let Some(rest) = arrow.strip_prefix('T') {
         (vec![0, 1, 2], rest)
     } else {
@@ -269,7 +274,8 @@ pub(super) fn classical(split: &[usize], d: usize, arrow: &str, r: usize, c: usi
     let mut value = BigRational::one();
     let (mut r, mut c) = (r, c);
     for (t, &a) in axes.iter().enumerate() {
-        let part = bezier_part(d, at.get(t).copied().unwrap_or(0), split[a]);
+        let part = part(split[a], at.get(t).copied().unwrap_or(0));
+        let d = part.len();
         value *= part[r % d][c % d].clone();
         r /= d;
         c /= d;

@@ -179,6 +179,29 @@ fn the_menger_sponge_has_20_to_the_k_cubes_and_the_genus_its_voxels_give() {
 }
 
 #[test]
+fn the_jerusalem_like_sponge_is_the_menger_pattern_split_at_two_fifths() {
+    // Its default member is affine: each depth keeps 8·(2/5)³ + 12·(2/5)²·(1/5) = 0.896 of the volume.
+    let jerusalem = bcifs::builtin_design("jerusalem").unwrap();
+    let text = bcifs::write_design(&jerusalem);
+    assert!(text.contains(r#"entry = "U1[1][0]", default = "2/5""#), "{text}");
+    for k in 1..=3 {
+        let shape = crate::evaluate(&jerusalem, k);
+        assert!(closed_and_oriented(&shape), "depth {k}");
+        assert!((enclosed_volume(&shape) - 0.896f64.powi(k as i32)).abs() < 1e-12, "depth {k}");
+        let (side, cubes) = voxels(MENGER, k as u32);
+        assert_eq!(topology_report(&jerusalem, &[], k).unwrap().betti, cube_topology(side, &cubes).1);
+    }
+    // The same family as the sponge: only the defaults differ.
+    let menger = bcifs::builtin_design("menger").unwrap();
+    assert_eq!(bcifs::solve(&jerusalem).unwrap().parameter_names(), bcifs::solve(&menger).unwrap().parameter_names());
+    // Split points that do not fit are refused.
+    let p = Pattern::parse(PatternCell::Hexahedron, "3x3x3", None, 2).unwrap();
+    for bad in ["3/5,2/5", "0,1/2", "1/2", "a,b"] {
+        assert!(matches!(p.clone().with_at(bad), Err(PatternError::At(_))), "{bad}");
+    }
+}
+
+#[test]
 fn other_members_move_the_holes_and_keep_the_topology() {
     // Any member of the family (the split points moved: a Jerusalem-cube-like sponge with bigger
     // corners, or a rough one) has the topology of the pattern: the constraints, not the numbers, make it.
