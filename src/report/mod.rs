@@ -13,7 +13,6 @@ mod curve;
 mod dimension;
 mod error;
 mod family;
-mod homology;
 mod lacunarity;
 mod solid_holes;
 mod sweep;
