@@ -59,6 +59,12 @@ pub fn lacunarity_report(
     let solid = evaluator(0)?.volumes();
     let shape_at = |k: usize| -> Result<Shape, ReportError> { Ok(evaluator(k)?.evaluate()?) };
     let measured = |shape: &Shape| if solid { (3, super::solid_holes::volume(shape)) } else { measure(shape) };
+    // The deepest depth decides what fits: refused before the shallower ones are made.
+    let limit = EvalSettings::default().memory_limit;
+    let estimate = evaluator(depth.max(1))?.estimate_bytes(depth.max(1));
+    if estimate > limit as u128 {
+        return Err(crate::eval::EvalError::TooLarge { estimate, limit }.into());
+    }
     let whole = shape_at(0)?;
     let (dimension, total) = measured(&whole);
     if dimension == 0 || total <= 0.0 {

@@ -312,4 +312,7 @@ fn solids_are_porous_by_their_volume() {
     assert!((l.lacunarity[0][1] / expected - 1.0).abs() < 0.01, "{:?}", l.lacunarity);
     assert!((l.lacunarity.last().unwrap()[1] - 1.0).abs() < 1e-12);
     assert_eq!(bcifs::render::lacunarity_depth(&bcifs::builtin_design("menger").unwrap()), 4);
+    // A depth whose cells would not fit memory is refused at once, before the shallower depths are made.
+    let e = bcifs::render::lacunarity_report(&bcifs::builtin_design("menger").unwrap(), &[], 9).unwrap_err();
+    assert!(e.to_string().contains("in-memory limit"), "{e}");
 }
