@@ -245,11 +245,15 @@ const TOUCH: f64 = 1e-9;
 ///   the control points (with the condition the Hausdorff dimension is `s`,
 ///   and the attractor lies in that span, so `s ≤ k`): three maps of ratio
 ///   1/2 on a segment have `s = log 3 / log 2 > 1`;
-/// - it **holds** for one state whose control points are a simplex of
-///   their span (`k + 1` of them) with non-negative matrices (each image of
-///   the simplex lies in it) whose images meet only on their boundaries
-///   (a separating hyperplane for every pair): the open set is the
-///   simplex's interior (the gasket, the Cantor set, the Koch curve);
+/// - it **holds** for one state with non-negative matrices whose control
+///   points span at most 3 dimensions: the polytope `P` they span (their
+///   convex hull; a simplex when they are `k + 1`) holds each image
+///   (an image's control points are convex combinations of `P`'s, and the
+///   similarity taking the control points onto an image's takes `P` onto
+///   the image's hull), and when the images meet only on their boundaries
+///   (a separating hyperplane for every pair) the open set is `P`'s
+///   interior: the gasket, the Cantor set, the Koch curve, the Menger
+///   sponge and Cantor dust on their cube;
 /// - otherwise it is not known.
 pub fn open_set_condition(automaton: &Automaton<f64>, root: NodeIndex, control: &[f64], d: usize, s: f64) -> OpenSet {
     let n = automaton.state(root).dim;
@@ -288,12 +292,12 @@ pub fn open_set_condition(automaton: &Automaton<f64>, root: NodeIndex, control: 
     if states.len() != 1 {
         return unknown("a graph-directed system: no test of the condition is known here");
     }
-    if n != k + 1 {
-        return unknown("the control points are not a simplex of their span");
+    if k == 0 || k > 3 {
+        return unknown("the control points span more than three dimensions: no test of the condition is known here");
     }
     let arrows = automaton.outgoing(root, ArrowKind::Subdivision);
     if arrows.iter().any(|&e| automaton.arrow(e).matrix.iter().any(|x| *x < -TOUCH)) {
-        return unknown("a matrix has negative entries: an image may leave the control simplex");
+        return unknown("a matrix has negative entries: an image may leave the control points' hull");
     }
     // The images of the simplex, in coordinates of the span.
     let origin = point(0);
@@ -317,7 +321,7 @@ pub fn open_set_condition(automaton: &Automaton<f64>, root: NodeIndex, control: 
             if !separated(a, b, scale) {
                 let name = |x: usize| automaton.arrow(arrows[x]).name.clone();
                 return unknown(&format!(
-                    "the images of the control simplex by {} and {} overlap: another open set may exist",
+                    "the images of the control points' hull by {} and {} overlap: another open set may exist",
                     name(i),
                     name(j)
                 ));
@@ -326,8 +330,12 @@ pub fn open_set_condition(automaton: &Automaton<f64>, root: NodeIndex, control: 
     }
     OpenSet {
         holds: Some(true),
-        reason: "the images of the control simplex meet only on their boundaries (the open set is its interior)"
-            .to_string(),
+        reason: if n == k + 1 {
+            "the images of the control simplex meet only on their boundaries (the open set is its interior)"
+        } else {
+            "the images of the control points' hull meet only on their boundaries (the open set is its interior)"
+        }
+        .to_string(),
     }
 }
 
@@ -370,14 +378,18 @@ fn span(points: &[Vec<f64>]) -> (Vec<Vec<f64>>, f64) {
     (basis, scale)
 }
 
-/// Whether two simplices of dimension `k` in `R^k` (`k ≤ 3`; vertices as
+/// Whether the convex hulls of two point sets in `R^k` (`k ≤ 3`; points as
 /// rows) have disjoint interiors: a separating axis among the normals of
-/// their facets (and, in 3D, the cross products of their edges), touching
-/// within [`TOUCH`] of `scale` allowed.
+/// their facets (and, in 3D, the cross products of an edge of each), touching
+/// within [`TOUCH`] of `scale` allowed. The facets' and edges' directions are
+/// among the differences of the hulls' vertices, which [`hull_candidates`]
+/// over-approximates: every axis tried is tested on all the points, so a
+/// separation found is one.
 fn separated(a: &[Vec<f64>], b: &[Vec<f64>], scale: f64) -> bool {
     let k = a[0].len();
     let mut axes: Vec<Vec<f64>> = Vec::new();
     let edges = |s: &[Vec<f64>]| -> Vec<Vec<f64>> {
+        let s = hull_candidates(s);
         let mut out = Vec::new();
         for i in 0..s.len() {
             for j in i + 1..s.len() {
@@ -425,4 +437,41 @@ fn separated(a: &[Vec<f64>], b: &[Vec<f64>], scale: f64) -> bool {
         let ((alo, ahi), (blo, bhi)) = (project(a), project(b));
         ahi <= blo + TOUCH * scale || bhi <= alo + TOUCH * scale
     })
+}
+
+/// Points among `points` (rows in `R^k`, `k ≤ 3`) that hold every vertex of
+/// their convex hull: all of them when they are few (a simplex, a cube's
+/// corners), else those extreme along 146 directions spread over the sphere
+/// (or circle), which finds the corners of the control nets of higher
+/// degree (a 4×4×4 net's hull is its 8 corners). A vertex missed only
+/// loses candidate axes: [`separated`] may then answer "not known", never wrong.
+fn hull_candidates(points: &[Vec<f64>]) -> Vec<Vec<f64>> {
+    const FEW: usize = 8;
+    const DIRECTIONS: usize = 146;
+    if points.len() <= FEW {
+        return points.to_vec();
+    }
+    let k = points[0].len();
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    let mut chosen: Vec<usize> = Vec::new();
+    for i in 0..DIRECTIONS {
+        // A Fibonacci lattice on the sphere (the circle in 2D): no direction along an axis,
+        // so a grid's faces do not tie.
+        let z = 1.0 - (2 * i + 1) as f64 / DIRECTIONS as f64;
+        let t = golden * i as f64 + 0.1;
+        let dir: Vec<f64> = match k {
+            1 => vec![if i % 2 == 0 { 1.0 } else { -1.0 }],
+            2 => vec![t.cos(), t.sin()],
+            _ => {
+                let r = (1.0 - z * z).sqrt();
+                vec![r * t.cos(), r * t.sin(), z]
+            }
+        };
+        let dot = |p: &Vec<f64>| p.iter().zip(&dir).map(|(x, y)| x * y).sum::<f64>();
+        let best = (0..points.len()).max_by(|&x, &y| dot(&points[x]).total_cmp(&dot(&points[y]))).unwrap_or(0);
+        if !chosen.contains(&best) {
+            chosen.push(best);
+        }
+    }
+    chosen.into_iter().map(|i| points[i].clone()).collect()
 }

@@ -103,15 +103,18 @@ pub fn dimension_within(
     let extent = (0..3).map(|a| hi[a] - lo[a]).fold(0.0, f64::max);
     // Surfaces have many more cells per unit of resolution: a quarter of it, and
     // the quads' centres and edge midpoints as samples too (within O(h²) of a smooth sheet).
-    let surface = !coarse.quads.is_empty();
+    let solid = coarse_ev.volumes();
+    let surface = !coarse.quads.is_empty() && !solid;
+    let uniform = surface || solid;
     let mut resolution = extent / if surface { 256.0 } else { 1024.0 };
     // Three fifths of the budget for the points: the box keys (8 bytes a
     // sample, six samples a quad) take a little over a third as much.
     let points_budget = memory / 5 * 3;
-    // A surface's points are a uniform depth, known before they are made:
-    // the finest resolution whose points fit (down to four scales); the
-    // report gives the resolution used.
-    while surface && resolution < extent / 32.0 {
+    // A surface's or a solid's points are a uniform depth, known before they
+    // are made: the finest resolution whose points fit; the report gives the
+    // resolution used, and says when it leaves too few scales to count boxes
+    // (the similarity dimension is reported all the same).
+    while uniform && resolution < extent / 4.0 {
         match coarse_ev.depth_for_tolerance_within(resolution, points_budget) {
             Ok(k) if coarse_ev.estimate_bytes(k) <= points_budget as u128 => break,
             Ok(_) | Err(EvalError::TooLarge { .. }) => {}
@@ -137,8 +140,9 @@ pub fn dimension_within(
             [mid(p[0], p[1]), mid(p[1], p[2]), mid(p[2], p[3]), mid(p[3], p[0]), mid(p[0], p[2])]
         }))
     };
-    let fit = crate::analysis::box_dimension_of(points, if surface { resolution / 2.0 } else { resolution }, cancel)
-        .map_err(|_| ReportError::Cancelled)?;
+    // Quads (a surface's, a solid's faces) are sampled at half their size.
+    let finest = if shape.quads.is_empty() { resolution } else { resolution / 2.0 };
+    let fit = crate::analysis::box_dimension_of(points, finest, cancel).map_err(|_| ReportError::Cancelled)?;
     Ok(DimensionReport {
         automaton: design.name().to_string(),
         parameters: instance.parameters.clone(),

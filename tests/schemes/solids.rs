@@ -316,3 +316,50 @@ fn solids_are_porous_by_their_volume() {
     let e = bcifs::render::lacunarity_report(&bcifs::builtin_design("menger").unwrap(), &[], 9).unwrap_err();
     assert!(e.to_string().contains("in-memory limit"), "{e}");
 }
+
+/// The similarity dimension of a solid's default member and Moran's open set
+/// condition for it (issue 44, item 6): the Menger sponge's twenty maps of
+/// ratio 1/3 give log 20 / log 3, Cantor dust's eight log 8 / log 3, the
+/// Sierpiński tetrahedron's four of ratio 1/2 exactly 2, each the Hausdorff
+/// dimension since the images of the cube (the tetrahedron) meet only on
+/// their boundaries; a sponge of degree 3 (27 control points, not a simplex)
+/// the same. The Jerusalem-like member's beams are not similarities: no
+/// such dimension; the whole cube kept, 27 maps tiling it, gives 3.
+#[test]
+fn solids_have_their_moran_dimension_with_the_open_set_condition() {
+    let moran = |design: &bcifs::Design| {
+        let instance = bcifs::instantiate(design, &[]).unwrap();
+        let model = design.model().unwrap();
+        let ev = bcifs::eval::Evaluator::new(&instance.automaton, model, bcifs::eval::EvalSettings::default()).unwrap();
+        let piece = &ev.pieces().pieces[0];
+        let root = bcifs::petgraph::graph::NodeIndex::new(piece.state);
+        let dim = ev.pieces().dim;
+        let s = bcifs::analysis::similarity_dimension(&instance.automaton, root, &piece.control, dim)?;
+        let osc = bcifs::analysis::open_set_condition(&instance.automaton, root, &piece.control, dim, s);
+        Some((s, osc.holds))
+    };
+    let sponge3 =
+        pattern_design(&Pattern::parse(PatternCell::Hexahedron, "3x3x3", Some(MENGER), 3).unwrap(), "m3").unwrap();
+    for (design, expected) in [
+        (bcifs::builtin_design("menger").unwrap(), 20f64.ln() / 3f64.ln()),
+        (sponge3, 20f64.ln() / 3f64.ln()),
+        (bcifs::builtin_design("cantor_dust").unwrap(), 8f64.ln() / 3f64.ln()),
+        (bcifs::builtin_design("sierpinski_tetrahedron").unwrap(), 2.0),
+    ] {
+        let (s, holds) = moran(&design).unwrap_or_else(|| panic!("{}: no similarity dimension", design.name()));
+        assert!((s - expected).abs() < 1e-9, "{}: {s}", design.name());
+        assert_eq!(holds, Some(true), "{}", design.name());
+    }
+    assert_eq!(moran(&bcifs::builtin_design("jerusalem").unwrap()), None);
+    let full = pattern_design(&Pattern::parse(PatternCell::Hexahedron, "3x3x3", None, 2).unwrap(), "cube").unwrap();
+    let (s, holds) = moran(&full).unwrap();
+    assert!((s - 3.0).abs() < 1e-9 && holds == Some(true), "{s} {holds:?}");
+    // The dimension report coarsens a solid's resolution to its memory budget (it refused the
+    // tetrahedron and the Jerusalem cube over 2.4 GiB, as a surface is not refused).
+    let cancel = bcifs::Cancel::new();
+    for name in ["sierpinski_tetrahedron", "jerusalem", "menger"] {
+        let design = bcifs::builtin_design(name).unwrap();
+        let report = bcifs::render::dimension_within(&design, &[], 64 << 20, &cancel);
+        assert!(report.is_ok(), "{name}: {report:?}");
+    }
+}
