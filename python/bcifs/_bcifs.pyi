@@ -115,6 +115,11 @@ def pattern(
     name: str = "pattern",
     at: Optional[Union[str, Sequence[Union[float, str, Fraction]]]] = None,
 ) -> Design: ...
+def polyhedral_lace(
+    polyhedron: Union[str, os.PathLike[str], Sequence[Sequence[int]]],
+    face: int = 0,
+    name: Optional[str] = None,
+) -> Design: ...
 def lacunarity(design: Design, depth: Optional[int] = None, **params: float) -> dict[str, Any]: ...
 def subdivide(
     vertices: npt.ArrayLike,

@@ -547,6 +547,28 @@ fn pattern(
     Ok(Design { inner: pattern.design(name).map_err(err)? })
 }
 
+/// The lacunar polygon of a polyhedron's circle packing (as `bcifs new
+/// polyhedron`): `polyhedron` is a name (`"tetrahedron"`, `"cube"`,
+/// `"octahedron"`, `"dodecahedron"`, `"icosahedron"`, `"prism"`,
+/// `"pyramid"`), an OBJ or OFF file (`str` or path), or the faces as
+/// sequences of vertex numbers (oriented alike); `face` the face whose gap
+/// is the polygon; `name` the design's (default: the polyhedron's, `_lace` added).
+#[pyfunction]
+#[pyo3(signature = (polyhedron, face=0, name=None))]
+fn polyhedral_lace(polyhedron: &Bound<'_, PyAny>, face: usize, name: Option<&str>) -> PyResult<Design> {
+    use bcifs::render::Polyhedron;
+    let p = if let Ok(text) = polyhedron.extract::<std::path::PathBuf>() {
+        Polyhedron::named_or_read(&text.to_string_lossy()).map_err(err)?
+    } else {
+        let faces: Vec<Vec<usize>> = polyhedron.extract().map_err(|_| {
+            err("polyhedron=: expected a name (\"cube\"), an OBJ or OFF file, or faces as sequences of vertex numbers")
+        })?;
+        Polyhedron::from_faces(faces).map_err(err)?
+    };
+    let name = name.map_or_else(|| format!("{}_lace", p.name()), str::to_string);
+    Ok(Design { inner: bcifs::render::polyhedral_lace(&p, face, &name).map_err(err)? })
+}
+
 /// A parameter value read exactly: a `str` (`"1/20"`, `"sqrt(2)/4"`), a
 /// `Fraction`, an int, or a float read as its shortest decimal (`0.05` is 1/20).
 fn exact_value(v: &Bound<'_, PyAny>) -> PyResult<bcifs::render::Num> {
@@ -658,6 +680,7 @@ fn _bcifs(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(dimension, m)?)?;
     m.add_function(wrap_pyfunction!(topology, m)?)?;
     m.add_function(wrap_pyfunction!(pattern, m)?)?;
+    m.add_function(wrap_pyfunction!(polyhedral_lace, m)?)?;
     m.add_function(wrap_pyfunction!(lacunarity, m)?)?;
     m.add_function(wrap_pyfunction!(map_colours, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

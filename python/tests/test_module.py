@@ -593,6 +593,30 @@ def test_pattern_builder_is_the_cli_s(tmp_path):
         bcifs.pattern("cube", 3)
 
 
+def test_polyhedral_lace_is_the_cli_s(tmp_path):
+    """`bcifs.polyhedral_lace` takes a name, a file or faces and gives `bcifs new polyhedron`'s
+    automaton; a mesh trimesh exports (its triangulated box, 12 faces, 8 vertices) reads as a
+    polyhedron whose lace has 11 pieces and a hole for each of the 5 vertices off the face."""
+    import pathlib
+
+    expected = subprocess.run([cli(), "new", "polyhedron", "cube"], check=True, capture_output=True, text=True).stdout
+    assert bcifs.polyhedral_lace("cube").to_toml() == expected
+    cube = [[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]]
+    faces = bcifs.polyhedral_lace(cube, name="cube_lace")
+    assert bcifs.topology(faces, depth=2)["betti"] == [1, 24, 0]
+    trimesh = pytest.importorskip("trimesh")
+    box = tmp_path / "box.obj"
+    trimesh.creation.box().export(box)
+    lace = bcifs.polyhedral_lace(pathlib.Path(box), face=0)
+    assert lace.name == "box_lace"
+    t = bcifs.topology(lace, depth=1)
+    assert (t["cells"], t["betti"]) == (11, [1, 5, 0])
+    with pytest.raises(bcifs.BcifsError, match="open there"):
+        bcifs.polyhedral_lace(cube[:5])
+    with pytest.raises(bcifs.BcifsError, match="neither a file nor a polyhedron"):
+        bcifs.polyhedral_lace("cuboid")
+
+
 def test_load_takes_paths_as_render_does(tmp_path):
     """A `pathlib.Path` loads like its text (it was a TypeError)."""
     import pathlib

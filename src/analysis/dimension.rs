@@ -264,21 +264,8 @@ pub fn open_set_condition(automaton: &Automaton<f64>, root: NodeIndex, control: 
     let point = |j: usize| (0..d).map(|a| control[a * n + j]).collect::<Vec<f64>>();
     let (basis, scale) = span(&(0..n).map(point).collect::<Vec<_>>());
     let k = basis.len();
-    for state in reachable(automaton, root) {
-        let arrows = automaton.outgoing(state, ArrowKind::Subdivision);
-        for (i, &e) in arrows.iter().enumerate() {
-            for &f in &arrows[i + 1..] {
-                let (a, b) = (automaton.arrow(e), automaton.arrow(f));
-                if automaton.arrow_ends(e).1 == automaton.arrow_ends(f).1
-                    && (&a.matrix - &b.matrix).amax() <= TOUCH * a.matrix.amax().max(1.0)
-                {
-                    return OpenSet {
-                        holds: Some(false),
-                        reason: format!("arrows {} and {} are the same map", a.name, b.name),
-                    };
-                }
-            }
-        }
+    if let Some(same) = repeated_map(automaton, root) {
+        return same;
     }
     if s > k as f64 + SLACK {
         return OpenSet {
@@ -337,6 +324,28 @@ pub fn open_set_condition(automaton: &Automaton<f64>, root: NodeIndex, control: 
         }
         .to_string(),
     }
+}
+
+/// The condition failing because two arrows from a state reachable from
+/// `root` are the same map (their images coincide), if two are.
+fn repeated_map(automaton: &Automaton<f64>, root: NodeIndex) -> Option<OpenSet> {
+    for state in reachable(automaton, root) {
+        let arrows = automaton.outgoing(state, ArrowKind::Subdivision);
+        for (i, &e) in arrows.iter().enumerate() {
+            for &f in &arrows[i + 1..] {
+                let (a, b) = (automaton.arrow(e), automaton.arrow(f));
+                if automaton.arrow_ends(e).1 == automaton.arrow_ends(f).1
+                    && (&a.matrix - &b.matrix).amax() <= TOUCH * a.matrix.amax().max(1.0)
+                {
+                    return Some(OpenSet {
+                        holds: Some(false),
+                        reason: format!("arrows {} and {} are the same map", a.name, b.name),
+                    });
+                }
+            }
+        }
+    }
+    None
 }
 
 /// The states reachable from `root` by subdivision arrows, `root` first.

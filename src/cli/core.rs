@@ -61,6 +61,19 @@ pub enum Topology {
         #[arg(long, default_value = "pattern")]
         name: String,
     },
+    /// A lacunar polygon whose topology is a polyhedron's circle packing (the 2025 CAGD paper's way):
+    /// the gap of one face made of copies of every other face's, a hole for every vertex off it
+    Polyhedron {
+        /// A polyhedron: tetrahedron, cube, octahedron, dodecahedron, icosahedron, prism, pyramid,
+        /// or an OBJ or OFF file (its faces, oriented alike, a sphere).
+        polyhedron: String,
+        /// The face whose gap is the polygon.
+        #[arg(long, default_value_t = 0)]
+        face: usize,
+        /// The design's name (default: the polyhedron's, `_lace` added).
+        #[arg(long)]
+        name: Option<String>,
+    },
 }
 
 /// A design the command uses until it ends: its memory (each matrix as
@@ -219,6 +232,13 @@ pub fn run_new(out: &mut String, topology: Topology) -> Result<u8> {
                 return Ok(0);
             }
             let design = pattern.design(&name)?;
+            pattern_warnings(&design);
+            design
+        }
+        Topology::Polyhedron { polyhedron, face, name } => {
+            let p = bcifs::render::Polyhedron::named_or_read(&polyhedron)?;
+            let name = name.unwrap_or_else(|| format!("{}_lace", p.name()));
+            let design = bcifs::render::polyhedral_lace(&p, face, &name)?;
             pattern_warnings(&design);
             design
         }

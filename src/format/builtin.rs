@@ -6,6 +6,7 @@ pub const BUILTIN_AUTOMATA: &[(&str, &str)] = &[
     ("cantor_dust", include_str!("../../automata/cantor_dust.toml")),
     ("carpet", include_str!("../../automata/carpet.toml")),
     ("corner_cutting", include_str!("../../automata/corner_cutting.toml")),
+    ("cube_lace", include_str!("../../automata/cube_lace.toml")),
     ("curve_4_3", include_str!("../../automata/curve_4_3.toml")),
     ("doo_sabin_quad", include_str!("../../automata/doo_sabin_quad.toml")),
     ("doo_sabin_torus", include_str!("../../automata/doo_sabin_torus.toml")),
@@ -17,5 +18,6 @@ pub const BUILTIN_AUTOMATA: &[(&str, &str)] = &[
     ("koch", include_str!("../../automata/koch.toml")),
     ("levy", include_str!("../../automata/levy.toml")),
     ("menger", include_str!("../../automata/menger.toml")),
+    ("octahedron_lace", include_str!("../../automata/octahedron_lace.toml")),
     ("sierpinski_tetrahedron", include_str!("../../automata/sierpinski_tetrahedron.toml")),
 ];

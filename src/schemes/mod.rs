@@ -20,6 +20,7 @@ mod normal;
 mod pattern;
 mod pattern_triangle;
 mod pattern_volume;
+mod polyhedral;
 mod stationary;
 mod ternary;
 mod topology;
@@ -38,6 +39,7 @@ pub use normal::{
     unit_segment, unit_square, unit_triangle,
 };
 pub use pattern::{Pattern, PatternCell, PatternError, pattern_design};
+pub use polyhedral::{POLYHEDRON_NAMES, Polyhedron, PolyhedronError, polyhedral_lace};
 pub use stationary::{
     BSpline, CurveStructure, ExactMatrix, ModelSpec, Rules, StationaryError, curve_structure, ifs_design, koch_blocks,
     sierpinski_blocks, tensor_design,

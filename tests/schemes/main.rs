@@ -9,6 +9,7 @@ mod hausdorff;
 mod ifs;
 mod normal;
 mod patterns;
+mod polyhedral;
 mod solids;
 mod ternary;
 mod triangles;
