@@ -268,6 +268,16 @@ impl Faces {
 }
 
 impl Evaluator {
+    /// The face cells of the polygon mesh at depth `k` (saturating; a cell of
+    /// more than four corners is written as a fan of triangles), or `None`
+    /// when the output is not made of polygon cells.
+    pub fn polygon_cells(&self, k: usize) -> Option<u128> {
+        if !self.polygon_faces() {
+            return None;
+        }
+        Some(self.pieces.pieces.iter().fold(0u128, |n, p| n.saturating_add(self.face_cells(p.state, k))))
+    }
+
     /// Face cells `k` subdivisions below a cell of `state` (as [`Evaluator::polygons`] counts them), saturating.
     pub(super) fn face_cells(&self, state: usize, k: usize) -> u128 {
         let mut memo: Vec<Vec<Option<u128>>> = vec![vec![None; k + 1]; self.plan.states.len()];

@@ -15,7 +15,7 @@ use crate::geometry::Shape;
 pub struct TopologyReport {
     /// The depth.
     pub depth: usize,
-    /// The cells of the union's top dimension: volumes, faces (quads and triangles), segments, or points.
+    /// The cells of the union's top dimension: volumes, faces (polygons), segments, or points.
     pub cells: usize,
     /// The dimension of those cells: 3, 2, 1 or 0.
     pub dimension: usize,
@@ -56,7 +56,15 @@ pub fn topology_report(design: &Design, params: &[(String, f64)], depth: usize) 
         return Ok(solid(&cells, depth));
     }
     let shape = ev.evaluate()?;
-    Ok(topology_of(&shape, depth))
+    let mut report = topology_of(&shape, depth);
+    // Cells of more than four corners are written as fans: count them once, without their diagonals.
+    if let Some(cells) = ev.polygon_cells(depth).and_then(|c| usize::try_from(c).ok()) {
+        if cells < report.cells {
+            report.edges -= report.cells - cells;
+            report.cells = cells;
+        }
+    }
+    Ok(report)
 }
 
 /// The topology of an evaluated shape (its faces, else its polylines, else its points).
