@@ -58,11 +58,11 @@ pub fn topology_report(design: &Design, params: &[(String, f64)], depth: usize) 
     let shape = ev.evaluate()?;
     let mut report = topology_of(&shape, depth);
     // Cells of more than four corners are written as fans: count them once, without their diagonals.
-    if let Some(cells) = ev.polygon_cells(depth).and_then(|c| usize::try_from(c).ok()) {
-        if cells < report.cells {
-            report.edges -= report.cells - cells;
-            report.cells = cells;
-        }
+    if let Some(cells) = ev.polygon_cells(depth).and_then(|c| usize::try_from(c).ok())
+        && cells < report.cells
+    {
+        report.edges -= report.cells - cells;
+        report.cells = cells;
     }
     Ok(report)
 }
