@@ -13,6 +13,7 @@ pub const BUILTIN_AUTOMATA: &[(&str, &str)] = &[
     ("fern", include_str!("../../automata/fern.toml")),
     ("fern_sierpinski", include_str!("../../automata/fern_sierpinski.toml")),
     ("gasket", include_str!("../../automata/gasket.toml")),
+    ("gasket_bezier", include_str!("../../automata/gasket_bezier.toml")),
     ("gasket_lace", include_str!("../../automata/gasket_lace.toml")),
     ("jerusalem", include_str!("../../automata/jerusalem.toml")),
     ("koch", include_str!("../../automata/koch.toml")),

@@ -25,7 +25,7 @@ mod stationary;
 mod ternary;
 mod topology;
 
-pub use blossom::bezier_part;
+pub use blossom::{bezier_part, bezier_triangle_part, triangle_net};
 pub use catalog::{CatalogError, DEFAULT_OMEGA, IFS_NAMES, ifs_preset, ternary_family};
 pub use contour::{RowMap, segment_ifs, segment_ifs_as_printed};
 pub use lattice::{

@@ -29,7 +29,7 @@ pub enum PatternCell {
     Segment,
     /// A quadrilateral split into `k × l` parts.
     Quad,
-    /// A triangle split `n`-ary into `n²` triangles (upward and downward), corners only (degree 2).
+    /// A triangle split `n`-ary into `n²` triangles (upward and downward), a Bézier triangle of degree 1 to 3.
     Triangle,
     /// A hexahedron split into `k × l × m` parts.
     Hexahedron,
@@ -133,7 +133,7 @@ pub enum PatternError {
     Empty,
     /// A degree that does not fit.
     #[error(
-        "a degree of {0} control points per direction: expected 2, 3 or 4 (linear, quadratic, cubic); 2 for a triangle (its corners)"
+        "a degree of {0} control points per direction: expected 2, 3 or 4 (linear, quadratic, cubic); 2 for a tetrahedron (its corners)"
     )]
     Degree(usize),
     /// Too many unknowns for the exact solver.
@@ -324,8 +324,7 @@ impl Pattern {
         if !self.keep.iter().any(|&k| k) {
             return Err(PatternError::Empty);
         }
-        let corners_only = matches!(self.cell, PatternCell::Triangle | PatternCell::Tetrahedron);
-        if !(2..=4).contains(&self.degree) || (corners_only && self.degree != 2) {
+        if !(2..=4).contains(&self.degree) || (self.cell == PatternCell::Tetrahedron && self.degree != 2) {
             return Err(PatternError::Degree(self.degree));
         }
         if self.cell == PatternCell::Tetrahedron && self.split != [2] {
@@ -344,6 +343,7 @@ impl Pattern {
                 let [k, l, m] = [self.split[0], self.split[1], self.split[2]];
                 kept * d.pow(6) + (k * l + k * m + l * m) * d.pow(4) + (k + l + m) * d * d + 1
             }
+            PatternCell::Triangle => kept * (d * (d + 1) / 2).pow(2) + self.split[0] * d * d + 1,
             _ => kept * d.pow(2 * dimension as u32) + self.split.iter().sum::<usize>() * d * d + 1,
         };
         if unknowns > crate::design::MAX_UNKNOWNS {
@@ -429,7 +429,7 @@ pub fn pattern_design(pattern: &Pattern, name: &str) -> Result<Design, PatternEr
     match pattern.cell {
         PatternCell::Segment => segment(&mut b, pattern),
         PatternCell::Quad => quad(&mut b, pattern),
-        PatternCell::Triangle => super::pattern_triangle::triangle(&mut b, pattern.split[0], &pattern.keep),
+        PatternCell::Triangle => super::pattern_triangle::triangle(&mut b, pattern.split[0], &pattern.keep, d),
         PatternCell::Hexahedron => super::pattern_volume::hexahedron(&mut b, &pattern.split, &pattern.keep, d),
         PatternCell::Tetrahedron => super::pattern_volume::tetrahedron(&mut b, &pattern.keep),
     }
@@ -608,7 +608,7 @@ fn part_at(p: &Pattern, n: usize, i: usize) -> Vec<Vec<BigRational>> {
 /// subdivision of the polynomial cell at the uniform split points.
 fn classical(p: &Pattern, arrow: &str, r: usize, c: usize) -> BigRational {
     match p.cell {
-        PatternCell::Triangle => return super::pattern_triangle::classical(p.split[0], arrow, r, c),
+        PatternCell::Triangle => return super::pattern_triangle::classical(p.split[0], p.degree, arrow, r, c),
         PatternCell::Hexahedron => {
             return super::pattern_volume::classical(&p.split, arrow, r, c, &|n, i| part_at(p, n, i));
         }

@@ -50,11 +50,35 @@ pub(super) fn cell_name([i, _]: [usize; 2]) -> String {
     format!("#{i}")
 }
 
-/// The states, arrows and constraints of a triangle pattern.
-pub(super) fn triangle(b: &mut DesignBuilder, n: usize, keep: &[bool]) {
+/// The indices of side `k` of a triangle's net of `d` points a side, from corner `k` to corner `k + 1`.
+fn side(d: usize, k: usize) -> Vec<usize> {
+    let net = super::blossom::triangle_net(d);
+    let index = |p: (usize, usize)| net.iter().position(|&q| q == p).unwrap_or(0);
+    let m = d - 1;
+    (0..=m)
+        .map(|t| match k {
+            0 => index((t, 0)),
+            1 => index((m - t, t)),
+            _ => index((0, m - t)),
+        })
+        .collect()
+}
+
+/// The states, arrows and constraints of a triangle pattern of `d` control points a side.
+pub(super) fn triangle(b: &mut DesignBuilder, n: usize, keep: &[bool], d: usize) {
     let kept: Vec<Cell> = cells(n).into_iter().zip(keep).filter(|(_, k)| **k).map(|(c, _)| c).collect();
-    b.state("face", 3, CellKind::Face).doc("The triangle: its three corners A, B, C.");
-    b.state("edge", 2, CellKind::Edge).doc("A side: its two ends.");
+    if d == 2 {
+        b.state("face", 3, CellKind::Face).doc("The triangle: its three corners A, B, C.");
+        b.state("edge", 2, CellKind::Edge).doc("A side: its two ends.");
+    } else {
+        b.state("face", d * (d + 1) / 2, CellKind::Face).doc(format!(
+            "The Bézier triangle of degree {}: its {} control points (a, b), weight of B to the power a and of C to b,\n\
+             row by row from side AB.",
+            d - 1,
+            d * (d + 1) / 2
+        ));
+        b.state("edge", d, CellKind::Edge).doc(format!("A side: {d} control points."));
+    }
     b.state("vertex", 1, CellKind::Vertex).doc("A corner: one control point.");
     for &c in &kept {
         let (down, a, bb) = c;
@@ -65,12 +89,16 @@ pub(super) fn triangle(b: &mut DesignBuilder, n: usize, keep: &[bool]) {
         b.unknown(format!("E{i}"), "edge", "edge").doc(format!("Part {i} of {n} of a side."));
     }
     b.unknown("W", "vertex", "vertex").doc("Subdivision of a corner.");
-    b.select("side0", "face", "edge", [0, 1]).doc("Side AB.");
-    b.select("side1", "face", "edge", [1, 2]).doc("Side BC.");
-    b.select("side2", "face", "edge", [2, 0]).doc("Side CA.");
-    b.select("e_start", "edge", "vertex", [0]).select("e_end", "edge", "vertex", [1]);
+    for (k, what) in ["Side AB.", "Side BC.", "Side CA."].into_iter().enumerate() {
+        b.select(format!("side{k}"), "face", "edge", side(d, k)).doc(what);
+    }
+    b.select("e_start", "edge", "vertex", [0]).select("e_end", "edge", "vertex", [d - 1]);
     b.doc("The ends of a side.");
-    glue(b, &kept);
+    if d > 2 {
+        b.select("flip", "edge", "edge", (0..d).rev().collect::<Vec<_>>())
+            .doc("A side read from its end: neighbours run along a side they share in opposite directions.");
+    }
+    glue(b, &kept, d);
     for &c in &kept {
         let (down, a, bb) = c;
         if down {
@@ -93,31 +121,44 @@ pub(super) fn triangle(b: &mut DesignBuilder, n: usize, keep: &[bool]) {
     b.incidence("E0 e_start = e_start W").incidence(format!("E{} e_end = e_end W", n - 1));
     b.doc("The parts of a side share their ends; the first and last parts end at the subdivided corners.");
     let h = 0.866_025_403_784_438_6;
-    b.model(
-        Model::new("face", vec![vec![0.0, 0.0, 0.0], vec![1.0, 0.0, 0.0], vec![0.5, h, 0.0]])
-            .with_layout(Layout::Single),
-    )
-    .doc("An equilateral triangle.");
+    let m = (d - 1) as f64;
+    let points: Vec<Vec<f64>> = super::blossom::triangle_net(d)
+        .into_iter()
+        .map(|(a, bb)| {
+            let (u, v) = (a as f64 / m, bb as f64 / m);
+            let corner = [(0, 0), (d - 1, 0), (0, d - 1)].contains(&(a, bb));
+            vec![u + v / 2.0, v * h, if corner { 0.0 } else { 0.5 }]
+        })
+        .collect();
+    b.model(Model::new("face", points).with_layout(Layout::Single)).doc(if d == 2 {
+        "An equilateral triangle."
+    } else {
+        "An equilateral triangle, its control points off the corners raised: a curved patch."
+    });
 }
 
 /// Neighbours glued: cells sharing a side share its two ends (sides of
 /// neighbouring cells run opposite ways), and cells that meet only at a
 /// grid point — no chain of side-sharing kept cells around it joins them —
 /// share that corner (a pinch).
-fn glue(b: &mut DesignBuilder, kept: &[Cell]) {
+fn glue(b: &mut DesignBuilder, kept: &[Cell], degree: usize) {
     let corner = |c: Cell, k: usize| format!("{} side{k} e_start", name(c));
+    // The side of a triangle joining two of its corners.
+    let side_of = |i: usize, j: usize| if (i + 1) % 3 == j { i } else { j };
     for (x, &c) in kept.iter().enumerate() {
         for &d in &kept[x + 1..] {
             let (pc, pd) = (corners(c), corners(d));
             let shared: Vec<(usize, usize)> =
                 (0..3).flat_map(|i| (0..3).filter(move |&j| pc[i] == pd[j]).map(move |j| (i, j))).collect();
-            if shared.len() == 2 {
+            let why = format!("{} and {} share a side.", name(c), name(d));
+            if shared.len() == 2 && degree > 2 {
+                // The whole side (its inner control points too), read backwards when the two run opposite ways.
+                let (k, l) = (side_of(shared[0].0, shared[1].0), side_of(shared[0].1, shared[1].1));
+                let flip = if pc[k] == pd[l] { "" } else { " flip" };
+                b.adjacency(format!("{} side{k} = {} side{l}{flip}", name(c), name(d))).explain(why);
+            } else if shared.len() == 2 {
                 for &(i, j) in &shared {
-                    b.adjacency(format!("{} = {}", corner(c, i), corner(d, j))).explain(format!(
-                        "{} and {} share a side.",
-                        name(c),
-                        name(d)
-                    ));
+                    b.adjacency(format!("{} = {}", corner(c, i), corner(d, j))).explain(why.clone());
                 }
             }
         }
@@ -166,15 +207,14 @@ fn glue(b: &mut DesignBuilder, kept: &[Cell]) {
 }
 
 /// Entry `(r, c)` of the classical member's matrix of `arrow`: the
-/// sub-triangle's corner `c` in the barycentric coordinates of the cell,
-/// the sides' parts the linear segment's.
-pub(super) fn classical(n: usize, arrow: &str, r: usize, c: usize) -> BigRational {
+/// Bézier triangle of `d` points a side (for `d = 2` its corners, the
+/// linear triangle) subdivided at the `n`-ary grid, exactly (its blossom at
+/// the sub-triangle's corners); the sides' parts the Bézier curve's.
+pub(super) fn classical(n: usize, d: usize, arrow: &str, r: usize, c: usize) -> BigRational {
     let frac = |x: usize| BigRational::new(BigInt::from(x), BigInt::from(n));
     let index = |t: &str| t.parse::<usize>().unwrap_or(0);
     if let Some(i) = arrow.strip_prefix('E') {
-        // Part i of a side: its ends at (i + c)/n, weights (1 − t, t) of the side's ends.
-        let t = index(i) + c;
-        return if r == 0 { frac(n - t) } else { frac(t) };
+        return super::blossom::bezier_part(d, index(i), n)[r][c].clone();
     }
     let (down, rest) = match arrow.split_at(1) {
         ("U", rest) => (false, rest),
@@ -182,10 +222,6 @@ pub(super) fn classical(n: usize, arrow: &str, r: usize, c: usize) -> BigRationa
         _ => return BigRational::one(),
     };
     let (a, b) = rest.split_once('_').map_or((0, 0), |(a, b)| (index(a), index(b)));
-    let (x, y) = corners((down, a, b))[c];
-    match r {
-        0 => frac(n - x - y),
-        1 => frac(x),
-        _ => frac(y),
-    }
+    let at = corners((down, a, b)).map(|(x, y)| [frac(n - x - y), frac(x), frac(y)]);
+    super::blossom::bezier_triangle_part(d, &at)[r][c].clone()
 }

@@ -418,7 +418,7 @@ fn gauss_jordan(mut rows: Vec<Vec<BigRational>>, n: usize) -> Vec<Coords> {
 /// // The tetrahedron's packing is Apollonian: a triangle made of three triangles, one hole.
 /// let design = polyhedral_lace(&Polyhedron::named("tetrahedron").unwrap(), 0, "apollonian")?;
 /// let family = bcifs::solve(&design).unwrap();
-/// assert_eq!(family.parameter_names().len(), 4); // three touching points inside, one split of a side
+/// assert_eq!(family.parameter_names().len(), 1); // where the sides split: no touching point is inside
 /// # Ok::<(), bcifs::schemes::PolyhedronError>(())
 /// ```
 ///

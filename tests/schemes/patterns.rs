@@ -280,12 +280,89 @@ fn triangle_patterns_make_the_gasket_lace_and_any_mask_of_up_and_down_cells() {
     assert_eq!(topology_report(&two, &[], 2).unwrap().cells, 49);
     let check = bcifs::render::check_report(&two, &[]).unwrap();
     assert_eq!(check.converges, Some(true));
-    // A triangle carries its corners only (degree 2), and its mask has n² flags.
-    assert!(matches!(Pattern::parse(PatternCell::Triangle, "2", None, 3), Err(PatternError::Degree(3))));
+    // A triangle carries 2 to 4 control points a side (a Bézier triangle of degree 1 to 3), and its mask has n² flags.
+    assert!(matches!(Pattern::parse(PatternCell::Triangle, "2", None, 5), Err(PatternError::Degree(5))));
+    assert!(matches!(Pattern::parse(PatternCell::Tetrahedron, "2", None, 3), Err(PatternError::Degree(3))));
     assert!(matches!(
         Pattern::parse(PatternCell::Triangle, "2", Some("101"), 2),
         Err(PatternError::Mask { expected: 4, .. })
     ));
+}
+
+/// A point of the Bézier triangle of `d` points a side with net `net`
+/// ([`bcifs::schemes::triangle_net`] order) at barycentric `(1 − u − v, u, v)`:
+/// Bernstein's sum, written here from its definition.
+fn bezier_triangle(net: &[Vec<f64>], d: usize, u: f64, v: f64) -> [f64; 3] {
+    let m = (d - 1) as i32;
+    let fact = |n: i32| (1..=n).map(f64::from).product::<f64>();
+    let mut out = [0.0; 3];
+    for (q, &(a, b)) in bcifs::schemes::triangle_net(d).iter().enumerate() {
+        let (a, b) = (a as i32, b as i32);
+        let i = m - a - b;
+        let w = fact(m) / (fact(i) * fact(a) * fact(b)) * (1.0 - u - v).powi(i) * u.powi(a) * v.powi(b);
+        (0..3).for_each(|x| out[x] += w * net[q][x]);
+    }
+    out
+}
+
+/// The gasket on curved triangles (issue 44: "laces on curved patches"): a
+/// triangle of 3 or 4 control points a side is a Bézier triangle, its
+/// classical member the patch subdivided at the midpoints exactly, so every
+/// corner of a depth-k cell is the patch at its grid point; sides shared by
+/// neighbours are glued whole (a full split is one disk), and the family's
+/// other members keep the topology.
+#[test]
+fn triangles_of_higher_degree_are_bezier_triangles_subdivided_exactly() {
+    use bcifs::render::topology_report;
+    let shipped = bcifs::builtin_design("gasket_bezier").unwrap();
+    for d in [3, 4] {
+        let p = Pattern::parse(PatternCell::Triangle, "2", Some("1011"), d).unwrap();
+        let design = if d == 4 { shipped.clone() } else { pattern_design(&p, "g").unwrap() };
+        let net = design.model().unwrap().points.clone();
+        let k = 4;
+        // The corners of the kept upward cells on the 2^k grid, made here by the gasket's recursion.
+        let mut expected: Vec<[f64; 3]> = Vec::new();
+        let mut stack = vec![(0u32, 0u32, 1u32 << k)];
+        while let Some((x, y, s)) = stack.pop() {
+            if s == 1 {
+                for (a, b) in [(x, y), (x + 1, y), (x, y + 1)] {
+                    let n = f64::from(1u32 << k);
+                    expected.push(bezier_triangle(&net, d, f64::from(a) / n, f64::from(b) / n));
+                }
+                continue;
+            }
+            let h = s / 2;
+            stack.extend([(x, y, h), (x + h, y, h), (x, y + h, h)]);
+        }
+        let shape = crate::evaluate(&design, k);
+        assert_eq!(shape.vertex_count(), (3usize.pow(k as u32 + 1) + 3) / 2, "degree {d}: welded corners");
+        for i in 0..shape.vertex_count() {
+            let p = shape.point(i);
+            let near =
+                expected.iter().map(|e| (0..3).map(|x| (e[x] - p[x]).powi(2)).sum::<f64>()).fold(f64::MAX, f64::min);
+            assert!(near.sqrt() < 1e-12, "degree {d}: {p:?} is not on the patch ({})", near.sqrt());
+        }
+        for k in 1..=3usize {
+            let t = topology_report(&design, &[], k).unwrap();
+            assert_eq!(t.betti, [1, (3i64.pow(k as u32) - 1) / 2, 0], "degree {d} depth {k}");
+        }
+        // A rough member: the sides' split points moved, the same holes.
+        let family = bcifs::solve(&design).unwrap();
+        let moved: Vec<(String, f64)> = family
+            .parameter_names()
+            .iter()
+            .enumerate()
+            .map(|(i, n)| (n.clone(), 0.03 * ((i % 5) as f64 - 2.0)))
+            .collect();
+        let defaults = family.parameter_values(&[]).unwrap();
+        let moved: Vec<(String, f64)> = moved.into_iter().zip(defaults).map(|((n, dv), v)| (n, v + dv)).collect();
+        assert_eq!(topology_report(&design, &moved, 2).unwrap().betti, [1, 4, 0], "degree {d}");
+    }
+    // Every cell of a 3-ary split of a cubic triangle kept: neighbours share whole sides, one disk.
+    let full = pattern_design(&Pattern::parse(PatternCell::Triangle, "3", None, 4).unwrap(), "full").unwrap();
+    let t = topology_report(&full, &[], 2).unwrap();
+    assert_eq!((t.cells, t.euler, t.betti, t.pinches), (81, 1, [1, 0, 0], 0));
+    assert!(bcifs::write_design(&full).contains("side1 flip"));
 }
 
 #[test]
