@@ -4,7 +4,7 @@
 //! its corner polygon; corners that neighbouring cells share (computed along
 //! different paths, equal to rounding) are welded by position.
 
-use std::collections::HashMap;
+use rustc_hash::{FxHashMap, FxHashSet};
 
 use super::prepared::Evaluator;
 use super::settings::EvalError;
@@ -83,14 +83,14 @@ impl Evaluator {
                 weld: Weld {
                     q: crate::algebra::tolerance::SAME_POINT * scale,
                     d,
-                    index: HashMap::new(),
+                    index: FxHashMap::default(),
                     positions: Vec::new(),
                 },
                 quads: Vec::new(),
                 triangles: Vec::new(),
-                made: std::collections::HashSet::new(),
-                sides: HashMap::new(),
-                side_order: Vec::new(),
+                made: FxHashSet::default(),
+                sides: FxHashMap::default(),
+                side_list: Vec::new(),
                 cells: record.is_some().then(Vec::new),
             };
             // Per cell: state, control points, depth left, and its colour so far (see `CellColours`).
@@ -142,11 +142,12 @@ struct Faces {
     quads: Vec<[usize; 4]>,
     triangles: Vec<[usize; 3]>,
     /// Faces over start sets that two cells both make (overlapping copies of a patch) are kept once.
-    made: std::collections::HashSet<Vec<usize>>,
-    /// Volumes' faces, outward, by their sorted corners, in the order made, and how many cells made
-    /// each: a face two kept cells share is inside the solid, and only the others are written.
-    sides: HashMap<Vec<usize>, (Vec<usize>, usize)>,
-    side_order: Vec<Vec<usize>>,
+    made: FxHashSet<Poly>,
+    /// Volumes' faces by their sorted corners: where in `side_list` they are.
+    sides: FxHashMap<Poly, usize>,
+    /// Volumes' faces, outward, in the order made, and how many cells made each: a face two kept
+    /// cells share is inside the solid, and only the others are written.
+    side_list: Vec<(Poly, usize)>,
     /// Each leaf volume's faces, when asked for ([`Evaluator::volume_cells`]).
     cells: Option<Vec<Vec<Vec<usize>>>>,
 }
@@ -173,9 +174,8 @@ impl Faces {
         for face in if start_faces { &sp.faces[..] } else { &corner_polygon[..] } {
             let corners: Vec<usize> = face.iter().map(|&i| index[i]).collect();
             if start_faces {
-                let mut key = corners.clone();
-                key.sort_unstable();
-                if key.windows(2).any(|w| w[0] == w[1]) || !self.made.insert(key) {
+                let key = Poly::sorted(&corners);
+                if key.repeats() || !self.made.insert(key) {
                     continue;
                 }
             }
@@ -203,9 +203,8 @@ impl Faces {
         let mut cell = Vec::new();
         for face in &sp.faces {
             let mut corners: Vec<usize> = face.iter().map(|&i| index[i]).collect();
-            let mut key = corners.clone();
-            key.sort_unstable();
-            if key.windows(2).any(|w| w[0] == w[1]) {
+            let key = Poly::sorted(&corners);
+            if key.repeats() {
                 continue;
             }
             let (mid, mut normal) = (mean(&corners), [0.0; 3]);
@@ -221,11 +220,11 @@ impl Faces {
             if self.cells.is_some() {
                 cell.push(corners.clone());
             }
-            match self.sides.get_mut(&key) {
-                Some(side) => side.1 += 1,
+            match self.sides.get(&key) {
+                Some(&at) => self.side_list[at].1 += 1,
                 None => {
-                    self.side_order.push(key.clone());
-                    self.sides.insert(key, (corners, 1));
+                    self.sides.insert(key, self.side_list.len());
+                    self.side_list.push((Poly::new(&corners), 1));
                 }
             }
         }
@@ -237,12 +236,11 @@ impl Faces {
     /// The volumes' faces that one kept cell alone makes (the solid's
     /// boundary) into the quads and triangles.
     fn close_volumes(&mut self) {
-        for key in std::mem::take(&mut self.side_order) {
-            match self.sides.remove(&key) {
-                Some((corners, 1)) if corners.len() == 4 => {
-                    self.quads.push([corners[0], corners[1], corners[2], corners[3]])
-                }
-                Some((corners, 1)) => self.triangles.extend(crate::geometry::fan(&corners, 0)),
+        self.sides.clear();
+        for (corners, count) in std::mem::take(&mut self.side_list) {
+            match (corners.as_slice(), count) {
+                (&[a, b, c, d], 1) => self.quads.push([a, b, c, d]),
+                (corners, 1) => self.triangles.extend(crate::geometry::fan(corners, 0)),
                 _ => {}
             }
         }
@@ -310,24 +308,85 @@ impl Evaluator {
     }
 }
 
-/// Points numbered once each: equal up to `q` (a grid of cells of side `q`,
-/// searched with its neighbours).
+/// A polygon's corners, held without an allocation up to four (every
+/// volume pattern's faces): a face's key (its corners sorted) or its cycle.
+#[derive(Clone, Debug, Hash, PartialEq, Eq)]
+enum Poly {
+    Short(u8, [usize; 4]),
+    Long(Vec<usize>),
+}
+
+impl Poly {
+    fn new(corners: &[usize]) -> Poly {
+        match corners.len() {
+            n @ 0..=4 => {
+                let mut v = [usize::MAX; 4];
+                v[..n].copy_from_slice(corners);
+                Poly::Short(n as u8, v)
+            }
+            _ => Poly::Long(corners.to_vec()),
+        }
+    }
+
+    fn sorted(corners: &[usize]) -> Poly {
+        let mut p = Poly::new(corners);
+        match &mut p {
+            Poly::Short(n, v) => v[..*n as usize].sort_unstable(),
+            Poly::Long(v) => v.sort_unstable(),
+        }
+        p
+    }
+
+    fn as_slice(&self) -> &[usize] {
+        match self {
+            Poly::Short(n, v) => &v[..*n as usize],
+            Poly::Long(v) => v,
+        }
+    }
+
+    /// Whether a corner repeats (sorted keys only): a degenerate face.
+    fn repeats(&self) -> bool {
+        self.as_slice().windows(2).any(|w| w[0] == w[1])
+    }
+}
+
+/// Points numbered once each: equal up to a fraction of `q` (a grid of
+/// cells of side `q`; a point near a cell's side also looks in the cell
+/// across, so that copies of one point rounded apart are found).
 struct Weld {
     q: f64,
     d: usize,
-    index: HashMap<Vec<i64>, usize>,
+    index: FxHashMap<[i64; 3], usize>,
     positions: Vec<f64>,
 }
 
 impl Weld {
     fn index(&mut self, p: &[f64]) -> usize {
-        let key: Vec<i64> = p.iter().map(|x| (x / self.q).round() as i64).collect();
-        for offset in 0..3usize.pow(self.d as u32) {
-            let mut k = key.clone();
-            let mut o = offset;
-            for x in &mut k {
-                *x += (o % 3) as i64 - 1;
-                o /= 3;
+        let mut key = [0i64; 3];
+        let mut across = [0i64; 3];
+        for (a, x) in p.iter().take(3).enumerate() {
+            let scaled = x / self.q;
+            key[a] = scaled.round() as i64;
+            let frac = scaled - key[a] as f64;
+            across[a] = if frac > 0.25 {
+                1
+            } else if frac < -0.25 {
+                -1
+            } else {
+                0
+            };
+        }
+        if let Some(&i) = self.index.get(&key) {
+            return i;
+        }
+        // The cells across the near sides (usually none): every non-empty subset of them.
+        let near: Vec<usize> = (0..3).filter(|&a| across[a] != 0).collect();
+        for subset in 1..1usize << near.len() {
+            let mut k = key;
+            for (bit, &a) in near.iter().enumerate() {
+                if subset >> bit & 1 == 1 {
+                    k[a] += across[a];
+                }
             }
             if let Some(&i) = self.index.get(&k) {
                 return i;
