@@ -2,6 +2,7 @@
 arrays as the files the CLI writes, the same pixels as its PNG, the same
 subdivided mesh as `bcifs surface`, and the library's errors as exceptions."""
 
+import json
 import os
 import pathlib
 import shutil
@@ -692,3 +693,44 @@ def test_porous_solids_are_closed_manifolds_equal_to_boolean_modelling():
     assert jerusalem.mesh(depth=1).to_trimesh().volume == pytest.approx(0.896, abs=1e-12)
     with pytest.raises(bcifs.BcifsError, match="split points"):
         bcifs.pattern("hexahedron", (3, 3, 3), at="3/5,2/5")
+
+
+def test_solids_print_files_read_back_in_lib3mf_trimesh_and_manifold3d(tmp_path):
+    """Issue 45: the sponge written as 3MF (lib3mf reads it: one mesh, manifold and oriented, in
+    millimetres), binary STL and PLY (trimesh: watertight, winding-consistent, the volume
+    (20/27)^k), and `render --json`'s print report: the volume, genus and box each client gives."""
+    trimesh = pytest.importorskip("trimesh")
+    k = 2
+    paths = {ext: tmp_path / f"menger.{ext}" for ext in ("3mf", "stl", "ply")}
+    report = None
+    for ext, path in paths.items():
+        out = subprocess.run([cli(), "render", "menger", "--depth", str(k), "-o", str(path), "--json"],
+                             check=True, capture_output=True, text=True).stdout
+        report = json.loads(out)
+    assert report["closed"] and report["oriented"] and report["components"] == 1
+    assert report["volume"] == pytest.approx((20 / 27) ** k, abs=1e-12)
+    assert report["genus"] == bcifs.topology(bcifs.load("menger"), depth=k)["betti"][1] == 81
+    assert report["bbox"] == [[0, 0, 0], [1, 1, 1]]
+    for ext in ("stl", "ply"):
+        tm = trimesh.load(paths[ext], process=ext == "stl")  # STL is a triangle soup: trimesh merges its corners
+        assert tm.is_watertight and tm.is_winding_consistent, ext
+        assert tm.volume == pytest.approx((20 / 27) ** k, rel=1e-6), ext
+        assert tm.euler_number == 2 - 2 * report["genus"], ext
+    lib3mf = pytest.importorskip("lib3mf", reason="lib3mf (pip) reads 3MF back")
+    wrapper = lib3mf.get_wrapper()
+    model = wrapper.CreateModel()
+    reader = model.QueryReader("3mf")
+    reader.ReadFromFile(str(paths["3mf"]))
+    assert reader.GetWarningCount() == 0
+    meshes = model.GetMeshObjects()
+    assert meshes.MoveNext()
+    mesh = meshes.GetCurrentMeshObject()
+    assert mesh.IsManifoldAndOriented()
+    assert (mesh.GetVertexCount(), mesh.GetTriangleCount()) == (report["vertices"], report["triangles"])
+    assert not meshes.MoveNext()
+    assert model.GetUnit() == lib3mf.ModelUnit.MilliMeter
+    m3 = pytest.importorskip("manifold3d")
+    verts = np.array([[v.Coordinates[0], v.Coordinates[1], v.Coordinates[2]] for v in mesh.GetVertices()], np.float32)
+    tris = np.array([list(t.Indices) for t in mesh.GetTriangleIndices()], np.uint32)
+    solid = m3.Manifold(m3.Mesh(vert_properties=verts, tri_verts=tris))
+    assert solid.status() == m3.Error.NoError and solid.genus() == report["genus"]

@@ -16,13 +16,17 @@ use crate::cli::keys::{AllKeys, KeyArgs};
 pub struct RenderArgs {
     /// The automaton file (TOML), or the name of a shipped automaton.
     pub file: String,
-    /// Output file: .obj, .off, .ply, .stl (streamed), .glb, .svg, .png, or .flame (a plain IFS of the plane).
+    /// Output file: .obj, .off, .ply, .stl, .3mf (streamed), .glb, .svg, .png, or .flame (a plain IFS of the plane).
     #[arg(short, long)]
     pub output: PathBuf,
     /// Write the model's control net instead of the attractor (the control polygon of a
     /// curve, the control grid of a surface as quads), to show next to the attractor.
     #[arg(long)]
     pub control: bool,
+    /// Print a JSON report on stdout: what was written, and for meshes the print report
+    /// (volume, area, bbox, components, genus, closed, oriented).
+    #[arg(long)]
+    pub json: bool,
     /// The options: what is sampled, the budget, the look, the file's style.
     #[command(flatten)]
     pub keys: KeyArgs<AllKeys>,
@@ -49,6 +53,27 @@ pub fn run(args: RenderArgs) -> anyhow::Result<u8> {
     }
     let report = bcifs::render::render(&design, &options, &args.output)?;
     print_report(&report, design.name(), &args.output, started);
+    if args.json {
+        let mut json = serde_json::json!({
+            "automaton": design.name(),
+            "output": args.output,
+            "format": report.format.map(|f| f.extension()),
+            "vertices": report.vertices,
+            "faces": report.faces,
+            "bytes": report.bytes,
+            "depth": report.depth,
+            "warnings": report.warnings,
+        });
+        if report.faces > 0 {
+            let print = bcifs::render::print_report(&design, &options)?;
+            if let (Some(out), Ok(serde_json::Value::Object(fields))) =
+                (json.as_object_mut(), serde_json::to_value(print))
+            {
+                out.extend(fields);
+            }
+        }
+        println!("{}", serde_json::to_string_pretty(&json)?);
+    }
     Ok(0)
 }
 

@@ -128,7 +128,7 @@ impl Evaluator {
                 out.append(cells);
             }
             sink.object(if group.len() > 1 { "surface" } else { &group[0].name })?;
-            faces.write(sink, first)?;
+            faces.write(sink, first, colours.as_deref_mut().map(|c| &mut c.out))?;
             first += faces.weld.positions.len() / d;
         }
         Ok(())
@@ -235,8 +235,9 @@ impl Faces {
 
     /// The volumes' faces that one kept cell alone makes (the solid's
     /// boundary) into the quads and triangles.
-    fn close_volumes(&mut self) {
+    fn close_volumes(&mut self) -> bool {
         self.sides.clear();
+        let volumes = !self.side_list.is_empty();
         for (corners, count) in std::mem::take(&mut self.side_list) {
             match (corners.as_slice(), count) {
                 (&[a, b, c, d], 1) => self.quads.push([a, b, c, d]),
@@ -244,12 +245,48 @@ impl Faces {
                 _ => {}
             }
         }
+        volumes
+    }
+
+    /// Drops the vertices no face uses (a solid's inner corners: its boundary
+    /// is written, not its cells), renumbering the faces and the colours.
+    fn compact(&mut self, first: usize, colours: Option<&mut Vec<f32>>) {
+        let d = self.weld.d;
+        let n = self.weld.positions.len() / d;
+        let mut number = vec![usize::MAX; n];
+        for v in self.quads.iter().flatten().chain(self.triangles.iter().flatten()) {
+            number[v - first] = 0;
+        }
+        let mut kept = 0;
+        for (i, slot) in number.iter_mut().enumerate() {
+            if *slot == 0 {
+                *slot = first + kept;
+                self.weld.positions.copy_within(i * d..(i + 1) * d, kept * d);
+                kept += 1;
+            }
+        }
+        if let Some(c) = colours {
+            let mut at = 0;
+            for i in 0..n.min(c.len().saturating_sub(first)) {
+                if number[i] != usize::MAX {
+                    c[first + at] = c[first + i];
+                    at += 1;
+                }
+            }
+            c.truncate(first + at);
+        }
+        self.weld.positions.truncate(kept * d);
+        for v in self.quads.iter_mut().flatten().chain(self.triangles.iter_mut().flatten()) {
+            *v = number[*v - first];
+        }
     }
 
     /// Writes the welded vertices (shaded smooth in every client: with the
     /// area-weighted normals of the faces) and the faces.
-    fn write(&mut self, sink: &mut dyn Sink, first: usize) -> Result<(), EvalError> {
-        self.close_volumes();
+    fn write(&mut self, sink: &mut dyn Sink, first: usize, colours: Option<&mut Vec<f32>>) -> Result<(), EvalError> {
+        if self.close_volumes() {
+            self.compact(first, colours);
+        }
         let d = self.weld.d;
         let normals = (d == 3).then(|| {
             let points: Vec<[f64; 3]> = self.weld.positions.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect();

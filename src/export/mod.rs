@@ -18,6 +18,7 @@ mod ply;
 mod png;
 mod stl;
 mod svg;
+mod threemf;
 mod view;
 
 pub use atomic::{
@@ -38,4 +39,5 @@ pub use ply::PlyWriter;
 pub use png::{Compression, Matte, ascii, png_bytes, raster, write_png, write_png_matte, write_png_text};
 pub use stl::StlWriter;
 pub use svg::{svg, svg_surface};
+pub use threemf::ThreeMfWriter;
 pub use view::{RasterSettings, RasterTooLarge, View, raster_bytes};

@@ -9,6 +9,7 @@ use super::options::Options;
 use super::output::{Format, RenderError};
 use crate::export::{
     Coordinates, GltfWriter, ObjWriter, OffWriter, PictureKind, PictureWriter, PlyWriter, RasterSettings, StlWriter,
+    ThreeMfWriter,
 };
 use crate::geometry::Sink;
 use crate::progress::{Cancel, Progress};
@@ -23,6 +24,7 @@ pub(crate) enum FileWriter {
     Off(OffWriter),
     Ply(PlyWriter),
     Stl(StlWriter),
+    ThreeMf(ThreeMfWriter),
     Glb(Box<GltfWriter>),
     Picture(PictureWriter),
 }
@@ -57,6 +59,9 @@ impl FileWriter {
                 FileWriter::Ply(PlyWriter::create_in(out, settings.ascii).map_err(io)?.with_coordinates(coordinates))
             }
             Format::Stl => FileWriter::Stl(StlWriter::create_in(out).map_err(io)?.with_coordinates(coordinates)),
+            Format::ThreeMf => {
+                FileWriter::ThreeMf(ThreeMfWriter::create_in(out).map_err(io)?.with_coordinates(coordinates))
+            }
             Format::Glb => {
                 FileWriter::Glb(Box::new(GltfWriter::create_in(out).map_err(io)?.with_coordinates(coordinates)))
             }
@@ -78,6 +83,7 @@ impl FileWriter {
             FileWriter::Off(w) => w,
             FileWriter::Ply(w) => w,
             FileWriter::Stl(w) => w,
+            FileWriter::ThreeMf(w) => w,
             FileWriter::Glb(w) => w.as_mut(),
             FileWriter::Picture(w) => w,
         };
@@ -93,6 +99,7 @@ impl FileWriter {
             FileWriter::Off(w) => w.finish().map_err(io)?,
             FileWriter::Ply(w) => w.finish().map_err(io)?,
             FileWriter::Stl(w) => w.finish().map_err(|e| unsupported(e, out))?,
+            FileWriter::ThreeMf(w) => w.finish().map_err(|e| unsupported(e, out))?,
             FileWriter::Glb(w) => w.finish().map_err(|e| unsupported(e, out))?,
             FileWriter::Picture(w) => w.finish()?,
         }

@@ -212,6 +212,25 @@ fn stream_file(job: &Job, format: Format, out: &crate::export::Target, report: &
     Ok(())
 }
 
+/// The print report ([`PrintReport`](crate::report::PrintReport)) of the
+/// mesh [`render`] writes for `design` with `options` (evaluated in memory,
+/// within the options' memory budget): its volume, area, box, pieces,
+/// genus, and whether it is closed and oriented.
+///
+/// # Errors
+/// As [`render`]'s evaluation; a design that makes no face.
+pub fn print_report(design: &Design, options: &Options) -> Result<crate::report::PrintReport, RenderError> {
+    let job = Job::new(design, options)?;
+    let shape = job.evaluate(&mut Vec::new())?;
+    if shape.quads.is_empty() && shape.triangles.is_empty() {
+        return Err(RenderError::Unsupported(format!(
+            "{}: a print report measures faces; this design makes curves or points",
+            design.name()
+        )));
+    }
+    Ok(crate::report::print_report_of(&shape))
+}
+
 /// A deterministic evaluation coloured by state, level or map
 /// ([`Look::colour`](super::Look::colour)), evaluated in memory and written with its colours.
 fn coloured_file(job: &Job, format: Format, out: &Path, report: &mut Report) -> Result<(), RenderError> {

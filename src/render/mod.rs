@@ -33,7 +33,7 @@ mod picture;
 mod shape;
 
 pub use crate::export::{Compression, png_bytes};
-pub use design::{density, evaluate_design, picture, picture_png, render, render_bytes};
+pub use design::{density, evaluate_design, picture, picture_png, print_report, render, render_bytes};
 pub use keys::{Group, KEYS, Key, Kind, OptionError, Profile, Value, key_named};
 pub use load::{LoadError, is_mesh_path, load, load_with_scheme};
 pub use mesh::{MeshJob, check_weights, render_mesh, rule_weights, subdivide_mesh};
@@ -50,7 +50,7 @@ pub use crate::report::{
     curve_analysis, curve_halves, dimension_report, dimension_within, lacunarity_depth, lacunarity_report, model_of,
     parameter_ranges, solve_report, sweep, sweep_cancellable, sweep_colour, sweep_csv, sweep_image, topology_report,
 };
-pub use crate::report::{angle_colour, dimension_colour, region_colour, verdict_colour};
+pub use crate::report::{PrintReport, angle_colour, dimension_colour, print_report_of, region_colour, verdict_colour};
 pub use shape::{control_net, write_shape};
 // Patterns, for the front ends that generate designs from one (`new pattern`, `bcifs.pattern`).
 pub use crate::schemes::{Pattern, PatternCell, PatternError, Polyhedron, PolyhedronError, polyhedral_lace};

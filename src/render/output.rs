@@ -15,6 +15,8 @@ pub enum Format {
     Ply,
     /// Binary STL, for 3D printing: surfaces only (curves and clouds refused).
     Stl,
+    /// 3MF, the 3D Manufacturing Format (slicers): one mesh, in millimetres (curves and clouds refused).
+    ThreeMf,
     /// glTF 2.0 binary: one mesh and node per object, Y-up (at most 4 GiB).
     Glb,
     /// SVG, drawn from memory (2D shapes; surfaces as seen from the view).
@@ -27,8 +29,17 @@ pub enum Format {
 
 impl Format {
     /// Every format, in the order they are listed to users.
-    pub const ALL: [Format; 8] =
-        [Format::Obj, Format::Off, Format::Ply, Format::Stl, Format::Glb, Format::Svg, Format::Png, Format::Flame];
+    pub const ALL: [Format; 9] = [
+        Format::Obj,
+        Format::Off,
+        Format::Ply,
+        Format::Stl,
+        Format::ThreeMf,
+        Format::Glb,
+        Format::Svg,
+        Format::Png,
+        Format::Flame,
+    ];
 
     /// The file extension (lower case, without the dot).
     pub fn extension(self) -> &'static str {
@@ -37,6 +48,7 @@ impl Format {
             Format::Off => "off",
             Format::Ply => "ply",
             Format::Stl => "stl",
+            Format::ThreeMf => "3mf",
             Format::Glb => "glb",
             Format::Svg => "svg",
             Format::Png => "png",

@@ -363,3 +363,69 @@ fn solids_have_their_moran_dimension_with_the_open_set_condition() {
         assert!(report.is_ok(), "{name}: {report:?}");
     }
 }
+
+/// Issue 45: a solid written for printing. The 3MF package holds the three
+/// parts a slicer looks for, its model the mesh written (every vertex and
+/// triangle, in millimetres); the print report measures the boundary mesh:
+/// the sponge's volume (20/27)^k, area, box, one closed oriented piece of
+/// the genus its voxels give, and no vertex inside the solid.
+#[test]
+fn solids_are_written_for_printing_with_their_print_report() {
+    use std::io::Read;
+    let menger = bcifs::builtin_design("menger").unwrap();
+    let dir = std::env::temp_dir().join(format!("bcifs-print-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for k in 1..=3usize {
+        let options = bcifs::render::Options::default().with_depth(k);
+        let path = dir.join(format!("menger{k}.3mf"));
+        let written = bcifs::render::render(&menger, &options, &path).unwrap();
+        let r = bcifs::render::print_report(&menger, &options).unwrap();
+        assert!((r.volume - (20f64 / 27.0).powi(k as i32)).abs() < 1e-12, "depth {k}: {}", r.volume);
+        let (side, cubes) = voxels(MENGER, k as u32);
+        let (_, betti) = cube_topology(side, &cubes);
+        assert_eq!((r.closed, r.oriented, r.components, r.genus), (true, true, 1, Some(betti[1])), "depth {k}");
+        assert_eq!(r.bbox, [[0.0; 3], [1.0; 3]]);
+        // Every vertex written is on the boundary (a face uses it).
+        assert_eq!((written.vertices, r.triangles), (r.vertices, 2 * written.faces));
+        // The area: each unit-cube face of the voxels on the boundary, 1/3^k a side.
+        let mut boundary = 0usize;
+        for c in &cubes {
+            for axis in 0..3 {
+                for step in [-1i64, 1] {
+                    let mut n = c.map(|x| x as i64);
+                    n[axis] += step;
+                    let inside = n.iter().all(|&x| (0..side as i64).contains(&x));
+                    if !inside || !cubes.contains(&n.map(|x| x as usize)) {
+                        boundary += 1;
+                    }
+                }
+            }
+        }
+        assert!((r.area - boundary as f64 / 9f64.powi(k as i32)).abs() < 1e-9, "depth {k}: {}", r.area);
+        // The package: a ZIP whose central directory names the content types, the relationships and
+        // the model; the model (deflated) holds the vertices and triangles counted above.
+        let bytes = std::fs::read(&path).unwrap();
+        let end = bytes.len() - 22;
+        assert_eq!(&bytes[end..end + 4], b"PK\x05\x06");
+        assert_eq!(u16::from_le_bytes([bytes[end + 10], bytes[end + 11]]), 3);
+        let find = |name: &str| bytes.windows(name.len()).position(|w| w == name.as_bytes());
+        for name in ["[Content_Types].xml", "_rels/.rels", "3D/3dmodel.model"] {
+            assert!(find(name).is_some(), "{name}");
+        }
+        // The model's data follows its local header's name.
+        let at = find("3D/3dmodel.model").unwrap() + "3D/3dmodel.model".len();
+        let mut model = String::new();
+        flate2::read::DeflateDecoder::new(&bytes[at..]).read_to_string(&mut model).unwrap();
+        assert!(model.contains("unit=\"millimeter\""));
+        assert_eq!(model.matches("<vertex ").count(), r.vertices);
+        assert_eq!(model.matches("<triangle ").count(), r.triangles);
+    }
+    // A curve has no print report, and no 3MF.
+    let cantor = bcifs::builtin_design("cantor").unwrap();
+    let options = bcifs::render::Options::default().with_depth(2);
+    assert!(bcifs::render::print_report(&cantor, &options).is_err());
+    let e = bcifs::render::render(&cantor, &options, &dir.join("cantor.3mf")).unwrap_err();
+    assert!(e.to_string().contains("3MF file holds solids"), "{e}");
+    assert!(!dir.join("cantor.3mf").exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
