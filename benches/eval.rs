@@ -2,7 +2,8 @@
 //! a C baseline measured on this machine): Lévy depth 24 deterministic (1
 //! and 2 threads), chaos game (one chain), Doo-Sabin 8×8 torus depth 8 in
 //! memory, OBJ text rate, evaluation + OBJ together, and obj-exporter vs
-//! the streaming writer on the same triangle mesh.
+//! the streaming writer on the same triangle mesh; the Menger sponge's
+//! boundary mesh to STL, 3MF and PLY.
 
 use std::hint::black_box;
 
@@ -250,11 +251,32 @@ fn ply(c: &mut Criterion) {
     g.finish();
 }
 
+/// Issue 45: the Menger sponge's boundary mesh at levels 3 and 4, evaluated
+/// and written as binary STL, 3MF and PLY (the side-by-side against
+/// manifold3d's boolean sponge is `benches/peers/menger.py`).
+fn menger(c: &mut Criterion) {
+    let dir = std::env::temp_dir().join("bcifs-bench");
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let design = bcifs::builtin_design("menger").expect("shipped");
+    let mut g = c.benchmark_group("menger");
+    g.sample_size(10);
+    for level in [3usize, 4] {
+        let options = bcifs::render::Options::default().with_depth(level);
+        for ext in ["stl", "3mf", "ply"] {
+            let path = dir.join(format!("menger.{ext}"));
+            g.bench_function(BenchmarkId::new(format!("boundary_{ext}"), level), |b| {
+                b.iter(|| bcifs::render::render(&design, &options, black_box(&path)).expect("written"))
+            });
+        }
+    }
+    g.finish();
+}
+
 // Criterion's plots use plotters, whose `ab_glyph` fonts (enabled for the
 // command line's plots) are registered by bcifs only: no plots here.
 criterion_group! {
     name = benches;
     config = Criterion::default().without_plots();
-    targets = levy, chaos, doo_sabin, obj, ply, contour_fit
+    targets = levy, chaos, doo_sabin, obj, ply, contour_fit, menger
 }
 criterion_main!(benches);
