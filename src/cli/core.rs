@@ -259,7 +259,7 @@ fn pattern_warnings(design: &bcifs::render::Design) {
     }
     if t.pinches > 0 {
         eprintln!(
-            "warning: {} place(s) where kept sub-cells touch at a corner or along an edge only (a pinch): the union is not a manifold there, and a mesh for printing must split it (bcifs does not yet)",
+            "warning: {} place(s) where kept sub-cells touch at a corner or along an edge only (a pinch): the union is not a manifold there; the meshes of solids bcifs writes split it (shells that touch without sharing a vertex)",
             t.pinches
         );
     }

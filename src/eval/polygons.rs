@@ -79,20 +79,7 @@ impl Evaluator {
             };
         for group in groups {
             let scale = group.iter().flat_map(|p| &p.control).fold(1.0f64, |m, x| m.max(x.abs()));
-            let mut faces = Faces {
-                weld: Weld {
-                    q: crate::algebra::tolerance::SAME_POINT * scale,
-                    d,
-                    index: FxHashMap::default(),
-                    positions: Vec::new(),
-                },
-                quads: Vec::new(),
-                triangles: Vec::new(),
-                made: FxHashSet::default(),
-                sides: FxHashMap::default(),
-                side_list: Vec::new(),
-                cells: record.is_some().then(Vec::new),
-            };
+            let mut faces = Faces::new(crate::algebra::tolerance::SAME_POINT * scale, d, record.is_some());
             // Per cell: state, control points, depth left, and its colour so far (see `CellColours`).
             let mut stack: Vec<(usize, Vec<f64>, usize, [f64; 2])> =
                 group.iter().rev().map(|p| (p.state, p.control.clone(), k, [0.0, 1.0])).collect();
@@ -147,12 +134,32 @@ struct Faces {
     sides: FxHashMap<Poly, usize>,
     /// Volumes' faces, outward, in the order made, and how many cells made each: a face two kept
     /// cells share is inside the solid, and only the others are written.
-    side_list: Vec<(Poly, usize)>,
+    side_list: Vec<(Poly, usize, u32)>,
+    /// Volume cells met so far (a face's cell is its number), and the cell of each quad and triangle.
+    leaves: u32,
+    quad_cells: Vec<u32>,
+    triangle_cells: Vec<u32>,
     /// Each leaf volume's faces, when asked for ([`Evaluator::volume_cells`]).
     cells: Option<Vec<Vec<Vec<usize>>>>,
 }
 
 impl Faces {
+    /// No face yet: corners welded within `q`, `d` coordinates each; each cell's faces kept when `record`.
+    fn new(q: f64, d: usize, record: bool) -> Faces {
+        Faces {
+            weld: Weld { q, d, index: FxHashMap::default(), positions: Vec::new() },
+            quads: Vec::new(),
+            triangles: Vec::new(),
+            made: FxHashSet::default(),
+            sides: FxHashMap::default(),
+            side_list: Vec::new(),
+            leaves: 0,
+            quad_cells: Vec::new(),
+            triangle_cells: Vec::new(),
+            cells: record.then(Vec::new),
+        }
+    }
+
     /// A leaf cell's polygons over its sample points (control points `c`):
     /// its start faces, or its corner polygon.
     fn leaf(&mut self, sp: &super::plan::StatePlan, c: &[f64], first: usize) {
@@ -224,10 +231,11 @@ impl Faces {
                 Some(&at) => self.side_list[at].1 += 1,
                 None => {
                     self.sides.insert(key, self.side_list.len());
-                    self.side_list.push((Poly::new(&corners), 1));
+                    self.side_list.push((Poly::new(&corners), 1, self.leaves));
                 }
             }
         }
+        self.leaves += 1;
         if let Some(cells) = self.cells.as_mut() {
             cells.push(cell);
         }
@@ -238,14 +246,98 @@ impl Faces {
     fn close_volumes(&mut self) -> bool {
         self.sides.clear();
         let volumes = !self.side_list.is_empty();
-        for (corners, count) in std::mem::take(&mut self.side_list) {
+        for (corners, count, cell) in std::mem::take(&mut self.side_list) {
             match (corners.as_slice(), count) {
-                (&[a, b, c, d], 1) => self.quads.push([a, b, c, d]),
-                (corners, 1) => self.triangles.extend(crate::geometry::fan(corners, 0)),
+                (&[a, b, c, d], 1) => {
+                    self.quads.push([a, b, c, d]);
+                    self.quad_cells.push(cell);
+                }
+                (corners, 1) => {
+                    let before = self.triangles.len();
+                    self.triangles.extend(crate::geometry::fan(corners, 0));
+                    self.triangle_cells.resize(self.triangles.len(), cell);
+                    debug_assert!(self.triangles.len() >= before);
+                }
                 _ => {}
             }
         }
         volumes
+    }
+
+    /// Splits the vertices where a solid's cells touch at a point or along an
+    /// edge only (pinches): around each vertex its boundary faces are joined
+    /// through the edges they share (an edge of two faces; of four where two
+    /// cells touch along it, then each cell's two), and every fan but the
+    /// first gets its own copy of the vertex. The boundary becomes a
+    /// 2-manifold, shells that touch without sharing a vertex (what a
+    /// slicer and manifold3d take). Returns the vertices added.
+    fn split_pinches(&mut self, first: usize, colours: Option<&mut Vec<f32>>) -> usize {
+        let d = self.weld.d;
+        let n = self.weld.positions.len() / d;
+        let nq = self.quads.len();
+        let total = nq + self.triangles.len();
+        let (quads, triangles) = (&self.quads, &self.triangles);
+        let corners = |f: usize| -> &[usize] { if f < nq { &quads[f] } else { &triangles[f - nq] } };
+        let cell = |f: usize| if f < nq { self.quad_cells[f] } else { self.triangle_cells[f - nq] };
+        // The face corners at each vertex, gathered by counting.
+        let mut start = vec![0usize; n + 1];
+        (0..total).flat_map(corners).for_each(|&v| start[v - first + 1] += 1);
+        (0..n).for_each(|v| start[v + 1] += start[v]);
+        let mut fill = start.clone();
+        let mut at = vec![(0usize, 0usize); start[n]];
+        for f in 0..total {
+            for (i, &v) in corners(f).iter().enumerate() {
+                at[fill[v - first]] = (f, i);
+                fill[v - first] += 1;
+            }
+        }
+        let mut renames: Vec<(usize, usize, usize)> = Vec::new();
+        let mut added = 0;
+        for v in 0..n {
+            let here = &at[start[v]..start[v + 1]];
+            // One cell has at most three faces at a corner: a pinch has at least six.
+            if here.len() < 6 {
+                continue;
+            }
+            let mut parent = fans(here, &corners, &cell);
+            let keep = fan_root(&mut parent, 0);
+            let mut copies: Vec<(usize, usize)> = Vec::new();
+            for (k, &(f, i)) in here.iter().enumerate() {
+                let r = fan_root(&mut parent, k);
+                if r == keep {
+                    continue;
+                }
+                let copy = match copies.iter().find(|c| c.0 == r) {
+                    Some(c) => c.1,
+                    None => {
+                        copies.push((r, n + added));
+                        added += 1;
+                        n + added - 1
+                    }
+                };
+                renames.push((f, i, copy));
+            }
+        }
+        let mut colours = colours;
+        let mut origin = vec![0usize; added];
+        for &(f, i, copy) in &renames {
+            let v = corners(f)[i] - first;
+            origin[copy - n] = v;
+        }
+        for &v in &origin {
+            self.weld.positions.extend_from_within(v * d..(v + 1) * d);
+            if let Some(c) = colours.as_deref_mut().filter(|c| c.len() > first + v) {
+                c.push(c[first + v]);
+            }
+        }
+        for (f, i, copy) in renames {
+            if f < nq {
+                self.quads[f][i] = first + copy;
+            } else {
+                self.triangles[f - nq][i] = first + copy;
+            }
+        }
+        added
     }
 
     /// Drops the vertices no face uses (a solid's inner corners: its boundary
@@ -284,7 +376,9 @@ impl Faces {
     /// Writes the welded vertices (shaded smooth in every client: with the
     /// area-weighted normals of the faces) and the faces.
     fn write(&mut self, sink: &mut dyn Sink, first: usize, colours: Option<&mut Vec<f32>>) -> Result<(), EvalError> {
+        let mut colours = colours;
         if self.close_volumes() {
+            self.split_pinches(first, colours.as_deref_mut());
             self.compact(first, colours);
         }
         let d = self.weld.d;
@@ -343,6 +437,45 @@ impl Evaluator {
         let sp = self.plan.state(s);
         usize::from(sp.kind == CellKind::Face || sp.cyclic)
     }
+}
+
+/// The fans of boundary faces around one vertex (`here`: the faces and
+/// corner positions there): a union-find over them, two faces joined when
+/// they share an edge at the vertex that only they have, or that they have
+/// with two faces of another cell (cells touching along it) and are of the same cell.
+fn fans<'a>(
+    here: &[(usize, usize)],
+    corners: &impl Fn(usize) -> &'a [usize],
+    cell: &impl Fn(usize) -> u32,
+) -> Vec<usize> {
+    let mut ends: Vec<(usize, usize)> = Vec::with_capacity(2 * here.len());
+    for (k, &(f, i)) in here.iter().enumerate() {
+        let c = corners(f);
+        ends.push((c[(i + 1) % c.len()], k));
+        ends.push((c[(i + c.len() - 1) % c.len()], k));
+    }
+    ends.sort_unstable();
+    let mut parent: Vec<usize> = (0..here.len()).collect();
+    for run in ends.chunk_by(|a, b| a.0 == b.0) {
+        for (i, a) in run.iter().enumerate() {
+            for b in &run[i + 1..] {
+                if run.len() == 2 || cell(here[a.1].0) == cell(here[b.1].0) {
+                    let (x, y) = (fan_root(&mut parent, a.1), fan_root(&mut parent, b.1));
+                    parent[x] = y;
+                }
+            }
+        }
+    }
+    parent
+}
+
+/// The representative of `x`'s fan.
+fn fan_root(parent: &mut [usize], mut x: usize) -> usize {
+    while parent[x] != x {
+        parent[x] = parent[parent[x]];
+        x = parent[x];
+    }
+    x
 }
 
 /// A polygon's corners, held without an allocation up to four (every

@@ -429,3 +429,33 @@ fn solids_are_written_for_printing_with_their_print_report() {
     assert!(!dir.join("cantor.3mf").exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Issue 45, item 2: cells that touch only at a point or along an edge are
+/// written as shells that touch without sharing a vertex (the pinch split),
+/// so that every print file is a 2-manifold: the Sierpiński tetrahedron's
+/// 4^k cells are 4^k closed, oriented pieces of genus 0 with half the volume
+/// at every depth; two cubes of a 2×2×2 split touching along an edge are two.
+#[test]
+fn pinches_are_split_so_that_solids_print_as_manifolds() {
+    let tetra = bcifs::builtin_design("sierpinski_tetrahedron").unwrap();
+    let whole = 2f64.sqrt() / 12.0; // the regular tetrahedron of side 1
+    for k in 1..=3usize {
+        let r = bcifs::render::print_report(&tetra, &bcifs::render::Options::default().with_depth(k)).unwrap();
+        let cells = 4usize.pow(k as u32);
+        assert_eq!((r.components, r.closed, r.oriented, r.genus), (cells, true, true, Some(0)), "depth {k}");
+        assert_eq!(r.vertices, 4 * cells, "depth {k}: each cell's corners its own");
+        assert!((r.volume - whole / 2f64.powi(k as i32)).abs() < 1e-12, "depth {k}");
+        // The topology of the cells themselves is unchanged: they touch, one component.
+        assert_eq!(topology_report(&tetra, &[], k).unwrap().components, 1);
+    }
+    // Cells (0,0,0) and (1,1,0) of a 2×2×2 split share an edge and nothing else.
+    let edge =
+        pattern_design(&Pattern::parse(PatternCell::Hexahedron, "2x2x2", Some("10010000"), 2).unwrap(), "e").unwrap();
+    let r = bcifs::render::print_report(&edge, &bcifs::render::Options::default().with_depth(1)).unwrap();
+    assert_eq!((r.components, r.closed, r.oriented, r.vertices, r.genus), (2, true, true, 16, Some(0)));
+    assert!((r.volume - 0.25).abs() < 1e-12);
+    // Without a pinch nothing is split: the sponge's boundary keeps its one piece.
+    let menger = bcifs::builtin_design("menger").unwrap();
+    let r = bcifs::render::print_report(&menger, &bcifs::render::Options::default().with_depth(2)).unwrap();
+    assert_eq!((r.components, r.genus), (1, Some(81)));
+}

@@ -413,7 +413,7 @@ fn run_topology(out: &mut String, file: &str, params: &[String], depth: usize, a
     if t.pinches > 0 {
         writeln!(
             out,
-            "  {} pinch(es): cells meet at a point or along an edge only there (the union is not a manifold: the meshes written keep the contact, a printer needs it split)",
+            "  {} pinch(es): cells meet at a point or along an edge only there (the union is not a manifold there: a solid's mesh is written with it split, a surface's keeps the contact)",
             t.pinches
         )?;
     }
