@@ -35,6 +35,7 @@ pub fn render(design: &Design, options: &Options, out: &Path) -> Result<Report, 
     let mut report = Report { format: Some(format), ..Report::default() };
     warn_unused(options, format, &mut report.warnings);
     match route(format, options) {
+        Route::Shell => shell_file(job, out, &mut report)?,
         Route::Coloured => coloured_file(job, format, out, &mut report)?,
         Route::Flame => flame_file(job, out, &mut report)?,
         Route::Stream => stream_file(job, format, &out.into(), &mut report)?,
@@ -221,7 +222,10 @@ fn stream_file(job: &Job, format: Format, out: &crate::export::Target, report: &
 /// As [`render`]'s evaluation; a design that makes no face.
 pub fn print_report(design: &Design, options: &Options) -> Result<crate::report::PrintReport, RenderError> {
     let job = Job::new(design, options)?;
-    let shape = job.evaluate(&mut Vec::new())?;
+    let shape = match shell(&job, &mut Vec::new())? {
+        Some(shell) => shell,
+        None => job.evaluate(&mut Vec::new())?,
+    };
     if shape.quads.is_empty() && shape.triangles.is_empty() {
         return Err(RenderError::Unsupported(format!(
             "{}: a print report measures faces; this design makes curves or points",
@@ -229,6 +233,25 @@ pub fn print_report(design: &Design, options: &Options) -> Result<crate::report:
         )));
     }
     Ok(crate::report::print_report_of(&shape))
+}
+
+/// The surface evaluated in memory, thickened into a shell of the options'
+/// thickness ([`crate::mesh::thicken`]).
+fn shell(job: &Job, warnings: &mut Vec<String>) -> Result<Option<Shape>, RenderError> {
+    let Some(t) = job.options.file.thickness else { return Ok(None) };
+    let shape = job.evaluate(warnings)?;
+    job.options.check_cancel()?;
+    crate::mesh::thicken(&shape, t).map(Some).map_err(|e| RenderError::Unsupported(format!("{}: {e}", job.name())))
+}
+
+/// A surface written as a shell of the options' thickness.
+fn shell_file(job: &Job, out: &Path, report: &mut Report) -> Result<(), RenderError> {
+    let Some(shell) = shell(job, &mut report.warnings)? else { return Ok(()) };
+    let written = super::shape::write_shape_options(&shell, job.name(), &job.options, out)?;
+    report.vertices = written.vertices;
+    report.faces = written.faces;
+    report.bytes = written.bytes;
+    Ok(())
 }
 
 /// A deterministic evaluation coloured by state, level or map

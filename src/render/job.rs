@@ -81,6 +81,8 @@ impl<'a> Job<'a> {
 /// The ways an output is made: the one route table ([`route`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) enum Route {
+    /// A surface thickened into a shell ([`crate::mesh::thicken`]): in memory.
+    Shell,
     /// A deterministic evaluation coloured by state, level or map: in memory, with its colours.
     Coloured,
     /// flam3's XML of a plain IFS.
@@ -97,6 +99,7 @@ pub(super) enum Route {
 pub(super) fn route(format: Format, options: &Options) -> Route {
     let chaos = options.sampling.samples.is_some();
     match format {
+        _ if options.file.thickness.is_some() && !chaos => Route::Shell,
         _ if options.look.colour.is_some() && !chaos => Route::Coloured,
         Format::Flame => Route::Flame,
         f if f.is_geometry() => Route::Stream,

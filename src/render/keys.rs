@@ -132,6 +132,7 @@ pub const KEYS: &[Key] = &[
     key("ascii", "ascii", F, Kind::Switch, "PLY as text instead of binary little-endian."),
     key("precision", "precision", F, Kind::Count, "File coordinates with this many significant digits (1 to 15): smaller files, written faster (default: the shortest text that reads back to the same number, up to 17 digits)."),
     key("dedup", "dedup", F, Kind::Switch, "Drop exact duplicate points of a point cloud (evaluated in memory), reporting how many."),
+    key("thickness", "thickness", F, Kind::Number, "Write a surface (a lace) as a closed shell of this thickness (modelling units), for printing: evaluated in memory, refused when thicker than its smallest cell or pinched."),
 ];
 
 /// The key named `name` (its [`Key::name`] or its [`Key::flag`]).
@@ -507,6 +508,10 @@ impl Options {
                 _ => return Err(refuse("a number of significant digits is 1 to 15")),
             },
             "dedup" => self.file.dedup = switch(key, value)?,
+            "thickness" => match number(key, value)? {
+                t if t.is_finite() && t > 0.0 => self.file.thickness = Some(t),
+                _ => return Err(refuse("a thickness is a positive number (modelling units)")),
+            },
             other => unreachable!("the key `{other}` has no setter"),
         }
         Ok(())

@@ -168,6 +168,8 @@ pub struct FileStyle {
     pub dedup: bool,
     /// Texture coordinates on meshes: one parameterization `(u, v)` of the whole grid or torus.
     pub uv: bool,
+    /// A surface (a lace) written as a closed shell of this thickness ([`crate::mesh::thicken`]).
+    pub thickness: Option<f64>,
 }
 
 impl Options {

@@ -459,3 +459,46 @@ fn pinches_are_split_so_that_solids_print_as_manifolds() {
     let r = bcifs::render::print_report(&menger, &bcifs::render::Options::default().with_depth(2)).unwrap();
     assert_eq!((r.components, r.genus), (1, Some(81)));
 }
+
+/// Issue 45, item 3: a lace written as a closed shell of a given thickness.
+/// The carpet on its curved patch at depth k thickened: one closed,
+/// consistently oriented piece whose genus is the carpet's number of holes
+/// ((8^k − 1)/7), its volume the thickness times the sheet's area to first
+/// order; a thickness at or over the smallest cell, a pinched lace (the
+/// gasket's corners) and a curve are refused before anything is written.
+#[test]
+fn laces_thicken_into_closed_shells_of_the_carpets_genus() {
+    let carpet = bcifs::builtin_design("carpet").unwrap();
+    let t = 0.004;
+    for k in 1..=3usize {
+        let options = bcifs::render::Options::default().with_depth(k);
+        let sheet = bcifs::render::evaluate_design(&carpet, &options, &mut Vec::new()).unwrap();
+        let area = bcifs::render::print_report_of(&sheet).area;
+        let shell = bcifs::mesh::thicken(&sheet, t).unwrap();
+        let r = bcifs::render::print_report_of(&shell);
+        let holes = (8i64.pow(k as u32) - 1) / 7;
+        assert_eq!((r.closed, r.oriented, r.components, r.genus), (true, true, 1, Some(holes)), "depth {k}");
+        // The sheet bends gently: the shell's volume is t·area within t² times its extent.
+        assert!((r.volume - t * area).abs() < 10.0 * t * t, "depth {k}: {} vs {}", r.volume, t * area);
+        // Through the options: the same shell, to a file.
+        let mut thick = options.clone();
+        thick.file.thickness = Some(t);
+        assert_eq!(bcifs::render::print_report(&carpet, &thick).unwrap(), r);
+    }
+    let sheet =
+        bcifs::render::evaluate_design(&carpet, &bcifs::render::Options::default().with_depth(2), &mut Vec::new())
+            .unwrap();
+    assert!(matches!(bcifs::mesh::thicken(&sheet, 0.2), Err(bcifs::mesh::ThickenError::TooThick { .. })));
+    assert!(matches!(bcifs::mesh::thicken(&sheet, -1.0), Err(bcifs::mesh::ThickenError::Thickness(_))));
+    let gasket = bcifs::builtin_design("gasket_lace").unwrap();
+    let g = bcifs::render::evaluate_design(&gasket, &bcifs::render::Options::default().with_depth(2), &mut Vec::new())
+        .unwrap();
+    assert!(matches!(bcifs::mesh::thicken(&g, 0.001), Err(bcifs::mesh::ThickenError::Pinched(_))));
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_bcifs"))
+        .args(["render", "cantor", "--depth", "2", "--thickness", "0.01", "-o"])
+        .arg(std::env::temp_dir().join(format!("bcifs-cantor-{}.stl", std::process::id())))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("only surfaces thicken"), "{err}");
+}
