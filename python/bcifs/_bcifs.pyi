@@ -52,6 +52,7 @@ class Design:
         tolerance: Optional[float] = None,
         uv: Optional[bool] = None,
         force: Optional[bool] = None,
+        thickness: Optional[float] = None,
         **params: float,
     ) -> Mesh: ...
     def points(self, samples: int, seed: Optional[int] = None, **params: float) -> npt.NDArray[np.float64]: ...
@@ -99,6 +100,7 @@ class Design:
         ascii: bool = False,
         precision: Optional[int] = None,
         dedup: bool = False,
+        thickness: Optional[float] = None,
         # Python's own: the tone keys as one dict.
         tone: Optional[dict[str, Union[float, str]]] = None,
         **options: float,

@@ -160,8 +160,10 @@ impl Design {
     /// The attractor evaluated `depth` subdivisions down (or until every
     /// cell is below `tolerance`), with the given parameter values, as a
     /// [`Mesh`]; `uv` gives surfaces texture coordinates (as `render
-    /// --uv`), `force` evaluates a system whose bounds prove divergence.
-    #[pyo3(signature = (depth=None, tolerance=None, uv=None, force=None, **params))]
+    /// --uv`), `force` evaluates a system whose bounds prove divergence,
+    /// `thickness` makes a surface (a lace) a closed shell (as `render --thickness`).
+    #[pyo3(signature = (depth=None, tolerance=None, uv=None, force=None, thickness=None, **params))]
+    #[allow(clippy::too_many_arguments)]
     fn mesh(
         &self,
         py: Python<'_>,
@@ -169,9 +171,11 @@ impl Design {
         tolerance: Option<&Bound<'_, PyAny>>,
         uv: Option<&Bound<'_, PyAny>>,
         force: Option<&Bound<'_, PyAny>>,
+        thickness: Option<&Bound<'_, PyAny>>,
         params: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Mesh> {
-        let keywords = [("depth", depth), ("tolerance", tolerance), ("uv", uv), ("force", force)];
+        let keywords =
+            [("depth", depth), ("tolerance", tolerance), ("uv", uv), ("force", force), ("thickness", thickness)];
         let options = Design::options(py, &keywords, params)?;
         let design = self.inner.clone();
         let arrays = cancellable(py, None, move |cancel, _| {

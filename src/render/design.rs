@@ -13,12 +13,17 @@ use crate::eval::{Depth, EvalError, RandomSettings};
 use crate::geometry::{Shape, Sink};
 
 /// Evaluates a design in memory (deterministic or random, as the options
-/// say); warnings (undecided convergence) go to `warnings`.
+/// say; a surface thickened into a shell when they give a thickness);
+/// warnings (undecided convergence) go to `warnings`.
 ///
 /// # Errors
 /// See [`RenderError`].
 pub fn evaluate_design(design: &Design, options: &Options, warnings: &mut Vec<String>) -> Result<Shape, RenderError> {
-    Job::new(design, options)?.evaluate(warnings)
+    let job = Job::new(design, options)?;
+    match shell(&job, warnings)? {
+        Some(shell) => Ok(shell),
+        None => job.evaluate(warnings),
+    }
 }
 
 /// Renders a design to `out`, the format chosen by its extension: `.obj`
@@ -221,11 +226,7 @@ fn stream_file(job: &Job, format: Format, out: &crate::export::Target, report: &
 /// # Errors
 /// As [`render`]'s evaluation; a design that makes no face.
 pub fn print_report(design: &Design, options: &Options) -> Result<crate::report::PrintReport, RenderError> {
-    let job = Job::new(design, options)?;
-    let shape = match shell(&job, &mut Vec::new())? {
-        Some(shell) => shell,
-        None => job.evaluate(&mut Vec::new())?,
-    };
+    let shape = evaluate_design(design, options, &mut Vec::new())?;
     if shape.quads.is_empty() && shape.triangles.is_empty() {
         return Err(RenderError::Unsupported(format!(
             "{}: a print report measures faces; this design makes curves or points",
