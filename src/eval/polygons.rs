@@ -139,6 +139,8 @@ struct Faces {
     leaves: u32,
     quad_cells: Vec<u32>,
     triangle_cells: Vec<u32>,
+    /// A leaf's welded corners, reused from leaf to leaf.
+    scratch: Vec<usize>,
     /// Each leaf volume's faces, when asked for ([`Evaluator::volume_cells`]).
     cells: Option<Vec<Vec<Vec<usize>>>>,
 }
@@ -156,6 +158,7 @@ impl Faces {
             leaves: 0,
             quad_cells: Vec::new(),
             triangle_cells: Vec::new(),
+            scratch: Vec::new(),
             cells: record.then(Vec::new),
         }
     }
@@ -164,16 +167,18 @@ impl Faces {
     /// its start faces, or its corner polygon.
     fn leaf(&mut self, sp: &super::plan::StatePlan, c: &[f64], first: usize) {
         let (n, d) = (sp.dim, self.weld.d);
-        let index: Vec<usize> = sp
-            .samples
-            .iter()
-            .map(|b| {
-                let p: Vec<f64> = (0..d).map(|a| (0..n).map(|i| c[a * n + i] * b[i]).sum()).collect();
-                first + self.weld.index(&p)
-            })
-            .collect();
+        let mut index = std::mem::take(&mut self.scratch);
+        index.clear();
+        let mut p = [0.0f64; 3];
+        for b in &sp.samples {
+            for (a, x) in p.iter_mut().enumerate().take(d) {
+                *x = (0..n).map(|i| c[a * n + i] * b[i]).sum();
+            }
+            index.push(first + self.weld.index(&p[..d]));
+        }
         if sp.kind == CellKind::Volume {
             self.volume(sp, &index, first);
+            self.scratch = index;
             return;
         }
         let corner_polygon = [(0..index.len()).collect::<Vec<usize>>()];
@@ -191,6 +196,7 @@ impl Faces {
                 _ => self.triangles.extend(crate::geometry::fan(&corners, 0)),
             }
         }
+        self.scratch = index;
     }
 
     /// A leaf volume's faces (its corners welded at `index`), turned outward
@@ -209,29 +215,40 @@ impl Faces {
         let centre = mean(index);
         let mut cell = Vec::new();
         for face in &sp.faces {
-            let mut corners: Vec<usize> = face.iter().map(|&i| index[i]).collect();
-            let key = Poly::sorted(&corners);
+            let mut corners = Poly::new(&[]);
+            if let Poly::Short(len, v) = &mut corners
+                && face.len() <= 4
+            {
+                *len = face.len() as u8;
+                face.iter().zip(v.iter_mut()).for_each(|(&i, x)| *x = index[i]);
+            } else {
+                corners = Poly::Long(face.iter().map(|&i| index[i]).collect());
+            }
+            let key = Poly::sorted(corners.as_slice());
             if key.repeats() {
                 continue;
             }
-            let (mid, mut normal) = (mean(&corners), [0.0; 3]);
-            for (k, &v) in corners.iter().enumerate() {
-                let (p, q) = (at(v), at(corners[(k + 1) % corners.len()]));
+            let cs = corners.as_slice();
+            let (mid, mut normal) = (mean(cs), [0.0; 3]);
+            for (k, &v) in cs.iter().enumerate() {
+                let (p, q) = (at(v), at(cs[(k + 1) % cs.len()]));
                 normal[0] += (p[1] - q[1]) * (p[2] + q[2]);
                 normal[1] += (p[2] - q[2]) * (p[0] + q[0]);
                 normal[2] += (p[0] - q[0]) * (p[1] + q[1]);
             }
             if (0..3).map(|a| normal[a] * (mid[a] - centre[a])).sum::<f64>() < 0.0 {
-                corners.reverse();
+                let mut turned: Vec<usize> = cs.to_vec();
+                turned.reverse();
+                corners = Poly::new(&turned);
             }
             if self.cells.is_some() {
-                cell.push(corners.clone());
+                cell.push(corners.as_slice().to_vec());
             }
             match self.sides.get(&key) {
                 Some(&at) => self.side_list[at].1 += 1,
                 None => {
                     self.sides.insert(key, self.side_list.len());
-                    self.side_list.push((Poly::new(&corners), 1, self.leaves));
+                    self.side_list.push((corners, 1, self.leaves));
                 }
             }
         }
