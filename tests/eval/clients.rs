@@ -464,3 +464,45 @@ fn solids_and_shells_are_valid_without_self_intersections_in_meshlab() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Issue 45, item 5, in Blender 3.4 (Debian's): the sponge's STL (a triangle
+/// soup, merged by position as a slicer merges it) and GLB import as one
+/// closed 2-manifold of the sponge's volume (20/27)² with its 896 corners.
+/// (Blender 3.4 has no 3MF importer: lib3mf, the Consortium's own library,
+/// reads the 3MF in `python/tests`.)
+#[test]
+fn solids_import_closed_in_blender() {
+    let dir = std::env::temp_dir().join(format!("bcifs-blender-solids-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (stl, glb) = (dir.join("sponge.stl"), dir.join("sponge.glb"));
+    for path in [&stl, &glb] {
+        let out = Command::new(env!("CARGO_BIN_EXE_bcifs"))
+            .args(["render", "menger", "--depth", "2", "-o"])
+            .arg(path)
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    }
+    // Debian's Blender 3.4 glTF importer calls `numpy.bool` (see tests/eval/gltf.rs).
+    let script = format!(
+        "import bpy, bmesh, numpy\nnumpy.bool = bool\n\
+         for path, kind in [(r'{}', 'stl'), (r'{}', 'glb')]:\n    \
+             bpy.ops.object.select_all(action='SELECT')\n    bpy.ops.object.delete()\n    \
+             bpy.ops.import_mesh.stl(filepath=path) if kind == 'stl' else bpy.ops.import_scene.gltf(filepath=path)\n    \
+             bm = bmesh.new()\n    \
+             for o in bpy.context.scene.objects:\n        \
+                 if o.type == 'MESH':\n            m = o.data.copy()\n            m.transform(o.matrix_world)\n            bm.from_mesh(m)\n    \
+             bmesh.ops.remove_doubles(bm, verts=bm.verts, dist=1e-6)\n    \
+             print('BCIFS', kind, len(bm.verts), round(bm.calc_volume(signed=True), 6), all(e.is_manifold for e in bm.edges))\n",
+        stl.display(),
+        glb.display()
+    );
+    if let Some(lines) = blender(&script) {
+        let volume = (20f64 / 27.0).powi(2);
+        for (line, kind) in lines.iter().zip(["stl", "glb"]) {
+            assert_eq!(line, &format!("{kind} 896 {volume:.6} True"), "{kind} in Blender");
+        }
+        assert_eq!(lines.len(), 2);
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
