@@ -16,6 +16,7 @@ import pathlib
 import sys
 import traceback
 
+import bmesh
 import bpy
 
 MODE, ZIP, OUT = sys.argv[sys.argv.index("--") + 1 :][:3]
@@ -90,6 +91,19 @@ def operators():
     assert bpy.ops.bcifs.add(source="fern", depth=5) == {"FINISHED"}
     fern = bpy.context.active_object
     seen["fern"] = {"vertices": len(fern.data.vertices), "faces": len(fern.data.polygons), "edges": len(fern.data.edges)}
+    # A porous solid: the sponge's boundary mesh, closed, with sliders for its parameters.
+    assert bpy.ops.bcifs.add(source="menger", depth=2) == {"FINISHED"}
+    sponge = bpy.context.active_object
+    bm = bmesh.new()
+    bm.from_mesh(sponge.data)
+    seen["menger"] = {
+        "vertices": len(sponge.data.vertices),
+        "faces": len(sponge.data.polygons),
+        "manifold": all(e.is_manifold for e in bm.edges),
+        "volume": bm.calc_volume(signed=True),
+        "params": len(sponge.bcifs.params),
+        "verdict": sponge.bcifs.verdict,
+    }
     try:
         bpy.ops.bcifs.add(source="no_such_design")
         seen["unknown"] = ""

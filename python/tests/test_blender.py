@@ -121,6 +121,15 @@ def test_curves_are_poly_splines_or_edges_and_clouds_vertices(operators, tmp_pat
     assert "neither a file nor a shipped automaton" in operators["unknown"], "the library's message"
 
 
+def test_a_porous_solid_is_added_closed_with_its_sliders(operators):
+    """Issue 45, item 6: Add › BC-IFS with the sponge gives its closed boundary mesh (the CLI's 896
+    corners and 1056 quads at depth 2, volume (20/27)², Y-up not changing it) and its 98 sliders."""
+    sponge = operators["menger"]
+    assert (sponge["vertices"], sponge["faces"], sponge["manifold"]) == (896, 1056, True)
+    assert abs(abs(sponge["volume"]) - (20 / 27) ** 2) < 1e-5
+    assert sponge["params"] == 98 and sponge["verdict"] == "converges"
+
+
 @pytest.mark.parametrize("scheme", ["catmull-clark", "doo-sabin", "loop"])
 def test_subdivide_gives_bcifs_surface_of_the_exported_mesh(session, operators, tmp_path, scheme):
     source = session.dir / f"suzanne-{scheme}.obj"
