@@ -55,6 +55,13 @@ class Design:
         thickness: Optional[float] = None,
         **params: float,
     ) -> Mesh: ...
+    def print_report(
+        self,
+        depth: Optional[int] = None,
+        tolerance: Optional[float] = None,
+        thickness: Optional[float] = None,
+        **params: float,
+    ) -> dict[str, Any]: ...
     def points(self, samples: int, seed: Optional[int] = None, **params: float) -> npt.NDArray[np.float64]: ...
     def density(
         self,

@@ -186,6 +186,27 @@ impl Design {
         arrays.into_mesh(py)
     }
 
+    /// The print report of the mesh `render` writes (as `render --json`):
+    /// `volume`, `area`, `bbox`, `components`, `closed`, `oriented`, `euler`,
+    /// `genus`, `triangles`, `vertices`; `thickness` measures a lace's shell.
+    #[pyo3(signature = (depth=None, tolerance=None, thickness=None, **params))]
+    fn print_report<'py>(
+        &self,
+        py: Python<'py>,
+        depth: Option<&Bound<'py, PyAny>>,
+        tolerance: Option<&Bound<'py, PyAny>>,
+        thickness: Option<&Bound<'py, PyAny>>,
+        params: Option<&Bound<'py, PyDict>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let keywords = [("depth", depth), ("tolerance", tolerance), ("thickness", thickness)];
+        let options = Design::options(py, &keywords, params)?;
+        let design = self.inner.clone();
+        let report =
+            cancellable(py, None, move |cancel, _| bcifs::render::print_report(&design, &options.with_cancel(cancel)))?
+                .map_err(err)?;
+        json_object(py, &report)
+    }
+
     /// `samples` points of the chaos game (from `seed`: by default the
     /// command line's), an (n, 3) array.
     #[pyo3(signature = (samples, seed=None, **params))]

@@ -743,6 +743,10 @@ def test_laces_thicken_into_shells_from_python():
     shell = bcifs.load("carpet").mesh(depth=2, thickness=0.01).to_trimesh()
     assert shell.is_watertight and shell.is_winding_consistent and shell.volume > 0
     assert shell.euler_number == 2 - 2 * 9
+    report = bcifs.load("carpet").print_report(depth=2, thickness=0.01)
+    assert (report["genus"], report["closed"], report["components"]) == (9, True, 1)
+    assert report["volume"] == pytest.approx(shell.volume, rel=1e-3)  # quads split along either diagonal
+    assert bcifs.load("menger").print_report(depth=3)["genus"] == 1409
     with pytest.raises(bcifs.BcifsError, match="smallest side"):
         bcifs.load("carpet").mesh(depth=2, thickness=0.5)
     m3 = pytest.importorskip("manifold3d")
