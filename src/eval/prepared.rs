@@ -397,9 +397,16 @@ impl Evaluator {
 
     /// Bytes of OBJ text a streamed fixed-depth evaluation would write, roughly
     /// (a vertex with its normal and a quad: ~200 bytes; a curve or cloud
-    /// point and its line record: ~70): for refusing outputs that would not
-    /// fit the disk before writing any.
+    /// point and its line record: ~70; a solid's cell at most 600, all its
+    /// faces on the boundary): for refusing outputs that would not fit the
+    /// disk before writing any.
     pub fn estimate_obj_bytes(&self, depth: usize) -> u128 {
+        if let Ok(CellKind::Volume) = self.root_kind() {
+            // A solid's cell writes at most its six faces (twelve STL triangles of 50 bytes, or
+            // its corners and quads as text): 600 bytes, whatever the format.
+            let cells = self.pieces.pieces.iter().fold(0u128, |n, p| n.saturating_add(self.face_cells(p.state, depth)));
+            return cells.saturating_mul(600);
+        }
         let per_cell: u128 = match self.root_kind() {
             Ok(CellKind::Face) => 200,
             _ => 70,
