@@ -12,6 +12,7 @@ mod ball;
 mod colour;
 mod curve;
 mod evaluate;
+mod lattice;
 mod pieces;
 mod plan;
 mod polygons;
