@@ -309,25 +309,31 @@ impl Faces {
         let corners = |f: usize| -> &[usize] { if f < nq { &quads[f] } else { &triangles[f - nq] } };
         let cell = |f: usize| if f < nq { self.quad_cells[f] } else { self.triangle_cells[f - nq] };
         // The face corners at each vertex, gathered by counting.
-        let mut start = vec![0usize; n + 1];
-        (0..total).flat_map(corners).for_each(|&v| start[v - first + 1] += 1);
-        (0..n).for_each(|v| start[v + 1] += start[v]);
+        // The face corners at each vertex of six faces or more (one cell has at most three at a
+        // corner: a pinch has at least six), gathered by counting.
+        let mut count = vec![0u32; n];
+        (0..total).flat_map(corners).for_each(|&v| count[v - first] += 1);
+        let mut slot = vec![u32::MAX; n];
+        let mut start = vec![0usize];
+        for (v, &c) in count.iter().enumerate().filter(|(_, c)| **c >= 6) {
+            slot[v] = (start.len() - 1) as u32;
+            start.push(start[start.len() - 1] + c as usize);
+        }
+        drop(count);
         let mut fill = start.clone();
-        let mut at = vec![(0usize, 0usize); start[n]];
+        let mut at = vec![(0usize, 0usize); start[start.len() - 1]];
         for f in 0..total {
             for (i, &v) in corners(f).iter().enumerate() {
-                at[fill[v - first]] = (f, i);
-                fill[v - first] += 1;
+                if let Some(k) = Some(slot[v - first] as usize).filter(|&k| k != u32::MAX as usize) {
+                    at[fill[k]] = (f, i);
+                    fill[k] += 1;
+                }
             }
         }
         let mut renames: Vec<(usize, usize, usize)> = Vec::new();
         let mut added = 0;
-        for v in 0..n {
-            let here = &at[start[v]..start[v + 1]];
-            // One cell has at most three faces at a corner: a pinch has at least six.
-            if here.len() < 6 {
-                continue;
-            }
+        for k in 0..start.len() - 1 {
+            let here = &at[start[k]..start[k + 1]];
             let mut parent = fans(here, &corners, &cell);
             let keep = fan_root(&mut parent, 0);
             let mut copies: Vec<(usize, usize)> = Vec::new();
