@@ -219,7 +219,7 @@ impl Evaluator {
                     let key = q[0] + side[0] * (q[1] + side[1] * q[2]);
                     *slot = *number.entry(key).or_insert_with(|| first + faces.add_vertex(&at[j][..d]));
                 }
-                let points = face.iter().map(|&j| at[j]).collect::<Vec<_>>();
+                let points = [face[0], face[1], face[2], face[3]].map(|j| at[j]);
                 faces.add_quad(ids, &points, &at, cell);
             }
         }

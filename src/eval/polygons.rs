@@ -227,15 +227,7 @@ impl Faces {
         let centre = mean(index);
         let mut cell = Vec::new();
         for face in &sp.faces {
-            let mut corners = Poly::new(&[]);
-            if let Poly::Short(len, v) = &mut corners
-                && face.len() <= 4
-            {
-                *len = face.len() as u8;
-                face.iter().zip(v.iter_mut()).for_each(|(&i, x)| *x = index[i]);
-            } else {
-                corners = Poly::Long(face.iter().map(|&i| index[i]).collect());
-            }
+            let mut corners = Poly::mapped(face, |i| index[i]);
             let key = Poly::sorted(corners.as_slice());
             if key.repeats() {
                 continue;
@@ -282,10 +274,8 @@ impl Faces {
                     self.quad_cells.push(cell);
                 }
                 (corners, 1) => {
-                    let before = self.triangles.len();
                     self.triangles.extend(crate::geometry::fan(corners, 0));
                     self.triangle_cells.resize(self.triangles.len(), cell);
-                    debug_assert!(self.triangles.len() >= before);
                 }
                 _ => {}
             }
@@ -567,13 +557,18 @@ enum Poly {
 
 impl Poly {
     fn new(corners: &[usize]) -> Poly {
-        match corners.len() {
+        Poly::mapped(corners, |v| v)
+    }
+
+    /// `face`'s corners through `f`, without an allocation up to four.
+    fn mapped(face: &[usize], f: impl Fn(usize) -> usize) -> Poly {
+        match face.len() {
             n @ 0..=4 => {
                 let mut v = [usize::MAX; 4];
-                v[..n].copy_from_slice(corners);
+                face.iter().zip(&mut v).for_each(|(&i, x)| *x = f(i));
                 Poly::Short(n as u8, v)
             }
-            _ => Poly::Long(corners.to_vec()),
+            _ => Poly::Long(face.iter().map(|&i| f(i)).collect()),
         }
     }
 

@@ -9,14 +9,15 @@ use crate::geometry::{Quad, Shape, Sink, area_normals};
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum ThickenError {
     /// Not a positive finite number.
-    #[error("a thickness of {0}: give a positive number (modelling units)")]
+    #[error("a thickness of {}: give a positive number (modelling units)", shown(*.0))]
     Thickness(f64),
     /// Nothing to thicken.
     #[error("only surfaces thicken into shells: this shape has no face")]
     NoFace,
     /// Walls would cross.
     #[error(
-        "a thickness of {thickness} is not smaller than the smallest side of a cell ({side:.3e}): the shell's walls would cross (lower the thickness or the depth)"
+        "a thickness of {} is not smaller than the smallest side of a cell ({side:.3e}): the shell's walls would cross (lower the thickness or the depth)",
+        shown(*thickness)
     )]
     TooThick {
         /// The thickness asked for.
@@ -29,6 +30,11 @@ pub enum ThickenError {
         "the surface's cells touch at single points or along edges only ({0} place(s), pinches): a shell around them is not a manifold there; thicken a lace without pinches (the carpet), or write the surface itself"
     )]
     Pinched(usize),
+}
+
+/// A number as written, in exponent form when very large or small.
+fn shown(x: f64) -> String {
+    if x == 0.0 || (1e-4..1e6).contains(&x.abs()) { x.to_string() } else { format!("{x:e}") }
 }
 
 /// `surface` (its quads and triangles, 3D) thickened into a closed shell of

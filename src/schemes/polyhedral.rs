@@ -148,7 +148,8 @@ impl Polyhedron {
     /// vertex whose faces do not make one fan; a vertex of valence below
     /// three; a surface that is not a sphere (`V − E + F ≠ 2`); a graph that
     /// two vertices cut in two (not 3-connected: by Steinitz's theorem not a
-    /// convex polyhedron's, and without a packing).
+    /// convex polyhedron's, and without a packing); [`PolyhedronError::TooLarge`]
+    /// when its lace would have more unknowns than the exact solver takes.
     pub fn from_faces(faces: Vec<Vec<usize>>) -> Result<Polyhedron, PolyhedronError> {
         let mut labels: Vec<usize> = faces.iter().flatten().copied().collect();
         labels.sort_unstable();
@@ -161,6 +162,14 @@ impl Polyhedron {
     }
 
     fn check(&self) -> Result<(), PolyhedronError> {
+        // The lace holds a copy of every face in every face: refused before any quadratic check.
+        let corners: usize = self.faces.iter().map(Vec::len).sum();
+        if corners.saturating_mul(corners) > crate::design::MAX_UNKNOWNS {
+            return Err(PolyhedronError::TooLarge {
+                unknowns: corners.saturating_mul(corners),
+                max: crate::design::MAX_UNKNOWNS,
+            });
+        }
         for (i, f) in self.faces.iter().enumerate() {
             let mut sorted = f.clone();
             sorted.sort_unstable();
@@ -194,12 +203,7 @@ impl Polyhedron {
         let edges = directed.len() / 2;
         for x in 0..self.vertices {
             let valence = directed.keys().filter(|(a, _)| *a == x).count();
-            let (f, p) = self
-                .faces
-                .iter()
-                .enumerate()
-                .find_map(|(i, f)| f.iter().position(|&v| v == x).map(|p| (i, p)))
-                .unwrap_or((0, 0));
+            let (f, p) = self.first_at(x);
             let fan = self.around(&directed, f, p).len() + 1;
             let label = self.labels[x];
             if valence < 3 {
@@ -304,17 +308,21 @@ impl Polyhedron {
         }
     }
 
+    /// The first face at vertex `x`, and `x`'s position in it.
+    fn first_at(&self, x: usize) -> (usize, usize) {
+        self.faces
+            .iter()
+            .enumerate()
+            .find_map(|(i, f)| f.iter().position(|&v| v == x).map(|p| (i, p)))
+            .unwrap_or((0, 0))
+    }
+
     /// The dual's faces: around each vertex, the faces in turning order.
     fn dual(&self) -> Vec<Vec<usize>> {
         let directed = self.directed();
         (0..self.vertices)
             .map(|x| {
-                let (f, p) = self
-                    .faces
-                    .iter()
-                    .enumerate()
-                    .find_map(|(i, f)| f.iter().position(|&v| v == x).map(|p| (i, p)))
-                    .unwrap_or((0, 0));
+                let (f, p) = self.first_at(x);
                 std::iter::once(f).chain(self.around(&directed, f, p).into_iter().map(|(g, _)| g)).collect()
             })
             .collect()
@@ -423,15 +431,10 @@ fn gauss_jordan(mut rows: Vec<Vec<BigRational>>, n: usize) -> Vec<Coords> {
 /// ```
 ///
 /// # Errors
-/// [`PolyhedronError::Face`], [`PolyhedronError::TooLarge`].
+/// [`PolyhedronError::Face`].
 pub fn polyhedral_lace(p: &Polyhedron, face: usize, name: &str) -> Result<Design, PolyhedronError> {
     if face >= p.faces.len() {
         return Err(PolyhedronError::Face { face, last: p.faces.len() - 1 });
-    }
-    let corners: usize = p.faces.iter().map(Vec::len).sum();
-    let unknowns = corners * corners;
-    if unknowns > crate::design::MAX_UNKNOWNS {
-        return Err(PolyhedronError::TooLarge { unknowns, max: crate::design::MAX_UNKNOWNS });
     }
     let directed = p.directed();
     let mut edge_id: HashMap<(usize, usize), usize> = HashMap::new();
