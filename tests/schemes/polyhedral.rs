@@ -175,6 +175,11 @@ fn a_polyhedron_file_is_read_and_bad_ones_are_refused_with_the_reason() {
     );
     let e = polyhedral_lace(&Polyhedron::named("cube").unwrap(), 6, "x").unwrap_err();
     assert_eq!(e.to_string(), "face 6: the polyhedron has faces 0 to 5");
+    // A 200-sided prism: its lace would have 1,440,000 unknowns; refused at once, before the 2-cut search.
+    let m = 200;
+    let mut prism: Vec<Vec<usize>> = vec![(0..m).rev().collect(), (m..2 * m).collect()];
+    prism.extend((0..m).map(|i| vec![i, (i + 1) % m, m + (i + 1) % m, m + i]));
+    assert!(matches!(Polyhedron::from_faces(prism), Err(PolyhedronError::TooLarge { unknowns: 1_440_000, .. })));
     let e = Polyhedron::named_or_read("no-such-polyhedron").unwrap_err();
     assert!(matches!(e, PolyhedronError::Unknown(_)), "{e}");
     // The command line: the same file, and a bad one said with its path.
