@@ -13,5 +13,5 @@ pub mod tolerance;
 pub use affine::{Affine, AffineDisplay, Nonlinear};
 pub use expr::{Env, Expr, ExprError, ExprSyntaxError, ExprValue};
 pub use num::Num;
-pub use spectrum::{all_finite, contractive_spectrum, eigenvalues, hessenberg_eigenvalues, svd};
+pub use spectrum::{all_finite, contractive_spectrum, contracts_by_norm, eigenvalues, hessenberg_eigenvalues, svd};
 pub use surd::{Surd, SurdError};

@@ -60,6 +60,35 @@ pub fn svd(
     m.clone().try_svd(false, with_v, f64::EPSILON, budget)
 }
 
+/// Whether a column-stochastic square matrix is proven contractive by norms
+/// alone: on the vectors whose entries sum to 0 (which it maps into
+/// themselves, its columns summing to 1) it acts as `R` (`R[r][c] = M[r][c] −
+/// M[r][n−1]` in the basis `eᵢ − e_{n−1}`), and `ρ(R) ≤ ‖R^(2^j)‖^(1/2^j)` for
+/// the row-sum norm; `ρ(R) < 1 − tol` is the eigenvalue 1 simple and every
+/// other of modulus below `1 − tol` ([`contractive_spectrum`]). Five
+/// squarings at most; `false` proves nothing (then compute the spectrum).
+/// Kronecker products of subdivision matrices (a tricubic volume's), whose
+/// defective eigenvalue clusters slow the Schur iteration, pass in a few
+/// products.
+pub fn contracts_by_norm(m: &nalgebra::DMatrix<f64>, tol: f64) -> bool {
+    let n = m.nrows();
+    if n < 2 || !m.is_square() || !all_finite(m) {
+        return false;
+    }
+    let mut r = nalgebra::DMatrix::from_fn(n - 1, n - 1, |i, j| m[(i, j)] - m[(i, n - 1)]);
+    let norm = |a: &nalgebra::DMatrix<f64>| {
+        a.row_iter().map(|row| row.iter().map(|x| x.abs()).sum::<f64>()).fold(0.0, f64::max)
+    };
+    for j in 0..6 {
+        // The rounding of the products is far below the margin asked (entries of stochastic maps are O(1)).
+        if norm(&r).powf(1.0 / f64::from(1u32 << j)) < 1.0 - tol - 1e-9 {
+            return true;
+        }
+        r = &r * &r;
+    }
+    false
+}
+
 /// Whether a spectrum is that of a contractive stochastic map: one
 /// eigenvalue 1 (within `tol`) and all others of modulus below `1 - tol`.
 pub fn contractive_spectrum(eigenvalues: &[Complex<f64>], tol: f64) -> bool {

@@ -35,7 +35,7 @@ pub enum Topology {
     /// (the Cantor set, laces such as the Sierpiński carpet); every state, arrow and constraint generated
     Pattern {
         /// A pattern file (TOML: cell, split, keep, degree, name) instead of the flags below.
-        #[arg(long, conflicts_with_all = ["cell", "split", "keep", "degree", "name", "at"])]
+        #[arg(long, conflicts_with_all = ["cell", "split", "keep", "degree", "name", "at", "basis"])]
         from: Option<std::path::PathBuf>,
         /// Print the pattern file of the flags instead of the automaton.
         #[arg(long)]
@@ -57,6 +57,11 @@ pub enum Topology {
         /// `2/5,3/5` with the Menger mask makes a Jerusalem-cube-like sponge.
         #[arg(long, value_name = "POINTS")]
         at: Option<String>,
+        /// How the cells carry their control points: bezier (grids whose matrices are unknowns: a
+        /// family) or bspline (a hexahedron's uniform B-spline: fixed matrices, the shape set by the
+        /// control lattice; `--degree 4` is the tricubic B-spline volume).
+        #[arg(long, default_value = "bezier")]
+        basis: String,
         /// The design's name.
         #[arg(long, default_value = "pattern")]
         name: String,
@@ -216,14 +221,16 @@ pub fn run_new(out: &mut String, topology: Topology) -> Result<u8> {
     let design = match topology {
         Topology::Curve { points, vertex, arity } => curve(points, vertex, arity)?,
         Topology::QuadPatch { symmetric } => quad_patch(symmetric)?,
-        Topology::Pattern { from, file, cell, split, keep, degree, name, at } => {
+        Topology::Pattern { from, file, cell, split, keep, degree, name, at, basis } => {
             let (pattern, name) = match from {
                 Some(path) => bcifs::render::Pattern::read(&path)?,
                 None => {
                     let cell = bcifs::render::PatternCell::named(&cell).ok_or_else(|| {
                         anyhow::anyhow!("--cell `{cell}`: expected segment, quad, triangle, hexahedron or tetrahedron")
                     })?;
-                    let pattern = bcifs::render::Pattern::parse(cell, &split, keep.as_deref(), degree)?;
+                    let named = bcifs::render::Basis::named(&basis)
+                        .ok_or_else(|| anyhow::anyhow!("--basis `{basis}`: expected bezier or bspline"))?;
+                    let pattern = bcifs::render::Pattern::parse_in(cell, &split, keep.as_deref(), degree, named)?;
                     (if let Some(at) = &at { pattern.with_at(at)? } else { pattern }, name)
                 }
             };

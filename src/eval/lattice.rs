@@ -9,6 +9,7 @@ use rustc_hash::FxHashMap;
 
 use super::plan::StatePlan;
 use super::prepared::Evaluator;
+use super::settings::EvalError;
 use crate::space::CellKind;
 
 /// Where the boundary of a grid solid goes (the polygon mesher's faces).
@@ -37,6 +38,12 @@ pub(super) struct SolidGrid {
     corner: Vec<[u64; 3]>,
     /// Per face: its axis and side.
     side: Vec<Side>,
+    /// The corners of the children, each lattice point once: its weights on the parent's control points.
+    points: Vec<Vec<f64>>,
+    /// Per child, per corner: its lattice point in `points`.
+    point_of: Vec<[usize; 8]>,
+    /// Per corner of the unit cube (`x + 2y + 4z`): its corner (sample).
+    by_code: [usize; 8],
 }
 
 /// Equal to rounding (the constraints make shared corners equal).
@@ -120,7 +127,40 @@ impl SolidGrid {
                 return None;
             }
         }
-        Some(SolidGrid { dims, place, kept, corner, side })
+        // The children's corners by lattice point: one weight vector each (`m · b`).
+        let mut key_of: FxHashMap<u64, usize> = FxHashMap::default();
+        let (mut points, mut point_of) = (Vec::new(), Vec::new());
+        for ((_, _, m), p) in sp.children.iter().zip(&place) {
+            let mut ids = [0usize; 8];
+            for (j, b) in sp.samples.iter().enumerate() {
+                let q = [0, 1, 2].map(|x| p[x] + corner[j][x]);
+                let key = q[0] + (dims[0] + 1) * (q[1] + (dims[1] + 1) * q[2]);
+                ids[j] = *key_of.entry(key).or_insert_with(|| {
+                    points.push((0..n).map(|r| (0..n).map(|c| m[r * n + c] * b[c]).sum()).collect());
+                    points.len() - 1
+                });
+            }
+            point_of.push(ids);
+        }
+        let by_code = [0, 1, 2, 3, 4, 5, 6, 7].map(|i| code([i & 1, i >> 1 & 1, i >> 2 & 1]).unwrap_or(0));
+        Some(SolidGrid { dims, place, kept, corner, side, points, point_of, by_code })
+    }
+
+    /// The corner Jacobians of a cell (corners `at`): per corner of the unit
+    /// cube, the determinant of the cell's three edges through it, and the
+    /// product of their lengths (its scale).
+    fn jacobians(&self, at: &[[f64; 3]; 8]) -> [(f64, f64); 8] {
+        [0, 1, 2, 3, 4, 5, 6, 7].map(|c: usize| {
+            let e = [1, 2, 4].map(|bit| {
+                let (lo, hi) = (at[self.by_code[c & !bit]], at[self.by_code[c | bit]]);
+                [hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]]
+            });
+            let det = e[0][0] * (e[1][1] * e[2][2] - e[1][2] * e[2][1])
+                - e[0][1] * (e[1][0] * e[2][2] - e[1][2] * e[2][0])
+                + e[0][2] * (e[1][0] * e[2][1] - e[1][1] * e[2][0]);
+            let len = |v: [f64; 3]| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+            (det, len(e[0]) * len(e[1]) * len(e[2]))
+        })
     }
 
     /// Whether the leaf at lattice place `p` of the depth-`k` grid is kept.
@@ -160,10 +200,78 @@ fn axes(sp: &StatePlan) -> Option<(Vec<Side>, Vec<[u64; 3]>)> {
     Some((side, corner))
 }
 
+/// A grid solid's walk to its leaves: where its corners are numbered.
+struct Walk<'a> {
+    grid: &'a SolidGrid,
+    sp: &'a StatePlan,
+    k: usize,
+    /// Lattice points per direction at depth `k`.
+    side: [u64; 3],
+    first: usize,
+    number: FxHashMap<u64, usize>,
+    /// The root's orientation (the sign of its corner Jacobians), 0 when unknown (not 3D, flat).
+    sign: f64,
+}
+
+impl Walk<'_> {
+    /// A leaf at lattice place `p`, its corners at `at`: checked not turned
+    /// over, and its faces whose cell across is not kept, made.
+    fn leaf(&mut self, at: &[[f64; 3]; 8], p: [u64; 3], faces: &mut dyn Boundary) -> Result<(), EvalError> {
+        if self.sign != 0.0 {
+            for (c, (det, scale)) in self.grid.jacobians(at).into_iter().enumerate() {
+                if det * self.sign < -1e-9 * scale {
+                    let corner = at[self.grid.by_code[c]];
+                    return Err(EvalError::Folded { at: corner, depth: self.k, jacobian: det / scale });
+                }
+            }
+        }
+        let (grid, d) = (self.grid, faces.dim());
+        let cell = faces.next_cell();
+        for (f, face) in self.sp.faces.iter().enumerate() {
+            let (axis, end) = grid.side[f];
+            let mut across = p;
+            if end == 1 {
+                across[axis] += 1;
+            } else if across[axis] == 0 {
+                across[axis] = u64::MAX;
+            } else {
+                across[axis] -= 1;
+            }
+            if across[axis] != u64::MAX && grid.kept_at(across, self.k) {
+                continue;
+            }
+            let mut ids = [0usize; 4];
+            for (slot, &j) in ids.iter_mut().zip(face) {
+                let q = [0, 1, 2].map(|x| p[x] + grid.corner[j][x]);
+                let key = q[0] + self.side[0] * (q[1] + self.side[1] * q[2]);
+                *slot = *self.number.entry(key).or_insert_with(|| self.first + faces.add_vertex(&at[j][..d]));
+            }
+            let points = [face[0], face[1], face[2], face[3]].map(|j| at[j]);
+            faces.add_quad(ids, &points, at, cell);
+        }
+        Ok(())
+    }
+}
+
+/// The corners of a cell with control points `c` (`d` coordinates of `n` points) at the weights `samples`.
+fn corners_of(c: &[f64], d: usize, n: usize, samples: &[Vec<f64>]) -> [[f64; 3]; 8] {
+    let mut at = [[0.0f64; 3]; 8];
+    for (j, b) in samples.iter().enumerate().take(8) {
+        for a in 0..d {
+            at[j][a] = (0..n).map(|i| c[a * n + i] * b[i]).sum();
+        }
+    }
+    at
+}
+
 impl Evaluator {
     /// The boundary of the depth-`k` cells of a grid solid rooted at
     /// `control` (state `s`), into `faces`: corners numbered by lattice
-    /// point, a face made when the cell across it is not kept.
+    /// point, a face made when the cell across it is not kept. The last
+    /// level's corners are computed once per lattice point of their parent.
+    ///
+    /// # Errors
+    /// A cell turned over ([`EvalError::Folded`]); cancelled.
     pub(super) fn lattice_solid(
         &self,
         grid: &SolidGrid,
@@ -172,55 +280,45 @@ impl Evaluator {
         k: usize,
         faces: &mut dyn Boundary,
         first: usize,
-    ) -> Result<(), super::settings::EvalError> {
+    ) -> Result<(), EvalError> {
         let d = faces.dim();
         let sp = self.plan.state(s);
         let n = sp.dim;
+        let root = corners_of(control, d, n, &sp.samples);
+        let total: f64 = grid.jacobians(&root).iter().map(|j| j.0).sum();
+        let scale: f64 = grid.jacobians(&root).iter().map(|j| j.1).sum();
+        let sign = if d == 3 && total.abs() > 1e-9 * scale { total.signum() } else { 0.0 };
         let side = [0, 1, 2].map(|x| grid.dims[x].pow(k as u32) + 1);
-        let mut number: FxHashMap<u64, usize> = FxHashMap::default();
+        let mut walk = Walk { grid, sp, k, side, first, number: FxHashMap::default(), sign };
+        if k == 0 {
+            return walk.leaf(&root, [0, 0, 0], faces);
+        }
         let mut stack: Vec<(Vec<f64>, usize, [u64; 3])> = vec![(control.to_vec(), k, [0, 0, 0])];
+        let mut table = vec![[0.0f64; 3]; grid.points.len()];
         let mut visited = 0usize;
-        let mut at = [[0.0f64; 3]; 8];
         while let Some((c, r, p)) = stack.pop() {
             visited += 1;
-            if visited.is_multiple_of(4096) {
+            if visited.is_multiple_of(256) {
                 self.check_cancel()?;
             }
-            if r > 0 {
+            let below = [0, 1, 2].map(|x| p[x] * grid.dims[x]);
+            if r > 1 {
                 for ((_, _, m), place) in sp.children.iter().zip(&grid.place) {
                     let mut child = vec![0.0; d * n];
                     super::prepared::mul_into(&c, d, n, m, n, &mut child);
-                    stack.push((child, r - 1, [0, 1, 2].map(|x| p[x] * grid.dims[x] + place[x])));
+                    stack.push((child, r - 1, [0, 1, 2].map(|x| below[x] + place[x])));
                 }
                 continue;
             }
-            for (j, b) in sp.samples.iter().enumerate() {
+            for (slot, w) in table.iter_mut().zip(&grid.points) {
                 for a in 0..d {
-                    at[j][a] = (0..n).map(|i| c[a * n + i] * b[i]).sum();
+                    let row = &c[a * n..(a + 1) * n];
+                    slot[a] = row.iter().zip(w).map(|(x, y)| x * y).sum();
                 }
             }
-            let cell = faces.next_cell();
-            for (f, face) in sp.faces.iter().enumerate() {
-                let (axis, end) = grid.side[f];
-                let mut across = p;
-                if end == 1 {
-                    across[axis] += 1;
-                } else if across[axis] == 0 {
-                    across[axis] = u64::MAX;
-                } else {
-                    across[axis] -= 1;
-                }
-                if across[axis] != u64::MAX && grid.kept_at(across, k) {
-                    continue;
-                }
-                let mut ids = [0usize; 4];
-                for (slot, &j) in ids.iter_mut().zip(face) {
-                    let q = [0, 1, 2].map(|x| p[x] + grid.corner[j][x]);
-                    let key = q[0] + side[0] * (q[1] + side[1] * q[2]);
-                    *slot = *number.entry(key).or_insert_with(|| first + faces.add_vertex(&at[j][..d]));
-                }
-                let points = [face[0], face[1], face[2], face[3]].map(|j| at[j]);
-                faces.add_quad(ids, &points, &at, cell);
+            for (ids, place) in grid.point_of.iter().zip(&grid.place) {
+                let at = ids.map(|i| table[i]);
+                walk.leaf(&at, [0, 1, 2].map(|x| below[x] + place[x]), faces)?;
             }
         }
         Ok(())

@@ -246,7 +246,11 @@ fn check_arrows(automaton: &Automaton<f64>) -> Result<(), PlanError> {
                 return Err(PlanError::NotStochastic { arrow: arrow.name.clone(), column: j, sum });
             }
         }
-        if arrow.kind == ArrowKind::Subdivision && arrow.matrix.is_square() && automaton.on_cycle(id) {
+        if arrow.kind == ArrowKind::Subdivision
+            && arrow.matrix.is_square()
+            && automaton.on_cycle(id)
+            && !crate::algebra::contracts_by_norm(&arrow.matrix, CONTRACTIVE)
+        {
             let eig =
                 crate::algebra::eigenvalues(&arrow.matrix).ok_or_else(|| PlanError::Spectrum(arrow.name.clone()))?;
             if !crate::algebra::contractive_spectrum(&eig, CONTRACTIVE) {

@@ -164,6 +164,19 @@ pub enum EvalError {
     /// Faces mixed with other root kinds, or a face evaluated adaptively past the limit.
     #[error("{0}")]
     Unsupported(String),
+    /// A solid's cells turned inside out: its control lattice folds the volume.
+    #[error(
+        "the control points fold the solid inside out near ({:.4}, {:.4}, {:.4}): a depth-{depth} cell there is turned over (its Jacobian is {jacobian:.3e}, the solid's sign is the other); move the control lattice's points apart so that no layer crosses its neighbour",
+        at[0], at[1], at[2]
+    )]
+    Folded {
+        /// A corner of the turned cell.
+        at: [f64; 3],
+        /// The depth.
+        depth: usize,
+        /// Its corner Jacobian (the determinant of its three edges there), relative to the cell's size.
+        jacobian: f64,
+    },
     /// The settings' cancel flag was set: the evaluation stopped, its output incomplete.
     #[error("cancelled")]
     Cancelled,

@@ -53,7 +53,7 @@ pub use crate::report::{
 pub use crate::report::{PrintReport, angle_colour, dimension_colour, print_report_of, region_colour, verdict_colour};
 pub use shape::{control_net, write_shape};
 // Patterns, for the front ends that generate designs from one (`new pattern`, `bcifs.pattern`).
-pub use crate::schemes::{Pattern, PatternCell, PatternError, Polyhedron, PolyhedronError, polyhedral_lace};
+pub use crate::schemes::{Basis, Pattern, PatternCell, PatternError, Polyhedron, PolyhedronError, polyhedral_lace};
 
 // The front ends' vocabulary: everything the command line, the explorer and
 // the Python module use of the library, named here once (a test checks that

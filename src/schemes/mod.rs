@@ -38,7 +38,7 @@ pub use normal::{
     NormalDirection, NormalPreset, NormalScheme, NormalSchemeError, PRESET_NAMES, Point2, SignPattern, normal_preset,
     unit_segment, unit_square, unit_triangle,
 };
-pub use pattern::{Pattern, PatternCell, PatternError, pattern_design};
+pub use pattern::{Basis, Pattern, PatternCell, PatternError, pattern_design};
 pub use polyhedral::{POLYHEDRON_NAMES, Polyhedron, PolyhedronError, polyhedral_lace};
 pub use stationary::{
     BSpline, CurveStructure, ExactMatrix, ModelSpec, Rules, StationaryError, curve_structure, ifs_design, koch_blocks,

@@ -92,6 +92,8 @@ pub struct Pattern {
     pub keep: Vec<bool>,
     /// Control points along each direction, 2 to 4 (linear to cubic).
     pub degree: usize,
+    /// Bézier grids and unknown matrices (a family), or a uniform B-spline's fixed matrices.
+    pub basis: Basis,
     /// Where the classical member splits each direction (its `k − 1` inner
     /// points, increasing in `(0, 1)`); empty: uniformly (`1/k, 2/k, …`).
     /// One list serves every direction. Only the defaults change: the family
@@ -99,6 +101,41 @@ pub struct Pattern {
     /// splits at `2/5, 3/5`).
     pub at: Vec<BigRational>,
 }
+
+/// How a pattern's cells carry their control points.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Basis {
+    /// Bézier-like grids whose matrices are unknowns: the family of every
+    /// member of the pattern's topology, the polynomial cell subdivided its
+    /// classical member (the default).
+    #[default]
+    Bezier,
+    /// The uniform B-spline of degree `degree − 1` along each direction: the
+    /// matrices fixed, the tensor product of the curve's subdivision
+    /// (Schaefer et al. 2005 §3.1, one dimension up); the shape is set by the
+    /// control lattice alone, smooth across the cells' sides (hexahedra only:
+    /// the tricubic B-spline volume with `degree` 4).
+    BSpline,
+}
+
+impl Basis {
+    /// Its name on the command line and in pattern files.
+    pub fn name(self) -> &'static str {
+        match self {
+            Basis::Bezier => "bezier",
+            Basis::BSpline => "bspline",
+        }
+    }
+
+    /// The basis of this name.
+    pub fn named(name: &str) -> Option<Basis> {
+        [Basis::Bezier, Basis::BSpline].into_iter().find(|b| b.name() == name)
+    }
+}
+
+/// Most exact entries of a pattern's fixed matrices (a cubic B-spline
+/// Menger sponge has about 160,000).
+const MAX_FIXED_ENTRIES: usize = 1_000_000;
 
 /// A pattern that makes no automaton.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
@@ -146,6 +183,9 @@ pub enum PatternError {
         /// The limit.
         max: usize,
     },
+    /// A basis that does not fit the pattern.
+    #[error("{0}")]
+    Basis(String),
     /// Split points that do not fit.
     #[error(
         "split points `{0}`: give the k − 1 inner points of a k-part split, increasing inside (0, 1), as numbers or fractions (`2/5,3/5`); every direction must have k parts; not for triangles or tetrahedra"
@@ -171,6 +211,20 @@ impl Pattern {
     /// A split that does not fit the cell, a mask of the wrong length or
     /// keeping nothing, a degree other than 2, 3 or 4.
     pub fn parse(cell: PatternCell, split: &str, keep: Option<&str>, degree: usize) -> Result<Pattern, PatternError> {
+        Pattern::parse_in(cell, split, keep, degree, Basis::Bezier)
+    }
+
+    /// [`Pattern::parse`] in `basis`.
+    ///
+    /// # Errors
+    /// As [`Pattern::parse`]; a B-spline basis for another cell than a hexahedron.
+    pub fn parse_in(
+        cell: PatternCell,
+        split: &str,
+        keep: Option<&str>,
+        degree: usize,
+        basis: Basis,
+    ) -> Result<Pattern, PatternError> {
         let parts: Vec<usize> = split.split('x').map(|t| t.trim().parse().unwrap_or(0)).collect();
         let keep = match keep {
             None => vec![true; cell.cells(&parts).max(1)],
@@ -184,7 +238,7 @@ impl Pattern {
                 })
                 .collect::<Result<_, _>>()?,
         };
-        let pattern = Pattern { cell, split: parts, keep, degree, at: Vec::new() };
+        let pattern = Pattern { cell, split: parts, keep, degree, basis, at: Vec::new() };
         pattern.check()?;
         Ok(pattern)
     }
@@ -216,6 +270,7 @@ impl Pattern {
             degree: Option<usize>,
             name: Option<String>,
             at: Option<String>,
+            basis: Option<String>,
         }
         #[derive(serde::Deserialize)]
         #[serde(untagged)]
@@ -250,7 +305,12 @@ impl Pattern {
             Keep::Text(t) => t,
             Keep::Rows(rows) => rows.concat(),
         });
-        let mut pattern = Pattern::parse(cell, &split, keep.as_deref(), f.degree.unwrap_or(2))?;
+        let basis = match &f.basis {
+            None => Basis::Bezier,
+            Some(basis) => Basis::named(basis)
+                .ok_or_else(|| PatternError::File(format!("{file}: basis `{basis}`: expected bezier or bspline")))?,
+        };
+        let mut pattern = Pattern::parse_in(cell, &split, keep.as_deref(), f.degree.unwrap_or(2), basis)?;
         if let Some(at) = &f.at {
             pattern = pattern.with_at(at)?;
         }
@@ -270,7 +330,10 @@ impl Pattern {
     /// The pattern file of this pattern (what [`Pattern::from_toml`] reads).
     pub fn to_toml(&self, name: &str) -> String {
         let split = self.split.iter().map(ToString::to_string).collect::<Vec<_>>().join("x");
-        let at = if self.at.is_empty() { String::new() } else { format!("at = {:?}\n", self.at_text()) };
+        let mut at = if self.at.is_empty() { String::new() } else { format!("at = {:?}\n", self.at_text()) };
+        if self.basis != Basis::Bezier {
+            at += &format!("basis = {:?}\n", self.basis.name());
+        }
         format!(
             "# A subdivision pattern: `bcifs new pattern --from FILE` prints its automaton.\nname = {name:?}\ncell = {:?}\nsplit = {split:?}\nkeep = {:?}\ndegree = {}\n{at}",
             self.cell.name(),
@@ -303,6 +366,7 @@ impl Pattern {
             return Err(bad());
         }
         self.at = points;
+        self.check()?;
         Ok(self)
     }
 
@@ -337,6 +401,9 @@ impl Pattern {
         }
         let d = self.degree;
         let kept = self.keep.iter().filter(|&&k| k).count();
+        if self.basis == Basis::BSpline {
+            return self.check_bspline();
+        }
         let unknowns = match self.cell {
             // The kept volumes, the three faces' and edges' parts, the vertex.
             PatternCell::Hexahedron => {
@@ -348,6 +415,32 @@ impl Pattern {
         };
         if unknowns > crate::design::MAX_UNKNOWNS {
             return Err(PatternError::TooLarge { unknowns, max: crate::design::MAX_UNKNOWNS });
+        }
+        Ok(())
+    }
+
+    /// A B-spline pattern: a hexahedron, uniform split points, its matrices' entries within bounds.
+    fn check_bspline(&self) -> Result<(), PatternError> {
+        if self.cell != PatternCell::Hexahedron {
+            return Err(PatternError::Basis(format!(
+                "a B-spline basis is for hexahedra (the {} pattern has Bézier grids; a bicubic B-spline surface is the `bicubic` preset)",
+                self.cell.name()
+            )));
+        }
+        if !self.at.is_empty() {
+            return Err(PatternError::Basis(
+                "a uniform B-spline splits at uniform points: split points (`at`) are for Bézier grids".into(),
+            ));
+        }
+        let (d, kept) = (self.degree, self.keep.iter().filter(|&&k| k).count());
+        let k = d - 1;
+        let [a, b, c] = [self.split[0], self.split[1], self.split[2]];
+        let side = |n: usize| n * d * d * k;
+        let entries = kept * d.pow(6) + (a * b + a * c + b * c) * side(1).pow(2) + (a + b + c) * (d * k * k).pow(2);
+        if entries > MAX_FIXED_ENTRIES {
+            return Err(PatternError::Basis(format!(
+                "this pattern's matrices have about {entries} entries: at most {MAX_FIXED_ENTRIES} are made; lower the degree or the split"
+            )));
         }
         Ok(())
     }
@@ -409,9 +502,13 @@ pub fn pattern_design(pattern: &Pattern, name: &str) -> Result<Design, PatternEr
     let split = pattern.split.iter().map(ToString::to_string).collect::<Vec<_>>().join("x");
     let kept = pattern.kept().count();
     b.description(format!(
-        "{} pattern {split}, mask {}, {d} control points per direction ({kept} of {} sub-cells kept)",
+        "{} pattern {split}, mask {}, {d} control points per direction{} ({kept} of {} sub-cells kept)",
         pattern.cell.name(),
         pattern.mask(),
+        match pattern.basis {
+            Basis::Bezier => String::new(),
+            Basis::BSpline => format!(", the uniform B-spline of degree {}", d - 1),
+        },
         pattern.keep.len()
     ))
     .doc(format!(
@@ -430,7 +527,13 @@ pub fn pattern_design(pattern: &Pattern, name: &str) -> Result<Design, PatternEr
         PatternCell::Segment => segment(&mut b, pattern),
         PatternCell::Quad => quad(&mut b, pattern),
         PatternCell::Triangle => super::pattern_triangle::triangle(&mut b, pattern.split[0], &pattern.keep, d),
-        PatternCell::Hexahedron => super::pattern_volume::hexahedron(&mut b, &pattern.split, &pattern.keep, d),
+        PatternCell::Hexahedron => {
+            let layers = match pattern.basis {
+                Basis::Bezier => super::pattern_volume::Layers::bezier(d),
+                Basis::BSpline => super::pattern_volume::Layers::bspline(d, &pattern.split).map_err(internal)?,
+            };
+            super::pattern_volume::hexahedron(&mut b, &pattern.split, &pattern.keep, &layers);
+        }
         PatternCell::Tetrahedron => super::pattern_volume::tetrahedron(&mut b, &pattern.keep),
     }
     parameters(&mut b, pattern)?;
@@ -440,11 +543,10 @@ pub fn pattern_design(pattern: &Pattern, name: &str) -> Result<Design, PatternEr
 /// The command that makes `pattern`'s automaton, quoted (`split` as written).
 fn command_line(pattern: &Pattern, split: &str) -> String {
     let (cell, mask, d, at) = (pattern.cell.name(), pattern.mask(), pattern.degree, pattern.at_text());
-    if at.is_empty() {
-        format!("`bcifs new pattern --cell {cell} --split {split} --keep {mask} --degree {d}`")
-    } else {
-        format!("`bcifs new pattern --cell {cell} --split {split} --keep {mask} --degree {d} --at {at}`")
-    }
+    let at = if at.is_empty() { String::new() } else { format!(" --at {at}") };
+    let basis =
+        if pattern.basis == Basis::Bezier { String::new() } else { format!(" --basis {}", pattern.basis.name()) };
+    format!("`bcifs new pattern --cell {cell} --split {split} --keep {mask} --degree {d}{at}{basis}`")
 }
 
 /// The states, arrows and constraints of a segment pattern.
@@ -576,6 +678,9 @@ fn quad_constraints(b: &mut DesignBuilder, p: &Pattern) {
 /// with the classical member's values as defaults.
 fn parameters(b: &mut DesignBuilder, p: &Pattern) -> Result<(), PatternError> {
     let free = super::topology::free_entries(b).map_err(PatternError::Internal)?;
+    if free.is_empty() {
+        return Ok(());
+    }
     for (name, arrow, r, c) in &free {
         b.name_entry(name.clone(), format!("{arrow}[{r}][{c}]"));
         b.default_value(name, Num::rational(classical(p, arrow, *r, *c)));

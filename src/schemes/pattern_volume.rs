@@ -17,6 +17,7 @@ use num_bigint::BigInt;
 use num_rational::BigRational;
 use num_traits::{One, Zero};
 
+use super::stationary::{BSpline, ExactMatrix, curve_structure, kron, transposed};
 use crate::design::{DesignBuilder, Layout, Model};
 use crate::space::CellKind;
 
@@ -66,25 +67,89 @@ fn grid(sizes: &[usize]) -> Vec<Vec<usize>> {
     out
 }
 
-/// The flat index of a multi-index over `d` points per direction, the first fastest.
-fn flat(at: &[usize], d: usize) -> usize {
-    at.iter().rev().fold(0, |n, &i| n * d + i)
-}
-
 /// `axes` without direction `a`.
 fn without(axes: &[usize], a: usize) -> Vec<usize> {
     axes.iter().copied().filter(|&x| x != a).collect()
 }
 
+/// How a hexahedron pattern's cells hold their control points along each
+/// direction: `n` along a direction a cell extends, `k` layers across a
+/// side (those a side's points depend on: 1 for Bézier grids, 3 for a cubic
+/// B-spline), the end side's first layer, and the matrices when they are
+/// fixed (the uniform B-spline's: parts per direction and a side's rule,
+/// each `old × new`; none: unknowns the solver finds).
+pub(super) struct Layers {
+    n: usize,
+    k: usize,
+    end: usize,
+    fixed: Option<([Vec<ExactMatrix>; 3], ExactMatrix)>,
+}
+
+impl Layers {
+    /// Bézier grids of `d` points a direction: a side is its boundary layer, the matrices unknown.
+    pub(super) fn bezier(d: usize) -> Layers {
+        Layers { n: d, k: 1, end: d - 1, fixed: None }
+    }
+
+    /// The uniform B-spline of degree `d − 1` on `d` points a direction, split
+    /// `split`: its curve subdivision's parts along each direction, tensored
+    /// (Schaefer et al. 2005 §3.1, one dimension up).
+    pub(super) fn bspline(d: usize, split: &[usize]) -> Result<Layers, String> {
+        let mut parts: [Vec<ExactMatrix>; 3] = Default::default();
+        let mut structure = None;
+        for (a, &p) in split.iter().enumerate().take(3) {
+            let blocks =
+                BSpline::uniform(d - 1, d).and_then(|b| b.blocks(p)).map_err(|e| format!("B-spline parts: {e}"))?;
+            let s = curve_structure(&blocks).filter(|s| s.start == 0 && s.start_rule == s.end_rule);
+            let s = s.ok_or("the B-spline parts make no curve with one end rule")?;
+            parts[a] = blocks.iter().map(transposed).collect();
+            structure = Some(s);
+        }
+        let s = structure.ok_or("no direction")?;
+        Ok(Layers { n: d, k: s.support, end: s.end, fixed: Some((parts, transposed(&s.start_rule))) })
+    }
+
+    /// Control points of a cell along `axes`.
+    fn size(&self, axes: &[usize]) -> usize {
+        (0..3).map(|x| if axes.contains(&x) { self.n } else { self.k }).product()
+    }
+
+    /// The sizes of a cell along `axes`, per direction.
+    fn sizes(&self, axes: &[usize]) -> Vec<usize> {
+        (0..3).map(|x| if axes.contains(&x) { self.n } else { self.k }).collect()
+    }
+
+    /// The fixed matrix of the sub-cell `at` of a cell along `axes`: the
+    /// parts along its directions, the side's rule across the others (w slowest).
+    fn tensor(&self, axes: &[usize], at: &[usize]) -> Option<ExactMatrix> {
+        let (parts, rule) = self.fixed.as_ref()?;
+        let factor = |x: usize| match axes.iter().position(|&a| a == x) {
+            Some(t) => &parts[x][at[t]],
+            None => rule,
+        };
+        Some(kron(factor(2), &kron(factor(1), factor(0))))
+    }
+
+    /// The coordinate of control point `i` of a direction in the default
+    /// lattice: the unit interval's (a Bézier grid's points evenly spread,
+    /// a B-spline's at its Greville abscissae, `i − (n − 2)/2`).
+    fn coordinate(&self, i: usize) -> f64 {
+        match self.fixed {
+            None => i as f64 / (self.n - 1) as f64,
+            Some(_) => i as f64 - (self.n as f64 - 2.0) / 2.0,
+        }
+    }
+}
+
 /// The control points of a cell along `axes` that lie on its side fixing
-/// `a` at `end`, in the side's own order.
-fn select(axes: &[usize], a: usize, end: usize, d: usize) -> Vec<usize> {
-    let pos = axes.iter().position(|&x| x == a).expect("a direction of the cell");
-    grid(&vec![d; axes.len() - 1])
+/// `a` at `end` (the `k` layers there), in the side's own order (u fastest).
+fn select(axes: &[usize], a: usize, end: usize, layers: &Layers) -> Vec<usize> {
+    let (from, to) = (layers.sizes(axes), layers.sizes(&without(axes, a)));
+    grid(&to)
         .into_iter()
         .map(|mut at| {
-            at.insert(pos, end * (d - 1));
-            flat(&at, d)
+            at[a] += end * layers.end;
+            at.iter().zip(&from).rev().fold(0, |n, (&i, &s)| n * s + i)
         })
         .collect()
 }
@@ -95,27 +160,39 @@ fn cells() -> Vec<Vec<usize>> {
 }
 
 /// The states, arrows and constraints of a hexahedron pattern split
-/// `split` (u, v, w) with the sub-cells `keep` (u fastest, then v, then w)
-/// and `d` control points per direction.
-pub(super) fn hexahedron(b: &mut DesignBuilder, split: &[usize], keep: &[bool], d: usize) {
+/// `split` (u, v, w) with the sub-cells `keep` (u fastest, then v, then w),
+/// its control points laid out as `layers` say.
+pub(super) fn hexahedron(b: &mut DesignBuilder, split: &[usize], keep: &[bool], layers: &Layers) {
     let kept: Vec<Vec<usize>> = grid(split).into_iter().zip(keep).filter(|(_, k)| **k).map(|(x, _)| x).collect();
+    let (d, k) = (layers.n, layers.k);
     for axes in cells() {
-        let what = match axes.len() {
-            3 => format!("The hexahedron: {d}×{d}×{d} control points, index {}·w + {d}·v + u.", d * d),
-            2 => format!("A face along {}: {d}×{d} control points.", letters(&axes)),
-            1 => format!("An edge along {}: {d} control points.", letters(&axes)),
-            _ => "A corner: one control point.".into(),
+        let what = match (axes.len(), k) {
+            (3, _) => format!("The hexahedron: {d}×{d}×{d} control points, index {}·w + {d}·v + u.", d * d),
+            (2, 1) => format!("A face along {}: {d}×{d} control points.", letters(&axes)),
+            (1, 1) => format!("An edge along {}: {d} control points.", letters(&axes)),
+            (0, 1) => "A corner: one control point.".into(),
+            (2, _) => format!("A face along {}: {d}×{d} control points in each of {k} layers.", letters(&axes)),
+            (1, _) => format!("An edge along {}: {d} control points in each of {k}×{k} rows.", letters(&axes)),
+            _ => format!("A corner: the {k}×{k}×{k} control points around it."),
         };
-        b.state(state(&axes), d.pow(axes.len() as u32), kind(&axes)).doc(what);
+        b.state(state(&axes), layers.size(&axes), kind(&axes)).doc(what);
     }
+    let arrow = |b: &mut DesignBuilder, axes: &[usize], x: &[usize]| {
+        let (name, s) = (sub(axes, x), state(axes));
+        match layers.tensor(axes, x) {
+            Some(m) => b.matrix(name, s.clone(), s, m),
+            None => b.unknown(name, s.clone(), s),
+        };
+    };
     for x in &kept {
         let at = x.iter().map(ToString::to_string).collect::<Vec<_>>().join(", ");
-        b.unknown(sub(&[0, 1, 2], x), "volume", "volume").doc(format!("Sub-cell ({at}) of {}.", dims(split)));
+        arrow(b, &[0, 1, 2], x);
+        b.doc(format!("Sub-cell ({at}) of {}.", dims(split)));
     }
     for axes in cells().into_iter().skip(1) {
         let sizes: Vec<usize> = axes.iter().map(|&a| split[a]).collect();
         for x in grid(&sizes) {
-            b.unknown(sub(&axes, &x), state(&axes), state(&axes));
+            arrow(b, &axes, &x);
         }
         let parts = if axes.is_empty() { "its subdivision".into() } else { format!("its parts ({})", dims(&sizes)) };
         b.doc(format!("{} {}.", state(&axes), parts));
@@ -123,7 +200,12 @@ pub(super) fn hexahedron(b: &mut DesignBuilder, split: &[usize], keep: &[bool], 
     for axes in cells().into_iter().filter(|a| !a.is_empty()) {
         for &a in &axes {
             for end in 0..2 {
-                b.select(boundary(&axes, a, end), state(&axes), state(&without(&axes, a)), select(&axes, a, end, d));
+                b.select(
+                    boundary(&axes, a, end),
+                    state(&axes),
+                    state(&without(&axes, a)),
+                    select(&axes, a, end, layers),
+                );
             }
         }
         b.doc(format!("The sides of {}: each direction fixed at its start (0) or end (1).", state(&axes)));
@@ -136,8 +218,14 @@ pub(super) fn hexahedron(b: &mut DesignBuilder, split: &[usize], keep: &[bool], 
     }
     // The unit cube: the classical member is the affine sponge.
     let points: Vec<Vec<f64>> =
-        grid(&[d, d, d]).iter().map(|at| at.iter().map(|&i| i as f64 / (d - 1) as f64).collect()).collect();
-    b.model(Model::new("volume", points).with_layout(Layout::Single)).doc("The unit cube.");
+        grid(&[d, d, d]).iter().map(|at| at.iter().map(|&i| layers.coordinate(i)).collect()).collect();
+    let doc = match layers.fixed {
+        None => "The unit cube.",
+        Some(_) => {
+            "The unit cube: the control lattice at the B-spline's Greville points (its map is then the identity)."
+        }
+    };
+    b.model(Model::new("volume", points).with_layout(Layout::Single)).doc(doc);
 }
 
 /// `3x3x3`.

@@ -457,7 +457,7 @@ pub fn curve_structure(blocks: &[ExactMatrix]) -> Option<CurveStructure> {
 }
 
 /// `Mᵀ`, row by row.
-fn transposed(m: &ExactMatrix) -> Vec<Vec<Surd>> {
+pub(super) fn transposed(m: &ExactMatrix) -> Vec<Vec<Surd>> {
     let n = m.first().map_or(0, Vec::len);
     (0..n).map(|c| m.iter().map(|row| row[c].clone()).collect()).collect()
 }
@@ -541,7 +541,7 @@ pub fn ifs_design(
 }
 
 /// `A ⊗ B` (row-major pair indices: `(i, j) ↦ i · rows(B) + j`).
-fn kron(a: &ExactMatrix, b: &ExactMatrix) -> ExactMatrix {
+pub(super) fn kron(a: &ExactMatrix, b: &ExactMatrix) -> ExactMatrix {
     let (ra, ca) = (a.len(), a.first().map_or(0, Vec::len));
     let (rb, cb) = (b.len(), b.first().map_or(0, Vec::len));
     (0..ra * rb).map(|r| (0..ca * cb).map(|c| a[r / rb][c / cb].mul(&b[r % rb][c % cb])).collect()).collect()
