@@ -253,11 +253,14 @@ fn ply(c: &mut Criterion) {
 
 /// Issue 45: the Menger sponge's boundary mesh at levels 3 and 4, evaluated
 /// and written as binary STL, 3MF and PLY (the side-by-side against
-/// manifold3d's boolean sponge is `benches/peers/menger.py`).
+/// manifold3d's boolean sponge is `benches/peers/menger.py`), and the smooth
+/// sponge on a twisted tricubic B-spline lattice to STL beside the affine one
+/// (`smooth_stl` against `boundary_stl`: within 2× at level 4).
 fn menger(c: &mut Criterion) {
     let dir = std::env::temp_dir().join("bcifs-bench");
     std::fs::create_dir_all(&dir).expect("temp dir");
     let design = bcifs::builtin_design("menger").expect("shipped");
+    let smooth = bcifs::render::load("tricubic-sponge").expect("preset");
     let mut g = c.benchmark_group("menger");
     g.sample_size(10);
     for level in [3usize, 4] {
@@ -268,6 +271,10 @@ fn menger(c: &mut Criterion) {
                 b.iter(|| bcifs::render::render(&design, &options, black_box(&path)).expect("written"))
             });
         }
+        let path = dir.join("smooth.stl");
+        g.bench_function(BenchmarkId::new("smooth_stl", level), |b| {
+            b.iter(|| bcifs::render::render(&smooth, &options, black_box(&path)).expect("written"))
+        });
     }
     g.finish();
 }

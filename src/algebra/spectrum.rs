@@ -380,6 +380,24 @@ mod tests {
     use super::*;
     use nalgebra::DMatrix;
 
+    /// The norm test proves what the spectrum says, and nothing it does not:
+    /// a triangular stochastic map (eigenvalues 1, 1/3, 1/5) and its
+    /// Kronecker cube (repeated eigenvalues, as a tricubic volume's), a map
+    /// with a second eigenvalue 1, and one whose second is 1 − 10⁻⁶.
+    #[test]
+    fn contraction_by_norms_agrees_with_the_spectrum() {
+        let m: DMatrix<f64> = DMatrix::from_row_slice(3, 3, &[1.0, 2.0 / 3.0, 0.5, 0.0, 1.0 / 3.0, 0.3, 0.0, 0.0, 0.2]);
+        let cube = m.kronecker(&m).kronecker(&m);
+        for m in [&m, &cube] {
+            assert!(m.column_iter().all(|c| (c.sum() - 1.0).abs() < 1e-12));
+            assert!(contractive_spectrum(&eigenvalues(m).unwrap(), 1e-9) && contracts_by_norm(m, 1e-9));
+        }
+        let two_ones = DMatrix::from_row_slice(3, 3, &[1.0, 0.0, 0.5, 0.0, 1.0, 0.5, 0.0, 0.0, 0.0]);
+        assert!(!contracts_by_norm(&two_ones, 1e-9));
+        let slow = DMatrix::from_row_slice(2, 2, &[1.0, 1e-6, 0.0, 1.0 - 1e-6]);
+        assert!(!contracts_by_norm(&slow, 1e-5) && contracts_by_norm(&slow, 1e-7));
+    }
+
     /// Uniform numbers in [-1, 1) from a fixed seed (a 64-bit LCG's high bits).
     fn numbers(seed: u64) -> impl FnMut() -> f64 {
         let mut s = seed;

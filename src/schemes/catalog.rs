@@ -28,7 +28,7 @@ pub enum CatalogError {
 }
 
 /// The names of the presets.
-pub const IFS_NAMES: [&str; 16] = [
+pub const IFS_NAMES: [&str; 18] = [
     "bspline",
     "bspline-end",
     "bezier",
@@ -45,6 +45,8 @@ pub const IFS_NAMES: [&str; 16] = [
     "ternary5-closed",
     "ternary5-surface",
     "ternary5-torus",
+    "tricubic",
+    "tricubic-sponge",
 ];
 
 /// Default tension of the ternary presets: in the positive fractal range.
@@ -189,6 +191,7 @@ impl Request<'_> {
 fn seed1_preset(request: &Request<'_>) -> Result<Design, CatalogError> {
     match request.name {
         "bicubic" => bicubic_preset(request),
+        "tricubic" | "tricubic-sponge" => tricubic_preset(request),
         "box-spline" | "box-spline-gasket" | "box-spline-quad" | "sqrt3-patch" => triangle_preset(request),
         name => match seed1_curve(name) {
             Some(curve) => curve.design(request),
@@ -342,6 +345,59 @@ fn bicubic_preset(request: &Request<'_>) -> Result<Design, CatalogError> {
         &model,
     )
     .map_err(|e| CatalogError::Points(e.to_string()))
+}
+
+/// The tricubic B-spline volume as an IFS (the tensor product of three cubic
+/// curve IFS: Schaefer et al. 2005 §3.1 one dimension up) on a 4×4×4
+/// control lattice: `tricubic` split 2×2×2, every part kept (the volume), a
+/// bar bent into an arch; `tricubic-sponge` split 3×3×3 with the Menger
+/// sponge's mask, twisted a third of a turn about its axis: a smooth porous
+/// solid bent along its lattice.
+fn tricubic_preset(request: &Request<'_>) -> Result<Design, CatalogError> {
+    use super::pattern::{Basis, Pattern, PatternCell, pattern_design};
+    let sponge = request.name == "tricubic-sponge";
+    let (split, keep) = if sponge { ("3x3x3", Some("111101111101000101111101111")) } else { ("2x2x2", None) };
+    let pattern = Pattern::parse_in(PatternCell::Hexahedron, split, keep, 4, Basis::BSpline)
+        .map_err(|e| CatalogError::Points(e.to_string()))?;
+    let design = pattern_design(&pattern, request.name).map_err(|e| CatalogError::Points(e.to_string()))?;
+    // The lattice at the Greville points (−1, 0, 1, 2 along each direction: the unit cube), bent.
+    let mut default = Vec::with_capacity(64);
+    for w in 0..4 {
+        for v in 0..4 {
+            for u in 0..4 {
+                let [x, y, z] = [u, v, w].map(|i| f64::from(i) - 1.0);
+                default.push(if sponge {
+                    let turn = std::f64::consts::FRAC_PI_3 * (z - 0.5);
+                    let (dx, dy) = (x - 0.5, y - 0.5);
+                    vec![0.5 + dx * turn.cos() - dy * turn.sin(), 0.5 + dx * turn.sin() + dy * turn.cos(), z]
+                } else {
+                    vec![3.0 * x, y, z + 0.4 * (3.0 * x - 1.5).powi(2)]
+                });
+            }
+        }
+    }
+    let comment = if sponge {
+        "A 4×4×4 control lattice (index 16·w + 4·v + u): the unit cube's Greville points, each layer turned\nby 60° per unit of height about the axis x = y = 0.5."
+    } else {
+        "A 4×4×4 control lattice (index 16·w + 4·v + u): a 3×1×1 bar's Greville points, raised\nby 0.4 (x − 1.5)²: an arch."
+    };
+    let model = spec(request.with(default), Layout::Single, None, comment);
+    request.check(&model, 64)?;
+    if model.model.points.len() != 64 || model.model.points[0].len() != 3 {
+        return Err(CatalogError::Points(format!(
+            "`{}` takes a 4×4×4 lattice: 64 points of 3 coordinates",
+            request.name
+        )));
+    }
+    let mut b = design.to_builder();
+    let description = if sponge {
+        "Menger sponge on a tricubic B-spline lattice: the tensor product of three cubic curve IFS, 20 of 27 parts kept, twisted"
+    } else {
+        "tricubic B-spline volume: the tensor product of three cubic curve IFS (Schaefer et al. 2005 §3.1, one dimension up), a bent bar"
+    };
+    b.description(description);
+    b.model(Model::new("volume", model.model.points).with_layout(Layout::Single)).doc(model.comment);
+    b.build().map_err(|e| CatalogError::Points(e.to_string()))
 }
 
 /// The triangle schemes of Schaefer et al. 2005 §3.2–3.3 as IFS on lattice cells

@@ -13,6 +13,7 @@ mod polyhedral;
 mod solids;
 mod ternary;
 mod triangles;
+mod volumes;
 
 use bcifs::Design;
 use bcifs::eval::{EvalSettings, Evaluator};
