@@ -7,8 +7,9 @@ binary STL and PLY, in the same run, best of ROUNDS interleaved rounds.
 
     python3 benches/peers/menger.py [ROUNDS] [LEVELS]    (needs manifold3d and numpy: pip)
 
-Prints one line per level and format: the two best times and their ratio; both meshes are
-checked (volume (20/27)^k, genus) before any time is taken.
+Prints one line per level and format: the two best times and their ratio, and bcifs's peak
+resident memory (its process's, from wait4); both meshes are checked (volume (20/27)^k,
+genus) before any time is taken.
 """
 import os
 import subprocess
@@ -79,9 +80,18 @@ def peer(level, path, fmt):
 
 
 def ours(level, path):
+    """The time of `bcifs render menger`, and its peak resident memory in MiB."""
     t = time.perf_counter()
-    subprocess.run([BCIFS, "render", "menger", "--depth", str(level), "-o", path], check=True, capture_output=True)
-    return time.perf_counter() - t
+    child = subprocess.Popen(
+        [BCIFS, "render", "menger", "--depth", str(level), "-o", path],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
+    _, status, usage = os.wait4(child.pid, 0)
+    elapsed = time.perf_counter() - t
+    child.returncode = os.waitstatus_to_exitcode(status)
+    assert child.returncode == 0, f"bcifs failed at level {level}"
+    return elapsed, usage.ru_maxrss / 1024
 
 
 def main():
@@ -93,12 +103,13 @@ def main():
             s = boolean_sponge(level)
             assert abs(s.volume() - (20 / 27) ** level) < 1e-9, s.volume()
             for fmt in ("stl", "ply"):
-                best = [float("inf"), float("inf")]
+                best, peak = [float("inf"), float("inf")], 0.0
                 for _ in range(rounds):
-                    best[0] = min(best[0], ours(level, os.path.join(out, f"ours.{fmt}")))
+                    elapsed, mib = ours(level, os.path.join(out, f"ours.{fmt}"))
+                    best[0], peak = min(best[0], elapsed), max(peak, mib)
                     best[1] = min(best[1], peer(level, os.path.join(out, f"peer.{fmt}"), fmt))
                 print(
-                    f"level {level} {fmt}: bcifs {best[0]:.3f} s, manifold3d {best[1]:.3f} s, "
+                    f"level {level} {fmt}: bcifs {best[0]:.3f} s ({peak:.0f} MiB peak), manifold3d {best[1]:.3f} s, "
                     f"ratio {best[1] / best[0]:.1f}x (genus {s.genus()})"
                 )
 

@@ -24,7 +24,7 @@ pub struct RenderArgs {
     #[arg(long)]
     pub control: bool,
     /// Print a JSON report on stdout: what was written, and for meshes the print report
-    /// (volume, area, bbox, components, genus, closed, oriented).
+    /// (volume, area, bbox, components, genus, closed, oriented, smallest wall and hole).
     #[arg(long)]
     pub json: bool,
     /// The options: what is sampled, the budget, the look, the file's style.

@@ -63,6 +63,15 @@ impl Evaluator {
         mut record: Option<&mut Vec<Vec<Vec<usize>>>>,
     ) -> Result<(), EvalError> {
         let d = self.pieces.dim;
+        // A grid solid: its boundary straight from the lattice, streamed (no inner face made).
+        if let (None, None, [piece]) = (colours.as_deref(), record.as_deref(), &self.pieces.pieces[..]) {
+            let sp = self.plan.state(piece.state);
+            if let Some(grid) = super::lattice::SolidGrid::of(sp, piece.state) {
+                sink.object(&piece.name)?;
+                self.lattice_solid(&grid, piece.state, &piece.control, k, sink, 0)?;
+                return Ok(());
+            }
+        }
         // Welding holds every corner: refuse what would not fit, with the estimate.
         let cells = self.pieces.pieces.iter().fold(0u128, |n, p| n.saturating_add(self.face_cells(p.state, k)));
         let estimate = cells.saturating_mul(4 * (8 * d as u128 + 64));
@@ -80,18 +89,6 @@ impl Evaluator {
         for group in groups {
             let scale = group.iter().flat_map(|p| &p.control).fold(1.0f64, |m, x| m.max(x.abs()));
             let mut faces = Faces::new(crate::algebra::tolerance::SAME_POINT * scale, d, record.is_some());
-            // A grid solid: its boundary straight from the lattice (no inner face made).
-            if let (None, None, [piece]) = (colours.as_deref(), record.as_deref(), group) {
-                let sp = self.plan.state(piece.state);
-                if let Some(grid) = super::lattice::SolidGrid::of(sp, piece.state) {
-                    self.lattice_solid(&grid, piece.state, &piece.control, k, &mut faces, first)?;
-                    faces.split_pinches(first, None);
-                    sink.object(&piece.name)?;
-                    faces.write(sink, first, None)?;
-                    first += faces.weld.positions.len() / d;
-                    continue;
-                }
-            }
             // Per cell: state, control points, depth left, and its colour so far (see `CellColours`).
             let mut stack: Vec<(usize, Vec<f64>, usize, [f64; 2])> =
                 group.iter().rev().map(|p| (p.state, p.control.clone(), k, [0.0, 1.0])).collect();
@@ -506,45 +503,6 @@ fn fan_root(parent: &mut [usize], mut x: usize) -> usize {
         x = parent[x];
     }
     x
-}
-
-impl super::lattice::Boundary for Faces {
-    /// Coordinates per point.
-    fn dim(&self) -> usize {
-        self.weld.d
-    }
-
-    /// A new volume cell: its number, for the faces it makes.
-    fn next_cell(&mut self) -> u32 {
-        self.leaves += 1;
-        self.leaves - 1
-    }
-
-    /// A new vertex (not welded: the caller numbers it): its local number.
-    fn add_vertex(&mut self, p: &[f64]) -> usize {
-        let i = self.weld.positions.len() / self.weld.d;
-        self.weld.positions.extend_from_slice(p);
-        i
-    }
-
-    /// A boundary quad of cell `cell` (its corners `at`), its corners `ids`
-    /// at `points`, turned outward (its Newell normal away from the cell's centroid).
-    fn add_quad(&mut self, mut ids: [usize; 4], points: &[[f64; 3]], at: &[[f64; 3]; 8], cell: u32) {
-        let mut normal = [0.0; 3];
-        for k in 0..4 {
-            let (p, q) = (points[k], points[(k + 1) % 4]);
-            normal[0] += (p[1] - q[1]) * (p[2] + q[2]);
-            normal[1] += (p[2] - q[2]) * (p[0] + q[0]);
-            normal[2] += (p[0] - q[0]) * (p[1] + q[1]);
-        }
-        let centre = [0, 1, 2].map(|a| at.iter().map(|p| p[a]).sum::<f64>() / 8.0);
-        let mid = [0, 1, 2].map(|a| points.iter().map(|p| p[a]).sum::<f64>() / 4.0);
-        if (0..3).map(|a| normal[a] * (mid[a] - centre[a])).sum::<f64>() < 0.0 {
-            ids.reverse();
-        }
-        self.quads.push(ids);
-        self.quad_cells.push(cell);
-    }
 }
 
 /// A polygon's corners, held without an allocation up to four (every

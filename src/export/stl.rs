@@ -1,10 +1,10 @@
 //! Binary STL (what slicers read, for 3D printing): the one place STL
 //! records are formatted.
 
-use std::io::{self, Write};
+use std::io::{self, Seek, SeekFrom, Write};
 use std::path::Path;
 
-use super::atomic::{AtomicFile, Spool, Target};
+use super::atomic::{AtomicFile, Target};
 use super::axes::{Coordinates, Turn};
 use crate::geometry::Sink;
 
@@ -13,8 +13,8 @@ use crate::geometry::Sink;
 /// seen from outside as the faces come. STL holds surfaces only: curves are
 /// refused, and a file with no face is refused at [`StlWriter::finish`].
 /// Triangles refer to vertex positions, which the writer keeps (12 bytes a
-/// vertex); the triangles themselves go to a side file, appended under the
-/// counted header at the end. A face may come before its vertices (a
+/// vertex); the triangles go straight to the file, under a header whose
+/// count is written at the end. A face may come before its vertices (a
 /// streamed surface sends a block's faces first): it waits, as indices,
 /// until [`StlWriter::finish`].
 ///
@@ -35,7 +35,6 @@ use crate::geometry::Sink;
 pub struct StlWriter {
     coordinates: Coordinates,
     main: Option<AtomicFile>,
-    spool: Option<Spool>,
     /// Vertex positions in the file's axes.
     positions: Vec<[f32; 3]>,
     /// Faces that named a vertex not yet written: their corner counts' ends and corners.
@@ -58,10 +57,12 @@ impl StlWriter {
     /// # Errors
     /// The temporary files cannot be created.
     pub fn create_in(target: &Target) -> io::Result<StlWriter> {
+        let mut main = AtomicFile::create_in(target)?;
+        // The header and the count, written again at the end.
+        main.writer().write_all(&[0u8; 84])?;
         Ok(StlWriter {
             coordinates: Coordinates::default(),
-            main: Some(AtomicFile::create_in(target)?),
-            spool: Some(Spool::create(&target.beside(), "elements")?),
+            main: Some(main),
             positions: Vec::new(),
             waiting: (vec![0], Vec::new()),
             triangles: 0,
@@ -105,9 +106,10 @@ impl StlWriter {
         let mut header = [b' '; 80];
         let text = format!("binary STL written by bcifs {}", env!("CARGO_PKG_VERSION"));
         header[..text.len()].copy_from_slice(text.as_bytes());
-        main.writer().write_all(&header)?;
-        main.writer().write_all(&count.to_le_bytes())?;
-        self.spool.take().expect("finish once").append_to(&mut main)?;
+        let w = main.writer();
+        w.seek(SeekFrom::Start(0))?;
+        w.write_all(&header)?;
+        w.write_all(&count.to_le_bytes())?;
         main.commit()
     }
 
@@ -140,7 +142,7 @@ impl StlWriter {
     }
 
     fn flush(&mut self) -> io::Result<()> {
-        self.spool.as_mut().expect("not finished").writer().write_all(&self.buf)?;
+        self.main.as_mut().expect("not finished").writer().write_all(&self.buf)?;
         self.buf.clear();
         Ok(())
     }

@@ -18,6 +18,7 @@ mod print;
 mod solid_holes;
 mod sweep;
 mod topology;
+mod walls;
 
 pub use colours::{angle_colour, dimension_colour, region_colour, sweep_colour, sweep_image, verdict_colour};
 pub use curve::{CurveAnalysis, curve_analysis, curve_halves};
@@ -30,3 +31,4 @@ pub use lacunarity::{LacunarityReport, lacunarity_depth, lacunarity_report};
 pub use print::{PrintReport, print_report_of};
 pub use sweep::{REGIONS, SWEEP_DEPTH, SWEEP_MEMORY, SweepKind, SweepValues, sweep, sweep_cancellable, sweep_csv};
 pub use topology::{TopologyReport, topology_of, topology_report};
+pub use walls::{Measured, walls_and_holes};

@@ -1,6 +1,6 @@
 //! What a 3D-printing user asks of a mesh before slicing it (issue 45): its
 //! volume, area and bounding box, whether it is closed and consistently
-//! oriented, its pieces and its genus.
+//! oriented, its pieces and its genus, its smallest wall and hole.
 
 use rustc_hash::FxHashMap;
 
@@ -32,6 +32,18 @@ pub struct PrintReport {
     pub triangles: usize,
     /// Vertices used by a face.
     pub vertices: usize,
+    /// The thinnest wall of a closed, oriented mesh: the least distance from
+    /// a face's middle, along its inward normal, to the face it meets
+    /// ([`super::walls_and_holes`]); `None` for other meshes.
+    pub smallest_wall: Option<f64>,
+    /// The middle of the face the thinnest wall was measured from.
+    pub smallest_wall_at: Option<[f64; 3]>,
+    /// The narrowest hole, tunnel or gap between pieces of a closed, oriented
+    /// mesh: the least distance along a face's outward normal to the face it
+    /// meets; `None` when no outward ray meets one (a convex solid) or the mesh is not closed.
+    pub smallest_hole: Option<f64>,
+    /// The middle of the face the narrowest hole was measured from.
+    pub smallest_hole_at: Option<[f64; 3]>,
 }
 
 /// The print report of `shape` (its quads and triangles; 2D shapes lie at `z = 0`).
@@ -102,7 +114,28 @@ pub fn print_report_of(shape: &Shape) -> PrintReport {
     if triangles.is_empty() {
         bbox = [[0.0; 3]; 2];
     }
-    PrintReport { volume, area, bbox, components, closed, oriented, euler, genus, triangles: triangles.len(), vertices }
+    let (wall, hole) = if closed && oriented {
+        let points: Vec<[f64; 3]> = (0..shape.vertex_count()).map(at).collect();
+        super::walls_and_holes(&points, &triangles, 2 * shape.quads.len())
+    } else {
+        (None, None)
+    };
+    PrintReport {
+        volume,
+        area,
+        bbox,
+        components,
+        closed,
+        oriented,
+        euler,
+        genus,
+        triangles: triangles.len(),
+        vertices,
+        smallest_wall: wall.map(|m| m.value),
+        smallest_wall_at: wall.map(|m| m.at),
+        smallest_hole: hole.map(|m| m.value),
+        smallest_hole_at: hole.map(|m| m.at),
+    }
 }
 
 /// The connected pieces of the triangles over `n` vertices.

@@ -131,3 +131,34 @@ fn a_bspline_basis_is_for_hexahedra_at_uniform_points() {
     assert_eq!((r.genus, r.components), (Some(81), 1));
     assert!((r.volume - (20.0f64 / 27.0).powi(2)).abs() < 1e-12);
 }
+
+/// The print report's smallest wall and hole: the sponge's thinnest walls and
+/// narrowest tunnels are one depth-k cell, 3^−k (its first tunnel is 1/3
+/// wide, its outer shell a cell thick); the arch has no hole, and its walls,
+/// a unit bar sheared along z, are thinner than 1 where it is steep; the
+/// carpet's shell is as thick as asked, within the bend of its patch.
+#[test]
+fn the_print_report_measures_the_smallest_wall_and_hole() {
+    let menger = bcifs::render::load("menger").unwrap();
+    for k in 1..=3 {
+        let r = print_report(&menger, &Options::default().with_depth(k)).unwrap();
+        let cell = 3f64.powi(-(k as i32));
+        assert!((r.smallest_wall.unwrap() - cell).abs() < 1e-12, "depth {k}: {:?}", r.smallest_wall);
+        assert!((r.smallest_hole.unwrap() - cell).abs() < 1e-12, "depth {k}: {:?}", r.smallest_hole);
+        let at = r.smallest_wall_at.unwrap();
+        assert!(at.iter().all(|x| (-1e-12..=1.0 + 1e-12).contains(x)), "{at:?}");
+    }
+    let bar = ifs_preset("tricubic", None, None).unwrap();
+    let r = print_report(&bar, &Options::default().with_depth(2)).unwrap();
+    assert_eq!(r.smallest_hole, None);
+    assert!(r.smallest_wall.unwrap() > 0.05 && r.smallest_wall.unwrap() < 1.0, "{:?}", r.smallest_wall);
+    let carpet = bcifs::render::load("carpet").unwrap();
+    let mut thick = Options::default().with_depth(2);
+    thick.file.thickness = Some(0.01);
+    let shell = print_report(&carpet, &thick).unwrap();
+    let wall = shell.smallest_wall.unwrap();
+    assert!((wall - 0.01).abs() < 1e-4, "{wall}");
+    // An open sheet has no wall to measure.
+    let sheet = print_report(&carpet, &Options::default().with_depth(2)).unwrap();
+    assert_eq!((sheet.smallest_wall, sheet.smallest_hole), (None, None));
+}
