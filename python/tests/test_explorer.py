@@ -3,7 +3,8 @@ selenium (chromium-driver). The page loads the design, draws the attractor
 and the map, follows a slider (the URL holds the parameters), sets the
 parameters from a click on the map, shows a divergent point as such, and a
 link reopens the same member, a one-parameter family (the ternary scheme's
-tension) has a strip, the slider ranges are editable. Skipped, with the reason, without Chromium,
+tension) has a strip, the slider ranges are editable, a solid turns and zooms in
+the WebGL 3D view over the export's GLB. Skipped, with the reason, without Chromium,
 chromium-driver or selenium (`.ci/run` installs them)."""
 
 import shutil
@@ -26,7 +27,9 @@ def browser():
 
     options = webdriver.ChromeOptions()
     options.binary_location = binary
-    for flag in ["--headless=new", "--no-sandbox", "--disable-gpu", "--window-size=1400,900", "--disable-dev-shm-usage"]:
+    # WebGL without a GPU: Chromium's software renderer (SwiftShader), which it asks to be allowed.
+    flags = ["--headless=new", "--no-sandbox", "--disable-gpu", "--window-size=1400,900", "--disable-dev-shm-usage"]
+    for flag in flags + ["--enable-unsafe-swiftshader", "--use-angle=swiftshader"]:
         options.add_argument(flag)
     return webdriver.Chrome(service=Service(driver), options=options)
 
@@ -261,3 +264,73 @@ def test_a_surface_page_driven_for_a_minute_stays_within_its_budget(page):
     finally:
         child.send_signal(2)
         child.wait(timeout=30)
+
+
+def glb_triangles(path):
+    """The triangles of a GLB's first primitive (its index count over 3), read here with the standard library."""
+    import json
+    import struct
+
+    data = path.read_bytes()
+    length = struct.unpack("<I", data[12:16])[0]
+    gltf = json.loads(data[20 : 20 + length])
+    primitive = gltf["meshes"][0]["primitives"][0]
+    return gltf["accessors"][primitive["indices"]]["count"] // 3
+
+
+def drawn(page):
+    """The share of the 3D view's pixels that are not the white background."""
+    return page.execute_script(
+        "const gl = view3d.gl; const w = gl.drawingBufferWidth, h = gl.drawingBufferHeight;"
+        "const px = new Uint8Array(w * h * 4); gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, px);"
+        "let n = 0; for (let i = 0; i < px.length; i += 4) if (px[i] < 250 || px[i + 1] < 250 || px[i + 2] < 250) n++;"
+        "return [n / (w * h), Array.from(px.subarray(0, px.length)).reduce((a, x, i) => (a * 31 + x * (i % 7 + 1)) % 1000000007, 7)];"
+    )
+
+
+def test_a_solid_turns_and_zooms_in_the_3d_view(page, tmp_path):
+    """The Menger sponge's page offers the 3D view (a curve's does not): it
+    loads the GLB the export gives (as many triangles as `render -o x.glb`
+    writes), draws it with WebGL, turns when dragged without asking the
+    server again, and zooms with the wheel (the sponge covers less of the view)."""
+    glb = tmp_path / "menger.glb"
+    subprocess.run([cli(), "render", "menger", "--depth", "2", "-o", str(glb)], check=True, capture_output=True)
+    child = subprocess.Popen([cli(), "explore", "menger", "--port", "0", "--no-open"], stdout=subprocess.PIPE, text=True)
+    try:
+        url = child.stdout.readline().strip()
+        page.get(url + "?depth=2")
+        wait(lambda: page.execute_script("return document.body.dataset.ready === 'yes'"))
+        toggle = page.find_element("id", "toggle3d")
+        assert toggle.is_displayed()
+        toggle.click()
+        webgl = page.execute_script("return view3d.error")
+        if webgl:
+            pytest.skip(f"headless Chromium gives no WebGL here: {webgl}")
+        triangles = wait(lambda: page.execute_script("return document.body.dataset.scene"))
+        assert int(triangles) == glb_triangles(glb) > 0
+        assert not page.find_element("id", "picture").is_displayed()
+        share, before = drawn(page)
+        assert 0.1 < share < 0.9, share
+        requests = page.execute_script("return view3d.seq")
+        from selenium.webdriver.common.action_chains import ActionChains
+
+        ActionChains(page).drag_and_drop_by_offset(page.find_element("id", "scene"), 60, 20).perform()
+        wait(lambda: params(page).get("view") == "60,45")
+        _, after = drawn(page)
+        assert after != before, "the view turned"
+        assert page.execute_script("return view3d.seq") == requests, "turning asks the server for nothing"
+        page.execute_script("document.getElementById('scene').dispatchEvent(new WheelEvent('wheel', {deltaY: 400, cancelable: true}))")
+        zoomed, _ = drawn(page)
+        assert zoomed < share, (zoomed, share)
+    finally:
+        child.send_signal(2)
+        child.wait(timeout=10)
+    # A curve has no 3D view.
+    child = subprocess.Popen([cli(), "explore", "corner_cutting", "--port", "0", "--no-open"], stdout=subprocess.PIPE, text=True)
+    try:
+        page.get(child.stdout.readline().strip())
+        wait(lambda: page.execute_script("return document.body.dataset.ready === 'yes'"))
+        assert not page.find_element("id", "toggle3d").is_displayed()
+    finally:
+        child.send_signal(2)
+        child.wait(timeout=10)

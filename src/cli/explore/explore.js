@@ -1,7 +1,7 @@
 // The explorer page: sliders → the URL's query → pictures and checks from the API.
 "use strict";
 
-const state = { design: null, values: {}, ranges: {}, depth: 6, yaw: 30, pitch: 35, preview: 3, map: null, seq: { picture: 0, map: 0, dimension: 0 } };
+const state = { design: null, values: {}, ranges: {}, depth: 6, yaw: 30, pitch: 35, preview: 3, map: null, view3d: false, seq: { picture: 0, map: 0, dimension: 0 } };
 // The deepest evaluation the server takes (its MAX_DEPTH); the depth slider's end.
 const MAX_DEPTH = 16;
 const $ = (id) => document.getElementById(id);
@@ -102,7 +102,7 @@ function exports() {
 function update(coarse) {
   saveUrl();
   exports();
-  picture(coarse);
+  if (state.view3d) scene(coarse); else picture(coarse);
   if (!coarse) check();
   marker();
 }
@@ -250,9 +250,10 @@ async function start() {
   const showDepth = () => { $("depth-value").textContent = state.depth; $("view-value").textContent = `${state.yaw}°, ${state.pitch}°`; };
   $("depth").addEventListener("input", () => { state.depth = Number($("depth").value); showDepth(); });
   $("depth").addEventListener("change", () => update(false));
+  // The 3D view turns in the browser: no new scene for a new view.
   for (const id of ["yaw", "pitch"]) {
-    $(id).addEventListener("input", () => { state[id] = Number($(id).value); showDepth(); update(true); });
-    $(id).addEventListener("change", () => update(false));
+    $(id).addEventListener("input", () => { state[id] = Number($(id).value); showDepth(); if (state.view3d) { draw3d(); saveUrl(); } else update(true); });
+    $(id).addEventListener("change", () => { if (!state.view3d) update(false); });
   }
   showDepth();
   for (const [i, p] of state.design.parameters.entries()) {
@@ -267,6 +268,12 @@ async function start() {
   // The page going away stops its pictures and maps on the server.
   window.addEventListener("pagehide", () => navigator.sendBeacon("api/bye?session=" + session));
   dragToTurn();
+  // Surfaces and solids have a 3D view.
+  if (state.design.mesh) {
+    $("toggle3d-box").hidden = false;
+    $("toggle3d").addEventListener("change", () => show3d($("toggle3d").checked));
+    controls3d();
+  }
   update(false);
   map();
   document.body.dataset.ready = "yes";

@@ -8,7 +8,9 @@
 //! `/api/picture.png?…&depth=&size=WxH&view=YAW,PITCH`,
 //! `/api/map.png?x=&y=&kind=verdict|region|angle|smooth|dimension&size=&xr=&yr=&threshold=`
 //! (without `y`: a strip over `x`, for one-parameter families),
-//! `/api/export.{obj,ply,glb,png,toml}?…`, `/api/bye?session=` (GET or the
+//! `/api/scene.glb?…&depth=` (the GLB the export gives, for the page's 3D
+//! view: cancelled by a newer one of its slot), `/api/export.{obj,ply,glb,png,toml}?…`,
+//! `/api/bye?session=` (GET or the
 //! page's beacon POST: its requests stop). A request that names a `slot`
 //! (the page's picture, its map) cancels the older one of the same slot
 //! (older: a smaller `seq`, the page's counter, else an earlier arrival).
@@ -27,6 +29,8 @@ use bcifs::render::{Options, Profile, SweepKind};
 
 const PAGE: &str = include_str!("index.html");
 const SCRIPT: &str = include_str!("explore.js");
+/// The page's 3D view: a GLB reader and a WebGL orbit view, written here (nothing fetched at run time).
+const VIEWER: &str = include_str!("view3d.js");
 /// The tab's icon: the Sierpiński gasket at depth 2, three triangles of three.
 const ICON: &str = "<svg xmlns='http://www.w3.org/2000/svg' viewBox='0 0 8 7'><path fill='#2d3e50' \
 d='M0 7h2l1-2zM2 7h2l-1-2zM1 5h2l-1-2zM4 7h2l1-2zM6 7h2l-1-2zM5 5h2l-1-2zM2 3h2l1-2zM4 3h2l-1-2zM3 1h2l-1-1z'/></svg>";
@@ -84,6 +88,8 @@ struct Explorer {
     /// Whether the maps of a curve family (regions, angles) can be drawn:
     /// offered by the page only then.
     curve_maps: bool,
+    /// The output is a mesh (a surface or a solid).
+    mesh: bool,
     /// Heavy requests running, and its signal when one ends.
     heavy: (Mutex<usize>, std::sync::Condvar),
 }
@@ -151,9 +157,13 @@ impl Explorer {
             let plane = bcifs::render::ParameterPlane::line(&p.name, p.default, p.default + 1e-9, 1);
             bcifs::render::sweep(&design, &plane, SweepKind::Angle, false, 0..1).is_ok()
         });
+        // Whether the output is a mesh (a surface or a solid: the page offers its 3D view).
+        let mesh = bcifs::render::evaluate_design(&design, &Options::default().with_depth(1), &mut Vec::new())
+            .is_ok_and(|shape| !shape.quads.is_empty() || !shape.triangles.is_empty());
         Ok(Explorer {
             design,
             parameters,
+            mesh,
             slots: Mutex::new(HashMap::new()),
             deadlines: Mutex::new(Vec::new()),
             sweeps: Mutex::new(HashMap::new()),
@@ -298,7 +308,7 @@ impl Explorer {
             .is_some_and(|i| bcifs::render::curve_halves(&self.design, &i).is_ok());
         json!({
             "name": self.design.name(), "description": self.design.description(),
-            "parameters": parameters, "curve": curve, "curve_maps": self.curve_maps,
+            "parameters": parameters, "curve": curve, "curve_maps": self.curve_maps, "mesh": self.mesh,
         })
     }
 
@@ -438,6 +448,16 @@ impl Explorer {
             }
             "/explore.js" => {
                 Answer { status: 200, kind: "text/javascript; charset=utf-8", body: SCRIPT.into(), download: None }
+            }
+            "/view3d.js" => {
+                Answer { status: 200, kind: "text/javascript; charset=utf-8", body: VIEWER.into(), download: None }
+            }
+            "/api/scene.glb" => {
+                let cancel = self.cancel_for(slot, seq);
+                match self.options(query, cancel).and_then(|options| self.render_bytes(&options, "glb")) {
+                    Ok(body) => Answer { status: 200, kind: "model/gltf-binary", body, download: None },
+                    Err(a) => a,
+                }
             }
             "/api/design" => Answer::json(&self.design_json()),
             "/api/bye" => match query.get("session").filter(|s| !s.is_empty()) {
