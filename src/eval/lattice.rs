@@ -437,6 +437,50 @@ impl Walk<'_> {
     }
 }
 
+/// The fold check of hexahedral cells outside the lattice mesher (pieces
+/// welded across a larger lattice): every leaf's corner Jacobians must have
+/// the sign of the first piece's.
+pub(super) struct Folds {
+    grid: SolidGrid,
+    state: usize,
+    sign: f64,
+}
+
+/// The orientation of a hexahedral cell at `control` (the sign of its corner Jacobians' sum), 0 when flat or not 3D.
+fn orientation(grid: &SolidGrid, sp: &StatePlan, control: &[f64], d: usize) -> f64 {
+    if d != 3 {
+        return 0.0;
+    }
+    let root = corners_of(control, d, sp.dim, &sp.samples);
+    let jacobians = grid.jacobians(&root);
+    let total: f64 = jacobians.iter().map(|j| j.0).sum();
+    let scale: f64 = jacobians.iter().map(|j| j.1.sqrt()).sum();
+    if total.abs() > 1e-9 * scale { total.signum() } else { 0.0 }
+}
+
+impl Folds {
+    /// The check for cells of `sp` (state `s`), oriented as the cell at `control`; `None` when not hexahedra in 3D.
+    pub(super) fn of(sp: &StatePlan, s: usize, control: &[f64], d: usize) -> Option<Folds> {
+        let grid = SolidGrid::of(sp, s)?;
+        let sign = orientation(&grid, sp, control, d);
+        (sign != 0.0).then_some(Folds { grid, state: s, sign })
+    }
+
+    /// A leaf cell of state `s` with control points `c` at depth `depth`: an error where it is turned over.
+    pub(super) fn check(&self, sp: &StatePlan, s: usize, c: &[f64], depth: usize) -> Result<(), EvalError> {
+        if s != self.state {
+            return Ok(());
+        }
+        let at = corners_of(c, 3, sp.dim, &sp.samples);
+        for (k, (det, scale2)) in self.grid.jacobians(&at).into_iter().enumerate() {
+            if det * self.sign < 0.0 && det * det > 1e-18 * scale2 {
+                return Err(EvalError::Folded { at: at[self.grid.by_code[k]], depth, jacobian: det / scale2.sqrt() });
+            }
+        }
+        Ok(())
+    }
+}
+
 /// The corners of a cell with control points `c` (`d` coordinates of `n` points) at the weights `samples`.
 fn corners_of(c: &[f64], d: usize, n: usize, samples: &[Vec<f64>]) -> [[f64; 3]; 8] {
     let mut at = [[0.0f64; 3]; 8];
@@ -472,9 +516,7 @@ impl Evaluator {
         let sp = self.plan.state(s);
         let n = sp.dim;
         let root = corners_of(control, d, n, &sp.samples);
-        let total: f64 = grid.jacobians(&root).iter().map(|j| j.0).sum();
-        let scale: f64 = grid.jacobians(&root).iter().map(|j| j.1.sqrt()).sum();
-        let sign = if d == 3 && total.abs() > 1e-9 * scale { total.signum() } else { 0.0 };
+        let sign = orientation(grid, sp, control, d);
         let cells = [0, 1, 2].map(|x| grid.dims[x].pow(k as u32));
         let mut walk = Walk {
             grid,

@@ -89,6 +89,9 @@ impl Evaluator {
         for group in groups {
             let scale = group.iter().flat_map(|p| &p.control).fold(1.0f64, |m, x| m.max(x.abs()));
             let mut faces = Faces::new(crate::algebra::tolerance::SAME_POINT * scale, d, record.is_some());
+            // Hexahedral cells of a lattice cut into pieces are checked not to be turned over.
+            let folds =
+                group.first().and_then(|p| super::lattice::Folds::of(self.plan.state(p.state), p.state, &p.control, d));
             // Per cell: state, control points, depth left, and its colour so far (see `CellColours`).
             let mut stack: Vec<(usize, Vec<f64>, usize, [f64; 2])> =
                 group.iter().rev().map(|p| (p.state, p.control.clone(), k, [0.0, 1.0])).collect();
@@ -100,6 +103,9 @@ impl Evaluator {
                 }
                 let sp = self.plan.state(s);
                 if r == 0 && (!sp.faces.is_empty() || sp.kind == CellKind::Face) {
+                    if let Some(f) = &folds {
+                        f.check(sp, s, &c, k)?;
+                    }
                     faces.leaf(sp, &c, first);
                     if let Some(cc) = colours.as_deref_mut() {
                         // The vertices this cell adds take its colour.

@@ -25,6 +25,11 @@ pub enum ThickenError {
         /// The shortest edge of the surface.
         side: f64,
     },
+    /// A closed surface (a solid's boundary): thickening it would make a hollow double wall.
+    #[error(
+        "this surface is closed (a solid's boundary, or a surface without border): a thickness makes a lace (a surface with a border and holes) into a shell, and would make this a hollow double wall; write the solid as it is"
+    )]
+    Closed,
     /// Cells touching at a point or along an edge only.
     #[error(
         "the surface's cells touch at single points or along edges only ({0} place(s), pinches): a shell around them is not a manifold there; thicken a lace without pinches (the carpet), or write the surface itself"
@@ -99,6 +104,9 @@ pub fn thicken(surface: &Shape, thickness: f64) -> Result<Shape, ThickenError> {
     pinches += border_at.iter().filter(|&&c| c > 1).count();
     if pinches > 0 {
         return Err(ThickenError::Pinched(pinches));
+    }
+    if border.is_empty() {
+        return Err(ThickenError::Closed);
     }
     if thickness >= side {
         return Err(ThickenError::TooThick { thickness, side });

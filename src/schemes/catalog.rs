@@ -383,12 +383,26 @@ fn tricubic_preset(request: &Request<'_>) -> Result<Design, CatalogError> {
     };
     let model = spec(request.with(default), Layout::Single, None, comment);
     request.check(&model, 64)?;
-    if model.model.points.len() != 64 || model.model.points[0].len() != 3 {
+    let points = model.model.points;
+    // n × n × n points: (n − 3)³ cells, each the 4 × 4 × 4 window at its corner, welded where they meet.
+    let n = (1..=64).find(|n| n * n * n >= points.len()).unwrap_or(0);
+    if n < 4 || n * n * n != points.len() || points[0].len() != 3 {
         return Err(CatalogError::Points(format!(
-            "`{}` takes a 4×4×4 lattice: 64 points of 3 coordinates",
-            request.name
+            "`{}` takes an n × n × n control lattice (n ≥ 4, 3 coordinates each, index n²·w + n·v + u): {} points are not one",
+            request.name,
+            points.len()
         )));
     }
+    let lattice = if n == 4 {
+        Model::new("volume", points).with_layout(Layout::Single)
+    } else {
+        let mut windows = Vec::new();
+        for (a, b, c) in (0..n - 3).flat_map(|c| (0..n - 3).flat_map(move |b| (0..n - 3).map(move |a| (a, b, c)))) {
+            let at = |i: usize| (c + i / 16) * n * n + (b + i / 4 % 4) * n + a + i % 4;
+            windows.push((0..64).map(at).collect());
+        }
+        Model::new("volume", points).with_patches(vec!["volume".into()], windows)
+    };
     let mut b = design.to_builder();
     let description = if sponge {
         "Menger sponge on a tricubic B-spline lattice: the tensor product of three cubic curve IFS, 20 of 27 parts kept, twisted"
@@ -396,7 +410,7 @@ fn tricubic_preset(request: &Request<'_>) -> Result<Design, CatalogError> {
         "tricubic B-spline volume: the tensor product of three cubic curve IFS (Schaefer et al. 2005 §3.1, one dimension up), a bent bar"
     };
     b.description(description);
-    b.model(Model::new("volume", model.model.points).with_layout(Layout::Single)).doc(model.comment);
+    b.model(lattice).doc(model.comment);
     b.build().map_err(|e| CatalogError::Points(e.to_string()))
 }
 

@@ -12,7 +12,7 @@ use bcifs::schemes::{Pattern, PatternCell, PatternError, pattern_design};
 const MENGER: &str = "111101111101000101111101111";
 
 /// The voxels of a hexahedron pattern's depth-`k` cells on the grid of `split^k` a side (3 × 3 × 3 splits).
-fn voxels(mask: &str, k: u32) -> (usize, HashSet<[usize; 3]>) {
+pub(crate) fn voxels(mask: &str, k: u32) -> (usize, HashSet<[usize; 3]>) {
     let keep: Vec<bool> = mask.chars().map(|c| c == '1').collect();
     let side = 3usize.pow(k);
     let mut out = HashSet::new();
@@ -37,7 +37,7 @@ fn voxels(mask: &str, k: u32) -> (usize, HashSet<[usize; 3]>) {
 /// vertices, edges, squares and cubes), its components (cubes touching at
 /// least at a corner), and its cavities (the complement's components that do
 /// not reach the outside): the Betti numbers follow, `b1 = b0 + b2 − χ`.
-fn cube_topology(side: usize, cubes: &HashSet<[usize; 3]>) -> (i64, [i64; 3]) {
+pub(crate) fn cube_topology(side: usize, cubes: &HashSet<[usize; 3]>) -> (i64, [i64; 3]) {
     // Cells of the cubical complex by doubled coordinates: a vertex has all even, a cube all odd.
     let mut cells: HashSet<[usize; 3]> = HashSet::new();
     for c in cubes {
@@ -494,6 +494,11 @@ fn laces_thicken_into_closed_shells_of_the_carpets_genus() {
     let g = bcifs::render::evaluate_design(&gasket, &bcifs::render::Options::default().with_depth(2), &mut Vec::new())
         .unwrap();
     assert!(matches!(bcifs::mesh::thicken(&g, 0.001), Err(bcifs::mesh::ThickenError::Pinched(_))));
+    // A solid's boundary is closed: no hollow double wall is made of it.
+    let menger = bcifs::builtin_design("menger").unwrap();
+    let m = bcifs::render::evaluate_design(&menger, &bcifs::render::Options::default().with_depth(1), &mut Vec::new())
+        .unwrap();
+    assert!(matches!(bcifs::mesh::thicken(&m, 0.01), Err(bcifs::mesh::ThickenError::Closed)));
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_bcifs"))
         .args(["render", "cantor", "--depth", "2", "--thickness", "0.01", "-o"])
         .arg(std::env::temp_dir().join(format!("bcifs-cantor-{}.stl", std::process::id())))

@@ -162,3 +162,39 @@ fn the_print_report_measures_the_smallest_wall_and_hole() {
     let sheet = print_report(&carpet, &Options::default().with_depth(2)).unwrap();
     assert_eq!((sheet.smallest_wall, sheet.smallest_hole), (None, None));
 }
+
+/// A lattice of n × n × n points makes (n − 3)³ cells welded where they
+/// meet: on the 5 × 5 × 5 Greville lattice, eight sponges filling [0, 2]³,
+/// one closed piece of eight sponges' volume, whose genus is the one counted
+/// on their voxels (not by the library); a folding one and a lattice that is
+/// no cube are refused.
+#[test]
+fn a_larger_lattice_welds_its_cells() {
+    let greville = |n: usize| -> Vec<Vec<f64>> {
+        (0..n * n * n).map(|i| vec![(i % n) as f64 - 1.0, (i / n % n) as f64 - 1.0, (i / n / n) as f64 - 1.0]).collect()
+    };
+    let sponges = ifs_preset("tricubic-sponge", Some(greville(5)), None).unwrap();
+    let r = print_report(&sponges, &Options::default().with_depth(2)).unwrap();
+    assert!(r.closed && r.oriented && r.components == 1, "{r:?}");
+    assert!((r.volume - 8.0 * (20.0f64 / 27.0).powi(2)).abs() < 1e-10, "{}", r.volume);
+    // The voxels of eight depth-2 sponges side by side.
+    let (_, one) = crate::solids::voxels(MENGER, 2);
+    let mut cubes = std::collections::HashSet::new();
+    for [x, y, z] in one {
+        for o in 0..8 {
+            cubes.insert([x + 9 * (o & 1), y + 9 * (o >> 1 & 1), z + 9 * (o >> 2)]);
+        }
+    }
+    let (_, betti) = crate::solids::cube_topology(18, &cubes);
+    assert_eq!(r.genus, Some(betti[1]));
+    // Two middle layers crossed: the cells there are turned over, refused as with one cell.
+    let mut folded = greville(5);
+    for p in folded.iter_mut() {
+        p[2] = [0.0, 1.5, 0.5, 2.0, 3.0][(p[2] + 1.0) as usize] - 1.0;
+    }
+    let folded = ifs_preset("tricubic-sponge", Some(folded), None).unwrap();
+    let e = print_report(&folded, &Options::default().with_depth(2)).unwrap_err().to_string();
+    assert!(e.contains("fold the solid inside out"), "{e}");
+    let e = ifs_preset("tricubic", Some(greville(5)[..100].to_vec()), None).unwrap_err().to_string();
+    assert!(e.contains("n × n × n"), "{e}");
+}
