@@ -121,21 +121,7 @@ impl SolidGrid {
                 return None;
             }
         }
-        // The children's corners by lattice point: one weight vector each (`m · b`).
-        let mut key_of: FxHashMap<u64, usize> = FxHashMap::default();
-        let (mut points, mut point_of) = (Vec::new(), Vec::new());
-        for ((_, _, m), p) in sp.children.iter().zip(&place) {
-            let mut ids = [0usize; 8];
-            for (j, b) in sp.samples.iter().enumerate() {
-                let q = [0, 1, 2].map(|x| p[x] + corner[j][x]);
-                let key = q[0] + (dims[0] + 1) * (q[1] + (dims[1] + 1) * q[2]);
-                ids[j] = *key_of.entry(key).or_insert_with(|| {
-                    points.push((0..n).map(|r| (0..n).map(|c| m[r * n + c] * b[c]).sum()).collect());
-                    points.len() - 1
-                });
-            }
-            point_of.push(ids);
-        }
+        let (points, point_of) = lattice_points(sp, &place, &corner, dims);
         let by_code = [0, 1, 2, 3, 4, 5, 6, 7].map(|i| code([i & 1, i >> 1 & 1, i >> 2 & 1]).unwrap_or(0));
         Some(SolidGrid { dims, place, kept, corner, side, points, point_of, by_code })
     }
@@ -172,6 +158,33 @@ impl SolidGrid {
         }
         p == [0, 0, 0]
     }
+}
+
+/// The children's corners by lattice point (in children's units): one
+/// weight vector each on the parent's control points (`m · b`), and per
+/// child its corners' entries.
+fn lattice_points(
+    sp: &StatePlan,
+    place: &[[u64; 3]],
+    corner: &[[u64; 3]],
+    dims: [u64; 3],
+) -> (Vec<Vec<f64>>, Vec<[usize; 8]>) {
+    let n = sp.dim;
+    let mut key_of: FxHashMap<u64, usize> = FxHashMap::default();
+    let (mut points, mut point_of) = (Vec::new(), Vec::new());
+    for ((_, _, m), p) in sp.children.iter().zip(place) {
+        let mut ids = [0usize; 8];
+        for (j, b) in sp.samples.iter().enumerate() {
+            let q = [0, 1, 2].map(|x| p[x] + corner[j][x]);
+            let key = q[0] + (dims[0] + 1) * (q[1] + (dims[1] + 1) * q[2]);
+            ids[j] = *key_of.entry(key).or_insert_with(|| {
+                points.push((0..n).map(|r| (0..n).map(|c| m[r * n + c] * b[c]).sum()).collect());
+                points.len() - 1
+            });
+        }
+        point_of.push(ids);
+    }
+    (points, point_of)
 }
 
 /// The axes of a hexahedron's plan: opposite faces share no corner; each
@@ -316,7 +329,28 @@ struct Walk<'a> {
     quads: Vec<[usize; 4]>,
 }
 
-impl Walk<'_> {
+impl<'a> Walk<'a> {
+    /// A walk to depth `k` of the cells of `sp` on `grid`, its vertices numbered from `first`.
+    fn new(grid: &'a SolidGrid, sp: &'a StatePlan, k: usize, first: usize, sign: f64, d: usize) -> Walk<'a> {
+        let cells = [0, 1, 2].map(|x| grid.dims[x].pow(k as u32));
+        Walk {
+            grid,
+            sp,
+            k,
+            cells,
+            side: cells.map(|c| c + 1),
+            first,
+            written: 0,
+            corners: FxHashMap::default(),
+            bits: Walk::kept_bits(grid, k, cells),
+            table: fan_table(),
+            sign,
+            d,
+            positions: Vec::new(),
+            quads: Vec::new(),
+        }
+    }
+
     /// The kept cells at depth `k`, one bit each: set by walking the
     /// pattern's tree (no geometry), `None` over 64 MiB.
     fn kept_bits(grid: &SolidGrid, k: usize, cells: [u64; 3]) -> Option<Vec<u64>> {
@@ -517,23 +551,7 @@ impl Evaluator {
         let n = sp.dim;
         let root = corners_of(control, d, n, &sp.samples);
         let sign = orientation(grid, sp, control, d);
-        let cells = [0, 1, 2].map(|x| grid.dims[x].pow(k as u32));
-        let mut walk = Walk {
-            grid,
-            sp,
-            k,
-            cells,
-            side: cells.map(|c| c + 1),
-            first,
-            written: 0,
-            corners: FxHashMap::default(),
-            bits: Walk::kept_bits(grid, k, cells),
-            table: fan_table(),
-            sign,
-            d,
-            positions: Vec::new(),
-            quads: Vec::new(),
-        };
+        let mut walk = Walk::new(grid, sp, k, first, sign, d);
         if k == 0 {
             walk.leaf(&root, [0, 0, 0])?;
             walk.flush(sink)?;

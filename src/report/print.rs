@@ -34,7 +34,7 @@ pub struct PrintReport {
     pub vertices: usize,
     /// The thinnest wall of a closed, oriented mesh: the least distance from
     /// a face's middle, along its inward normal, to the face it meets
-    /// ([`super::walls_and_holes`]); `None` for other meshes.
+    /// ([`super::walls::walls_and_holes`]); `None` for other meshes.
     pub smallest_wall: Option<f64>,
     /// The middle of the face the thinnest wall was measured from.
     pub smallest_wall_at: Option<[f64; 3]>,
@@ -116,7 +116,7 @@ pub fn print_report_of(shape: &Shape) -> PrintReport {
     }
     let (wall, hole) = if closed && oriented {
         let points: Vec<[f64; 3]> = (0..shape.vertex_count()).map(at).collect();
-        super::walls_and_holes(&points, &triangles, 2 * shape.quads.len())
+        super::walls::walls_and_holes(&points, &triangles, 2 * shape.quads.len())
     } else {
         (None, None)
     };

@@ -542,11 +542,18 @@ pub fn pattern_design(pattern: &Pattern, name: &str) -> Result<Design, PatternEr
 
 /// The command that makes `pattern`'s automaton, quoted (`split` as written).
 fn command_line(pattern: &Pattern, split: &str) -> String {
-    let (cell, mask, d, at) = (pattern.cell.name(), pattern.mask(), pattern.degree, pattern.at_text());
-    let at = if at.is_empty() { String::new() } else { format!(" --at {at}") };
-    let basis =
-        if pattern.basis == Basis::Bezier { String::new() } else { format!(" --basis {}", pattern.basis.name()) };
-    format!("`bcifs new pattern --cell {cell} --split {split} --keep {mask} --degree {d}{at}{basis}`")
+    let (cell, mask, d, at, basis) =
+        (pattern.cell.name(), pattern.mask(), pattern.degree, pattern.at_text(), pattern.basis.name());
+    match (at.is_empty(), pattern.basis) {
+        (true, Basis::Bezier) => {
+            format!("`bcifs new pattern --cell {cell} --split {split} --keep {mask} --degree {d}`")
+        }
+        (false, Basis::Bezier) => {
+            format!("`bcifs new pattern --cell {cell} --split {split} --keep {mask} --degree {d} --at {at}`")
+        }
+        // A B-spline pattern splits uniformly: no split points.
+        _ => format!("`bcifs new pattern --cell {cell} --split {split} --keep {mask} --degree {d} --basis {basis}`"),
+    }
 }
 
 /// The states, arrows and constraints of a segment pattern.
