@@ -133,6 +133,8 @@ pub fn bytes_text(bytes: u128) -> String {
         b if b < KIB => format!("{b} bytes"),
         b if b < KIB << 10 => format!("{} KiB", b.div_ceil(KIB)),
         b if b < KIB << 20 => format!("{} MiB", b.div_ceil(KIB << 10)),
-        b => format!("{:.1} GiB", b as f64 / (1u64 << 30) as f64),
+        b if b < KIB << 50 => format!("{:.1} GiB", b as f64 / (1u64 << 30) as f64),
+        // Past 2^60 bytes (an exbibyte) the figure only says "too much" (a deep tree's count overflows).
+        _ => "more than an exbibyte (2^60 bytes)".into(),
     }
 }

@@ -19,6 +19,7 @@ from ._bcifs import (
     Builder,
     Design,
     Mesh,
+    __version__,
     analyze_curve,
     dimension,
     lacunarity,
@@ -34,6 +35,7 @@ from ._bcifs import (
 )
 
 __all__ = [
+    "__version__",
     "REGIONS",
     "BcifsError",
     "Builder",

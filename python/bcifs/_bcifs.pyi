@@ -123,6 +123,7 @@ def pattern(
     degree: int = 2,
     name: str = "pattern",
     at: Optional[Union[str, Sequence[Union[float, str, Fraction]]]] = None,
+    basis: str = "bezier",
 ) -> Design: ...
 def polyhedral_lace(
     polyhedron: Union[str, os.PathLike[str], Sequence[Sequence[int]]],
@@ -138,9 +139,13 @@ def subdivide(
     net: bool = False,
     uv: Optional[npt.ArrayLike] = None,
     uv_faces: Optional[Union[npt.ArrayLike, Sequence[Sequence[int]]]] = None,
+    triangulate: bool = False,
     **weights: float,
 ) -> Mesh: ...
 def analyze_curve(design: Design, **params: Union[float, int, str, Fraction]) -> dict[str, Any]: ...
+
+__version__: str
+"""The package's version (its crate's)."""
 
 REGIONS: list[str]
 """The regions of a region sweep, by code."""

@@ -34,13 +34,21 @@ fn params(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<(String, f64)>> {
     let mut out = Vec::new();
     if let Some(kwargs) = kwargs {
         for (k, v) in kwargs.iter() {
-            out.push((
-                k.extract::<String>()?,
-                v.extract::<f64>().map_err(|_| err(format!("parameter `{k}` must be a number")))?,
-            ));
+            let name = k.extract::<String>()?;
+            let value = param_value(&name, &v)?;
+            out.push((name, value));
         }
     }
     Ok(out)
+}
+
+/// A parameter's value: a number, or an exact one as `analyze_curve` takes
+/// them (`"1/4"`, `Fraction(1, 4)`, `"sqrt(3)/6"`), as a float.
+pub(crate) fn param_value(name: &str, v: &Bound<'_, PyAny>) -> PyResult<f64> {
+    if let Ok(x) = v.extract::<f64>() {
+        return Ok(x);
+    }
+    exact_value(v).map(|n| n.to_f64()).map_err(|e| err(format!("parameter `{name}`: {e}")))
 }
 
 /// How long an interrupted call waits for its work to notice the
@@ -391,8 +399,10 @@ fn scheme_of(name: &str) -> PyResult<Scheme> {
         .ok_or_else(|| err(format!("unknown scheme `{name}`: doo-sabin, catmull-clark, loop or sqrt3")))
 }
 
-/// A user's polygon mesh (`vertices` (n, 3), `faces` an (m, k) array or a
-/// list of index sequences) subdivided `depth` times by `scheme`
+/// A user's polygon mesh (`vertices` (n, 3), any array-like of numbers:
+/// float32, lists; `faces` an (m, k) array or a list of index sequences;
+/// `triangulate=True` splits each face into a fan of triangles first, for
+/// Loop and √3 on quads) subdivided `depth` times by `scheme`
 /// (`doo-sabin`, `catmull-clark`, `loop`, `sqrt3`): the limit surface, or
 /// the control net with `net=True`; `weights` the rule weights (`alpha`,
 /// `beta`, `gamma` for Doo-Sabin, `w`, `sigma` for Loop). The same mesh as
@@ -401,17 +411,18 @@ fn scheme_of(name: &str) -> PyResult<Scheme> {
 /// Catmull-Clark and Loop with linear seams, as in the files: the result's
 /// `uv` and `uv_faces`.
 #[pyfunction]
-#[pyo3(signature = (vertices, faces, scheme, depth, net=false, uv=None, uv_faces=None, **weights))]
+#[pyo3(signature = (vertices, faces, scheme, depth, net=false, uv=None, uv_faces=None, triangulate=false, **weights))]
 #[allow(clippy::too_many_arguments)]
 fn subdivide(
     py: Python<'_>,
-    vertices: PyReadonlyArray2<'_, f64>,
+    vertices: numpy::PyArrayLike2<'_, f64, numpy::AllowTypeChange>,
     faces: &Bound<'_, PyAny>,
     scheme: &str,
     depth: usize,
     net: bool,
-    uv: Option<PyReadonlyArray2<'_, f64>>,
+    uv: Option<numpy::PyArrayLike2<'_, f64, numpy::AllowTypeChange>>,
     uv_faces: Option<&Bound<'_, PyAny>>,
+    triangulate: bool,
     weights: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Mesh> {
     let v = vertices.as_array();
@@ -434,6 +445,10 @@ fn subdivide(
         }
         (None, None) => {}
         _ => return Err(err("give uv and uv_faces together")),
+    }
+    // Loop and √3 on a quad mesh: each face a fan of triangles first (as `bcifs surface --triangulate`).
+    if triangulate {
+        mesh = mesh.triangulated();
     }
     let weights = bcifs::render::rule_weights(scheme, &params(weights)?).map_err(err)?;
     if let Some(why) = bcifs::render::check_weights(&mesh, weights).map_err(err)? {
@@ -518,9 +533,12 @@ fn report_at<'py, R: serde::Serialize + Send>(
 /// (`"111101111"` or a sequence of 0/1 or booleans, u fastest, then v, then
 /// w; all kept when `None`), `degree` (control points per direction, 2 to 4),
 /// `at` (where the default member splits each direction: `"2/5,3/5"`, or a
-/// sequence of numbers, `str`s or `Fraction`s; uniform when `None`).
+/// sequence of numbers, `str`s or `Fraction`s; uniform when `None`),
+/// `basis` (`"bezier"`: the family of unknown matrices; `"bspline"`: a
+/// hexahedron's uniform B-spline, fixed matrices, `degree=4` the tricubic volume).
 #[pyfunction]
-#[pyo3(signature = (cell, split, keep=None, degree=2, name="pattern", at=None))]
+#[pyo3(signature = (cell, split, keep=None, degree=2, name="pattern", at=None, basis="bezier"))]
+#[allow(clippy::too_many_arguments)]
 fn pattern(
     cell: &str,
     split: &Bound<'_, PyAny>,
@@ -528,6 +546,7 @@ fn pattern(
     degree: usize,
     name: &str,
     at: Option<&Bound<'_, PyAny>>,
+    basis: &str,
 ) -> PyResult<Design> {
     use bcifs::render::{Pattern, PatternCell};
     let cell = PatternCell::named(cell).ok_or_else(|| {
@@ -559,13 +578,17 @@ fn pattern(
                 .collect(),
         }),
     };
-    let mut pattern = Pattern::parse(cell, &split, keep.as_deref(), degree).map_err(err)?;
+    let basis = bcifs::render::Basis::named(basis)
+        .ok_or_else(|| err(format!("basis=`{basis}`: expected \"bezier\" or \"bspline\"")))?;
+    let mut pattern = Pattern::parse_in(cell, &split, keep.as_deref(), degree, basis).map_err(err)?;
     if let Some(at) = at {
         let text = match at.extract::<String>() {
             Ok(text) => text,
-            Err(_) => {
-                at.try_iter()?.map(|v| exact_value(&v?).map(|n| n.to_string())).collect::<PyResult<Vec<_>>>()?.join(",")
-            }
+            Err(_) => at
+                .try_iter()?
+                .map(|v| -> PyResult<String> { Ok(exact_value(&v?).map_err(|e| err(format!("at: {e}")))?.to_string()) })
+                .collect::<PyResult<Vec<_>>>()?
+                .join(","),
         };
         pattern = pattern.with_at(&text).map_err(err)?;
     }
@@ -596,16 +619,26 @@ fn polyhedral_lace(polyhedron: &Bound<'_, PyAny>, face: usize, name: Option<&str
 
 /// A parameter value read exactly: a `str` (`"1/20"`, `"sqrt(2)/4"`), a
 /// `Fraction`, an int, or a float read as its shortest decimal (`0.05` is 1/20).
-fn exact_value(v: &Bound<'_, PyAny>) -> PyResult<bcifs::render::Num> {
+/// An exact value: a float as written, a fraction, or the text of an exact
+/// number; the error is the message alone (the caller names the parameter).
+fn exact_value(v: &Bound<'_, PyAny>) -> Result<bcifs::render::Num, String> {
     let text = if v.is_instance_of::<pyo3::types::PyFloat>() {
-        let x: f64 = v.extract()?;
+        let x: f64 = v.extract().map_err(|e: PyErr| e.to_string())?;
         return Ok(bcifs::render::Num::from_f64(x));
-    } else if v.hasattr("numerator")? && v.hasattr("denominator")? {
-        format!("{}/{}", v.getattr("numerator")?, v.getattr("denominator")?)
+    } else if v.hasattr("numerator").unwrap_or(false) && v.hasattr("denominator").unwrap_or(false) {
+        let part = |n: &str| v.getattr(n).map(|x| x.to_string()).unwrap_or_default();
+        format!("{}/{}", part("numerator"), part("denominator"))
+    } else if v.is_instance_of::<pyo3::types::PyString>() {
+        v.to_string()
     } else {
-        v.str()?.to_string()
+        return Err(format!("expected a number or an exact one such as \"1/4\", not a {}", type_name(v)));
     };
-    text.parse::<bcifs::render::Num>().map_err(|e| err(format!("`{text}`: {e}")))
+    text.parse::<bcifs::render::Num>().map_err(|e| e.to_string())
+}
+
+/// The Python type name of `v` (`list`, `NoneType`).
+fn type_name(v: &Bound<'_, PyAny>) -> String {
+    v.get_type().name().map(|n| n.to_string()).unwrap_or_else(|_| "value".into())
 }
 
 /// A curve family's differential behaviour at the given parameter values
@@ -692,6 +725,8 @@ fn map_colours<'py>(py: Python<'py>, values: &Bound<'py, PyAny>, what: &str) -> 
 #[pymodule]
 fn _bcifs(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("BcifsError", m.py().get_type::<BcifsError>())?;
+    // The package's version (maturin takes it from this crate's).
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_class::<Design>()?;
     m.add_class::<Mesh>()?;
     m.add_class::<Builder>()?;

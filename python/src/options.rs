@@ -92,10 +92,7 @@ pub(crate) fn apply(options: &mut Options, keywords: Option<&Bound<'_, PyDict>>)
         }
         match KEYS.iter().find(|k| k.name == name) {
             Some(key) => given.push((key.name, value(key, &v)?)),
-            None => params.push((
-                name.clone(),
-                v.extract::<f64>().map_err(|_| err(format!("parameter `{name}` must be a number")))?,
-            )),
+            None => params.push((name.clone(), crate::param_value(&name, &v)?)),
         }
     }
     options.set_values(given).map_err(|e| option_error(&e))?;

@@ -760,3 +760,38 @@ def test_laces_thicken_into_shells_from_python():
     m3 = pytest.importorskip("manifold3d")
     solid = m3.Manifold(m3.Mesh(vert_properties=np.asarray(shell.vertices, np.float32), tri_verts=np.asarray(shell.faces, np.uint32)))
     assert solid.status() == m3.Error.NoError and solid.genus() == 9
+
+
+def test_every_listed_name_loads_and_arrays_come_as_numpy_users_give_them():
+    """Issue 46 §1, §2, §4, §6: every name `bcifs list` shows loads (the normal-vector figures too);
+    `subdivide` takes float32 arrays and plain lists (numpy's ArrayLike) and `triangulate=True` (Loop
+    on quads, as `surface --triangulate`); parameters take exact strings everywhere; errors name
+    the parameter once and say "too much" without a 39-digit count; `__version__` is the crate's."""
+    listed = subprocess.run([cli(), "list"], check=True, capture_output=True, text=True).stdout
+    names = [line.split()[0] for line in listed.splitlines() if line.startswith("  ")]
+    assert {"snowflake", "dragon", "koch-quad", "tricubic-sponge", "menger"} <= set(names)
+    for name in names:
+        if name == "approximating":  # a non-interpolatory normal scheme has no automaton: said, with the way out
+            with pytest.raises(bcifs.BcifsError, match="direct polyline form"):
+                bcifs.load(name)
+            continue
+        assert bcifs.load(name).to_toml()
+    assert bcifs.__version__ == subprocess.run([cli(), "--version"], capture_output=True, text=True).stdout.split()[-1]
+    square = [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]
+    as_lists = bcifs.subdivide(square, [[0, 1, 2, 3]], "catmull-clark", depth=2)
+    as_f32 = bcifs.subdivide(np.array(square, np.float32), np.array([[0, 1, 2, 3]]), "catmull-clark", depth=2)
+    assert np.array_equal(as_lists.vertices, as_f32.vertices) and len(as_lists.faces) == 16
+    with pytest.raises(bcifs.BcifsError, match="triangulate"):
+        bcifs.subdivide(square, [[0, 1, 2, 3]], "loop", depth=1)
+    loop = bcifs.subdivide(square, [[0, 1, 2, 3]], "loop", depth=1, triangulate=True, net=True)
+    assert len(loop.faces) == 8  # two triangles, four each
+    cc = bcifs.load("corner_cutting")
+    assert cc.check(a="1/4")["converges"] is True and cc.check(a=0.25) == cc.check(a="1/4")
+    with pytest.raises(bcifs.BcifsError) as e:
+        bcifs.analyze_curve(cc, a="one half")
+    assert str(e.value).count("parameter `a`") == 1 and "BcifsError" not in str(e.value), str(e.value)
+    with pytest.raises(bcifs.BcifsError, match="more than an exbibyte") as e:
+        bcifs.load("doo_sabin_quad").mesh(depth=1000)
+    assert not any(len(word) > 20 for word in str(e.value).split()), str(e.value)
+    smooth = bcifs.pattern("hexahedron", (3, 3, 3), "111101111101000101111101111", degree=4, basis="bspline")
+    assert smooth.print_report(depth=1)["genus"] == 5

@@ -296,24 +296,14 @@ pub fn run_list(out: &mut String) -> Result<u8> {
 /// `bcifs show NAME`: the embedded file of a shipped automaton, or a
 /// preset's automaton printed as a file.
 pub fn run_show(out: &mut String, name: &str) -> Result<u8> {
+    // A shipped file as written (with its comments); a preset or figure as the library makes it.
     if let Some((_, text)) = bcifs::render::BUILTIN_AUTOMATA.iter().find(|(n, _)| *n == name) {
         out.push_str(text);
         return Ok(0);
     }
-    let preset = name.replace('_', "-");
-    if bcifs::render::IFS_NAMES.contains(&preset.as_str()) {
-        out.push_str(&bcifs::render::write_design(&bcifs::render::ifs_preset(&preset, None, None)?));
-        return Ok(0);
+    if std::path::Path::new(name).exists() {
+        bail!("`bcifs show` prints a shipped automaton or preset by name; `{name}` is a file (read it as it is)");
     }
-    if bcifs::render::PRESET_NAMES.contains(&name) {
-        out.push_str(&bcifs::render::write_design(&bcifs::render::normal_preset(name)?.design()?));
-        return Ok(0);
-    }
-    let all = bcifs::render::BUILTIN_AUTOMATA
-        .iter()
-        .map(|(n, _)| *n)
-        .chain(bcifs::render::IFS_NAMES)
-        .chain(bcifs::render::PRESET_NAMES);
-    let help = bcifs::render::suggest(name, all).map(|s| format!(" (did you mean `{s}`?)")).unwrap_or_default();
-    bail!("no shipped automaton or preset named `{name}`{help}; `bcifs list` shows them")
+    out.push_str(&bcifs::render::write_design(&bcifs::render::load(name)?));
+    Ok(0)
 }

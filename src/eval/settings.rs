@@ -136,7 +136,7 @@ pub enum EvalError {
     #[error(transparent)]
     Model(#[from] ModelError),
     /// The output would not fit the memory limit.
-    #[error("the output would take about {estimate} bytes ({}), over the in-memory limit of {} (the memory budget): lower the depth or the number of points, or stream a fixed depth to an OBJ file", crate::progress::bytes_text(*estimate), crate::progress::bytes_text(*limit as u128))]
+    #[error("the output would take {}, over the in-memory limit of {} (the memory budget): lower the depth or the number of points, or stream a fixed depth to an OBJ file", estimate_text(*estimate), crate::progress::bytes_text(*limit as u128))]
     TooLarge {
         /// Estimated bytes.
         estimate: u128,
@@ -191,6 +191,14 @@ pub enum EvalError {
         /// The most allowed, [`crate::eval::MAX_SAMPLES`].
         max: u128,
     },
+}
+
+/// An estimate of bytes as a message says it: `about 123456 bytes (121 KiB)`, or past an exbibyte only that.
+fn estimate_text(estimate: u128) -> String {
+    match crate::progress::bytes_text(estimate) {
+        huge if estimate >= 1 << 60 => huge,
+        short => format!("about {estimate} bytes ({short})"),
+    }
 }
 
 /// A duration in seconds, in the largest unit that keeps it above 1.

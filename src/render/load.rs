@@ -22,6 +22,9 @@ pub enum LoadError {
     /// A preset that could not be made.
     #[error(transparent)]
     Preset(#[from] crate::schemes::CatalogError),
+    /// A normal-vector figure that could not be made.
+    #[error(transparent)]
+    Normal(#[from] crate::schemes::NormalSchemeError),
     /// A polygon mesh (OBJ, OFF) opened without a scheme.
     #[error(
         "{0} is a polygon mesh, not an automaton: give the subdivision scheme that makes its automaton (doo-sabin, catmull-clark, loop or sqrt3)"
@@ -58,13 +61,14 @@ pub fn load_with_scheme(name_or_path: &str, scheme: Option<crate::mesh::Scheme>)
 }
 
 /// The design in the file `name_or_path`, or, when no such file exists, the
-/// shipped automaton or scheme preset of that name (`.toml` and `_`/`-`
-/// spellings accepted).
+/// shipped automaton, scheme preset or normal-vector figure of that name
+/// (every name `bcifs list` shows; `.toml` and `_`/`-` spellings accepted).
 ///
 /// ```
 /// let fern = bcifs::render::load("fern")?;
 /// assert_eq!(fern.name(), "fern");
 /// assert!(bcifs::render::load("box_spline").is_ok());
+/// assert_eq!(bcifs::render::load("koch_quad")?.name(), "koch-quad"); // a normal-vector figure
 /// let e = bcifs::render::load("fren").unwrap_err();
 /// assert!(e.to_string().contains("did you mean `fern`?"));
 /// # Ok::<(), bcifs::render::LoadError>(())
@@ -88,8 +92,15 @@ pub fn load(name_or_path: &str) -> Result<Design, LoadError> {
     if crate::schemes::IFS_NAMES.contains(&preset.as_str()) {
         return Ok(crate::schemes::ifs_preset(&preset, None, None)?);
     }
-    let shipped: Vec<&str> =
-        crate::format::BUILTIN_AUTOMATA.iter().map(|(n, _)| *n).chain(crate::schemes::IFS_NAMES).collect();
+    if crate::schemes::PRESET_NAMES.contains(&preset.as_str()) {
+        return Ok(crate::schemes::normal_preset(&preset)?.design()?);
+    }
+    let shipped: Vec<&str> = crate::format::BUILTIN_AUTOMATA
+        .iter()
+        .map(|(n, _)| *n)
+        .chain(crate::schemes::IFS_NAMES)
+        .chain(crate::schemes::PRESET_NAMES)
+        .collect();
     Err(LoadError::Unknown {
         name: name_or_path.to_string(),
         suggestion: crate::names::suggest(name, shipped.iter().copied()),

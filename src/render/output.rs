@@ -232,9 +232,13 @@ pub fn check_room(target: &crate::export::Target, estimate: u128, side: u128, ma
 pub fn check_disk(out: &Path, estimate: u128, side: u128, max: u128) -> Result<(), RenderError> {
     let gib = |b: u128| b as f64 / (1u64 << 30) as f64;
     if max > 0 && estimate > max {
+        let size = if estimate >= 1 << 60 {
+            crate::progress::bytes_text(estimate)
+        } else {
+            format!("about {:.1} GiB", gib(estimate))
+        };
         return Err(RenderError::TooBig(format!(
-            "the file would take about {:.1} GiB, over the output limit of {:.1} GiB: lower the depth or raise the limit",
-            gib(estimate),
+            "the file would take {size}, over the output limit of {:.1} GiB: lower the depth or raise the limit",
             gib(max)
         )));
     }
