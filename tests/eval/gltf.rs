@@ -238,3 +238,66 @@ fn groups_are_primitives_in_glb() {
     }
     std::fs::remove_file(out).unwrap();
 }
+
+/// Issue 46 §10: glTF's `COLOR_0` is linear (glTF 2.0, §3.7.2.1), bcifs's
+/// colours sRGB: the GLB holds each colour of the PLY (sRGB bytes, as PNG
+/// and PLY readers expect) decoded by the sRGB curve, vertex for vertex,
+/// to 16-bit rounding — read here from the file's own bytes.
+#[test]
+fn glb_colours_are_linear_and_ply_colours_srgb() {
+    use bcifs::eval::Colouring;
+    let mut options = Options::default().with_depth(3);
+    options.look.colour = Some(Colouring::Level);
+    let design = bcifs::schemes::ifs_preset("box-spline", None, None).unwrap();
+    let (glb, ply) = (scratch("levels.glb"), scratch("levels.ply"));
+    render(&design, &options, &glb).unwrap();
+    let ascii = Options { file: bcifs::render::FileStyle { ascii: true, ..options.file.clone() }, ..options.clone() };
+    render(&design, &ascii, &ply).unwrap();
+    // The PLY's sRGB bytes: the last three numbers of each vertex line.
+    let text = std::fs::read_to_string(&ply).unwrap();
+    let count: usize = text.lines().find_map(|l| l.strip_prefix("element vertex ")).unwrap().parse().unwrap();
+    let body = text.split("end_header\n").nth(1).unwrap();
+    let srgb: Vec<[u8; 3]> = body
+        .lines()
+        .take(count)
+        .map(|l| {
+            let w: Vec<&str> = l.split_whitespace().collect();
+            [0, 1, 2].map(|k| w[w.len() - 3 + k].parse().unwrap())
+        })
+        .collect();
+    // The GLB's COLOR_0: its accessor, view and bytes.
+    let bytes = std::fs::read(&glb).unwrap();
+    let length = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+    let gltf: serde_json::Value = serde_json::from_slice(&bytes[20..20 + length]).unwrap();
+    let bin = &bytes[20 + length + 8..];
+    let accessor =
+        &gltf["accessors"][gltf["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"].as_u64().unwrap() as usize];
+    assert_eq!((accessor["componentType"].as_u64(), accessor["normalized"].as_bool()), (Some(5123), Some(true)));
+    let view = &gltf["bufferViews"][accessor["bufferView"].as_u64().unwrap() as usize];
+    let at = view["byteOffset"].as_u64().unwrap_or(0) as usize;
+    assert_eq!(accessor["count"].as_u64(), Some(count as u64));
+    let decode = |b: u8| {
+        let c = f64::from(b) / 255.0;
+        if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) }
+    };
+    let mut distinct = std::collections::HashSet::new();
+    for (v, c) in srgb.iter().enumerate() {
+        for k in 0..4 {
+            let o = at + 8 * v + 2 * k;
+            let stored = f64::from(u16::from_le_bytes([bin[o], bin[o + 1]])) / 65535.0;
+            let expected = if k == 3 { 1.0 } else { decode(c[k]) };
+            assert!(
+                (stored - expected).abs() <= 0.5 / 65535.0 + 1e-12,
+                "vertex {v} channel {k}: {stored} vs {expected}"
+            );
+        }
+        distinct.insert(*c);
+    }
+    assert!(distinct.len() >= 4, "the levels' colours: {distinct:?}");
+    if let Some(verdicts) = gltf_validator(&[&glb]) {
+        assert_eq!((verdicts[0].0, verdicts[0].1), (0, 0), "{:?}", verdicts[0].2);
+    }
+    for p in [glb, ply] {
+        std::fs::remove_file(p).ok();
+    }
+}

@@ -15,7 +15,7 @@ use crate::geometry::Sink;
 const GLB_LIMIT: u64 = u32::MAX as u64;
 /// glTF's component types and buffer-view targets.
 const FLOAT: u32 = 5126;
-const UNSIGNED_BYTE: u32 = 5121;
+const UNSIGNED_SHORT: u32 = 5123;
 const UNSIGNED_INT: u32 = 5125;
 const ARRAY_BUFFER: u32 = 34962;
 const ELEMENT_ARRAY_BUFFER: u32 = 34963;
@@ -31,8 +31,10 @@ const NO_UV: u32 = u32::MAX;
 /// (quads and larger faces as fans) in a `TRIANGLES` primitive, its
 /// polylines as `LINES`, and a cloud (vertices with no element) as
 /// `POINTS`. Vertices carry `POSITION` (with the `min`/`max` the
-/// specification requires), and `NORMAL` (normalised), `COLOR_0` (RGBA
-/// bytes) and `TEXCOORD_0` when given. Texture coordinates are face-varying
+/// specification requires), and `NORMAL` (normalised), `COLOR_0` (RGBA,
+/// linear as glTF 2.0 requires: the sRGB bytes bcifs colours with, decoded
+/// by the sRGB curve, as normalised 16-bit numbers so that dark shades keep
+/// their steps) and `TEXCOORD_0` when given. Texture coordinates are face-varying
 /// in bcifs (a corner has a vertex and a texture vertex, as in OBJ) and
 /// per-vertex in glTF: a vertex whose corners have different texture
 /// vertices (a seam) is written once per texture vertex, and `v` is turned
@@ -432,7 +434,7 @@ impl GltfWriter {
         self.primitives(attributes, pieces, &part.lines, part.name)
     }
 
-    /// The `COLOR_0` accessor, when every one of the `n` vertices has a colour.
+    /// The `COLOR_0` accessor (linear), when every one of the `n` vertices has a colour.
     fn colour_accessor(
         &mut self,
         colours: &[[u8; 4]],
@@ -440,11 +442,19 @@ impl GltfWriter {
         attributes: &mut serde_json::Map<String, Value>,
     ) -> io::Result<()> {
         if colours.len() == n {
-            let bytes: Vec<u8> = colours.iter().flatten().copied().collect();
+            // Linear values (glTF's COLOR_0 is linear; bcifs's colours are sRGB), one table for the 256 bytes.
+            let linear: Vec<[u8; 2]> = (0..=255u8).map(|b| srgb_to_linear_u16(b).to_le_bytes()).collect();
+            let bytes: Vec<u8> = colours
+                .iter()
+                .flat_map(|c| {
+                    [linear[c[0] as usize], linear[c[1] as usize], linear[c[2] as usize], u16::MAX.to_le_bytes()]
+                })
+                .flatten()
+                .collect();
             let colour = self.accessor(
                 Bytes::Memory(&bytes),
                 ARRAY_BUFFER,
-                json!({ "componentType": UNSIGNED_BYTE, "normalized": true, "count": n, "type": "VEC4" }),
+                json!({ "componentType": UNSIGNED_SHORT, "normalized": true, "count": n, "type": "VEC4" }),
             )?;
             attributes.insert("COLOR_0".into(), colour.into());
         }
@@ -722,3 +732,10 @@ impl Sink for GltfWriter {
 
 #[cfg(test)]
 mod tests;
+
+/// An sRGB byte as a linear value, normalised to 16 bits (IEC 61966-2-1's curve).
+pub fn srgb_to_linear_u16(b: u8) -> u16 {
+    let c = f64::from(b) / 255.0;
+    let linear = if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) };
+    (linear * 65535.0).round() as u16
+}
