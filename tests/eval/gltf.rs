@@ -251,7 +251,7 @@ fn glb_colours_are_linear_and_ply_colours_srgb() {
     let design = bcifs::schemes::ifs_preset("box-spline", None, None).unwrap();
     let (glb, ply) = (scratch("levels.glb"), scratch("levels.ply"));
     render(&design, &options, &glb).unwrap();
-    let ascii = Options { file: bcifs::render::FileStyle { ascii: true, ..options.file.clone() }, ..options.clone() };
+    let ascii = Options { file: bcifs::render::FileStyle { ascii: true, ..options.file }, ..options.clone() };
     render(&design, &ascii, &ply).unwrap();
     // The PLY's sRGB bytes: the last three numbers of each vertex line.
     let text = std::fs::read_to_string(&ply).unwrap();
