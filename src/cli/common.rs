@@ -67,8 +67,31 @@ pub(super) fn parse_exact_params(params: &[String]) -> Result<Vec<(String, bcifs
 
 /// This run's command line, as a picture records it (`bcifs render …`).
 pub(super) fn command_line() -> String {
-    let args: Vec<String> = std::env::args().skip(1).collect();
+    // The thread count changes no byte of the output: it is left out, so that pictures made with
+    // any `--threads` are the same file.
+    let mut args = Vec::new();
+    let mut given = std::env::args().skip(1);
+    while let Some(a) = given.next() {
+        match a.as_str() {
+            "--threads" => {
+                given.next();
+            }
+            _ if a.starts_with("--threads=") => {}
+            _ => args.push(a),
+        }
+    }
     format!("bcifs {}", args.join(" "))
+}
+
+/// The `tEXt` chunks of a picture a command writes (as `render`'s): `Software`,
+/// `Title`, `Comment` (its settings) and `Description` (the command line).
+pub(super) fn png_text(title: &str, comment: &str) -> Vec<(String, String)> {
+    vec![
+        ("Software".to_string(), format!("bcifs {}", env!("CARGO_PKG_VERSION"))),
+        ("Title".to_string(), title.to_string()),
+        ("Comment".to_string(), comment.to_string()),
+        ("Description".to_string(), command_line()),
+    ]
 }
 
 /// The flag every render of this run is cancelled by: Ctrl-C sets it.

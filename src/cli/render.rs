@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use anyhow::bail;
 use bcifs::render::EvalError;
 use bcifs::render::Shape;
-use bcifs::render::{Options, RenderError, Report, control_net, evaluate_design, model_of, write_shape};
+use bcifs::render::{Options, RenderError, Report, control_net, evaluate_design, model_of};
 
 use crate::cli::common::{load, progress_bar};
 use crate::cli::keys::{AllKeys, KeyArgs};
@@ -47,7 +47,13 @@ pub fn run(args: RenderArgs) -> anyhow::Result<u8> {
             bail!("--control draws the control net: --random (the chaos game) does not apply to it");
         }
         let model = model_of(&design)?;
-        let report = write_shape(&control_net(&model), design.name(), &options.raster(), &args.output)?;
+        let raster = options.raster();
+        let text = crate::cli::common::png_text(
+            design.name(),
+            &format!("control net; size {}x{}", raster.width, raster.height),
+        );
+        let report =
+            bcifs::render::write_shape_text(&control_net(&model), design.name(), &raster, &args.output, &text)?;
         print_report(&report, &format!("{} (control net)", design.name()), &args.output, started);
         return Ok(0);
     }

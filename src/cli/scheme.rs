@@ -7,7 +7,7 @@ use clap::Subcommand;
 
 use super::render::{SchemeForm, normal_shape, print_report};
 use crate::cli::common::keyword;
-use bcifs::render::{render, write_shape};
+use bcifs::render::render;
 
 #[derive(Subcommand)]
 pub enum SchemeCommand {
@@ -237,7 +237,10 @@ fn run_normal(out: &mut String, args: NormalArgs) -> Result<u8> {
     let shape = normal_shape(&preset, depth, form, options.budget.memory)?;
     let raster = options.raster();
     let label = format!("{} ({}), depth {depth}", preset.name, preset.scheme);
-    print_report(&write_shape(&shape, preset.name, &raster, &output)?, &label, &output, started);
+    let comment = format!("{}; depth {depth}; size {}x{}", preset.scheme, raster.width, raster.height);
+    let text = crate::cli::common::png_text(preset.name, &comment);
+    let report = bcifs::render::write_shape_text(&shape, preset.name, &raster, &output, &text)?;
+    print_report(&report, &label, &output, started);
     Ok(0)
 }
 

@@ -260,9 +260,14 @@ pub fn png_bytes(
             Compression::Small => png::Compression::Balanced,
             Compression::Fast => png::Compression::Fastest,
         });
+        // `tEXt` holds Latin-1; a value beyond it (α, ω, √) goes in an `iTXt` chunk, UTF-8.
         let latin1 = |t: &str| t.chars().map(|c| if (c as u32) < 256 { c } else { '?' }).collect::<String>();
         for (keyword, value) in text {
-            encoder.add_text_chunk(latin1(keyword), latin1(value)).map_err(io::Error::other)?;
+            if value.chars().all(|c| (c as u32) < 256) {
+                encoder.add_text_chunk(latin1(keyword), value.clone()).map_err(io::Error::other)?;
+            } else {
+                encoder.add_itxt_chunk(latin1(keyword), value.clone()).map_err(io::Error::other)?;
+            }
         }
         let rgba: Vec<u8>;
         let pixels = match matte {

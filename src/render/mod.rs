@@ -51,7 +51,7 @@ pub use crate::report::{
     parameter_ranges, solve_report, sweep, sweep_cancellable, sweep_colour, sweep_csv, sweep_image, topology_report,
 };
 pub use crate::report::{PrintReport, angle_colour, dimension_colour, print_report_of, region_colour, verdict_colour};
-pub use shape::{control_net, write_shape};
+pub use shape::{control_net, write_shape, write_shape_text};
 // Patterns, for the front ends that generate designs from one (`new pattern`, `bcifs.pattern`).
 pub use crate::schemes::{Basis, Pattern, PatternCell, PatternError, Polyhedron, PolyhedronError, polyhedral_lace};
 
@@ -75,7 +75,7 @@ pub use crate::design::{Design, DesignBuilder, Layout, Model, Value as MatrixVal
 pub use crate::eval::{ChaosGame, Depth, EvalError, RandomSettings};
 pub use crate::export::{
     Palette, RasterSettings, Tone, check_target, density_counts, remove_temporary_files, same_file, write_atomic,
-    write_png,
+    write_png, write_png_text,
 };
 pub use crate::family::{DesignInstantiateError, Family, InstantiateError, SolveError, instantiate, solution, solve};
 pub use crate::format::{BUILTIN_AUTOMATA, builtin_design, parse_design, write_design};

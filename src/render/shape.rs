@@ -30,8 +30,12 @@ pub fn write_shape(
     write_shape_text(shape, name, raster_settings, out, &text)
 }
 
-/// [`write_shape`] with the `tEXt` chunks of a PNG.
-pub(crate) fn write_shape_text(
+/// [`write_shape`] with the `tEXt` chunks of a PNG (keyword, text): `Software`,
+/// `Title`, `Comment` (the settings), `Description` (the provenance), as `render` writes them.
+///
+/// # Errors
+/// As [`write_shape`].
+pub fn write_shape_text(
     shape: &Shape,
     name: &str,
     raster_settings: &RasterSettings,

@@ -499,3 +499,45 @@ fn every_surface_written_as_obj_is_written_as_stl() {
         std::fs::remove_file(obj).unwrap();
     }
 }
+
+/// Issue 46 §11: every picture the command line writes carries `Software`,
+/// `Title`, `Comment` and `Description` (`scheme ifs`, `scheme normal`, whose
+/// Greek letters go in `iTXt`, `analyze map`, `surface`, `render --control`),
+/// and a picture is the same file whatever `--threads` (the command line
+/// recorded leaves the thread count out).
+#[test]
+fn every_picture_carries_its_settings_and_threads_change_no_byte() {
+    let keys_of = |path: &Path| -> Vec<String> {
+        let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
+        let reader = decoder.read_info().unwrap();
+        let info = reader.info();
+        let mut keys: Vec<String> = info.uncompressed_latin1_text.iter().map(|t| t.keyword.clone()).collect();
+        keys.extend(info.utf8_text.iter().map(|t| t.keyword.clone()));
+        keys.sort();
+        keys
+    };
+    let out = scratch("picture.png");
+    let o = out.display().to_string();
+    let cube = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/cube.off").display().to_string();
+    let runs: [Vec<&str>; 6] = [
+        vec!["scheme", "ifs", "bspline", "-o", &o],
+        vec!["scheme", "normal", "--preset", "snowflake", "-o", &o],
+        vec!["analyze", "map", "corner_cutting", "--x", "a=-1:1", "--y", "b=-1:1", "--size", "24", "-o", &o],
+        vec!["surface", &cube, "--scheme", "catmull-clark", "--depth", "2", "-o", &o],
+        vec!["render", "gasket", "--control", "-o", &o],
+        vec!["render", "fern", "--random", "20000", "-o", &o],
+    ];
+    let bcifs = env!("CARGO_BIN_EXE_bcifs");
+    for args in &runs {
+        let run = std::process::Command::new(bcifs).args(args).output().unwrap();
+        assert!(run.status.success(), "{args:?}: {}", String::from_utf8_lossy(&run.stderr));
+        assert_eq!(keys_of(&out), ["Comment", "Description", "Software", "Title"], "{args:?}");
+    }
+    let with_threads = |n: &str| {
+        let args = ["render", "fern", "--random", "20000", "--threads", n, "-o", &o];
+        assert!(std::process::Command::new(bcifs).args(args).output().unwrap().status.success());
+        std::fs::read(&out).unwrap()
+    };
+    assert!(with_threads("1") == with_threads("2"), "the same picture whatever --threads");
+    std::fs::remove_file(out).unwrap();
+}

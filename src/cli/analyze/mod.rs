@@ -185,7 +185,9 @@ fn write_framed_map(
 ) -> Result<()> {
     let (x, y) = (&plane.x, &plane.y);
     let framed = super::plot::framed_map(title, (&x.0, x.1, x.2), (&y.0, y.1, y.2), img, legend)?;
-    bcifs::render::write_png(output, &framed).with_context(|| format!("cannot write {}", output.display()))
+    let comment = format!("{title}; {} from {} to {}; {} from {} to {}", x.0, x.1, x.2, y.0, y.1, y.2);
+    let text = crate::cli::common::png_text(title, &comment);
+    bcifs::render::write_png_text(output, &framed, &text).with_context(|| format!("cannot write {}", output.display()))
 }
 
 /// `bcifs analyze map`: a sweep as a picture (or CSV), and its counts.
@@ -727,7 +729,8 @@ fn run_blend(out: &mut String, file: &str, params: &[String], depth: usize, outp
         let pic = panel.render(w, h)?;
         image::imageops::replace(&mut img, &pic, i64::from(k as u32 * w), 0);
     }
-    bcifs::render::write_png(output, &img).with_context(|| format!("cannot write {}", output.display()))?;
+    let text = crate::cli::common::png_text(design.name(), &format!("blending functions; depth {depth}"));
+    bcifs::render::write_png_text(output, &img, &text).with_context(|| format!("cannot write {}", output.display()))?;
     let monotone = b.u.windows(2).all(|x| x[1] > x[0]);
     writeln!(
         out,

@@ -40,7 +40,8 @@ pub fn run_ternary5(
         ranges.text(out)?;
     }
     let img = ternary5_plot(&rows).render(900, 600)?;
-    bcifs::render::write_png(output, &img).with_context(|| format!("cannot write {}", output.display()))?;
+    let text = crate::cli::common::png_text("ternary5", &format!("ω from {from} to {to}, {steps} steps"));
+    bcifs::render::write_png_text(output, &img, &text).with_context(|| format!("cannot write {}", output.display()))?;
     if !as_json {
         writeln!(out, "plot → {}", output.display())?;
     }
