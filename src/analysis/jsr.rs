@@ -637,12 +637,15 @@ impl Part {
 
     /// The smallest target `γ` above `lower` whose branch and bound closes
     /// within the budget in one of the [`Part::bases`], or the smallest of
-    /// their largest matrix norms.
+    /// their largest matrix norms; when that is not below 1 (undecided), the
+    /// best bound the products of every length give
+    /// ([`Part::fixed_length_bound`]), if smaller.
     fn upper_bound(&self, lower: f64, settings: &JsrSettings) -> f64 {
         let mut work = Work(settings.norm_work);
         let bases = self.bases(&mut work);
         let norms: Vec<Vec<f64>> = bases.iter().map(|b| b.matrices.iter().map(b.norm).collect()).collect();
         let single = norms.iter().map(|n| n.iter().copied().fold(0.0, f64::max)).fold(f64::INFINITY, f64::min);
+
         if single <= lower * (1.0 + SLACK) {
             return single;
         }
@@ -669,6 +672,47 @@ impl Part {
                 break;
             }
             best = gamma;
+        }
+        if best < 1.0 {
+            return best;
+        }
+        // Undecided: products of every length L (with a quarter of the work again, shared by the
+        // norms) give the best bound found, which no target needed to close.
+        let share = settings.norm_work / 4.0 / bases.len() as f64;
+        bases.iter().map(|b| self.fixed_length_bound(b, &mut Work(share))).fold(best, f64::min)
+    }
+
+    /// The least, over lengths `L` while the work lasts (and 4096 products a
+    /// length at most), of the largest norm (in `basis`) of a product of `L`
+    /// maps along the automaton — every path of length `L` from every state —
+    /// to the power `1/L`: an upper bound by itself (the norms are
+    /// submultiplicative through the bases' changes of state), which no
+    /// target of the branch and bound needs to close.
+    fn fixed_length_bound(&self, basis: &Basis, work: &mut Work) -> f64 {
+        let mut level: Vec<(usize, DMatrix<f64>)> =
+            self.dims.iter().enumerate().map(|(s, &d)| (s, DMatrix::identity(d - 1, d - 1))).collect();
+        let mut best = f64::INFINITY;
+        for len in 1..=32 {
+            let (mut next, mut worst) = (Vec::new(), 0.0f64);
+            for (at, p) in &level {
+                for (k, e) in self.edges.iter().enumerate().filter(|(_, e)| e.from == *at) {
+                    let q = p * &basis.matrices[k];
+                    let ops = if basis.decomposes { decomposition_ops(&q) } else { (q.nrows() * q.ncols()) as f64 };
+                    if !work.spend(product_ops(p, &basis.matrices[k]) + ops) {
+                        return best;
+                    }
+                    worst = worst.max((basis.norm)(&q));
+                    next.push((e.to, q));
+                }
+            }
+            if next.is_empty() {
+                break;
+            }
+            best = best.min(worst.powf(1.0 / f64::from(len)));
+            if next.len() > 4096 {
+                break;
+            }
+            level = next;
         }
         best
     }
