@@ -11,11 +11,23 @@ use super::number::push_f64;
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum Up {
-    /// Model z becomes the file's y (the convention; the default).
+    /// The format's convention (the default): Y-up in OBJ, OFF and PLY (what
+    /// Blender's OBJ importer turns upright, and MeshLab and trimesh show), Z-up
+    /// in STL and 3MF (slicers build along z; Blender's STL importer keeps the
+    /// file's axes).
     #[default]
+    Auto,
+    /// Model z becomes the file's y.
     Y,
     /// The model's axes as they are.
     Z,
+}
+
+impl Up {
+    /// This choice, or `convention` for [`Up::Auto`].
+    pub fn or(self, convention: Up) -> Up {
+        if self == Up::Auto { convention } else { self }
+    }
 }
 
 /// How the coordinates a writer is given reach its file: the up axis the
@@ -64,7 +76,7 @@ impl Coordinates {
 
     /// The turn for vertices of `dim` coordinates (2D curves stay in the xy plane).
     pub(crate) fn turn(&self, dim: usize) -> Turn {
-        match (dim == 3, self.y_up_input, self.up) {
+        match (dim == 3, self.y_up_input, self.up.or(Up::Y)) {
             (true, false, Up::Y) => Turn::ZToY,
             (true, true, Up::Z) => Turn::YToZ,
             _ => Turn::None,

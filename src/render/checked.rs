@@ -58,9 +58,10 @@ impl FileWriter {
             Format::Ply => {
                 FileWriter::Ply(PlyWriter::create_in(out, settings.ascii).map_err(io)?.with_coordinates(coordinates))
             }
-            Format::Stl => FileWriter::Stl(StlWriter::create_in(out).map_err(io)?.with_coordinates(coordinates)),
+            // The print formats are Z-up unless asked otherwise.
+            Format::Stl => FileWriter::Stl(StlWriter::create_in(out).map_err(io)?.with_coordinates(print(coordinates))),
             Format::ThreeMf => {
-                FileWriter::ThreeMf(ThreeMfWriter::create_in(out).map_err(io)?.with_coordinates(coordinates))
+                FileWriter::ThreeMf(ThreeMfWriter::create_in(out).map_err(io)?.with_coordinates(print(coordinates)))
             }
             Format::Glb => {
                 FileWriter::Glb(Box::new(GltfWriter::create_in(out).map_err(io)?.with_coordinates(coordinates)))
@@ -212,4 +213,9 @@ impl Sink for Checked<'_> {
 pub(crate) fn write_error(options: &Options, out: &Path) -> impl Fn(io::Error) -> RenderError {
     let (cancelled, out) = (options.cancel.clone(), out.to_path_buf());
     move |e| if cancelled.is_cancelled() { RenderError::Cancelled } else { unsupported(e, &out) }
+}
+
+/// The coordinates of a print format (STL, 3MF): Z-up by convention.
+fn print(coordinates: crate::export::Coordinates) -> crate::export::Coordinates {
+    crate::export::Coordinates { up: coordinates.up.or(crate::export::Up::Z), ..coordinates }
 }

@@ -128,7 +128,7 @@ pub const KEYS: &[Key] = &[
     key("blur_curve", "blur-curve", L, Kind::Number, "Chaos game to PNG: how fast the blur radius shrinks with the count.").or("0.4"),
     key("background", "background", L, Kind::Text, "Chaos game to PNG: the background, RRGGBB in hexadecimal, white or black (default: white, black with a palette)."),
     key("uv", "uv", F, Kind::Switch, "Texture coordinates on meshes: one (u, v) parameterization of the whole grid or torus."),
-    key("up", "up", F, Kind::Choice(&["y", "z"]), "The model axis that is up in OBJ and OFF files: y (the convention: model z becomes the file's y) or z (as is).").or("y"),
+    key("up", "up", F, Kind::Choice(&["auto", "y", "z"]), "The file's up axis: auto (the format's convention: y in OBJ, OFF and PLY, model z becoming the file's y; z in STL and 3MF, the printers' and Blender's STL importer's), y or z (as is); glTF is y-up by definition.").or("auto"),
     key("ascii", "ascii", F, Kind::Switch, "PLY as text instead of binary little-endian."),
     key("precision", "precision", F, Kind::Count, "File coordinates with this many significant digits (1 to 15): smaller files, written faster (default: the shortest text that reads back to the same number, up to 17 digits)."),
     key("dedup", "dedup", F, Kind::Switch, "Drop exact duplicate points of a point cloud (evaluated in memory), reporting how many."),
@@ -501,7 +501,13 @@ impl Options {
         let refuse = |why: &str| OptionError::new(key, &given, why);
         match key.name {
             "uv" => self.file.uv = switch(key, value)?,
-            "up" => self.file.coordinates.up = if choice(key, value)? == "z" { Up::Z } else { Up::Y },
+            "up" => {
+                self.file.coordinates.up = match choice(key, value)? {
+                    "z" => Up::Z,
+                    "y" => Up::Y,
+                    _ => Up::Auto,
+                }
+            }
             "ascii" => self.file.ascii = switch(key, value)?,
             "precision" => match count(key, value)? {
                 p @ 1..=15 => self.file.coordinates = self.file.coordinates.with_precision(Some(p as u32)),

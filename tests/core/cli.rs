@@ -252,7 +252,8 @@ fn list_show_and_suggestions() {
 }
 
 /// OBJ is Y-up: a 3D model's z becomes the file's y (so Blender shows it
-/// upright); `--up z` keeps the model's axes; 2D curves stay in the xy plane.
+/// upright); `--up z` keeps the model's axes; 2D curves stay in the xy plane;
+/// STL (and 3MF) are Z-up, the printers' convention.
 #[test]
 fn obj_files_are_y_up_unless_asked() {
     let dir = scratch("up");
@@ -274,7 +275,21 @@ fn obj_files_are_y_up_unless_asked() {
     assert_eq!(curve[2], 0.0, "2D stays in the xy plane");
     let (code, _, err) = bcifs(&["render", "levy", "--up", "x", "-o", dir.join("x.obj").to_str().unwrap()]);
     assert_eq!(code, 2);
-    assert!(err.contains("invalid value 'x' for '--up") && err.contains("possible values: y, z"), "{err}");
+    assert!(err.contains("invalid value 'x' for '--up") && err.contains("possible values: auto, y, z"), "{err}");
+    // The print formats are Z-up: an STL's first triangle holds the model's coordinates as they are.
+    let stl = dir.join("q.stl");
+    assert_eq!(bcifs(&["render", "doo_sabin_quad", "--depth", "1", "-o", stl.to_str().unwrap()]).0, 0);
+    let bytes = std::fs::read(&stl).unwrap();
+    let corner: Vec<f64> =
+        (0..3).map(|k| f64::from(f32::from_le_bytes(bytes[96 + 4 * k..100 + 4 * k].try_into().unwrap()))).collect();
+    let model = bcifs::render::evaluate_design(
+        &bcifs::render::load("doo_sabin_quad").unwrap(),
+        &bcifs::render::Options::default().with_depth(1),
+        &mut Vec::new(),
+    )
+    .unwrap();
+    let near = |p: [f64; 3]| (0..3).all(|k| (p[k] - corner[k]).abs() < 1e-6);
+    assert!((0..model.vertex_count()).any(|v| near(model.point(v))), "{corner:?} is a model vertex as it is");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -506,3 +506,45 @@ fn solids_import_closed_in_blender() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Issue 46 §13: what a Blender user gets. The arch (`tricubic`, 3 long
+/// along x, raised to 3.1 along the model's z) imports upright from STL (Z-up,
+/// which Blender's STL importer keeps) and from OBJ (Y-up, which Blender's OBJ
+/// importer turns); Blender 3.4's PLY importer keeps the file's axes, so a
+/// default (Y-up) PLY lies on its back and `--up z` stands it up.
+#[test]
+fn files_stand_upright_in_blender_as_documented() {
+    let dir = std::env::temp_dir().join(format!("bcifs-blender-up-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let files: Vec<(std::path::PathBuf, &str)> = vec![
+        (dir.join("a.stl"), "auto"),
+        (dir.join("a.obj"), "auto"),
+        (dir.join("a.ply"), "auto"),
+        (dir.join("z.ply"), "z"),
+    ];
+    for (path, up) in &files {
+        let out = Command::new(env!("CARGO_BIN_EXE_bcifs"))
+            .args(["render", "tricubic", "--depth", "1", "--up", up, "-o"])
+            .arg(path)
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    }
+    let list: Vec<String> = files.iter().map(|(p, _)| format!("r'{}'", p.display())).collect();
+    let script = format!(
+        "import bpy\n\
+         for path in [{}]:\n    \
+             bpy.ops.object.select_all(action='SELECT')\n    bpy.ops.object.delete()\n    \
+             ext = path.rsplit('.', 1)[1]\n    \
+             {{'stl': bpy.ops.import_mesh.stl, 'obj': bpy.ops.wm.obj_import, 'ply': bpy.ops.import_mesh.ply}}[ext](filepath=path)\n    \
+             o = bpy.context.selected_objects[0]\n    \
+             zs = [(o.matrix_world @ v.co).z for v in o.data.vertices]\n    \
+             print('BCIFS', round(min(zs), 3) + 0.0, round(max(zs), 3) + 0.0)\n",
+        list.join(", ")
+    );
+    if let Some(lines) = blender(&script) {
+        // Upright: z from 1.2 to 3.1 (the model's); on its back: the model's y, 0 to 1 (turned to −1 to 0).
+        assert_eq!(lines, ["1.2 3.1", "1.2 3.1", "-1.0 0.0", "1.2 3.1"], "STL, OBJ, PLY, PLY --up z");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
