@@ -14,7 +14,8 @@ pub enum ContourCommand {
     Fit {
         /// The picture.
         image: PathBuf,
-        /// The segments file to write (pixels: origin at the top-left corner, y down).
+        /// The segments file to write (pixels: pixel (c, r)'s centre at (c, r), so the picture's
+        /// top-left corner at (-0.5, -0.5); y down).
         #[arg(short, long)]
         output: PathBuf,
         /// Grey level 0-255 between shape and background (default: Otsu's).

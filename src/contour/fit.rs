@@ -120,7 +120,10 @@ pub fn otsu(histogram: &[u64; 256]) -> u8 {
 }
 
 /// Fits the outer contour of the largest shape of a grey picture
-/// (`width × height`, row by row, 0 black).
+/// (`width × height`, row by row, 0 black), in pixels: pixel `(c, r)`'s
+/// centre at `(c, r)`, the picture's top-left corner at `(−0.5, −0.5)`, y
+/// down; the contour runs along the shape's edge, half a pixel outside the
+/// centres of its border pixels.
 ///
 /// # Errors
 /// An empty or uniform picture, or a shape of fewer than 3 pixels.

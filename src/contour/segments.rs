@@ -9,8 +9,9 @@
 //! points = [[0, 0], [1, 0]]             # 2 points: line segment
 //! ```
 //!
-//! Coordinates are pixels for fitted images (origin at the top-left corner,
-//! x to the right, y down) or any units when written by hand.
+//! Coordinates are pixels for fitted images — pixel (column c, row r) has its
+//! centre at (c, r), so the picture's top-left corner is at (−0.5, −0.5), x to
+//! the right, y down — or any units when written by hand.
 
 use std::fmt::Write as _;
 use std::path::Path;

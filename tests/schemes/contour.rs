@@ -433,3 +433,31 @@ fn unreadable_segments_files_are_named() {
         assert!(e.starts_with(path) && !e.contains(":0:0"), "{e}");
     }
 }
+
+/// Issue 46 §14: contour coordinates are pixel centres — pixel (c, r) at (c, r),
+/// the picture's top-left corner at (−0.5, −0.5) — and the contour runs along
+/// the shape's edge: a black rectangle over columns 10 to 29 and rows 5 to 24
+/// of a 40 × 30 picture is traced exactly on x = 9.5 and 29.5, y = 4.5 and
+/// 24.5, and fitted by four segments from within a tenth of a pixel of its corners.
+#[test]
+fn contour_coordinates_are_pixel_centres_and_follow_the_edge() {
+    use bcifs::contour::{FitSettings, fit_contour};
+    let (w, h) = (40, 30);
+    let grey = picture(w, h, |x, y| (10.0..=29.0).contains(&x) && (5.0..=24.0).contains(&y));
+    let fit = fit_contour(&grey, w, h, &FitSettings::default()).unwrap();
+    let on_edge = |p: &[f64; 2]| {
+        let (x, y) = (p[0], p[1]);
+        let near = |a: f64, b: f64| (a - b).abs() < 1e-9;
+        ((near(x, 9.5) || near(x, 29.5)) && (4.5..=24.5).contains(&y))
+            || ((near(y, 4.5) || near(y, 24.5)) && (9.5..=29.5).contains(&x))
+    };
+    assert!(fit.contour.iter().all(on_edge), "the traced contour lies on the edge");
+    // The fitted pieces (least squares through the cracks' midpoints, the corner cracks cut
+    // diagonally) start within a tenth of a pixel of the rectangle's corners.
+    let starts: Vec<[f64; 2]> = fit.segments.iter().map(|s| s.points[0]).collect();
+    assert_eq!(starts.len(), 4, "{:?}", fit.segments);
+    for q in [[9.5, 4.5], [9.5, 24.5], [29.5, 4.5], [29.5, 24.5]] {
+        let near = starts.iter().any(|p| (p[0] - q[0]).abs() < 0.1 && (p[1] - q[1]).abs() < 0.1);
+        assert!(near, "a piece starts near {q:?}: {:?}", fit.segments);
+    }
+}
