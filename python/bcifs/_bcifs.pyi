@@ -103,7 +103,7 @@ class Design:
         blur_curve: float = 0.4,
         background: Optional[str] = None,
         uv: bool = False,
-        up: str = "y",
+        up: str = "auto",
         ascii: bool = False,
         precision: Optional[int] = None,
         dedup: bool = False,
@@ -143,9 +143,6 @@ def subdivide(
     **weights: float,
 ) -> Mesh: ...
 def analyze_curve(design: Design, **params: Union[float, int, str, Fraction]) -> dict[str, Any]: ...
-
-__version__: str
-"""The package's version (its crate's)."""
 
 REGIONS: list[str]
 """The regions of a region sweep, by code."""
