@@ -15,14 +15,14 @@ class BcifsError(ValueError):
 class Mesh:
     """A mesh as numpy arrays."""
 
-    vertices: npt.NDArray[np.float64]
-    """(n, 3) positions."""
+    vertices: npt.NDArray[np.floating[Any]]
+    """(n, 3) positions (float64, or float32 from `mesh(dtype=np.float32)`)."""
     faces: Union[npt.NDArray[np.int64], list[npt.NDArray[np.int64]]]
     """(m, k) corner indices when every face has k corners, else one array per face."""
     edges: npt.NDArray[np.int64]
     """(e, 2) segments of curves."""
-    normals: Optional[npt.NDArray[np.float64]]
-    """(n, 3) unit vertex normals, when the output has them."""
+    normals: Optional[npt.NDArray[np.floating[Any]]]
+    """(n, 3) unit vertex normals, when the output has them (the vertices' dtype)."""
     colours: Optional[npt.NDArray[np.uint8]]
     """(n, 3) RGB vertex colours, when the output has them."""
     uv: Optional[npt.NDArray[np.float64]]
@@ -53,6 +53,7 @@ class Design:
         uv: Optional[bool] = None,
         force: Optional[bool] = None,
         thickness: Optional[float] = None,
+        dtype: Optional[npt.DTypeLike] = None,
         **params: float,
     ) -> Mesh: ...
     def print_report(

@@ -25,7 +25,7 @@ pyo3::create_exception!(
     "What bcifs refuses, with the library's message: an unknown name, a malformed file, a bad parameter, a divergent system."
 );
 
-fn err(e: impl std::fmt::Display) -> PyErr {
+pub(crate) fn err(e: impl std::fmt::Display) -> PyErr {
     BcifsError::new_err(e.to_string())
 }
 
@@ -169,8 +169,10 @@ impl Design {
     /// cell is below `tolerance`), with the given parameter values, as a
     /// [`Mesh`]; `uv` gives surfaces texture coordinates (as `render
     /// --uv`), `force` evaluates a system whose bounds prove divergence,
-    /// `thickness` makes a surface (a lace) a closed shell (as `render --thickness`).
-    #[pyo3(signature = (depth=None, tolerance=None, uv=None, force=None, thickness=None, **params))]
+    /// `thickness` makes a surface (a lace) a closed shell (as `render --thickness`);
+    /// `dtype=numpy.float32` gives float32 vertices and normals (as Open3D and
+    /// trimesh users keep them).
+    #[pyo3(signature = (depth=None, tolerance=None, uv=None, force=None, thickness=None, dtype=None, **params))]
     #[allow(clippy::too_many_arguments)]
     fn mesh(
         &self,
@@ -180,6 +182,7 @@ impl Design {
         uv: Option<&Bound<'_, PyAny>>,
         force: Option<&Bound<'_, PyAny>>,
         thickness: Option<&Bound<'_, PyAny>>,
+        dtype: Option<&Bound<'_, PyAny>>,
         params: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Mesh> {
         let keywords =
@@ -191,7 +194,7 @@ impl Design {
             Ok::<_, bcifs::render::RenderError>(Arrays::of_shape(shape))
         })?
         .map_err(err)?;
-        arrays.into_mesh(py)
+        arrays.into_mesh_as(py, dtype)
     }
 
     /// The print report of the mesh `render` writes (as `render --json`):

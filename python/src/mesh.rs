@@ -18,10 +18,10 @@ use bcifs::render::Shape;
 /// for corner.
 #[pyclass(module = "bcifs", frozen, get_all)]
 pub struct Mesh {
-    vertices: Py<PyArray2<f64>>,
+    vertices: Py<PyAny>,
     faces: Py<PyAny>,
     edges: Py<PyArray2<i64>>,
-    normals: Option<Py<PyArray2<f64>>>,
+    normals: Option<Py<PyAny>>,
     colours: Option<Py<PyArray2<u8>>>,
     uv: Option<Py<PyArray2<f64>>>,
     uv_faces: Option<Py<PyAny>>,
@@ -134,15 +134,38 @@ impl Arrays {
 
     /// The numpy arrays, the buffers moved.
     pub(crate) fn into_mesh(self, py: Python<'_>) -> PyResult<Mesh> {
+        self.into_mesh_as(py, None)
+    }
+
+    /// [`Arrays::into_mesh`], the vertices and normals as `dtype` (numpy's
+    /// `float32` or `float64`; `None`: float64, the buffers moved).
+    pub(crate) fn into_mesh_as(self, py: Python<'_>, dtype: Option<&Bound<'_, PyAny>>) -> PyResult<Mesh> {
         let (uv, uv_faces) = match self.uv {
             Some((uv, faces)) => (Some(matrix(py, uv, 2)), Some(faces.into_py(py)?)),
             None => (None, None),
         };
+        let cast = |array: Py<PyArray2<f64>>| -> PyResult<Py<PyAny>> {
+            match dtype {
+                None => Ok(array.into_any()),
+                Some(d) => {
+                    let numpy = py.import("numpy")?;
+                    let kind = numpy.getattr("dtype")?.call1((d,))?;
+                    let float = kind.getattr("kind")?.extract::<String>()? == "f";
+                    if !float {
+                        return Err(crate::err(format!(
+                            "dtype={kind}: expected a float type (numpy.float32 or numpy.float64)"
+                        )));
+                    }
+                    Ok(array.bind(py).call_method1("astype", (kind,))?.unbind())
+                }
+            }
+        };
+        let normals = self.normals.map(|v| cast(matrix(py, v, 3))).transpose()?;
         Ok(Mesh {
-            vertices: matrix(py, self.vertices, 3),
+            vertices: cast(matrix(py, self.vertices, 3))?,
             faces: self.faces.into_py(py)?,
             edges: matrix(py, self.edges, 2),
-            normals: self.normals.map(|v| matrix(py, v, 3)),
+            normals,
             colours: self.colours.map(|v| matrix(py, v, 3)),
             uv,
             uv_faces,

@@ -795,3 +795,10 @@ def test_every_listed_name_loads_and_arrays_come_as_numpy_users_give_them():
     assert not any(len(word) > 20 for word in str(e.value).split()), str(e.value)
     smooth = bcifs.pattern("hexahedron", (3, 3, 3), "111101111101000101111101111", degree=4, basis="bspline")
     assert smooth.print_report(depth=1)["genus"] == 5
+    # float32 arrays as Open3D and trimesh users keep them: the same numbers, rounded once.
+    torus = bcifs.load("doo_sabin_torus")
+    wide, narrow = torus.mesh(depth=3), torus.mesh(depth=3, dtype=np.float32)
+    assert narrow.vertices.dtype == np.float32 and narrow.normals.dtype == np.float32
+    assert np.array_equal(narrow.vertices, wide.vertices.astype(np.float32)) and np.array_equal(narrow.faces, wide.faces)
+    with pytest.raises(bcifs.BcifsError, match="float type"):
+        torus.mesh(depth=1, dtype=np.int32)
