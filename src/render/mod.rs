@@ -48,7 +48,8 @@ pub use crate::report::{
     CheckReport, CheckReportError, CurveAnalysis, DIMENSION_MEMORY, DimensionReport, LacunarityReport, ParameterRange,
     REGIONS, ReportError, Residual, Rounding, SolveReport, SweepKind, SweepValues, TopologyReport, check_report,
     curve_analysis, curve_halves, dimension_report, dimension_within, lacunarity_depth, lacunarity_report, model_of,
-    parameter_ranges, solve_report, sweep, sweep_cancellable, sweep_colour, sweep_csv, sweep_image, topology_report,
+    parameter_ranges, region_meaning, solve_report, sweep, sweep_cancellable, sweep_colour, sweep_csv, sweep_image,
+    topology_report,
 };
 pub use crate::report::{PrintReport, angle_colour, dimension_colour, print_report_of, region_colour, verdict_colour};
 pub use shape::{control_net, write_shape, write_shape_text};

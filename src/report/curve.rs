@@ -35,6 +35,10 @@ pub struct CurveAnalysis {
     pub region: Option<&'static str>,
     /// The exact query, when the halves are rational `3 × 3`.
     pub exact: Option<ExactCurveReport>,
+    /// The half-tangents as directions in modelling space (unit vectors:
+    /// the barycentric half-tangents applied to the model's first control
+    /// points), when the curve has half-tangents and a model of that many points.
+    pub directions: Option<[Vec<f64>; 2]>,
 }
 
 /// Exact numbers as text.
@@ -78,6 +82,8 @@ impl CurveAnalysis {
             "junction_angle_deg": report.junction_angle_deg,
             "c1_necessary": report.c1_necessary,
             "region": self.region,
+            "region_meaning": self.region.map(region_meaning),
+            "directions": self.directions.as_ref().map(|[s, e]| json!({"start": s, "end": e})),
             "exact": exact,
         })
     }
@@ -146,16 +152,47 @@ pub fn curve_analysis(design: &Design, params: &[(String, Num)]) -> Result<Curve
         Some(Verdict::Converges) => report.region,
         _ => None,
     };
+    let directions = report.half_tangents.as_ref().and_then(|[s, e]| {
+        let points = &design.model()?.points;
+        let direction = |v: &[f64]| -> Option<Vec<f64>> {
+            let d = points.first()?.len();
+            let w: Vec<f64> = (0..d).map(|a| v.iter().zip(points).map(|(c, p)| c * p[a]).sum()).collect();
+            let len = w.iter().map(|x| x * x).sum::<f64>().sqrt();
+            (points.len() >= v.len() && len > 0.0).then(|| w.iter().map(|x| x / len).collect())
+        };
+        Some([direction(s)?, direction(e)?])
+    });
     Ok(CurveAnalysis {
         automaton: design.name().to_string(),
         parameters: instance.parameters.clone(),
         names,
         per_matrix: per_matrix_condition(automaton),
+        directions,
         report,
         converges: verdict.and_then(|v| v.converges()),
         region,
         exact,
     })
+}
+
+/// What a region of Sokolov et al. 2010's Fig. 8 means for the curve at
+/// the junction of its halves (one line; the guide's curve-family tutorial
+/// says more).
+pub fn region_meaning(region: &str) -> &'static str {
+    match region {
+        "1" => {
+            "the half-tangents are collinear and point the same way: smooth where the curve is C1 (Gregory's region)"
+        }
+        "2" | "2'" => "the half-tangents are collinear but point opposite ways: a cusp",
+        "3" | "3'" => "one half-tangent lies along the middle control edge, the other not: a corner",
+        "4" => "neither half-tangent lies along the middle control edge: a corner",
+        "5" => {
+            "a corner, the curve oscillating about its half-tangents (the smallest eigenvalue is negative): rough, fractal-looking"
+        }
+        "divergent" => "the subdivision diverges: no curve",
+        "degenerate" => "tied or zero eigenvalues: no half-tangents to compare",
+        _ => "not decided",
+    }
 }
 
 /// The exact query when the curve's halves are rational `3 × 3` at the

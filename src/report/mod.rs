@@ -21,7 +21,7 @@ mod topology;
 mod walls;
 
 pub use colours::{angle_colour, dimension_colour, region_colour, sweep_colour, sweep_image, verdict_colour};
-pub use curve::{CurveAnalysis, curve_analysis, curve_halves};
+pub use curve::{CurveAnalysis, curve_analysis, curve_halves, region_meaning};
 pub use dimension::{
     DIMENSION_MEMORY, DimensionReport, ParameterRange, dimension_report, dimension_within, parameter_ranges,
 };

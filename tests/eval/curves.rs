@@ -395,3 +395,41 @@ fn exact_query_separates_what_rounding_merges() {
     let (exact, _) = at(Num::frac(1, 4), Num::frac(1, 2));
     assert_eq!(exact.region, None, "a tie in modulus: {exact:?}");
 }
+
+/// Issue 46 §9: `analyze curve` says its half-tangents as directions in
+/// modelling space (the barycentric weights applied to the model's control
+/// points, written out here) and what its region means; the JSON has the same
+/// words (`directions`, `region_meaning`).
+#[test]
+fn curve_analysis_speaks_in_model_directions_and_named_regions() {
+    let design = bcifs::render::load("corner_cutting").unwrap();
+    let values =
+        [("a".to_string(), bcifs::render::Num::from_f64(0.4)), ("b".to_string(), bcifs::render::Num::from_f64(0.4))];
+    let analysis = bcifs::render::curve_analysis(&design, &values).unwrap();
+    let json = analysis.to_json();
+    let points = &design.model().unwrap().points;
+    for (k, key) in ["start", "end"].into_iter().enumerate() {
+        let weights = analysis.report.half_tangents.as_ref().unwrap()[k].clone();
+        let mut d = [0.0; 2];
+        for (w, p) in weights.iter().zip(points) {
+            d[0] += w * p[0];
+            d[1] += w * p[1];
+        }
+        let len = (d[0] * d[0] + d[1] * d[1]).sqrt();
+        let got: Vec<f64> = json["directions"][key].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
+        assert!((got[0] - d[0] / len).abs() < 1e-12 && (got[1] - d[1] / len).abs() < 1e-12, "{key}: {got:?}");
+    }
+    assert_eq!(json["region"], "4");
+    assert!(json["region_meaning"].as_str().unwrap().contains("a corner"), "{}", json["region_meaning"]);
+    let text = std::process::Command::new(env!("CARGO_BIN_EXE_bcifs"))
+        .args(["analyze", "curve", "corner_cutting", "--param", "a=0.4", "--param", "b=0.4"])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&text.stdout).to_string();
+    assert!(
+        text.contains("half-tangents in the model (unit directions)")
+            && text.contains("region 4 of Sokolov et al. 2010 Fig. 8: "),
+        "{text}"
+    );
+    assert_eq!(bcifs::render::region_meaning("2'"), bcifs::render::region_meaning("2"));
+}

@@ -486,18 +486,38 @@ fn curve_text(out: &mut String, analysis: &bcifs::render::CurveAnalysis) -> Resu
         let subdominant = report.subdominant[k].map_or("none".to_string(), |x| format!("{x:.6}"));
         writeln!(out, "  {name}: eigenvalues {eigenvalues}; sub-dominant {subdominant}")?;
     }
+    let v = |x: &[f64]| format!("({})", x.iter().map(|c| format!("{c:.6}")).collect::<Vec<_>>().join(", "));
     match (&report.half_tangents, report.junction_angle_deg) {
         (Some([s, e]), Some(angle)) => {
-            let v = |x: &[f64]| format!("({})", x.iter().map(|c| format!("{c:.6}")).collect::<Vec<_>>().join(", "));
-            writeln!(out, "  half-tangents: start {}, end {}; junction angle {angle:.4}°", v(s), v(e))?
+            if let Some([ds, de]) = &analysis.directions {
+                writeln!(
+                    out,
+                    "  half-tangents in the model (unit directions): at the start {}, at the end {}",
+                    v(ds),
+                    v(de)
+                )?;
+                writeln!(out, "  (as barycentric weights of the control points: start {}, end {})", v(s), v(e))?;
+            } else {
+                writeln!(out, "  half-tangents (barycentric weights): at the start {}, at the end {}", v(s), v(e))?;
+            }
+            writeln!(
+                out,
+                "  junction angle between the halves ({} arriving, {} leaving): {angle:.4}°",
+                names[0], names[1]
+            )?;
         }
         _ => writeln!(out, "  no half-tangents (a leading eigenvalue is negative or tied)")?,
     }
+    let region = analysis.region.unwrap_or("undecided");
     writeln!(
         out,
-        "  C1 necessary condition: {}; region {}",
-        report.c1_necessary,
-        analysis.region.unwrap_or("undecided")
+        "  C1 necessary condition (collinear half-tangents, Sokolov et al. 2010 §4): {}",
+        report.c1_necessary
+    )?;
+    writeln!(
+        out,
+        "  region {region} of Sokolov et al. 2010 Fig. 8: {} (see the guide's curve-family tutorial)",
+        bcifs::render::region_meaning(region)
     )?;
     match &analysis.exact {
         Some(e) => {

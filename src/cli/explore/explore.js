@@ -74,9 +74,11 @@ async function check() {
   const lines = [];
   if (body.curve) {
     const k = body.curve;
-    if (k.half_tangents) lines.push(`half-tangents: start ${fmt(k.half_tangents.start)}, end ${fmt(k.half_tangents.end)}`);
-    if (k.junction_angle_deg !== null) lines.push(`junction angle ${k.junction_angle_deg.toFixed(3)}°`);
-    lines.push(`region ${k.region === null ? "undecided" : k.region}; C1 necessary condition ${k.c1_necessary}`);
+    if (k.directions) lines.push(`half-tangents in the model: at the start ${fmt(k.directions.start)}, at the end ${fmt(k.directions.end)}`);
+    else if (k.half_tangents) lines.push(`half-tangents (barycentric): start ${fmt(k.half_tangents.start)}, end ${fmt(k.half_tangents.end)}`);
+    if (k.junction_angle_deg !== null) lines.push(`junction angle between the halves ${k.junction_angle_deg.toFixed(3)}°`);
+    lines.push(`region ${k.region === null ? "undecided" : k.region} (Sokolov et al. 2010 Fig. 8): ${k.region_meaning || "not decided"}`);
+    lines.push(`C1 necessary condition (collinear half-tangents): ${k.c1_necessary}`);
   }
   $("check").textContent = lines.join("\n");
   // One dimension at a time for this page: a newer one cancels the older on the server.
