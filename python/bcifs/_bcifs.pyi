@@ -54,6 +54,8 @@ class Design:
         force: Optional[bool] = None,
         thickness: Optional[float] = None,
         dtype: Optional[npt.DTypeLike] = None,
+        colour: Optional[str] = None,
+        palette: Optional[str] = None,
         **params: float,
     ) -> Mesh: ...
     def print_report(

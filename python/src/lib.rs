@@ -171,8 +171,9 @@ impl Design {
     /// --uv`), `force` evaluates a system whose bounds prove divergence,
     /// `thickness` makes a surface (a lace) a closed shell (as `render --thickness`);
     /// `dtype=numpy.float32` gives float32 vertices and normals (as Open3D and
-    /// trimesh users keep them).
-    #[pyo3(signature = (depth=None, tolerance=None, uv=None, force=None, thickness=None, dtype=None, **params))]
+    /// trimesh users keep them); `colour` (`"state"`, `"level"`, `"map"`) with
+    /// `palette` colours the vertices as the files have them (`colours`, uint8).
+    #[pyo3(signature = (depth=None, tolerance=None, uv=None, force=None, thickness=None, dtype=None, colour=None, palette=None, **params))]
     #[allow(clippy::too_many_arguments)]
     fn mesh(
         &self,
@@ -183,10 +184,19 @@ impl Design {
         force: Option<&Bound<'_, PyAny>>,
         thickness: Option<&Bound<'_, PyAny>>,
         dtype: Option<&Bound<'_, PyAny>>,
+        colour: Option<&Bound<'_, PyAny>>,
+        palette: Option<&Bound<'_, PyAny>>,
         params: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Mesh> {
-        let keywords =
-            [("depth", depth), ("tolerance", tolerance), ("uv", uv), ("force", force), ("thickness", thickness)];
+        let keywords = [
+            ("depth", depth),
+            ("tolerance", tolerance),
+            ("uv", uv),
+            ("force", force),
+            ("thickness", thickness),
+            ("colour", colour),
+            ("palette", palette),
+        ];
         let options = Design::options(py, &keywords, params)?;
         let design = self.inner.clone();
         let arrays = cancellable(py, None, move |cancel, _| {

@@ -762,7 +762,7 @@ def test_laces_thicken_into_shells_from_python():
     assert solid.status() == m3.Error.NoError and solid.genus() == 9
 
 
-def test_every_listed_name_loads_and_arrays_come_as_numpy_users_give_them():
+def test_every_listed_name_loads_and_arrays_come_as_numpy_users_give_them(tmp_path):
     """Issue 46 §1, §2, §4, §6: every name `bcifs list` shows loads (the normal-vector figures too);
     `subdivide` takes float32 arrays and plain lists (numpy's ArrayLike) and `triangulate=True` (Loop
     on quads, as `surface --triangulate`); parameters take exact strings everywhere; errors name
@@ -802,3 +802,13 @@ def test_every_listed_name_loads_and_arrays_come_as_numpy_users_give_them():
     assert np.array_equal(narrow.vertices, wide.vertices.astype(np.float32)) and np.array_equal(narrow.faces, wide.faces)
     with pytest.raises(bcifs.BcifsError, match="float type"):
         torus.mesh(depth=1, dtype=np.int32)
+    # Colours from mesh(), as the files have them: the PLY of the same render, vertex for vertex.
+    trimesh = pytest.importorskip("trimesh")
+    patch = bcifs.load("box-spline")
+    coloured = patch.mesh(depth=3, colour="level", palette="fire")
+    ply = tmp_path / "levels.ply"
+    patch.render(str(ply), depth=3, colour="level", palette="fire")
+    read = trimesh.load(str(ply), process=False)
+    assert np.array_equal(coloured.colours, np.asarray(read.visual.vertex_colors)[:, :3])
+    y_up = coloured.vertices[:, [0, 2, 1]] * [1, 1, -1]  # the PLY is Y-up: model z is the file's y
+    assert np.allclose(y_up, read.vertices)

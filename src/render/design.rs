@@ -20,10 +20,14 @@ use crate::geometry::{Shape, Sink};
 /// See [`RenderError`].
 pub fn evaluate_design(design: &Design, options: &Options, warnings: &mut Vec<String>) -> Result<Shape, RenderError> {
     let job = Job::new(design, options)?;
-    match shell(&job, warnings)? {
-        Some(shell) => Ok(shell),
-        None => job.evaluate(warnings),
+    if let Some(shell) = shell(&job, warnings)? {
+        return Ok(shell);
     }
+    // Coloured by state, level or map: the colours the files get, on the shape.
+    if job.options.look.colour.is_some() && job.options.sampling.samples.is_none() {
+        return coloured_shape(&job, warnings);
+    }
+    job.evaluate(warnings)
 }
 
 /// Renders a design to `out`, the format chosen by its extension: `.obj`
@@ -259,14 +263,30 @@ fn shell_file(job: &Job, out: &Path, report: &mut Report) -> Result<(), RenderEr
 /// ([`Look::colour`](super::Look::colour)), evaluated in memory and written with its colours.
 fn coloured_file(job: &Job, format: Format, out: &Path, report: &mut Report) -> Result<(), RenderError> {
     let options = &job.options;
-    let Some(mode) = options.look.colour else { return Ok(()) };
+    if options.look.colour.is_none() {
+        return Ok(());
+    }
     if !format.has_colours() {
         report.warnings.push(format!(
             "vertex colours are written into .obj, .ply and .glb files; the .{} file has none",
             format.extension()
         ));
     }
-    let mut ev = job.evaluator(&mut report.warnings)?;
+    let shape = coloured_shape(job, &mut report.warnings)?;
+    let written = super::shape::write_shape_options(&shape, job.name(), options, out)?;
+    report.vertices = written.vertices;
+    report.faces = written.faces;
+    report.bytes = written.bytes;
+    Ok(())
+}
+
+/// The deterministic evaluation coloured by state, level or map
+/// ([`Look::colour`](super::Look::colour)) in memory, its vertices' colours
+/// from the palette (rainbow by default).
+fn coloured_shape(job: &Job, warnings: &mut Vec<String>) -> Result<Shape, RenderError> {
+    let options = &job.options;
+    let mut ev = job.evaluator(warnings)?;
+    let Some(mode) = options.look.colour else { return job.evaluate(warnings) };
     let random = options.colour_settings(0);
     let (mut shape, coordinates) = ev.evaluate_coloured(&job.automaton, mode, &random)?;
     options.check_cancel()?;
@@ -276,11 +296,7 @@ fn coloured_file(job: &Job, format: Format, out: &Path, report: &mut Report) -> 
         Some(p) => coordinates.iter().map(|&c| p.colour(c)).collect(),
         None => Vec::new(),
     };
-    let written = super::shape::write_shape_options(&shape, job.name(), options, out)?;
-    report.vertices = written.vertices;
-    report.faces = written.faces;
-    report.bytes = written.bytes;
-    Ok(())
+    Ok(shape)
 }
 
 /// A `.flame` file of the chaos game (its settings, or the defaults), framed as its density picture.
