@@ -61,6 +61,20 @@ def _sweep_band(toml, x, y, rows, what, thorough):
     return sweep_rows(toml, x, y, rows, what, thorough)
 
 
+def _axis(key, axis):
+    """`(NAME, lo, hi, n)` checked: finite bounds with lo < hi, at least one sample."""
+    try:
+        name, lo, hi, n = axis
+        lo, hi, n = float(lo), float(hi), int(n)
+    except (TypeError, ValueError):
+        raise BcifsError(f"{key}={axis!r}: expected (NAME, lo, hi, n)") from None
+    if not (np.isfinite(lo) and np.isfinite(hi) and lo < hi):
+        raise BcifsError(f"{key}: the range {lo} to {hi} must be finite and increasing (lo < hi)")
+    if n < 1:
+        raise BcifsError(f"{key}: {n} samples: at least 1")
+    return (str(name), lo, hi, n)
+
+
 def sweep(design, x, y, what="verdict", client=None, tiles=None, thorough=False, scheduler=None):
     """A parameter plane of `design`: `x` and `y` are `(NAME, lo, hi, n)`,
     the other parameters at their defaults; an (ny, nx) array, row 0 at the
@@ -88,8 +102,16 @@ def sweep(design, x, y, what="verdict", client=None, tiles=None, thorough=False,
     Ray tasks) as `dask.delayed` tasks; otherwise here. The array is the
     same either way, bit for bit.
     """
-    text = design.to_toml() if isinstance(design, Design) else load(design).to_toml()
-    x, y = (str(x[0]), float(x[1]), float(x[2]), int(x[3])), (str(y[0]), float(y[1]), float(y[2]), int(y[3]))
+    design = design if isinstance(design, Design) else load(design)
+    text = design.to_toml()
+    x, y = _axis("x", x), _axis("y", y)
+    # Checked here, before any band is sent (a misspelt name used to fail on every worker).
+    names = design.parameters
+    for key, axis in (("x", x), ("y", y)):
+        if axis[0] not in names:
+            raise BcifsError(f"{key}: `{axis[0]}` is not a parameter of {design.name}; its parameters: {', '.join(names)}")
+    if x[0] == y[0]:
+        raise BcifsError(f"x and y both sweep `{x[0]}`: give two different parameters")
     ny = y[3]
     if tiles is None:
         workers = len(client.scheduler_info()["workers"]) if client is not None else (os.cpu_count() or 1)

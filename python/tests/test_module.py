@@ -812,3 +812,18 @@ def test_every_listed_name_loads_and_arrays_come_as_numpy_users_give_them(tmp_pa
     assert np.array_equal(coloured.colours, np.asarray(read.visual.vertex_colors)[:, :3])
     y_up = coloured.vertices[:, [0, 2, 1]] * [1, 1, -1]  # the PLY is Y-up: model z is the file's y
     assert np.allclose(y_up, read.vertices)
+
+
+def test_a_sweep_is_checked_before_any_band_is_sent():
+    """Issue 46 §4: the same parameter on both axes, a range that does not increase, no sample,
+    a misspelt name: said here at once, not by every Dask worker (one traceback per band)."""
+    for x, y, message in [
+        (("a", 0, 1, 4), ("a", 0, 1, 4), "both sweep `a`"),
+        (("a", 1, 0, 4), ("b", 0, 1, 4), "finite and increasing"),
+        (("a", 0, 1, 0), ("b", 0, 1, 4), "at least 1"),
+        (("a", 0, 1, 4), ("bb", 0, 1, 4), "`bb` is not a parameter of corner_cutting; its parameters: a, b"),
+        (("a", 0, "x", 4), ("b", 0, 1, 4), "expected \\(NAME, lo, hi, n\\)"),
+    ]:
+        with pytest.raises(bcifs.BcifsError, match=message):
+            bcifs.sweep("corner_cutting", x, y, client=object())  # never reached: no client method is called
+    assert bcifs.sweep("corner_cutting", ("a", 0, 1, 4), ("b", 0, 1, 3)).shape == (3, 4)
