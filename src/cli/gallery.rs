@@ -510,7 +510,7 @@ pub const DENSITY_SAMPLES: [usize; 3] = [100_000, 1_000_000, 100_000_000];
 /// blur): `density-NAME-KIND-N.png` tiles, `density.png` (all of them, a
 /// row per shape) and `density.html`.
 fn density_page(dir: &Path) -> Result<GalleryEntry, RenderError> {
-    use bcifs::render::{Palette, Tone, density_counts as density, write_png};
+    use bcifs::render::{Palette, Tone, density_counts as density, write_png_text};
     let tile = 240u32;
     let raster = RasterSettings::default().with_size(tile, tile);
     let shapes = ["fern", "gasket", "fern_sierpinski"];
@@ -541,7 +541,8 @@ fn density_page(dir: &Path) -> Result<GalleryEntry, RenderError> {
         let _ = write!(rows, "<tr><th>{name}</th>");
         for (col, (kind, img)) in all.iter().enumerate() {
             let file = format!("density-{name}-{kind}.png");
-            write_png(&dir.join(&file), img).map_err(|e| io(&dir.join(&file), e))?;
+            let text = super::common::png_text(name, &format!("gallery density sheet: {kind}"));
+            write_png_text(&dir.join(&file), img, &text).map_err(|e| io(&dir.join(&file), e))?;
             image::imageops::replace(&mut sheet, img, i64::from(tile) * col as i64, i64::from(tile) * row as i64);
             let _ = write!(rows, "<td><img src=\"{file}\" alt=\"{name} {kind}\"></td>");
         }
@@ -555,7 +556,8 @@ fn density_page(dir: &Path) -> Result<GalleryEntry, RenderError> {
     let names: Vec<String> = shapes.iter().map(|s| s.to_string()).collect();
     let sheet = super::plot::labelled_sheet(&sheet, tile, &columns, &names)
         .map_err(|e| io(&dir.join("density.png"), std::io::Error::other(e.to_string())))?;
-    write_png(&dir.join("density.png"), &sheet).map_err(|e| io(&dir.join("density.png"), e))?;
+    let text = super::common::png_text("density", "gallery: dots and density pictures of the chaos game");
+    write_png_text(&dir.join("density.png"), &sheet, &text).map_err(|e| io(&dir.join("density.png"), e))?;
     let head: String = ["dots", "density"]
         .iter()
         .flat_map(|k| DENSITY_SAMPLES.iter().map(move |n| format!("<th>{k}, {n:.0e} samples</th>")))
