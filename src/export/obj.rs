@@ -214,6 +214,9 @@ impl Sink for Pass<'_> {
     fn polyline(&mut self, first: usize, count: usize, closed: bool) -> io::Result<()> {
         if self.elements { self.writer.polyline(first, count, closed) } else { Ok(()) }
     }
+    fn cloud(&mut self, first: usize, count: usize) -> io::Result<()> {
+        if self.elements { self.writer.cloud(first, count) } else { Ok(()) }
+    }
     fn faces(&mut self, quads: &[[usize; 4]], uvs: Option<&[[usize; 4]]>) -> io::Result<()> {
         self.check()?;
         if !self.elements {
@@ -509,6 +512,23 @@ impl Sink for ObjWriter {
             line.push(b'\n');
         }
         self.spool().write_all(&line)
+    }
+
+    /// `p` records of up to 16 points each, after the object's `o`: the
+    /// OBJ grouping of a cloud's points (Blender 3.4 and MeshLab read the
+    /// vertices and leave the records out; glTF keeps each cloud apart).
+    fn cloud(&mut self, first: usize, count: usize) -> io::Result<()> {
+        self.write_formatted(count.div_ceil(16), true, |text, r| {
+            let mut ints = itoa::Buffer::new();
+            for line in r {
+                text.push(b'p');
+                for v in first + 16 * line..(first + 16 * (line + 1)).min(first + count) {
+                    text.push(b' ');
+                    text.extend_from_slice(ints.format(v + 1).as_bytes());
+                }
+                text.push(b'\n');
+            }
+        })
     }
 
     fn faces(&mut self, quads: &[[usize; 4]], uvs: Option<&[[usize; 4]]>) -> io::Result<()> {

@@ -99,6 +99,15 @@ pub trait Sink {
         Ok(())
     }
 
+    /// The vertices `first .. first + count` are points of the current
+    /// object on their own (a cloud: no element joins them), which OBJ
+    /// groups with `p` records under the object's `o`. Formats whose clouds
+    /// are their vertices ignore it (the default).
+    fn cloud(&mut self, first: usize, count: usize) -> io::Result<()> {
+        let _ = (first, count);
+        Ok(())
+    }
+
     /// Starts a named group of the current object's faces (OBJ's `g`): the
     /// faces that follow belong to it. Formats without groups ignore it (the default).
     fn group(&mut self, name: &str) -> io::Result<()> {
@@ -389,6 +398,12 @@ impl Shape {
                 let normals = (!self.normals.is_empty()).then(|| &self.normals[v.start * 3..v.end * 3]);
                 sink.vertices(d, &self.positions[v.start * d..v.end * d], normals)?;
             }
+            let end = if k + 1 == self.objects.len() { self.triangles.len() } else { o.triangles.end };
+            let t = &self.triangles[o.triangles.start.min(end)..end];
+            let cloud = o.polylines.is_empty() && o.faces.is_empty() && t.is_empty();
+            if cloud && !v.is_empty() && self.objects.len() > 1 {
+                sink.cloud(v.start, v.len())?;
+            }
             for &(first, count, closed) in &o.polylines {
                 sink.polyline(first, count, closed)?;
             }
@@ -398,8 +413,6 @@ impl Shape {
                 let uvs = (!self.quad_uvs.is_empty()).then(|| wide(&self.quad_uvs[f.clone()]));
                 sink.faces(&wide(&self.quads[f]), uvs.as_deref())?;
             }
-            let end = if k + 1 == self.objects.len() { self.triangles.len() } else { o.triangles.end };
-            let t = &self.triangles[o.triangles.start.min(end)..end];
             if !t.is_empty() {
                 sink.triangles(t)?;
             }

@@ -192,6 +192,9 @@ impl Sink for Checked<'_> {
         self.count(starts.windows(2).filter(|w| w[1] - w[0] >= 3).count());
         self.sink.polygons(starts, corners)
     }
+    fn cloud(&mut self, first: usize, count: usize) -> io::Result<()> {
+        self.sink.cloud(first, count)
+    }
     fn group(&mut self, name: &str) -> io::Result<()> {
         self.sink.group(name)
     }

@@ -548,3 +548,70 @@ fn files_stand_upright_in_blender_as_documented() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Issue 46 §12: a coloured cloud of three objects (the gallery's
+/// `contour-chaos`: 10, 50 and 300 points per map) groups its points in
+/// OBJ with `p` records after each `o`, each object's vertices exactly;
+/// MeshLab and trimesh read every point. Blender 3.4's OBJ importers (the
+/// new one and the legacy add-on) put loose vertices in one object whatever
+/// the grouping, so the GLB is the file that keeps the clouds apart there:
+/// three objects of their own sizes.
+#[test]
+fn clouds_keep_their_objects_in_obj_and_in_blender() {
+    use bcifs::geometry::{Shape, Sink as _};
+    let dir = std::env::temp_dir().join(format!("bcifs-clouds-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut shape = Shape::default();
+    let sizes = [3usize, 20, 37];
+    for (k, &n) in sizes.iter().enumerate() {
+        shape.object(&format!("cloud {k}")).unwrap();
+        shape.colours(&vec![[40 * k as u8, 200, 30]; n]).unwrap();
+        let points: Vec<f64> = (0..n).flat_map(|i| [i as f64, k as f64, (i * i) as f64 / 7.0]).collect();
+        shape.vertices(3, &points, None).unwrap();
+    }
+    let (obj, glb) = (dir.join("clouds.obj"), dir.join("clouds.glb"));
+    bcifs::export::write_obj(&shape, "clouds", &obj).unwrap();
+    let mut w = bcifs::export::GltfWriter::create(&glb).unwrap();
+    shape.replay(&mut w).unwrap();
+    w.finish().unwrap();
+
+    // The records: `o cloud_k` followed by `p` lines naming its vertices, 1-based, in order.
+    let text = std::fs::read_to_string(&obj).unwrap();
+    let mut grouped: Vec<(String, Vec<usize>)> = Vec::new();
+    for line in text.lines() {
+        if let Some(name) = line.strip_prefix("o ") {
+            grouped.push((name.to_string(), Vec::new()));
+        } else if let Some(points) = line.strip_prefix("p ") {
+            grouped.last_mut().expect("p after o").1.extend(points.split(' ').map(|v| v.parse::<usize>().unwrap()));
+        }
+    }
+    let mut first = 1;
+    for (k, (name, points)) in grouped.iter().enumerate() {
+        assert_eq!(name, &format!("cloud_{k}"));
+        assert_eq!(points, &(first..first + sizes[k]).collect::<Vec<_>>(), "{name}'s points");
+        first += sizes[k];
+    }
+    assert_eq!(grouped.len(), 3);
+    let total = sizes.iter().sum::<usize>().to_string();
+    let p = obj.display();
+    if let Some(n) =
+        python("pymeshlab", &format!("import pymeshlab\nms = pymeshlab.MeshSet()\nms.load_new_mesh('{p}')\nprint(ms.current_mesh().vertex_number())"))
+    {
+        assert_eq!(n, total, "MeshLab: every point");
+    }
+    if let Some(n) = python("trimesh", &format!("import trimesh\nprint(len(trimesh.load('{p}').vertices))")) {
+        assert_eq!(n, total, "trimesh: every point");
+    }
+    let script = format!(
+        "import bpy, numpy\nnumpy.bool = bool\n\
+         bpy.ops.object.select_all(action='SELECT')\nbpy.ops.object.delete()\n\
+         bpy.ops.import_scene.gltf(filepath=r'{}')\n\
+         for o in sorted(bpy.context.scene.objects, key=lambda o: o.name):\n    \
+             print('BCIFS', o.name, len(o.data.vertices))\n",
+        glb.display()
+    );
+    if let Some(lines) = blender(&script) {
+        assert_eq!(lines, ["cloud 0 3", "cloud 1 20", "cloud 2 37"], "Blender: three clouds from the GLB");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
