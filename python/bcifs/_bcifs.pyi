@@ -2,7 +2,7 @@
 
 import os
 from fractions import Fraction
-from typing import Any, Callable, Optional, Sequence, Union
+from typing import Any, Callable, Mapping, Optional, Sequence, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -29,6 +29,10 @@ class Mesh:
     """(t, 2) texture coordinates, when the output has them (face-varying: see `uv_faces`)."""
     uv_faces: Optional[Union[npt.NDArray[np.int64], list[npt.NDArray[np.int64]]]]
     """Shaped as `faces`: the index into `uv` of every corner."""
+    face_sources: Optional[npt.NDArray[np.int64]]
+    """(m,) the input face each face comes from (`subdivide(..., face_data=...)`)."""
+    face_data: Optional[dict[str, npt.NDArray[Any]]]
+    """The `face_data` given to `subdivide`, each face's rows from its source face."""
     def to_trimesh(self) -> Any:
         """A trimesh `Trimesh`, `Path3D` or `PointCloud` (trimesh must be installed)."""
 
@@ -143,6 +147,7 @@ def subdivide(
     uv: Optional[npt.ArrayLike] = None,
     uv_faces: Optional[Union[npt.ArrayLike, Sequence[Sequence[int]]]] = None,
     triangulate: bool = False,
+    face_data: Optional[Mapping[str, npt.ArrayLike]] = None,
     **weights: float,
 ) -> Mesh: ...
 def analyze_curve(design: Design, **params: Union[float, int, str, Fraction]) -> dict[str, Any]: ...

@@ -422,9 +422,13 @@ fn scheme_of(name: &str) -> PyResult<Scheme> {
 /// `bcifs surface` on that mesh written as OBJ. Texture coordinates `uv`
 /// (t, 2) with `uv_faces` (shaped as `faces`, indexing `uv`) follow
 /// Catmull-Clark and Loop with linear seams, as in the files: the result's
-/// `uv` and `uv_faces`.
+/// `uv` and `uv_faces`. Per-face data follows the scheme: `face_data`
+/// (name → an array with one row per input face: a material index, a
+/// group, a colour) comes back in the result's `face_data`, each face's rows
+/// from the face it comes from (`face_sources`; Doo-Sabin's and √3's faces
+/// of edges and vertices, which span several faces, from the lowest).
 #[pyfunction]
-#[pyo3(signature = (vertices, faces, scheme, depth, net=false, uv=None, uv_faces=None, triangulate=false, **weights))]
+#[pyo3(signature = (vertices, faces, scheme, depth, net=false, uv=None, uv_faces=None, triangulate=false, face_data=None, **weights))]
 #[allow(clippy::too_many_arguments)]
 fn subdivide(
     py: Python<'_>,
@@ -436,6 +440,7 @@ fn subdivide(
     uv: Option<numpy::PyArrayLike2<'_, f64, numpy::AllowTypeChange>>,
     uv_faces: Option<&Bound<'_, PyAny>>,
     triangulate: bool,
+    face_data: Option<&Bound<'_, PyDict>>,
     weights: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Mesh> {
     let v = vertices.as_array();
@@ -459,6 +464,15 @@ fn subdivide(
         (None, None) => {}
         _ => return Err(err("give uv and uv_faces together")),
     }
+    if let Some(data) = face_data {
+        check_face_data(data, mesh.face_count())?;
+    }
+    // Per triangle of the split, the face it splits (the fan of a face of k corners: k − 2 triangles).
+    let split: Option<Vec<u32>> = triangulate.then(|| {
+        (0..mesh.face_count() as u32)
+            .flat_map(|f| std::iter::repeat_n(f, mesh.face(f as usize).len().saturating_sub(2)))
+            .collect()
+    });
     // Loop and √3 on a quad mesh: each face a fan of triangles first (as `bcifs surface --triangulate`).
     if triangulate {
         mesh = mesh.triangulated();
@@ -473,12 +487,38 @@ fn subdivide(
         )?;
     }
     let job = MeshJob { weights, net, ..MeshJob::new(scheme, depth) };
+    let want_sources = face_data.is_some();
     let arrays = cancellable(py, None, move |cancel, _| {
         let options = Options::default().with_cancel(cancel);
-        bcifs::render::subdivide_mesh(&mesh, &job, &options).map(Arrays::of_polymesh)
+        let out = bcifs::render::subdivide_mesh(&mesh, &job, &options)?;
+        let sources = want_sources.then(|| {
+            let steps = bcifs::mesh::Subdivision { scheme, depth, weights, memory_limit: options.budget.memory };
+            let sources = mesh.face_sources(&steps, !net);
+            match &split {
+                Some(split) => sources.into_iter().map(|t| split[t as usize]).collect(),
+                None => sources,
+            }
+        });
+        Ok::<_, bcifs::render::RenderError>(Arrays::of_polymesh(out, sources))
     })?
     .map_err(err)?;
-    arrays.into_mesh(py)
+    let mesh = arrays.into_mesh(py)?;
+    match face_data {
+        Some(data) => mesh.with_face_data(py, data),
+        None => Ok(mesh),
+    }
+}
+
+/// Every array of `face_data` has one row per input face (`faces` of them).
+fn check_face_data(data: &Bound<'_, PyDict>, faces: usize) -> PyResult<()> {
+    for (name, values) in data.iter() {
+        let rows =
+            values.len().map_err(|_| err(format!("face_data[{name}]: expected an array with a row per face")))?;
+        if rows != faces {
+            return Err(err(format!("face_data[{name}] has {rows} rows for {faces} faces: one row per face")));
+        }
+    }
+    Ok(())
 }
 
 /// The dimensions of a design's attractor at the given parameter values:

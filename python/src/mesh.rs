@@ -3,7 +3,7 @@
 //! numpy wants them), and handed to trimesh.
 
 use numpy::ndarray::Array2;
-use numpy::{IntoPyArray, PyArray2};
+use numpy::{IntoPyArray, PyArray1, PyArray2};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
@@ -15,7 +15,9 @@ use bcifs::render::Shape;
 /// int64 for curves, `normals` (n, 3) and `colours` (n, 3) uint8 when
 /// present, and texture coordinates face-varying as libigl has them: `uv`
 /// (t, 2) float64 and `uv_faces`, shaped as `faces`, indexing `uv` corner
-/// for corner.
+/// for corner. From `subdivide(..., face_data=...)`: `face_sources` (m,)
+/// int64, the input face each face comes from, and `face_data`, the given
+/// arrays indexed by it.
 #[pyclass(module = "bcifs", frozen, get_all)]
 pub struct Mesh {
     vertices: Py<PyAny>,
@@ -25,6 +27,8 @@ pub struct Mesh {
     colours: Option<Py<PyArray2<u8>>>,
     uv: Option<Py<PyArray2<f64>>>,
     uv_faces: Option<Py<PyAny>>,
+    face_sources: Option<Py<PyArray1<i64>>>,
+    face_data: Option<Py<PyDict>>,
 }
 
 /// `values` as an (n, k) array.
@@ -69,6 +73,7 @@ pub(crate) struct Arrays {
     normals: Option<Vec<f64>>,
     colours: Option<Vec<u8>>,
     uv: Option<(Vec<f64>, Faces)>,
+    sources: Option<Vec<i64>>,
 }
 
 impl Arrays {
@@ -108,20 +113,31 @@ impl Arrays {
             normals: (normals.len() == 3 * n && n > 0).then_some(normals),
             colours: (colours.len() == n && n > 0).then(|| colours.into_flattened()),
             uv: uv_faces.map(|f| (uvs, f)),
+            sources: None,
         }
     }
 
     /// The arrays of a polygon mesh, its positions moved (no copy), with
-    /// area-weighted normals and its texture when it has one.
-    pub(crate) fn of_polymesh(mesh: PolyMesh) -> Arrays {
+    /// area-weighted normals and its texture when it has one, and each
+    /// face's source when given (one per face of `mesh`). Faces of fewer
+    /// than three corners (Doo-Sabin's digon beside a vertex of valence 2,
+    /// a doubled edge) are left out, as the files leave them out.
+    pub(crate) fn of_polymesh(mesh: PolyMesh, sources: Option<Vec<u32>>) -> Arrays {
         let normals = bcifs::render::area_normals(&mesh.positions, mesh.faces());
-        let uv = mesh.texture().map(|t| {
-            (
-                t.positions.iter().flat_map(|p| [p[0], p[1]]).collect(),
-                Faces::of(t.offsets(), t.corners().iter().copied()),
-            )
-        });
-        let faces = Faces::of(mesh.offsets(), mesh.corners().iter().copied());
+        let kept: Vec<usize> = (0..mesh.face_count()).filter(|&f| mesh.face(f).len() >= 3).collect();
+        let faces_of = |m: &PolyMesh| {
+            let (offsets, corners) = (m.offsets(), m.corners());
+            let mut starts = vec![0];
+            let mut indices = Vec::with_capacity(corners.len());
+            for &f in &kept {
+                indices.extend(corners[offsets[f]..offsets[f + 1]].iter().map(|&i| i as i64));
+                starts.push(indices.len());
+            }
+            Faces { starts, indices }
+        };
+        let uv = mesh.texture().map(|t| (t.positions.iter().flat_map(|p| [p[0], p[1]]).collect(), faces_of(t)));
+        let faces = faces_of(&mesh);
+        let sources = sources.map(|s| kept.iter().map(|&f| i64::from(s[f])).collect());
         Arrays {
             vertices: mesh.positions.into_flattened(),
             faces,
@@ -129,6 +145,7 @@ impl Arrays {
             normals: Some(normals.into_flattened()),
             colours: None,
             uv,
+            sources,
         }
     }
 
@@ -161,6 +178,7 @@ impl Arrays {
             }
         };
         let normals = self.normals.map(|v| cast(matrix(py, v, 3))).transpose()?;
+        let face_sources = self.sources.map(|s| s.into_pyarray(py).unbind());
         Ok(Mesh {
             vertices: cast(matrix(py, self.vertices, 3))?,
             faces: self.faces.into_py(py)?,
@@ -169,7 +187,26 @@ impl Arrays {
             colours: self.colours.map(|v| matrix(py, v, 3)),
             uv,
             uv_faces,
+            face_sources,
+            face_data: None,
         })
+    }
+}
+
+impl Mesh {
+    /// The same mesh with `face_data` (name → an array of one row per input
+    /// face) indexed by its face sources: each face's rows from the face it
+    /// comes from.
+    pub(crate) fn with_face_data(mut self, py: Python<'_>, data: &Bound<'_, PyDict>) -> PyResult<Mesh> {
+        let Some(sources) = &self.face_sources else { return Ok(self) };
+        let numpy = py.import("numpy")?;
+        let out = PyDict::new(py);
+        for (name, values) in data.iter() {
+            let array = numpy.call_method1("asarray", (values,))?;
+            out.set_item(name, array.get_item(sources.bind(py))?)?;
+        }
+        self.face_data = Some(out.unbind());
+        Ok(self)
     }
 }
 

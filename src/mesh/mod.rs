@@ -29,6 +29,7 @@ mod named;
 mod polymesh;
 mod read;
 pub mod rules;
+mod sources;
 mod stream;
 mod subdivide;
 mod texture;

@@ -594,9 +594,12 @@ fn clouds_keep_their_objects_in_obj_and_in_blender() {
     assert_eq!(grouped.len(), 3);
     let total = sizes.iter().sum::<usize>().to_string();
     let p = obj.display();
-    if let Some(n) =
-        python("pymeshlab", &format!("import pymeshlab\nms = pymeshlab.MeshSet()\nms.load_new_mesh('{p}')\nprint(ms.current_mesh().vertex_number())"))
-    {
+    if let Some(n) = python(
+        "pymeshlab",
+        &format!(
+            "import pymeshlab\nms = pymeshlab.MeshSet()\nms.load_new_mesh('{p}')\nprint(ms.current_mesh().vertex_number())"
+        ),
+    ) {
         assert_eq!(n, total, "MeshLab: every point");
     }
     if let Some(n) = python("trimesh", &format!("import trimesh\nprint(len(trimesh.load('{p}').vertices))")) {

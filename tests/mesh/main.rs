@@ -6,6 +6,7 @@ mod cgal;
 mod hausdorff;
 mod meshes;
 mod opensubdiv;
+mod sources;
 
 use bcifs::mesh::PolyMesh;
 
