@@ -58,7 +58,7 @@ def operators():
     bpy.ops.object.delete()
     assert bpy.ops.bcifs.add(source="doo_sabin_torus", depth=3) == {"FINISHED"}
     torus = bpy.context.active_object
-    state = torus.bcifs
+    state = torus.data.bcifs
     seen["torus"] = {
         "type": torus.type,
         "vertices": vertices(torus),
@@ -85,6 +85,10 @@ def operators():
     assert bpy.ops.bcifs.add(source="koch", depth=4) == {"FINISHED"}
     koch = bpy.context.active_object
     seen["koch"] = {"type": koch.type, "splines": len(koch.data.splines), "vertices": vertices(koch), "poly": koch.data.splines[0].type}
+    # A curve renders: a round bevel, so its evaluated mesh has faces.
+    evaluated = koch.evaluated_get(bpy.context.evaluated_depsgraph_get())
+    seen["koch"]["bevel"] = [koch.data.bevel_depth, len(evaluated.to_mesh().polygons)]
+    evaluated.to_mesh_clear()
     assert bpy.ops.bcifs.add(source="koch", depth=4, curve_as="EDGES") == {"FINISHED"}
     edges = bpy.context.active_object
     seen["koch_edges"] = {"type": edges.type, "vertices": len(edges.data.vertices), "edges": len(edges.data.edges)}
@@ -101,8 +105,8 @@ def operators():
         "faces": len(sponge.data.polygons),
         "manifold": all(e.is_manifold for e in bm.edges),
         "volume": bm.calc_volume(signed=True),
-        "params": len(sponge.bcifs.params),
-        "verdict": sponge.bcifs.verdict,
+        "params": len(sponge.data.bcifs.params),
+        "verdict": sponge.data.bcifs.verdict,
     }
     try:
         bpy.ops.bcifs.add(source="no_such_design")
@@ -124,24 +128,128 @@ def operators():
             "vertices": vertices(result),
             "faces": faces(result),
             "uv": result.data.uv_layers.active is not None,
-            "source_hidden": monkey.hide_get(),
+            "source": [monkey.hide_get(), monkey.display_type, monkey.hide_render, result.parent == monkey],
             "name": result.name,
-            "weights": {k: result[k] for k in result.keys() if k.startswith("bcifs_")},
+            "settings": {k: getattr(result.data.bcifs_subdivision, k) for k in ("scheme", "depth", "live")},
         }
     try:
         bpy.ops.bcifs.subdivide(scheme="doo-sabin", depth=1, alpha=3.0, beta=-1.0, gamma=-1.0)
         seen["diverging"] = ""
     except RuntimeError as e:
         seen["diverging"] = str(e)
+    live()
     bpy.ops.wm.save_as_mainfile(filepath=str(OUT / "scene.blend"))
+
+
+def mesh_of(obj):
+    return [list(v.co) for v in obj.data.vertices], [list(p.vertices) for p in obj.data.polygons]
+
+
+def over_two_faces(obj):
+    """Edges of `obj` in more than two faces."""
+    bm = bmesh.new()
+    bm.from_mesh(obj.data)
+    return sum(1 for e in bm.edges if len(e.link_faces) > 2)
+
+
+def live():
+    """Issue 46 §7-8: a live subdivision follows its source and settings,
+    keeps material indices, triangulates without Blender's non-manifold
+    edge, and ends by apply or unlink; linked duplicates share parameters."""
+    import bcifs_blender
+
+    module = bcifs_blender.bcifs
+    bpy.ops.object.select_all(action="DESELECT")
+    bpy.ops.mesh.primitive_cube_add()
+    cube = bpy.context.active_object
+    cube.name = "cage"
+    for k in range(2):
+        cube.data.materials.append(bpy.data.materials.new(f"m{k}"))
+    cube.data.polygons.foreach_set("material_index", [0, 0, 0, 1, 1, 1])
+    cube.data.update()
+    assert bpy.ops.bcifs.subdivide(scheme="catmull-clark", depth=2) == {"FINISHED"}
+    result = bpy.context.active_object
+    link = result.data.bcifs_subdivision
+    got = {"materials": [p.material_index for p in result.data.polygons], "slots": [m.name for m in result.data.materials]}
+    # Editing the source re-evaluates the result: equal to the module on the edited cube.
+    cube.data.vertices[0].co.x -= 0.5
+    cube.data.update()
+    bpy.context.view_layer.update()
+    v = [list(x.co) for x in cube.data.vertices]
+    f = [list(p.vertices) for p in cube.data.polygons]
+    expected = module.subdivide(v, f, "catmull-clark", 2)
+    got["follows"] = [mesh_of(result)[0], expected.vertices.tolist()]
+    # A setting re-evaluates too.
+    link.depth = 1
+    got["depth1"] = len(result.data.polygons)
+    # Loop on the quads, triangulated by bcifs: every edge in at most two faces, materials kept.
+    link.scheme, link.triangulate = "loop", True
+    got["loop"] = [len(result.data.polygons), over_two_faces(result), sorted({p.material_index for p in result.data.polygons})]
+    # Moving the source moves its result (a child), as a modifier's.
+    cube.location.x = 3.0
+    bpy.context.view_layer.update()
+    got["moved"] = list(result.matrix_world.translation)
+    # Unlink: the result frozen, the source drawn as itself again.
+    assert bpy.ops.bcifs.subdivision_unlink() == {"FINISHED"}
+    frozen = mesh_of(result)[0]
+    cube.data.vertices[1].co.y += 0.5
+    cube.data.update()
+    bpy.context.view_layer.update()
+    got["unlinked"] = [mesh_of(result)[0] == frozen, cube.display_type, cube.hide_render, link.live, result.parent is None, list(result.matrix_world.translation)]
+    # Apply: the result stays, the source is removed.
+    bpy.ops.object.select_all(action="DESELECT")
+    bpy.context.view_layer.objects.active = cube
+    assert bpy.ops.bcifs.subdivide(scheme="doo-sabin", depth=1) == {"FINISHED"}
+    applied = bpy.context.active_object
+    assert bpy.ops.bcifs.subdivision_apply() == {"FINISHED"}
+    got["applied"] = ["cage" in bpy.data.objects, applied.name in bpy.data.objects, applied.data.bcifs_subdivision.live, len(applied.data.polygons)]
+    # Suzanne through Loop: Blender's Triangulate modifier, then bcifs's own split (kept live for the saved file).
+    bpy.ops.object.select_all(action="DESELECT")
+    bpy.ops.mesh.primitive_monkey_add()
+    monkey = bpy.context.active_object
+    monkey.name = "suzanne_live"
+    theirs = monkey.copy()
+    theirs.data = monkey.data.copy()
+    bpy.context.collection.objects.link(theirs)
+    theirs.modifiers.new("t", "TRIANGULATE")
+    with bpy.context.temp_override(object=theirs, active_object=theirs):
+        bpy.ops.object.modifier_apply(modifier="t")
+    assert bpy.ops.bcifs.subdivide(scheme="loop", depth=1, triangulate=True) == {"FINISHED"}
+    ours = bpy.context.active_object
+    got["suzanne"] = [over_two_faces(theirs), over_two_faces(ours), len(ours.data.polygons)]
+    bpy.data.objects.remove(theirs)
+    # A linked duplicate shares the design's parameters with the object whose mesh it shares.
+    torus = bpy.data.objects["doo_sabin_torus"]
+    twin = torus.copy()
+    bpy.context.collection.objects.link(twin)
+    twin.data.bcifs.params["alpha"].value = 0.65
+    got["linked"] = [torus.data.bcifs.params["alpha"].value, twin.data == torus.data, len(torus.data.vertices)]
+    twin.data.bcifs.params["alpha"].value = 0.7
+    bpy.data.objects.remove(twin)
+    # A file saved when the state was on the object: moved onto the data when loaded.
+    legacy = bpy.data.objects.new("legacy", bpy.data.meshes.new("legacy"))
+    bpy.context.collection.objects.link(legacy)
+    legacy["bcifs"] = {"source": "koch", "toml": torus.data.bcifs.toml, "depth": 2, "params": [{"name": "alpha", "value": 0.6, "lo": 0.1, "hi": 0.9}]}
+    bcifs_blender._move_object_states()
+    got["legacy"] = [legacy.data.bcifs.source, legacy.data.bcifs.depth, [p.name for p in legacy.data.bcifs.params], "bcifs" in legacy.keys()]
+    bpy.data.objects.remove(legacy)
+    seen["live"] = got
 
 
 def reload():
     enable()
     bpy.ops.wm.open_mainfile(filepath=str(OUT / "scene.blend"))
     torus = bpy.data.objects["doo_sabin_torus"]
-    state = torus.bcifs
+    state = torus.data.bcifs
     before = vertices(torus)
+    # The live subdivision of Suzanne still follows its source.
+    monkey = bpy.data.objects["suzanne_live"]
+    result = next(o for o in bpy.data.objects if o.type == "MESH" and o.data.bcifs_subdivision.source == monkey)
+    was = [list(v.co) for v in result.data.vertices]
+    monkey.data.vertices[0].co.z += 0.25
+    monkey.data.update()
+    bpy.context.view_layer.update()
+    seen["live_reloaded"] = [result.data.bcifs_subdivision.live, [list(v.co) for v in result.data.vertices] != was]
     seen["reloaded"] = {
         "source": state.source,
         "params": {p.name: p.value for p in state.params},
@@ -190,9 +298,9 @@ def ui_steps():
         obj.hide_set(True)
     bpy.ops.bcifs.add(source="doo_sabin_torus", depth=5)
     torus = bpy.context.active_object
-    torus.bcifs.preview_depth = 2
-    torus.bcifs.params["alpha"].value = 0.66
-    seen["settle"] = {"preview": torus.bcifs.shown_depth}
+    torus.data.bcifs.preview_depth = 2
+    torus.data.bcifs.params["alpha"].value = 0.66
+    seen["settle"] = {"preview": torus.data.bcifs.shown_depth}
     for area in bpy.context.screen.areas:
         if area.type == "VIEW_3D":
             area.spaces.active.show_region_ui = True
@@ -221,8 +329,8 @@ def ui_steps():
                     yield
     for _ in range(15):  # 1.5 s: the slider rests, the full depth comes
         yield
-    seen["settle"]["after"] = torus.bcifs.shown_depth
-    seen["settle"]["depth"] = torus.bcifs.depth
+    seen["settle"]["after"] = torus.data.bcifs.shown_depth
+    seen["settle"]["depth"] = torus.data.bcifs.depth
     bpy.ops.screen.screenshot(filepath=str(OUT / "panel.png"))
 
 

@@ -114,6 +114,8 @@ def test_curves_are_poly_splines_or_edges_and_clouds_vertices(operators, tmp_pat
     vertices, _ = cli_vertices(tmp_path, "koch", "--depth", "4")
     koch = operators["koch"]
     assert koch["type"] == "CURVE" and koch["poly"] == "POLY" and koch["splines"] == 1
+    depth, rendered_faces = koch["bevel"]
+    assert depth > 0 and rendered_faces > 0, "a default bevel: the curve renders"
     assert np.allclose(koch["vertices"], vertices, **FLOAT32)
     assert operators["koch_edges"] == {"type": "MESH", "vertices": len(vertices), "edges": len(vertices) - 1}
     fern, _ = cli_vertices(tmp_path, "fern", "--depth", "5")
@@ -139,9 +141,49 @@ def test_subdivide_gives_bcifs_surface_of_the_exported_mesh(session, operators, 
     seen = operators[scheme]
     assert len(seen["vertices"]) == len(vertices) and seen["faces"] == faces
     assert np.allclose(seen["vertices"], vertices, **FLOAT32)
-    assert seen["source_hidden"], "the original is kept, hidden"
+    hidden, display, hide_render, parent = seen["source"]
+    assert (hidden, display, hide_render, parent) == (False, "WIRE", True, True), "the source stays, as the result's cage"
     assert seen["uv"] == (scheme != "doo-sabin"), "UVs follow Catmull-Clark and Loop"
-    assert seen["weights"]["bcifs_scheme"] == scheme
+    assert seen["settings"] == {"scheme": scheme, "depth": 2, "live": True}
+
+
+def test_a_live_subdivision_follows_its_source_and_settings(operators):
+    """Issue 46 §7: the cube's Catmull-Clark result keeps each face's
+    material (three sides of each of two slots: 16 faces a side); editing
+    the source re-evaluates it (equal to the module on the edited cube, to
+    float32); a setting (depth 1, then Loop triangulated) re-evaluates it;
+    it moves with its source; unlink freezes it and gives the source its
+    look back; apply removes the source."""
+    live = operators["live"]
+    assert live["materials"] == [0] * 48 + [1] * 48 and live["slots"] == ["m0", "m1"]
+    ours, expected = live["follows"]
+    assert np.allclose(ours, expected, **FLOAT32)
+    assert live["depth1"] == 24
+    faces, over_two, materials = live["loop"]
+    assert faces == 12 * 4 and over_two == 0 and materials == [0, 1]
+    assert live["moved"][0] == pytest.approx(3.0)
+    frozen, display, hide_render, still_live, parent_none, where = live["unlinked"]
+    assert frozen and display == "TEXTURED" and not hide_render and not still_live and parent_none
+    assert where[0] == pytest.approx(3.0), "unlinked where it was"
+    source_left, result_left, applied_live, faces = live["applied"]
+    assert (source_left, result_left, applied_live) == (False, True, False) and faces == 24  # the limit: a quad per corner
+
+
+def test_triangulate_keeps_suzanne_manifold_where_blender_does_not(operators):
+    """Issue 46 §7: Blender's Triangulate modifier puts an edge of Suzanne in
+    more than two faces (beside her vertex of valence 2); bcifs's own split
+    does not, so Loop runs on her quads."""
+    theirs, ours, faces = operators["live"]["suzanne"]
+    assert theirs > 0 and ours == 0 and faces > 0
+
+
+def test_linked_duplicates_share_parameters_and_old_files_move(operators):
+    """Issue 46 §8: a linked duplicate's slider moves the parameters the
+    original's panel shows (they live on the shared mesh); a file saved with
+    the state on the object gets it on the data when loaded."""
+    alpha, shared, vertices = operators["live"]["linked"]
+    assert alpha == pytest.approx(0.65) and shared and vertices > 0
+    assert operators["live"]["legacy"] == ["koch", 2, ["alpha"], False]
 
 
 def test_diverging_weights_are_refused_with_the_library_message(operators):
@@ -149,7 +191,9 @@ def test_diverging_weights_are_refused_with_the_library_message(operators):
 
 
 def test_a_saved_blend_reopens_editable(session, operators):
-    seen = session("reload")["reloaded"]
+    reloaded = session("reload")
+    assert reloaded["live_reloaded"] == [True, True], "a live subdivision still follows its source after reopening"
+    seen = reloaded["reloaded"]
     assert seen["source"] == "doo_sabin_torus" and seen["depth"] == 3
     assert abs(seen["params"]["alpha"] - 0.7) < 1e-6
     assert seen["vertices"] == len(operators["alpha"]["vertices"])

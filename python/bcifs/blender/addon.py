@@ -9,11 +9,17 @@ module travels beside it (``bcifs_blender/bcifs``), so Blender needs no pip.
 - ``bpy.ops.bcifs.add(source="doo_sabin_torus", depth=4)``: a new object
   from a shipped automaton or preset name, or a file (Add › BC-IFS).
 - ``bpy.ops.bcifs.subdivide(scheme="catmull-clark", depth=2)``: the active
-  mesh subdivided into a new object, the original kept and hidden
-  (Object › BC-IFS subdivide).
+  mesh subdivided into a new object that stays live, as a modifier's result
+  would: editing the source (shown as a wire cage) or the scheme's settings
+  re-evaluates it, material indices kept; ``bpy.ops.bcifs.subdivision_apply``
+  and ``bpy.ops.bcifs.subdivision_unlink`` end the link (Object › BC-IFS
+  subdivide).
 - View3D › Sidebar › BC-IFS: the active object's parameters as sliders over
   their convergence range, its depth, its verdict and JSR bounds, and the
-  parameter map as an image.
+  parameter map as an image; for a live subdivision its settings.
+
+A BC-IFS object's design and parameters live on its data (mesh or curve),
+so a linked duplicate (Alt D) shares them as it shares the geometry.
 """
 
 bl_info = {
@@ -30,6 +36,7 @@ import math
 
 import bpy
 import numpy as np
+from bpy.app.handlers import persistent
 from bpy.props import BoolProperty, CollectionProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty, StringProperty
 
 from . import bcifs
@@ -139,10 +146,12 @@ def fill_curve(cu, mesh):
         spline.use_cyclic_u = closed
 
 
-def rebuild(obj, depth):
-    """Evaluates the object's design at `depth` and its parameter values and
-    puts the result in its data. Returns an error message, or None."""
-    state = obj.bcifs
+def rebuild(data, depth):
+    """Evaluates the design kept on `data` (a BC-IFS object's mesh or curve)
+    at `depth` and its parameter values and puts the result in it, for
+    every object that shows it (linked duplicates too). Returns an error
+    message, or None."""
+    state = data.bcifs
     try:
         mesh = design_of(state).mesh(depth=depth, uv=state.uv, **values_of(state))
     except bcifs.BcifsError as e:
@@ -150,17 +159,17 @@ def rebuild(obj, depth):
         return str(e)
     state.message = ""
     state.shown_depth = depth
-    if obj.type == "CURVE":
-        fill_curve(obj.data, mesh)
+    if isinstance(data, bpy.types.Curve):
+        fill_curve(data, mesh)
     else:
-        fill_mesh(obj.data, mesh)
-    obj.data.update_tag() if hasattr(obj.data, "update_tag") else None
+        fill_mesh(data, mesh)
+    data.update_tag()
     return None
 
 
-def check(obj):
-    """The verdict and JSR bounds at the object's parameter values."""
-    state = obj.bcifs
+def check(data):
+    """The verdict and JSR bounds at the parameter values kept on `data`."""
+    state = data.bcifs
     try:
         report = design_of(state).check(**values_of(state))
     except bcifs.BcifsError as e:
@@ -174,25 +183,36 @@ def check(obj):
     state.witness = " ".join(jsr.get("witness") or [])
 
 
+def default_bevel(curve, vertices):
+    """A round bevel a two-hundredth of the curve's extent, so that it renders (a curve without a
+    bevel is invisible in renders); the user changes it in the curve's Geometry panel."""
+    extent = float(np.ptp(vertices, axis=0).max()) if len(vertices) else 0.0
+    curve.bevel_mode = "ROUND"
+    curve.bevel_depth = extent / 200.0 if extent > 0 else 0.01
+    curve.bevel_resolution = 2
+    curve.use_fill_caps = True
+
+
 # ---------------------------------------------------------------- properties
 
 
 def _value_changed(param, context):
     """A parameter moved: the preview depth now, the full depth once it rests."""
-    obj = param.id_data
-    if not getattr(obj, "bcifs", None) or not obj.bcifs.toml or obj.bcifs.updating:
+    data = param.id_data
+    state = getattr(data, "bcifs", None)
+    if state is None or not state.toml or state.updating:
         return
-    state = obj.bcifs
     preview = min(state.preview_depth, state.depth)
-    rebuild(obj, preview)
-    check(obj)
+    rebuild(data, preview)
+    check(data)
     if preview < state.depth and bpy.app.timers is not None and not bpy.app.background:
-        token = _PENDING[obj.name] = _PENDING.get(obj.name, 0) + 1
-        name = obj.name
+        key = (type(data).__name__, data.name)
+        token = _PENDING[key] = _PENDING.get(key, 0) + 1
+        collection = bpy.data.curves if isinstance(data, bpy.types.Curve) else bpy.data.meshes
 
         def settle():
-            target = bpy.data.objects.get(name)
-            if target is not None and _PENDING.get(name) == token:
+            target = collection.get(key[1])
+            if target is not None and _PENDING.get(key) == token:
                 rebuild(target, target.bcifs.depth)
             return None
 
@@ -200,9 +220,8 @@ def _value_changed(param, context):
 
 
 def _depth_changed(state, context):
-    obj = state.id_data
     if state.toml and not state.updating:
-        rebuild(obj, state.depth)
+        rebuild(state.id_data, state.depth)
 
 
 def _t_get(self):
@@ -263,7 +282,7 @@ class BCIFS_OT_add(bpy.types.Operator):
     depth: IntProperty(name="Depth", min=0, max=_MAX_DEPTH, default=4)
     curve_as: EnumProperty(
         name="Curves as",
-        items=[("CURVE", "Curve", "Poly splines (render with a bevel depth)"), ("EDGES", "Mesh edges", "Loose edges of a mesh")],
+        items=[("CURVE", "Curve", "Poly splines with a round bevel, so that they render"), ("EDGES", "Mesh edges", "Loose edges of a mesh")],
         default="CURVE",
     )
     uv: BoolProperty(name="UVs", default=False, description="Texture coordinates on surfaces")
@@ -285,7 +304,7 @@ class BCIFS_OT_add(bpy.types.Operator):
         obj = bpy.data.objects.new(name, data)
         context.collection.objects.link(obj)
         obj.location = context.scene.cursor.location
-        state = obj.bcifs
+        state = data.bcifs
         state.updating = True
         state.source, state.toml, state.uv = self.source, design.to_toml(), self.uv
         state.depth = self.depth
@@ -302,15 +321,23 @@ class BCIFS_OT_add(bpy.types.Operator):
         state.updating = False
         if is_curve and self.curve_as == "CURVE":
             fill_curve(data, mesh)
+            default_bevel(data, mesh.vertices)
         else:
             fill_mesh(data, mesh)
         state.shown_depth = self.depth
-        check(obj)
+        check(data)
         for other in context.selected_objects:
             other.select_set(False)
         obj.select_set(True)
         context.view_layer.objects.active = obj
         return {"FINISHED"}
+
+
+def data_state(obj):
+    """The BC-IFS state of an object's data (mesh or curve), or None."""
+    data = getattr(obj, "data", None) if obj is not None else None
+    state = getattr(data, "bcifs", None)
+    return state if state is not None and state.toml else None
 
 
 def _has_faces(mesh):
@@ -328,12 +355,12 @@ class BCIFS_OT_apply(bpy.types.Operator):
     @classmethod
     def poll(cls, context):
         obj = context.active_object
-        return obj is not None and bool(obj.bcifs.toml)
+        return data_state(context.active_object) is not None
 
     def execute(self, context):
-        obj = context.active_object
-        error = rebuild(obj, obj.bcifs.depth)
-        check(obj)
+        data = context.active_object.data
+        error = rebuild(data, data.bcifs.depth)
+        check(data)
         if error:
             self.report({"ERROR"}, error)
             return {"CANCELLED"}
@@ -352,11 +379,12 @@ class BCIFS_OT_map(bpy.types.Operator):
     @classmethod
     def poll(cls, context):
         obj = context.active_object
-        return obj is not None and bool(obj.bcifs.toml) and len(obj.bcifs.params) >= 2
+        state = data_state(context.active_object)
+        return state is not None and len(state.params) >= 2
 
     def execute(self, context):
         obj = context.active_object
-        state = obj.bcifs
+        state = obj.data.bcifs
         px, py = state.params[0], state.params[1]
         wide = lambda p: (min(p.lo, p.value) - 0.5 * (p.hi - p.lo), max(p.hi, p.value) + 0.5 * (p.hi - p.lo))  # noqa: E731
         (x0, x1), (y0, y1) = wide(px), wide(py)
@@ -396,8 +424,124 @@ SCHEMES = [
 ]
 
 
+CLASSIC = {"doo-sabin": {"alpha": 0.5625, "beta": 0.1875, "gamma": 0.1875}, "loop": {"w": 0.375, "sigma": 1.0}}
+
+
+def changed_weights(settings):
+    """The weights changed from the classic rule of `settings.scheme`, by the CLI's names."""
+    rule = CLASSIC.get(settings.scheme, {})
+    return {k: getattr(settings, k) for k, v in rule.items() if not math.isclose(getattr(settings, k), v, rel_tol=0, abs_tol=1e-12)}
+
+
+def subdivided(source, settings, depsgraph):
+    """The source object's evaluated mesh (its modifiers applied) subdivided as
+    `settings` say, its material indices carried (`face_data`): a `bcifs.Mesh`.
+    Raises `bcifs.BcifsError` (diverging weights, a face-less mesh)."""
+    evaluated = source.evaluated_get(depsgraph)
+    me = evaluated.to_mesh()
+    try:
+        vertices, faces, uv, uv_faces = mesh_arrays(me, settings.uv)
+        materials = np.zeros(len(me.polygons), dtype=np.int32)
+        me.polygons.foreach_get("material_index", materials)
+    finally:
+        evaluated.to_mesh_clear()
+    if not faces:
+        raise bcifs.BcifsError(f"{source.name} has no faces to subdivide")
+    return bcifs.subdivide(
+        vertices, faces, settings.scheme, settings.depth, net=settings.net, uv=uv, uv_faces=uv_faces,
+        triangulate=settings.triangulate, face_data={"material": materials}, **changed_weights(settings),
+    )
+
+
+def fill_subdivided(me, result, source):
+    """Mesh data `me` replaced by a subdivision `result` of `source`: its
+    geometry, each face's material index, the source's material slots."""
+    # The slots first: clearing them resets the faces' material indices.
+    if list(me.materials) != list(source.data.materials):
+        me.materials.clear()
+        for material in source.data.materials:
+            me.materials.append(material)
+    fill_mesh(me, result)
+    me.polygons.foreach_set("material_index", result.face_data["material"].astype(np.int32))
+    me.update()
+
+
+# Results being re-evaluated (their own update must not start another).
+_RESUBDIVIDING = set()
+
+
+def resubdivide(me, depsgraph=None):
+    """Re-evaluates the live subdivision kept on mesh data `me` from its
+    source as it is now. Returns an error message, or None."""
+    link = me.bcifs_subdivision
+    source = link.source
+    if not link.live or source is None or source.type != "MESH" or me.name in _RESUBDIVIDING:
+        return None
+    _RESUBDIVIDING.add(me.name)
+    try:
+        result = subdivided(source, link, depsgraph or bpy.context.evaluated_depsgraph_get())
+        fill_subdivided(me, result, source)
+        link.message = ""
+        return None
+    except bcifs.BcifsError as e:
+        link.message = str(e)  # the last good mesh kept, as a slider's divergence keeps it
+        return str(e)
+    finally:
+        _RESUBDIVIDING.discard(me.name)
+
+
+def _settings_changed(link, context):
+    if link.live:
+        resubdivide(link.id_data)
+
+
+def _no_cycle(link, obj):
+    """A source may be any mesh object but one whose data is this result, or fed by it."""
+    seen = set()
+    while obj is not None and obj.type == "MESH" and obj.name not in seen:
+        if obj.data == link.id_data:
+            return False
+        seen.add(obj.name)
+        nxt = obj.data.bcifs_subdivision
+        obj = nxt.source if nxt.live else None
+    return True
+
+
+class BcifsSubdivision(bpy.types.PropertyGroup):
+    """A live subdivision, kept on the result's mesh data: its source and settings."""
+
+    live: BoolProperty(name="Live", default=False, description="Re-evaluated when the source or a setting changes")
+    source: PointerProperty(name="Source", type=bpy.types.Object, poll=_no_cycle, update=_settings_changed)
+    scheme: EnumProperty(name="Scheme", items=SCHEMES, default="catmull-clark", update=_settings_changed)
+    depth: IntProperty(name="Depth", min=0, max=8, default=2, update=_settings_changed)
+    net: BoolProperty(name="Control net", default=False, description="The net after the steps instead of the limit surface", update=_settings_changed)
+    uv: BoolProperty(name="UVs", default=True, description="Carry the active UV map (Catmull-Clark and Loop)", update=_settings_changed)
+    triangulate: BoolProperty(
+        name="Triangulate",
+        default=False,
+        description="Split each face into a fan of triangles first (Loop and √3 on quads), without the edge in four triangles "
+        "that Blender's Triangulate modifier makes beside a vertex of valence 2",
+        update=_settings_changed,
+    )
+    alpha: FloatProperty(name="alpha", default=0.5625, precision=4, description="Doo-Sabin quad rule: the own corner's weight", update=_settings_changed)
+    beta: FloatProperty(name="beta", default=0.1875, precision=4, description="Doo-Sabin quad rule: a neighbouring corner's weight", update=_settings_changed)
+    gamma: FloatProperty(name="gamma", default=0.1875, precision=4, description="Doo-Sabin quad rule: the other neighbour's weight", update=_settings_changed)
+    w: FloatProperty(name="w", default=0.375, precision=4, description="Loop: the edge rule's weight of the edge's ends", update=_settings_changed)
+    sigma: FloatProperty(name="sigma", default=1.0, precision=4, description="Loop: the vertex rule's scale of Warren's β", update=_settings_changed)
+    message: StringProperty(name="Message")
+
+    def draw(self, layout):
+        for name in ("source", "scheme", "depth", "net", "uv", "triangulate"):
+            layout.prop(self, name)
+        for name in {"doo-sabin": ("alpha", "beta", "gamma"), "loop": ("w", "sigma")}.get(self.scheme, ()):
+            layout.prop(self, name)
+
+
+SETTINGS = ("scheme", "depth", "net", "uv", "triangulate", "alpha", "beta", "gamma", "w", "sigma")
+
+
 class BCIFS_OT_subdivide(bpy.types.Operator):
-    """Subdivide the active mesh by a BC-IFS scheme into a new object (the original kept, hidden)"""
+    """Subdivide the active mesh by a BC-IFS scheme into a new object that stays live (the source kept as its wire cage)"""
 
     bl_idname = "bcifs.subdivide"
     bl_label = "BC-IFS Subdivide"
@@ -407,6 +551,7 @@ class BCIFS_OT_subdivide(bpy.types.Operator):
     depth: IntProperty(name="Depth", min=0, max=8, default=2)
     net: BoolProperty(name="Control net", default=False, description="The net after the steps instead of the limit surface")
     uv: BoolProperty(name="UVs", default=True, description="Carry the active UV map (Catmull-Clark and Loop)")
+    triangulate: BoolProperty(name="Triangulate", default=False, description="Split each face into a fan of triangles first (Loop and √3 on quads)")
     alpha: FloatProperty(name="alpha", default=0.5625, precision=4, description="Doo-Sabin quad rule: the own corner's weight")
     beta: FloatProperty(name="beta", default=0.1875, precision=4, description="Doo-Sabin quad rule: a neighbouring corner's weight")
     gamma: FloatProperty(name="gamma", default=0.1875, precision=4, description="Doo-Sabin quad rule: the other neighbour's weight")
@@ -420,54 +565,135 @@ class BCIFS_OT_subdivide(bpy.types.Operator):
 
     def draw(self, context):
         layout = self.layout
-        for name in ("scheme", "depth", "net", "uv"):
+        for name in ("scheme", "depth", "net", "uv", "triangulate"):
             layout.prop(self, name)
-        weights = {"doo-sabin": ("alpha", "beta", "gamma"), "loop": ("w", "sigma")}.get(self.scheme, ())
-        for name in weights:
+        for name in {"doo-sabin": ("alpha", "beta", "gamma"), "loop": ("w", "sigma")}.get(self.scheme, ()):
             layout.prop(self, name)
-
-    def weights(self):
-        """The weights the user changed from the classic rule, by the CLI's names."""
-        classic = {"doo-sabin": {"alpha": 0.5625, "beta": 0.1875, "gamma": 0.1875}, "loop": {"w": 0.375, "sigma": 1.0}}
-        rule = classic.get(self.scheme, {})
-        return {k: getattr(self, k) for k, v in rule.items() if not math.isclose(getattr(self, k), v, rel_tol=0, abs_tol=1e-12)}
 
     def execute(self, context):
         source = context.active_object
-        depsgraph = context.evaluated_depsgraph_get()
-        evaluated = source.evaluated_get(depsgraph)
-        me = evaluated.to_mesh()
         try:
-            vertices, faces, uv, uv_faces = mesh_arrays(me, self.uv)
-        finally:
-            evaluated.to_mesh_clear()
-        if not faces:
-            self.report({"ERROR"}, f"{source.name} has no faces to subdivide")
-            return {"CANCELLED"}
-        try:
-            result = bcifs.subdivide(vertices, faces, self.scheme, self.depth, net=self.net, uv=uv, uv_faces=uv_faces, **self.weights())
+            result = subdivided(source, self, context.evaluated_depsgraph_get())
         except bcifs.BcifsError as e:
             self.report({"ERROR"}, str(e))
             return {"CANCELLED"}
         name = f"{source.name}.{self.scheme}"
         data = bpy.data.meshes.new(name)
-        fill_mesh(data, result)
-        for material in source.data.materials:
-            data.materials.append(material)
+        fill_subdivided(data, result, source)
         obj = bpy.data.objects.new(name, data)
         for collection in source.users_collection:
             collection.objects.link(obj)
-        obj.matrix_world = source.matrix_world.copy()
-        obj["bcifs_scheme"], obj["bcifs_depth"], obj["bcifs_source"] = self.scheme, self.depth, source.name
-        for k, v in self.weights().items():
-            obj[f"bcifs_{k}"] = v
-        source.hide_set(True)
+        # A child of its source at the same place: moving the source moves it, as a modifier's result.
+        obj.parent = source
+        link = data.bcifs_subdivision
+        for name in SETTINGS:
+            setattr(link, name, getattr(self, name))
+        link.source = source
+        link.live = True
+        # The source stays editable, drawn as the result's wire cage and not rendered.
+        source.display_type = "WIRE"
         source.hide_render = True
         for other in context.selected_objects:
             other.select_set(False)
         obj.select_set(True)
         context.view_layer.objects.active = obj
         return {"FINISHED"}
+
+
+def _live_result(context):
+    obj = context.active_object
+    return obj is not None and obj.type == "MESH" and obj.data.bcifs_subdivision.live
+
+
+def _unlink(obj):
+    """Ends the live link of the result `obj` (kept where it is) and returns its source."""
+    link = obj.data.bcifs_subdivision
+    source = link.source
+    world = obj.matrix_world.copy()
+    obj.parent = None
+    obj.matrix_world = world
+    link.live = False
+    link.source = None
+    return source
+
+
+class BCIFS_OT_subdivision_apply(bpy.types.Operator):
+    """Make the live subdivision a plain mesh and remove its source (as applying a modifier)"""
+
+    bl_idname = "bcifs.subdivision_apply"
+    bl_label = "Apply subdivision"
+    bl_options = {"REGISTER", "UNDO"}
+
+    @classmethod
+    def poll(cls, context):
+        return _live_result(context)
+
+    def execute(self, context):
+        source = _unlink(context.active_object)
+        still_used = any(o.type == "MESH" and o.data.bcifs_subdivision.live and o.data.bcifs_subdivision.source == source for o in bpy.data.objects)
+        if source is not None and not still_used:
+            bpy.data.objects.remove(source)
+        return {"FINISHED"}
+
+
+class BCIFS_OT_subdivision_unlink(bpy.types.Operator):
+    """Freeze the live subdivision as it is and give its source back its own look"""
+
+    bl_idname = "bcifs.subdivision_unlink"
+    bl_label = "Unlink subdivision"
+    bl_options = {"REGISTER", "UNDO"}
+
+    @classmethod
+    def poll(cls, context):
+        return _live_result(context)
+
+    def execute(self, context):
+        source = _unlink(context.active_object)
+        if source is not None:
+            source.display_type = "TEXTURED"
+            source.hide_render = False
+        return {"FINISHED"}
+
+
+@persistent
+def _on_depsgraph_update(scene, depsgraph):
+    """Live subdivisions follow their sources: a source whose geometry (or
+    mesh data) changed re-evaluates every live result fed by it."""
+    changed_objects, changed_meshes = set(), set()
+    for update in depsgraph.updates:
+        original = getattr(update.id, "original", update.id)
+        if isinstance(original, bpy.types.Object) and update.is_updated_geometry:
+            changed_objects.add(original.name)
+        elif isinstance(original, bpy.types.Mesh):
+            changed_meshes.add(original.name)
+    if not changed_objects and not changed_meshes:
+        return
+    for me in bpy.data.meshes:
+        link = me.bcifs_subdivision
+        source = link.source if link.live else None
+        if source is not None and (source.name in changed_objects or source.data.name in changed_meshes):
+            resubdivide(me, depsgraph)
+
+
+@persistent
+def _move_object_states(*_):
+    """Files saved before the state moved to the data (it was on the
+    object): each object's state copied onto its data, where it lives now."""
+    for obj in bpy.data.objects:
+        old = obj.get("bcifs")
+        state = getattr(obj.data, "bcifs", None)
+        if old is None or state is None or state.toml or not old.get("toml"):
+            continue
+        old = old.to_dict()
+        state.updating = True
+        for key in ("source", "toml", "depth", "preview_depth", "shown_depth", "uv", "verdict", "jsr_lower", "jsr_upper", "witness", "message"):
+            if key in old:
+                setattr(state, key, old[key])
+        for p in old.get("params", []):
+            q = state.params.add()
+            q.name, q.lo, q.hi, q.value = p.get("name", ""), p.get("lo", 0.0), p.get("hi", 0.0), p.get("value", 0.0)
+        state.updating = False
+        del obj["bcifs"]
 
 
 def mesh_arrays(me, with_uv):
@@ -506,13 +732,23 @@ class BCIFS_PT_panel(bpy.types.Panel):
     def draw(self, context):
         layout = self.layout
         obj = context.active_object
-        if obj is None or not obj.bcifs.toml:
+        state = data_state(obj)
+        if obj is not None and obj.type == "MESH" and obj.data.bcifs_subdivision.live:
+            link = obj.data.bcifs_subdivision
+            box = layout.box()
+            box.label(text="Live subdivision", icon="MOD_SUBSURF")
+            link.draw(box)
+            if link.message:
+                box.label(text=link.message[:120], icon="ERROR")
+            row = box.row(align=True)
+            row.operator("bcifs.subdivision_apply", text="Apply")
+            row.operator("bcifs.subdivision_unlink", text="Unlink")
+        if state is None:
             layout.label(text="Add › BC-IFS, or select a BC-IFS object")
             layout.operator("bcifs.add", icon="ADD")
             if obj is not None and obj.type == "MESH":
                 layout.operator("bcifs.subdivide", icon="MOD_SUBSURF")
             return
-        state = obj.bcifs
         layout.label(text=f"{state.source}", icon="OUTLINER_OB_SURFACE" if obj.type == "MESH" else "OUTLINER_OB_CURVE")
         col = layout.column(align=True)
         for p in state.params:
@@ -523,6 +759,8 @@ class BCIFS_PT_panel(bpy.types.Panel):
             col.label(text="Sliders span each convergence range")
         else:
             col.label(text="No free parameter")
+        if obj.data.users > 1:
+            col.label(text=f"Shared by {obj.data.users} linked objects", icon="LINKED")
         row = layout.row(align=True)
         row.prop(state, "depth")
         row.prop(state, "preview_depth", text="Preview")
@@ -548,20 +786,40 @@ def menu_object(self, context):
     self.layout.operator("bcifs.subdivide", icon="MOD_SUBSURF")
 
 
-CLASSES = (BcifsParameter, BcifsState, BCIFS_OT_add, BCIFS_OT_apply, BCIFS_OT_map, BCIFS_OT_subdivide, BCIFS_PT_panel)
+CLASSES = (
+    BcifsParameter,
+    BcifsState,
+    BcifsSubdivision,
+    BCIFS_OT_add,
+    BCIFS_OT_apply,
+    BCIFS_OT_map,
+    BCIFS_OT_subdivide,
+    BCIFS_OT_subdivision_apply,
+    BCIFS_OT_subdivision_unlink,
+    BCIFS_PT_panel,
+)
 
 
 def register():
     for cls in CLASSES:
         bpy.utils.register_class(cls)
-    bpy.types.Object.bcifs = PointerProperty(type=BcifsState)
+    # On the data: linked duplicates share a design's parameters and a live subdivision.
+    bpy.types.Mesh.bcifs = PointerProperty(type=BcifsState)
+    bpy.types.Curve.bcifs = PointerProperty(type=BcifsState)
+    bpy.types.Mesh.bcifs_subdivision = PointerProperty(type=BcifsSubdivision)
     bpy.types.VIEW3D_MT_add.append(menu_add)
     bpy.types.VIEW3D_MT_object.append(menu_object)
+    bpy.app.handlers.depsgraph_update_post.append(_on_depsgraph_update)
+    bpy.app.handlers.load_post.append(_move_object_states)
 
 
 def unregister():
+    bpy.app.handlers.load_post.remove(_move_object_states)
+    bpy.app.handlers.depsgraph_update_post.remove(_on_depsgraph_update)
     bpy.types.VIEW3D_MT_object.remove(menu_object)
     bpy.types.VIEW3D_MT_add.remove(menu_add)
-    del bpy.types.Object.bcifs
+    del bpy.types.Mesh.bcifs_subdivision
+    del bpy.types.Curve.bcifs
+    del bpy.types.Mesh.bcifs
     for cls in reversed(CLASSES):
         bpy.utils.unregister_class(cls)
