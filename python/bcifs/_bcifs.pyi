@@ -35,6 +35,8 @@ class Mesh:
     """The `face_data` given to `subdivide`, each face's rows from its source face."""
     def to_trimesh(self) -> Any:
         """A trimesh `Trimesh`, `Path3D` or `PointCloud` (trimesh must be installed)."""
+    def to_open3d(self) -> Any:
+        """An Open3D `TriangleMesh`, `LineSet` or `PointCloud` (Open3D must be installed)."""
 
 class Design:
     """An automaton with its model."""

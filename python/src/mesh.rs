@@ -283,6 +283,61 @@ impl Mesh {
         trimesh.getattr("PointCloud")?.call((vertices,), Some(&kwargs))
     }
 
+    /// The mesh as Open3D has it (Open3D must be installed): a
+    /// `TriangleMesh` (faces fanned into triangles as `to_trimesh` fans
+    /// them; vertex normals, colours as floats in [0, 1], and texture
+    /// coordinates per triangle corner, Open3D's `triangle_uvs`), a
+    /// `LineSet` for curves, or a `PointCloud` (with its colours).
+    fn to_open3d<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let o3d = py.import("open3d")?;
+        let (geometry, utility) = (o3d.getattr("geometry")?, o3d.getattr("utility")?);
+        let numpy = py.import("numpy")?;
+        // Open3D's vectors take float64 and int32 arrays.
+        let as_type = |array: &Bound<'py, PyAny>, dtype: &str| -> PyResult<Bound<'py, PyAny>> {
+            numpy.call_method1("ascontiguousarray", (array, numpy.getattr(dtype)?))
+        };
+        let vector3d =
+            |array: &Bound<'py, PyAny>| utility.getattr("Vector3dVector")?.call1((as_type(array, "float64")?,));
+        let vertices = vector3d(self.vertices.bind(py))?;
+        let colours = |geometry: &Bound<'py, PyAny>, name: &str| -> PyResult<()> {
+            if let Some(c) = &self.colours {
+                let floats = c.bind(py).call_method1("__truediv__", (255.0,))?;
+                geometry.setattr(name, vector3d(&floats)?)?;
+            }
+            Ok(())
+        };
+        let faces: Vec<Vec<i64>> = self.faces.bind(py).extract()?;
+        let triangles: Vec<i32> =
+            faces.iter().flat_map(|f| bcifs::render::fan(f, 0).flatten()).map(|i| i as i32).collect();
+        if !triangles.is_empty() {
+            let indices = utility.getattr("Vector3iVector")?.call1((matrix(py, triangles, 3),))?;
+            let mesh = geometry.getattr("TriangleMesh")?.call1((vertices, indices))?;
+            if let Some(n) = &self.normals {
+                mesh.setattr("vertex_normals", vector3d(n.bind(py))?)?;
+            }
+            colours(&mesh, "vertex_colors")?;
+            if let (Some(uv), Some(uv_faces)) = (&self.uv, &self.uv_faces) {
+                let uv_faces: Vec<Vec<i64>> = uv_faces.bind(py).extract()?;
+                let t: Vec<[f64; 2]> = uv.bind(py).extract()?;
+                let corners = uv_faces.iter().flat_map(|f| bcifs::render::fan(f, 0).flatten());
+                let per_corner: Vec<f64> = corners.flat_map(|k| t[k as usize]).collect();
+                mesh.setattr("triangle_uvs", utility.getattr("Vector2dVector")?.call1((matrix(py, per_corner, 2),))?)?;
+            }
+            return Ok(mesh);
+        }
+        let edges = self.edges.bind(py);
+        if edges.len()? > 0 {
+            let lines = utility.getattr("Vector2iVector")?.call1((as_type(edges.as_any(), "int32")?,))?;
+            return geometry.getattr("LineSet")?.call1((vertices, lines));
+        }
+        let cloud = geometry.getattr("PointCloud")?.call1((vertices,))?;
+        if let Some(n) = &self.normals {
+            cloud.setattr("normals", vector3d(n.bind(py))?)?;
+        }
+        colours(&cloud, "colors")?;
+        Ok(cloud)
+    }
+
     fn __repr__(&self, py: Python<'_>) -> String {
         let faces = self.faces.bind(py).len().unwrap_or(0);
         format!(
