@@ -90,6 +90,11 @@ impl Drop for Steps<'_> {
 #[derive(Clone, Debug, Default)]
 pub struct Cancel(Arc<std::sync::atomic::AtomicBool>);
 
+thread_local! {
+    /// The flag [`Cancel::scope`] installed on this thread.
+    static AMBIENT: std::cell::RefCell<Option<Cancel>> = const { std::cell::RefCell::new(None) };
+}
+
 impl Cancel {
     /// A flag not set.
     pub fn new() -> Cancel {
@@ -104,6 +109,41 @@ impl Cancel {
     /// Whether [`Cancel::cancel`] was called on this flag or a clone.
     pub fn is_cancelled(&self) -> bool {
         self.0.load(std::sync::atomic::Ordering::Relaxed)
+    }
+
+    /// Runs `work` with this flag as the calling thread's ambient one: the
+    /// steps that take no flag of their own (a subdivision step in memory)
+    /// look at it every few thousand items and stop with an
+    /// [`std::io::ErrorKind::Interrupted`] error once it is set. The thread's
+    /// earlier ambient flag is back when `work` returns (or panics).
+    ///
+    /// ```
+    /// let cancel = bcifs::Cancel::new();
+    /// cancel.cancel();
+    /// let cube = bcifs::mesh::PolyMesh::cube();
+    /// let job = bcifs::mesh::Subdivision {
+    ///     scheme: bcifs::mesh::Scheme::CatmullClark,
+    ///     depth: 6,
+    ///     weights: None,
+    ///     memory_limit: 1 << 30,
+    /// };
+    /// assert!(cancel.scope(|| cube.subdivided(&job, false)).is_err());
+    /// assert!(cube.subdivided(&job, false).is_ok());
+    /// ```
+    pub fn scope<T>(&self, work: impl FnOnce() -> T) -> T {
+        struct Restore(Option<Cancel>);
+        impl Drop for Restore {
+            fn drop(&mut self) {
+                AMBIENT.with(|a| a.replace(self.0.take()));
+            }
+        }
+        let _restore = Restore(AMBIENT.with(|a| a.replace(Some(self.clone()))));
+        work()
+    }
+
+    /// The calling thread's ambient flag ([`Cancel::scope`]), if any.
+    pub(crate) fn ambient() -> Option<Cancel> {
+        AMBIENT.with(|a| a.borrow().clone())
     }
 
     /// An [`std::io::ErrorKind::Interrupted`] error once the flag is set:

@@ -51,22 +51,48 @@ pub(crate) fn param_value(name: &str, v: &Bound<'_, PyAny>) -> PyResult<f64> {
     exact_value(v).map(|n| n.to_f64()).map_err(|e| err(format!("parameter `{name}`: {e}")))
 }
 
-/// How long an interrupted call waits for its work to notice the
-/// cancellation (a file being written removes its temporary file) before it
-/// raises anyway. Evaluations, chaos games, sweeps and the copies into
-/// arrays look at the flag every chunk; what does not (a subdivision step)
-/// finishes in the background, its result dropped.
-const GRACE: std::time::Duration = std::time::Duration::from_millis(800);
+/// How long an interrupted call that writes a file waits for its work to
+/// notice the cancellation (the writer removes its temporary file) before it
+/// raises anyway.
+const FILE_GRACE: std::time::Duration = std::time::Duration::from_millis(800);
+
+/// How long an interrupted call that returns arrays waits for its work to
+/// stop: evaluations, chaos games, sweeps, subdivision steps and the copies
+/// into arrays look at the flag every few thousand items; a longer phase
+/// (zeroing a large buffer) ends in the background, its result dropped, so
+/// that Ctrl-C raises within a tenth of a second.
+const ARRAY_GRACE: std::time::Duration = std::time::Duration::from_millis(60);
 
 /// Runs `work` on a worker thread, the GIL released, while this thread
 /// forwards its progress to `progress` (a callable taking `done, total`:
 /// tqdm's `update` fits through a small lambda) and checks for Ctrl-C every
-/// 100 ms: on KeyboardInterrupt the work is cancelled through the
-/// [`bcifs::render::Cancel`] it was given (no file is left) and the exception
-/// raised within a second.
+/// 20 ms: on KeyboardInterrupt the work is cancelled through the
+/// [`bcifs::render::Cancel`] it was given and the exception raised once it
+/// stops, or after [`ARRAY_GRACE`].
 fn cancellable<T: Send + 'static>(
     py: Python<'_>,
     progress: Option<&Bound<'_, PyAny>>,
+    work: impl FnOnce(bcifs::render::Cancel, Option<bcifs::render::Progress>) -> T + Send + 'static,
+) -> PyResult<T> {
+    cancellable_within(py, progress, ARRAY_GRACE, work)
+}
+
+/// [`cancellable`] for a call that writes a file: on Ctrl-C it waits up to
+/// [`FILE_GRACE`] for the writer to remove its temporary file.
+fn cancellable_writing<T: Send + 'static>(
+    py: Python<'_>,
+    progress: Option<&Bound<'_, PyAny>>,
+    work: impl FnOnce(bcifs::render::Cancel, Option<bcifs::render::Progress>) -> T + Send + 'static,
+) -> PyResult<T> {
+    cancellable_within(py, progress, FILE_GRACE, work)
+}
+
+/// The body of [`cancellable`] and [`cancellable_writing`]: on Ctrl-C, the
+/// work is cancelled and waited for up to `grace`.
+fn cancellable_within<T: Send + 'static>(
+    py: Python<'_>,
+    progress: Option<&Bound<'_, PyAny>>,
+    grace: std::time::Duration,
     work: impl FnOnce(bcifs::render::Cancel, Option<bcifs::render::Progress>) -> T + Send + 'static,
 ) -> PyResult<T> {
     let cancel = bcifs::render::Cancel::new();
@@ -80,7 +106,8 @@ fn cancellable<T: Send + 'static>(
     let rx = std::sync::Mutex::new(rx);
     let worker_cancel = cancel.clone();
     let handle = std::thread::spawn(move || work(worker_cancel, reporter));
-    let wait = std::time::Duration::from_millis(100);
+    // Signals are looked at every 20 ms: Ctrl-C stops a call within a tenth of a second.
+    let wait = std::time::Duration::from_millis(20);
     while !handle.is_finished() {
         let message = py.detach(|| rx.lock().ok().and_then(|r| r.recv_timeout(wait).ok()));
         let mut interrupted = None;
@@ -98,7 +125,7 @@ fn cancellable<T: Send + 'static>(
             cancel.cancel();
             let started = std::time::Instant::now();
             py.detach(|| {
-                while !handle.is_finished() && started.elapsed() < GRACE {
+                while !handle.is_finished() && started.elapsed() < grace {
                     std::thread::sleep(std::time::Duration::from_millis(10));
                 }
             });
@@ -303,7 +330,7 @@ impl Design {
     ) -> PyResult<Bound<'py, PyDict>> {
         let options = options::options(options)?;
         let design = self.inner.clone();
-        let report = cancellable(py, progress, move |cancel, reporter| {
+        let report = cancellable_writing(py, progress, move |cancel, reporter| {
             let mut options = options.with_cancel(cancel);
             options.progress = reporter;
             bcifs::render::render(&design, &options, &path)

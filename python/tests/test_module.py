@@ -198,34 +198,43 @@ def test_progress_is_reported(tmp_path):
     assert seen[-1][0] == seen[-1][1], "the last report says the work is done"
 
 
+CUBE = "v = [[x, y, z] for z in (0, 1) for y in (0, 1) for x in (0, 1)]; f = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [1, 3, 7, 5], [3, 2, 6, 7], [2, 0, 4, 6]]; "
+
+
 @pytest.mark.parametrize(
-    "call",
+    "call, within",
     [
-        "bcifs.load('fern').render({out!r}, samples=4_000_000_000, size=(64, 64))",
-        "bcifs.sweep('corner_cutting', ('a', -0.5, 1, 64), ('b', -0.5, 1, 64), what='dimension', tiles=1)",
-        "bcifs.load('doo_sabin_torus').mesh(depth=9)",
-        "bcifs.load('fern').points(60_000_000)",
+        ("bcifs.load('fern').render({out!r}, samples=4_000_000_000, size=(64, 64))", 1.0),
+        ("bcifs.sweep('corner_cutting', ('a', -0.5, 1, 64), ('b', -0.5, 1, 64), what='dimension', tiles=1)", 0.2),
+        ("bcifs.load('doo_sabin_torus').mesh(depth=9)", 0.2),
+        ("bcifs.load('fern').points(60_000_000)", 0.2),
+        (CUBE + "bcifs.subdivide(v, f, 'loop', 10, triangulate=True)", 0.2),
+        (CUBE + "bcifs.subdivide(v, f, 'doo-sabin', 11)", 0.2),
+        (CUBE + "bcifs.subdivide(v, f, 'catmull-clark', 10)", 0.2),
     ],
 )
-def test_ctrl_c_stops_a_long_call_and_leaves_no_file(tmp_path, call):
+def test_ctrl_c_stops_a_long_call_and_leaves_no_file(tmp_path, call, within):
+    """Issue 46 §5: Ctrl-C raises KeyboardInterrupt within a tenth of a
+    second in the calls that return arrays (signals looked at every 20 ms,
+    the work at every few thousand items, subdivision steps included, and
+    waited for at most 60 ms: by construction under 0.1 s, asserted under
+    0.2 s for a noisy machine), within a second in `render`, which waits
+    for its writer to remove the temporary file; no file is left."""
     import signal
     import sys
     import time
 
     out = tmp_path / "long.png"
-    child = subprocess.Popen(
-        [sys.executable, "-c", "import bcifs; " + call.format(out=str(out))],
-        stderr=subprocess.PIPE,
-        text=True,
-    )
+    script = "import bcifs, time\ntry:\n    " + call.format(out=str(out)) + "\nexcept KeyboardInterrupt:\n    print(time.monotonic(), flush=True)\n    raise\n"
+    child = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     time.sleep(1.2)
     assert child.poll() is None, "still working when interrupted"
-    sent = time.monotonic()
+    sent = time.monotonic()  # CLOCK_MONOTONIC: the same clock in both processes
     child.send_signal(signal.SIGINT)
-    _, stderr = child.communicate(timeout=30)
-    # The work looks at the flag every chunk (~0.1 s here); the rest is a noisy machine's margin.
-    assert time.monotonic() - sent < 1.0, "stopped within a second"
+    stdout, stderr = child.communicate(timeout=30)
     assert "KeyboardInterrupt" in stderr
+    raised = float(stdout.strip()) - sent
+    assert raised < within, f"KeyboardInterrupt {raised:.3f} s after the signal"
     assert not out.exists() and not list(tmp_path.iterdir()), "no file, no temporary file"
 
 

@@ -426,10 +426,10 @@ pub fn chaos_game(automaton: &Automaton<f64>, model: &Model, settings: &RandomSe
     if game.cancelled() {
         return Err(EvalError::Cancelled);
     }
-    let mut shape = Shape::default();
-    crate::geometry::Sink::object(&mut shape, "chaos game")?;
-    crate::geometry::Sink::vertices(&mut shape, game.dim(), &out, None)?;
-    Ok(shape)
+    // The points moved into the shape, not copied (a copy of a billion coordinates is not cancellable).
+    let (dim, count) = (game.dim(), out.len() / game.dim().max(1));
+    let object = crate::geometry::Object { name: "chaos game".into(), vertices: 0..count, ..Default::default() };
+    Ok(Shape { dim, positions: out, objects: vec![object], ..Shape::default() })
 }
 
 impl ChaosGame {

@@ -29,6 +29,10 @@ pub(crate) struct Emit<'s> {
     written: Written,
     /// The sink was told that every vertex was pushed.
     sealed: bool,
+    /// The thread's ambient flag when the output was made ([`crate::Cancel::scope`]).
+    cancel: Option<crate::Cancel>,
+    /// Items pushed since the flag was last looked at.
+    ticks: usize,
 }
 
 /// Vertices (and faces) pushed into a sink at a time.
@@ -47,6 +51,8 @@ impl<'s> Emit<'s> {
             sink: None,
             written: Written::default(),
             sealed: false,
+            cancel: crate::Cancel::ambient(),
+            ticks: 0,
         }
     }
 
@@ -67,12 +73,27 @@ impl<'s> Emit<'s> {
             sink: Some(sink),
             written: Written::default(),
             sealed: false,
+            cancel: crate::Cancel::ambient(),
+            ticks: 0,
         }
+    }
+
+    /// Counts `n` items pushed; every [`BATCH`] of them, an
+    /// [`io::ErrorKind::Interrupted`] error once the ambient flag is set.
+    #[inline]
+    fn tick(&mut self, n: usize) -> io::Result<()> {
+        self.ticks += n;
+        if self.ticks < BATCH {
+            return Ok(());
+        }
+        self.ticks = 0;
+        self.cancel.as_ref().map_or(Ok(()), crate::Cancel::check_io)
     }
 
     /// A vertex.
     #[inline]
     pub(crate) fn vertex(&mut self, p: [f64; 3]) -> io::Result<()> {
+        self.tick(1)?;
         self.positions.push(p);
         self.written.vertices += 1;
         if self.sink.is_some() && self.positions.len() >= BATCH { self.push_vertices() } else { Ok(()) }
@@ -96,6 +117,7 @@ impl<'s> Emit<'s> {
         let mut at = range.start;
         while at < range.end {
             let end = (at + BATCH).min(range.end);
+            self.tick(end - at)?;
             let before = self.positions.len();
             self.positions.par_extend((at..end).into_par_iter().filter_map(&point));
             self.written.vertices += self.positions.len() - before;
@@ -110,6 +132,7 @@ impl<'s> Emit<'s> {
     /// A face, its vertices counter-clockwise.
     #[inline]
     pub(crate) fn face(&mut self, vertices: impl IntoIterator<Item = usize>) -> io::Result<()> {
+        self.tick(1)?;
         if !self.faces {
             return Ok(());
         }

@@ -90,8 +90,8 @@ impl PolyMesh {
         }
         let (net, t) = self.net_and_topology(Scheme::DooSabin, depth.max(1) - 1, weights, memory_limit)?;
         let mut out = Emit::memory(net.face_count() * 3, 4 * net.corner_count());
-        // Writing into memory cannot fail.
-        let _ = net.limit_step_into(&t, Scheme::DooSabin, weights, &mut out);
+        // Writing into memory fails only when cancelled.
+        net.limit_step_into(&t, Scheme::DooSabin, weights, &mut out).map_err(SubdivideError::Write)?;
         Ok(out.finish())
     }
 

@@ -38,7 +38,8 @@ impl PolyMesh {
             let last_limit = limit && step + 1 == steps && scheme == Scheme::DooSabin;
             sources = sources.after(&mesh, scheme, &t, last_limit);
             if step + 1 < steps {
-                mesh = mesh.step(scheme, step, &t, weights);
+                // No ambient flag is looked at here (face_sources takes none): only memory, which cannot fail.
+                mesh = crate::Cancel::new().scope(|| mesh.step(scheme, step, &t, weights)).expect("memory");
             }
         }
         sources.faces

@@ -139,11 +139,12 @@ impl PolyMesh {
                 let grow = if two { 4 } else { 1 };
                 let (nv, nc) = (grow * net.positions.len(), grow * net.corner_count());
                 let mut out = Emit::memory(nv + nc + grow * net.face_count(), 4 * nc);
-                // Writing into memory cannot fail.
-                let _ = match two {
+                // Writing into memory fails only when cancelled.
+                match two {
                     true => net.loop_limit_twice_into(&t, weights.and_then(RuleWeights::triangle), &mut out),
                     false => net.limit_step_into(&t, scheme, weights, &mut out),
-                };
+                }
+                .map_err(SubdivideError::Write)?;
                 Ok(out.finish())
             }
             Scheme::Sqrt3 => {

@@ -200,8 +200,8 @@ impl PolyMesh {
         if depth == 0 {
             return Ok(self.clone());
         }
-        let (net, t) = self.steps(scheme, depth - 1, weights);
-        Ok(net.step(scheme, depth - 1, &t, weights))
+        let (net, t) = self.steps(scheme, depth - 1, weights).map_err(SubdivideError::Write)?;
+        net.step(scheme, depth - 1, &t, weights).map_err(SubdivideError::Write)
     }
 
     /// A mesh `scheme` applies to (triangles for Loop and √3), whose net after
@@ -225,17 +225,20 @@ impl PolyMesh {
         memory_limit: usize,
     ) -> Result<(PolyMesh, Topology), SubdivideError> {
         self.check_input(scheme, depth, memory_limit)?;
-        Ok(self.steps(scheme, depth, weights))
+        self.steps(scheme, depth, weights).map_err(SubdivideError::Write)
     }
 
     /// The net after `depth` steps and its topology, unchecked.
-    fn steps(&self, scheme: Scheme, depth: usize, weights: Option<RuleWeights>) -> (PolyMesh, Topology) {
+    ///
+    /// # Errors
+    /// Cancelled ([`crate::Cancel::scope`]).
+    fn steps(&self, scheme: Scheme, depth: usize, weights: Option<RuleWeights>) -> io::Result<(PolyMesh, Topology)> {
         let mut mesh = self.clone();
         let mut t = Topology::trusted(&mesh);
         for step in 0..depth {
             // Loop's and Catmull-Clark's topologies are read off the step before; the others' are
             // found once the net before is dropped (a quarter of the memory).
-            let next = mesh.step(scheme, step, &t, weights);
+            let next = mesh.step(scheme, step, &t, weights)?;
             let derived = match scheme {
                 Scheme::Loop => Some(t.loop_child(&next)),
                 Scheme::CatmullClark => Some(t.catmull_clark_child(&mesh, &next)),
@@ -246,11 +249,11 @@ impl PolyMesh {
                 Some(child) => child,
                 None => {
                     drop(t);
-                    Topology::trusted(&mesh)
+                    Topology::trusted_or_cancelled(&mesh)?
                 }
             };
         }
-        (mesh, t)
+        Ok((mesh, t))
     }
 
     /// The mesh after `depth` steps of `scheme` fits `memory_limit` bytes
@@ -291,11 +294,19 @@ impl PolyMesh {
     }
 
     /// Step number `step` (from 0) of `scheme` in memory.
-    pub(super) fn step(&self, scheme: Scheme, step: usize, t: &Topology, weights: Option<RuleWeights>) -> PolyMesh {
+    ///
+    /// # Errors
+    /// Cancelled ([`crate::Cancel::scope`]): memory itself cannot fail.
+    pub(super) fn step(
+        &self,
+        scheme: Scheme,
+        step: usize,
+        t: &Topology,
+        weights: Option<RuleWeights>,
+    ) -> io::Result<PolyMesh> {
         let mut out = Emit::memory(self.positions.len() + self.corner_count(), 4 * self.corner_count());
-        // Writing into memory cannot fail.
-        let _ = self.step_into(scheme, step, t, weights, &mut out);
-        out.finish()
+        self.step_into(scheme, step, t, weights, &mut out)?;
+        Ok(out.finish())
     }
 
     /// Step number `step` (from 0: √3 refines the border on odd ones) of `scheme` into `out`.

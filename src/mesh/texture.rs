@@ -100,7 +100,7 @@ impl PolyMesh {
         let mut uv = self.texture.as_deref()?.clone();
         for step in 0..depth {
             let t = Topology::new(&uv, &|face| Place { file: None, line: None, face }).ok()?;
-            let mut next = uv.step(scheme, step, &t, weights);
+            let mut next = uv.step(scheme, step, &t, weights).ok()?;
             // Linear border: the vertex points come first, one per texture vertex, in order.
             for v in 0..uv.positions.len() {
                 if t.first(v) != BORDER && t.on_border(v) {

@@ -233,23 +233,39 @@ impl Topology {
     /// The first problem found, its face named by `place`; a mesh too large
     /// for 32-bit corner numbers.
     pub fn new(mesh: &PolyMesh, place: &dyn Fn(usize) -> Place) -> Result<Topology, MeshCheckError> {
-        Topology::build(mesh, Some(place))
+        Topology::build(mesh, Some(place), None)
     }
 
     /// The half-edges of a mesh known to be valid (made by subdividing a
     /// checked one): no checks, less memory.
     pub(crate) fn trusted(mesh: &PolyMesh) -> Topology {
         // Without checks the only failure is the size, excluded by the memory estimate.
-        Topology::build(mesh, None).unwrap_or_else(|_| Topology {
-            face: Faces::Listed(Vec::new()),
-            twin: Vec::new(),
-            first: Vec::new(),
-            on_border: Vec::new(),
-        })
+        Topology::build(mesh, None, None).unwrap_or_else(|_| Topology::empty())
+    }
+
+    /// [`Topology::trusted`], stopped once the thread's ambient flag
+    /// ([`crate::Cancel::scope`]) is set.
+    ///
+    /// # Errors
+    /// [`std::io::ErrorKind::Interrupted`]: cancelled.
+    pub(crate) fn trusted_or_cancelled(mesh: &PolyMesh) -> std::io::Result<Topology> {
+        let cancel = crate::Cancel::ambient();
+        let t = Topology::build(mesh, None, cancel.as_ref()).unwrap_or_else(|_| Topology::empty());
+        // A topology cut short by the flag is never used.
+        cancel.map_or(Ok(()), |c| c.check_io())?;
+        Ok(t)
+    }
+
+    fn empty() -> Topology {
+        Topology { face: Faces::Listed(Vec::new()), twin: Vec::new(), first: Vec::new(), on_border: Vec::new() }
     }
 
     #[allow(clippy::needless_range_loop)] // a corner indexes several arrays at once
-    fn build(mesh: &PolyMesh, check: Option<&dyn Fn(usize) -> Place>) -> Result<Topology, MeshCheckError> {
+    fn build(
+        mesh: &PolyMesh,
+        check: Option<&dyn Fn(usize) -> Place>,
+        cancel: Option<&crate::Cancel>,
+    ) -> Result<Topology, MeshCheckError> {
         let corners = mesh.corner_count();
         let nv = mesh.positions.len();
         if corners >= NONE as usize || nv >= NONE as usize {
@@ -262,6 +278,9 @@ impl Topology {
         let mut by = ByVertex::new(mesh, face);
         let mut twin = vec![NONE; corners];
         for c in 0..corners {
+            if c % (1 << 16) == 0 && cancel.is_some_and(crate::Cancel::is_cancelled) {
+                return Ok(Topology::empty());
+            }
             let (a, b) = (mesh.indices[c], mesh.indices[by.next(c)]);
             if let Some(place) = check {
                 by.check_edge(c, (a, b), place)?;

@@ -157,7 +157,11 @@ pub fn subdivide_mesh(mesh: &PolyMesh, job: &MeshJob, options: &Options) -> Resu
     check_weights(mesh, job.weights)?;
     let memory = options.budget.memory;
     let subdivision = Subdivision { scheme: job.scheme, depth: job.depth, weights: job.weights, memory_limit: memory };
-    let mut out = mesh.subdivided(&subdivision, !job.net)?;
+    // The steps in memory look at the flag every few thousand faces (Ctrl-C within a tenth of a second).
+    let mut out = options.cancel.scope(|| mesh.subdivided(&subdivision, !job.net)).map_err(|e| match e {
+        SubdivideError::Write(_) if options.cancel.is_cancelled() => RenderError::Cancelled,
+        other => other.into(),
+    })?;
     if job.uv {
         let steps = if job.net { job.depth } else { job.depth.max(1) };
         let texture = mesh.texture_after(job.scheme, steps, job.weights);
@@ -177,6 +181,20 @@ pub fn subdivide_mesh(mesh: &PolyMesh, job: &MeshJob, options: &Options) -> Resu
 /// Diverging weights, a net over the memory limit, an output over the size
 /// limit, an I/O error or [`RenderError::Cancelled`]; nothing is left half-written.
 pub fn render_mesh(mesh: &PolyMesh, job: &MeshJob, options: &Options, out: &Path) -> Result<Report, RenderError> {
+    // The steps in memory look at the flag too, not only the writers.
+    options.cancel.scope(|| render_mesh_in(mesh, job, options, out))
+}
+
+/// A subdivision's error as a render's: a write's (or the flag's) as [`write_error`] says.
+fn subdivide_error(options: &Options, out: &Path) -> impl Fn(SubdivideError) -> RenderError {
+    let write = write_error(options, out);
+    move |e| match e {
+        SubdivideError::Write(e) => write(e),
+        other => other.into(),
+    }
+}
+
+fn render_mesh_in(mesh: &PolyMesh, job: &MeshJob, options: &Options, out: &Path) -> Result<Report, RenderError> {
     let format = Format::of(out)?;
     let named;
     let job = if job.name.is_empty() {
@@ -191,7 +209,8 @@ pub fn render_mesh(mesh: &PolyMesh, job: &MeshJob, options: &Options, out: &Path
     let memory = options.budget.memory;
     let subdivision = Subdivision { scheme: job.scheme, depth: job.depth, weights: job.weights, memory_limit: memory };
     if matches!(format, Format::Png | Format::Svg) {
-        let shape = mesh.subdivided(&subdivision, !job.net)?.to_shape(&job.name);
+        let shape = mesh.subdivided(&subdivision, !job.net).map_err(subdivide_error(options, out))?;
+        let shape = shape.to_shape(&job.name);
         options.check_cancel()?;
         let mut text = options.png_text(&job.name);
         if let Some((_, comment)) = text.iter_mut().find(|(key, _)| key == "Comment") {
@@ -237,10 +256,7 @@ pub fn render_mesh(mesh: &PolyMesh, job: &MeshJob, options: &Options, out: &Path
     } else {
         mesh.subdivide_into(&subdivision, !job.net, &job.name, &mut sink)
     };
-    let written = written.map_err(|e| match e {
-        SubdivideError::Write(e) => write_error(options, out)(e),
-        other => other.into(),
-    })?;
+    let written = written.map_err(subdivide_error(options, out))?;
     report.vertices = written.vertices;
     report.faces = written.faces;
     report.bytes = writer.finish(&crate::export::Target::from(out))?;
