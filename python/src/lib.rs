@@ -11,8 +11,10 @@ use pyo3::types::{PyDict, PyList};
 
 use bcifs::render::{MeshJob, Options};
 use bcifs::render::{PolyMesh, Scheme};
+use cancel::{cancellable, cancellable_writing};
 
 mod builder;
+mod cancel;
 mod mesh;
 mod options;
 use builder::Builder;
@@ -49,97 +51,6 @@ pub(crate) fn param_value(name: &str, v: &Bound<'_, PyAny>) -> PyResult<f64> {
         return Ok(x);
     }
     exact_value(v).map(|n| n.to_f64()).map_err(|e| err(format!("parameter `{name}`: {e}")))
-}
-
-/// How long an interrupted call that writes a file waits for its work to
-/// notice the cancellation (the writer removes its temporary file) before it
-/// raises anyway.
-const FILE_GRACE: std::time::Duration = std::time::Duration::from_millis(800);
-
-/// How long an interrupted call that returns arrays waits for its work to
-/// stop: evaluations, chaos games, sweeps, subdivision steps and the copies
-/// into arrays look at the flag every few thousand items; a longer phase
-/// (zeroing a large buffer) ends in the background, its result dropped, so
-/// that Ctrl-C raises within a tenth of a second.
-const ARRAY_GRACE: std::time::Duration = std::time::Duration::from_millis(60);
-
-/// Runs `work` on a worker thread, the GIL released, while this thread
-/// forwards its progress to `progress` (a callable taking `done, total`:
-/// tqdm's `update` fits through a small lambda) and checks for Ctrl-C every
-/// 20 ms: on KeyboardInterrupt the work is cancelled through the
-/// [`bcifs::render::Cancel`] it was given and the exception raised once it
-/// stops, or after [`ARRAY_GRACE`].
-fn cancellable<T: Send + 'static>(
-    py: Python<'_>,
-    progress: Option<&Bound<'_, PyAny>>,
-    work: impl FnOnce(bcifs::render::Cancel, Option<bcifs::render::Progress>) -> T + Send + 'static,
-) -> PyResult<T> {
-    cancellable_within(py, progress, ARRAY_GRACE, work)
-}
-
-/// [`cancellable`] for a call that writes a file: on Ctrl-C it waits up to
-/// [`FILE_GRACE`] for the writer to remove its temporary file.
-fn cancellable_writing<T: Send + 'static>(
-    py: Python<'_>,
-    progress: Option<&Bound<'_, PyAny>>,
-    work: impl FnOnce(bcifs::render::Cancel, Option<bcifs::render::Progress>) -> T + Send + 'static,
-) -> PyResult<T> {
-    cancellable_within(py, progress, FILE_GRACE, work)
-}
-
-/// The body of [`cancellable`] and [`cancellable_writing`]: on Ctrl-C, the
-/// work is cancelled and waited for up to `grace`.
-fn cancellable_within<T: Send + 'static>(
-    py: Python<'_>,
-    progress: Option<&Bound<'_, PyAny>>,
-    grace: std::time::Duration,
-    work: impl FnOnce(bcifs::render::Cancel, Option<bcifs::render::Progress>) -> T + Send + 'static,
-) -> PyResult<T> {
-    let cancel = bcifs::render::Cancel::new();
-    let (tx, rx) = std::sync::mpsc::channel::<(u64, u64)>();
-    let reporter = progress.is_some().then(|| {
-        let tx = std::sync::Mutex::new(tx);
-        bcifs::render::Progress::new(move |done, total| {
-            let _ = tx.lock().map(|t| t.send((done, total)));
-        })
-    });
-    let rx = std::sync::Mutex::new(rx);
-    let worker_cancel = cancel.clone();
-    let handle = std::thread::spawn(move || work(worker_cancel, reporter));
-    // Signals are looked at every 20 ms: Ctrl-C stops a call within a tenth of a second.
-    let wait = std::time::Duration::from_millis(20);
-    while !handle.is_finished() {
-        let message = py.detach(|| rx.lock().ok().and_then(|r| r.recv_timeout(wait).ok()));
-        let mut interrupted = None;
-        if let (Some((done, total)), Some(callback)) = (message, progress)
-            && let Err(e) = callback.call1((done, total))
-        {
-            interrupted = Some(e);
-        }
-        if interrupted.is_none()
-            && let Err(e) = py.check_signals()
-        {
-            interrupted = Some(e);
-        }
-        if let Some(e) = interrupted {
-            cancel.cancel();
-            let started = std::time::Instant::now();
-            py.detach(|| {
-                while !handle.is_finished() && started.elapsed() < grace {
-                    std::thread::sleep(std::time::Duration::from_millis(10));
-                }
-            });
-            return Err(e);
-        }
-    }
-    let result = py.detach(|| handle.join()).map_err(|_| err("the computation panicked"))?;
-    // The reports sent between the last poll and the end (the last one says the work is done).
-    if let (Some(callback), Ok(rx)) = (progress, rx.lock()) {
-        for (done, total) in rx.try_iter() {
-            callback.call1((done, total))?;
-        }
-    }
-    Ok(result)
 }
 
 /// A design: an automaton (states, arrows, constraints) with its model.
@@ -519,8 +430,7 @@ fn subdivide(
         let options = Options::default().with_cancel(cancel);
         let out = bcifs::render::subdivide_mesh(&mesh, &job, &options)?;
         let sources = want_sources.then(|| {
-            let steps = bcifs::mesh::Subdivision { scheme, depth, weights, memory_limit: options.budget.memory };
-            let sources = mesh.face_sources(&steps, !net);
+            let sources = bcifs::render::face_sources(&mesh, &job);
             match &split {
                 Some(split) => sources.into_iter().map(|t| split[t as usize]).collect(),
                 None => sources,

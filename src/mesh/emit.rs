@@ -29,8 +29,8 @@ pub(crate) struct Emit<'s> {
     written: Written,
     /// The sink was told that every vertex was pushed.
     sealed: bool,
-    /// The thread's ambient flag when the output was made ([`crate::Cancel::scope`]).
-    cancel: Option<crate::Cancel>,
+    /// The thread's ambient flag when the output was made ([`crate::progress::Cancel::scope`]).
+    cancel: Option<crate::progress::Cancel>,
     /// Items pushed since the flag was last looked at.
     ticks: usize,
 }
@@ -51,7 +51,7 @@ impl<'s> Emit<'s> {
             sink: None,
             written: Written::default(),
             sealed: false,
-            cancel: crate::Cancel::ambient(),
+            cancel: crate::progress::Cancel::ambient(),
             ticks: 0,
         }
     }
@@ -73,7 +73,7 @@ impl<'s> Emit<'s> {
             sink: Some(sink),
             written: Written::default(),
             sealed: false,
-            cancel: crate::Cancel::ambient(),
+            cancel: crate::progress::Cancel::ambient(),
             ticks: 0,
         }
     }
@@ -87,7 +87,7 @@ impl<'s> Emit<'s> {
             return Ok(());
         }
         self.ticks = 0;
-        self.cancel.as_ref().map_or(Ok(()), crate::Cancel::check_io)
+        self.cancel.as_ref().map_or(Ok(()), crate::progress::Cancel::check_io)
     }
 
     /// A vertex.

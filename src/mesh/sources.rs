@@ -39,7 +39,7 @@ impl PolyMesh {
             sources = sources.after(&mesh, scheme, &t, last_limit);
             if step + 1 < steps {
                 // No ambient flag is looked at here (face_sources takes none): only memory, which cannot fail.
-                mesh = crate::Cancel::new().scope(|| mesh.step(scheme, step, &t, weights)).expect("memory");
+                mesh = crate::progress::Cancel::new().scope(|| mesh.step(scheme, step, &t, weights)).expect("memory");
             }
         }
         sources.faces

@@ -231,7 +231,7 @@ impl PolyMesh {
     /// The net after `depth` steps and its topology, unchecked.
     ///
     /// # Errors
-    /// Cancelled ([`crate::Cancel::scope`]).
+    /// Cancelled ([`crate::progress::Cancel::scope`]).
     fn steps(&self, scheme: Scheme, depth: usize, weights: Option<RuleWeights>) -> io::Result<(PolyMesh, Topology)> {
         let mut mesh = self.clone();
         let mut t = Topology::trusted(&mesh);
@@ -296,7 +296,7 @@ impl PolyMesh {
     /// Step number `step` (from 0) of `scheme` in memory.
     ///
     /// # Errors
-    /// Cancelled ([`crate::Cancel::scope`]): memory itself cannot fail.
+    /// Cancelled ([`crate::progress::Cancel::scope`]): memory itself cannot fail.
     pub(super) fn step(
         &self,
         scheme: Scheme,

@@ -244,12 +244,12 @@ impl Topology {
     }
 
     /// [`Topology::trusted`], stopped once the thread's ambient flag
-    /// ([`crate::Cancel::scope`]) is set.
+    /// ([`crate::progress::Cancel::scope`]) is set.
     ///
     /// # Errors
     /// [`std::io::ErrorKind::Interrupted`]: cancelled.
     pub(crate) fn trusted_or_cancelled(mesh: &PolyMesh) -> std::io::Result<Topology> {
-        let cancel = crate::Cancel::ambient();
+        let cancel = crate::progress::Cancel::ambient();
         let t = Topology::build(mesh, None, cancel.as_ref()).unwrap_or_else(|_| Topology::empty());
         // A topology cut short by the flag is never used.
         cancel.map_or(Ok(()), |c| c.check_io())?;
@@ -264,7 +264,7 @@ impl Topology {
     fn build(
         mesh: &PolyMesh,
         check: Option<&dyn Fn(usize) -> Place>,
-        cancel: Option<&crate::Cancel>,
+        cancel: Option<&crate::progress::Cancel>,
     ) -> Result<Topology, MeshCheckError> {
         let corners = mesh.corner_count();
         let nv = mesh.positions.len();
@@ -278,7 +278,7 @@ impl Topology {
         let mut by = ByVertex::new(mesh, face);
         let mut twin = vec![NONE; corners];
         for c in 0..corners {
-            if c % (1 << 16) == 0 && cancel.is_some_and(crate::Cancel::is_cancelled) {
+            if c % (1 << 16) == 0 && cancel.is_some_and(crate::progress::Cancel::is_cancelled) {
                 return Ok(Topology::empty());
             }
             let (a, b) = (mesh.indices[c], mesh.indices[by.next(c)]);

@@ -170,6 +170,15 @@ pub fn subdivide_mesh(mesh: &PolyMesh, job: &MeshJob, options: &Options) -> Resu
     Ok(out)
 }
 
+/// For each face of [`subdivide_mesh`]'s output for `job`, the input face
+/// it comes from ([`PolyMesh::face_sources`]: per-face data follows the
+/// scheme as `data[sources[k]]`).
+pub fn face_sources(mesh: &PolyMesh, job: &MeshJob) -> Vec<u32> {
+    let subdivision =
+        Subdivision { scheme: job.scheme, depth: job.depth, weights: job.weights, memory_limit: usize::MAX };
+    mesh.face_sources(&subdivision, !job.net)
+}
+
 /// Subdivides `mesh` as `job` says and writes it to `out`, the format
 /// chosen by its extension: OBJ and OFF streamed (only the net before the
 /// last step in memory; the size estimate checked against

@@ -36,7 +36,7 @@ pub use crate::export::{Compression, png_bytes};
 pub use design::{density, evaluate_design, picture, picture_png, print_report, render, render_bytes};
 pub use keys::{Group, KEYS, Key, Kind, OptionError, Profile, Value, key_named};
 pub use load::{LoadError, is_mesh_path, load, load_with_scheme};
-pub use mesh::{MeshJob, check_weights, render_mesh, rule_weights, subdivide_mesh};
+pub use mesh::{MeshJob, check_weights, face_sources, render_mesh, rule_weights, subdivide_mesh};
 pub use options::{Budget, DEFAULT_SEED, FileStyle, Look, Options, Sampling};
 pub use output::{Format, RenderError, Report, check_disk, check_room};
 pub use picture::{
