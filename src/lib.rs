@@ -91,6 +91,7 @@ mod design;
 pub mod eval;
 pub mod export;
 mod family;
+pub mod fit;
 mod format;
 pub mod geometry;
 mod input;

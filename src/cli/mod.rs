@@ -7,6 +7,7 @@ mod common;
 mod contour;
 mod core;
 mod explore;
+mod fit;
 mod gallery;
 mod keys;
 mod plot;
@@ -78,6 +79,9 @@ enum Command {
         #[command(subcommand)]
         scheme: SchemeCommand,
     },
+    /// Fit a family's free parameters to a target: points or a mesh (OBJ, OFF, PLY), a picture's
+    /// outline (PNG), a dimension, a junction angle, a porosity; the answer is proven to converge.
+    Fit(fit::FitArgs),
     /// Analyse a design or a family: a curve's tangents (curve, blend), dimension, convergence maps (map, curve --map), the ternary 5-point scheme.
     Analyze {
         #[command(subcommand)]
@@ -147,6 +151,7 @@ fn run(out: &mut String, cli: Cli) -> Result<u8> {
         Command::Surface(args) => surface::run(out, args),
         Command::Gallery { dir, formats, full } => gallery::run(out, &dir, &formats, full),
         Command::Analyze { what } => analyze::run(out, what),
+        Command::Fit(args) => fit::run(out, args),
         Command::Contour { what } => contour::run(out, what),
         Command::Scheme { scheme } => scheme::run(out, scheme),
         Command::New { topology } => core::run_new(out, topology),

@@ -21,6 +21,7 @@ mod random;
 mod sampling;
 mod settings;
 mod surface;
+mod tangents;
 
 pub use colour::Colouring;
 pub use pieces::{ModelError, Piece, Pieces};
@@ -33,3 +34,4 @@ pub use sampling::{
 pub use settings::{
     DEFAULT_DEPTH, DEFAULT_MEMORY_LIMIT, Depth, EvalError, EvalSettings, MAX_ADAPTIVE_DEPTH, MAX_DEPTH,
 };
+pub use tangents::{Directions, Tangents};

@@ -6,7 +6,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// The library's top-level modules, bottom first.
-const LAYERS: [&[&str]; 15] = [
+const LAYERS: [&[&str]; 16] = [
     &["algebra", "input", "names", "progress"],
     &["space"],
     &["automaton"],
@@ -21,6 +21,7 @@ const LAYERS: [&[&str]; 15] = [
     &["eval"],
     &["export"],
     &["report"],
+    &["fit"],
     &["render"],
 ];
 

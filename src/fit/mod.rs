@@ -1,0 +1,353 @@
+//! Inverse design: a family's free parameters fitted to what the designer
+//! wants (points or a mesh the shape should pass through, a dimension, a
+//! junction angle, a porosity), staying where convergence is proven.
+//!
+//! Least squares by Levenberg–Marquardt. For points, the residuals are the
+//! distances both ways between the depth-k leaf points and the target's
+//! (nearest points found again at every step, as in ICP); at a fixed depth
+//! a leaf point is a polynomial in the parameters, and its derivatives are
+//! carried down the subdivision tree exactly (forward mode,
+//! [`crate::eval::Evaluator::tangents`]). Every step is checked by the joint
+//! spectral radius bounds: a step to a member whose convergence is not
+//! proven is refused (the damping grows), so the answer always converges,
+//! and the report says when the target lies beyond the proven region.
+//! Several starts (the defaults and a low-discrepancy sample of each
+//! parameter's convergence range) are tried, the best kept.
+
+mod nearest;
+mod problem;
+mod target;
+mod types;
+
+use nalgebra::DVector;
+use serde::Serialize;
+
+use crate::design::Design;
+use crate::progress::{Cancel, Progress};
+#[cfg(test)]
+use problem::Measure;
+use problem::{Problem, Proof};
+pub use target::{picture_points, read_target};
+pub use types::{FitError, FitTarget};
+
+/// How the fit runs.
+#[derive(Clone, Debug)]
+pub struct FitOptions {
+    /// The depth of the leaf points (`None`: the one whose points are as many as the target's).
+    pub depth: Option<usize>,
+    /// Starts run to the end (the best of a sample of the ranges, and the defaults).
+    pub starts: usize,
+    /// Levenberg–Marquardt iterations per start, at most.
+    pub iterations: usize,
+    /// Stops the fit: the best member so far is returned, marked interrupted.
+    pub cancel: Cancel,
+    /// Reports the iterations done against the budget.
+    pub progress: Option<Progress>,
+}
+
+impl Default for FitOptions {
+    fn default() -> FitOptions {
+        FitOptions { depth: None, starts: 4, iterations: 60, cancel: Cancel::new(), progress: None }
+    }
+}
+
+/// A fit's outcome.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct FitReport {
+    /// The design's name.
+    pub automaton: String,
+    /// The fitted value of every free parameter, in order.
+    pub parameters: Vec<(String, f64)>,
+    /// The residual norm: the points' root-mean-square distances (both ways, in units of the
+    /// target's diagonal) and the numbers' differences (an angle in right angles), combined.
+    pub residual: f64,
+    /// The root-mean-square symmetric distance to the target points, in the model's units.
+    pub distance: Option<f64>,
+    /// Each number target: its name, the value asked for and the value reached.
+    pub numbers: Vec<(String, f64, f64)>,
+    /// Whether the fitted member is proven to converge (always, unless the fit found none).
+    pub converges: bool,
+    /// The joint spectral radius upper bound of the fitted member.
+    pub jsr_upper: f64,
+    /// Why the target was not reached, when a step towards it left the proven region.
+    pub reason: Option<String>,
+    /// Levenberg–Marquardt iterations, over every start.
+    pub iterations: usize,
+    /// Starts run.
+    pub starts: usize,
+    /// The depth of the leaf points.
+    pub depth: usize,
+    /// Ctrl-C (the cancel flag) stopped the fit: the best member so far.
+    pub interrupted: bool,
+}
+
+impl FitReport {
+    /// The object `bcifs fit --json` prints: `parameters` (name → value), `residual`,
+    /// `distance`, `numbers` (name → `{target, value}`), `converges`, `jsr_upper`, `reason`,
+    /// `iterations`, `starts`, `depth`, `interrupted`.
+    pub fn to_json(&self) -> serde_json::Value {
+        let parameters: serde_json::Map<String, serde_json::Value> =
+            self.parameters.iter().map(|(n, v)| (n.clone(), serde_json::json!(v))).collect();
+        let numbers: serde_json::Map<String, serde_json::Value> = self
+            .numbers
+            .iter()
+            .map(|(n, want, got)| (n.clone(), serde_json::json!({"target": want, "value": got})))
+            .collect();
+        serde_json::json!({
+            "automaton": self.automaton, "parameters": parameters, "residual": self.residual,
+            "distance": self.distance, "numbers": numbers, "converges": self.converges,
+            "jsr_upper": if self.jsr_upper.is_finite() { serde_json::json!(self.jsr_upper) } else { serde_json::Value::Null },
+            "reason": self.reason, "iterations": self.iterations, "starts": self.starts, "depth": self.depth,
+            "interrupted": self.interrupted,
+        })
+    }
+}
+
+/// Fits `design`'s free parameters to `target` (see the module's text).
+///
+/// ```
+/// let design = bcifs::builtin_design("corner_cutting").unwrap();
+/// // The depth-5 points of the member a = 0.2, b = 0.3, fitted from the defaults (0.25, 0.25).
+/// let member = bcifs::render::Options { params: vec![("a".into(), 0.2), ("b".into(), 0.3)], ..Default::default() };
+/// let shape = bcifs::render::evaluate_design(&design, &member.with_depth(5), &mut Vec::new()).unwrap();
+/// let target = bcifs::fit::FitTarget { points: shape.points(), ..Default::default() };
+/// let report = bcifs::fit::fit(&design, &target, &bcifs::fit::FitOptions::default()).unwrap();
+/// assert!((report.parameters[0].1 - 0.2).abs() < 1e-6 && (report.parameters[1].1 - 0.3).abs() < 1e-6);
+/// assert!(report.converges);
+/// ```
+///
+/// # Errors
+/// See [`FitError`]: all are found before any step.
+pub fn fit(design: &Design, target: &FitTarget, settings: &FitOptions) -> Result<FitReport, FitError> {
+    let problem = Problem::new(design, target, settings.depth)?;
+    let budget = (settings.starts.max(1) * settings.iterations) as u64;
+    let (mut best, mut iterations, mut runs): (Option<Run>, usize, usize) = (None, 0, 0);
+    let mut run_from = |start: Vec<f64>, best: &mut Option<Run>| -> Result<(), FitError> {
+        let run = coarse_to_fine(&problem, start, settings, runs, budget)?;
+        (iterations, runs) = (iterations + run.iterations, runs + 1);
+        if best.as_ref().is_none_or(|b| run.cost < b.cost) {
+            *best = Some(run);
+        }
+        Ok(())
+    };
+    let defaults = problem.defaults();
+    if problem.proof(&defaults).converges {
+        run_from(defaults, &mut best)?;
+    }
+    // The other starts only when the defaults do not fit exactly (to rounding).
+    if best.as_ref().is_none_or(|b| b.cost > EXACT) {
+        for start in sampled_starts(&problem, settings, usize::from(best.is_some())) {
+            if settings.cancel.is_cancelled() || best.as_ref().is_some_and(|b| b.cost <= EXACT) {
+                break;
+            }
+            run_from(start, &mut best)?;
+        }
+    }
+    if best.is_none() && !settings.cancel.is_cancelled() {
+        return Err(FitError::NoProvenStart(format!(
+            "{}: neither the defaults nor any sample of the parameters' ranges is proven to converge",
+            design.name()
+        )));
+    }
+    let best = best.ok_or_else(|| FitError::NoProvenStart("the fit was interrupted before its first start".into()))?;
+    let proof = problem.proof(&best.theta);
+    let residuals = problem.residuals(&best.theta, false)?;
+    let numbers = problem.numbers.iter().zip(&residuals.numbers);
+    Ok(FitReport {
+        automaton: design.name().to_string(),
+        parameters: problem.values(&best.theta),
+        residual: (2.0 * best.cost).sqrt(),
+        distance: residuals.distance,
+        numbers: numbers.map(|(&(m, want), &(_, got))| (m.name().to_string(), want, got)).collect(),
+        converges: proof.converges,
+        jsr_upper: proof.upper,
+        reason: best.left.filter(|_| best.cost > 1e-20).map(|(theta, p)| outside(&problem, &theta, &p)),
+        iterations,
+        starts: runs,
+        depth: problem.depth,
+        interrupted: settings.cancel.is_cancelled(),
+    })
+}
+
+/// A cost (half the squared residual norm) that only rounding leaves: the fit is exact.
+const EXACT: f64 = 1e-26;
+
+/// `design` with `parameters` as its defaults: the fitted design, as `-o fitted.toml` writes it.
+///
+/// # Errors
+/// A parameter the design does not have, or a design that no longer builds.
+pub fn fitted_design(design: &Design, parameters: &[(String, f64)]) -> Result<Design, FitError> {
+    let mut builder = design.to_builder();
+    for (name, value) in parameters {
+        // The shortest decimal that reads back as the same number (the file stays readable).
+        builder.default_value(name, value.to_string());
+    }
+    builder.build().map_err(|e| FitError::Design(e.to_string()))
+}
+
+/// One start's run: where it ended, its cost, and the last step refused as unproven.
+struct Run {
+    theta: Vec<f64>,
+    cost: f64,
+    iterations: usize,
+    left: Option<(Vec<f64>, Proof)>,
+}
+
+/// The reason given when a step towards the target left the proven region.
+fn outside(problem: &Problem<'_>, theta: &[f64], proof: &Proof) -> String {
+    let at: Vec<String> = problem.values(theta).iter().map(|(n, v)| format!("{n} = {v:.6}")).collect();
+    let why = if proof.witness.is_empty() {
+        format!("its joint spectral radius bound is {:.4}, not below 1", proof.upper)
+    } else {
+        format!("the cycle {} has spectral radius at least 1 (bound {:.4})", proof.witness.join(" "), proof.upper)
+    };
+    format!(
+        "the target lies towards members whose convergence is not proven ({}: {why}); the answer is the nearest proven member",
+        at.join(", ")
+    )
+}
+
+/// The best members of a low-discrepancy sample of the parameters' convergence ranges (each proven
+/// to converge), `settings.starts − taken` of them, best first.
+fn sampled_starts(problem: &Problem<'_>, settings: &FitOptions, taken: usize) -> Vec<Vec<f64>> {
+    let defaults = problem.defaults();
+    let ranges: Vec<(f64, f64)> = if defaults.len() <= 12 {
+        crate::report::parameter_ranges(problem.design)
+            .map(|r| r.iter().map(|p| p.range).collect())
+            .unwrap_or_else(|_| defaults.iter().map(|&d| (d - 0.1, d + 0.1)).collect())
+    } else {
+        defaults.iter().map(|&d| (d - d.abs().max(1.0) / 12.0, d + d.abs().max(1.0) / 12.0)).collect()
+    };
+    // A Kronecker sequence: frac(k·α_i) with α_i the square roots of primes, spread over each range.
+    let alphas = [2f64, 3.0, 5.0, 7.0, 11.0, 13.0, 17.0, 19.0, 23.0, 29.0, 31.0, 37.0].map(|p| p.sqrt().fract());
+    let mut sampled: Vec<(f64, Vec<f64>)> = Vec::new();
+    for k in 1..=(4 * settings.starts.max(1)) {
+        let theta: Vec<f64> = ranges
+            .iter()
+            .enumerate()
+            .map(|(i, (lo, hi))| lo + (hi - lo) * (k as f64 * alphas[i % alphas.len()] + 0.5 / (i + 1) as f64).fract())
+            .collect();
+        if settings.cancel.is_cancelled() {
+            break;
+        }
+        if !problem.proof(&theta).converges {
+            continue;
+        }
+        if let Ok(r) = problem.residuals(&theta, false) {
+            sampled.push((r.r.norm_squared(), theta));
+        }
+    }
+    sampled.sort_by(|a, b| a.0.total_cmp(&b.0));
+    sampled.into_iter().map(|(_, t)| t).take(settings.starts.max(1).saturating_sub(taken)).collect()
+}
+
+/// Depths the points are first fitted at, below the fit's own.
+const COARSER: usize = 3;
+
+/// [`levenberg_marquardt`] at coarser depths first (a few leaf points each
+/// near one target point: pairs that cannot be mistaken), each depth
+/// starting where the one before ended, then at the fit's depth.
+fn coarse_to_fine(
+    problem: &Problem<'_>,
+    theta: Vec<f64>,
+    settings: &FitOptions,
+    start: usize,
+    budget: u64,
+) -> Result<Run, FitError> {
+    let first = if problem.has_points() {
+        problem.depth.saturating_sub(COARSER).max(1).min(problem.depth)
+    } else {
+        problem.depth
+    };
+    let (mut theta, mut iterations, mut left) = (theta, 0, None);
+    for depth in first..problem.depth {
+        problem.set_depth(depth);
+        let run = levenberg_marquardt(problem, theta, settings, start, budget)?;
+        (theta, iterations, left) = (run.theta, iterations + run.iterations, run.left.or(left));
+    }
+    problem.set_depth(problem.depth);
+    let run = levenberg_marquardt(problem, theta, settings, start, budget)?;
+    Ok(Run { iterations: iterations + run.iterations, left: run.left.or(left), ..run })
+}
+
+/// Levenberg–Marquardt from `theta`, every trial step checked for proven
+/// convergence. The nearest points are paired once an iteration and kept
+/// through its trial steps (the cost it decreases is smooth), then paired
+/// afresh (as ICP alternates); it stops when a fresh pairing no longer
+/// lowers the cost.
+fn levenberg_marquardt(
+    problem: &Problem<'_>,
+    mut theta: Vec<f64>,
+    settings: &FitOptions,
+    start: usize,
+    budget: u64,
+) -> Result<Run, FitError> {
+    let mut res = problem.residuals(&theta, true)?;
+    let mut cost = res.r.norm_squared() / 2.0;
+    let (mut lambda, mut iterations, mut left) = (1e-3, 0, None);
+    while iterations < settings.iterations && cost > EXACT * 1e-4 && !settings.cancel.is_cancelled() {
+        iterations += 1;
+        if let Some(p) = &settings.progress {
+            p.report((start * settings.iterations + iterations) as u64, budget);
+        }
+        let (j, pairs) = (res.jacobian.take().expect("asked for"), res.pairs.take());
+        let (g, h) = (j.transpose() * &res.r, j.transpose() * &j);
+        let mut accepted = None;
+        for _ in 0..16 {
+            let mut a = h.clone();
+            for i in 0..a.nrows() {
+                a[(i, i)] += lambda * (h[(i, i)] + 1e-12);
+            }
+            let Some(delta) = a.lu().solve(&(-&g)) else { break };
+            let trial: Vec<f64> = theta.iter().zip(delta.iter()).map(|(t, d)| t + d).collect();
+            // The cost first (cheap), the proof only for a step that lowers it.
+            let lower =
+                problem.residuals_paired(&trial, false, pairs.as_ref()).is_ok_and(|r| r.r.norm_squared() / 2.0 < cost);
+            if !lower {
+                lambda *= 10.0;
+                continue;
+            }
+            let proof = problem.proof(&trial);
+            if !proof.converges {
+                left = Some((trial, proof));
+                lambda *= 10.0;
+                continue;
+            }
+            accepted = Some((trial, delta));
+            break;
+        }
+        let Some((trial, delta)) = accepted else { break };
+        let fresh = problem.residuals(&trial, true)?;
+        let new_cost = fresh.r.norm_squared() / 2.0;
+        if new_cost < cost {
+            let small = delta.norm() <= 1e-10 * (DVector::from_vec(theta.clone()).norm() + 1e-12);
+            let stalled = cost - new_cost <= 1e-12 * cost;
+            (theta, res, cost, lambda) = (trial, fresh, new_cost, (lambda / 3.0).max(1e-12));
+            if small && stalled {
+                break;
+            }
+        } else {
+            // Paired afresh, the step does not pay: shorter steps from the same member.
+            lambda *= 10.0;
+            if lambda > 1e12 {
+                break;
+            }
+            res = problem.residuals(&theta, true)?;
+        }
+    }
+    Ok(Run { theta, cost, iterations, left })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every measure named: the CLI's flags and the JSON's fields say these.
+    #[test]
+    fn measures_are_named() {
+        assert_eq!(
+            [Measure::Dimension, Measure::Angle, Measure::Porosity].map(Measure::name),
+            ["dimension", "angle", "porosity"]
+        );
+    }
+}

@@ -1,0 +1,481 @@
+//! A fit's objective: the residuals of a family member against the target,
+//! with their Jacobian, and whether the member is proven to converge.
+
+use std::collections::HashMap;
+
+use nalgebra::{DMatrix, DVector};
+use petgraph::stable_graph::EdgeIndex;
+
+use super::nearest::KdTree;
+use super::types::{FitError, FitTarget};
+use crate::automaton::Automaton;
+use crate::design::{Design, Model};
+use crate::eval::{Directions, EvalSettings, Evaluator, Tangents};
+use crate::family::Family;
+
+/// What a number target measures.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Measure {
+    Dimension,
+    Angle,
+    Porosity,
+}
+
+impl Measure {
+    pub(crate) fn name(self) -> &'static str {
+        match self {
+            Measure::Dimension => "dimension",
+            Measure::Angle => "angle",
+            Measure::Porosity => "porosity",
+        }
+    }
+
+    /// The residual's unit: a degree is small beside a dimension.
+    fn scale(self) -> f64 {
+        match self {
+            Measure::Angle => 90.0,
+            Measure::Dimension | Measure::Porosity => 1.0,
+        }
+    }
+}
+
+/// The points of a target, held for nearest-point queries, each with its
+/// local frame: the directions along the target (its tangents, from the
+/// principal axes of its nearest points), then across it.
+struct Points {
+    tree: KdTree,
+    count: usize,
+    /// The target's diagonal: distances are measured in its units.
+    scale: f64,
+    /// Per point: three orthonormal axes, each with its weight (1 across, [`ALONG`] along).
+    frames: Vec<[([f64; 3], f64); 3]>,
+}
+
+/// The weight of an offset along the target against one across it: none
+/// (point-to-plane ICP, point-to-line on curves). The distance between two
+/// sets is what is fitted, not where the points fall along them; with
+/// offsets along counted, the nearest points lock the fit in place (on
+/// corner cutting, at a = 0.2065 instead of 0.2, one leaf spacing along).
+const ALONG: f64 = 0.0;
+
+/// Neighbours whose principal axes give a target point's frame.
+const NEIGHBOURS: usize = 8;
+
+/// A member's verdict: proven to converge, or why not.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Proof {
+    pub(crate) converges: bool,
+    pub(crate) upper: f64,
+    pub(crate) witness: Vec<String>,
+}
+
+/// The residuals of one member: their vector, and its Jacobian when asked.
+pub(crate) struct Residuals {
+    pub(crate) r: DVector<f64>,
+    pub(crate) jacobian: Option<DMatrix<f64>>,
+    /// The root-mean-square symmetric distance to the target points (in the model's units).
+    pub(crate) distance: Option<f64>,
+    /// The number targets' values.
+    pub(crate) numbers: Vec<(Measure, f64)>,
+    /// The nearest points found at this member.
+    pub(crate) pairs: Option<Pairs>,
+}
+
+/// Which points face which: each target point's nearest leaf point, each
+/// leaf point's nearest target point (leaf numbers are the same for every
+/// member at one depth), and the root-mean-square symmetric distance.
+#[derive(Clone, Debug)]
+pub(crate) struct Pairs {
+    to_shape: Vec<usize>,
+    to_target: Vec<usize>,
+    distance: f64,
+}
+
+/// The design, its family and the target, ready to be evaluated at any parameter values.
+pub(crate) struct Problem<'a> {
+    pub(crate) design: &'a Design,
+    family: Family,
+    pub(crate) names: Vec<String>,
+    model: Model,
+    pub(crate) depth: usize,
+    /// The depth the points are evaluated at now, and whether both ways
+    /// count (a coarser depth's leaf points lie among the target's, not the
+    /// other way round: only they are measured there).
+    level: std::cell::Cell<(usize, bool)>,
+    points: Option<Points>,
+    pub(crate) numbers: Vec<(Measure, f64)>,
+}
+
+impl<'a> Problem<'a> {
+    /// The design's family and model with the target; the depth (given, or the one whose leaf points are as
+    /// many as the target's, at most 10) chosen.
+    pub(crate) fn new(design: &'a Design, target: &FitTarget, depth: Option<usize>) -> Result<Problem<'a>, FitError> {
+        let family = crate::family::solve(design).map_err(|e| FitError::Design(format!("{}: {e}", design.name())))?;
+        let names = family.parameter_names();
+        if names.is_empty() {
+            return Err(FitError::NoParameter(design.name().to_string()));
+        }
+        let model = crate::report::model_of(design).map_err(|e| FitError::Design(e.to_string()))?;
+        let mut numbers = Vec::new();
+        for (measure, value) in [
+            (Measure::Dimension, target.dimension),
+            (Measure::Angle, target.angle),
+            (Measure::Porosity, target.porosity),
+        ] {
+            if let Some(v) = value {
+                if !v.is_finite() {
+                    return Err(FitError::NotFinite(format!("the {} target is {v}", measure.name())));
+                }
+                numbers.push((measure, v));
+            }
+        }
+        let level = std::cell::Cell::new((depth.unwrap_or(0), true));
+        let mut problem =
+            Problem { design, family, names, model, depth: depth.unwrap_or(0), level, points: None, numbers };
+        if !target.points.is_empty() {
+            problem.points = Some(problem.target_points(&target.points)?);
+            if depth.is_none() {
+                problem.depth = problem.matching_depth(target.points.len())?;
+                problem.level.set((problem.depth, true));
+            }
+        } else if problem.numbers.is_empty() {
+            return Err(FitError::EmptyTarget);
+        }
+        Ok(problem)
+    }
+
+    fn target_points(&self, points: &[[f64; 3]]) -> Result<Points, FitError> {
+        if let Some(p) = points.iter().find(|p| p.iter().any(|x| !x.is_finite())) {
+            return Err(FitError::NotFinite(format!("a target point is {p:?}")));
+        }
+        let dim = self.evaluator(&self.automaton(&self.defaults())?, 0)?.pieces().dim;
+        if dim == 2 && points.iter().any(|p| p[2] != 0.0) {
+            return Err(FitError::Dimension { model: 2, target: 3 });
+        }
+        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        for p in points {
+            (0..3).for_each(|a| (lo[a], hi[a]) = (lo[a].min(p[a]), hi[a].max(p[a])));
+        }
+        let diagonal = (0..3).map(|a| (hi[a] - lo[a]).powi(2)).sum::<f64>().sqrt();
+        let tree = KdTree::new(points.to_vec());
+        let cells = self.evaluator(&self.automaton(&self.defaults())?, 0)?.cell_dimension();
+        let frames = points.iter().map(|&q| frame(&tree, q, cells)).collect();
+        Ok(Points { tree, count: points.len(), scale: diagonal.max(f64::MIN_POSITIVE), frames })
+    }
+
+    /// The depth whose distinct leaf points (the evaluation's vertices, welded) are nearest in number
+    /// to `count` (the target's), at the defaults.
+    fn matching_depth(&self, count: usize) -> Result<usize, FitError> {
+        let defaults = self.defaults();
+        let ev = self.evaluator(&self.automaton(&defaults)?, 0)?;
+        let none = |_: EdgeIndex, _: usize| None;
+        let no_samples = |_: usize, _: usize| None;
+        let directions = Directions { count: 0, matrix: &none, samples: &no_samples };
+        let (mut best, mut gap) = (0, f64::INFINITY);
+        for k in 0..=10 {
+            // Estimated before it is made: a depth past the target's size by far is not evaluated.
+            if ev.total_samples(k) > 64 * count.max(1) {
+                break;
+            }
+            let t = ev.tangents(k, &directions);
+            let scale = t.points.iter().fold(1.0f64, |m, x| m.max(x.abs()));
+            let key = |p: &[f64]| p.iter().map(|x| (x / scale * 1e9).round() as i64).collect::<Vec<_>>();
+            let distinct = t.points.chunks(t.dim.max(1)).map(key).collect::<std::collections::HashSet<_>>().len();
+            let g = (distinct.max(1) as f64 / count.max(1) as f64).ln().abs();
+            if g < gap {
+                (best, gap) = (k, g);
+            }
+        }
+        Ok(best)
+    }
+
+    /// Measures the points at `depth` (both ways only at the fit's own depth).
+    pub(crate) fn set_depth(&self, depth: usize) {
+        self.level.set((depth, depth >= self.depth));
+    }
+
+    /// Whether the fit measures points (else numbers only).
+    pub(crate) fn has_points(&self) -> bool {
+        self.points.is_some()
+    }
+
+    /// The parameters' defaults, in order.
+    pub(crate) fn defaults(&self) -> Vec<f64> {
+        self.family.parameter_values(&[]).unwrap_or_else(|_| vec![0.0; self.names.len()])
+    }
+
+    pub(crate) fn values(&self, theta: &[f64]) -> Vec<(String, f64)> {
+        self.names.iter().cloned().zip(theta.iter().copied()).collect()
+    }
+
+    fn automaton(&self, theta: &[f64]) -> Result<Automaton<f64>, FitError> {
+        Ok(self.family.instantiate(&self.values(theta)).map_err(|e| FitError::Design(e.to_string()))?.automaton)
+    }
+
+    fn evaluator(&self, automaton: &Automaton<f64>, depth: usize) -> Result<Evaluator, FitError> {
+        Evaluator::new(automaton, &self.model, EvalSettings::default().with_depth(depth))
+            .map_err(|e| FitError::Design(e.to_string()))
+    }
+
+    /// Whether the joint spectral radius bounds prove that the member at `theta` converges.
+    pub(crate) fn proof(&self, theta: &[f64]) -> Proof {
+        let Ok(automaton) = self.automaton(theta) else {
+            return Proof { converges: false, upper: f64::INFINITY, witness: Vec::new() };
+        };
+        match crate::analysis::jsr(&automaton, &crate::analysis::JsrSettings::default()) {
+            Ok(j) => Proof { converges: j.verdict().converges() == Some(true), upper: j.upper, witness: j.witness },
+            Err(_) => Proof { converges: false, upper: f64::INFINITY, witness: Vec::new() },
+        }
+    }
+
+    /// The residuals at `theta` (points: both ways, each side's mean; numbers: their differences), with
+    /// the Jacobian when `jacobian`: exact for the points (forward mode down the tree), central
+    /// differences for the numbers (the reports that give them are not polynomials).
+    pub(crate) fn residuals(&self, theta: &[f64], jacobian: bool) -> Result<Residuals, FitError> {
+        self.residuals_paired(theta, jacobian, None)
+    }
+
+    /// [`Problem::residuals`] with the points paired as `pairs` says (the
+    /// pairs of another member: the same leaf numbers), or as found afresh.
+    pub(crate) fn residuals_paired(
+        &self,
+        theta: &[f64],
+        jacobian: bool,
+        pairs: Option<&Pairs>,
+    ) -> Result<Residuals, FitError> {
+        let m = self.names.len();
+        let mut rows: Vec<f64> = Vec::new();
+        let mut jac: Vec<Vec<f64>> = Vec::new();
+        let (mut distance, mut found) = (None, None);
+        if let Some(points) = &self.points {
+            let tangents = self.tangents(theta, jacobian)?;
+            let fresh = pair(points, &tangents);
+            distance = Some(fresh.distance);
+            let used = pairs.filter(|p| p.to_target.len() == tangents.len()).unwrap_or(&fresh);
+            point_rows(points, &tangents, used, self.level.get().1, jacobian, &mut rows, &mut jac);
+            found = Some(fresh);
+        }
+        let mut numbers = Vec::new();
+        for &(measure, target) in &self.numbers {
+            let value = self.measure(measure, theta)?;
+            numbers.push((measure, value));
+            rows.push((value - target) / measure.scale());
+            if jacobian {
+                jac.push((0..m).map(|j| self.number_slope(measure, theta, j)).collect::<Result<Vec<_>, _>>()?);
+            }
+        }
+        let r = DVector::from_vec(rows);
+        let jacobian = jacobian.then(|| DMatrix::from_fn(jac.len(), m, |i, j| jac[i][j]));
+        Ok(Residuals { r, jacobian, distance, numbers, pairs: found })
+    }
+
+    fn number_slope(&self, measure: Measure, theta: &[f64], j: usize) -> Result<f64, FitError> {
+        let h = 1e-6 * theta[j].abs().max(1.0);
+        let at = |x: f64| {
+            let mut t = theta.to_vec();
+            t[j] += x;
+            self.measure(measure, &t)
+        };
+        Ok((at(h)? - at(-h)?) / (2.0 * h) / measure.scale())
+    }
+
+    /// A number target's value at `theta`.
+    pub(crate) fn measure(&self, measure: Measure, theta: &[f64]) -> Result<f64, FitError> {
+        let values = self.values(theta);
+        let report = |e: crate::report::ReportError| FitError::Design(e.to_string());
+        match measure {
+            Measure::Dimension => {
+                let d = crate::report::dimension_report(self.design, &values).map_err(report)?;
+                d.similarity.or(d.fit.map(|f| f.dimension)).ok_or_else(|| {
+                    FitError::Design(format!("{}: no dimension at these parameters", self.design.name()))
+                })
+            }
+            Measure::Angle => {
+                let exact: Vec<(String, crate::algebra::Num)> =
+                    values.iter().map(|(n, v)| (n.clone(), crate::algebra::Num::from_f64(*v))).collect();
+                let a = crate::report::curve_analysis(self.design, &exact).map_err(report)?;
+                a.report.junction_angle_deg.ok_or_else(|| {
+                    FitError::Design(format!("{}: no junction angle at these parameters", self.design.name()))
+                })
+            }
+            Measure::Porosity => {
+                let depth = self.depth.clamp(1, 4);
+                let l = crate::report::lacunarity_report(self.design, &values, depth).map_err(report)?;
+                l.porosity.last().copied().ok_or_else(|| FitError::Design("no porosity".into()))
+            }
+        }
+    }
+
+    /// The leaf points at `theta` and, when `derivatives`, their derivatives along every parameter.
+    fn tangents(&self, theta: &[f64], derivatives: bool) -> Result<Tangents, FitError> {
+        let automaton = self.automaton(theta)?;
+        let ev = self.evaluator(&automaton, self.level.get().0)?;
+        let m = if derivatives { self.names.len() } else { 0 };
+        let mut matrices: HashMap<EdgeIndex, Vec<Option<Vec<f64>>>> = HashMap::new();
+        let mut samples: Vec<Vec<Option<Vec<Vec<f64>>>>> = vec![vec![None; m]; ev.state_count()];
+        for j in 0..m {
+            let mut step = theta.to_vec();
+            step[j] += 1.0;
+            // Every entry is affine in the parameters: a unit step's difference is the derivative.
+            let moved = self.automaton(&step)?;
+            for (e, arrow) in automaton.arrows() {
+                let d = &moved.arrow(e).matrix - &arrow.matrix;
+                let d = &d;
+                let row_major: Vec<f64> = (0..d.nrows()).flat_map(|i| (0..d.ncols()).map(move |c| d[(i, c)])).collect();
+                let slot = matrices.entry(e).or_insert_with(|| vec![None; m]);
+                slot[j] = row_major.iter().any(|x| *x != 0.0).then_some(row_major);
+            }
+            for (state, slot) in samples.iter_mut().enumerate() {
+                slot[j] = self.sample_slope(theta, j, state, &ev);
+            }
+        }
+        let matrix = |e: EdgeIndex, j: usize| matrices.get(&e).and_then(|v| v[j].as_deref());
+        let sample = |s: usize, j: usize| samples[s][j].as_deref();
+        Ok(ev.tangents(self.level.get().0, &Directions { count: m, matrix: &matrix, samples: &sample }))
+    }
+
+    /// The derivative of a state's leaf samples (vertex fixed points, edge ends: rational in the
+    /// parameters) along parameter `j`: none when they do not move, else a central difference
+    /// extrapolated once (Richardson: error of the order of h⁴).
+    fn sample_slope(&self, theta: &[f64], j: usize, state: usize, ev: &Evaluator) -> Option<Vec<Vec<f64>>> {
+        let base = ev.leaf_samples(state);
+        let at = |x: f64| -> Option<Vec<Vec<f64>>> {
+            let mut t = theta.to_vec();
+            t[j] += x;
+            Some(self.evaluator(&self.automaton(&t).ok()?, 0).ok()?.leaf_samples(state))
+        };
+        let h = 1e-3 * theta[j].abs().max(1.0);
+        let (plus, minus) = (at(h)?, at(-h)?);
+        if plus == base && minus == base {
+            return None;
+        }
+        let (half_plus, half_minus) = (at(h / 2.0)?, at(-h / 2.0)?);
+        let diff = |p: &[Vec<f64>], q: &[Vec<f64>], step: f64| -> Vec<Vec<f64>> {
+            p.iter().zip(q).map(|(a, b)| a.iter().zip(b).map(|(x, y)| (x - y) / (2.0 * step)).collect()).collect()
+        };
+        let (wide, narrow) = (diff(&plus, &minus, h), diff(&half_plus, &half_minus, h / 2.0));
+        Some(
+            wide.iter()
+                .zip(&narrow)
+                .map(|(w, n)| w.iter().zip(n).map(|(a, b)| (4.0 * b - a) / 3.0).collect())
+                .collect(),
+        )
+    }
+}
+
+/// The nearest points both ways between the target and the leaf points `t`.
+fn pair(points: &Points, t: &Tangents) -> Pairs {
+    let shape = shape_points(t);
+    let shape_tree = KdTree::new(shape.clone());
+    let (mut to_shape, mut to_target) = (Vec::with_capacity(points.count), Vec::with_capacity(shape.len()));
+    let (mut sum_shape, mut sum_target) = (0.0, 0.0);
+    for q in points.tree.points() {
+        let (p, d2) = shape_tree.nearest(*q).expect("a shape has points");
+        sum_shape += d2;
+        to_shape.push(p);
+    }
+    for x in &shape {
+        let (k, d2) = points.tree.nearest(*x).expect("a target has points");
+        sum_target += d2;
+        to_target.push(k);
+    }
+    let distance = ((sum_shape / points.count as f64 + sum_target / shape.len() as f64) / 2.0).sqrt();
+    Pairs { to_shape, to_target, distance }
+}
+
+fn shape_points(t: &Tangents) -> Vec<[f64; 3]> {
+    let d = t.dim;
+    (0..t.len())
+        .map(|p| {
+            let mut x = [0.0; 3];
+            x[..d].copy_from_slice(&t.points[p * d..(p + 1) * d]);
+            x
+        })
+        .collect()
+}
+
+/// The points' residual rows for `pairs` (target to shape, then shape to target, each side divided
+/// by the square root of its count and by the target's diagonal; each offset measured on the
+/// target point's frame) and, when `jacobian`, their rows of the Jacobian.
+fn point_rows(
+    points: &Points,
+    t: &Tangents,
+    pairs: &Pairs,
+    both: bool,
+    jacobian: bool,
+    rows: &mut Vec<f64>,
+    jac: &mut Vec<Vec<f64>>,
+) {
+    let (d, m) = (t.dim, t.directions);
+    let shape = shape_points(t);
+    let mut push = |p: usize, k: usize, weight: f64| {
+        let (x, q) = (shape[p], points.tree.points()[k]);
+        for (axis, w) in &points.frames[k] {
+            let along = |v: &dyn Fn(usize) -> f64| (0..d).map(|a| axis[a] * v(a)).sum::<f64>() * w * weight;
+            rows.push(along(&|a| x[a] - q[a]));
+            if jacobian {
+                jac.push((0..m).map(|j| along(&|a| t.derivative(p, j)[a])).collect());
+            }
+        }
+    };
+    let w_target = 1.0 / (points.count as f64).sqrt() / points.scale;
+    for (k, &p) in pairs.to_shape.iter().enumerate().filter(|_| both) {
+        push(p, k, w_target);
+    }
+    let w_shape = 1.0 / (shape.len() as f64).sqrt() / points.scale;
+    for (p, &k) in pairs.to_target.iter().enumerate() {
+        push(p, k, w_shape);
+    }
+}
+
+/// The frame of target point `q`: the principal axes of its nearest
+/// points, the `cells` widest (along a curve, a surface) weighted [`ALONG`],
+/// the others (across) 1.
+fn frame(tree: &KdTree, q: [f64; 3], cells: usize) -> [([f64; 3], f64); 3] {
+    let near = tree.nearest_k(q, NEIGHBOURS);
+    let mut mean = [0.0; 3];
+    near.iter().for_each(|&i| (0..3).for_each(|a| mean[a] += tree.points()[i][a] / near.len() as f64));
+    let mut cov = nalgebra::Matrix3::<f64>::zeros();
+    for &i in &near {
+        let v = nalgebra::Vector3::from_fn(|a, _| tree.points()[i][a] - mean[a]);
+        cov += v * v.transpose();
+    }
+    let eigen = cov.symmetric_eigen();
+    let mut axes: Vec<(f64, [f64; 3])> =
+        (0..3).map(|k| (eigen.eigenvalues[k], [0, 1, 2].map(|a| eigen.eigenvectors[(a, k)]))).collect();
+    axes.sort_by(|a, b| b.0.total_cmp(&a.0));
+    [0, 1, 2].map(|k| (axes[k].1, if k < cells { ALONG } else { 1.0 }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The points' Jacobian is the residuals' derivative: central differences agree to 1e-6
+    /// (the nearest points do not change over so small a step).
+    #[test]
+    fn the_jacobian_is_the_derivative_of_the_residuals() {
+        for name in ["corner_cutting", "doo_sabin_torus"] {
+            let design = crate::render::load(name).unwrap();
+            let ev = crate::render::Options::default().with_depth(3);
+            let shape = crate::render::evaluate_design(&design, &ev, &mut Vec::new()).unwrap();
+            let moved = |p: &[f64; 3]| [p[0] * 1.01 + 0.003, p[1] * 1.01 - 0.002, p[2] * 1.01];
+            let target = FitTarget { points: shape.points().iter().map(moved).collect(), ..Default::default() };
+            let problem = Problem::new(&design, &target, Some(3)).unwrap();
+            let theta: Vec<f64> = problem.defaults().iter().map(|x| x + 0.01).collect();
+            let res = problem.residuals(&theta, true).unwrap();
+            let j = res.jacobian.unwrap();
+            for k in 0..theta.len() {
+                let h = 1e-7;
+                let at = |x: f64| {
+                    let mut t = theta.clone();
+                    t[k] += x;
+                    problem.residuals(&t, false).unwrap().r
+                };
+                let fd = (at(h) - at(-h)) / (2.0 * h);
+                let err = (&fd - j.column(k)).amax();
+                assert!(err < 1e-6 * fd.amax().max(1.0), "{name} parameter {k}: {err} (scale {})", fd.amax());
+            }
+        }
+    }
+}
