@@ -59,7 +59,7 @@ struct Points {
 const ALONG: f64 = 0.0;
 
 /// Neighbours whose principal axes give a target point's frame.
-const NEIGHBOURS: usize = 8;
+const NEIGHBOURS: usize = 16;
 
 /// A member's verdict: proven to converge, or why not.
 #[derive(Clone, Debug, PartialEq)]

@@ -4,6 +4,7 @@
 mod clients;
 mod curves;
 mod export;
+mod fit;
 mod formats;
 mod gltf;
 #[path = "../common/hausdorff.rs"]
