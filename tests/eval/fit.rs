@@ -38,7 +38,8 @@ fn ternary() -> Design {
 /// from their defaults, proven to converge, the points to rounding.
 #[test]
 fn members_are_recovered_from_their_points() {
-    let cases: Vec<(Design, usize, Vec<(&str, f64)>)> = vec![
+    type Case = (Design, usize, Vec<(&'static str, f64)>);
+    let cases: Vec<Case> = vec![
         (load("corner_cutting").unwrap(), 6, vec![("a", 0.1), ("b", 0.35)]),
         (ternary(), 3, vec![("w", 0.03)]),
         (load("doo_sabin_torus").unwrap(), 2, vec![("alpha", 0.62), ("beta", 0.13), ("gamma", 0.2)]),
