@@ -153,6 +153,16 @@ def subdivide(
     **weights: float,
 ) -> Mesh: ...
 def analyze_curve(design: Design, **params: Union[float, int, str, Fraction]) -> dict[str, Any]: ...
+def fit(
+    design: Design,
+    target: Optional[Union[str, os.PathLike[str], npt.ArrayLike, Mesh, Any]] = None,
+    dimension: Optional[float] = None,
+    angle: Optional[float] = None,
+    porosity: Optional[float] = None,
+    depth: Optional[int] = None,
+    starts: int = 4,
+    progress: Optional[Callable[[int, int], Any]] = None,
+) -> tuple[Design, dict[str, Any]]: ...
 
 REGIONS: list[str]
 """The regions of a region sweep, by code."""

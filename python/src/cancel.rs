@@ -40,12 +40,38 @@ pub(crate) fn cancellable_writing<T: Send + 'static>(
     cancellable_within(py, progress, FILE_GRACE, work)
 }
 
+/// How long an interrupted search (a fit) has to hand back its best answer so far.
+const SEARCH_GRACE: std::time::Duration = std::time::Duration::from_secs(5);
+
+/// [`cancellable`] for a search that answers with its best so far when
+/// stopped (a fit): on Ctrl-C its work is cancelled and, when it answers
+/// within [`SEARCH_GRACE`], the answer is returned instead of raising.
+pub(crate) fn interruptible<T: Send + 'static>(
+    py: Python<'_>,
+    progress: Option<&Bound<'_, PyAny>>,
+    work: impl FnOnce(bcifs::render::Cancel, Option<bcifs::render::Progress>) -> T + Send + 'static,
+) -> PyResult<T> {
+    cancellable_inner(py, progress, SEARCH_GRACE, true, work)
+}
+
 /// The body of [`cancellable`] and [`cancellable_writing`]: on Ctrl-C, the
 /// work is cancelled and waited for up to `grace`.
 fn cancellable_within<T: Send + 'static>(
     py: Python<'_>,
     progress: Option<&Bound<'_, PyAny>>,
     grace: std::time::Duration,
+    work: impl FnOnce(bcifs::render::Cancel, Option<bcifs::render::Progress>) -> T + Send + 'static,
+) -> PyResult<T> {
+    cancellable_inner(py, progress, grace, false, work)
+}
+
+/// On Ctrl-C, the work is cancelled and waited for up to `grace`; with
+/// `keep`, what it returned in that time is the answer, else the exception.
+fn cancellable_inner<T: Send + 'static>(
+    py: Python<'_>,
+    progress: Option<&Bound<'_, PyAny>>,
+    grace: std::time::Duration,
+    keep: bool,
     work: impl FnOnce(bcifs::render::Cancel, Option<bcifs::render::Progress>) -> T + Send + 'static,
 ) -> PyResult<T> {
     let cancel = bcifs::render::Cancel::new();
@@ -82,6 +108,9 @@ fn cancellable_within<T: Send + 'static>(
                     std::thread::sleep(std::time::Duration::from_millis(10));
                 }
             });
+            if keep && handle.is_finished() {
+                return py.detach(|| handle.join()).map_err(|_| err("the computation panicked"));
+            }
             return Err(e);
         }
     }

@@ -15,6 +15,7 @@ use cancel::{cancellable, cancellable_writing};
 
 mod builder;
 mod cancel;
+mod fit;
 mod mesh;
 mod options;
 use builder::Builder;
@@ -301,7 +302,7 @@ impl Design {
 }
 
 /// A report as the dict `json.loads` makes of the JSON the CLI prints.
-fn json_object<'py>(py: Python<'py>, value: &impl serde::Serialize) -> PyResult<Bound<'py, PyAny>> {
+pub(crate) fn json_object<'py>(py: Python<'py>, value: &impl serde::Serialize) -> PyResult<Bound<'py, PyAny>> {
     let text = serde_json::to_string(value).map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))?;
     py.import("json")?.call_method1("loads", (text,))
 }
@@ -726,6 +727,7 @@ fn _bcifs(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(options::option_keys, m)?)?;
     m.add_function(wrap_pyfunction!(options::profile, m)?)?;
     m.add_function(wrap_pyfunction!(subdivide, m)?)?;
+    m.add_function(wrap_pyfunction!(fit::fit, m)?)?;
     m.add_function(wrap_pyfunction!(sweep_rows, m)?)?;
     m.add_function(wrap_pyfunction!(dimension, m)?)?;
     m.add_function(wrap_pyfunction!(topology, m)?)?;

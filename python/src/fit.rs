@@ -1,0 +1,62 @@
+//! `bcifs.fit`: a design's free parameters fitted to points, a mesh, a picture or numbers.
+
+use pyo3::prelude::*;
+
+use crate::cancel::interruptible;
+use crate::{Design, err, json_object};
+
+/// The target points: a file (OBJ, OFF, PLY: vertices; PNG: an outline), an
+/// (n, 2) or (n, 3) array-like, or anything with `vertices` (a `bcifs.Mesh`,
+/// a trimesh mesh).
+fn target_points(py: Python<'_>, design: &Design, target: &Bound<'_, PyAny>) -> PyResult<Vec<[f64; 3]>> {
+    let os = py.import("os")?;
+    if target.is_instance_of::<pyo3::types::PyString>() || target.hasattr("__fspath__")? {
+        let path: std::path::PathBuf = os.call_method1("fspath", (target,))?.extract()?;
+        return bcifs::render::read_target(&path, &design.inner).map_err(err);
+    }
+    let array = if target.hasattr("vertices")? { target.getattr("vertices")? } else { target.clone() };
+    let numpy = py.import("numpy")?;
+    let array = numpy.call_method1("asarray", (array, numpy.getattr("float64")?))?;
+    let shape: Vec<usize> = array.getattr("shape")?.extract()?;
+    if shape.len() != 2 || !(2..=3).contains(&shape[1]) {
+        return Err(err(format!("target: expected an (n, 2) or (n, 3) array of points, not shape {shape:?}")));
+    }
+    let rows: Vec<Vec<f64>> = array.call_method0("tolist")?.extract()?;
+    Ok(rows.into_iter().map(|r| [r[0], r[1], r.get(2).copied().unwrap_or(0.0)]).collect())
+}
+
+/// Fits `design`'s free parameters to a target (points: a file path, an
+/// array, a `bcifs.Mesh`; and/or numbers: `dimension`, `angle` in degrees,
+/// `porosity`), staying where convergence is proven: the fitted design (its
+/// parameters as defaults) and the report `bcifs fit --json` prints
+/// (`parameters`, `residual`, `converges`, `reason`…). `progress(done,
+/// total)` follows the iterations; Ctrl-C returns the best member so far
+/// (`interrupted` true).
+#[pyfunction]
+#[pyo3(signature = (design, target=None, dimension=None, angle=None, porosity=None, depth=None, starts=4, progress=None))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn fit<'py>(
+    py: Python<'py>,
+    design: &Design,
+    target: Option<&Bound<'py, PyAny>>,
+    dimension: Option<f64>,
+    angle: Option<f64>,
+    porosity: Option<f64>,
+    depth: Option<usize>,
+    starts: usize,
+    progress: Option<&Bound<'py, PyAny>>,
+) -> PyResult<(Design, Bound<'py, PyAny>)> {
+    let points = target.map(|t| target_points(py, design, t)).transpose()?.unwrap_or_default();
+    let target = bcifs::render::FitTarget { points, dimension, angle, porosity };
+    let inner = design.inner.clone();
+    let report = interruptible(py, progress, move |cancel, reporter| {
+        let options = bcifs::render::FitOptions { depth, starts, cancel, progress: reporter, ..Default::default() };
+        let report = bcifs::render::fit(&inner, &target, &options)?;
+        let fitted = bcifs::render::fitted_design(&inner, &report.parameters)?;
+        Ok::<_, bcifs::render::FitError>((fitted, report))
+    })?
+    .map_err(err)?;
+    let (fitted, report) = report;
+    let dict = json_object(py, &report.to_json())?;
+    Ok((Design { inner: fitted }, dict))
+}

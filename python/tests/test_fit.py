@@ -1,0 +1,82 @@
+"""Issue 47 in Python: `bcifs.fit(design, target, dimension=, angle=,
+porosity=)` returns the fitted design (its parameters as defaults) and the
+report `bcifs fit --json` prints; targets as paths, arrays, meshes; Ctrl-C
+answers with the best member so far."""
+
+import json
+import pathlib
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import bcifs
+from test_module import cli
+
+
+def test_a_member_is_recovered_from_a_mesh_an_array_and_a_file(tmp_path):
+    design = bcifs.load("corner_cutting")
+    mesh = design.mesh(depth=6, a=0.1, b=0.35)
+    obj = tmp_path / "member.obj"
+    subprocess.run([cli(), "render", "corner_cutting", "--depth", "6", "--param", "a=0.1", "--param", "b=0.35", "-o", str(obj)], check=True, capture_output=True)
+    for target in [mesh, mesh.vertices[:, :2].tolist(), obj, str(obj)]:
+        fitted, report = bcifs.fit(design, target)
+        assert report["parameters"]["a"] == pytest.approx(0.1, abs=1e-6)
+        assert report["parameters"]["b"] == pytest.approx(0.35, abs=1e-6)
+        assert report["converges"] and report["residual"] < 1e-9
+        # The fitted design carries them as its defaults.
+        assert fitted.check()["parameters"]["b"] == pytest.approx(0.35, abs=1e-6)
+    # The same report as the command line's.
+    out = subprocess.run([cli(), "fit", "corner_cutting", "--to", str(obj), "--json"], check=True, capture_output=True, text=True)
+    assert json.loads(out.stdout)["parameters"] == pytest.approx(report["parameters"], abs=1e-12)
+
+
+def test_numbers_and_trimesh_targets():
+    _, report = bcifs.fit(bcifs.load("cantor"), dimension=0.5)
+    assert report["numbers"]["dimension"]["value"] == pytest.approx(0.5, abs=1e-9)
+    trimesh = pytest.importorskip("trimesh")
+    torus = bcifs.load("doo_sabin_torus")
+    member = torus.mesh(depth=2, alpha=0.62).to_trimesh()
+    assert isinstance(member, trimesh.Trimesh)
+    _, report = bcifs.fit(torus, member)
+    assert report["parameters"]["alpha"] == pytest.approx(0.62, abs=1e-6)
+
+
+def test_bad_input_raises_before_any_work():
+    design = bcifs.load("corner_cutting")
+    with pytest.raises(bcifs.BcifsError, match="nothing to fit to"):
+        bcifs.fit(design)
+    with pytest.raises(bcifs.BcifsError, match="no free parameter"):
+        bcifs.fit(bcifs.load("gasket"), dimension=1.5)
+    with pytest.raises(bcifs.BcifsError, match="not finite"):
+        bcifs.fit(design, np.array([[0.0, np.nan]]))
+    with pytest.raises(bcifs.BcifsError, match=r"\(n, 2\) or \(n, 3\)"):
+        bcifs.fit(design, np.zeros((4, 5)))
+
+
+def test_ctrl_c_returns_the_best_member_so_far():
+    """A long fit (noisy points, many starts) interrupted: the call returns
+    the best member found, proven to converge, marked interrupted."""
+    import signal
+    import time
+
+    script = (
+        "import bcifs, numpy as np, json\n"
+        "d = bcifs.load('corner_cutting')\n"
+        "p = d.mesh(depth=7, a=0.1, b=0.35).vertices[:, :2]\n"
+        "p = p + np.random.default_rng(1).uniform(-0.02, 0.02, p.shape)\n"
+        "print('start', flush=True)\n"
+        "f, r = bcifs.fit(d, p, starts=200)\n"
+        "print(json.dumps(r), flush=True)\n"
+    )
+    child = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    assert child.stdout.readline().strip() == "start"
+    time.sleep(2.0)
+    assert child.poll() is None, "still fitting when interrupted"
+    child.send_signal(signal.SIGINT)
+    out, err = child.communicate(timeout=60)
+    assert child.returncode == 0, err
+    report = json.loads(out)
+    assert report["interrupted"] and report["converges"]
+    assert abs(report["parameters"]["a"] - 0.1) < 0.05
