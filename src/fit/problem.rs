@@ -269,14 +269,23 @@ impl<'a> Problem<'a> {
         Ok(Residuals { r, jacobian, distance, numbers, pairs: found })
     }
 
+    /// The slope of a number target along parameter `j`: a central difference, one-sided where
+    /// the measure has no value on one side (a curve whose junction angle ends there), none
+    /// where it has none on either.
     fn number_slope(&self, measure: Measure, theta: &[f64], j: usize) -> Result<f64, FitError> {
         let h = 1e-6 * theta[j].abs().max(1.0);
         let at = |x: f64| {
             let mut t = theta.to_vec();
             t[j] += x;
-            self.measure(measure, &t)
+            self.measure(measure, &t).ok()
         };
-        Ok((at(h)? - at(-h)?) / (2.0 * h) / measure.scale())
+        let slope = match (at(h), at(-h)) {
+            (Some(p), Some(m)) => (p - m) / (2.0 * h),
+            (Some(p), None) => (p - self.measure(measure, theta)?) / h,
+            (None, Some(m)) => (self.measure(measure, theta)? - m) / h,
+            (None, None) => 0.0,
+        };
+        Ok(slope / measure.scale())
     }
 
     /// A number target's value at `theta`.
