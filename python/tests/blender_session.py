@@ -226,6 +226,27 @@ def live():
     got["linked"] = [torus.data.bcifs.params["alpha"].value, twin.data == torus.data, len(torus.data.vertices)]
     twin.data.bcifs.params["alpha"].value = 0.7
     bpy.data.objects.remove(twin)
+    # Fit to the selected mesh: a plain copy of a torus at alpha = 0.62 is the target.
+    bpy.ops.object.select_all(action="DESELECT")
+    assert bpy.ops.bcifs.add(source="doo_sabin_torus", depth=2) == {"FINISHED"}
+    model = bpy.context.active_object
+    model.data.bcifs.params["alpha"].value = 0.62
+    bpy.ops.bcifs.apply()
+    target = model.copy()
+    target.data = model.data.copy()
+    target.location = (2.0, -1.0, 0.5)  # moved with its model: the fit works in the model's coordinates
+    model.location = (2.0, -1.0, 0.5)
+    bpy.context.collection.objects.link(target)
+    model.data.bcifs.params["alpha"].value = 0.6
+    bpy.ops.bcifs.apply()
+    bpy.ops.object.select_all(action="DESELECT")
+    target.select_set(True)
+    model.select_set(True)
+    bpy.context.view_layer.objects.active = model
+    assert bpy.ops.bcifs.fit() == {"FINISHED"}
+    got["fit"] = [model.data.bcifs.params["alpha"].value, model.data.bcifs.verdict, model.data.bcifs.message]
+    bpy.data.objects.remove(target)
+    bpy.data.objects.remove(model)
     # A file saved when the state was on the object: moved onto the data when loaded.
     legacy = bpy.data.objects.new("legacy", bpy.data.meshes.new("legacy"))
     bpy.context.collection.objects.link(legacy)

@@ -186,6 +186,15 @@ def test_linked_duplicates_share_parameters_and_old_files_move(operators):
     assert operators["live"]["legacy"] == ["koch", 2, ["alpha"], False]
 
 
+def test_fit_to_the_selected_mesh(operators):
+    """Issue 47 §4: a torus's alpha fitted to a plain copy of the torus at
+    alpha = 0.62 (both moved in the scene: the fit reads the target in the
+    model's coordinates) comes back to float32 rounding, proven to converge."""
+    alpha, verdict, message = operators["live"]["fit"]
+    assert alpha == pytest.approx(0.62, abs=1e-6) and verdict == "converges", message
+    assert "proven to converge" in message
+
+
 def test_diverging_weights_are_refused_with_the_library_message(operators):
     assert "diverge" in operators["diverging"], operators["diverging"]
 

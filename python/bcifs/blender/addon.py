@@ -14,6 +14,8 @@ module travels beside it (``bcifs_blender/bcifs``), so Blender needs no pip.
   re-evaluates it, material indices kept; ``bpy.ops.bcifs.subdivision_apply``
   and ``bpy.ops.bcifs.subdivision_unlink`` end the link (Object › BC-IFS
   subdivide).
+- ``bpy.ops.bcifs.fit()``: the active BC-IFS object's parameters fitted to
+  the other selected mesh's vertices (``bcifs fit``), proven to converge.
 - View3D › Sidebar › BC-IFS: the active object's parameters as sliders over
   their convergence range, its depth, its verdict and JSR bounds, and the
   parameter map as an image; for a live subdivision its settings.
@@ -416,6 +418,65 @@ class BCIFS_OT_map(bpy.types.Operator):
         return {"FINISHED"}
 
 
+def _fit_target(context):
+    """The selected mesh object other than the active one (the fit's target), or None."""
+    active = context.active_object
+    return next((o for o in context.selected_objects if o is not active and o.type == "MESH"), None)
+
+
+class BCIFS_OT_fit(bpy.types.Operator):
+    """Fit the active BC-IFS object's parameters to the other selected mesh (its vertices), staying where convergence is proven"""
+
+    bl_idname = "bcifs.fit"
+    bl_label = "Fit to selected"
+    bl_options = {"REGISTER", "UNDO"}
+
+    starts: IntProperty(name="Starts", min=1, max=64, default=4, description="Starts run to the end: the defaults, then the best of a sample of the ranges")
+
+    @classmethod
+    def poll(cls, context):
+        state = data_state(context.active_object)
+        return state is not None and len(state.params) > 0 and _fit_target(context) is not None
+
+    def execute(self, context):
+        obj, target = context.active_object, _fit_target(context)
+        state = obj.data.bcifs
+        depsgraph = context.evaluated_depsgraph_get()
+        evaluated = target.evaluated_get(depsgraph)
+        me = evaluated.to_mesh()
+        try:
+            co = np.empty(len(me.vertices) * 3, dtype=np.float64)
+            me.vertices.foreach_get("co", co)
+        finally:
+            evaluated.to_mesh_clear()
+        # The target's vertices in the BC-IFS object's own coordinates (the model's).
+        to_local = np.array(obj.matrix_world.inverted() @ target.matrix_world)
+        points = co.reshape(-1, 3) @ to_local[:3, :3].T + to_local[:3, 3]
+        try:
+            try:
+                _, report = bcifs.fit(design_of(state), points, starts=self.starts)
+            except bcifs.BcifsError as e:
+                # A plane's model: the target in its plane (Blender's z of a curve is 0).
+                if "model is 2D" not in str(e) or not np.allclose(points[:, 2], 0.0, atol=1e-6):
+                    raise
+                _, report = bcifs.fit(design_of(state), points[:, :2], starts=self.starts)
+        except bcifs.BcifsError as e:
+            self.report({"ERROR"}, str(e))
+            return {"CANCELLED"}
+        state.updating = True
+        for p in state.params:
+            if p.name in report["parameters"]:
+                p.value = report["parameters"][p.name]
+        state.updating = False
+        rebuild(obj.data, state.depth)
+        check(obj.data)
+        verdict = "proven to converge" if report["converges"] else "not proven to converge"
+        text = f"fitted to {target.name}: residual {report['residual']:.3g}, {verdict}"
+        state.message = report["reason"] or text
+        self.report({"INFO"}, text)
+        return {"FINISHED"}
+
+
 SCHEMES = [
     ("doo-sabin", "Doo-Sabin", "Corner cutting: faces from faces, edges and vertices (weights alpha, beta, gamma on quads)"),
     ("catmull-clark", "Catmull-Clark", "Quads from any polygons; UVs follow"),
@@ -776,6 +837,7 @@ class BCIFS_PT_panel(bpy.types.Panel):
         if state.shown_depth != state.depth:
             box.label(text=f"Shown at depth {state.shown_depth}")
         layout.operator("bcifs.map", icon="IMAGE_DATA")
+        layout.operator("bcifs.fit", icon="TRACKING")
 
 
 def menu_add(self, context):
@@ -793,6 +855,7 @@ CLASSES = (
     BCIFS_OT_add,
     BCIFS_OT_apply,
     BCIFS_OT_map,
+    BCIFS_OT_fit,
     BCIFS_OT_subdivide,
     BCIFS_OT_subdivision_apply,
     BCIFS_OT_subdivision_unlink,
