@@ -126,6 +126,29 @@ def test_a_divergent_point_is_shown_as_such_and_a_link_reopens_a_member(server, 
     assert "a=0.3" in href and "depth=4" in href
 
 
+def test_fit_to_a_file_moves_the_sliders_to_the_member(server, page, tmp_path):
+    """Issue 47 §4: "Fit to…" uploads a file (the OBJ `bcifs render` wrote of
+    the member a = 0.1, b = 0.35); the sliders move to it, proven to
+    converge; a file of another kind is refused with the library's reason."""
+    obj = tmp_path / "member.obj"
+    subprocess.run([cli(), "render", "corner_cutting", "--depth", "6", "--param", "a=0.1", "--param", "b=0.35", "-o", str(obj)], check=True, capture_output=True)
+    page.get(server + "?depth=5")
+    wait(lambda: page.execute_script("return document.body.dataset.ready === 'yes'"))
+    page.find_element("id", "fit-file").send_keys(str(obj))
+    wait(lambda: "fitted to member.obj" in page.find_element("id", "fit-status").text)
+    assert "proven to converge" in page.find_element("id", "fit-status").text
+    a, b = page.execute_script("return [state.values.a, state.values.b]")
+    assert abs(a - 0.1) < 1e-6 and abs(b - 0.35) < 1e-6
+    slider = page.find_element("id", "param-a")  # a range input snaps to its steps; the state keeps the value
+    assert abs(float(slider.get_attribute("value")) - 0.1) <= float(slider.get_attribute("step"))
+    wait(lambda: "a=0.0999" in page.current_url or "a=0.1" in page.current_url)
+    bad = tmp_path / "notes.txt"
+    bad.write_text("hello")
+    page.find_element("id", "fit-file").send_keys(str(bad))
+    wait(lambda: "not fitted" in page.find_element("id", "fit-status").text)
+    assert "not `.txt`" in page.find_element("id", "fit-status").text
+
+
 def test_a_surface_turns_when_dragged(page):
     child = subprocess.Popen([cli(), "explore", "doo_sabin_torus", "--port", "0", "--no-open"], stdout=subprocess.PIPE, text=True)
     try:

@@ -27,7 +27,7 @@ use crate::progress::{Cancel, Progress};
 #[cfg(test)]
 use problem::Measure;
 use problem::{Problem, Proof};
-pub use target::{picture_points, read_target};
+pub use target::{picture_points, read_target, read_target_bytes};
 pub use types::{FitError, FitTarget};
 
 /// How the fit runs.

@@ -15,18 +15,33 @@ use crate::design::Design;
 /// An unreadable or malformed file (with its line), an unknown extension, no point.
 pub fn read_target(path: &Path, design: &Design) -> Result<Vec<[f64; 3]>, FitError> {
     let name = path.display().to_string();
-    let ext = path.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
+    let size = std::fs::metadata(path).map_err(|e| FitError::Target(format!("{name}: {e}")))?.len();
+    if size > crate::input::TEXT_FILE_LIMIT {
+        return Err(FitError::Target(format!(
+            "{name}: {size} bytes, over the limit of {} bytes",
+            crate::input::TEXT_FILE_LIMIT
+        )));
+    }
+    let bytes = std::fs::read(path).map_err(|e| FitError::Target(format!("{name}: {e}")))?;
+    read_target_bytes(&name, &bytes, design)
+}
+
+/// [`read_target`] of a file's bytes (an upload), its format from `name`'s extension.
+///
+/// # Errors
+/// As [`read_target`].
+pub fn read_target_bytes(name: &str, bytes: &[u8], design: &Design) -> Result<Vec<[f64; 3]>, FitError> {
+    let ext = Path::new(name).extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
     let bad = |line: usize, what: &str| FitError::Target(format!("{name}:{line}: {what}"));
     let points = match ext.as_str() {
-        "png" => return picture_points(path, design),
-        "ply" => {
-            let bytes = std::fs::read(path).map_err(|e| FitError::Target(format!("{name}: {e}")))?;
-            ply_vertices(&bytes).map_err(|(line, what)| bad(line, &what))?
+        "png" => {
+            let picture = image::load_from_memory(bytes).map_err(|e| FitError::Target(format!("{name}: {e}")))?;
+            return picture_points(&picture, name, design);
         }
+        "ply" => ply_vertices(bytes).map_err(|(line, what)| bad(line, &what))?,
         "obj" | "off" => {
-            let text = crate::input::read_text(path, crate::input::TEXT_FILE_LIMIT)
-                .map_err(|e| FitError::Target(format!("{name}: {e}")))?;
-            let parsed = if ext == "obj" { obj_vertices(&text) } else { off_vertices(&text) };
+            let text = std::str::from_utf8(bytes).map_err(|e| FitError::Target(format!("{name}: not text: {e}")))?;
+            let parsed = if ext == "obj" { obj_vertices(text) } else { off_vertices(text) };
             parsed.map_err(|(line, what)| bad(line, &what))?
         }
         other => {
@@ -198,10 +213,9 @@ fn binary_vertices(
 /// shape, not its size or place.
 ///
 /// # Errors
-/// An unreadable picture, one with no shape, a design that does not evaluate.
-pub fn picture_points(path: &Path, design: &Design) -> Result<Vec<[f64; 3]>, FitError> {
-    let name = path.display().to_string();
-    let grey = image::open(path).map_err(|e| FitError::Target(format!("{name}: {e}")))?.to_luma8();
+/// A picture with no shape (`name` says which), a design that does not evaluate.
+pub fn picture_points(picture: &image::DynamicImage, name: &str, design: &Design) -> Result<Vec<[f64; 3]>, FitError> {
+    let grey = picture.to_luma8();
     let (w, h) = (grey.width() as usize, grey.height() as usize);
     let traced = crate::contour::fit_contour(grey.as_raw(), w, h, &crate::contour::FitSettings::default())
         .map_err(|e| FitError::Target(format!("{name}: {e}")))?;

@@ -79,7 +79,9 @@ pub use crate::export::{
     write_png, write_png_text,
 };
 pub use crate::family::{DesignInstantiateError, Family, InstantiateError, SolveError, instantiate, solution, solve};
-pub use crate::fit::{FitError, FitOptions, FitReport, FitTarget, fit, fitted_design, picture_points, read_target};
+pub use crate::fit::{
+    FitError, FitOptions, FitReport, FitTarget, fit, fitted_design, picture_points, read_target, read_target_bytes,
+};
 pub use crate::format::{BUILTIN_AUTOMATA, builtin_design, parse_design, write_design};
 pub use crate::geometry::{Shape, Sink, area_normals, fan};
 pub use crate::mesh::{LoopWeights, PolyMesh, QuadWeights, RuleWeights, Scheme, SubdivideError, read_mesh};

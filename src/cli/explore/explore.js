@@ -149,6 +149,31 @@ function slider(p) {
   return label;
 }
 
+// "Fit to…": the chosen file (points, a mesh, a picture) uploaded; the sliders move to the fitted member.
+async function fitTo(file) {
+  $("fit-status").textContent = `fitting to ${file.name}…`;
+  let response = null;
+  try { response = await fetch("api/fit?name=" + encodeURIComponent(file.name), { method: "POST", body: await file.arrayBuffer() }); } catch (e) { response = null; }
+  if (!response || !response.ok) { $("fit-status").textContent = "not fitted: " + (response ? await reason(response) : "no answer"); return; }
+  const report = await response.json();
+  for (const [name, v] of Object.entries(report.parameters)) {
+    if (!(name in state.values)) continue;
+    state.values[name] = v;
+    const [lo, hi] = state.ranges[name];
+    if (v < lo || v > hi) state.ranges[name] = [Math.min(lo, v), Math.max(hi, v)];
+    const input = $("param-" + name);
+    Object.assign(input, { min: state.ranges[name][0], max: state.ranges[name][1] });
+    input.value = v;
+    // The slider snaps to its steps: the fitted value itself is the state, and shown.
+    state.values[name] = v;
+    input.previousElementSibling.textContent = Number(v).toPrecision(5);
+  }
+  const verdict = report.converges ? "proven to converge" : "not proven to converge";
+  $("fit-status").textContent = `fitted to ${file.name}: residual ${report.residual.toExponential(2)}, ${verdict}` + (report.reason ? ` (${report.reason})` : "") + (report.interrupted ? " (the time budget stopped it: the best member so far)" : "");
+  update(false);
+  map();
+}
+
 // The map spans the slider's range and half as much again on each side (where it diverges).
 function mapRange(p) {
   const [lo, hi] = state.ranges[p.name];
@@ -267,6 +292,7 @@ async function start() {
   // Regions, angles and their smoothness are of curve families: not offered for a surface.
   if (!state.design.curve_maps) for (const kind of ["region", "angle", "smooth"]) $("mapkind").querySelector(`option[value="${kind}"]`).remove();
   for (const id of ["mapx", "mapy", "mapkind", "threshold"]) $(id).addEventListener("change", map);
+  $("fit-file").addEventListener("change", () => { const f = $("fit-file").files[0]; if (f) fitTo(f); });
   // The page going away stops its pictures and maps on the server.
   window.addEventListener("pagehide", () => navigator.sendBeacon("api/bye?session=" + session));
   dragToTurn();

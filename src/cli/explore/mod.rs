@@ -21,6 +21,8 @@ use std::net::SocketAddr;
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
+mod fit;
+
 use anyhow::{Context, Result, bail};
 use serde_json::{Value, json};
 
@@ -664,8 +666,13 @@ fn serve(explorer: &Explorer, mut request: tiny_http::Request, bound: std::net::
     let method = request.method().clone();
     // The page's goodbye comes as a beacon (a POST); everything else only reads.
     let beacon = method == tiny_http::Method::Post && path == "/api/bye";
+    // A fit's target comes as a POST's body (an upload), read up to its limit.
+    let upload = method == tiny_http::Method::Post && path == "/api/fit";
     let reads = matches!(method, tiny_http::Method::Get | tiny_http::Method::Head);
-    if !reads {
+    let mut body = Vec::new();
+    if upload {
+        let _ = request.as_reader().take(fit::UPLOAD_LIMIT).read_to_end(&mut body);
+    } else if !reads {
         // Drain what was sent.
         let _ = std::io::copy(&mut request.as_reader().take(1 << 20), &mut std::io::sink());
     }
@@ -673,8 +680,11 @@ fn serve(explorer: &Explorer, mut request: tiny_http::Request, bound: std::net::
     let answer = if !host_allowed(host.as_deref(), bound) {
         let shown = clip(host.as_deref().unwrap_or(""));
         Answer::error(403, format!("Host `{shown}` is not served: open the page at localhost or {bound}"))
+    } else if upload {
+        std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| explorer.fit(&Query::parse(query), &body)))
+            .unwrap_or_else(|_| Answer::error(500, "internal error"))
     } else if !reads && !beacon {
-        Answer::error(405, "only GET and HEAD are served (and POST /api/bye)")
+        Answer::error(405, "only GET and HEAD are served (and POST /api/bye, /api/fit)")
     } else {
         // A panic in a request is a 500, not a dead worker.
         std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| explorer.answer(&path, &Query::parse(query))))
