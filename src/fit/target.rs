@@ -8,8 +8,10 @@ use crate::design::Design;
 
 /// The points of a target file, by extension: the vertices of an OBJ
 /// (`v` lines), OFF or PLY (ASCII or binary) file — faces, edges, normals
-/// and colours are not needed — or, for a PNG, the outline of its largest
-/// shape placed over the design's default member ([`picture_points`]).
+/// and colours are not needed — read as Y-up (as bcifs writes these files
+/// and Blender exports them: turned back into a Z-up model's axes), or,
+/// for a PNG, the outline of its largest shape placed over the design's
+/// default member ([`picture_points`]).
 ///
 /// # Errors
 /// An unreadable or malformed file (with its line), an unknown extension, no point.
@@ -53,7 +55,11 @@ pub fn read_target_bytes(name: &str, bytes: &[u8], design: &Design) -> Result<Ve
     if points.is_empty() {
         return Err(FitError::Target(format!("{name}: no vertex")));
     }
-    Ok(points)
+    // Mesh files are Y-up (as bcifs writes them, and Blender and most tools export them): a
+    // Z-up model's points are turned back, (x, y, z) ↦ (x, −z, y).
+    let model = crate::report::model_of(design).map_err(|e| FitError::Design(e.to_string()))?;
+    let space = model.points.first().is_some_and(|p| p.len() == 3);
+    Ok(if space && !model.y_up { points.into_iter().map(|[x, y, z]| [x, -z, y]).collect() } else { points })
 }
 
 /// Three coordinates (a missing third one is 0) from words, or what is wrong.
