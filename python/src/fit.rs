@@ -8,11 +8,12 @@ use crate::{Design, err, json_object};
 /// The target points: a file (OBJ, OFF, PLY: vertices; PNG: an outline), an
 /// (n, 2) or (n, 3) array-like, or anything with `vertices` (a `bcifs.Mesh`,
 /// a trimesh mesh).
-fn target_points(py: Python<'_>, design: &Design, target: &Bound<'_, PyAny>) -> PyResult<Vec<[f64; 3]>> {
+fn target_points(py: Python<'_>, design: &Design, target: &Bound<'_, PyAny>) -> PyResult<(Vec<[f64; 3]>, bool)> {
     let os = py.import("os")?;
     if target.is_instance_of::<pyo3::types::PyString>() || target.hasattr("__fspath__")? {
         let path: std::path::PathBuf = os.call_method1("fspath", (target,))?.extract()?;
-        return bcifs::render::read_target(&path, &design.inner).map_err(err);
+        let picture = bcifs::render::is_picture(&path.to_string_lossy());
+        return Ok((bcifs::render::read_target(&path, &design.inner).map_err(err)?, picture));
     }
     let array = if target.hasattr("vertices")? { target.getattr("vertices")? } else { target.clone() };
     let numpy = py.import("numpy")?;
@@ -22,7 +23,7 @@ fn target_points(py: Python<'_>, design: &Design, target: &Bound<'_, PyAny>) -> 
         return Err(err(format!("target: expected an (n, 2) or (n, 3) array of points, not shape {shape:?}")));
     }
     let rows: Vec<Vec<f64>> = array.call_method0("tolist")?.extract()?;
-    Ok(rows.into_iter().map(|r| [r[0], r[1], r.get(2).copied().unwrap_or(0.0)]).collect())
+    Ok((rows.into_iter().map(|r| [r[0], r[1], r.get(2).copied().unwrap_or(0.0)]).collect(), false))
 }
 
 /// Fits `design`'s free parameters to a target (points: a file path, an
@@ -46,8 +47,8 @@ pub(crate) fn fit<'py>(
     starts: usize,
     progress: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<(Design, Bound<'py, PyAny>)> {
-    let points = target.map(|t| target_points(py, design, t)).transpose()?.unwrap_or_default();
-    let target = bcifs::render::FitTarget { points, dimension, angle, porosity };
+    let (points, free_pose) = target.map(|t| target_points(py, design, t)).transpose()?.unwrap_or_default();
+    let target = bcifs::render::FitTarget { points, dimension, angle, porosity, free_pose };
     let inner = design.inner.clone();
     let report = interruptible(py, progress, move |cancel, reporter| {
         let options = bcifs::render::FitOptions { depth, starts, cancel, progress: reporter, ..Default::default() };

@@ -50,8 +50,14 @@ pub fn run(out: &mut String, args: FitArgs) -> Result<u8> {
         Some(path) => bcifs::render::read_target(path, &design)?,
         None => Vec::new(),
     };
-    let target =
-        bcifs::render::FitTarget { points, dimension: args.dimension, angle: args.angle, porosity: args.porosity };
+    let free_pose = args.to.as_deref().is_some_and(|p| bcifs::render::is_picture(&p.to_string_lossy()));
+    let target = bcifs::render::FitTarget {
+        points,
+        dimension: args.dimension,
+        angle: args.angle,
+        porosity: args.porosity,
+        free_pose,
+    };
     let settings = bcifs::render::FitOptions {
         depth: args.depth,
         starts: args.starts,
@@ -85,6 +91,12 @@ pub fn run(out: &mut String, args: FitArgs) -> Result<u8> {
         report.starts,
         if report.interrupted { ", interrupted: the best so far" } else { "" }
     )?;
+    if let Some((scale, shift)) = &report.pose {
+        writeln!(
+            out,
+            "  pose: the member scaled by {scale:.6} after a shift of {shift:?} lies on the picture's outline"
+        )?;
+    }
     if let Some(why) = &report.reason {
         writeln!(out, "  note: {why}")?;
     }

@@ -27,7 +27,7 @@ use crate::progress::{Cancel, Progress};
 #[cfg(test)]
 use problem::Measure;
 use problem::{Problem, Proof};
-pub use target::{picture_points, read_target, read_target_bytes};
+pub use target::{is_picture, picture_points, read_target, read_target_bytes};
 pub use types::{FitError, FitTarget};
 
 /// How the fit runs.
@@ -79,6 +79,9 @@ pub struct FitReport {
     pub depth: usize,
     /// Ctrl-C (the cancel flag) stopped the fit: the best member so far.
     pub interrupted: bool,
+    /// With a free pose (a picture): the scale `u` and shift `t` that map the member's point `x`
+    /// onto the target, `u·(x − t)`.
+    pub pose: Option<(f64, Vec<f64>)>,
 }
 
 impl FitReport {
@@ -99,6 +102,7 @@ impl FitReport {
             "jsr_upper": if self.jsr_upper.is_finite() { serde_json::json!(self.jsr_upper) } else { serde_json::Value::Null },
             "reason": self.reason, "iterations": self.iterations, "starts": self.starts, "depth": self.depth,
             "interrupted": self.interrupted,
+            "pose": self.pose.as_ref().map(|(u, t)| serde_json::json!({"scale": u, "shift": t})),
         })
     }
 }
@@ -166,6 +170,7 @@ pub fn fit(design: &Design, target: &FitTarget, settings: &FitOptions) -> Result
         starts: runs,
         depth: problem.depth,
         interrupted: settings.cancel.is_cancelled(),
+        pose: problem.pose(&best.theta),
     })
 }
 
@@ -211,13 +216,16 @@ fn outside(problem: &Problem<'_>, theta: &[f64], proof: &Proof) -> String {
 /// to converge), `settings.starts − taken` of them, best first.
 fn sampled_starts(problem: &Problem<'_>, settings: &FitOptions, taken: usize) -> Vec<Vec<f64>> {
     let defaults = problem.defaults();
-    let ranges: Vec<(f64, f64)> = if defaults.len() <= 12 {
+    let m = defaults.len() - (problem.unknowns() - problem.names.len());
+    let mut ranges: Vec<(f64, f64)> = if m <= 12 {
         crate::report::parameter_ranges(problem.design)
             .map(|r| r.iter().map(|p| p.range).collect())
-            .unwrap_or_else(|_| defaults.iter().map(|&d| (d - 0.1, d + 0.1)).collect())
+            .unwrap_or_else(|_| defaults[..m].iter().map(|&d| (d - 0.1, d + 0.1)).collect())
     } else {
-        defaults.iter().map(|&d| (d - d.abs().max(1.0) / 12.0, d + d.abs().max(1.0) / 12.0)).collect()
+        defaults[..m].iter().map(|&d| (d - d.abs().max(1.0) / 12.0, d + d.abs().max(1.0) / 12.0)).collect()
     };
+    // The pose starts where the defaults' does (scale 1, no shift).
+    ranges.extend(defaults[m..].iter().map(|&d| (d, d)));
     // A Kronecker sequence: frac(k·α_i) with α_i the square roots of primes, spread over each range.
     let alphas = [2f64, 3.0, 5.0, 7.0, 11.0, 13.0, 17.0, 19.0, 23.0, 29.0, 31.0, 37.0].map(|p| p.sqrt().fract());
     let mut sampled: Vec<(f64, Vec<f64>)> = Vec::new();

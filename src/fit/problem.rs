@@ -104,6 +104,8 @@ pub(crate) struct Problem<'a> {
     level: std::cell::Cell<(usize, bool)>,
     points: Option<Points>,
     pub(crate) numbers: Vec<(Measure, f64)>,
+    /// The pose's unknowns after the parameters (a scale and a shift per coordinate), or none.
+    pose: usize,
 }
 
 impl<'a> Problem<'a> {
@@ -131,9 +133,12 @@ impl<'a> Problem<'a> {
         }
         let level = std::cell::Cell::new((depth.unwrap_or(0), true));
         let mut problem =
-            Problem { design, family, names, model, depth: depth.unwrap_or(0), level, points: None, numbers };
+            Problem { design, family, names, model, depth: depth.unwrap_or(0), level, points: None, numbers, pose: 0 };
         if !target.points.is_empty() {
             problem.points = Some(problem.target_points(&target.points)?);
+            if target.free_pose {
+                problem.pose = 1 + problem.evaluator(&problem.automaton(&problem.defaults())?, 0)?.pieces().dim;
+            }
             if depth.is_none() {
                 problem.depth = problem.matching_depth(target.points.len())?;
                 problem.level.set((problem.depth, true));
@@ -199,9 +204,25 @@ impl<'a> Problem<'a> {
         self.points.is_some()
     }
 
-    /// The parameters' defaults, in order.
+    /// The parameters' defaults, in order (then the pose's: scale 1, no shift).
     pub(crate) fn defaults(&self) -> Vec<f64> {
-        self.family.parameter_values(&[]).unwrap_or_else(|_| vec![0.0; self.names.len()])
+        let mut theta = self.family.parameter_values(&[]).unwrap_or_else(|_| vec![0.0; self.names.len()]);
+        theta.extend((0..self.pose).map(|k| if k == 0 { 1.0 } else { 0.0 }));
+        theta
+    }
+
+    /// The unknowns: the parameters, and the pose's when the target's size and place are free.
+    pub(crate) fn unknowns(&self) -> usize {
+        self.names.len() + self.pose
+    }
+
+    /// The pose at `theta` (the scale `u` and shift `t` that map a shape point `x` to `u·(x − t)`
+    /// in the target's units), when it is fitted.
+    pub(crate) fn pose(&self, theta: &[f64]) -> Option<(f64, Vec<f64>)> {
+        (self.pose > 0).then(|| {
+            let m = self.names.len();
+            (theta[m], theta[m + 1..m + self.pose].to_vec())
+        })
     }
 
     pub(crate) fn values(&self, theta: &[f64]) -> Vec<(String, f64)> {
@@ -243,12 +264,16 @@ impl<'a> Problem<'a> {
         jacobian: bool,
         pairs: Option<&Pairs>,
     ) -> Result<Residuals, FitError> {
-        let m = self.names.len();
+        let (m, all) = (self.names.len(), self.unknowns());
         let mut rows: Vec<f64> = Vec::new();
         let mut jac: Vec<Vec<f64>> = Vec::new();
         let (mut distance, mut found) = (None, None);
         if let Some(points) = &self.points {
             let tangents = self.tangents(theta, jacobian)?;
+            let tangents = match self.pose(theta) {
+                Some((u, t)) => posed(&tangents, u, &t, jacobian),
+                None => tangents,
+            };
             let fresh = pair(points, &tangents);
             distance = Some(fresh.distance);
             let used = pairs.filter(|p| p.to_target.len() == tangents.len()).unwrap_or(&fresh);
@@ -261,11 +286,13 @@ impl<'a> Problem<'a> {
             numbers.push((measure, value));
             rows.push((value - target) / measure.scale());
             if jacobian {
-                jac.push((0..m).map(|j| self.number_slope(measure, theta, j)).collect::<Result<Vec<_>, _>>()?);
+                let mut row = (0..m).map(|j| self.number_slope(measure, theta, j)).collect::<Result<Vec<_>, _>>()?;
+                row.resize(all, 0.0);
+                jac.push(row);
             }
         }
         let r = DVector::from_vec(rows);
-        let jacobian = jacobian.then(|| DMatrix::from_fn(jac.len(), m, |i, j| jac[i][j]));
+        let jacobian = jacobian.then(|| DMatrix::from_fn(jac.len(), all, |i, j| jac[i][j]));
         Ok(Residuals { r, jacobian, distance, numbers, pairs: found })
     }
 
@@ -370,6 +397,27 @@ impl<'a> Problem<'a> {
                 .collect(),
         )
     }
+}
+
+/// The leaf points `t` mapped by a pose, `x ↦ u·(x − shift)`, with their derivatives: along each
+/// parameter `u·dx`, then along `u` (`x − shift`) and each shift (`−u` on its coordinate).
+fn posed(t: &Tangents, u: f64, shift: &[f64], derivatives: bool) -> Tangents {
+    let (d, m) = (t.dim, t.directions);
+    let count = if derivatives { m + 1 + d } else { 0 };
+    let mut out =
+        Tangents { dim: d, directions: count, points: Vec::with_capacity(t.points.len()), ..Tangents::default() };
+    for p in 0..t.len() {
+        let x = &t.points[p * d..(p + 1) * d];
+        out.points.extend((0..d).map(|a| u * (x[a] - shift[a])));
+        if derivatives {
+            (0..m).for_each(|j| out.derivatives.extend(t.derivative(p, j).iter().map(|v| u * v)));
+            out.derivatives.extend((0..d).map(|a| x[a] - shift[a]));
+            for k in 0..d {
+                out.derivatives.extend((0..d).map(|a| if a == k { -u } else { 0.0 }));
+            }
+        }
+    }
+    out
 }
 
 /// The nearest points both ways between the target and the leaf points `t`.

@@ -62,6 +62,12 @@ pub fn read_target_bytes(name: &str, bytes: &[u8], design: &Design) -> Result<Ve
     Ok(if space && !model.y_up { points.into_iter().map(|[x, y, z]| [x, -z, y]).collect() } else { points })
 }
 
+/// Whether a target file is a picture (`.png`), whose outline has no model units: its size and
+/// place are fitted with the parameters ([`crate::fit::FitTarget::free_pose`]).
+pub fn is_picture(name: &str) -> bool {
+    Path::new(name).extension().is_some_and(|e| e.eq_ignore_ascii_case("png"))
+}
+
 /// Three coordinates (a missing third one is 0) from words, or what is wrong.
 fn coordinates<'a>(words: impl Iterator<Item = &'a str>) -> Result<[f64; 3], String> {
     let mut p = [0.0; 3];

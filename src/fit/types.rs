@@ -12,6 +12,9 @@ pub struct FitTarget {
     pub angle: Option<f64>,
     /// The porosity at the fit's depth (at most 4): the share of the start cell left empty.
     pub porosity: Option<f64>,
+    /// The points' size and place are free (a picture's outline, whose pixels have no model
+    /// units): a uniform scale and a shift of the shape onto them are fitted with the parameters.
+    pub free_pose: bool,
 }
 
 /// Why a fit cannot start.

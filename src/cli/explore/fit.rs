@@ -17,7 +17,8 @@ impl Explorer {
             Ok(points) => points,
             Err(e) => return Answer::error(422, e),
         };
-        let target = bcifs::render::FitTarget { points, ..Default::default() };
+        let target =
+            bcifs::render::FitTarget { points, free_pose: bcifs::render::is_picture(name), ..Default::default() };
         let cancel = bcifs::render::Cancel::new();
         let timer = cancel.clone();
         let budget = time_budget();
