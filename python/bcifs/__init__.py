@@ -22,7 +22,6 @@ from ._bcifs import (
     __version__,
     analyze_curve,
     dimension,
-    fit,
     lacunarity,
     load,
     map_colours,
@@ -32,6 +31,10 @@ from ._bcifs import (
     profile,
     subdivide,
     sweep_rows,
+)
+from ._bcifs import (
+    fit as _fit,
+    fit_starts as _fit_starts,
     topology,
 )
 
@@ -136,3 +139,40 @@ def sweep(design, x, y, what="verdict", client=None, tiles=None, thorough=False,
         return np.concatenate(parts, axis=0)
     return np.zeros((0, x[3]), dtype=np.int8 if what in ("verdict", "region", "regions") else np.float64)
 
+
+def _fit_from(toml, points, free_pose, numbers, depth, start):
+    """One start of a fit, on a worker: the fitted design's TOML and the report."""
+    design = Design.from_toml(toml)
+    dimension, angle, porosity = numbers
+    target = np.asarray(points) if len(points) else None
+    fitted, report = _fit(design, target, dimension, angle, porosity, depth=depth, start=start, free_pose=free_pose)
+    return fitted.to_toml(), report
+
+
+def fit(design, target=None, dimension=None, angle=None, porosity=None, depth=None, starts=4, progress=None, client=None):
+    """Fits `design`'s free parameters to `target` (a path to an OBJ, OFF,
+    PLY or PNG file, an (n, 2) or (n, 3) array, a `bcifs.Mesh` or trimesh
+    mesh) and/or numbers (`dimension`, `angle` in degrees, `porosity`),
+    staying where convergence is proven: `(fitted design, report)`, the
+    report as `bcifs fit --json` prints it. With a Dask `client`, the starts
+    (the defaults and the best of a sample of the convergence ranges,
+    `starts` of them) run on its workers, one each, and the lowest residual
+    is kept; `progress(done, total)` then counts the starts done."""
+    if isinstance(design, (str, os.PathLike)):
+        design = load(design)
+    if client is None:
+        return _fit(design, target, dimension, angle, porosity, depth=depth, starts=starts, progress=progress)
+    members, points, free_pose = _fit_starts(design, target, dimension, angle, porosity, depth=depth, starts=starts)
+    toml = design.to_toml()
+    numbers = (dimension, angle, porosity)
+    futures = [client.submit(_fit_from, toml, points, free_pose, numbers, depth, m, pure=False) for m in members]
+    results = []
+    for k, future in enumerate(futures):
+        results.append(future.result())
+        if progress is not None:
+            progress(k + 1, len(futures))
+    best_toml, best = min(results, key=lambda r: r[1]["residual"])
+    best = dict(best)
+    best["starts"] = len(members)
+    best["iterations"] = sum(r[1]["iterations"] for r in results)
+    return Design.from_toml(best_toml), best

@@ -162,7 +162,18 @@ def fit(
     depth: Optional[int] = None,
     starts: int = 4,
     progress: Optional[Callable[[int, int], Any]] = None,
+    start: Optional[Sequence[float]] = None,
+    free_pose: bool = False,
 ) -> tuple[Design, dict[str, Any]]: ...
+def fit_starts(
+    design: Design,
+    target: Optional[Union[str, os.PathLike[str], npt.ArrayLike, Mesh, Any]] = None,
+    dimension: Optional[float] = None,
+    angle: Optional[float] = None,
+    porosity: Optional[float] = None,
+    depth: Optional[int] = None,
+    starts: int = 4,
+) -> tuple[list[list[float]], list[list[float]], bool]: ...
 
 REGIONS: list[str]
 """The regions of a region sweep, by code."""

@@ -32,9 +32,12 @@ fn target_points(py: Python<'_>, design: &Design, target: &Bound<'_, PyAny>) -> 
 /// parameters as defaults) and the report `bcifs fit --json` prints
 /// (`parameters`, `residual`, `converges`, `reason`…). `progress(done,
 /// total)` follows the iterations; Ctrl-C returns the best member so far
-/// (`interrupted` true).
+/// (`interrupted` true). `start` (the parameters in order) runs from that
+/// member only, `free_pose` fits a scale and a shift of the shape onto the
+/// points (a picture's outline, given as points): what `bcifs.fit(...,
+/// client=)` sends each worker.
 #[pyfunction]
-#[pyo3(signature = (design, target=None, dimension=None, angle=None, porosity=None, depth=None, starts=4, progress=None))]
+#[pyo3(signature = (design, target=None, dimension=None, angle=None, porosity=None, depth=None, starts=4, progress=None, start=None, free_pose=false))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn fit<'py>(
     py: Python<'py>,
@@ -46,12 +49,16 @@ pub(crate) fn fit<'py>(
     depth: Option<usize>,
     starts: usize,
     progress: Option<&Bound<'py, PyAny>>,
+    start: Option<Vec<f64>>,
+    free_pose: bool,
 ) -> PyResult<(Design, Bound<'py, PyAny>)> {
-    let (points, free_pose) = target.map(|t| target_points(py, design, t)).transpose()?.unwrap_or_default();
+    let (points, picture) = target.map(|t| target_points(py, design, t)).transpose()?.unwrap_or_default();
+    let free_pose = free_pose || picture;
     let target = bcifs::render::FitTarget { points, dimension, angle, porosity, free_pose };
     let inner = design.inner.clone();
     let report = interruptible(py, progress, move |cancel, reporter| {
-        let options = bcifs::render::FitOptions { depth, starts, cancel, progress: reporter, ..Default::default() };
+        let options =
+            bcifs::render::FitOptions { depth, starts, cancel, progress: reporter, start, ..Default::default() };
         let report = bcifs::render::fit(&inner, &target, &options)?;
         let fitted = bcifs::render::fitted_design(&inner, &report.parameters)?;
         Ok::<_, bcifs::render::FitError>((fitted, report))
@@ -60,4 +67,28 @@ pub(crate) fn fit<'py>(
     let (fitted, report) = report;
     let dict = json_object(py, &report.to_json())?;
     Ok((Design { inner: fitted }, dict))
+}
+
+/// The members `fit` would start from (each a list of the parameters in
+/// order), and the target's points as an (n, 3) list with whether their pose
+/// is free (a picture): what a cluster's workers are sent.
+#[pyfunction]
+#[pyo3(signature = (design, target=None, dimension=None, angle=None, porosity=None, depth=None, starts=4))]
+#[allow(clippy::too_many_arguments, clippy::type_complexity)]
+pub(crate) fn fit_starts(
+    py: Python<'_>,
+    design: &Design,
+    target: Option<&Bound<'_, PyAny>>,
+    dimension: Option<f64>,
+    angle: Option<f64>,
+    porosity: Option<f64>,
+    depth: Option<usize>,
+    starts: usize,
+) -> PyResult<(Vec<Vec<f64>>, Vec<[f64; 3]>, bool)> {
+    let (points, free_pose) = target.map(|t| target_points(py, design, t)).transpose()?.unwrap_or_default();
+    let target = bcifs::render::FitTarget { points: points.clone(), dimension, angle, porosity, free_pose };
+    let options = bcifs::render::FitOptions { depth, starts, ..Default::default() };
+    let inner = &design.inner;
+    let list = py.detach(|| bcifs::render::fit_starts(inner, &target, &options)).map_err(err)?;
+    Ok((list, points, free_pose))
 }

@@ -80,3 +80,22 @@ def test_ctrl_c_returns_the_best_member_so_far():
     report = json.loads(out)
     assert report["interrupted"] and report["converges"]
     assert abs(report["parameters"]["a"] - 0.1) < 0.05
+
+
+def test_starts_run_on_dask_workers():
+    """With a Dask client the starts run on the workers (processes, each
+    loading the design from its TOML text), one each: the same member as the
+    serial fit, the starts counted."""
+    distributed = pytest.importorskip("dask.distributed")
+    design = bcifs.load("corner_cutting")
+    points = design.mesh(depth=6, a=0.1, b=0.35).vertices
+    # Noisy, so that no start fits exactly and every start runs.
+    noisy = points + np.random.default_rng(3).uniform(-0.005, 0.005, points.shape) * [1, 1, 0]
+    _, serial = bcifs.fit(design, noisy, starts=3)
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+        with distributed.Client(cluster) as client:
+            done = []
+            fitted, report = bcifs.fit(design, noisy, starts=3, client=client, progress=lambda k, n: done.append((k, n)))
+    assert report["starts"] == len(done) and done[-1][0] == done[-1][1] >= 2
+    assert report["parameters"] == pytest.approx(serial["parameters"], abs=1e-6)
+    assert report["converges"] and fitted.check()["parameters"]["a"] == pytest.approx(report["parameters"]["a"])

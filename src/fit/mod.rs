@@ -43,12 +43,40 @@ pub struct FitOptions {
     pub cancel: Cancel,
     /// Reports the iterations done against the budget.
     pub progress: Option<Progress>,
+    /// Run from this member only (the parameters in order; [`fit_starts`] gives the starts a fit
+    /// would take, so that a cluster runs one each).
+    pub start: Option<Vec<f64>>,
 }
 
 impl Default for FitOptions {
     fn default() -> FitOptions {
-        FitOptions { depth: None, starts: 4, iterations: 60, cancel: Cancel::new(), progress: None }
+        FitOptions { depth: None, starts: 4, iterations: 60, cancel: Cancel::new(), progress: None, start: None }
     }
+}
+
+/// The members [`fit`] starts from (each proven to converge): the defaults, then the best of a
+/// low-discrepancy sample of the parameters' convergence ranges, `settings.starts` in all — for
+/// front ends that run the starts apart (on a cluster) with [`FitOptions::start`], keeping the
+/// lowest residual.
+///
+/// # Errors
+/// As [`fit`].
+pub fn fit_starts(design: &Design, target: &FitTarget, settings: &FitOptions) -> Result<Vec<Vec<f64>>, FitError> {
+    let problem = Problem::new(design, target, settings.depth)?;
+    let defaults = problem.defaults();
+    let mut starts: Vec<Vec<f64>> = Vec::new();
+    if problem.proof(&defaults).converges {
+        starts.push(defaults);
+    }
+    starts.extend(sampled_starts(&problem, settings, starts.len()));
+    let m = problem.names.len();
+    Ok(starts
+        .into_iter()
+        .map(|mut s| {
+            s.truncate(m);
+            s
+        })
+        .collect())
 }
 
 /// A fit's outcome.
@@ -135,11 +163,21 @@ pub fn fit(design: &Design, target: &FitTarget, settings: &FitOptions) -> Result
         Ok(())
     };
     let defaults = problem.defaults();
-    if problem.proof(&defaults).converges {
+    if let Some(start) = &settings.start {
+        // One given start (the pose, for a picture, where the defaults' is).
+        let m = problem.names.len();
+        if start.len() != m || start.iter().any(|x| !x.is_finite()) {
+            return Err(FitError::NotFinite(format!("the start must be {m} finite numbers, not {start:?}")));
+        }
+        let theta: Vec<f64> = start.iter().chain(&defaults[m..]).copied().collect();
+        if problem.proof(&theta).converges {
+            run_from(theta, &mut best)?;
+        }
+    } else if problem.proof(&defaults).converges {
         run_from(defaults, &mut best)?;
     }
     // The other starts only when the defaults do not fit exactly (to rounding).
-    if best.as_ref().is_none_or(|b| b.cost > EXACT) {
+    if settings.start.is_none() && best.as_ref().is_none_or(|b| b.cost > EXACT) {
         for start in sampled_starts(&problem, settings, usize::from(best.is_some())) {
             if settings.cancel.is_cancelled() || best.as_ref().is_some_and(|b| b.cost <= EXACT) {
                 break;
