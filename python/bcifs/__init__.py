@@ -140,16 +140,29 @@ def sweep(design, x, y, what="verdict", client=None, tiles=None, thorough=False,
     return np.zeros((0, x[3]), dtype=np.int8 if what in ("verdict", "region", "regions") else np.float64)
 
 
-def _fit_from(toml, points, free_pose, numbers, depth, start):
+def _fit_from(toml, points, free_pose, numbers, depth, start, control_points):
     """One start of a fit, on a worker: the fitted design's TOML and the report."""
     design = Design.from_toml(toml)
     dimension, angle, porosity = numbers
     target = np.asarray(points) if len(points) else None
-    fitted, report = _fit(design, target, dimension, angle, porosity, depth=depth, start=start, free_pose=free_pose)
+    fitted, report = _fit(
+        design, target, dimension, angle, porosity, depth=depth, start=start, free_pose=free_pose, control_points=control_points
+    )
     return fitted.to_toml(), report
 
 
-def fit(design, target=None, dimension=None, angle=None, porosity=None, depth=None, starts=4, progress=None, client=None):
+def fit(
+    design,
+    target=None,
+    dimension=None,
+    angle=None,
+    porosity=None,
+    depth=None,
+    starts=4,
+    progress=None,
+    client=None,
+    control_points=False,
+):
     """Fits `design`'s free parameters to `target` (a path to an OBJ, OFF,
     PLY or PNG file, an (n, 2) or (n, 3) array, a `bcifs.Mesh` or trimesh
     mesh) and/or numbers (`dimension`, `angle` in degrees, `porosity`),
@@ -157,15 +170,19 @@ def fit(design, target=None, dimension=None, angle=None, porosity=None, depth=No
     report as `bcifs fit --json` prints it. With a Dask `client`, the starts
     (the defaults and the best of a sample of the convergence ranges,
     `starts` of them) run on its workers, one each, and the lowest residual
-    is kept; `progress(done, total)` then counts the starts done."""
+    is kept; `progress(done, total)` then counts the starts done.
+    `control_points=True` fits the model's control points too."""
     if isinstance(design, (str, os.PathLike)):
         design = load(design)
     if client is None:
-        return _fit(design, target, dimension, angle, porosity, depth=depth, starts=starts, progress=progress)
+        return _fit(
+            design, target, dimension, angle, porosity, depth=depth, starts=starts, progress=progress, control_points=control_points
+        )
     members, points, free_pose = _fit_starts(design, target, dimension, angle, porosity, depth=depth, starts=starts)
     toml = design.to_toml()
     numbers = (dimension, angle, porosity)
-    futures = [client.submit(_fit_from, toml, points, free_pose, numbers, depth, m, pure=False) for m in members]
+    args = (toml, points, free_pose, numbers, depth)
+    futures = [client.submit(_fit_from, *args, m, control_points, pure=False) for m in members]
     results = []
     for k, future in enumerate(futures):
         results.append(future.result())

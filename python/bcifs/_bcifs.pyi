@@ -164,6 +164,7 @@ def fit(
     progress: Optional[Callable[[int, int], Any]] = None,
     start: Optional[Sequence[float]] = None,
     free_pose: bool = False,
+    control_points: bool = False,
 ) -> tuple[Design, dict[str, Any]]: ...
 def fit_starts(
     design: Design,

@@ -33,11 +33,12 @@ fn target_points(py: Python<'_>, design: &Design, target: &Bound<'_, PyAny>) -> 
 /// (`parameters`, `residual`, `converges`, `reason`…). `progress(done,
 /// total)` follows the iterations; Ctrl-C returns the best member so far
 /// (`interrupted` true). `start` (the parameters in order) runs from that
-/// member only, `free_pose` fits a scale and a shift of the shape onto the
+/// member only, `control_points=True` fits the model's control points too
+/// (the report's `control_points`, the fitted design's model), `free_pose` fits a scale and a shift of the shape onto the
 /// points (a picture's outline, given as points): what `bcifs.fit(...,
 /// client=)` sends each worker.
 #[pyfunction]
-#[pyo3(signature = (design, target=None, dimension=None, angle=None, porosity=None, depth=None, starts=4, progress=None, start=None, free_pose=false))]
+#[pyo3(signature = (design, target=None, dimension=None, angle=None, porosity=None, depth=None, starts=4, progress=None, start=None, free_pose=false, control_points=false))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn fit<'py>(
     py: Python<'py>,
@@ -51,16 +52,24 @@ pub(crate) fn fit<'py>(
     progress: Option<&Bound<'py, PyAny>>,
     start: Option<Vec<f64>>,
     free_pose: bool,
+    control_points: bool,
 ) -> PyResult<(Design, Bound<'py, PyAny>)> {
     let (points, picture) = target.map(|t| target_points(py, design, t)).transpose()?.unwrap_or_default();
     let free_pose = free_pose || picture;
     let target = bcifs::render::FitTarget { points, dimension, angle, porosity, free_pose };
     let inner = design.inner.clone();
     let report = interruptible(py, progress, move |cancel, reporter| {
-        let options =
-            bcifs::render::FitOptions { depth, starts, cancel, progress: reporter, start, ..Default::default() };
+        let options = bcifs::render::FitOptions {
+            depth,
+            starts,
+            cancel,
+            progress: reporter,
+            start,
+            control_points,
+            ..Default::default()
+        };
         let report = bcifs::render::fit(&inner, &target, &options)?;
-        let fitted = bcifs::render::fitted_design(&inner, &report.parameters)?;
+        let fitted = bcifs::render::fitted_design(&inner, &report)?;
         Ok::<_, bcifs::render::FitError>((fitted, report))
     })?
     .map_err(err)?;

@@ -43,6 +43,17 @@ def test_numbers_and_trimesh_targets():
     assert report["parameters"]["alpha"] == pytest.approx(0.62, abs=1e-6)
 
 
+def test_control_points_are_fitted_when_asked():
+    moved = bcifs.load("corner_cutting").to_toml().replace("points = [\n  [0.0, 0.0],", "points = [\n  [0.2, -0.1],")
+    assert "[0.2, -0.1]" in moved
+    member = bcifs.Design.from_toml(moved).mesh(depth=6, a=0.1, b=0.35)
+    fitted, report = bcifs.fit(bcifs.load("corner_cutting"), member, control_points=True)
+    assert report["control_points"][0] == pytest.approx([0.2, -0.1], abs=1e-9)
+    assert report["parameters"]["a"] == pytest.approx(0.1, abs=1e-9)
+    # The fitted design (its defaults and its model's points) draws the member.
+    assert np.allclose(fitted.mesh(depth=6).vertices, member.vertices, rtol=0, atol=1e-9)
+
+
 def test_bad_input_raises_before_any_work():
     design = bcifs.load("corner_cutting")
     with pytest.raises(bcifs.BcifsError, match="nothing to fit to"):

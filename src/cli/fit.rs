@@ -28,6 +28,9 @@ pub struct FitArgs {
     /// The depth of the shape's points (default: the one whose vertices are as many as the target's).
     #[arg(long)]
     pub depth: Option<usize>,
+    /// Fit the model's control points too (written to `-o` with the parameters).
+    #[arg(long)]
+    pub control_points: bool,
     /// Starts run to the end: the defaults, then the best of a sample of the convergence ranges.
     #[arg(long, default_value_t = 4)]
     pub starts: usize,
@@ -61,13 +64,14 @@ pub fn run(out: &mut String, args: FitArgs) -> Result<u8> {
     let settings = bcifs::render::FitOptions {
         depth: args.depth,
         starts: args.starts,
+        control_points: args.control_points,
         cancel: interrupt().clone(),
         progress: progress_bar(),
         ..Default::default()
     };
     let report = bcifs::render::fit(&design, &target, &settings)?;
     if let Some(o) = &args.output {
-        let fitted = bcifs::render::fitted_design(&design, &report.parameters)?;
+        let fitted = bcifs::render::fitted_design(&design, &report)?;
         bcifs::render::write_atomic(o, bcifs::render::write_design(&fitted).as_bytes())
             .map_err(|e| anyhow::anyhow!("cannot write {}: {e}", o.display()))?;
     }

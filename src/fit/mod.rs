@@ -46,11 +46,21 @@ pub struct FitOptions {
     /// Run from this member only (the parameters in order; [`fit_starts`] gives the starts a fit
     /// would take, so that a cluster runs one each).
     pub start: Option<Vec<f64>>,
+    /// Fit the model's control points too (the leaf points are linear in them).
+    pub control_points: bool,
 }
 
 impl Default for FitOptions {
     fn default() -> FitOptions {
-        FitOptions { depth: None, starts: 4, iterations: 60, cancel: Cancel::new(), progress: None, start: None }
+        FitOptions {
+            depth: None,
+            starts: 4,
+            iterations: 60,
+            cancel: Cancel::new(),
+            progress: None,
+            start: None,
+            control_points: false,
+        }
     }
 }
 
@@ -62,7 +72,7 @@ impl Default for FitOptions {
 /// # Errors
 /// As [`fit`].
 pub fn fit_starts(design: &Design, target: &FitTarget, settings: &FitOptions) -> Result<Vec<Vec<f64>>, FitError> {
-    let problem = Problem::new(design, target, settings.depth)?;
+    let problem = Problem::new(design, target, settings.depth, settings.control_points)?;
     let defaults = problem.defaults();
     let mut starts: Vec<Vec<f64>> = Vec::new();
     if problem.proof(&defaults).converges {
@@ -110,6 +120,8 @@ pub struct FitReport {
     /// With a free pose (a picture): the scale `u` and shift `t` that map the member's point `x`
     /// onto the target, `u·(x − t)`.
     pub pose: Option<(f64, Vec<f64>)>,
+    /// The fitted control points, when they were fitted.
+    pub control_points: Option<Vec<Vec<f64>>>,
 }
 
 impl FitReport {
@@ -131,6 +143,7 @@ impl FitReport {
             "reason": self.reason, "iterations": self.iterations, "starts": self.starts, "depth": self.depth,
             "interrupted": self.interrupted,
             "pose": self.pose.as_ref().map(|(u, t)| serde_json::json!({"scale": u, "shift": t})),
+            "control_points": self.control_points,
         })
     }
 }
@@ -151,7 +164,7 @@ impl FitReport {
 /// # Errors
 /// See [`FitError`]: all are found before any step.
 pub fn fit(design: &Design, target: &FitTarget, settings: &FitOptions) -> Result<FitReport, FitError> {
-    let problem = Problem::new(design, target, settings.depth)?;
+    let problem = Problem::new(design, target, settings.depth, settings.control_points)?;
     let budget = (settings.starts.max(1) * settings.iterations) as u64;
     let (mut best, mut iterations, mut runs): (Option<Run>, usize, usize) = (None, 0, 0);
     let mut run_from = |start: Vec<f64>, best: &mut Option<Run>| -> Result<(), FitError> {
@@ -209,21 +222,26 @@ pub fn fit(design: &Design, target: &FitTarget, settings: &FitOptions) -> Result
         depth: problem.depth,
         interrupted: settings.cancel.is_cancelled(),
         pose: problem.pose(&best.theta),
+        control_points: problem.control_points(&best.theta),
     })
 }
 
 /// A cost (half the squared residual norm) that only rounding leaves: the fit is exact.
 const EXACT: f64 = 1e-26;
 
-/// `design` with `parameters` as its defaults: the fitted design, as `-o fitted.toml` writes it.
+/// `design` with the fitted parameters as its defaults (and the fitted control points as its
+/// model's, when they were fitted): the fitted design, as `-o fitted.toml` writes it.
 ///
 /// # Errors
 /// A parameter the design does not have, or a design that no longer builds.
-pub fn fitted_design(design: &Design, parameters: &[(String, f64)]) -> Result<Design, FitError> {
+pub fn fitted_design(design: &Design, report: &FitReport) -> Result<Design, FitError> {
     let mut builder = design.to_builder();
-    for (name, value) in parameters {
+    for (name, value) in &report.parameters {
         // The shortest decimal that reads back as the same number (the file stays readable).
         builder.default_value(name, value.to_string());
+    }
+    if let (Some(points), Some(model)) = (&report.control_points, design.model()) {
+        builder.model(crate::design::Model { points: points.clone(), ..model.clone() });
     }
     builder.build().map_err(|e| FitError::Design(e.to_string()))
 }

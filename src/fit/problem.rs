@@ -104,14 +104,21 @@ pub(crate) struct Problem<'a> {
     level: std::cell::Cell<(usize, bool)>,
     points: Option<Points>,
     pub(crate) numbers: Vec<(Measure, f64)>,
-    /// The pose's unknowns after the parameters (a scale and a shift per coordinate), or none.
+    /// The control points' coordinates among the unknowns, after the parameters (none unless asked).
+    control: usize,
+    /// The pose's unknowns after those (a scale and a shift per coordinate), or none.
     pose: usize,
 }
 
 impl<'a> Problem<'a> {
     /// The design's family and model with the target; the depth (given, or the one whose leaf points are as
     /// many as the target's, at most 10) chosen.
-    pub(crate) fn new(design: &'a Design, target: &FitTarget, depth: Option<usize>) -> Result<Problem<'a>, FitError> {
+    pub(crate) fn new(
+        design: &'a Design,
+        target: &FitTarget,
+        depth: Option<usize>,
+        control_points: bool,
+    ) -> Result<Problem<'a>, FitError> {
         let family = crate::family::solve(design).map_err(|e| FitError::Design(format!("{}: {e}", design.name())))?;
         let names = family.parameter_names();
         if names.is_empty() {
@@ -132,8 +139,19 @@ impl<'a> Problem<'a> {
             }
         }
         let level = std::cell::Cell::new((depth.unwrap_or(0), true));
-        let mut problem =
-            Problem { design, family, names, model, depth: depth.unwrap_or(0), level, points: None, numbers, pose: 0 };
+        let control = if control_points { model.points.iter().map(Vec::len).sum() } else { 0 };
+        let mut problem = Problem {
+            design,
+            family,
+            names,
+            model,
+            depth: depth.unwrap_or(0),
+            level,
+            points: None,
+            numbers,
+            control,
+            pose: 0,
+        };
         if !target.points.is_empty() {
             problem.points = Some(problem.target_points(&target.points)?);
             if target.free_pose {
@@ -173,9 +191,7 @@ impl<'a> Problem<'a> {
     fn matching_depth(&self, count: usize) -> Result<usize, FitError> {
         let defaults = self.defaults();
         let ev = self.evaluator(&self.automaton(&defaults)?, 0)?;
-        let none = |_: EdgeIndex, _: usize| None;
-        let no_samples = |_: usize, _: usize| None;
-        let directions = Directions { count: 0, matrix: &none, samples: &no_samples };
+        let directions = no_directions();
         let (mut best, mut gap) = (0, f64::INFINITY);
         for k in 0..=10 {
             // Estimated before it is made: a depth past the target's size by far is not evaluated.
@@ -204,25 +220,54 @@ impl<'a> Problem<'a> {
         self.points.is_some()
     }
 
-    /// The parameters' defaults, in order (then the pose's: scale 1, no shift).
+    /// The parameters' defaults, in order, then the model's control points when they are fitted,
+    /// then the pose's (scale 1, no shift).
     pub(crate) fn defaults(&self) -> Vec<f64> {
         let mut theta = self.family.parameter_values(&[]).unwrap_or_else(|_| vec![0.0; self.names.len()]);
+        if self.control > 0 {
+            theta.extend(self.model.points.iter().flatten());
+        }
         theta.extend((0..self.pose).map(|k| if k == 0 { 1.0 } else { 0.0 }));
         theta
     }
 
-    /// The unknowns: the parameters, and the pose's when the target's size and place are free.
+    /// The unknowns: the parameters, the control points' coordinates when asked, and the pose's
+    /// when the target's size and place are free.
     pub(crate) fn unknowns(&self) -> usize {
-        self.names.len() + self.pose
+        self.names.len() + self.control + self.pose
     }
 
     /// The pose at `theta` (the scale `u` and shift `t` that map a shape point `x` to `u·(x − t)`
     /// in the target's units), when it is fitted.
     pub(crate) fn pose(&self, theta: &[f64]) -> Option<(f64, Vec<f64>)> {
         (self.pose > 0).then(|| {
-            let m = self.names.len();
-            (theta[m], theta[m + 1..m + self.pose].to_vec())
+            let at = self.names.len() + self.control;
+            (theta[at], theta[at + 1..at + self.pose].to_vec())
         })
+    }
+
+    /// The model's control points at `theta`, when they are fitted.
+    pub(crate) fn control_points(&self, theta: &[f64]) -> Option<Vec<Vec<f64>>> {
+        (self.control > 0).then(|| {
+            let mut at = self.names.len();
+            self.model
+                .points
+                .iter()
+                .map(|p| {
+                    at += p.len();
+                    theta[at - p.len()..at].to_vec()
+                })
+                .collect()
+        })
+    }
+
+    /// The model at `theta`: its control points from `theta` when they are fitted.
+    fn model_at(&self, theta: &[f64]) -> Model {
+        let mut model = self.model.clone();
+        if let Some(points) = self.control_points(theta) {
+            model.points = points;
+        }
+        model
     }
 
     pub(crate) fn values(&self, theta: &[f64]) -> Vec<(String, f64)> {
@@ -234,8 +279,7 @@ impl<'a> Problem<'a> {
     }
 
     fn evaluator(&self, automaton: &Automaton<f64>, depth: usize) -> Result<Evaluator, FitError> {
-        Evaluator::new(automaton, &self.model, EvalSettings::default().with_depth(depth))
-            .map_err(|e| FitError::Design(e.to_string()))
+        evaluator_with(automaton, &self.model, depth)
     }
 
     /// Whether the joint spectral radius bounds prove that the member at `theta` converges.
@@ -342,10 +386,37 @@ impl<'a> Problem<'a> {
         }
     }
 
-    /// The leaf points at `theta` and, when `derivatives`, their derivatives along every parameter.
+    /// The leaf points at `theta` and, when `derivatives`, their derivatives along every parameter
+    /// (then along every control point's coordinate, when they are fitted: the leaf points are
+    /// linear in them, and each one's derivative is the evaluation with that coordinate 1, the
+    /// others 0).
     fn tangents(&self, theta: &[f64], derivatives: bool) -> Result<Tangents, FitError> {
         let automaton = self.automaton(theta)?;
-        let ev = self.evaluator(&automaton, self.level.get().0)?;
+        let t = self.parameter_tangents(theta, &automaton, derivatives)?;
+        if !derivatives || self.control == 0 {
+            return Ok(t);
+        }
+        let mut columns = Vec::with_capacity(self.control);
+        for (k, p) in self.model.points.iter().enumerate() {
+            for a in 0..p.len() {
+                let mut unit = self.model.clone();
+                unit.points.iter_mut().flatten().for_each(|x| *x = 0.0);
+                unit.points[k][a] = 1.0;
+                let ev = evaluator_with(&automaton, &unit, self.level.get().0)?;
+                columns.push(ev.tangents(self.level.get().0, &no_directions()).points);
+            }
+        }
+        Ok(with_columns(&t, &columns))
+    }
+
+    fn parameter_tangents(
+        &self,
+        theta: &[f64],
+        automaton: &Automaton<f64>,
+        derivatives: bool,
+    ) -> Result<Tangents, FitError> {
+        let automaton = automaton.clone();
+        let ev = evaluator_with(&automaton, &self.model_at(theta), self.level.get().0)?;
         let m = if derivatives { self.names.len() } else { 0 };
         let mut matrices: HashMap<EdgeIndex, Vec<Option<Vec<f64>>>> = HashMap::new();
         let mut samples: Vec<Vec<Option<Vec<Vec<f64>>>>> = vec![vec![None; m]; ev.state_count()];
@@ -397,6 +468,27 @@ impl<'a> Problem<'a> {
                 .collect(),
         )
     }
+}
+
+fn evaluator_with(automaton: &Automaton<f64>, model: &Model, depth: usize) -> Result<Evaluator, FitError> {
+    Evaluator::new(automaton, model, EvalSettings::default().with_depth(depth))
+        .map_err(|e| FitError::Design(e.to_string()))
+}
+
+fn no_directions() -> Directions<'static> {
+    Directions { count: 0, matrix: &|_, _| None, samples: &|_, _| None }
+}
+
+/// `t` with more directions after its own: `columns[c]` holds every point's derivative along the
+/// `c`-th (`dim` coordinates a point, in order).
+fn with_columns(t: &Tangents, columns: &[Vec<f64>]) -> Tangents {
+    let (d, m) = (t.dim, t.directions);
+    let mut out = Tangents { dim: d, directions: m + columns.len(), points: t.points.clone(), ..Tangents::default() };
+    for p in 0..t.len() {
+        (0..m).for_each(|j| out.derivatives.extend_from_slice(t.derivative(p, j)));
+        columns.iter().for_each(|c| out.derivatives.extend_from_slice(&c[p * d..(p + 1) * d]));
+    }
+    out
 }
 
 /// The leaf points `t` mapped by a pose, `x ↦ u·(x − shift)`, with their derivatives: along each
@@ -518,7 +610,7 @@ mod tests {
             let shape = crate::render::evaluate_design(&design, &ev, &mut Vec::new()).unwrap();
             let moved = |p: &[f64; 3]| [p[0] * 1.01 + 0.003, p[1] * 1.01 - 0.002, p[2] * 1.01];
             let target = FitTarget { points: shape.points().iter().map(moved).collect(), ..Default::default() };
-            let problem = Problem::new(&design, &target, Some(3)).unwrap();
+            let problem = Problem::new(&design, &target, Some(3), false).unwrap();
             let theta: Vec<f64> = problem.defaults().iter().map(|x| x + 0.01).collect();
             let res = problem.residuals(&theta, true).unwrap();
             let j = res.jacobian.unwrap();

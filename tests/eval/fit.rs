@@ -136,6 +136,34 @@ fn an_angle_target_is_reached() {
     assert!((report.numbers[0].2 - 150.0).abs() < 1e-9 && report.converges, "{report:?}");
 }
 
+/// Control points too (`--control-points`): a member of corner cutting with three of its six
+/// control points moved comes back, points and parameters, to 1e-9, and the fitted design (`-o`)
+/// carries them in its model.
+#[test]
+fn control_points_are_fitted_when_asked() {
+    let design = load("corner_cutting").unwrap();
+    let mut moved = design.model().unwrap().clone();
+    moved.points[0] = vec![0.2, -0.1];
+    moved.points[2] = vec![3.3, 1.6];
+    moved.points[4] = vec![0.1, 2.8];
+    let mut builder = design.to_builder();
+    builder.model(moved.clone());
+    let member_design = builder.build().unwrap();
+    let target = FitTarget { points: member(&member_design, 6, &[("a", 0.1), ("b", 0.35)]), ..FitTarget::default() };
+    let options = FitOptions { control_points: true, ..FitOptions::default() };
+    let report = fit(&design, &target, &options).unwrap();
+    assert!((value(&report, "a") - 0.1).abs() < 1e-9 && (value(&report, "b") - 0.35).abs() < 1e-9, "{report:?}");
+    let points = report.control_points.clone().unwrap();
+    for (got, want) in points.iter().zip(&moved.points) {
+        assert!(got.iter().zip(want).all(|(x, y)| (x - y).abs() < 1e-9), "{got:?} for {want:?}");
+    }
+    let fitted = bcifs::fit::fitted_design(&design, &report).unwrap();
+    assert_eq!(fitted.model().unwrap().points, points);
+    // Without the flag, the points stay the model's: the fit cannot reach the member.
+    let plain = fit(&design, &target, &FitOptions::default()).unwrap();
+    assert!(plain.control_points.is_none() && plain.residual > 1e-6);
+}
+
 /// Bad input is refused before any work, each with its reason.
 #[test]
 fn bad_targets_are_refused_before_any_work() {
