@@ -216,7 +216,18 @@ pub fn fit(design: &Design, target: &FitTarget, settings: &FitOptions) -> Result
         numbers: numbers.map(|(&(m, want), &(_, got))| (m.name().to_string(), want, got)).collect(),
         converges: proof.converges,
         jsr_upper: proof.upper,
-        reason: best.left.filter(|_| best.cost > 1e-20).map(|(theta, p)| outside(&problem, &theta, &p)),
+        reason: best.left.as_ref().filter(|_| best.cost > 1e-20).map(|(theta, p)| outside(&problem, theta, p)).or_else(
+            || {
+                // Not reached, and not for convergence: say where the search ended.
+                let missed: Vec<String> = numbers_missed(&problem, &residuals);
+                (!missed.is_empty()).then(|| {
+                    format!(
+                        "{} not reached: no proven member nearer was found from {runs} start(s) ({iterations} iterations)",
+                        missed.join(", ")
+                    )
+                })
+            },
+        ),
         iterations,
         starts: runs,
         depth: problem.depth,
@@ -224,6 +235,17 @@ pub fn fit(design: &Design, target: &FitTarget, settings: &FitOptions) -> Result
         pose: problem.pose(&best.theta),
         control_points: problem.control_points(&best.theta),
     })
+}
+
+/// The number targets the member misses by more than a millionth (of their unit), as text.
+fn numbers_missed(problem: &Problem<'_>, residuals: &problem::Residuals) -> Vec<String> {
+    problem
+        .numbers
+        .iter()
+        .zip(&residuals.numbers)
+        .filter(|((_, want), (_, got))| (want - got).abs() > 1e-6 * want.abs().max(1.0))
+        .map(|((m, want), (_, got))| format!("{} {want} ({got} reached)", m.name()))
+        .collect()
 }
 
 /// A cost (half the squared residual norm) that only rounding leaves: the fit is exact.
