@@ -26,6 +26,19 @@ fn target_points(py: Python<'_>, design: &Design, target: &Bound<'_, PyAny>) -> 
     Ok((rows.into_iter().map(|r| [r[0], r[1], r.get(2).copied().unwrap_or(0.0)]).collect(), false))
 }
 
+/// The library's target: the points of `target` (a picture's pose free) and the numbers.
+fn fit_target(
+    py: Python<'_>,
+    design: &Design,
+    target: Option<&Bound<'_, PyAny>>,
+    dimension: Option<f64>,
+    angle: Option<f64>,
+    porosity: Option<f64>,
+) -> PyResult<bcifs::render::FitTarget> {
+    let (points, free_pose) = target.map(|t| target_points(py, design, t)).transpose()?.unwrap_or_default();
+    Ok(bcifs::render::FitTarget { points, dimension, angle, porosity, free_pose })
+}
+
 /// Fits `design`'s free parameters to a target (points: a file path, an
 /// array, a `bcifs.Mesh`; and/or numbers: `dimension`, `angle` in degrees,
 /// `porosity`), staying where convergence is proven: the fitted design (its
@@ -54,9 +67,8 @@ pub(crate) fn fit<'py>(
     free_pose: bool,
     control_points: bool,
 ) -> PyResult<(Design, Bound<'py, PyAny>)> {
-    let (points, picture) = target.map(|t| target_points(py, design, t)).transpose()?.unwrap_or_default();
-    let free_pose = free_pose || picture;
-    let target = bcifs::render::FitTarget { points, dimension, angle, porosity, free_pose };
+    let mut target = fit_target(py, design, target, dimension, angle, porosity)?;
+    target.free_pose |= free_pose;
     let inner = design.inner.clone();
     let report = interruptible(py, progress, move |cancel, reporter| {
         let options = bcifs::render::FitOptions {
@@ -94,8 +106,8 @@ pub(crate) fn fit_starts(
     depth: Option<usize>,
     starts: usize,
 ) -> PyResult<(Vec<Vec<f64>>, Vec<[f64; 3]>, bool)> {
-    let (points, free_pose) = target.map(|t| target_points(py, design, t)).transpose()?.unwrap_or_default();
-    let target = bcifs::render::FitTarget { points: points.clone(), dimension, angle, porosity, free_pose };
+    let target = fit_target(py, design, target, dimension, angle, porosity)?;
+    let (points, free_pose) = (target.points.clone(), target.free_pose);
     let options = bcifs::render::FitOptions { depth, starts, ..Default::default() };
     let inner = &design.inner;
     let list = py.detach(|| bcifs::render::fit_starts(inner, &target, &options)).map_err(err)?;

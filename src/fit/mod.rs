@@ -72,6 +72,7 @@ impl Default for FitOptions {
 /// # Errors
 /// As [`fit`].
 pub fn fit_starts(design: &Design, target: &FitTarget, settings: &FitOptions) -> Result<Vec<Vec<f64>>, FitError> {
+    check_settings(settings)?;
     let problem = Problem::new(design, target, settings.depth, settings.control_points)?;
     let defaults = problem.defaults();
     let mut starts: Vec<Vec<f64>> = Vec::new();
@@ -164,6 +165,7 @@ impl FitReport {
 /// # Errors
 /// See [`FitError`]: all are found before any step.
 pub fn fit(design: &Design, target: &FitTarget, settings: &FitOptions) -> Result<FitReport, FitError> {
+    check_settings(settings)?;
     let problem = Problem::new(design, target, settings.depth, settings.control_points)?;
     let budget = (settings.starts.max(1) * settings.iterations) as u64;
     let (mut best, mut iterations, mut runs): (Option<Run>, usize, usize) = (None, 0, 0);
@@ -244,8 +246,25 @@ fn numbers_missed(problem: &Problem<'_>, residuals: &problem::Residuals) -> Vec<
         .iter()
         .zip(&residuals.numbers)
         .filter(|((_, want), (_, got))| (want - got).abs() > 1e-6 * want.abs().max(1.0))
-        .map(|((m, want), (_, got))| format!("{} {want} ({got} reached)", m.name()))
+        .map(|((m, want), (_, got))| {
+            let number = |x: f64| if x.abs() < 1e6 { format!("{x}") } else { format!("{x:e}") };
+            format!("{} {} ({} reached)", m.name(), number(*want), number(*got))
+        })
         .collect()
+}
+
+/// The most starts a fit takes (each samples four members of the ranges before it runs).
+pub const MAX_STARTS: usize = 1024;
+
+/// Settings a fit can run with: at most [`MAX_STARTS`] starts and 10,000 iterations a start.
+fn check_settings(settings: &FitOptions) -> Result<(), FitError> {
+    if settings.starts > MAX_STARTS || settings.iterations > 10_000 {
+        return Err(FitError::TooLarge(format!(
+            "{} starts of {} iterations: at most {MAX_STARTS} starts of 10000 iterations",
+            settings.starts, settings.iterations
+        )));
+    }
+    Ok(())
 }
 
 /// A cost (half the squared residual norm) that only rounding leaves: the fit is exact.

@@ -58,6 +58,9 @@ struct Points {
 /// corner cutting, at a = 0.2065 instead of 0.2, one leaf spacing along).
 const ALONG: f64 = 0.0;
 
+/// The most memory a fit's leaf points and derivatives may take.
+pub(crate) const FIT_MEMORY: usize = 1 << 30;
+
 /// Neighbours whose principal axes give a target point's frame.
 const NEIGHBOURS: usize = 16;
 
@@ -164,6 +167,7 @@ impl<'a> Problem<'a> {
         } else if problem.numbers.is_empty() {
             return Err(FitError::EmptyTarget);
         }
+        problem.check_size()?;
         Ok(problem)
     }
 
@@ -171,7 +175,8 @@ impl<'a> Problem<'a> {
         if let Some(p) = points.iter().find(|p| p.iter().any(|x| !x.is_finite())) {
             return Err(FitError::NotFinite(format!("a target point is {p:?}")));
         }
-        let dim = self.evaluator(&self.automaton(&self.defaults())?, 0)?.pieces().dim;
+        let ev = self.evaluator(&self.automaton(&self.defaults())?, 0)?;
+        let (dim, cells) = (ev.pieces().dim, ev.cell_dimension());
         if dim == 2 && points.iter().any(|p| p[2] != 0.0) {
             return Err(FitError::Dimension { model: 2, target: 3 });
         }
@@ -181,7 +186,6 @@ impl<'a> Problem<'a> {
         }
         let diagonal = (0..3).map(|a| (hi[a] - lo[a]).powi(2)).sum::<f64>().sqrt();
         let tree = KdTree::new(points.to_vec());
-        let cells = self.evaluator(&self.automaton(&self.defaults())?, 0)?.cell_dimension();
         let frames = points.iter().map(|&q| frame(&tree, q, cells)).collect();
         Ok(Points { tree, count: points.len(), scale: diagonal.max(f64::MIN_POSITIVE), frames })
     }
@@ -208,6 +212,28 @@ impl<'a> Problem<'a> {
             }
         }
         Ok(best)
+    }
+
+    /// The leaf points and their derivatives at the fit's depth fit [`FIT_MEMORY`], estimated
+    /// before any is made (a depth given by hand may be far past the target's).
+    fn check_size(&self) -> Result<(), FitError> {
+        if self.points.is_none() {
+            return Ok(());
+        }
+        let ev = self.evaluator(&self.automaton(&self.defaults())?, 0)?;
+        // Up to two points a leaf (an edge's ends), each with its coordinates along every unknown.
+        let bytes = (ev.total_samples(self.depth) as u128)
+            .saturating_mul(2 * 8 * ev.pieces().dim as u128)
+            .saturating_mul(1 + self.unknowns() as u128);
+        if bytes > FIT_MEMORY as u128 {
+            return Err(FitError::TooLarge(format!(
+                "depth {}: the leaf points and their derivatives would take about {} MiB, over the fit's {} MiB; lower the depth",
+                self.depth,
+                bytes >> 20,
+                FIT_MEMORY >> 20
+            )));
+        }
+        Ok(())
     }
 
     /// Measures the points at `depth` (both ways only at the fit's own depth).
@@ -415,8 +441,7 @@ impl<'a> Problem<'a> {
         automaton: &Automaton<f64>,
         derivatives: bool,
     ) -> Result<Tangents, FitError> {
-        let automaton = automaton.clone();
-        let ev = evaluator_with(&automaton, &self.model_at(theta), self.level.get().0)?;
+        let ev = evaluator_with(automaton, &self.model_at(theta), self.level.get().0)?;
         let m = if derivatives { self.names.len() } else { 0 };
         let mut matrices: HashMap<EdgeIndex, Vec<Option<Vec<f64>>>> = HashMap::new();
         let mut samples: Vec<Vec<Option<Vec<Vec<f64>>>>> = vec![vec![None; m]; ev.state_count()];
@@ -432,8 +457,8 @@ impl<'a> Problem<'a> {
                 let slot = matrices.entry(e).or_insert_with(|| vec![None; m]);
                 slot[j] = row_major.iter().any(|x| *x != 0.0).then_some(row_major);
             }
-            for (state, slot) in samples.iter_mut().enumerate() {
-                slot[j] = self.sample_slope(theta, j, state, &ev);
+            for (slot, slope) in samples.iter_mut().zip(self.sample_slopes(theta, j, &ev)) {
+                slot[j] = slope;
             }
         }
         let matrix = |e: EdgeIndex, j: usize| matrices.get(&e).and_then(|v| v[j].as_deref());
@@ -441,32 +466,40 @@ impl<'a> Problem<'a> {
         Ok(ev.tangents(self.level.get().0, &Directions { count: m, matrix: &matrix, samples: &sample }))
     }
 
-    /// The derivative of a state's leaf samples (vertex fixed points, edge ends: rational in the
-    /// parameters) along parameter `j`: none when they do not move, else a central difference
-    /// extrapolated once (Richardson: error of the order of h⁴).
-    fn sample_slope(&self, theta: &[f64], j: usize, state: usize, ev: &Evaluator) -> Option<Vec<Vec<f64>>> {
-        let base = ev.leaf_samples(state);
-        let at = |x: f64| -> Option<Vec<Vec<f64>>> {
+    /// The derivatives of every state's leaf samples (vertex fixed points, edge ends: rational in
+    /// the parameters) along parameter `j`: none for a state whose samples do not move, else a
+    /// central difference extrapolated once (Richardson: error of the order of h⁴). The
+    /// evaluators at the steps are made once for all the states.
+    fn sample_slopes(&self, theta: &[f64], j: usize, ev: &Evaluator) -> Vec<Option<Vec<Vec<f64>>>> {
+        let states = ev.state_count();
+        let at = |x: f64| -> Option<Vec<Vec<Vec<f64>>>> {
             let mut t = theta.to_vec();
             t[j] += x;
-            Some(self.evaluator(&self.automaton(&t).ok()?, 0).ok()?.leaf_samples(state))
+            let moved = self.evaluator(&self.automaton(&t).ok()?, 0).ok()?;
+            Some((0..states).map(|s| moved.leaf_samples(s)).collect())
         };
         let h = 1e-3 * theta[j].abs().max(1.0);
-        let (plus, minus) = (at(h)?, at(-h)?);
-        if plus == base && minus == base {
-            return None;
+        let (Some(plus), Some(minus)) = (at(h), at(-h)) else { return vec![None; states] };
+        let moves: Vec<bool> =
+            (0..states).map(|s| plus[s] != ev.leaf_samples(s) || minus[s] != ev.leaf_samples(s)).collect();
+        if !moves.contains(&true) {
+            return vec![None; states];
         }
-        let (half_plus, half_minus) = (at(h / 2.0)?, at(-h / 2.0)?);
+        let (Some(half_plus), Some(half_minus)) = (at(h / 2.0), at(-h / 2.0)) else { return vec![None; states] };
         let diff = |p: &[Vec<f64>], q: &[Vec<f64>], step: f64| -> Vec<Vec<f64>> {
             p.iter().zip(q).map(|(a, b)| a.iter().zip(b).map(|(x, y)| (x - y) / (2.0 * step)).collect()).collect()
         };
-        let (wide, narrow) = (diff(&plus, &minus, h), diff(&half_plus, &half_minus, h / 2.0));
-        Some(
-            wide.iter()
-                .zip(&narrow)
-                .map(|(w, n)| w.iter().zip(n).map(|(a, b)| (4.0 * b - a) / 3.0).collect())
-                .collect(),
-        )
+        (0..states)
+            .map(|s| {
+                moves[s].then(|| {
+                    let (wide, narrow) = (diff(&plus[s], &minus[s], h), diff(&half_plus[s], &half_minus[s], h / 2.0));
+                    wide.iter()
+                        .zip(&narrow)
+                        .map(|(w, n)| w.iter().zip(n).map(|(a, b)| (4.0 * b - a) / 3.0).collect())
+                        .collect()
+                })
+            })
+            .collect()
     }
 }
 

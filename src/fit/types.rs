@@ -45,6 +45,9 @@ pub enum FitError {
     /// The design does not solve, instantiate or evaluate.
     #[error("{0}")]
     Design(String),
+    /// A fit too large for memory (a depth far past the target's), or too many starts.
+    #[error("{0}")]
+    TooLarge(String),
     /// A target file that cannot be read.
     #[error("{0}")]
     Target(String),

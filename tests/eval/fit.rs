@@ -178,6 +178,12 @@ fn bad_targets_are_refused_before_any_work() {
     ));
     let space = FitTarget { points: vec![[0.0, 0.0, 1.0], [1.0, 0.0, 0.0]], ..FitTarget::default() };
     assert!(matches!(refused(&cc, space), FitError::Dimension { model: 2, target: 3 }));
+    // A depth far past the target's, or a million starts: refused with the estimate, not a hang.
+    let points = FitTarget { points: member(&cc, 3, &[]), ..FitTarget::default() };
+    let deep = fit(&cc, &points, &FitOptions { depth: Some(40), ..FitOptions::default() }).unwrap_err();
+    assert!(matches!(deep, FitError::TooLarge(_)) && deep.to_string().contains("lower the depth"), "{deep}");
+    let many = fit(&cc, &points, &FitOptions { starts: 1_000_000, ..FitOptions::default() }).unwrap_err();
+    assert!(matches!(many, FitError::TooLarge(_)), "{many}");
     let gasket = load("gasket").unwrap();
     let e = refused(&gasket, FitTarget { dimension: Some(1.5), ..FitTarget::default() });
     assert!(matches!(e, FitError::NoParameter(_)) && e.to_string().contains("no free parameter"), "{e}");
