@@ -568,37 +568,53 @@ def _no_cycle(link, obj):
     return True
 
 
+def _scheme_settings(update=None):
+    """The subdivision's settings as properties, the operator's and the live link's alike
+    (`update`: what a change re-evaluates, for the live link)."""
+    on = {"update": update} if update else {}
+    return {
+        "scheme": EnumProperty(name="Scheme", items=SCHEMES, default="catmull-clark", **on),
+        "depth": IntProperty(name="Depth", min=0, max=8, default=2, **on),
+        "net": BoolProperty(name="Control net", default=False, description="The net after the steps instead of the limit surface", **on),
+        "uv": BoolProperty(name="UVs", default=True, description="Carry the active UV map (Catmull-Clark and Loop)", **on),
+        "triangulate": BoolProperty(
+            name="Triangulate",
+            default=False,
+            description="Split each face into a fan of triangles first (Loop and √3 on quads), without the edge in four triangles "
+            "that Blender's Triangulate modifier makes beside a vertex of valence 2",
+            **on,
+        ),
+        "alpha": FloatProperty(name="alpha", default=0.5625, precision=4, description="Doo-Sabin quad rule: the own corner's weight", **on),
+        "beta": FloatProperty(name="beta", default=0.1875, precision=4, description="Doo-Sabin quad rule: a neighbouring corner's weight", **on),
+        "gamma": FloatProperty(name="gamma", default=0.1875, precision=4, description="Doo-Sabin quad rule: the other neighbour's weight", **on),
+        "w": FloatProperty(name="w", default=0.375, precision=4, description="Loop: the edge rule's weight of the edge's ends", **on),
+        "sigma": FloatProperty(name="sigma", default=1.0, precision=4, description="Loop: the vertex rule's scale of Warren's β", **on),
+    }
+
+
+def _draw_settings(layout, settings, names=("scheme", "depth", "net", "uv", "triangulate")):
+    """The settings' fields, the weights only of the scheme chosen."""
+    for name in names:
+        layout.prop(settings, name)
+    for name in {"doo-sabin": ("alpha", "beta", "gamma"), "loop": ("w", "sigma")}.get(settings.scheme, ()):
+        layout.prop(settings, name)
+
+
 class BcifsSubdivision(bpy.types.PropertyGroup):
     """A live subdivision, kept on the result's mesh data: its source and settings."""
 
-    live: BoolProperty(name="Live", default=False, description="Re-evaluated when the source or a setting changes")
-    source: PointerProperty(name="Source", type=bpy.types.Object, poll=_no_cycle, update=_settings_changed)
-    scheme: EnumProperty(name="Scheme", items=SCHEMES, default="catmull-clark", update=_settings_changed)
-    depth: IntProperty(name="Depth", min=0, max=8, default=2, update=_settings_changed)
-    net: BoolProperty(name="Control net", default=False, description="The net after the steps instead of the limit surface", update=_settings_changed)
-    uv: BoolProperty(name="UVs", default=True, description="Carry the active UV map (Catmull-Clark and Loop)", update=_settings_changed)
-    triangulate: BoolProperty(
-        name="Triangulate",
-        default=False,
-        description="Split each face into a fan of triangles first (Loop and √3 on quads), without the edge in four triangles "
-        "that Blender's Triangulate modifier makes beside a vertex of valence 2",
-        update=_settings_changed,
-    )
-    alpha: FloatProperty(name="alpha", default=0.5625, precision=4, description="Doo-Sabin quad rule: the own corner's weight", update=_settings_changed)
-    beta: FloatProperty(name="beta", default=0.1875, precision=4, description="Doo-Sabin quad rule: a neighbouring corner's weight", update=_settings_changed)
-    gamma: FloatProperty(name="gamma", default=0.1875, precision=4, description="Doo-Sabin quad rule: the other neighbour's weight", update=_settings_changed)
-    w: FloatProperty(name="w", default=0.375, precision=4, description="Loop: the edge rule's weight of the edge's ends", update=_settings_changed)
-    sigma: FloatProperty(name="sigma", default=1.0, precision=4, description="Loop: the vertex rule's scale of Warren's β", update=_settings_changed)
-    message: StringProperty(name="Message")
+    __annotations__ = {
+        "live": BoolProperty(name="Live", default=False, description="Re-evaluated when the source or a setting changes"),
+        "source": PointerProperty(name="Source", type=bpy.types.Object, poll=_no_cycle, update=_settings_changed),
+        **_scheme_settings(_settings_changed),
+        "message": StringProperty(name="Message"),
+    }
 
     def draw(self, layout):
-        for name in ("source", "scheme", "depth", "net", "uv", "triangulate"):
-            layout.prop(self, name)
-        for name in {"doo-sabin": ("alpha", "beta", "gamma"), "loop": ("w", "sigma")}.get(self.scheme, ()):
-            layout.prop(self, name)
+        _draw_settings(layout, self, ("source", "scheme", "depth", "net", "uv", "triangulate"))
 
 
-SETTINGS = ("scheme", "depth", "net", "uv", "triangulate", "alpha", "beta", "gamma", "w", "sigma")
+SETTINGS = tuple(_scheme_settings())
 
 
 class BCIFS_OT_subdivide(bpy.types.Operator):
@@ -608,16 +624,7 @@ class BCIFS_OT_subdivide(bpy.types.Operator):
     bl_label = "BC-IFS Subdivide"
     bl_options = {"REGISTER", "UNDO"}
 
-    scheme: EnumProperty(name="Scheme", items=SCHEMES, default="catmull-clark")
-    depth: IntProperty(name="Depth", min=0, max=8, default=2)
-    net: BoolProperty(name="Control net", default=False, description="The net after the steps instead of the limit surface")
-    uv: BoolProperty(name="UVs", default=True, description="Carry the active UV map (Catmull-Clark and Loop)")
-    triangulate: BoolProperty(name="Triangulate", default=False, description="Split each face into a fan of triangles first (Loop and √3 on quads)")
-    alpha: FloatProperty(name="alpha", default=0.5625, precision=4, description="Doo-Sabin quad rule: the own corner's weight")
-    beta: FloatProperty(name="beta", default=0.1875, precision=4, description="Doo-Sabin quad rule: a neighbouring corner's weight")
-    gamma: FloatProperty(name="gamma", default=0.1875, precision=4, description="Doo-Sabin quad rule: the other neighbour's weight")
-    w: FloatProperty(name="w", default=0.375, precision=4, description="Loop: the edge rule's weight of the edge's ends")
-    sigma: FloatProperty(name="sigma", default=1.0, precision=4, description="Loop: the vertex rule's scale of Warren's β")
+    __annotations__ = _scheme_settings()
 
     @classmethod
     def poll(cls, context):
@@ -625,11 +632,7 @@ class BCIFS_OT_subdivide(bpy.types.Operator):
         return obj is not None and obj.type == "MESH"
 
     def draw(self, context):
-        layout = self.layout
-        for name in ("scheme", "depth", "net", "uv", "triangulate"):
-            layout.prop(self, name)
-        for name in {"doo-sabin": ("alpha", "beta", "gamma"), "loop": ("w", "sigma")}.get(self.scheme, ()):
-            layout.prop(self, name)
+        _draw_settings(self.layout, self)
 
     def execute(self, context):
         source = context.active_object
