@@ -1,6 +1,7 @@
 //! Issue 47: time per fit. Members rendered at known parameters fitted back
 //! from the defaults (noise-free, so each ends exactly), with one evaluation
-//! of the same points as the baseline measured in the same run.
+//! of the same points as the baseline measured in the same run; a porosity
+//! target against one measurement of the porosity.
 
 use criterion::{Criterion, criterion_group, criterion_main};
 
@@ -25,6 +26,16 @@ fn fit_benches(c: &mut Criterion) {
     let dimension = bcifs::fit::FitTarget { dimension: Some(0.5), ..Default::default() };
     g.bench_function("cantor/dimension", |b| {
         b.iter(|| bcifs::fit::fit(&cantor, &dimension, &bcifs::fit::FitOptions::default()).expect("fits"))
+    });
+    // A number on a lace: the carpet's porosity from 0.16 (its defaults) to 0.5, against one
+    // measurement of it.
+    let carpet = bcifs::render::load("carpet").expect("shipped");
+    let porosity = bcifs::fit::FitTarget { porosity: Some(0.5), ..Default::default() };
+    g.bench_function("carpet/porosity-measure", |b| {
+        b.iter(|| bcifs::report::porosity(&carpet, &[], 1).expect("measures"))
+    });
+    g.bench_function("carpet/porosity", |b| {
+        b.iter(|| bcifs::fit::fit(&carpet, &porosity, &bcifs::fit::FitOptions::default()).expect("fits"))
     });
     g.finish();
 }

@@ -35,6 +35,14 @@ def test_a_member_is_recovered_from_a_mesh_an_array_and_a_file(tmp_path):
 def test_numbers_and_trimesh_targets():
     _, report = bcifs.fit(bcifs.load("cantor"), dimension=0.5)
     assert report["numbers"]["dimension"]["value"] == pytest.approx(0.5, abs=1e-9)
+    assert report["numbers"]["dimension"]["within"] == 0 and report["numbers"]["dimension"]["reached"]
+    # A lace's porosity (the carpet's 16 split points), as its lacunarity report measures it.
+    carpet = bcifs.load("carpet")
+    fitted, report = bcifs.fit(carpet, porosity=0.5)
+    assert report["numbers"]["porosity"]["reached"] and report["converges"]
+    assert bcifs.lacunarity(fitted, depth=1)["porosity"][0] == pytest.approx(0.5, abs=1e-9)
+    with pytest.raises(bcifs.BcifsError, match=r"outside \[0, 1\]"):
+        bcifs.fit(carpet, porosity=1.5)
     trimesh = pytest.importorskip("trimesh")
     torus = bcifs.load("doo_sabin_torus")
     member = torus.mesh(depth=2, alpha=0.62).to_trimesh()

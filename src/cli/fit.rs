@@ -83,8 +83,10 @@ pub fn run(out: &mut String, args: FitArgs) -> Result<u8> {
     writeln!(out, "{}: {}", report.automaton, values.join(", "))?;
     let distance = report.distance.map(|d| format!(", points {d:.3e} apart (RMS, both ways)")).unwrap_or_default();
     writeln!(out, "  residual {:.3e}{distance}, depth {}", report.residual, report.depth)?;
-    for (name, want, got) in &report.numbers {
-        writeln!(out, "  {name}: {got} (asked {want})")?;
+    for n in &report.numbers {
+        let within = if n.within > 0.0 { format!(", good to ±{}", n.within) } else { String::new() };
+        let reached = if n.reached { "met" } else { "missed" };
+        writeln!(out, "  {}: {} (asked {}{within}: {reached})", n.name, n.value, n.target)?;
     }
     let verdict = if report.converges { "converges (proven)" } else { "not proven to converge" };
     writeln!(out, "  {verdict}: JSR upper bound {:.4}", report.jsr_upper)?;

@@ -19,7 +19,7 @@ mod problem;
 mod target;
 mod types;
 
-use nalgebra::DVector;
+use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
 use crate::design::Design;
@@ -28,7 +28,7 @@ use crate::progress::{Cancel, Progress};
 use problem::Measure;
 use problem::{Problem, Proof};
 pub use target::{is_picture, picture_points, read_target, read_target_bytes};
-pub use types::{FitError, FitTarget};
+pub use types::{BOX_SPREAD, FitError, FitTarget};
 
 /// How the fit runs.
 #[derive(Clone, Debug)]
@@ -102,8 +102,8 @@ pub struct FitReport {
     pub residual: f64,
     /// The root-mean-square symmetric distance to the target points, in the model's units.
     pub distance: Option<f64>,
-    /// Each number target: its name, the value asked for and the value reached.
-    pub numbers: Vec<(String, f64, f64)>,
+    /// Each number target: what was asked, what was reached.
+    pub numbers: Vec<NumberFit>,
     /// Whether the fitted member is proven to converge (always, unless the fit found none).
     pub converges: bool,
     /// The joint spectral radius upper bound of the fitted member.
@@ -125,9 +125,27 @@ pub struct FitReport {
     pub control_points: Option<Vec<Vec<f64>>>,
 }
 
+/// A number target of a fit, and the value the fitted member has.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct NumberFit {
+    /// What is measured: `dimension`, `angle` or `porosity`.
+    pub name: String,
+    /// The value asked for.
+    pub target: f64,
+    /// The fitted member's value.
+    pub value: f64,
+    /// How far `value` can be trusted: 0 for exact measures (a similarity dimension, a junction
+    /// angle, a porosity), [`BOX_SPREAD`] for a box-counting dimension (its spread on curves
+    /// whose dimension is known).
+    pub within: f64,
+    /// Whether `value` meets `target`: within `within`, or to a millionth (of 1 or the target)
+    /// for an exact measure.
+    pub reached: bool,
+}
+
 impl FitReport {
     /// The object `bcifs fit --json` prints: `parameters` (name → value), `residual`,
-    /// `distance`, `numbers` (name → `{target, value}`), `converges`, `jsr_upper`, `reason`,
+    /// `distance`, `numbers` (name → `{target, value, within, reached}`), `converges`, `jsr_upper`, `reason`,
     /// `iterations`, `starts`, `depth`, `interrupted`.
     pub fn to_json(&self) -> serde_json::Value {
         let parameters: serde_json::Map<String, serde_json::Value> =
@@ -135,7 +153,11 @@ impl FitReport {
         let numbers: serde_json::Map<String, serde_json::Value> = self
             .numbers
             .iter()
-            .map(|(n, want, got)| (n.clone(), serde_json::json!({"target": want, "value": got})))
+            .map(|n| {
+                let fields =
+                    serde_json::json!({"target": n.target, "value": n.value, "within": n.within, "reached": n.reached});
+                (n.name.clone(), fields)
+            })
             .collect();
         serde_json::json!({
             "automaton": self.automaton, "parameters": parameters, "residual": self.residual,
@@ -191,10 +213,10 @@ pub fn fit(design: &Design, target: &FitTarget, settings: &FitOptions) -> Result
     } else if problem.proof(&defaults).converges {
         run_from(defaults, &mut best)?;
     }
-    // The other starts only when the defaults do not fit exactly (to rounding).
-    if settings.start.is_none() && best.as_ref().is_none_or(|b| b.cost > EXACT) {
+    // The other starts only when the defaults do not fit exactly (to rounding; a box count within its spread).
+    if settings.start.is_none() && best.as_ref().is_none_or(|b| !b.met) {
         for start in sampled_starts(&problem, settings, usize::from(best.is_some())) {
-            if settings.cancel.is_cancelled() || best.as_ref().is_some_and(|b| b.cost <= EXACT) {
+            if settings.cancel.is_cancelled() || best.as_ref().is_some_and(|b| b.met) {
                 break;
             }
             run_from(start, &mut best)?;
@@ -209,19 +231,19 @@ pub fn fit(design: &Design, target: &FitTarget, settings: &FitOptions) -> Result
     let best = best.ok_or_else(|| FitError::NoProvenStart("the fit was interrupted before its first start".into()))?;
     let proof = problem.proof(&best.theta);
     let residuals = problem.residuals(&best.theta, false)?;
-    let numbers = problem.numbers.iter().zip(&residuals.numbers);
+    let numbers = number_fits(&problem, &residuals);
     Ok(FitReport {
         automaton: design.name().to_string(),
         parameters: problem.values(&best.theta),
         residual: (2.0 * best.cost).sqrt(),
         distance: residuals.distance,
-        numbers: numbers.map(|(&(m, want), &(_, got))| (m.name().to_string(), want, got)).collect(),
+        numbers: numbers.clone(),
         converges: proof.converges,
         jsr_upper: proof.upper,
         reason: best.left.as_ref().filter(|_| best.cost > 1e-20).map(|(theta, p)| outside(&problem, theta, p)).or_else(
             || {
                 // Not reached, and not for convergence: say where the search ended.
-                let missed: Vec<String> = numbers_missed(&problem, &residuals);
+                let missed: Vec<String> = numbers.iter().filter(|n| !n.reached).map(missed).collect();
                 (!missed.is_empty()).then(|| {
                     format!(
                         "{} not reached: no proven member nearer was found from {runs} start(s) ({iterations} iterations)",
@@ -239,18 +261,22 @@ pub fn fit(design: &Design, target: &FitTarget, settings: &FitOptions) -> Result
     })
 }
 
-/// The number targets the member misses by more than a millionth (of their unit), as text.
-fn numbers_missed(problem: &Problem<'_>, residuals: &problem::Residuals) -> Vec<String> {
-    problem
-        .numbers
-        .iter()
-        .zip(&residuals.numbers)
-        .filter(|((_, want), (_, got))| (want - got).abs() > 1e-6 * want.abs().max(1.0))
-        .map(|((m, want), (_, got))| {
-            let number = |x: f64| if x.abs() < 1e6 { format!("{x}") } else { format!("{x:e}") };
-            format!("{} {} ({} reached)", m.name(), number(*want), number(*got))
-        })
-        .collect()
+/// The number targets at a member: asked, reached, and whether they meet.
+fn number_fits(problem: &Problem<'_>, residuals: &problem::Residuals) -> Vec<NumberFit> {
+    let fits = problem.numbers.iter().zip(&residuals.numbers);
+    fits.map(|(&(measure, target), &(_, got))| NumberFit {
+        name: measure.name().to_string(),
+        target,
+        value: got.value,
+        within: got.within,
+        reached: (target - got.value).abs() <= got.within.max(1e-6 * target.abs().max(1.0)),
+    })
+    .collect()
+}
+
+/// A number target missed, as text.
+fn missed(n: &NumberFit) -> String {
+    format!("{} {} ({} reached)", n.name, types::shown(n.target), types::shown(n.value))
 }
 
 /// The most starts a fit takes (each samples four members of the ranges before it runs).
@@ -291,6 +317,8 @@ pub fn fitted_design(design: &Design, report: &FitReport) -> Result<Design, FitE
 struct Run {
     theta: Vec<f64>,
     cost: f64,
+    /// Every target is met: to rounding, or within a box count's spread.
+    met: bool,
     iterations: usize,
     left: Option<(Vec<f64>, Proof)>,
 }
@@ -397,11 +425,12 @@ fn levenberg_marquardt(
         }
         let (j, pairs) = (res.jacobian.take().expect("asked for"), res.pairs.take());
         let (g, h) = (j.transpose() * &res.r, j.transpose() * &j);
+        let damping = damping(&h);
         let mut accepted = None;
         for _ in 0..16 {
             let mut a = h.clone();
             for i in 0..a.nrows() {
-                a[(i, i)] += lambda * (h[(i, i)] + 1e-12);
+                a[(i, i)] += lambda * damping[i];
             }
             let Some(delta) = a.lu().solve(&(-&g)) else { break };
             let trial: Vec<f64> = theta.iter().zip(delta.iter()).map(|(t, d)| t + d).collect();
@@ -428,7 +457,7 @@ fn levenberg_marquardt(
             let small = delta.norm() <= 1e-10 * (DVector::from_vec(theta.clone()).norm() + 1e-12);
             let stalled = cost - new_cost <= 1e-12 * cost;
             (theta, res, cost, lambda) = (trial, fresh, new_cost, (lambda / 3.0).max(1e-12));
-            if small && stalled {
+            if (small && stalled) || met(problem, &res) {
                 break;
             }
         } else {
@@ -440,7 +469,30 @@ fn levenberg_marquardt(
             res = problem.residuals(&theta, true)?;
         }
     }
-    Ok(Run { theta, cost, iterations, left })
+    Ok(Run { theta, cost, met: cost <= EXACT || met(problem, &res), iterations, left })
+}
+
+/// A fit of numbers only whose every number is a box count met within its
+/// spread: nearer is noise.
+fn met(problem: &Problem<'_>, res: &problem::Residuals) -> bool {
+    !problem.has_points()
+        && problem
+            .numbers
+            .iter()
+            .zip(&res.numbers)
+            .all(|(&(_, want), &(_, got))| got.within > 0.0 && (got.value - want).abs() <= got.within)
+}
+
+/// Levenberg–Marquardt's damping per unknown: Marquardt's `diag(JᵀJ)` (steps
+/// that do not depend on the unknowns' units), floored at its mean. Without
+/// the floor, an unknown the residuals hardly see gets a step of the
+/// residual over its tiny slope: a number target (one residual, many
+/// parameters) then moves every insensitive parameter far (a carpet's porosity
+/// stalled at 0.27 for 0.3), where the floor gives the least-norm step.
+fn damping(h: &DMatrix<f64>) -> Vec<f64> {
+    let n = h.nrows().max(1);
+    let mean = (0..h.nrows()).map(|i| h[(i, i)]).sum::<f64>() / n as f64;
+    (0..h.nrows()).map(|i| h[(i, i)].max(mean) + 1e-12).collect()
 }
 
 #[cfg(test)]

@@ -7,7 +7,7 @@ use nalgebra::{DMatrix, DVector};
 use petgraph::stable_graph::EdgeIndex;
 
 use super::nearest::KdTree;
-use super::types::{FitError, FitTarget};
+use super::types::{BOX_SPREAD, FitError, FitTarget};
 use crate::automaton::Automaton;
 use crate::design::{Design, Model};
 use crate::eval::{Directions, EvalSettings, Evaluator, Tangents};
@@ -30,6 +30,15 @@ impl Measure {
         }
     }
 
+    /// The values a member can have, and why, in a model space of `space` dimensions.
+    fn range(self, space: usize) -> (f64, f64, String) {
+        match self {
+            Measure::Dimension => (0.0, space as f64, format!("a set in a {space}D model space")),
+            Measure::Angle => (0.0, 180.0, "a junction angle in degrees".into()),
+            Measure::Porosity => (0.0, 1.0, "the fraction of the cell left empty".into()),
+        }
+    }
+
     /// The residual's unit: a degree is small beside a dimension.
     fn scale(self) -> f64 {
         match self {
@@ -38,6 +47,20 @@ impl Measure {
         }
     }
 }
+
+/// A number target's value at a member, and how far it can be trusted:
+/// `within` is 0 for the exact measures (a similarity dimension, a junction
+/// angle, a porosity: rounding only), [`BOX_SPREAD`] for a box count.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Measured {
+    pub(crate) value: f64,
+    pub(crate) within: f64,
+}
+
+/// A box count's difference step, relative to the parameter (at least 1):
+/// its slopes are near 1 on the shipped curves, so a step of 0.02 each way
+/// changes it by twice its spread ([`BOX_SPREAD`]).
+const BOX_STEP: f64 = 0.02;
 
 /// The points of a target, held for nearest-point queries, each with its
 /// local frame: the directions along the target (its tangents, from the
@@ -79,7 +102,7 @@ pub(crate) struct Residuals {
     /// The root-mean-square symmetric distance to the target points (in the model's units).
     pub(crate) distance: Option<f64>,
     /// The number targets' values.
-    pub(crate) numbers: Vec<(Measure, f64)>,
+    pub(crate) numbers: Vec<(Measure, Measured)>,
     /// The nearest points found at this member.
     pub(crate) pairs: Option<Pairs>,
 }
@@ -137,6 +160,15 @@ impl<'a> Problem<'a> {
             if let Some(v) = value {
                 if !v.is_finite() {
                     return Err(FitError::NotFinite(format!("the {} target is {v}", measure.name())));
+                }
+                let space = model.points.first().map_or(3, Vec::len);
+                let (lo, hi, what) = measure.range(space);
+                if !(lo..=hi).contains(&v) {
+                    return Err(FitError::OutOfRange(format!(
+                        "the {} target {} is outside [{lo}, {hi}]: {what}",
+                        measure.name(),
+                        super::types::shown(v)
+                    )));
                 }
                 numbers.push((measure, v));
             }
@@ -352,11 +384,12 @@ impl<'a> Problem<'a> {
         }
         let mut numbers = Vec::new();
         for &(measure, target) in &self.numbers {
-            let value = self.measure(measure, theta)?;
+            let value = self.measured(measure, theta)?;
             numbers.push((measure, value));
-            rows.push((value - target) / measure.scale());
+            rows.push((value.value - target) / measure.scale());
             if jacobian {
-                let mut row = (0..m).map(|j| self.number_slope(measure, theta, j)).collect::<Result<Vec<_>, _>>()?;
+                let slope = |j| self.number_slope(measure, theta, j, value);
+                let mut row = (0..m).map(slope).collect::<Result<Vec<_>, _>>()?;
                 row.resize(all, 0.0);
                 jac.push(row);
             }
@@ -368,46 +401,53 @@ impl<'a> Problem<'a> {
 
     /// The slope of a number target along parameter `j`: a central difference, one-sided where
     /// the measure has no value on one side (a curve whose junction angle ends there), none
-    /// where it has none on either.
-    fn number_slope(&self, measure: Measure, theta: &[f64], j: usize) -> Result<f64, FitError> {
-        let h = 1e-6 * theta[j].abs().max(1.0);
+    /// where it has none on either. A box count changes by steps (a box met or not): its
+    /// difference spans [`BOX_STEP`] of the parameter, where the change outweighs its spread.
+    fn number_slope(&self, measure: Measure, theta: &[f64], j: usize, at_theta: Measured) -> Result<f64, FitError> {
+        let relative = if at_theta.within > 0.0 { BOX_STEP } else { 1e-6 };
+        let h = relative * theta[j].abs().max(1.0);
         let at = |x: f64| {
             let mut t = theta.to_vec();
             t[j] += x;
-            self.measure(measure, &t).ok()
+            self.measured(measure, &t).ok().map(|m| m.value)
         };
         let slope = match (at(h), at(-h)) {
             (Some(p), Some(m)) => (p - m) / (2.0 * h),
-            (Some(p), None) => (p - self.measure(measure, theta)?) / h,
-            (None, Some(m)) => (self.measure(measure, theta)? - m) / h,
+            (Some(p), None) => (p - at_theta.value) / h,
+            (None, Some(m)) => (at_theta.value - m) / h,
             (None, None) => 0.0,
         };
         Ok(slope / measure.scale())
     }
 
-    /// A number target's value at `theta`.
-    pub(crate) fn measure(&self, measure: Measure, theta: &[f64]) -> Result<f64, FitError> {
+    /// A number target's value at `theta`, and how far it can be trusted.
+    pub(crate) fn measured(&self, measure: Measure, theta: &[f64]) -> Result<Measured, FitError> {
         let values = self.values(theta);
         let report = |e: crate::report::ReportError| FitError::Design(e.to_string());
+        let exact = |value: f64| Measured { value, within: 0.0 };
         match measure {
             Measure::Dimension => {
                 let d = crate::report::dimension_report(self.design, &values).map_err(report)?;
-                d.similarity.or(d.fit.map(|f| f.dimension)).ok_or_else(|| {
-                    FitError::Design(format!("{}: no dimension at these parameters", self.design.name()))
-                })
+                match (d.similarity, d.fit) {
+                    (Some(s), _) => Ok(exact(s)),
+                    (None, Some(f)) => Ok(Measured { value: f.dimension, within: BOX_SPREAD }),
+                    (None, None) => {
+                        Err(FitError::Design(format!("{}: no dimension at these parameters", self.design.name())))
+                    }
+                }
             }
             Measure::Angle => {
-                let exact: Vec<(String, crate::algebra::Num)> =
+                let exact_values: Vec<(String, crate::algebra::Num)> =
                     values.iter().map(|(n, v)| (n.clone(), crate::algebra::Num::from_f64(*v))).collect();
-                let a = crate::report::curve_analysis(self.design, &exact).map_err(report)?;
-                a.report.junction_angle_deg.ok_or_else(|| {
+                let a = crate::report::curve_analysis(self.design, &exact_values).map_err(report)?;
+                a.report.junction_angle_deg.map(exact).ok_or_else(|| {
                     FitError::Design(format!("{}: no junction angle at these parameters", self.design.name()))
                 })
             }
             Measure::Porosity => {
                 let depth = self.depth.clamp(1, 4);
-                let l = crate::report::lacunarity_report(self.design, &values, depth).map_err(report)?;
-                l.porosity.last().copied().ok_or_else(|| FitError::Design("no porosity".into()))
+                let p = crate::report::porosity(self.design, &values, depth).map_err(report)?;
+                p.last().copied().map(exact).ok_or_else(|| FitError::Design("no porosity".into()))
             }
         }
     }

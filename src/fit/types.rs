@@ -48,7 +48,23 @@ pub enum FitError {
     /// A fit too large for memory (a depth far past the target's), or too many starts.
     #[error("{0}")]
     TooLarge(String),
+    /// A number target no member can have (a porosity outside [0, 1], an angle outside
+    /// [0°, 180°], a dimension outside [0, the model space's]).
+    #[error("{0}")]
+    OutOfRange(String),
     /// A target file that cannot be read.
     #[error("{0}")]
     Target(String),
 }
+
+/// A number as a message shows it: as written, or in exponent form when large.
+pub(crate) fn shown(x: f64) -> String {
+    if x.abs() < 1e6 { format!("{x}") } else { format!("{x:e}") }
+}
+
+/// How far a box-counting dimension can be trusted, and how closely a
+/// dimension target measured by box counting is met: corner cutting's
+/// members with a + b ≤ 0.9 (a, b ≥ 0.1) are rectifiable curves (dimension
+/// exactly 1), and their box counts read within 0.018 of 1 (root mean square
+/// 0.011, over 36 of them; the test `box_count_spread`).
+pub const BOX_SPREAD: f64 = 0.02;

@@ -80,8 +80,8 @@ pub use crate::export::{
 };
 pub use crate::family::{DesignInstantiateError, Family, InstantiateError, SolveError, instantiate, solution, solve};
 pub use crate::fit::{
-    FitError, FitOptions, FitReport, FitTarget, fit, fit_starts, fitted_design, is_picture, picture_points,
-    read_target, read_target_bytes,
+    BOX_SPREAD, FitError, FitOptions, FitReport, FitTarget, NumberFit, fit, fit_starts, fitted_design, is_picture,
+    picture_points, read_target, read_target_bytes,
 };
 pub use crate::format::{BUILTIN_AUTOMATA, builtin_design, parse_design, write_design};
 pub use crate::geometry::{Shape, Sink, area_normals, fan};

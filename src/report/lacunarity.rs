@@ -52,6 +52,38 @@ pub fn lacunarity_report(
     params: &[(String, f64)],
     depth: usize,
 ) -> Result<LacunarityReport, ReportError> {
+    let (dimension, porosity, deepest) = porosities(design, params, depth)?;
+    if dimension == 3 {
+        let (grid, occupied) = super::solid_holes::voxels(&deepest);
+        let lacunarity = super::solid_holes::gliding_box(&occupied, grid);
+        return Ok(LacunarityReport { dimension, porosity, grid, lacunarity });
+    }
+    let (grid, occupied) = raster(&deepest, dimension);
+    Ok(LacunarityReport { dimension, porosity, grid, lacunarity: gliding_box(&occupied, grid, dimension) })
+}
+
+/// The porosity of `design` at depths 1 to `depth`: [`lacunarity_report`]'s
+/// `porosity`, without the lacunarity curve (what a fit measures, many times).
+///
+/// ```
+/// let carpet = bcifs::builtin_design("menger").unwrap();
+/// let p = bcifs::report::porosity(&carpet, &[], 2)?;
+/// assert!((p[1] - (1.0 - (20.0f64 / 27.0).powi(2))).abs() < 1e-12);
+/// # Ok::<(), bcifs::report::ReportError>(())
+/// ```
+///
+/// # Errors
+/// As [`lacunarity_report`].
+pub fn porosity(design: &Design, params: &[(String, f64)], depth: usize) -> Result<Vec<f64>, ReportError> {
+    Ok(porosities(design, params, depth)?.1)
+}
+
+/// The measure's dimension, the porosity at depths 1 to `depth`, and the depth-`depth` cells.
+fn porosities(
+    design: &Design,
+    params: &[(String, f64)],
+    depth: usize,
+) -> Result<(usize, Vec<f64>, Shape), ReportError> {
     use crate::eval::{EvalSettings, Evaluator};
     let instance = instantiate(design, params)?;
     let model = super::error::model_of(design)?;
@@ -79,13 +111,7 @@ pub fn lacunarity_report(
         deepest = shape_at(k)?;
         porosity.push(1.0 - measured(&deepest).1 / total);
     }
-    if solid {
-        let (grid, occupied) = super::solid_holes::voxels(&deepest);
-        let lacunarity = super::solid_holes::gliding_box(&occupied, grid);
-        return Ok(LacunarityReport { dimension, porosity, grid, lacunarity });
-    }
-    let (grid, occupied) = raster(&deepest, dimension);
-    Ok(LacunarityReport { dimension, porosity, grid, lacunarity: gliding_box(&occupied, grid, dimension) })
+    Ok((dimension, porosity, deepest))
 }
 
 /// The dimension of a shape's cells and their total measure (area of the

@@ -5,7 +5,7 @@
 
 use std::process::Command;
 
-use bcifs::fit::{FitError, FitOptions, FitReport, FitTarget, fit};
+use bcifs::fit::{BOX_SPREAD, FitError, FitOptions, FitReport, FitTarget, fit};
 use bcifs::render::{Design, Options, evaluate_design, load};
 
 /// The depth-`depth` vertices of `design` at `params`.
@@ -106,7 +106,7 @@ fn dimension_targets_hit_the_moran_value() {
         let (a, b) = (value(&report, "a"), value(&report, "b"));
         let moran = a.powf(dimension) + (1.0 - b).powf(dimension);
         assert!((moran - 1.0).abs() < 1e-9, "D = {dimension}: a = {a}, b = {b}, Σ r^D = {moran}");
-        assert!((report.numbers[0].2 - dimension).abs() < 1e-9 && report.converges, "{report:?}");
+        assert!((report.numbers[0].value - dimension).abs() < 1e-9 && report.converges, "{report:?}");
     }
 }
 
@@ -133,7 +133,83 @@ fn an_angle_target_is_reached() {
     let design = load("corner_cutting").unwrap();
     let report =
         fit(&design, &FitTarget { angle: Some(150.0), ..FitTarget::default() }, &FitOptions::default()).unwrap();
-    assert!((report.numbers[0].2 - 150.0).abs() < 1e-9 && report.converges, "{report:?}");
+    assert!((report.numbers[0].value - 150.0).abs() < 1e-9 && report.converges, "{report:?}");
+}
+
+/// A three-parameter curve family (`curve_4_3`: the uniform cubic B-spline at its defaults) comes
+/// back from members far from the defaults, from the defaults alone, where the weights stay in
+/// [0, 1]. (Rougher members, a weight below 0 or above 1, have narrow basins: the guide gives the
+/// share recovered.)
+#[test]
+fn a_three_parameter_curve_is_recovered_far_from_its_defaults() {
+    let design = load("curve_4_3").unwrap();
+    for [a, b, c] in [[0.764, 0.368, 0.437], [0.844, 0.191, 0.583], [0.871, 0.039, 0.282], [0.309, 0.335, 0.356]] {
+        let points = member(&design, 6, &[("a", a), ("b", b), ("c", c)]);
+        let report = fit(&design, &FitTarget { points, ..FitTarget::default() }, &FitOptions::default()).unwrap();
+        let got = [value(&report, "a"), value(&report, "b"), value(&report, "c")];
+        let error = (0..3).map(|k| (got[k] - [a, b, c][k]).abs()).fold(0.0, f64::max);
+        assert!(error < 1e-9 && report.converges && report.starts == 1, "{a} {b} {c}: {report:?}");
+    }
+}
+
+/// Porosity targets on a lace: the carpet (a cells pattern, 16 split points) reaches 0.3, 0.5 and
+/// 0.7 from its defaults (0.16 on its saddle), the value its lacunarity report gives, proven to
+/// converge. (Before the damping's floor, Marquardt's `diag(JᵀJ)` moved the parameters the
+/// porosity hardly sees by the residual over their slopes, and the fit stalled at 0.25.)
+#[test]
+fn porosity_targets_are_reached_on_a_lace() {
+    let design = load("carpet").unwrap();
+    for porosity in [0.3, 0.5, 0.7] {
+        let target = FitTarget { porosity: Some(porosity), ..FitTarget::default() };
+        let report = fit(&design, &target, &FitOptions::default()).unwrap();
+        let number = &report.numbers[0];
+        assert!(number.reached && (number.value - porosity).abs() < 1e-9 && report.converges, "{report:?}");
+        let measured = bcifs::report::lacunarity_report(&design, &report.parameters, 1).unwrap();
+        assert!((measured.porosity[0] - number.value).abs() < 1e-12, "{measured:?}");
+    }
+}
+
+/// The box count's spread, which a box-counted dimension target is met within
+/// ([`BOX_SPREAD`]): corner cutting's members with a + b ≤ 0.9 (a, b ≥ 0.1) cut corners
+/// proper (each new point on an old edge, in order), so their polygons never grow longer and
+/// their curves are rectifiable: dimension exactly 1. Their box counts read within the spread of
+/// 1 (0.018 at worst, root mean square 0.011, when this was written).
+#[test]
+fn box_count_spread() {
+    let design = load("corner_cutting").unwrap();
+    let mut errors = Vec::new();
+    for i in 1..=8 {
+        for j in 1..=8 {
+            let (a, b) = (0.1 * f64::from(i), 0.1 * f64::from(j));
+            if a + b > 0.9 + 1e-9 {
+                continue;
+            }
+            let params = [("a".to_string(), a), ("b".to_string(), b)];
+            let d = bcifs::report::dimension_report(&design, &params).unwrap().fit.unwrap().dimension;
+            errors.push(d - 1.0);
+        }
+    }
+    let rms = (errors.iter().map(|e| e * e).sum::<f64>() / errors.len() as f64).sqrt();
+    let worst = errors.iter().fold(0.0f64, |w, e| w.max(e.abs()));
+    assert!(rms <= BOX_SPREAD / 1.5 && worst <= BOX_SPREAD, "rms {rms}, worst {worst} over {} members", errors.len());
+}
+
+/// A box-counted dimension (corner cutting's maps are not similarities) is met within the box
+/// count's spread, from 1 (the defaults) to 1.2 and 1.3; the value is the dimension report's at
+/// the fitted member. (Differences over 10⁻⁶ of a parameter see a box count's steps, not its
+/// slope: the fit stalled at 1.31 for 1.6.)
+#[test]
+fn box_counted_dimensions_are_met_within_their_spread() {
+    let design = load("corner_cutting").unwrap();
+    for dimension in [1.2, 1.3] {
+        let target = FitTarget { dimension: Some(dimension), ..FitTarget::default() };
+        let report = fit(&design, &target, &FitOptions::default()).unwrap();
+        let number = &report.numbers[0];
+        assert!(number.within == BOX_SPREAD && number.reached && report.converges, "{report:?}");
+        assert!((number.value - dimension).abs() <= BOX_SPREAD, "{report:?}");
+        let measured = bcifs::report::dimension_report(&design, &report.parameters).unwrap();
+        assert_eq!(measured.fit.unwrap().dimension, number.value);
+    }
 }
 
 /// Control points too (`--control-points`): a member of corner cutting with three of its six
@@ -178,6 +254,17 @@ fn bad_targets_are_refused_before_any_work() {
     ));
     let space = FitTarget { points: vec![[0.0, 0.0, 1.0], [1.0, 0.0, 0.0]], ..FitTarget::default() };
     assert!(matches!(refused(&cc, space), FitError::Dimension { model: 2, target: 3 }));
+    // Numbers no member can have: a fraction above 1, an angle past a straight one, a dimension
+    // above the model space's (corner cutting is planar).
+    for target in [
+        FitTarget { porosity: Some(1e308), ..FitTarget::default() },
+        FitTarget { porosity: Some(-0.1), ..FitTarget::default() },
+        FitTarget { angle: Some(200.0), ..FitTarget::default() },
+        FitTarget { dimension: Some(2.5), ..FitTarget::default() },
+    ] {
+        let e = refused(&cc, target);
+        assert!(matches!(e, FitError::OutOfRange(_)) && e.to_string().contains("outside ["), "{e}");
+    }
     // A depth far past the target's, or a million starts: refused with the estimate, not a hang.
     let points = FitTarget { points: member(&cc, 3, &[]), ..FitTarget::default() };
     let deep = fit(&cc, &points, &FitOptions { depth: Some(40), ..FitOptions::default() }).unwrap_err();
