@@ -244,12 +244,15 @@ pub fn fit(design: &Design, target: &FitTarget, settings: &FitOptions) -> Result
             || {
                 // Not reached, and not for convergence: say where the search ended.
                 let missed: Vec<String> = numbers.iter().filter(|n| !n.reached).map(missed).collect();
-                (!missed.is_empty()).then(|| {
-                    format!(
-                        "{} not reached: no proven member nearer was found from {runs} start(s) ({iterations} iterations)",
-                        missed.join(", ")
-                    )
-                })
+                let why = if problem.has_points() {
+                    "the least-squares compromise with the points (a number counts its difference in its \
+                     unit, a right angle for an angle; the points their RMS distance over the target's \
+                     diagonal)"
+                        .to_string()
+                } else {
+                    format!("no proven member nearer was found from {runs} start(s) ({iterations} iterations)")
+                };
+                (!missed.is_empty()).then(|| format!("{} not reached: {why}", missed.join(", ")))
             },
         ),
         iterations,

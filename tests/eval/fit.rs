@@ -212,6 +212,33 @@ fn box_counted_dimensions_are_met_within_their_spread() {
     }
 }
 
+/// Points and a number together: the least-squares compromise. Corner cutting's member (0.1, 0.35)
+/// is smooth (junction angle 0°); asked for its points and an angle of 170° as well, the fit meets
+/// the angle to within a right angle's thousandth and stays nearer the points than the member the
+/// angle alone gives, and the reason says it is a compromise.
+#[test]
+fn points_and_a_number_are_fitted_together() {
+    let design = load("corner_cutting").unwrap();
+    let points = member(&design, 6, &[("a", 0.1), ("b", 0.35)]);
+    let both = FitTarget { points: points.clone(), angle: Some(170.0), ..FitTarget::default() };
+    let report = fit(&design, &both, &FitOptions::default()).unwrap();
+    assert!((report.numbers[0].value - 170.0).abs() < 0.09 && report.converges, "{report:?}");
+    let alone =
+        fit(&design, &FitTarget { angle: Some(170.0), ..FitTarget::default() }, &FitOptions::default()).unwrap();
+    // The points' distance at the angle-only member: a fit to the points from there, no iteration.
+    let start = Some(alone.parameters.iter().map(|(_, v)| *v).collect());
+    let at_alone = fit(
+        &design,
+        &FitTarget { points, ..FitTarget::default() },
+        &FitOptions { start, iterations: 0, ..FitOptions::default() },
+    )
+    .unwrap();
+    assert!(report.distance.unwrap() < at_alone.distance.unwrap(), "{report:?} against {at_alone:?}");
+    if !report.numbers[0].reached {
+        assert!(report.reason.as_deref().unwrap_or_default().contains("compromise"), "{report:?}");
+    }
+}
+
 /// Control points too (`--control-points`): a member of corner cutting with three of its six
 /// control points moved comes back, points and parameters, to 1e-9, and the fitted design (`-o`)
 /// carries them in its model.
