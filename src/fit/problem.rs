@@ -200,7 +200,27 @@ impl<'a> Problem<'a> {
             return Err(FitError::EmptyTarget);
         }
         problem.check_size()?;
+        problem.check_porosity()?;
         Ok(problem)
+    }
+
+    /// A porosity is the share of a cell its sub-cells leave empty: a design whose sub-cells
+    /// measure more than their parent (a curve bending away from its chord: corner cutting's
+    /// porosity is −0.147) has none to fit, and is refused before any step.
+    fn check_porosity(&self) -> Result<(), FitError> {
+        if !self.numbers.iter().any(|(m, _)| *m == Measure::Porosity) {
+            return Ok(());
+        }
+        let at_defaults = self.measured(Measure::Porosity, &self.defaults())?.value;
+        if at_defaults < 0.0 {
+            return Err(FitError::OutOfRange(format!(
+                "{}: its sub-cells measure more than the cell they subdivide (porosity {at_defaults:.4} at \
+                 the defaults), so they leave no share of it empty: a porosity is fitted on designs whose \
+                 cells lie inside their parent (laces, solids, Cantor sets)",
+                self.design.name()
+            )));
+        }
+        Ok(())
     }
 
     fn target_points(&self, points: &[[f64; 3]]) -> Result<Points, FitError> {

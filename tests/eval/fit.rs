@@ -292,6 +292,9 @@ fn bad_targets_are_refused_before_any_work() {
         let e = refused(&cc, target);
         assert!(matches!(e, FitError::OutOfRange(_)) && e.to_string().contains("outside ["), "{e}");
     }
+    // A porosity on a curve that bends away from its chord (its sub-cells longer than the cell).
+    let e = refused(&cc, FitTarget { porosity: Some(0.3), ..FitTarget::default() });
+    assert!(matches!(e, FitError::OutOfRange(_)) && e.to_string().contains("leave no share"), "{e}");
     // A depth far past the target's, or a million starts: refused with the estimate, not a hang.
     let points = FitTarget { points: member(&cc, 3, &[]), ..FitTarget::default() };
     let deep = fit(&cc, &points, &FitOptions { depth: Some(40), ..FitOptions::default() }).unwrap_err();
