@@ -437,16 +437,24 @@ fn levenberg_marquardt(
             }
             let Some(delta) = a.lu().solve(&(-&g)) else { break };
             let trial: Vec<f64> = theta.iter().zip(delta.iter()).map(|(t, d)| t + d).collect();
-            // The cost first (cheap), the proof only for a step that lowers it.
-            let lower =
-                problem.residuals_paired(&trial, false, pairs.as_ref()).is_ok_and(|r| r.r.norm_squared() / 2.0 < cost);
-            if !lower {
+            // The cost first (cheap), the proof only for a step that lowers it; for a dimension
+            // the other way round (its box count costs seconds near the edge of the proven region,
+            // where a member past it may have many points or none).
+            let lower = || {
+                problem.residuals_paired(&trial, false, pairs.as_ref()).is_ok_and(|r| r.r.norm_squared() / 2.0 < cost)
+            };
+            let proof_first = problem.measures_dimension();
+            if !proof_first && !lower() {
                 lambda *= 10.0;
                 continue;
             }
             let proof = problem.proof(&trial);
             if !proof.converges {
                 left = Some((trial, proof));
+                lambda *= 10.0;
+                continue;
+            }
+            if proof_first && !lower() {
                 lambda *= 10.0;
                 continue;
             }

@@ -293,6 +293,11 @@ impl<'a> Problem<'a> {
         self.level.set((depth, depth >= self.depth));
     }
 
+    /// Whether a number target is a dimension (each measure a box count).
+    pub(crate) fn measures_dimension(&self) -> bool {
+        self.numbers.iter().any(|(m, _)| *m == Measure::Dimension)
+    }
+
     /// Whether the fit measures points (else numbers only).
     pub(crate) fn has_points(&self) -> bool {
         self.points.is_some()
@@ -429,6 +434,11 @@ impl<'a> Problem<'a> {
         let at = |x: f64| {
             let mut t = theta.to_vec();
             t[j] += x;
+            // A dimension only where the member is proven to converge (past the edge a box count
+            // costs much, or the attractor is not there).
+            if measure == Measure::Dimension && !self.proof(&t).converges {
+                return None;
+            }
             self.measured(measure, &t).ok().map(|m| m.value)
         };
         let slope = match (at(h), at(-h)) {
