@@ -457,6 +457,10 @@ impl<'a> Problem<'a> {
         let exact = |value: f64| Measured { value, within: 0.0 };
         match measure {
             Measure::Dimension => {
+                // A similarity dimension where there is one (exact, and no points to count).
+                if let Some(s) = crate::report::similarity_dimension(self.design, &values).map_err(report)? {
+                    return Ok(exact(s));
+                }
                 let d = crate::report::dimension_report(self.design, &values).map_err(report)?;
                 match (d.similarity, d.fit) {
                     (Some(s), _) => Ok(exact(s)),

@@ -92,8 +92,7 @@ pub fn dimension_within(
     let pieces = coarse_ev.pieces();
     let first = pieces.pieces.first();
     let root = |p: &crate::eval::Piece| petgraph::graph::NodeIndex::new(p.state);
-    let similarity =
-        first.and_then(|p| crate::analysis::similarity_dimension(&instance.automaton, root(p), &p.control, pieces.dim));
+    let similarity = similarity_of(&instance.automaton, &coarse_ev);
     let open_set = first
         .zip(similarity)
         .map(|(p, s)| crate::analysis::open_set_condition(&instance.automaton, root(p), &p.control, pieces.dim, s));
@@ -152,6 +151,35 @@ pub fn dimension_within(
         similarity,
         open_set,
     })
+}
+
+/// The similarity dimension of `design`'s attractor at `params` (Moran, Mauldin–Williams), when
+/// its maps are similarities of modelling space: [`DimensionReport::similarity`] without the
+/// box count (what a fit measures, many times).
+///
+/// ```
+/// let cantor = bcifs::builtin_design("cantor").unwrap();
+/// let d = bcifs::report::similarity_dimension(&cantor, &[])?.unwrap();
+/// assert!((d - 2f64.ln() / 3f64.ln()).abs() < 1e-12);
+/// # Ok::<(), bcifs::report::ReportError>(())
+/// ```
+///
+/// # Errors
+/// Parameters that do not instantiate, no model, an evaluation error.
+pub fn similarity_dimension(design: &Design, params: &[(String, f64)]) -> Result<Option<f64>, ReportError> {
+    use crate::eval::{EvalSettings, Evaluator};
+    let instance = instantiate(design, params)?;
+    let model = super::error::model_of(design)?;
+    let ev = Evaluator::new(&instance.automaton, &model, EvalSettings::default().with_depth(4))?;
+    Ok(similarity_of(&instance.automaton, &ev))
+}
+
+/// The similarity dimension of the attractor of the first piece `evaluator` draws, if any.
+fn similarity_of(automaton: &crate::automaton::Automaton<f64>, evaluator: &crate::eval::Evaluator) -> Option<f64> {
+    let pieces = evaluator.pieces();
+    let p = pieces.pieces.first()?;
+    let root = petgraph::graph::NodeIndex::new(p.state);
+    crate::analysis::similarity_dimension(automaton, root, &p.control, pieces.dim)
 }
 
 /// A free parameter of a family with its default and the interval around

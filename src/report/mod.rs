@@ -24,6 +24,7 @@ pub use colours::{angle_colour, dimension_colour, region_colour, sweep_colour, s
 pub use curve::{CurveAnalysis, curve_analysis, curve_halves, region_meaning};
 pub use dimension::{
     DIMENSION_MEMORY, DimensionReport, ParameterRange, dimension_report, dimension_within, parameter_ranges,
+    similarity_dimension,
 };
 pub use error::{ReportError, model_of};
 pub use family::{CheckReport, CheckReportError, Residual, Rounding, SolveReport, check_report, solve_report};
