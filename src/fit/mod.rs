@@ -237,24 +237,10 @@ pub fn fit(design: &Design, target: &FitTarget, settings: &FitOptions) -> Result
         parameters: problem.values(&best.theta),
         residual: (2.0 * best.cost).sqrt(),
         distance: residuals.distance,
-        numbers: numbers.clone(),
+        reason: reason(&problem, &best, &numbers, runs, iterations),
+        numbers,
         converges: proof.converges,
         jsr_upper: proof.upper,
-        reason: best.left.as_ref().filter(|_| best.cost > 1e-20).map(|(theta, p)| outside(&problem, theta, p)).or_else(
-            || {
-                // Not reached, and not for convergence: say where the search ended.
-                let missed: Vec<String> = numbers.iter().filter(|n| !n.reached).map(missed).collect();
-                let why = if problem.has_points() {
-                    "the least-squares compromise with the points (a number counts its difference in its \
-                     unit, a right angle for an angle; the points their RMS distance over the target's \
-                     diagonal)"
-                        .to_string()
-                } else {
-                    format!("no proven member nearer was found from {runs} start(s) ({iterations} iterations)")
-                };
-                (!missed.is_empty()).then(|| format!("{} not reached: {why}", missed.join(", ")))
-            },
-        ),
         iterations,
         starts: runs,
         depth: problem.depth,
@@ -262,6 +248,23 @@ pub fn fit(design: &Design, target: &FitTarget, settings: &FitOptions) -> Result
         pose: problem.pose(&best.theta),
         control_points: problem.control_points(&best.theta),
     })
+}
+
+/// Why the target was not reached: a step towards it left the proven region, or a number was
+/// missed (a compromise with the points, or no nearer member found); none when it was reached.
+fn reason(problem: &Problem<'_>, best: &Run, numbers: &[NumberFit], runs: usize, iterations: usize) -> Option<String> {
+    if let Some((theta, p)) = best.left.as_ref().filter(|_| best.cost > 1e-20) {
+        return Some(outside(problem, theta, p));
+    }
+    let missed: Vec<String> = numbers.iter().filter(|n| !n.reached).map(missed).collect();
+    let why = if problem.has_points() {
+        "the least-squares compromise with the points (a number counts its difference in its unit, a right \
+         angle for an angle; the points their RMS distance over the target's diagonal)"
+            .to_string()
+    } else {
+        format!("no proven member nearer was found from {runs} start(s) ({iterations} iterations)")
+    };
+    (!missed.is_empty()).then(|| format!("{} not reached: {why}", missed.join(", ")))
 }
 
 /// The number targets at a member: asked, reached, and whether they meet.
