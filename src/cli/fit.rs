@@ -17,13 +17,13 @@ pub struct FitArgs {
     #[arg(long = "to", value_name = "FILE")]
     pub to: Option<PathBuf>,
     /// The attractor's dimension to reach (its similarity dimension; box-counting where it has none).
-    #[arg(long, value_name = "D")]
+    #[arg(long, value_name = "D", allow_hyphen_values = true)]
     pub dimension: Option<f64>,
     /// A curve's junction angle to reach, in degrees (`analyze curve`).
-    #[arg(long, value_name = "DEG")]
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
     pub angle: Option<f64>,
     /// The porosity to reach: the share of the start cell left empty at the fit's depth (at most 4).
-    #[arg(long, value_name = "P")]
+    #[arg(long, value_name = "P", allow_hyphen_values = true)]
     pub porosity: Option<f64>,
     /// The depth of the shape's points (default: the one whose vertices are as many as the target's).
     #[arg(long)]

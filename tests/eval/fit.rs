@@ -292,6 +292,10 @@ fn bad_targets_are_refused_before_any_work() {
         let e = refused(&cc, target);
         assert!(matches!(e, FitError::OutOfRange(_)) && e.to_string().contains("outside ["), "{e}");
     }
+    // On the command line a negative number is the value, not a flag, and gets the same answer.
+    let out = Command::new(env!("CARGO_BIN_EXE_bcifs")).args(["fit", "carpet", "--porosity", "-0.1"]).output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && stderr.contains("outside [0, 1]"), "{stderr}");
     // A porosity on a curve that bends away from its chord (its sub-cells longer than the cell).
     let e = refused(&cc, FitTarget { porosity: Some(0.3), ..FitTarget::default() });
     assert!(matches!(e, FitError::OutOfRange(_)) && e.to_string().contains("leave no share"), "{e}");
