@@ -255,12 +255,15 @@ pub fn run_new(out: &mut String, topology: Topology) -> Result<u8> {
 }
 
 /// What is legal but surprising in a pattern, said on stderr: kept sub-cells
-/// that fall apart (a dust), or that touch at a corner only (a pinch).
+/// that make separate pieces (the attractor not connected), or that touch at a corner only (a pinch).
 fn pattern_warnings(design: &bcifs::render::Design) {
     let Ok(t) = bcifs::render::topology_report(design, &[], 1) else { return };
     if t.components > 1 {
+        // The pieces are counted on the welded cells: parts that share an end, a side or a corner are one.
+        let deeper = bcifs::render::topology_report(design, &[], 2)
+            .map_or(String::new(), |t| format!(" ({} at depth 2)", t.components));
         eprintln!(
-            "warning: the kept sub-cells fall apart into {} separate pieces, and each falls apart again at every depth: the attractor is a dust (as Cantor's), not one piece",
+            "warning: the kept sub-cells make {} separate pieces{deeper}: the attractor is not connected",
             t.components
         );
     }

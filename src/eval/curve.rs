@@ -21,6 +21,63 @@ struct CurveStream<'s> {
     sink: &'s mut dyn Sink,
     buf: Vec<f64>,
     vertices: &'s mut usize,
+    /// A lacunar curve's leaves, joined where one starts at the end of the one before.
+    runs: Option<&'s mut Runs>,
+}
+
+/// The polylines of a lacunar curve (each leaf emits its two ends): a leaf
+/// that starts where the one before it ends (parts that share an end, as
+/// `T3 b1 = T4 b0` says) continues its polyline, sharing that vertex;
+/// the others start a polyline of their own.
+pub(super) struct Runs {
+    /// Two ends within this distance are one point (the constraint holds to rounding).
+    q: f64,
+    /// The end of the last leaf, empty before the first.
+    last: Vec<f64>,
+    /// The vertices of each polyline, in order.
+    lengths: Vec<usize>,
+}
+
+impl Runs {
+    /// No leaf yet: ends within `q` are one point.
+    pub(super) fn new(q: f64) -> Runs {
+        Runs { q, last: Vec::new(), lengths: Vec::new() }
+    }
+
+    /// Joins the leaves in `buf` (each its start then its end, `d`
+    /// coordinates a point) to the polylines so far, keeping in `buf` only
+    /// the points written: a start equal to the end before it is dropped.
+    pub(super) fn join(&mut self, d: usize, buf: &mut Vec<f64>) {
+        let mut kept = 0;
+        for leaf in 0..buf.len() / (2 * d) {
+            let (a, b) = (leaf * 2 * d, leaf * 2 * d + d);
+            let continues = !self.last.is_empty() && (0..d).all(|i| (buf[a + i] - self.last[i]).abs() <= self.q);
+            match self.lengths.last_mut().filter(|_| continues) {
+                Some(n) => *n += 1,
+                None => {
+                    buf.copy_within(a..a + d, kept);
+                    kept += d;
+                    self.lengths.push(2);
+                }
+            }
+            buf.copy_within(b..b + d, kept);
+            kept += d;
+            self.last.clear();
+            self.last.extend_from_slice(&buf[kept - d..kept]);
+        }
+        buf.truncate(kept);
+    }
+
+    /// Writes the polylines from vertex `first` on, and forgets them.
+    fn write(&mut self, first: usize, sink: &mut dyn Sink) -> io::Result<()> {
+        let mut at = first;
+        for n in self.lengths.drain(..) {
+            sink.polyline(at, n, false)?;
+            at += n;
+        }
+        self.last.clear();
+        Ok(())
+    }
 }
 
 impl Evaluator {
@@ -39,20 +96,25 @@ impl Evaluator {
             if pi == 0 || !joined {
                 sink.object(&piece.name)?;
             }
+            let mut runs = self.runs(piece);
             if in_memory {
                 let mut out = Vec::new();
                 self.fill_piece(pi, k, &mut out);
+                if let Some(runs) = runs.as_mut() {
+                    runs.join(d, &mut out);
+                }
                 sink.vertices(d, &out, None)?;
                 first_vertex += out.len() / d;
             } else {
                 // Streaming: one subtree at a time, each at most a bounded chunk.
                 let tasks = self.tasks(piece.state, piece.control.clone(), d, k, 16 * threads);
-                let mut out = CurveStream { sink: &mut *sink, buf: Vec::new(), vertices: &mut first_vertex };
+                let mut out =
+                    CurveStream { sink: &mut *sink, buf: Vec::new(), vertices: &mut first_vertex, runs: runs.as_mut() };
                 for (s, c, r) in tasks {
                     self.stream_subtree(s, &c, r, &mut out)?;
                 }
             }
-            self.end_curve(piece, pi + 1 == count, sink, &mut first_vertex, &mut run_start)?;
+            self.end_curve(piece, pi + 1 == count, sink, &mut first_vertex, &mut run_start, runs.as_mut())?;
             steps.step();
         }
         Ok(())
@@ -66,8 +128,11 @@ impl Evaluator {
         if n <= STREAM_CHUNK as u128 {
             out.buf.resize(n as usize * d, 0.0);
             self.fill(state, c, d, r, &mut out.buf);
+            if let Some(runs) = out.runs.as_deref_mut() {
+                runs.join(d, &mut out.buf);
+            }
             out.sink.vertices(d, &out.buf, None)?;
-            *out.vertices += n as usize;
+            *out.vertices += out.buf.len() / d;
             return Ok(());
         }
         let sp = self.plan.state(state);
@@ -105,9 +170,13 @@ impl Evaluator {
             }
             let mut out = Vec::new();
             self.adaptive(piece.state, &piece.control, &run, 0, &mut out)?;
+            let mut runs = self.runs(piece);
+            if let Some(runs) = runs.as_mut() {
+                runs.join(d, &mut out);
+            }
             first_vertex += out.len() / d;
             sink.vertices(d, &out, None)?;
-            self.end_curve(piece, pi + 1 == count, sink, &mut first_vertex, &mut run_start)?;
+            self.end_curve(piece, pi + 1 == count, sink, &mut first_vertex, &mut run_start, runs.as_mut())?;
         }
         Ok(())
     }
@@ -123,13 +192,12 @@ impl Evaluator {
         sink: &mut dyn Sink,
         first_vertex: &mut usize,
         run_start: &mut usize,
+        runs: Option<&mut Runs>,
     ) -> io::Result<()> {
         let sp = self.plan.state(piece.state);
-        if sp.gapped && self.settings.dropped.is_empty() {
-            // A lacunar curve: each leaf a segment of its own (its two ends).
-            for first in (*run_start..*first_vertex).step_by(2) {
-                sink.polyline(first, 2, false)?;
-            }
+        if let Some(runs) = runs {
+            // A lacunar curve: its leaves' segments, joined where parts share an end.
+            runs.write(*run_start, sink)?;
         }
         let Some(end) = sp.end.as_ref().filter(|_| sp.kind == CellKind::Edge) else {
             *run_start = *first_vertex;
@@ -152,6 +220,15 @@ impl Evaluator {
         }
         *run_start = *first_vertex;
         Ok(())
+    }
+
+    /// The polylines of `piece` when it is a lacunar curve drawn as lines
+    /// (not with dropped arrows: those are points).
+    fn runs(&self, piece: &super::pieces::Piece) -> Option<Runs> {
+        let sp = self.plan.state(piece.state);
+        let scale = piece.control.iter().fold(1.0f64, |m, x| m.max(x.abs()));
+        (sp.gapped && self.settings.dropped.is_empty())
+            .then(|| Runs::new(crate::algebra::tolerance::SAME_POINT * scale))
     }
 
     /// The samples of a cell with control points `c`, subdivided until it is small.

@@ -327,6 +327,8 @@ struct Walk<'a> {
     d: usize,
     positions: Vec<f64>,
     quads: Vec<[usize; 4]>,
+    /// The faces cut at a doubled edge, as triangles.
+    triangles: Vec<[usize; 3]>,
 }
 
 impl<'a> Walk<'a> {
@@ -348,6 +350,7 @@ impl<'a> Walk<'a> {
             d,
             positions: Vec::new(),
             quads: Vec::new(),
+            triangles: Vec::new(),
         }
     }
 
@@ -427,6 +430,8 @@ impl<'a> Walk<'a> {
             }
         }
         let centre = [0, 1, 2].map(|a| at.iter().map(|q| q[a]).sum::<f64>() / 8.0);
+        // This cell's own vertices at the middle of its doubled edges ([`Walk::doubled`]), by the edge's corners.
+        let mut middles: Vec<([usize; 2], usize)> = Vec::new();
         for (f, face) in self.sp.faces.iter().enumerate() {
             let (axis, end) = grid.side[f];
             let mut across = p.map(|x| x as i64);
@@ -438,6 +443,29 @@ impl<'a> Walk<'a> {
             for (slot, &j) in ids.iter_mut().zip(face) {
                 let q = [0, 1, 2].map(|x| p[x] + grid.corner[j][x]);
                 *slot = self.vertex(q, p, axis, &at[j][..self.d]);
+            }
+            // The face's corners, with a vertex of this cell's own in each doubled edge.
+            let mut polygon: Vec<usize> = Vec::with_capacity(6);
+            for k in 0..4 {
+                polygon.push(ids[k]);
+                let (ja, jb) = (face[k], face[(k + 1) % 4]);
+                let [qa, qb] = [ja, jb].map(|j| [0, 1, 2].map(|x| p[x] + grid.corner[j][x]));
+                if !self.doubled(p, axis, across, qa, qb) {
+                    continue;
+                }
+                let key = [ja.min(jb), ja.max(jb)];
+                let middle = match middles.iter().find(|m| m.0 == key) {
+                    Some(m) => m.1,
+                    None => {
+                        let id = self.first + self.written;
+                        self.written += 1;
+                        let mid: Vec<f64> = (0..self.d).map(|x| (at[ja][x] + at[jb][x]) / 2.0).collect();
+                        self.positions.extend_from_slice(&mid);
+                        middles.push((key, id));
+                        id
+                    }
+                };
+                polygon.push(middle);
             }
             // Turned outward: its Newell normal away from the cell's centroid.
             let points = [face[0], face[1], face[2], face[3]].map(|j| at[j]);
@@ -451,10 +479,45 @@ impl<'a> Walk<'a> {
             let mid = [0, 1, 2].map(|a| points.iter().map(|q| q[a]).sum::<f64>() / 4.0);
             if (0..3).map(|a| normal[a] * (mid[a] - centre[a])).sum::<f64>() < 0.0 {
                 ids.reverse();
+                polygon.reverse();
             }
-            self.quads.push(ids);
+            if polygon.len() == 4 {
+                self.quads.push(ids);
+            } else {
+                // Fanned from a middle vertex: no triangle lies along the cut edge.
+                let start = polygon.iter().position(|v| !ids.contains(v)).unwrap_or(0);
+                polygon.rotate_left(start);
+                self.triangles.extend((1..polygon.len() - 1).map(|t| [polygon[0], polygon[t], polygon[t + 1]]));
+            }
         }
         Ok(())
+    }
+
+    /// Whether the edge `qa`–`qb` of the face across `axis` of the cell at
+    /// `p` (the cell across it, `across`, not kept) is doubled: the cell
+    /// diagonally across the edge is kept and the fourth around it is not
+    /// (two cells touching along the edge only), and at each end the two
+    /// cells' faces there are one fan (one vertex). The split surface then
+    /// runs along the edge twice between the same vertices: each cell's run
+    /// gets a middle vertex of its own.
+    fn doubled(&mut self, p: [u64; 3], axis: usize, across: [i64; 3], qa: [u64; 3], qb: [u64; 3]) -> bool {
+        let Some(e) = (0..3).find(|&x| qa[x] != qb[x]) else { return false };
+        let r = 3 - axis - e;
+        let mut side = p.map(|x| x as i64);
+        side[r] += if qa[r] == p[r] { -1 } else { 1 };
+        let mut diagonal = side;
+        diagonal[axis] = across[axis];
+        if self.kept(side) || !self.kept(diagonal) {
+            return false;
+        }
+        let octant = |cell: [i64; 3], q: [u64; 3]| [0, 1, 2].map(|x| usize::from(cell[x] == q[x] as i64));
+        let here = p.map(|x| x as i64);
+        [qa, qb].into_iter().all(|q| {
+            let key = q[0] + self.side[0] * (q[1] + self.side[1] * q[2]);
+            self.corners
+                .get(&key)
+                .is_some_and(|c| c.fans[slot_of(axis, octant(here, q))] == c.fans[slot_of(axis, octant(diagonal, q))])
+        })
     }
 
     /// Sends what was made: the vertices first, then the faces that use them.
@@ -466,6 +529,10 @@ impl<'a> Walk<'a> {
         if !self.quads.is_empty() {
             sink.faces(&self.quads, None)?;
             self.quads.clear();
+        }
+        if !self.triangles.is_empty() {
+            sink.triangles(&self.triangles)?;
+            self.triangles.clear();
         }
         Ok(())
     }

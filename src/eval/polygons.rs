@@ -368,6 +368,91 @@ impl Faces {
         added
     }
 
+    /// Where two cells touch along an edge only and each end of it stays one
+    /// vertex (the cells are joined around both ends through others: two
+    /// slabs and two pillars touching along an edge between them), the
+    /// split surface passes along that edge twice between the same two
+    /// vertices — an edge of four faces however the vertices are split.
+    /// Each cell's pass gets a vertex of its own at the edge's middle (its
+    /// two faces there are cut into triangles through it), so that every
+    /// edge of the mesh has two faces. Returns the vertices added.
+    pub(super) fn split_doubled_edges(&mut self, first: usize, colours: Option<&mut Vec<f32>>) -> usize {
+        let d = self.weld.d;
+        let nq = self.quads.len();
+        let total = nq + self.triangles.len();
+        let corners =
+            |f: usize| -> Vec<usize> { if f < nq { self.quads[f].to_vec() } else { self.triangles[f - nq].to_vec() } };
+        let cell = |f: usize| if f < nq { self.quad_cells[f] } else { self.triangle_cells[f - nq] };
+        // Per edge (its ends, sorted), the faces along it and where: `(face, corner it starts at)`.
+        type Along = Vec<(usize, usize)>;
+        let mut sides: FxHashMap<(usize, usize), Along> = FxHashMap::default();
+        for f in 0..total {
+            let c = corners(f);
+            for i in 0..c.len() {
+                let (a, b) = (c[i], c[(i + 1) % c.len()]);
+                sides.entry((a.min(b), a.max(b))).or_default().push((f, i));
+            }
+        }
+        // Per face, the sides cut and the vertex each is cut at.
+        let mut cuts: FxHashMap<usize, Vec<(usize, usize)>> = FxHashMap::default();
+        let mut doubled: Vec<((usize, usize), Along)> = sides.into_iter().filter(|(_, at)| at.len() > 2).collect();
+        doubled.sort_unstable();
+        let mut colours = colours;
+        let mut added = 0;
+        for ((a, b), at) in doubled {
+            let mut cells: Vec<u32> = at.iter().map(|&(f, _)| cell(f)).collect();
+            cells.sort_unstable();
+            cells.dedup();
+            for c in cells {
+                let v = self.weld.positions.len() / d;
+                for x in 0..d {
+                    let mid =
+                        (self.weld.positions[(a - first) * d + x] + self.weld.positions[(b - first) * d + x]) / 2.0;
+                    self.weld.positions.push(mid);
+                }
+                if let Some(cs) = colours.as_deref_mut().filter(|cs| cs.len() > a) {
+                    cs.push(cs[a]);
+                }
+                added += 1;
+                for &(f, i) in at.iter().filter(|&&(f, _)| cell(f) == c) {
+                    cuts.entry(f).or_default().push((i, first + v));
+                }
+            }
+        }
+        if cuts.is_empty() {
+            return 0;
+        }
+        let mut cut: Vec<(usize, Vec<(usize, usize)>)> = cuts.into_iter().collect();
+        cut.sort_unstable();
+        let mut gone = vec![false; total];
+        let (mut made, mut made_cells) = (Vec::new(), Vec::new());
+        for (f, mut at) in cut {
+            at.sort_unstable();
+            let c = corners(f);
+            // The polygon with the cut vertices in place, fanned from the first cut.
+            let mut polygon = Vec::with_capacity(c.len() + at.len());
+            for (i, &v) in c.iter().enumerate() {
+                polygon.push(v);
+                polygon.extend(at.iter().filter(|x| x.0 == i).map(|x| x.1));
+            }
+            let start = polygon.iter().position(|v| *v == at[0].1).unwrap_or(0);
+            polygon.rotate_left(start);
+            let tri = polygon.len() - 2;
+            made.extend((0..tri).map(|k| [polygon[0], polygon[k + 1], polygon[k + 2]]));
+            made_cells.extend(std::iter::repeat_n(cell(f), tri));
+            gone[f] = true;
+        }
+        // The faces cut leave the quads and triangles they were (the new triangles, after them, stay).
+        let quads = std::mem::take(&mut self.quads).into_iter().zip(std::mem::take(&mut self.quad_cells));
+        (self.quads, self.quad_cells) = quads.enumerate().filter(|(f, _)| !gone[*f]).map(|(_, q)| q).unzip();
+        let triangles = std::mem::take(&mut self.triangles).into_iter().zip(std::mem::take(&mut self.triangle_cells));
+        (self.triangles, self.triangle_cells) =
+            triangles.enumerate().filter(|(t, _)| !gone[nq + t]).map(|(_, t)| t).unzip();
+        self.triangles.extend(made);
+        self.triangle_cells.extend(made_cells);
+        added
+    }
+
     /// Drops the vertices no face uses (a solid's inner corners: its boundary
     /// is written, not its cells), renumbering the faces and the colours.
     fn compact(&mut self, first: usize, colours: Option<&mut Vec<f32>>) {
@@ -412,6 +497,7 @@ impl Faces {
         let mut colours = colours;
         if self.close_volumes() {
             self.split_pinches(first, colours.as_deref_mut());
+            self.split_doubled_edges(first, colours.as_deref_mut());
             self.compact(first, colours);
         }
         let d = self.weld.d;

@@ -94,32 +94,27 @@ pub(super) fn triangle(b: &mut DesignBuilder, n: usize, keep: &[bool], d: usize)
     }
     b.select("e_start", "edge", "vertex", [0]).select("e_end", "edge", "vertex", [d - 1]);
     b.doc("The ends of a side.");
-    if d > 2 {
+    // An upward and a downward neighbour run along the side they share in opposite directions.
+    let reversed = kept.iter().any(|c| c.0 && kept.iter().any(|u| !u.0 && shared_side(*c, *u)));
+    if reversed {
         b.select("flip", "edge", "edge", (0..d).rev().collect::<Vec<_>>())
             .doc("A side read from its end: neighbours run along a side they share in opposite directions.");
     }
     glue(b, &kept, d);
-    for &c in &kept {
-        let (down, a, bb) = c;
-        if down {
-            continue;
-        }
-        if bb == 0 {
-            b.incidence(format!("{} side0 = side0 E{a}", name(c))).explain(format!("({a}, 0) lies on side AB."));
-        }
-        if a + bb + 1 == n {
-            b.incidence(format!("{} side1 = side1 E{bb}", name(c))).explain(format!("({a}, {bb}) lies on side BC."));
-        }
-        if a == 0 {
-            b.incidence(format!("{} side2 = side2 E{}", name(c), n - 1 - bb))
-                .explain(format!("(0, {bb}) lies on side CA."));
-        }
-    }
+    on_the_sides(b, &kept, n);
     for i in 0..n - 1 {
         b.adjacency(format!("E{i} e_end = E{} e_start", i + 1));
     }
     b.incidence("E0 e_start = e_start W").incidence(format!("E{} e_end = e_end W", n - 1));
     b.doc("The parts of a side share their ends; the first and last parts end at the subdivided corners.");
+    if reversed {
+        for i in 0..n.div_ceil(2) {
+            b.adjacency(format!("flip E{i} = E{} flip", n - 1 - i)).explain(format!(
+                "Part {i} of a side read backwards is part {} of it: a side two cells share in opposite directions is split at the same points seen from either.",
+                n - 1 - i
+            ));
+        }
+    }
     let h = 0.866_025_403_784_438_6;
     let m = (d - 1) as f64;
     let points: Vec<Vec<f64>> = super::blossom::triangle_net(d)
@@ -135,6 +130,49 @@ pub(super) fn triangle(b: &mut DesignBuilder, n: usize, keep: &[bool], d: usize)
     } else {
         "An equilateral triangle, its control points off the corners raised: a curved patch."
     });
+}
+
+/// The incidences of the kept cells on the outer sides: an upward cell on a
+/// side lies on its part of it, a downward one touching a side at a corner
+/// only has that corner at the side's split point.
+fn on_the_sides(b: &mut DesignBuilder, kept: &[Cell], n: usize) {
+    for &c in kept {
+        let (down, a, bb) = c;
+        if down {
+            for (k, (x, y)) in corners(c).into_iter().enumerate() {
+                let on = match () {
+                    () if y == 0 => Some((0, x)),
+                    () if x + y == n => Some((1, y)),
+                    () if x == 0 => Some((2, n - y)),
+                    () => None,
+                };
+                if let Some((side, at)) = on {
+                    b.incidence(format!("{} side{k} e_start = side{side} E{} e_end", name(c), at - 1)).explain(
+                        format!(
+                            "The downward ({a}, {bb}) touches side {} at its split point {at} of {n}.",
+                            ["AB", "BC", "CA"][side]
+                        ),
+                    );
+                }
+            }
+            continue;
+        }
+        if bb == 0 {
+            b.incidence(format!("{} side0 = side0 E{a}", name(c))).explain(format!("({a}, 0) lies on side AB."));
+        }
+        if a + bb + 1 == n {
+            b.incidence(format!("{} side1 = side1 E{bb}", name(c))).explain(format!("({a}, {bb}) lies on side BC."));
+        }
+        if a == 0 {
+            b.incidence(format!("{} side2 = side2 E{}", name(c), n - 1 - bb))
+                .explain(format!("(0, {bb}) lies on side CA."));
+        }
+    }
+}
+
+/// Whether two cells share a side (two corners).
+fn shared_side(c: Cell, d: Cell) -> bool {
+    corners(c).iter().filter(|p| corners(d).contains(p)).count() == 2
 }
 
 /// Neighbours glued: cells sharing a side share its two ends (sides of

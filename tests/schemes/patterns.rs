@@ -155,7 +155,7 @@ fn bad_patterns_are_refused_before_any_solving() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("4 flag(s) for 9 sub-cells"));
     // Legal but surprising: said, and the automaton printed all the same.
     for (args, says) in [
-        (["--cell", "quad", "--split", "3x2", "--keep", "101101"], "fall apart into 2 separate pieces"),
+        (["--cell", "quad", "--split", "3x2", "--keep", "101101"], "make 2 separate pieces (4 at depth 2)"),
         (
             ["--cell", "triangle", "--split", "2", "--keep", "1011"],
             "3 place(s) where kept sub-cells touch at a corner or along an edge only",
