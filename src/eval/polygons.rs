@@ -368,6 +368,26 @@ impl Faces {
         added
     }
 
+    /// Turns every closed piece that encloses a negative volume (a member
+    /// whose matrices list a cell's corners the other way round) outward.
+    fn turn_outward(&mut self, first: usize) {
+        let nq = self.quads.len();
+        let n = first + self.weld.positions.len() / 3;
+        let (quads, triangles, positions) = (&self.quads, &self.triangles, &self.weld.positions);
+        let face = |f: usize| -> &[usize] { if f < nq { &quads[f] } else { &triangles[f - nq] } };
+        let point = |v: usize| {
+            let p = &positions[(v - first) * 3..(v - first) * 3 + 3];
+            [p[0], p[1], p[2]]
+        };
+        let turn = crate::geometry::inward_faces(n, nq + triangles.len(), face, point);
+        for (q, _) in self.quads.iter_mut().zip(&turn).filter(|(_, t)| **t) {
+            q.swap(1, 3);
+        }
+        for (t, _) in self.triangles.iter_mut().zip(&turn[nq..]).filter(|(_, t)| **t) {
+            t.swap(1, 2);
+        }
+    }
+
     /// Where two cells touch along an edge only and each end of it stays one
     /// vertex (the cells are joined around both ends through others: two
     /// slabs and two pillars touching along an edge between them), the
@@ -501,6 +521,9 @@ impl Faces {
             self.compact(first, colours);
         }
         let d = self.weld.d;
+        if d == 3 {
+            self.turn_outward(first);
+        }
         let normals = (d == 3).then(|| {
             let points: Vec<[f64; 3]> = self.weld.positions.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect();
             let local = |v: &[usize]| v.iter().map(|i| i - first).collect::<Vec<_>>();

@@ -625,13 +625,13 @@ fn signed_volume_of_corners(ev: &Evaluator, state: usize) -> f64 {
     }
     let mut volume = 0.0;
     for piece in &pieces.pieces {
-        // Corners in lattice order (0,0), (1,0), (1,1), (0,1).
+        // The face's samples are its corners in cyclic order: (0,0), (1,0), (1,1), (0,1).
         let corner = |c: usize| {
             let mut p = [0.0; 3];
             project(&piece.control, d, n, &sp.samples[c], &mut p);
             DVec3::from(p)
         };
-        let [a, b, c, e] = [0usize, 1, 3, 2].map(corner);
+        let [a, b, c, e] = [0usize, 1, 2, 3].map(corner);
         volume += (a.dot(&b.cross(&c)) + a.dot(&c.cross(&e))) / 6.0;
     }
     volume

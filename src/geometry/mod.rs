@@ -9,6 +9,9 @@ pub const MAX_COORDINATE: f64 = 1e150;
 use std::io;
 use std::ops::Range;
 
+mod orient;
+pub use orient::inward_faces;
+
 /// Points per batch of [`PointBatches::fold`]: a chain of its own.
 pub const BATCH: usize = 1 << 16;
 /// Points per chunk handed to a visitor: few enough to stay in the first-level cache.

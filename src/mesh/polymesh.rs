@@ -205,6 +205,33 @@ impl PolyMesh {
         used.iter().filter(|u| **u).count()
     }
 
+    /// The same mesh with every closed piece that faces inward (encloses a
+    /// negative volume) turned outward, its texture faces with it; `None`
+    /// when no face needs turning. What bcifs writes of a closed mesh faces
+    /// outward whatever the input's orientation ([`crate::geometry::inward_faces`]).
+    pub fn outward(&self) -> Option<PolyMesh> {
+        let turn = crate::geometry::inward_faces(
+            self.positions.len(),
+            self.face_count(),
+            |f| self.face(f),
+            |v| self.positions[v],
+        );
+        if !turn.contains(&true) {
+            return None;
+        }
+        let mut out = self.clone();
+        let reverse = |m: &mut PolyMesh| {
+            for (f, _) in turn.iter().enumerate().filter(|(_, t)| **t) {
+                m.indices[m.starts[f] + 1..m.starts[f + 1]].reverse();
+            }
+        };
+        reverse(&mut out);
+        if let Some(t) = out.texture.as_deref_mut() {
+            reverse(t);
+        }
+        Some(out)
+    }
+
     /// The signed volume enclosed (positive when a closed mesh faces outwards).
     pub fn signed_volume(&self) -> f64 {
         self.faces()

@@ -154,6 +154,9 @@ fn spilled_into(
 /// # Errors
 /// Diverging weights, or an output over the memory limit.
 pub fn subdivide_mesh(mesh: &PolyMesh, job: &MeshJob, options: &Options) -> Result<PolyMesh, RenderError> {
+    // A closed mesh is subdivided facing outward, whatever the input's orientation.
+    let turned = mesh.outward();
+    let mesh = turned.as_ref().unwrap_or(mesh);
     check_weights(mesh, job.weights)?;
     let memory = options.budget.memory;
     let subdivision = Subdivision { scheme: job.scheme, depth: job.depth, weights: job.weights, memory_limit: memory };
@@ -174,6 +177,8 @@ pub fn subdivide_mesh(mesh: &PolyMesh, job: &MeshJob, options: &Options) -> Resu
 /// it comes from ([`PolyMesh::face_sources`]: per-face data follows the
 /// scheme as `data[sources[k]]`).
 pub fn face_sources(mesh: &PolyMesh, job: &MeshJob) -> Vec<u32> {
+    let turned = mesh.outward();
+    let mesh = turned.as_ref().unwrap_or(mesh);
     let subdivision =
         Subdivision { scheme: job.scheme, depth: job.depth, weights: job.weights, memory_limit: usize::MAX };
     mesh.face_sources(&subdivision, !job.net)
@@ -205,6 +210,8 @@ fn subdivide_error(options: &Options, out: &Path) -> impl Fn(SubdivideError) -> 
 
 fn render_mesh_in(mesh: &PolyMesh, job: &MeshJob, options: &Options, out: &Path) -> Result<Report, RenderError> {
     let format = Format::of(out)?;
+    let turned = mesh.outward();
+    let mesh = turned.as_ref().unwrap_or(mesh);
     let named;
     let job = if job.name.is_empty() {
         named = MeshJob { name: mesh.name.clone().unwrap_or_else(|| "mesh".into()), ..job.clone() };
@@ -215,6 +222,9 @@ fn render_mesh_in(mesh: &PolyMesh, job: &MeshJob, options: &Options, out: &Path)
     options.check_cancel()?;
     let mut report = Report { format: Some(format), depth: Some(job.depth), ..Report::default() };
     report.warnings.extend(check_weights(mesh, job.weights)?);
+    if turned.is_some() {
+        report.notes.push("the input's closed faces ran inward (a negative volume): subdivided turned outward".into());
+    }
     let memory = options.budget.memory;
     let subdivision = Subdivision { scheme: job.scheme, depth: job.depth, weights: job.weights, memory_limit: memory };
     if matches!(format, Format::Png | Format::Svg) {
