@@ -59,12 +59,12 @@ pub fn inward_faces<'a>(
     }
     // Each piece's volume about its first vertex (numerically kinder than about the origin).
     let mut volume: rustc_hash::FxHashMap<usize, (f64, f64, [f64; 3])> = rustc_hash::FxHashMap::default();
-    for f in 0..count {
+    for (f, &at) in piece.iter().enumerate() {
         let c = faces(f);
-        if c.len() < 3 || !good.get(&piece[f]).copied().unwrap_or(false) {
+        if c.len() < 3 || !good.get(&at).copied().unwrap_or(false) {
             continue;
         }
-        let (v, size, o) = volume.entry(piece[f]).or_insert((0.0, 0.0, point(c[0])));
+        let (v, size, o) = volume.entry(at).or_insert((0.0, 0.0, point(c[0])));
         let at = |i: usize| {
             let p = point(c[i]);
             [p[0] - o[0], p[1] - o[1], p[2] - o[2]]
