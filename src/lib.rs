@@ -119,4 +119,4 @@ pub use names::suggest;
 /// Re-exported: its indices appear in bcifs signatures.
 pub use petgraph;
 pub use progress::{Cancel, Progress, bytes_text};
-pub use space::{CellKind, State};
+pub use space::{CellKind, Patch, State};

@@ -11,7 +11,7 @@ use super::model::{Docs, Model, Variable};
 use super::value::{Matrix, Value};
 use crate::algebra::Affine;
 use crate::automaton::{ArrowKind, Automaton};
-use crate::space::CellKind;
+use crate::space::{CellKind, Patch};
 
 /// Most entries of one matrix (a 2000 × 2000 matrix): larger dimensions are mistakes.
 pub const MAX_MATRIX_ENTRIES: usize = 4_000_000;
@@ -28,6 +28,7 @@ pub(super) struct StateItem {
     pub(super) name: String,
     pub(super) dim: usize,
     pub(super) kind: CellKind,
+    pub(super) patch: Option<Patch>,
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -148,7 +149,18 @@ impl DesignBuilder {
     pub fn state(&mut self, name: impl Into<String>, dim: usize, kind: CellKind) -> &mut Self {
         let name = name.into();
         self.last = Last::State(name.clone());
-        self.states.push(StateItem { name, dim, kind });
+        self.states.push(StateItem { name, dim, kind, patch: None });
+        self
+    }
+
+    /// The patch the control points of the state added last make ([`Patch`]):
+    /// what a porosity measures its cells on.
+    pub fn patch(&mut self, patch: Patch) -> &mut Self {
+        if let (Last::State(name), Some(s)) = (&self.last, self.states.last_mut())
+            && s.name == *name
+        {
+            s.patch = Some(patch);
+        }
         self
     }
 
@@ -354,8 +366,8 @@ impl DesignBuilder {
     }
 
     /// What the builder holds, for printing: states `(name, dim, kind)`.
-    pub(crate) fn state_items(&self) -> impl Iterator<Item = (&str, usize, CellKind)> {
-        self.states.iter().map(|s| (s.name.as_str(), s.dim, s.kind))
+    pub(crate) fn state_items(&self) -> impl Iterator<Item = (&str, usize, CellKind, Option<Patch>)> {
+        self.states.iter().map(|s| (s.name.as_str(), s.dim, s.kind, s.patch))
     }
 
     /// Arrows `(name, from, to, kind, matrix)`.

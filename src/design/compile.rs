@@ -164,7 +164,7 @@ impl<'a> Compiler<'a> {
             if s.dim < 1 {
                 return Err(self.state_error(index, Field::Dim, "a state needs at least one control point (dim ≥ 1)"));
             }
-            self.automaton.add_state(State::new(s.name.clone(), s.dim, s.kind)).map_err(|_| {
+            self.automaton.add_state(State::new(s.name.clone(), s.dim, s.kind).with_patch(s.patch)).map_err(|_| {
                 self.state_error(index, Field::Name, format!("a state named `{}` is declared twice", s.name))
             })?;
         }

@@ -25,7 +25,7 @@ mod tangents;
 
 pub use colour::Colouring;
 pub use pieces::{ModelError, Piece, Pieces};
-pub use plan::PlanError;
+pub use plan::{PlanError, StatePlan};
 pub use prepared::Evaluator;
 pub use random::{ChaosGame, chaos_game};
 pub use sampling::{

@@ -98,6 +98,8 @@ pub struct StatePlan {
     /// Edges whose sub-edges do not chain end to start (a lacunar curve,
     /// the Cantor set's): a leaf emits both its ends, a segment of its own.
     pub gapped: bool,
+    /// The patch its control points make, when the design says ([`crate::space::Patch`]).
+    pub patch: Option<crate::space::Patch>,
 }
 
 /// The evaluation plan of an automaton.
@@ -193,6 +195,7 @@ impl Plan {
                 cyclic: automaton.outgoing(id, ArrowKind::Subdivision).into_iter().any(|e| automaton.on_cycle(e)),
                 faces: Vec::new(),
                 gapped: false,
+                patch: s.patch,
             };
             match s.kind {
                 CellKind::Vertex => plan.samples = vertex_point[id.index()].iter().cloned().collect(),

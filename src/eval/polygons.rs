@@ -539,6 +539,48 @@ impl Faces {
 }
 
 impl Evaluator {
+    /// Calls `visit` with every cell `k` subdivisions below the pieces (as
+    /// [`Evaluator::polygons`] counts them: a root that only selects its
+    /// patches is no subdivision) that is an edge, a face or a volume, with
+    /// its plan and its control points (`d × n`, row-major). Nothing is
+    /// held: memory stays that of one path down the tree.
+    ///
+    /// # Errors
+    /// Cancelled; what `visit` returns.
+    pub fn for_each_cell(
+        &self,
+        k: usize,
+        visit: &mut dyn FnMut(&super::plan::StatePlan, &[f64]) -> Result<(), EvalError>,
+    ) -> Result<(), EvalError> {
+        let d = self.pieces.dim;
+        let mut visited = 0usize;
+        for piece in &self.pieces.pieces {
+            let mut stack: Vec<(usize, Vec<f64>, usize)> = vec![(piece.state, piece.control.clone(), k)];
+            while let Some((s, c, r)) = stack.pop() {
+                visited += 1;
+                if visited.is_multiple_of(4096) {
+                    self.check_cancel()?;
+                }
+                let sp = self.plan.state(s);
+                if r == 0 && matches!(sp.kind, CellKind::Edge | CellKind::Face | CellKind::Volume) {
+                    visit(sp, &c)?;
+                    continue;
+                }
+                let step = self.step_of(s);
+                if r < step {
+                    continue;
+                }
+                for (_, t, m) in sp.children.iter().rev() {
+                    let nt = self.plan.state(*t).dim;
+                    let mut child = vec![0.0; d * nt];
+                    super::prepared::mul_into(&c, d, sp.dim, m, nt, &mut child);
+                    stack.push((*t, child, r - step));
+                }
+            }
+        }
+        Ok(())
+    }
+
     /// The face cells of the polygon mesh at depth `k` (saturating; a cell of
     /// more than four corners is written as a fan of triangles), or `None`
     /// when the output is not made of polygon cells.

@@ -211,16 +211,15 @@ impl<'a> Problem<'a> {
         if !self.numbers.iter().any(|(m, _)| *m == Measure::Porosity) {
             return Ok(());
         }
-        let at_defaults = self.measured(Measure::Porosity, &self.defaults())?.value;
-        if at_defaults < 0.0 {
-            return Err(FitError::OutOfRange(format!(
-                "{}: its sub-cells measure more than the cell they subdivide (porosity {at_defaults:.4} at \
-                 the defaults), so they leave no share of it empty: a porosity is fitted on designs whose \
-                 cells lie inside their parent (laces, solids, Cantor sets)",
+        match self.measured(Measure::Porosity, &self.defaults()) {
+            // The measure refuses cells that are no parts of their parent, and cells with no patch.
+            Err(FitError::Design(why)) => Err(FitError::OutOfRange(format!(
+                "{} at the defaults: {why}: a porosity is fitted on designs whose cells lie inside their parent \
+                 (laces, solids, Cantor sets)",
                 self.design.name()
-            )));
+            ))),
+            other => other.map(|_| ()),
         }
-        Ok(())
     }
 
     fn target_points(&self, points: &[[f64; 3]]) -> Result<Points, FitError> {

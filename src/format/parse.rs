@@ -16,7 +16,7 @@ use crate::algebra::{Expr, Num};
 use crate::automaton::ArrowKind;
 use crate::design::{BuildError, Design, DesignBuilder, Field, Layout, Locus, Matrix, Model, Value};
 use crate::names::suggest;
-use crate::space::CellKind;
+use crate::space::{CellKind, Patch};
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -42,6 +42,7 @@ struct StateSpec {
     name: Spanned<String>,
     dim: Spanned<i64>,
     kind: Option<Spanned<String>>,
+    patch: Option<Spanned<String>>,
 }
 
 #[derive(Deserialize)]
@@ -598,6 +599,9 @@ impl Reader<'_> {
                 Some(k) => keyword(src, k, "cell kind", &CellKind::ALL.map(|k| (k.keyword(), k)))?,
             };
             b.state(s.name.get_ref().clone(), dim as usize, kind);
+            if let Some(p) = &s.patch {
+                b.patch(keyword(src, p, "patch", &Patch::ALL.map(|p| (p.keyword(), p)))?);
+            }
             self.spans.states.push(StateSpans { name: s.name.span(), dim: s.dim.span() });
         }
         // The arrows' entries on the pool's threads, given to the builder in order (the first error in

@@ -25,8 +25,8 @@ pub fn write_design(design: &Design) -> String {
     let doc = |map: &std::collections::HashMap<String, String>, name: &str| map.get(name).cloned().unwrap_or_default();
     let mut w = TomlWriter::new();
     w.comment(&docs.header).header(design.name(), design.description());
-    for (name, dim, kind) in spec.state_items() {
-        w.state(name, dim, kind, &doc(&docs.states, name));
+    for (name, dim, kind, patch) in spec.state_items() {
+        w.state(name, dim, kind, patch, &doc(&docs.states, name));
     }
     for (name, from, to, kind, matrix) in spec.arrow_items() {
         let comment = doc(&docs.arrows, name);
@@ -156,10 +156,20 @@ impl TomlWriter {
         self
     }
 
-    /// A `[[state]]` table.
-    pub fn state(&mut self, name: &str, dim: usize, kind: CellKind, comment: &str) -> &mut Self {
+    /// A `[[state]]` table (its `patch` when it has one).
+    pub fn state(
+        &mut self,
+        name: &str,
+        dim: usize,
+        kind: CellKind,
+        patch: Option<crate::space::Patch>,
+        comment: &str,
+    ) -> &mut Self {
         self.blank().comment(comment);
         let _ = writeln!(self.out, "[[state]]\nname = {}\ndim = {dim}\nkind = {}", quote(name), quote(kind.keyword()));
+        if let Some(p) = patch {
+            let _ = writeln!(self.out, "patch = {}", quote(p.keyword()));
+        }
         self
     }
 

@@ -52,12 +52,18 @@ pub fn lacunarity_report(
     params: &[(String, f64)],
     depth: usize,
 ) -> Result<LacunarityReport, ReportError> {
-    let (dimension, porosity, deepest) = porosities(design, params, depth)?;
+    let (dimension, porosity, deepest) = porosities(design, params, depth, true)?;
     if dimension == 3 {
-        let (grid, occupied) = super::solid_holes::voxels(&deepest);
+        // Solids' cells drawn into voxels straight (no boundary mesh).
+        let instance = instantiate(design, params)?;
+        let model = super::error::model_of(design)?;
+        let settings = crate::eval::EvalSettings::default().with_depth(depth.max(1));
+        let ev = crate::eval::Evaluator::new(&instance.automaton, &model, settings)?;
+        let (grid, occupied) = super::solid_holes::voxels(&ev, depth.max(1))?;
         let lacunarity = super::solid_holes::gliding_box(&occupied, grid);
         return Ok(LacunarityReport { dimension, porosity, grid, lacunarity });
     }
+    let deepest = deepest.unwrap_or_default();
     let (grid, occupied) = raster(&deepest, dimension);
     Ok(LacunarityReport { dimension, porosity, grid, lacunarity: gliding_box(&occupied, grid, dimension) })
 }
@@ -75,57 +81,70 @@ pub fn lacunarity_report(
 /// # Errors
 /// As [`lacunarity_report`].
 pub fn porosity(design: &Design, params: &[(String, f64)], depth: usize) -> Result<Vec<f64>, ReportError> {
-    Ok(porosities(design, params, depth)?.1)
+    Ok(porosities(design, params, depth, false)?.1)
 }
 
-/// The measure's dimension, the porosity at depths 1 to `depth`, and the depth-`depth` cells.
+/// The measure's dimension, the porosity at depths 1 to `depth`, and (when
+/// `deepest`) the depth-`depth` cells evaluated.
 fn porosities(
     design: &Design,
     params: &[(String, f64)],
     depth: usize,
-) -> Result<(usize, Vec<f64>, Shape), ReportError> {
+    deepest: bool,
+) -> Result<(usize, Vec<f64>, Option<Shape>), ReportError> {
     use crate::eval::{EvalSettings, Evaluator};
     let instance = instantiate(design, params)?;
     let model = super::error::model_of(design)?;
     let evaluator = |k: usize| Evaluator::new(&instance.automaton, &model, EvalSettings::default().with_depth(k));
-    let solid = evaluator(0)?.volumes();
-    let shape_at = |k: usize| -> Result<Shape, ReportError> { Ok(evaluator(k)?.evaluate()?) };
-    let measured = |shape: &Shape| if solid { (3, super::solid_holes::volume(shape)) } else { measure(shape) };
+    let ev = evaluator(depth.max(1))?;
     // The deepest depth decides what fits: refused before the shallower ones are made.
     let limit = EvalSettings::default().memory_limit;
-    let estimate = evaluator(depth.max(1))?.estimate_bytes(depth.max(1));
-    if estimate > limit as u128 {
+    let estimate = ev.estimate_bytes(depth.max(1));
+    if deepest && estimate > limit as u128 {
         return Err(crate::eval::EvalError::TooLarge { estimate, limit }.into());
     }
-    let whole = shape_at(0)?;
-    let (dimension, total) = measured(&whole);
-    if dimension == 0 || total <= 0.0 {
-        return Err(ReportError::Unsupported(format!(
-            "{}: its cells are points, with no length or area to leave empty",
-            design.name()
-        )));
+    // The cells measured on their own patches, summed at each depth.
+    let d = ev.pieces().dim;
+    let measured = |k: usize| -> Result<(usize, f64), ReportError> {
+        let (mut dimension, mut total, mut why) = (0, 0.0, None);
+        ev.for_each_cell(k, &mut |sp, c| {
+            match super::measure::cell_measure(sp, c, d) {
+                Ok(m) => total += m,
+                Err(e) => why = Some(e),
+            }
+            dimension = dimension.max(match sp.kind {
+                crate::space::CellKind::Edge => 1,
+                crate::space::CellKind::Face => 2,
+                _ => 3,
+            });
+            Ok(())
+        })?;
+        match why {
+            Some(why) => Err(ReportError::Unsupported(why)),
+            None => Ok((dimension, total)),
+        }
+    };
+    let (dimension, whole) = measured(0)?;
+    if dimension == 0 || whole <= 0.0 {
+        return Err(ReportError::Unsupported(
+            "its cells are points, with no length, area or volume to leave empty".into(),
+        ));
     }
     let mut porosity = Vec::new();
-    let mut deepest = whole;
     for k in 1..=depth.max(1) {
-        deepest = shape_at(k)?;
-        porosity.push(1.0 - measured(&deepest).1 / total);
+        let share = 1.0 - measured(k)?.1 / whole;
+        // Parts that are parts of their cell leave a share of it in [0, 1], to rounding.
+        if share < -crate::algebra::tolerance::SLACK {
+            return Err(ReportError::Unsupported(format!(
+                "its depth-{k} cells measure {:.6} times their cell (a porosity of {share:.4}): they are not parts of it \
+                 (a curve bending away from its chord, a patch folded over), so they leave no share of it empty",
+                1.0 - share
+            )));
+        }
+        porosity.push(share.max(0.0));
     }
-    Ok((dimension, porosity, deepest))
-}
-
-/// The dimension of a shape's cells and their total measure (area of the
-/// faces, else length of the polylines).
-fn measure(shape: &Shape) -> (usize, f64) {
-    let p = |i: usize| shape.point(i);
-    let faces: Vec<Vec<usize>> = faces(shape);
-    if !faces.is_empty() {
-        let area: f64 =
-            faces.iter().flat_map(|f| fan(f, 0).collect::<Vec<_>>()).map(|[a, b, c]| triangle(p(a), p(b), p(c))).sum();
-        return (2, area);
-    }
-    let length: f64 = segments(shape).iter().map(|&[a, b]| distance(p(a), p(b))).sum();
-    (if length > 0.0 { 1 } else { 0 }, length)
+    let shape = if deepest && dimension < 3 { Some(evaluator(depth.max(1))?.evaluate()?) } else { None };
+    Ok((dimension, porosity, shape))
 }
 
 fn faces(shape: &Shape) -> Vec<Vec<usize>> {
@@ -139,16 +158,6 @@ fn segments(shape: &Shape) -> Vec<[usize; 2]> {
         .polylines()
         .flat_map(|(first, count, _)| (first..first + count.saturating_sub(1)).map(|i| [i, i + 1]))
         .collect()
-}
-
-fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
-    (0..3).map(|k| (a[k] - b[k]).powi(2)).sum::<f64>().sqrt()
-}
-
-fn triangle(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
-    let (u, v) = ([b[0] - a[0], b[1] - a[1], b[2] - a[2]], [c[0] - a[0], c[1] - a[1], c[2] - a[2]]);
-    let n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
-    0.5 * (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt()
 }
 
 /// Cells per side of the lacunarity grid.

@@ -14,6 +14,7 @@ mod dimension;
 mod error;
 mod family;
 mod lacunarity;
+mod measure;
 mod print;
 mod solid_holes;
 mod sweep;

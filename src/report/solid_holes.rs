@@ -1,27 +1,10 @@
-//! The holes of a solid (a union of volume cells, evaluated as its outward
-//! boundary mesh): its volume by the divergence theorem, and its cells
-//! drawn into a grid of voxels for the gliding-box lacunarity in space.
+//! The holes of a solid (a union of volume cells): its cells drawn into a
+//! grid of voxels for the gliding-box lacunarity in space.
 
-use crate::geometry::{Shape, fan};
+use crate::eval::{EvalError, Evaluator};
 
 /// Voxels per side of the grid a solid's lacunarity is measured on.
 pub(super) const GRID: usize = 81;
-
-/// The outward triangles of a shape's faces.
-fn triangles(shape: &Shape) -> impl Iterator<Item = [[f64; 3]; 3]> + '_ {
-    let quads = shape.quads.iter().flat_map(|q| fan(&q.map(|v| v as usize), 0).collect::<Vec<_>>());
-    quads.chain(shape.triangles.iter().copied()).map(|t| t.map(|v| shape.point(v)))
-}
-
-/// The volume a closed outward mesh encloses: `Σ a · (b × c) / 6`.
-pub(super) fn volume(shape: &Shape) -> f64 {
-    triangles(shape)
-        .map(|[a, b, c]| {
-            a[0] * (b[1] * c[2] - b[2] * c[1]) + a[1] * (b[2] * c[0] - b[0] * c[2]) + a[2] * (b[0] * c[1] - b[1] * c[0])
-        })
-        .sum::<f64>()
-        / 6.0
-}
 
 /// Where in voxel `(x, y, z)` the point sampling it sits (each coordinate
 /// in `[0, 1)`): Roberts's low-discrepancy `R₃` sequence over the voxels,
@@ -34,59 +17,79 @@ fn sample(x: usize, y: usize, z: usize) -> [f64; 3] {
     [1.0 / G, 1.0 / (G * G), 1.0 / (G * G * G)].map(|a| (0.5 + k * a).fract())
 }
 
-/// The voxels (of a [`GRID`]³ grid over the bounding box, x fastest) whose
-/// sample point ([`sample`]: one vertical line per column, a height per
-/// voxel) lies inside the solid: an odd number of the boundary's crossings
-/// of the line below it.
-pub(super) fn voxels(shape: &Shape) -> (usize, Vec<bool>) {
+/// The voxels (of a [`GRID`]³ grid over the cells' bounding box, x
+/// fastest) whose sample point ([`sample`]) lies in a depth-`k` cell: on
+/// the inner side of each of the cell's faces (their planes through their
+/// corners' middle, turned away from the cell's centre). A cell is
+/// tested against the voxels of its own box only; where the cells are the
+/// grid's own (the depth-4 Menger sponge on 81³), each voxel is one cell
+/// and the count is exact.
+///
+/// # Errors
+/// Cancelled.
+pub(super) fn voxels(ev: &Evaluator, k: usize) -> Result<(usize, Vec<bool>), EvalError> {
     let n = GRID;
-    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-    for i in 0..shape.vertex_count() {
-        let p = shape.point(i);
-        for k in 0..3 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
-    let span = |k: usize| (hi[k] - lo[k]).max(f64::MIN_POSITIVE);
-    let at = |p: [f64; 3]| [0, 1, 2].map(|k| (p[k] - lo[k]) / span(k) * n as f64);
-    // Each column's vertical line (through its samples' x and y), and the heights it crosses the boundary at.
-    let line = |x: usize, y: usize| {
-        let s = sample(x, y, 0);
-        [x as f64 + s[0], y as f64 + s[1]]
+    let d = ev.pieces().dim;
+    let corners = |sp: &crate::eval::StatePlan, c: &[f64]| -> Vec<[f64; 3]> {
+        sp.samples
+            .iter()
+            .map(|b| {
+                let mut p = [0.0; 3];
+                for (a, x) in p.iter_mut().enumerate().take(d) {
+                    *x = (0..sp.dim).map(|i| c[a * sp.dim + i] * b[i]).sum();
+                }
+                p
+            })
+            .collect()
     };
-    let mut crossings: Vec<Vec<f64>> = vec![Vec::new(); n * n];
-    for t in triangles(shape) {
-        let [a, b, c] = t.map(at);
-        let (x0, x1) = (a[0].min(b[0]).min(c[0]), a[0].max(b[0]).max(c[0]));
-        let (y0, y1) = (a[1].min(b[1]).min(c[1]), a[1].max(b[1]).max(c[1]));
-        let det = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]);
-        if det.abs() < 1e-15 {
-            continue; // seen edge-on from the lines
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    ev.for_each_cell(k, &mut |sp, c| {
+        for p in corners(sp, c) {
+            for a in 0..3 {
+                lo[a] = lo[a].min(p[a]);
+                hi[a] = hi[a].max(p[a]);
+            }
         }
-        let cells =
-            |v0: f64, v1: f64| (v0.floor().max(0.0) as usize)..=(v1.floor().min(n as f64 - 1.0).max(0.0) as usize);
-        for y in cells(y0, y1) {
-            for x in cells(x0, x1) {
-                let [px, py] = line(x, y);
-                let u = ((px - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (py - a[1])) / det;
-                let v = ((b[0] - a[0]) * (py - a[1]) - (px - a[0]) * (b[1] - a[1])) / det;
-                if u >= 0.0 && v >= 0.0 && u + v < 1.0 {
-                    crossings[y * n + x].push(a[2] + u * (b[2] - a[2]) + v * (c[2] - a[2]));
+        Ok(())
+    })?;
+    let span = [0, 1, 2].map(|a| (hi[a] - lo[a]).max(f64::MIN_POSITIVE));
+    let mut occupied = vec![false; n * n * n];
+    ev.for_each_cell(k, &mut |sp, c| {
+        let ps: Vec<[f64; 3]> =
+            corners(sp, c).iter().map(|p| [0, 1, 2].map(|a| (p[a] - lo[a]) / span[a] * n as f64)).collect();
+        let centre = [0, 1, 2].map(|a| ps.iter().map(|p| p[a]).sum::<f64>() / ps.len() as f64);
+        // Each face's plane: (its middle, its normal turned outward).
+        let planes: Vec<([f64; 3], [f64; 3])> = sp
+            .faces
+            .iter()
+            .map(|f| {
+                let mid = [0, 1, 2].map(|a| f.iter().map(|&i| ps[i][a]).sum::<f64>() / f.len() as f64);
+                let mut normal = crate::geometry::area_vector(f.len(), |j| ps[f[j]]);
+                if (0..3).map(|a| normal[a] * (mid[a] - centre[a])).sum::<f64>() < 0.0 {
+                    normal = normal.map(|x| -x);
+                }
+                (mid, normal)
+            })
+            .collect();
+        let range = |a: usize| {
+            let (l, h) = ps.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), p| (l.min(p[a]), h.max(p[a])));
+            (l.floor().max(0.0) as usize)..=(h.floor().min(n as f64 - 1.0).max(0.0) as usize)
+        };
+        for z in range(2) {
+            for y in range(1) {
+                for x in range(0) {
+                    let s = sample(x, y, z);
+                    let p = [x as f64 + s[0], y as f64 + s[1], z as f64 + s[2]];
+                    let inside = planes.iter().all(|(m, nv)| (0..3).map(|a| (p[a] - m[a]) * nv[a]).sum::<f64>() <= 0.0);
+                    if inside {
+                        occupied[(z * n + y) * n + x] = true;
+                    }
                 }
             }
         }
-    }
-    let mut cells = vec![false; n * n * n];
-    for (column, heights) in crossings.iter_mut().enumerate() {
-        heights.sort_by(f64::total_cmp);
-        let (x, y) = (column % n, column / n);
-        for z in 0..n {
-            let height = z as f64 + sample(x, y, z)[2];
-            cells[z * n * n + column] = heights.partition_point(|&h| h < height) % 2 == 1;
-        }
-    }
-    (n, cells)
+        Ok(())
+    })?;
+    Ok((n, occupied))
 }
 
 /// `Λ(r) = E[M²] / E[M]²` over every position of an `r × r × r` box of

@@ -45,4 +45,5 @@ pub use stationary::{
     sierpinski_blocks, tensor_design,
 };
 pub use ternary::{TERNARY_WINDOW, ternary_five_point};
+pub(crate) use topology::cardinal_bspline;
 pub use topology::{TopologyError, bspline_segment_matrices, curve, quad_patch};

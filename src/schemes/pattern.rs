@@ -20,7 +20,7 @@ use super::blossom::bezier_part;
 
 use crate::algebra::Num;
 use crate::design::{Design, DesignBuilder, Layout, Model};
-use crate::space::CellKind;
+use crate::space::{CellKind, Patch};
 
 /// The cells a pattern splits.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -559,7 +559,7 @@ fn command_line(pattern: &Pattern, split: &str) -> String {
 /// The states, arrows and constraints of a segment pattern.
 fn segment(b: &mut DesignBuilder, p: &Pattern) {
     let (d, k) = (p.degree, p.split[0]);
-    b.state("e", d, CellKind::Edge).doc(format!("The segment: {d} control points."));
+    b.state("e", d, CellKind::Edge).patch(Patch::Bezier).doc(format!("The segment: {d} control points."));
     b.state("v", 1, CellKind::Vertex).doc("An end: one control point.");
     for [i, _] in p.kept() {
         b.unknown(sub(p.cell, [i, 0]), "e", "e").doc(format!("Part {i} of {k}, from the left."));
@@ -586,9 +586,10 @@ fn segment(b: &mut DesignBuilder, p: &Pattern) {
 fn quad(b: &mut DesignBuilder, p: &Pattern) {
     let (d, k, l) = (p.degree, p.split[0], p.split[1]);
     b.state("face", d * d, CellKind::Face)
+        .patch(Patch::Bezier)
         .doc(format!("The quadrilateral: {d}×{d} control points, index {d}·row + col."));
-    b.state("edge_u", d, CellKind::Edge).doc(format!("A side along u: {d} control points."));
-    b.state("edge_v", d, CellKind::Edge).doc(format!("A side along v: {d} control points."));
+    b.state("edge_u", d, CellKind::Edge).patch(Patch::Bezier).doc(format!("A side along u: {d} control points."));
+    b.state("edge_v", d, CellKind::Edge).patch(Patch::Bezier).doc(format!("A side along v: {d} control points."));
     b.state("vertex", 1, CellKind::Vertex).doc("A corner: one control point.");
     for [i, j] in p.kept() {
         b.unknown(sub(p.cell, [i, j]), "face", "face").doc(format!("Sub-cell ({i}, {j}) of {k}×{l}."));

@@ -17,7 +17,7 @@ use num_rational::BigRational;
 use num_traits::One;
 
 use crate::design::{DesignBuilder, Layout, Model};
-use crate::space::CellKind;
+use crate::space::{CellKind, Patch};
 
 /// An upward (`false`) or downward (`true`) cell at `(a, b)`.
 type Cell = (bool, usize, usize);
@@ -68,16 +68,16 @@ fn side(d: usize, k: usize) -> Vec<usize> {
 pub(super) fn triangle(b: &mut DesignBuilder, n: usize, keep: &[bool], d: usize) {
     let kept: Vec<Cell> = cells(n).into_iter().zip(keep).filter(|(_, k)| **k).map(|(c, _)| c).collect();
     if d == 2 {
-        b.state("face", 3, CellKind::Face).doc("The triangle: its three corners A, B, C.");
-        b.state("edge", 2, CellKind::Edge).doc("A side: its two ends.");
+        b.state("face", 3, CellKind::Face).patch(Patch::Bezier).doc("The triangle: its three corners A, B, C.");
+        b.state("edge", 2, CellKind::Edge).patch(Patch::Bezier).doc("A side: its two ends.");
     } else {
-        b.state("face", d * (d + 1) / 2, CellKind::Face).doc(format!(
+        b.state("face", d * (d + 1) / 2, CellKind::Face).patch(Patch::Bezier).doc(format!(
             "The Bézier triangle of degree {}: its {} control points (a, b), weight of B to the power a and of C to b,\n\
              row by row from side AB.",
             d - 1,
             d * (d + 1) / 2
         ));
-        b.state("edge", d, CellKind::Edge).doc(format!("A side: {d} control points."));
+        b.state("edge", d, CellKind::Edge).patch(Patch::Bezier).doc(format!("A side: {d} control points."));
     }
     b.state("vertex", 1, CellKind::Vertex).doc("A corner: one control point.");
     for &c in &kept {

@@ -19,7 +19,7 @@ use num_traits::{One, Zero};
 
 use super::stationary::{BSpline, ExactMatrix, curve_structure, kron, transposed};
 use crate::design::{DesignBuilder, Layout, Model};
-use crate::space::CellKind;
+use crate::space::{CellKind, Patch};
 
 /// The directions' letters.
 const AXES: [char; 3] = ['u', 'v', 'w'];
@@ -175,7 +175,18 @@ pub(super) fn hexahedron(b: &mut DesignBuilder, split: &[usize], keep: &[bool], 
             (1, _) => format!("An edge along {}: {d} control points in each of {k}×{k} rows.", letters(&axes)),
             _ => format!("A corner: the {k}×{k}×{k} control points around it."),
         };
-        b.state(state(&axes), layers.size(&axes), kind(&axes)).doc(what);
+        b.state(state(&axes), layers.size(&axes), kind(&axes));
+        // A cell's own patch: a Bézier grid; a B-spline's volume (its sides hold layers, not a grid).
+        match (&layers.fixed, axes.len()) {
+            (None, 1..) => {
+                b.patch(Patch::Bezier);
+            }
+            (Some(_), 3) => {
+                b.patch(Patch::BSpline);
+            }
+            _ => {}
+        }
+        b.doc(what);
     }
     let arrow = |b: &mut DesignBuilder, axes: &[usize], x: &[usize]| {
         let (name, s) = (sub(axes, x), state(axes));
@@ -401,7 +412,11 @@ fn to_vertex(k: usize, j: usize) -> String {
 pub(super) fn tetrahedron(b: &mut DesignBuilder, keep: &[bool]) {
     for (k, name) in SIMPLEX.iter().enumerate().rev() {
         let kinds = [CellKind::Vertex, CellKind::Edge, CellKind::Face, CellKind::Volume];
-        b.state(*name, k + 1, kinds[k]).doc(format!("The {name}: its {} corner(s).", k + 1));
+        b.state(*name, k + 1, kinds[k]);
+        if k > 0 {
+            b.patch(Patch::Bezier);
+        }
+        b.doc(format!("The {name}: its {} corner(s).", k + 1));
     }
     for k in (0..4).rev() {
         let corners: Vec<usize> = (0..=k).filter(|&i| k < 3 || keep[i]).collect();

@@ -38,7 +38,7 @@ use num_traits::{One, Zero};
 
 use crate::algebra::Num;
 use crate::design::{Design, DesignBuilder, Layout, Model};
-use crate::space::CellKind;
+use crate::space::{CellKind, Patch};
 
 /// The polyhedra known by name (their faces counter-clockwise seen from outside).
 pub const POLYHEDRON_NAMES: [&str; 7] =
@@ -493,7 +493,7 @@ fn states(b: &mut DesignBuilder, p: &Polyhedron) {
     let directed = p.directed();
     for (f, cycle) in p.faces.iter().enumerate() {
         let list = cycle.iter().map(|&v| p.labels[v].to_string()).collect::<Vec<_>>().join(", ");
-        b.state(format!("f{f}"), cycle.len(), CellKind::Face).doc(format!(
+        b.state(format!("f{f}"), cycle.len(), CellKind::Face).patch(Patch::Polygon).doc(format!(
             "The gap of face {f} (vertices {list}): a {}-gon, corner j where the circles of vertices j and j + 1 touch.",
             cycle.len()
         ));

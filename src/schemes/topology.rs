@@ -48,7 +48,7 @@ fn internal(e: impl std::fmt::Display) -> TopologyError {
 }
 
 /// The cardinal B-spline of degree `d` (support `[0, d+1]`) at `x`.
-fn cardinal_bspline(d: usize, x: f64) -> f64 {
+pub(crate) fn cardinal_bspline(d: usize, x: f64) -> f64 {
     let mut sum = 0.0;
     let mut binom = 1.0;
     for k in 0..=d + 1 {

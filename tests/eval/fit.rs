@@ -296,9 +296,20 @@ fn bad_targets_are_refused_before_any_work() {
     let out = Command::new(env!("CARGO_BIN_EXE_bcifs")).args(["fit", "carpet", "--porosity", "-0.1"]).output().unwrap();
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success() && stderr.contains("outside [0, 1]"), "{stderr}");
-    // A porosity on a curve that bends away from its chord (its sub-cells longer than the cell).
+    // A porosity on a curve whose cells make no patch of their own (corner cutting's three
+    // control points are no Bézier or B-spline segment the design declares).
     let e = refused(&cc, FitTarget { porosity: Some(0.3), ..FitTarget::default() });
-    assert!(matches!(e, FitError::OutOfRange(_)) && e.to_string().contains("leave no share"), "{e}");
+    assert!(matches!(e, FitError::OutOfRange(_)) && e.to_string().contains("no length, area or volume"), "{e}");
+    // ... and on one whose sub-cells are longer than the cell (Koch's, drawn as segments).
+    let text = bcifs::BUILTIN_AUTOMATA
+        .iter()
+        .find(|(n, _)| *n == "koch")
+        .unwrap()
+        .1
+        .replace("kind = \"edge\"", "kind = \"edge\"\npatch = \"polygon\"");
+    let koch = bcifs::parse_design(&text, "koch.toml", "koch").unwrap();
+    let e = bcifs::report::porosity(&koch, &[], 2).unwrap_err().to_string();
+    assert!(e.contains("measure 1.333333 times their cell") && e.contains("leave no share"), "{e}");
     // A depth far past the target's, or a million starts: refused with the estimate, not a hang.
     let points = FitTarget { points: member(&cc, 3, &[]), ..FitTarget::default() };
     let deep = fit(&cc, &points, &FitOptions { depth: Some(40), ..FitOptions::default() }).unwrap_err();
