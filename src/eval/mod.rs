@@ -26,6 +26,7 @@ mod tangents;
 pub use colour::Colouring;
 pub use pieces::{ModelError, Piece, Pieces};
 pub use plan::{PlanError, StatePlan};
+pub use polygons::CellVisitor;
 pub use prepared::Evaluator;
 pub use random::{ChaosGame, chaos_game};
 pub use sampling::{

@@ -538,6 +538,9 @@ impl Faces {
     }
 }
 
+/// What [`Evaluator::for_each_cell`] calls with each cell: its plan and its control points.
+pub type CellVisitor<'a> = dyn FnMut(&super::plan::StatePlan, &[f64]) -> Result<(), EvalError> + 'a;
+
 impl Evaluator {
     /// Calls `visit` with every cell `k` subdivisions below the pieces (as
     /// [`Evaluator::polygons`] counts them: a root that only selects its
@@ -550,7 +553,7 @@ impl Evaluator {
     pub fn for_each_cell(
         &self,
         k: usize,
-        visit: &mut dyn FnMut(&super::plan::StatePlan, &[f64]) -> Result<(), EvalError>,
+        visit: &mut CellVisitor<'_>,
     ) -> Result<(), EvalError> {
         let d = self.pieces.dim;
         let mut visited = 0usize;
