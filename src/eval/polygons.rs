@@ -506,8 +506,10 @@ impl Faces {
         }
     }
 
-    /// Writes the welded vertices (shaded smooth in every client: with the
-    /// area-weighted normals of the faces) and the faces.
+    /// Writes the welded vertices and the faces: a surface's shaded smooth
+    /// (area-weighted normals that agree with every face at the vertex), a
+    /// solid's boundary closed, outward, its pinches and doubled edges split,
+    /// without normals (flat: its edges are sharp).
     pub(super) fn write(
         &mut self,
         sink: &mut dyn Sink,
@@ -515,7 +517,8 @@ impl Faces {
         colours: Option<&mut Vec<f32>>,
     ) -> Result<(), EvalError> {
         let mut colours = colours;
-        if self.close_volumes() {
+        let solid = self.close_volumes();
+        if solid {
             self.split_pinches(first, colours.as_deref_mut());
             self.split_doubled_edges(first, colours.as_deref_mut());
             self.compact(first, colours);
@@ -524,12 +527,14 @@ impl Faces {
         if d == 3 {
             self.turn_outward(first);
         }
-        let normals = (d == 3).then(|| {
+        // A solid's faces meet at sharp edges: written without vertex normals (clients shade
+        // them flat, as glTF asks), not rounded over by averaged ones.
+        let normals = (d == 3 && !solid).then(|| {
             let points: Vec<[f64; 3]> = self.weld.positions.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect();
             let local = |v: &[usize]| v.iter().map(|i| i - first).collect::<Vec<_>>();
             let faces: Vec<Vec<usize>> =
                 self.quads.iter().map(|q| local(q)).chain(self.triangles.iter().map(|t| local(t))).collect();
-            crate::geometry::area_normals(&points, faces.iter().map(Vec::as_slice)).concat()
+            crate::geometry::agreeing_normals(&points, faces.iter().map(Vec::as_slice)).concat()
         });
         sink.vertices(d, &self.weld.positions, normals.as_deref())?;
         sink.faces(&self.quads, None)?;
@@ -550,11 +555,7 @@ impl Evaluator {
     ///
     /// # Errors
     /// Cancelled; what `visit` returns.
-    pub fn for_each_cell(
-        &self,
-        k: usize,
-        visit: &mut CellVisitor<'_>,
-    ) -> Result<(), EvalError> {
+    pub fn for_each_cell(&self, k: usize, visit: &mut CellVisitor<'_>) -> Result<(), EvalError> {
         let d = self.pieces.dim;
         let mut visited = 0usize;
         for piece in &self.pieces.pieces {

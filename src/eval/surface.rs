@@ -18,10 +18,6 @@ use nalgebra::Vector3;
 type DVec3 = Vector3<f64>;
 
 /// `v` scaled to length 1; `None` when its length is 0, infinite or not a number.
-fn unit(v: DVec3) -> Option<DVec3> {
-    let r = 1.0 / v.norm();
-    (r.is_finite() && r > 0.0).then(|| v * r)
-}
 use rayon::prelude::*;
 
 use super::prepared::{Evaluator, mul_into as mat_mul_into, project_into as project};
@@ -118,25 +114,6 @@ fn quad_area(a: &[f64], b: &[f64], c: &[f64], e: &[f64]) -> DVec3 {
     0.5 * (c - a).cross(&(e - b))
 }
 
-/// The direction `n` with `n·u = n·v = n·w = 1` for unit `u, v, w` (the
-/// rows of `M`, `n = M⁻¹ (1, 1, 1)`), or `None` when they are nearly
-/// coplanar (`|det M| ≤ 1e-12`). Cofactors over the determinant, in this
-/// order of operations.
-fn equidistant(u: &DVec3, v: &DVec3, w: &DVec3) -> Option<DVec3> {
-    // The columns of M.
-    let x = DVec3::new(u.x, v.x, w.x);
-    let y = DVec3::new(u.y, v.y, w.y);
-    let z = DVec3::new(u.z, v.z, w.z);
-    let rows = [y.cross(&z), z.cross(&x), x.cross(&y)];
-    let det = x.dot(&rows[0]);
-    if det.abs() <= crate::algebra::tolerance::DEGENERATE {
-        return None;
-    }
-    let r = 1.0 / det;
-    let [a, b, c] = rows.map(|t| t.x * r + t.y * r + t.z * r);
-    Some(DVec3::new(a, b, c))
-}
-
 /// The normals of the triangles that hold corner `k` of the quad `q`
 /// (lattice order, counter-clockwise) in either of its two splits into
 /// triangles: the corner's own triangle and the two along the diagonal from
@@ -158,49 +135,8 @@ fn corner_triangles(q: &[DVec3; 4], k: usize) -> [DVec3; 3] {
 /// when all faces are degenerate.
 fn agreeing_normal(faces: &[Option<([DVec3; 4], usize)>; 4]) -> DVec3 {
     let sum: DVec3 = faces.iter().flatten().map(|(q, _)| 0.5 * (q[2] - q[0]).cross(&(q[3] - q[1]))).sum();
-    let triangles = || faces.iter().flatten().flat_map(|(q, k)| corner_triangles(q, *k));
-    // The common case: the sum agrees with every (non-degenerate) triangle.
-    if triangles().all(|f| f.dot(&sum) > 0.0 || unit(f).is_none())
-        && let Some(n) = unit(sum)
-    {
-        return n;
-    }
-    let units: Vec<DVec3> = triangles().filter_map(unit).collect();
-    let worst = |n: &DVec3| units.iter().map(|u| u.dot(n)).fold(f64::INFINITY, f64::min);
-    let best = |c: Vec<DVec3>| c.into_iter().map(|n| (worst(&n), n)).max_by(|a, b| a.0.total_cmp(&b.0));
-    // Caps spanned by one or two normals first: cheap, and enough almost always.
-    let mut candidates: Vec<DVec3> = units.clone();
-    candidates.extend(unit(sum));
-    for (a, u) in units.iter().enumerate() {
-        candidates.extend(units[a + 1..].iter().filter_map(|v| unit(u + v)));
-    }
-    let two = best(candidates);
-    if let Some((w, n)) = two
-        && w > 0.0
-    {
-        return n;
-    }
-    let mut candidates = Vec::new();
-    for (a, u) in units.iter().enumerate() {
-        for (b, v) in units.iter().enumerate().skip(a + 1) {
-            for w in &units[b + 1..] {
-                // Equidistant from u, v, w: n·u = n·v = n·w.
-                candidates.extend(equidistant(u, v, w).and_then(unit));
-            }
-        }
-    }
-    let three = best(candidates);
-    match (two, three) {
-        (Some(a), Some(b)) => {
-            if b.0 > a.0 {
-                b.1
-            } else {
-                a.1
-            }
-        }
-        (Some((_, n)), None) | (None, Some((_, n))) => n,
-        (None, None) => DVec3::z(),
-    }
+    let triangles: Vec<DVec3> = faces.iter().flatten().flat_map(|(q, k)| corner_triangles(q, *k)).collect();
+    crate::geometry::agreeing(sum, &triangles)
 }
 
 /// Everything a block needs, prepared once per evaluation.

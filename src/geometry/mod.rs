@@ -9,7 +9,9 @@ pub const MAX_COORDINATE: f64 = 1e150;
 use std::io;
 use std::ops::Range;
 
+mod agree;
 mod orient;
+pub use agree::{agreeing, agreeing_normals};
 pub use orient::inward_faces;
 
 /// Points per batch of [`PointBatches::fold`]: a chain of its own.

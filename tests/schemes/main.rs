@@ -8,6 +8,7 @@ mod errata;
 mod hausdorff;
 mod ifs;
 mod normal;
+mod oracle;
 mod patterns;
 mod polyhedral;
 mod solids;
