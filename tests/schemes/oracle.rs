@@ -550,7 +550,9 @@ fn mesh_count(obj: &Obj) -> MeshCount {
 /// halves face opposite ways — no normal can agree with both; it is not
 /// counted.) Triangles of no area, to rounding, do not count.
 fn normals_against_faces(obj: &Obj) -> usize {
-    let mut at: HashMap<usize, Vec<([f64; 3], [f64; 3])>> = HashMap::new();
+    // Per vertex: each triangle's unit normal at it, with the vertex's normal in that face.
+    type Pairs = Vec<([f64; 3], [f64; 3])>;
+    let mut at: HashMap<usize, Pairs> = HashMap::new();
     for face in &obj.faces {
         let p = |i: usize| obj.positions[face[i].0];
         let n = face.len();
