@@ -69,6 +69,9 @@ class Design:
         depth: Optional[int] = None,
         tolerance: Optional[float] = None,
         thickness: Optional[float] = None,
+        print_size: Optional[float] = None,
+        print_scale: Optional[float] = None,
+        nozzle: Optional[float] = None,
         **params: float,
     ) -> dict[str, Any]: ...
     def points(self, samples: int, seed: Optional[int] = None, **params: float) -> npt.NDArray[np.float64]: ...
@@ -117,6 +120,10 @@ class Design:
         precision: Optional[int] = None,
         dedup: bool = False,
         thickness: Optional[float] = None,
+        print_size: Optional[float] = None,
+        print_scale: Optional[float] = None,
+        nozzle: float = 0.4,
+        allow_non_manifold: bool = False,
         # Python's own: the tone keys as one dict.
         tone: Optional[dict[str, Union[float, str]]] = None,
         **options: float,

@@ -148,17 +148,32 @@ impl Design {
 
     /// The print report of the mesh `render` writes (as `render --json`):
     /// `volume`, `area`, `bbox`, `components`, `closed`, `oriented`, `euler`,
-    /// `genus`, `triangles`, `vertices`; `thickness` measures a lace's shell.
-    #[pyo3(signature = (depth=None, tolerance=None, thickness=None, **params))]
+    /// `genus`, `triangles`, `vertices`, `manifold`, `scale` (mm per model
+    /// unit) and `warnings` (what a slicer will not like, with its place);
+    /// `thickness` measures a lace's shell; `print_size` (the longest side,
+    /// mm) or `print_scale` (mm per unit) give the figures in millimetres,
+    /// `nozzle` (mm) the walls and holes warned of.
+    #[pyo3(signature = (depth=None, tolerance=None, thickness=None, print_size=None, print_scale=None, nozzle=None, **params))]
+    #[allow(clippy::too_many_arguments)] // pyo3 keyword parameters are spelled out
     fn print_report<'py>(
         &self,
         py: Python<'py>,
         depth: Option<&Bound<'py, PyAny>>,
         tolerance: Option<&Bound<'py, PyAny>>,
         thickness: Option<&Bound<'py, PyAny>>,
+        print_size: Option<&Bound<'py, PyAny>>,
+        print_scale: Option<&Bound<'py, PyAny>>,
+        nozzle: Option<&Bound<'py, PyAny>>,
         params: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let keywords = [("depth", depth), ("tolerance", tolerance), ("thickness", thickness)];
+        let keywords = [
+            ("depth", depth),
+            ("tolerance", tolerance),
+            ("thickness", thickness),
+            ("print_size", print_size),
+            ("print_scale", print_scale),
+            ("nozzle", nozzle),
+        ];
         let options = Design::options(py, &keywords, params)?;
         let design = self.inner.clone();
         let report =
@@ -316,6 +331,10 @@ fn report_dict<'py>(py: Python<'py>, report: &bcifs::render::Report) -> PyResult
     d.set_item("depth", report.depth)?;
     d.set_item("warnings", report.warnings.clone())?;
     d.set_item("notes", report.notes.clone())?;
+    // A print file's print report (STL, 3MF), in millimetres.
+    if let Some(print) = &report.print {
+        d.set_item("print", json_object(py, print)?)?;
+    }
     Ok(d)
 }
 

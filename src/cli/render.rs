@@ -71,10 +71,22 @@ pub fn run(args: RenderArgs) -> anyhow::Result<u8> {
             "warnings": report.warnings,
         });
         if report.faces > 0 {
-            let print = bcifs::render::print_report(&design, &options)?;
-            if let (Some(out), Ok(serde_json::Value::Object(fields))) =
+            // A print file's report was made with it; another mesh's is made here.
+            let print = match &report.print {
+                Some(p) => p.clone(),
+                None => bcifs::render::print_report(&design, &options)?,
+            };
+            if let (Some(out), Ok(serde_json::Value::Object(mut fields))) =
                 (json.as_object_mut(), serde_json::to_value(print))
             {
+                // One list of warnings: the render's (a print file's hold its print report's).
+                let extra = fields.remove("warnings");
+                if report.print.is_none()
+                    && let (Some(serde_json::Value::Array(w)), Some(serde_json::Value::Array(more))) =
+                        (out.get_mut("warnings"), extra)
+                {
+                    w.extend(more);
+                }
                 out.extend(fields);
             }
         }

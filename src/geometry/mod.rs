@@ -11,7 +11,7 @@ use std::ops::Range;
 
 mod agree;
 mod orient;
-pub use agree::{agreeing, agreeing_normals};
+pub use agree::agreeing;
 pub use orient::inward_faces;
 
 /// Points per batch of [`PointBatches::fold`]: a chain of its own.
@@ -180,6 +180,49 @@ pub fn area_normals<'a>(points: &[[f64; 3]], faces: impl Iterator<Item = &'a [us
     }
     sums.iter_mut().for_each(|n| *n = unit_or_zero(*n));
     sums
+}
+
+/// The triangles through corner `k` of `face` that a client may split it
+/// into: a quad's of both diagonals, a triangle itself.
+fn corner_triangles(points: &[[f64; 3]], face: &[usize], k: usize) -> Vec<nalgebra::Vector3<f64>> {
+    let p = |i: usize| nalgebra::Vector3::<f64>::from(points[face[i % face.len()]]);
+    let tri = |a: usize, b: usize, c: usize| (p(b) - p(a)).cross(&(p(c) - p(a)));
+    match face.len() {
+        4 => vec![tri(k + 3, k, k + 1), tri(k, k + 1, k + 2), tri(k, k + 2, k + 3)],
+        _ => vec![tri(k + face.len() - 1, k, k + 1)],
+    }
+}
+
+/// Vertex normals of a mesh ([`area_normals`]'s area weighting)
+/// that agree with every triangle a client may split the faces at each
+/// vertex into: where the weighted sum points against one, [`agreeing`]'s
+/// direction instead.
+pub fn agreeing_normals<'a>(points: &[[f64; 3]], faces: impl Iterator<Item = &'a [usize]> + Clone) -> Vec<[f64; 3]> {
+    let mut normals = area_normals(points, faces.clone());
+    let mut against = vec![false; points.len()];
+    for face in faces.clone().filter(|f| f.len() >= 3) {
+        for (k, &v) in face.iter().enumerate() {
+            let n = nalgebra::Vector3::<f64>::from(normals[v]);
+            against[v] |= corner_triangles(points, face, k).iter().any(|t| t.dot(&n) <= 0.0 && t.norm() > 0.0);
+        }
+    }
+    if !against.contains(&true) {
+        return normals;
+    }
+    let mut sums: Vec<(nalgebra::Vector3<f64>, Vec<nalgebra::Vector3<f64>>)> =
+        vec![(nalgebra::Vector3::zeros(), Vec::new()); points.len()];
+    for face in faces.filter(|f| f.len() >= 3) {
+        let area = nalgebra::Vector3::<f64>::from(area_vector(face.len(), |k| points[face[k]]));
+        for (k, &v) in face.iter().enumerate().filter(|(_, v)| against[**v]) {
+            sums[v].0 += area;
+            sums[v].1.extend(corner_triangles(points, face, k));
+        }
+    }
+    for (v, (sum, triangles)) in sums.iter().enumerate().filter(|(v, _)| against[*v]) {
+        let n = agreeing(*sum, triangles);
+        normals[v] = [n.x, n.y, n.z];
+    }
+    normals
 }
 
 /// The area vector (Newell's) of the polygon whose `k`-th corner is at

@@ -19,15 +19,79 @@ use crate::geometry::{Shape, Sink};
 /// # Errors
 /// See [`RenderError`].
 pub fn evaluate_design(design: &Design, options: &Options, warnings: &mut Vec<String>) -> Result<Shape, RenderError> {
-    let job = Job::new(design, options)?;
-    if let Some(shell) = shell(&job, warnings)? {
+    shaped(&Job::new(design, options)?, warnings)
+}
+
+/// The job's output in memory: its shell, its colours, or the plain evaluation.
+fn shaped(job: &Job, warnings: &mut Vec<String>) -> Result<Shape, RenderError> {
+    if let Some(shell) = shell(job, warnings)? {
         return Ok(shell);
     }
     // Coloured by state, level or map: the colours the files get, on the shape.
     if job.options.look.colour.is_some() && job.options.sampling.samples.is_none() {
-        return coloured_shape(&job, warnings);
+        return coloured_shape(job, warnings);
     }
     job.evaluate(warnings)
+}
+
+/// The job's mesh for printing, its print report ([`crate::report::printed`]:
+/// millimetres, what a slicer will not like) and the mesh scaled to it; a
+/// mesh that is not a closed 2-manifold refused unless the options allow it.
+fn printed(job: &Job, warnings: &mut Vec<String>) -> Result<(Shape, crate::report::PrintReport), RenderError> {
+    let mut shape = shaped(job, warnings)?;
+    if shape.quads.is_empty() && shape.triangles.is_empty() {
+        return Err(RenderError::Unsupported(format!(
+            "{}: a print file holds solids (closed surfaces), not curves or points, which this design makes",
+            job.name()
+        )));
+    }
+    // The printed file is Z-up: a Y-up mesh file's model stands on its y.
+    let up = if job.options.file.coordinates.y_up_input { 1 } else { 2 };
+    let style = &job.options.file.print;
+    let report = crate::report::printed(&shape, style, up);
+    if !report.manifold && !style.allow_non_manifold {
+        return Err(RenderError::Unsupported(format!(
+            "{}: not a closed, oriented 2-manifold ({}), which a slicer would have to repair; allow non-manifold \
+             meshes to write it anyway, or write it as .obj, .ply or .glb",
+            job.name(),
+            report.warnings.first().map_or("", String::as_str)
+        )));
+    }
+    if report.scale != 1.0 {
+        shape.positions.iter_mut().for_each(|x| *x *= report.scale);
+    }
+    Ok((shape, report))
+}
+
+/// A print file: the mesh in memory, checked and sized ([`printed`]); a
+/// mesh over the memory budget streamed as it is (a lattice solid's
+/// boundary is closed by construction), with a note that it was not checked.
+fn print_file(job: &Job, format: Format, out: &Path, report: &mut Report) -> Result<(), RenderError> {
+    let options = &job.options;
+    let plain = options.file.thickness.is_none() && options.look.colour.is_none();
+    if let (true, Depth::Fixed(k)) = (plain, options.sampling.depth) {
+        let ev = job.evaluator(&mut Vec::new())?;
+        if ev.estimate_bytes(k) > options.budget.memory as u128 {
+            if options.file.print.size.is_some() || options.file.print.scale.is_some_and(|s| s != 1.0) {
+                return Err(RenderError::TooBig(format!(
+                    "{}: sizing a print holds its mesh in memory, over the memory budget at depth {k}: raise the budget or lower the depth",
+                    job.name()
+                )));
+            }
+            report.notes.push(
+                "streamed over the memory budget: the print checks (pieces, bed, walls) were not made; a model unit is a millimetre".into(),
+            );
+            return stream_file(job, format, &out.into(), report);
+        }
+    }
+    let (shape, print) = printed(job, &mut report.warnings)?;
+    let written = super::shape::write_shape_options(&shape, job.name(), options, out)?;
+    report.vertices = written.vertices;
+    report.faces = written.faces;
+    report.bytes = written.bytes;
+    report.warnings.extend(print.warnings.iter().cloned());
+    report.print = Some(print);
+    Ok(())
 }
 
 /// Renders a design to `out`, the format chosen by its extension: `.obj`
@@ -44,6 +108,7 @@ pub fn render(design: &Design, options: &Options, out: &Path) -> Result<Report, 
     let mut report = Report { format: Some(format), ..Report::default() };
     warn_unused(options, format, &mut report.warnings);
     match route(format, options) {
+        Route::Print => print_file(job, format, out, &mut report)?,
         Route::Shell => shell_file(job, out, &mut report)?,
         Route::Coloured => coloured_file(job, format, out, &mut report)?,
         Route::Flame => flame_file(job, out, &mut report)?,
@@ -109,6 +174,26 @@ pub fn render_bytes(design: &Design, options: &Options, format: Format) -> Resul
             warn_unused(&job.options, format, &mut report.warnings);
             let buffer = crate::export::MemoryFile::new();
             stream_file(job, format, &crate::export::Target::Memory(buffer.clone()), &mut report)?;
+            Ok((finished(&job.options, report), buffer.take()))
+        }
+        Route::Print => {
+            let job = &Job::new(design, options)?;
+            let mut report = Report { format: Some(format), ..Report::default() };
+            let (shape, print) = printed(job, &mut report.warnings)?;
+            let buffer = crate::export::MemoryFile::new();
+            let raster = job.options.raster();
+            let settings = WriteSettings {
+                coordinates: job.options.file.coordinates,
+                threads: 1,
+                raster: &raster,
+                ascii: job.options.file.ascii,
+            };
+            let target = crate::export::Target::Memory(buffer.clone());
+            let io = write_error(&job.options, target.path());
+            report.bytes = super::shape::write_geometry(&shape, job.name(), &settings, format, &target, &io)?;
+            (report.vertices, report.faces) = (shape.vertex_count(), shape.quads.len() + shape.triangles.len());
+            report.warnings.extend(print.warnings.iter().cloned());
+            report.print = Some(print);
             Ok((finished(&job.options, report), buffer.take()))
         }
         _ => Err(RenderError::Unsupported(format!(
@@ -230,14 +315,18 @@ fn stream_file(job: &Job, format: Format, out: &crate::export::Target, report: &
 /// # Errors
 /// As [`render`]'s evaluation; a design that makes no face.
 pub fn print_report(design: &Design, options: &Options) -> Result<crate::report::PrintReport, RenderError> {
-    let shape = evaluate_design(design, options, &mut Vec::new())?;
-    if shape.quads.is_empty() && shape.triangles.is_empty() {
-        return Err(RenderError::Unsupported(format!(
-            "{}: a print report measures faces; this design makes curves or points",
-            design.name()
-        )));
-    }
-    Ok(crate::report::print_report_of(&shape))
+    let job = Job::new(design, options)?;
+    let allowed = Job {
+        options: Options {
+            file: super::options::FileStyle {
+                print: crate::report::PrintStyle { allow_non_manifold: true, ..job.options.file.print },
+                ..job.options.file
+            },
+            ..job.options.clone()
+        },
+        ..job
+    };
+    Ok(printed(&allowed, &mut Vec::new())?.1)
 }
 
 /// The surface evaluated in memory, thickened into a shell of the options'

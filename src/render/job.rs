@@ -81,6 +81,9 @@ impl<'a> Job<'a> {
 /// The ways an output is made: the one route table ([`route`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) enum Route {
+    /// A print file (STL, 3MF): in memory, checked, sized in millimetres
+    /// ([`crate::report::printed`]); streamed as it is over the memory budget.
+    Print,
     /// A surface thickened into a shell ([`crate::mesh::thicken`]): in memory.
     Shell,
     /// A deterministic evaluation coloured by state, level or map: in memory, with its colours.
@@ -99,6 +102,7 @@ pub(super) enum Route {
 pub(super) fn route(format: Format, options: &Options) -> Route {
     let chaos = options.sampling.samples.is_some();
     match format {
+        f if f.is_print() && !chaos => Route::Print,
         _ if options.file.thickness.is_some() && !chaos => Route::Shell,
         _ if options.look.colour.is_some() && !chaos => Route::Coloured,
         Format::Flame => Route::Flame,

@@ -133,6 +133,10 @@ pub const KEYS: &[Key] = &[
     key("precision", "precision", F, Kind::Count, "File coordinates with this many significant digits (1 to 15): smaller files, written faster (default: the shortest text that reads back to the same number, up to 17 digits)."),
     key("dedup", "dedup", F, Kind::Switch, "Drop exact duplicate points of a point cloud (evaluated in memory), reporting how many."),
     key("thickness", "thickness", F, Kind::Number, "Write a surface (a lace) as a closed shell of this thickness (modelling units), for printing: evaluated in memory, refused when thicker than its smallest cell or pinched."),
+    key("print_size", "print-size", F, Kind::Number, "Print files (STL, 3MF): the longest side of the print in millimetres (the mesh scaled to it; default: a model unit is a millimetre).").shown("MM"),
+    key("print_scale", "print-scale", F, Kind::Number, "Print files (STL, 3MF): millimetres per model unit (instead of the print size).").shown("MM"),
+    key("nozzle", "nozzle", F, Kind::Number, "Print files: the nozzle's width in millimetres; thinner walls and narrower holes are warned of.").or("0.4").shown("MM"),
+    key("allow_non_manifold", "allow-non-manifold", F, Kind::Switch, "Write a print file (STL, 3MF) even where the mesh is not a closed 2-manifold (refused otherwise; warned of)."),
 ];
 
 /// The key named `name` (its [`Key::name`] or its [`Key::flag`]).
@@ -518,6 +522,18 @@ impl Options {
                 t if t.is_finite() && t > 0.0 => self.file.thickness = Some(t),
                 _ => return Err(refuse("a thickness is a positive number (modelling units)")),
             },
+            "print_size" | "print_scale" | "nozzle" => {
+                let mm = match number(key, value)? {
+                    mm if mm.is_finite() && mm > 0.0 && mm <= 1e6 => mm,
+                    _ => return Err(refuse("a length in millimetres, positive and at most 10⁶ (a kilometre)")),
+                };
+                match key.name {
+                    "print_size" => (self.file.print.size, self.file.print.scale) = (Some(mm), None),
+                    "print_scale" => (self.file.print.scale, self.file.print.size) = (Some(mm), None),
+                    _ => self.file.print.nozzle = mm,
+                }
+            }
+            "allow_non_manifold" => self.file.print.allow_non_manifold = switch(key, value)?,
             other => unreachable!("the key `{other}` has no setter"),
         }
         Ok(())

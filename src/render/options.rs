@@ -170,6 +170,8 @@ pub struct FileStyle {
     pub uv: bool,
     /// A surface (a lace) written as a closed shell of this thickness ([`crate::mesh::thicken`]).
     pub thickness: Option<f64>,
+    /// How print files (STL, 3MF) are sized and checked.
+    pub print: crate::report::PrintStyle,
 }
 
 impl Options {

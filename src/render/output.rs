@@ -61,6 +61,11 @@ impl Format {
         !matches!(self, Format::Svg | Format::Png | Format::Flame)
     }
 
+    /// A file for printing (STL, 3MF): sized in millimetres and checked ([`crate::report::printed`]).
+    pub fn is_print(self) -> bool {
+        matches!(self, Format::Stl | Format::ThreeMf)
+    }
+
     /// The format holds vertex colours.
     pub fn has_colours(self) -> bool {
         matches!(self, Format::Obj | Format::Ply | Format::Glb)
@@ -119,6 +124,8 @@ pub struct Report {
     pub warnings: Vec<String>,
     /// Choices made for them (a picture drawn at a shallower depth).
     pub notes: Vec<String>,
+    /// A print file's print report (STL, 3MF): the mesh written, in millimetres.
+    pub print: Option<crate::report::PrintReport>,
 }
 
 /// Why a render failed.

@@ -90,19 +90,33 @@ fn write_shape_with(
                     "an OFF file holds faces and points, not curves: write curves as .obj or .svg".into(),
                 ));
             }
-            let mut writer = FileWriter::create(&crate::export::Target::from(out), format, settings)?;
-            let mut sink = writer.checked(&options.cancel);
-            if shape.objects.is_empty() {
-                sink.object(name).map_err(&io)?;
-            }
-            shape.replay(&mut sink).map_err(&io)?;
-            report.bytes = writer.finish(&crate::export::Target::from(out))?;
+            report.bytes = write_geometry(shape, name, settings, format, &crate::export::Target::from(out), &io)?;
             return Ok(report);
         }
     };
     write_picture(shape, kind, settings.raster, out, text)?;
     report.bytes = std::fs::metadata(out).map_or(0, |m| m.len());
     Ok(report)
+}
+
+/// A shape in memory written in a geometry `format` to `target` (a file or
+/// a buffer); the bytes written.
+pub(super) fn write_geometry(
+    shape: &Shape,
+    name: &str,
+    settings: &WriteSettings<'_>,
+    format: Format,
+    target: &crate::export::Target,
+    io: &dyn Fn(std::io::Error) -> RenderError,
+) -> Result<u64, RenderError> {
+    let mut writer = FileWriter::create(target, format, settings)?;
+    let never = crate::progress::Cancel::default();
+    let mut sink = writer.checked(&never);
+    if shape.objects.is_empty() {
+        sink.object(name).map_err(io)?;
+    }
+    shape.replay(&mut sink).map_err(io)?;
+    writer.finish(target)
 }
 
 /// The control net of a model: the control polygon of a curve (closed for

@@ -30,7 +30,7 @@ pub use dimension::{
 pub use error::{ReportError, model_of};
 pub use family::{CheckReport, CheckReportError, Residual, Rounding, SolveReport, check_report, solve_report};
 pub use lacunarity::{LacunarityReport, lacunarity_depth, lacunarity_report, porosity};
-pub use print::{PrintReport, print_report_of};
+pub use print::{DEFAULT_NOZZLE, PrintReport, PrintStyle, print_report_of, printed};
 pub use sweep::{REGIONS, SWEEP_DEPTH, SWEEP_MEMORY, SweepKind, SweepValues, sweep, sweep_cancellable, sweep_csv};
 pub use topology::{TopologyReport, topology_of, topology_report};
 pub use walls::{Measured, walls_and_holes};

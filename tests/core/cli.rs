@@ -278,7 +278,10 @@ fn obj_files_are_y_up_unless_asked() {
     assert!(err.contains("invalid value 'x' for '--up") && err.contains("possible values: auto, y, z"), "{err}");
     // The print formats are Z-up: an STL's first triangle holds the model's coordinates as they are.
     let stl = dir.join("q.stl");
-    assert_eq!(bcifs(&["render", "doo_sabin_quad", "--depth", "1", "-o", stl.to_str().unwrap()]).0, 0);
+    // An open sheet is no solid: written for printing only when asked.
+    assert_eq!(bcifs(&["render", "doo_sabin_quad", "--depth", "1", "-o", stl.to_str().unwrap()]).0, 2);
+    let args = ["render", "doo_sabin_quad", "--depth", "1", "--allow-non-manifold", "-o", stl.to_str().unwrap()];
+    assert_eq!(bcifs(&args).0, 0);
     let bytes = std::fs::read(&stl).unwrap();
     let corner: Vec<f64> =
         (0..3).map(|k| f64::from(f32::from_le_bytes(bytes[96 + 4 * k..100 + 4 * k].try_into().unwrap()))).collect();
