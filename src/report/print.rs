@@ -46,6 +46,9 @@ pub struct PrintReport {
     pub smallest_hole_at: Option<[f64; 3]>,
     /// Every vertex's faces make one fan (no two pieces share a vertex).
     pub manifold: bool,
+    /// The area of the print's bottom within its first layer (half a nozzle
+    /// above its lowest point), projected on the bed: what the first layer lays down.
+    pub bed_contact: f64,
     /// Millimetres per model unit: the figures above are in millimetres when
     /// printed ([`PrintStyle`]), in model units (a scale of 1) otherwise.
     pub scale: f64,
@@ -82,6 +85,10 @@ pub const DEFAULT_NOZZLE: f64 = 0.4;
 /// no foothold: a slicer lays down nothing, or a speck that will not hold
 /// (a square of two nozzles' widths).
 const FIRST_LAYER_AREA: f64 = 0.64;
+
+/// A first layer under this share of the print's mean cross-section holds
+/// it badly (a tricubic twist standing on a curved edge: 3 %).
+const FOOTHOLD: f64 = 0.1;
 
 /// Below this longest side (millimetres) a print is too small to print.
 const TOO_SMALL: f64 = 5.0;
@@ -184,6 +191,7 @@ pub fn print_report_of(shape: &Shape) -> PrintReport {
         smallest_hole: hole.map(|m| m.value),
         smallest_hole_at: hole.map(|m| m.at),
         manifold: fans.is_empty() && closed && oriented,
+        bed_contact: 0.0,
         scale: 1.0,
         warnings,
     }
@@ -418,9 +426,14 @@ fn bed(shape: &Shape, s: f64, up: usize, layer: f64, r: &mut PrintReport) {
             (bottom, deepest) = (*low, low[up]);
         }
     }
-    if contact < FIRST_LAYER_AREA {
+    r.bed_contact = contact;
+    // The print's mean cross-section: its volume over its height.
+    let tall = r.bbox[1][up] - r.bbox[0][up];
+    let section = if tall > 0.0 { r.volume.abs() / tall } else { 0.0 };
+    if contact < FIRST_LAYER_AREA || contact < FOOTHOLD * section {
         r.warnings.push(format!(
-            "the first layer touches the bed over {contact:.4} mm² only (near {} mm): a slicer finds little or nothing to lay down; turn the model or add supports",
+            "the first layer touches the bed over {contact:.4} mm² only ({:.1} % of the print's mean cross-section, near {} mm): a slicer finds little or nothing to lay down there, and what it lays will not hold; turn the model or add supports",
+            if section > 0.0 { 100.0 * contact / section } else { 0.0 },
             place(bottom)
         ));
     }

@@ -11,6 +11,7 @@ mod normal;
 mod oracle;
 mod patterns;
 mod polyhedral;
+mod printing;
 mod solids;
 mod ternary;
 mod triangles;
