@@ -197,6 +197,39 @@ pub fn print_report_of(shape: &Shape) -> PrintReport {
     }
 }
 
+/// The area of the faces turned down below `top` along `up`, projected on the
+/// bed, and the lowest point of one of them.
+fn first_layer(triangles: &[[usize; 3]], at: &dyn Fn(usize) -> [f64; 3], up: usize, top: f64) -> (f64, [f64; 3]) {
+    let (mut contact, mut bottom, mut deepest) = (0.0, [0.0; 3], f64::INFINITY);
+    let (a1, a2) = ((up + 1) % 3, (up + 2) % 3);
+    for t in triangles {
+        let corners = t.map(at);
+        let (u, w) =
+            ([0, 1, 2].map(|x| corners[1][x] - corners[0][x]), [0, 1, 2].map(|x| corners[2][x] - corners[0][x]));
+        let normal_up = u[a1] * w[a2] - u[a2] * w[a1];
+        if normal_up >= 0.0 {
+            continue;
+        }
+        let below = clip_below(&corners, up, top);
+        let area = (0..below.len())
+            .map(|k| {
+                let (p, q) = (below[k], below[(k + 1) % below.len()]);
+                p[a1] * q[a2] - q[a1] * p[a2]
+            })
+            .sum::<f64>()
+            .abs()
+            / 2.0;
+        contact += area;
+        if let Some(low) = corners.iter().min_by(|p, q| p[up].total_cmp(&q[up]))
+            && area > 0.0
+            && low[up] < deepest
+        {
+            (bottom, deepest) = (*low, low[up]);
+        }
+    }
+    (contact, bottom)
+}
+
 /// The part of the triangle `corners` whose coordinate `up` is at most `top` (Sutherland–Hodgman, one plane).
 fn clip_below(corners: &[[f64; 3]; 3], up: usize, top: f64) -> Vec<[f64; 3]> {
     let mut out = Vec::with_capacity(4);
@@ -399,33 +432,7 @@ fn bed(shape: &Shape, s: f64, up: usize, layer: f64, r: &mut PrintReport) {
         ));
     }
     // The first layer: the faces turned down, cut at its top, projected on the bed.
-    let (mut contact, mut bottom, mut deepest) = (0.0, [0.0; 3], f64::INFINITY);
-    let (a1, a2) = ((up + 1) % 3, (up + 2) % 3);
-    for t in &triangles {
-        let corners = t.map(at);
-        let (u, w) =
-            ([0, 1, 2].map(|x| corners[1][x] - corners[0][x]), [0, 1, 2].map(|x| corners[2][x] - corners[0][x]));
-        let normal_up = u[a1] * w[a2] - u[a2] * w[a1];
-        if normal_up >= 0.0 {
-            continue;
-        }
-        let below = clip_below(&corners, up, floor + layer);
-        let area = (0..below.len())
-            .map(|k| {
-                let (p, q) = (below[k], below[(k + 1) % below.len()]);
-                p[a1] * q[a2] - q[a1] * p[a2]
-            })
-            .sum::<f64>()
-            .abs()
-            / 2.0;
-        contact += area;
-        if let Some(low) = corners.iter().min_by(|p, q| p[up].total_cmp(&q[up]))
-            && area > 0.0
-            && low[up] < deepest
-        {
-            (bottom, deepest) = (*low, low[up]);
-        }
-    }
+    let (contact, bottom) = first_layer(&triangles, &at, up, floor + layer);
     r.bed_contact = contact;
     // The print's mean cross-section: its volume over its height.
     let tall = r.bbox[1][up] - r.bbox[0][up];

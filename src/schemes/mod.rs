@@ -46,4 +46,4 @@ pub use stationary::{
 };
 pub use ternary::{TERNARY_WINDOW, ternary_five_point};
 pub(crate) use topology::cardinal_bspline;
-pub use topology::{TopologyError, bspline_segment_matrices, curve, quad_patch};
+pub use topology::{TopologyError, bspline_segment_matrices, bspline_segment_parts, curve, quad_patch};

@@ -63,21 +63,27 @@ pub(crate) fn cardinal_bspline(d: usize, x: f64) -> f64 {
 }
 
 /// The `p` subdivision matrices of the uniform B-spline of degree `d` on one
-/// segment (`d + 1` control points): `T_l` maps the control points of the
-/// sub-segment `[l/p, (l+1)/p]` into those of the segment.
+/// segment (`d + 1` control points), exactly: `T_l` maps the control points
+/// of the sub-segment `[l/p, (l+1)/p]` into those of the segment (the
+/// transposed blocks of the stationary scheme, Schaefer et al. 2005 §3.1).
+/// Chaikin's (`d = 2, p = 2`) are `[[3/4, 1/4, 0], [1/4, 3/4, 3/4], [0, 0, 1/4]]` and its mirror.
+///
+/// ```
+/// let t = bcifs::schemes::bspline_segment_parts(2, 3);
+/// assert_eq!(t[0][2][2].to_string(), "1/9");
+/// ```
+pub fn bspline_segment_parts(d: usize, p: usize) -> Vec<super::stationary::ExactMatrix> {
+    super::stationary::BSpline::uniform(d, d + 1)
+        .and_then(|b| b.blocks(p))
+        .map(|blocks| blocks.iter().map(super::stationary::transposed).collect())
+        .unwrap_or_default()
+}
+
+/// [`bspline_segment_parts`] in floating point.
 pub fn bspline_segment_matrices(d: usize, p: usize) -> Vec<nalgebra::DMatrix<f64>> {
-    let n = d + 1;
-    let samples: Vec<f64> = (0..n).map(|k| (k as f64 + 0.5) / n as f64).collect();
-    let basis = |t: f64, i: usize| cardinal_bspline(d, t + d as f64 - i as f64);
-    let local = nalgebra::DMatrix::from_fn(n, n, |j, k| basis(samples[k], j));
-    let inverse = local.try_inverse().expect("B-spline bases are independent");
-    (0..p)
-        .map(|l| {
-            let old = nalgebra::DMatrix::from_fn(n, n, |i, k| basis((l as f64 + samples[k]) / p as f64, i));
-            let mut m = old * &inverse;
-            m.iter_mut().for_each(|x| *x = (*x * 1e12).round() / 1e12);
-            m
-        })
+    bspline_segment_parts(d, p)
+        .iter()
+        .map(|m| nalgebra::DMatrix::from_fn(m.len(), m.len(), |i, j| m[i][j].to_f64()))
         .collect()
 }
 
@@ -164,12 +170,13 @@ pub fn curve(points: usize, vertex: usize, arity: usize) -> Result<Design, Topol
     b.incidence("T0 b0 = b0 Tv").incidence(format!("T{} b1 = b1 Tv", arity - 1));
     b.doc("The ends of the subdivided edge are the subdivided ends.");
     let named = name_free_entries(&b)?;
-    let defaults = (vertex == points - 1).then(|| bspline_segment_matrices(points - 1, arity));
+    let defaults = (vertex == points - 1).then(|| bspline_segment_parts(points - 1, arity));
     for (l, arrow, r, c) in &named {
         b.name_entry(l.clone(), format!("{arrow}[{r}][{c}]"));
         if let Some(ms) = &defaults {
             let i = arrow.strip_prefix('T').and_then(|i| i.parse::<usize>().ok()).unwrap_or(0);
-            b.default_value(l, ms[i][(*r, *c)]);
+            // Exact: 7/9, not 0.777…
+            b.default_value(l, crate::algebra::Num::from(ms[i][*r][*c].clone()));
         }
     }
     if !named.is_empty() {
@@ -325,10 +332,9 @@ fn quad_parameters(b: &mut DesignBuilder, symmetric: bool) -> Result<(), Topolog
             "Rotationally symmetric vertex rule: column c of W (the new point near corner c)\n\
              weighs corner c by alpha, the next corner counter-clockwise by beta, the previous by gamma.",
         );
-        for (name, entry, default) in
-            [("alpha", "W[0][0]", 0.5625), ("beta", "W[1][0]", 0.1875), ("gamma", "W[2][0]", 0.1875)]
-        {
-            b.name_entry(name, entry).default_value(name, default);
+        for (name, entry, sixteenths) in [("alpha", "W[0][0]", 9), ("beta", "W[1][0]", 3), ("gamma", "W[2][0]", 3)] {
+            let exact = num_rational::BigRational::new(sixteenths.into(), 16.into());
+            b.name_entry(name, entry).default_value(name, crate::algebra::Num::rational(exact));
         }
         b.doc(
             "3 free parameters; the defaults (9/16, 3/16, 3/16) give the regular Doo-Sabin rule,\n\

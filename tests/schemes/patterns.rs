@@ -435,3 +435,53 @@ fn similarity_dimensions_of_the_classical_patterns_are_moran_s() {
         pattern_design(&Pattern::parse(PatternCell::Quad, "3x3", Some("111101111"), 2).unwrap(), "flat").unwrap();
     assert!((report(&flat).similarity.unwrap() - 8f64.ln() / 3f64.ln()).abs() < 1e-9, "log 8 / log 3");
 }
+
+/// Issue 56 §7: a generator writes the exact fractions it knows — the
+/// B-spline defaults of `new curve` (Schaefer et al. 2005: the transposed
+/// blocks of the stationary scheme), the Doo-Sabin weights of `new
+/// quad-patch` — never their decimal roundings.
+#[test]
+fn generators_write_their_defaults_exactly() {
+    let new = |args: &[&str]| {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_bcifs")).arg("new").args(args).output().unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let text = String::from_utf8(out.stdout).unwrap();
+        text.lines()
+            .filter(|l| l.contains("default ="))
+            .map(|l| l.split('"').nth(3).unwrap().to_string())
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(new(&["curve", "--points", "3", "--vertex", "2", "--arity", "3"]), ["7/9", "1/9", "1/3", "2/3"]);
+    assert_eq!(new(&["quad-patch", "--symmetric"]), ["9/16", "3/16", "3/16"]);
+    // Any size: every default a fraction, and the member it makes the uniform B-spline's (checked exactly).
+    for (points, arity) in [(3, 2), (4, 2), (4, 3), (5, 2)] {
+        let defaults = new(&[
+            "curve",
+            "--points",
+            &points.to_string(),
+            "--vertex",
+            &(points - 1).to_string(),
+            "--arity",
+            &arity.to_string(),
+        ]);
+        assert!(!defaults.is_empty() && defaults.iter().all(|d| !d.contains('.')), "{points} {arity}: {defaults:?}");
+        let design = bcifs::schemes::curve(points, points - 1, arity).unwrap();
+        let exact = bcifs::schemes::bspline_segment_parts(points - 1, arity);
+        let family = bcifs::solve(&design).unwrap();
+        // The defaults, written in the family's order of parameters (a, b, …).
+        let x: Vec<bcifs::render::Num> = defaults.iter().map(|d| d.parse().unwrap()).collect();
+        assert_eq!(x.len(), family.parameter_names().len());
+        for (l, m) in exact.iter().enumerate() {
+            let member = family.exact_matrix(&format!("T{l}"), &x).unwrap();
+            for (i, row) in m.iter().enumerate() {
+                for (j, e) in row.iter().enumerate() {
+                    assert_eq!(
+                        member[i][j].to_string(),
+                        e.to_string(),
+                        "T{l}[{i}][{j}] of {points} points, arity {arity}"
+                    );
+                }
+            }
+        }
+    }
+}
