@@ -238,11 +238,13 @@ pub fn sweep_cancellable(
 
 /// A pixel of a porosity or lacunarity sweep: NaN where there is none.
 fn holes(design: &Design, at: &[(String, f64)], kind: SweepKind) -> f64 {
-    let Ok(l) = super::lacunarity::lacunarity_report(design, at, SWEEP_DEPTH) else { return f64::NAN };
-    match kind {
-        SweepKind::Porosity => l.porosity.last().copied().unwrap_or(f64::NAN),
-        _ => l.lacunarity.iter().find(|[r, _]| *r == 9.0).map_or(f64::NAN, |[_, v]| *v),
+    if kind == SweepKind::Porosity {
+        // The measure alone (the cells on their patches), not the lacunarity's raster.
+        let p = super::lacunarity::porosity(design, at, SWEEP_DEPTH);
+        return p.ok().and_then(|p| p.last().copied()).unwrap_or(f64::NAN);
     }
+    let Ok(l) = super::lacunarity::lacunarity_report(design, at, SWEEP_DEPTH) else { return f64::NAN };
+    l.lacunarity.iter().find(|[r, _]| *r == 9.0).map_or(f64::NAN, |[_, v]| *v)
 }
 
 /// A whole sweep as CSV: a header `X,Y,what,label` and a row per pixel
