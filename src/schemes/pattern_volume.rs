@@ -82,7 +82,7 @@ pub(super) struct Layers {
     n: usize,
     k: usize,
     end: usize,
-    fixed: Option<([Vec<ExactMatrix>; 3], ExactMatrix)>,
+    fixed: Option<([Vec<ExactMatrix>; 3], [ExactMatrix; 3])>,
 }
 
 impl Layers {
@@ -96,6 +96,8 @@ impl Layers {
     /// (Schaefer et al. 2005 §3.1, one dimension up).
     pub(super) fn bspline(d: usize, split: &[usize]) -> Result<Layers, String> {
         let mut parts: [Vec<ExactMatrix>; 3] = Default::default();
+        // Across a side the rule of its own direction's split (a 2 × 3 × 2 split has two).
+        let mut rules: [ExactMatrix; 3] = Default::default();
         let mut structure = None;
         for (a, &p) in split.iter().enumerate().take(3) {
             let blocks =
@@ -103,10 +105,11 @@ impl Layers {
             let s = curve_structure(&blocks).filter(|s| s.start == 0 && s.start_rule == s.end_rule);
             let s = s.ok_or("the B-spline parts make no curve with one end rule")?;
             parts[a] = blocks.iter().map(transposed).collect();
+            rules[a] = transposed(&s.start_rule);
             structure = Some(s);
         }
         let s = structure.ok_or("no direction")?;
-        Ok(Layers { n: d, k: s.support, end: s.end, fixed: Some((parts, transposed(&s.start_rule))) })
+        Ok(Layers { n: d, k: s.support, end: s.end, fixed: Some((parts, rules)) })
     }
 
     /// Control points of a cell along `axes`.
@@ -122,10 +125,10 @@ impl Layers {
     /// The fixed matrix of the sub-cell `at` of a cell along `axes`: the
     /// parts along its directions, the side's rule across the others (w slowest).
     fn tensor(&self, axes: &[usize], at: &[usize]) -> Option<ExactMatrix> {
-        let (parts, rule) = self.fixed.as_ref()?;
+        let (parts, rules) = self.fixed.as_ref()?;
         let factor = |x: usize| match axes.iter().position(|&a| a == x) {
             Some(t) => &parts[x][at[t]],
-            None => rule,
+            None => &rules[x],
         };
         Some(kron(factor(2), &kron(factor(1), factor(0))))
     }

@@ -999,3 +999,28 @@ fn the_saddle_carpet_s_porosity_is_its_curved_area_s() {
         }
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 32, failure_persistence: None, .. ProptestConfig::default() })]
+
+    /// Hexahedron patterns on the uniform B-spline (their matrices fixed:
+    /// the tricubic volumes' members are the lattice's), counted as above.
+    #[test]
+    fn b_spline_solids_have_the_pattern_s_topology(
+        split in prop::collection::vec(2usize..=3, 3),
+        bits in prop::collection::vec(any::<bool>(), 27),
+        degree in 3usize..=4,
+        depth in 1usize..=2,
+    ) {
+        let n: usize = split.iter().product();
+        let mask: String = bits[..n].iter().map(|&k| if k { '1' } else { '0' }).collect();
+        prop_assume!(mask.contains('1'));
+        let split_text = split.iter().map(ToString::to_string).collect::<Vec<_>>().join("x");
+        let p = Pattern::parse_in(PatternCell::Hexahedron, &split_text, Some(&mask), degree, bcifs::schemes::Basis::BSpline);
+        let Ok(p) = p else { return Ok(()) }; // over the size the fixed matrices may take
+        let design = p.design("oracle").unwrap();
+        if let Err(why) = check_pattern(&design, &p, &[], depth) {
+            prop_assume!(false, "{}", why);
+        }
+    }
+}
